@@ -1,0 +1,192 @@
+// Bit-rock interaction laws: torque on bit as a function of bit speed, bit acceleration and WOB.
+//
+//  * tucker_wang            Eq. (3.1)  T = c0 [tanh(alpha0 v) + alpha1 v / (1 + alpha2 v^2)]
+//  * hysteretic             Eq. (3.2)  T = b0 [tanh(b1 v) + b2 |v|^b4 sign(v) / (1 + b3 |v|^b5) (1 + H)]
+//                           Eq. (3.3)  H = beta1 tanh(beta2 a) sign(v)
+//  * polynomial             Eq. (5.1)  non-regularized piecewise polynomial (coefficients a0..a7,
+//                                      breakpoints at 1 % and 5 % of a reference speed, gain 1.36)
+//  * polynomial_hysteretic  Eq. (5.3)  T = T_poly(v) (1 + H(v, a))
+//
+// All laws scale linearly with the weight on bit: T(W) = T (W / W_ref) (section 3.3, b0 x WOB / 245 kN).
+// Every parameter set carries the speed unit it was fitted in (`speed_unit`): the bit speed v and
+// the bit acceleration a enter the formulas in that unit (rad/s and rad/s^2, or RPM and RPM/s);
+// the engine's own state is always SI. See docs/units.md for which unit the thesis's sets use.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "drill/errors.hpp"
+
+namespace drill {
+
+enum class SpeedUnit { rad_s, rpm };
+
+inline SpeedUnit parse_speed_unit(const std::string& s, const std::string& field) {
+  if (s == "rad_s" || s == "rad/s") return SpeedUnit::rad_s;
+  if (s == "rpm" || s == "RPM") return SpeedUnit::rpm;
+  throw std::invalid_argument(field + " = \"" + s + "\": unknown speed unit (use \"rad_s\" or \"rpm\")");
+}
+inline std::string to_string(SpeedUnit u) { return u == SpeedUnit::rpm ? "rpm" : "rad_s"; }
+/// Factor converting rad/s to the unit: v_unit = v_si * speed_factor(unit).
+inline double speed_factor(SpeedUnit u) { return u == SpeedUnit::rpm ? 30.0 / M_PI : 1.0; }
+
+/// Torque and its partial derivatives with respect to SI bit speed and SI bit acceleration.
+struct TorqueEval {
+  double T = 0.0, dT_dv = 0.0, dT_da = 0.0;
+};
+
+struct BitRockLaw {
+  enum class Kind { tucker_wang, hysteretic, polynomial, polynomial_hysteretic };
+  Kind kind = Kind::hysteretic;
+  SpeedUnit speed_unit = SpeedUnit::rad_s;
+  double wob_ref = 245e3;  ///< [N] weight on bit at which the parameters hold
+
+  // Eq. (3.1); c0 = mu W r (the thesis's 4700 N.m)
+  double c0 = 0.0, alpha0 = 0.0, alpha1 = 0.0, alpha2 = 0.0;
+  // Eq. (3.2)
+  std::array<double, 6> b{};
+  // Eq. (3.3) and (5.3)
+  double beta1 = 0.0, beta2 = 0.0;
+  // Eq. (5.1)
+  std::array<double, 8> a{};
+  double ref_speed = 1.0;  ///< mean bit speed of Eq. (5.1), in speed_unit
+  double gain = 1.36;      ///< the constant factor of Eq. (5.1) (ft.lbf -> N.m)
+
+  static Kind parse_kind(const std::string& s) {
+    if (s == "tucker_wang") return Kind::tucker_wang;
+    if (s == "hysteretic") return Kind::hysteretic;
+    if (s == "polynomial") return Kind::polynomial;
+    if (s == "polynomial_hysteretic") return Kind::polynomial_hysteretic;
+    throw std::invalid_argument("law.type = \"" + s +
+                                "\": unknown law (use tucker_wang, hysteretic, polynomial or "
+                                "polynomial_hysteretic)");
+  }
+  static std::string kind_name(Kind k) {
+    switch (k) {
+      case Kind::tucker_wang: return "tucker_wang";
+      case Kind::hysteretic: return "hysteretic";
+      case Kind::polynomial: return "polynomial";
+      default: return "polynomial_hysteretic";
+    }
+  }
+  bool has_hysteresis() const {
+    return (kind == Kind::hysteretic || kind == Kind::polynomial_hysteretic) && beta1 != 0.0;
+  }
+
+  void validate() const {
+    require_positive(wob_ref, "law.wob_ref_n");
+    switch (kind) {
+      case Kind::tucker_wang:
+        require_finite(c0, "law.c0");
+        require_non_negative(alpha0, "law.alpha0");
+        require_finite(alpha1, "law.alpha1");
+        require_non_negative(alpha2, "law.alpha2");
+        break;
+      case Kind::hysteretic:
+        for (int i = 0; i < 6; ++i) require_finite(b[i], "law.b" + std::to_string(i));
+        require_non_negative(b[3], "law.b3");
+        require_positive(b[4], "law.b4");
+        require_positive(b[5], "law.b5");
+        break;
+      case Kind::polynomial:
+      case Kind::polynomial_hysteretic:
+        for (int i = 0; i < 8; ++i) require_finite(a[i], "law.a" + std::to_string(i));
+        require_positive(ref_speed, "law.ref_speed");
+        require_finite(gain, "law.gain");
+        break;
+    }
+    require_finite(beta1, "law.beta1");
+    require(beta1 >= 0.0 && beta1 < 1.0, "law.beta1", beta1, "must lie in [0, 1) so that 1 + H > 0");
+    require_non_negative(beta2, "law.beta2");
+  }
+
+  /// Torque on bit [N.m] at SI bit speed v [rad/s], acceleration acc [rad/s^2] and WOB [N].
+  double torque(double v, double acc, double wob) const { return eval(v, acc, wob).T; }
+
+  /// Torque with partial derivatives (used by the implicit integrator and the identification).
+  TorqueEval eval(double v_si, double a_si, double wob) const {
+    const double s = speed_factor(speed_unit);
+    const double v = v_si * s, acc = a_si * s, w = wob / wob_ref;
+    const double sg = (v > 0.0) - (v < 0.0);
+    TorqueEval r;
+    // Eq. (3.3): H = beta1 tanh(beta2 a) sign(v)
+    const double th = std::tanh(beta2 * acc);
+    const double H = beta1 * th * sg;
+    const double dH_da = beta1 * beta2 * (1.0 - th * th) * sg;
+    switch (kind) {
+      case Kind::tucker_wang: {  // Eq. (3.1)
+        const double t = std::tanh(alpha0 * v), den = 1.0 + alpha2 * v * v;
+        r.T = c0 * (t + alpha1 * v / den);
+        r.dT_dv = c0 * (alpha0 * (1.0 - t * t) + alpha1 * (1.0 - alpha2 * v * v) / (den * den));
+        break;
+      }
+      case Kind::hysteretic: {  // Eqs. (3.2)-(3.3); H = 0 when beta1 = 0 (model 1)
+        const double av = std::max(std::fabs(v), 1e-300);
+        const double t = std::tanh(b[1] * v);
+        const double num = b[2] * std::pow(av, b[4]), pw5 = std::pow(av, b[5]);
+        const double den = 1.0 + b[3] * pw5;
+        const double f = sg * num / den;  // odd fraction term
+        const double df = b[2] * (b[4] * std::pow(av, b[4] - 1.0) * den - std::pow(av, b[4]) * b[3] * b[5] *
+                                                                                 std::pow(av, b[5] - 1.0)) /
+                          (den * den);  // even derivative
+        r.T = b[0] * (t + f * (1.0 + H));
+        r.dT_dv = b[0] * (b[1] * (1.0 - t * t) + df * (1.0 + H));
+        r.dT_da = b[0] * f * dH_da;
+        break;
+      }
+      case Kind::polynomial:
+      case Kind::polynomial_hysteretic: {  // Eq. (5.1), hysteretic form Eq. (5.3)
+        double p, dp;
+        if (v <= 0.01 * ref_speed) {
+          p = a[0] + a[1] * v;
+          dp = a[1];
+        } else if (v <= 0.05 * ref_speed) {
+          p = a[2] + a[3] * v;
+          dp = a[3];
+        } else {
+          p = a[4] + v * (a[5] + v * (a[6] + v * a[7]));
+          dp = a[5] + v * (2.0 * a[6] + 3.0 * v * a[7]);
+        }
+        const double h = kind == Kind::polynomial ? 0.0 : H;
+        const double dh = kind == Kind::polynomial ? 0.0 : dH_da;
+        r.T = gain * p * (1.0 + h);
+        r.dT_dv = gain * dp * (1.0 + h);
+        r.dT_da = gain * p * dh;
+        break;
+      }
+    }
+    r.T *= w;
+    r.dT_dv *= w * s;
+    r.dT_da *= w * s;
+    return r;
+  }
+};
+
+/// The thesis's Tucker-Wang fit of section 3.1: mu W r = 4700, alpha0 = 1.67e4, alpha1 = 5.30,
+/// alpha2 = 3.45 (bit speed in rad/s: see docs/units.md).
+inline BitRockLaw thesis_tucker_wang() {
+  BitRockLaw l;
+  l.kind = BitRockLaw::Kind::tucker_wang;
+  l.speed_unit = SpeedUnit::rad_s;
+  l.c0 = 4700.0;
+  l.alpha0 = 1.67e4;
+  l.alpha1 = 5.30;
+  l.alpha2 = 3.45;
+  return l;
+}
+
+/// The thesis's hysteretic fit of section 3.2: b0 = 3478, b1 = 938, b2 = 2.56, b3 = 0.38,
+/// b4 = 0.78, b5 = 1.1, beta2 = 10.6; beta1 = 0 (model 1), 0.14 (model 2) or 0.56 (model 3).
+inline BitRockLaw thesis_hysteretic(double beta1, SpeedUnit unit) {
+  BitRockLaw l;
+  l.kind = BitRockLaw::Kind::hysteretic;
+  l.speed_unit = unit;
+  l.b = {3478.0, 938.0, 2.56, 0.38, 0.78, 1.1};
+  l.beta1 = beta1;
+  l.beta2 = 10.6;
+  return l;
+}
+
+}  // namespace drill

@@ -1,0 +1,390 @@
+// The JSON configuration shared by `drillsim` and `drillpy` (one schema, parsed only here).
+//
+// {
+//   "name": "...",
+//   "string": {"sections": [{"name", "length_m", "outer_radius_m", "inner_radius_m",
+//                            "youngs_modulus_pa", "poisson_ratio", "density_kg_m3", "elements"}],
+//              "lumped_inertias": [{"node": -1, "inertia_kg_m2": ...}]},
+//   "rom": {"modes": 20},
+//   "damping": {"type": "modal", "ratios": [0.095, 0.02]}
+//            | {"type": "rayleigh", "pairs": [[f1_hz, zeta1], [f2_hz, zeta2]]},
+//   "law": {"type": "hysteretic", "speed_unit": "rpm", "wob_ref_n": 245000,
+//           "b0".."b5", "beta1", "beta2"}          (tucker_wang: "c0", "alpha0".."alpha2";
+//           polynomial[_hysteretic]: "a0".."a7", "ref_speed", "gain", "beta1", "beta2"),
+//   "operation": {"top_speed_rad_s": 16, "wob_n": 245000, "bit_viscous_nms": 0},
+//   "simulation": {"scheme": "modified_euler", "dt_s": 5.12e-4, "duration_s": 200,
+//                  "transient_s": 100, "output_stride": 20},
+//   "metrics": {"stick_threshold_fraction": 0.05, "stick_debounce_s": 0.02},
+//   "sweep": {"top_speeds_rad_s": [...], "wobs_n": [...]},
+//   "craig_bampton": {"modes": [25, 25]}
+// }
+// Unknown keys are refused (they are usually typos); missing optional blocks take the defaults
+// written above. Errors name the JSON path and the offending value.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "drill/bitrock.hpp"
+#include "drill/errors.hpp"
+#include "drill/fem.hpp"
+#include "drill/integrator.hpp"
+#include "drill/modal.hpp"
+
+namespace drill {
+
+using json = nlohmann::json;
+
+struct MetricsSpec {
+  double stick_threshold_fraction = 0.05;  ///< stick when bit speed <= fraction x top speed
+  double stick_debounce_s = 0.02;          ///< minimum duration of a phase change [s]
+};
+
+struct Config {
+  std::string name = "custom";
+  StringModel string;
+  int modes = 20;
+  DampingSpec damping;
+  BitRockLaw law;
+  double top_speed = 10.0;    ///< [rad/s]
+  double wob = 245e3;         ///< [N]
+  double bit_viscous = 0.0;   ///< [N m s/rad]
+  SimOptions sim;
+  double transient = 100.0;   ///< [s] discarded before metrics
+  long output_stride = 20;
+  MetricsSpec metrics;
+  std::vector<double> sweep_speeds, sweep_wobs;
+  std::vector<int> cb_modes;  ///< fixed-interface modes per substructure (Craig-Bampton)
+
+  void validate() const {
+    string.validate();
+    require(modes >= 1 && modes <= string.n_elements(), "rom.modes", modes,
+            "must be between 1 and the number of free DOFs (" + show(string.n_elements()) + ")");
+    damping.validate();
+    law.validate();
+    require_finite(top_speed, "operation.top_speed_rad_s");
+    require_non_negative(wob, "operation.wob_n");
+    require_non_negative(bit_viscous, "operation.bit_viscous_nms");
+    sim.validate();
+    require_non_negative(transient, "simulation.transient_s");
+    require(transient < sim.duration, "simulation.transient_s", transient,
+            "must be shorter than simulation.duration_s = " + show(sim.duration));
+    require(output_stride >= 1, "simulation.output_stride", output_stride, "must be at least 1");
+    require_non_negative(metrics.stick_threshold_fraction, "metrics.stick_threshold_fraction");
+    require_non_negative(metrics.stick_debounce_s, "metrics.stick_debounce_s");
+    for (std::size_t k = 0; k < sweep_speeds.size(); ++k)
+      require_finite(sweep_speeds[k], "sweep.top_speeds_rad_s[" + std::to_string(k) + "]");
+    for (std::size_t k = 0; k < sweep_wobs.size(); ++k)
+      require_non_negative(sweep_wobs[k], "sweep.wobs_n[" + std::to_string(k) + "]");
+    for (std::size_t k = 0; k < cb_modes.size(); ++k)
+      require(cb_modes[k] >= 1, "craig_bampton.modes[" + std::to_string(k) + "]", cb_modes[k],
+              "must be at least 1");
+  }
+
+  /// Distribute n elements over the sections in proportion to their lengths (largest
+  /// remainder, at least one per section): 100 on Table 3.1 gives 91 DP + 9 BHA.
+  void set_total_elements(int n) {
+    const int ns = static_cast<int>(string.sections.size());
+    require(n >= ns, "elements", n, "must be at least the number of sections (" + show(ns) + ")");
+    const double L = string.total_length();
+    std::vector<double> rem(ns);
+    int used = 0;
+    for (int k = 0; k < ns; ++k) {
+      const double share = n * string.sections[k].length / L;
+      string.sections[k].elements = std::max(1, static_cast<int>(std::floor(share)));
+      rem[k] = share - std::floor(share);
+      used += string.sections[k].elements;
+    }
+    while (used < n) {
+      int best = 0;
+      for (int k = 1; k < ns; ++k)
+        if (rem[k] > rem[best]) best = k;
+      ++string.sections[best].elements;
+      rem[best] = -1.0;
+      ++used;
+    }
+    while (used > n) {  // only when the at-least-one rule overshoots
+      int big = 0;
+      for (int k = 1; k < ns; ++k)
+        if (string.sections[k].elements > string.sections[big].elements) big = k;
+      --string.sections[big].elements;
+      --used;
+    }
+    modes = std::min(modes, string.n_elements());
+  }
+};
+
+namespace detail {
+
+inline void check_keys(const json& j, const std::string& where, const std::set<std::string>& allowed) {
+  if (!j.is_object()) throw std::invalid_argument(where + " = " + j.dump() + ": must be a JSON object");
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (!allowed.count(it.key()))
+      throw std::invalid_argument(where + "." + it.key() + " = " + it.value().dump() + ": unknown key");
+}
+
+inline double get_number(const json& j, const std::string& key, const std::string& where) {
+  if (!j.contains(key)) throw std::invalid_argument(where + "." + key + ": missing (required number)");
+  const json& v = j.at(key);
+  if (!v.is_number()) throw std::invalid_argument(where + "." + key + " = " + v.dump() + ": must be a number");
+  return v.get<double>();
+}
+
+inline double get_number(const json& j, const std::string& key, const std::string& where, double dflt) {
+  return j.contains(key) ? get_number(j, key, where) : dflt;
+}
+
+inline int get_int(const json& j, const std::string& key, const std::string& where, int dflt, bool required = false) {
+  if (!j.contains(key)) {
+    if (required) throw std::invalid_argument(where + "." + key + ": missing (required integer)");
+    return dflt;
+  }
+  const json& v = j.at(key);
+  if (!v.is_number_integer()) throw std::invalid_argument(where + "." + key + " = " + v.dump() + ": must be an integer");
+  return v.get<int>();
+}
+
+inline std::string get_string(const json& j, const std::string& key, const std::string& where,
+                              const std::string& dflt, bool required = false) {
+  if (!j.contains(key)) {
+    if (required) throw std::invalid_argument(where + "." + key + ": missing (required string)");
+    return dflt;
+  }
+  const json& v = j.at(key);
+  if (!v.is_string()) throw std::invalid_argument(where + "." + key + " = " + v.dump() + ": must be a string");
+  return v.get<std::string>();
+}
+
+inline std::vector<double> get_numbers(const json& j, const std::string& key, const std::string& where) {
+  std::vector<double> out;
+  if (!j.contains(key)) return out;
+  const json& v = j.at(key);
+  if (!v.is_array()) throw std::invalid_argument(where + "." + key + " = " + v.dump() + ": must be an array of numbers");
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    if (!v[k].is_number())
+      throw std::invalid_argument(where + "." + key + "[" + std::to_string(k) + "] = " + v[k].dump() +
+                                  ": must be a number");
+    out.push_back(v[k].get<double>());
+  }
+  return out;
+}
+
+inline BitRockLaw parse_law(const json& j) {
+  const std::string w = "law";
+  BitRockLaw l;
+  l.kind = BitRockLaw::parse_kind(get_string(j, "type", w, "", true));
+  l.speed_unit = parse_speed_unit(get_string(j, "speed_unit", w, "", true), w + ".speed_unit");
+  l.wob_ref = get_number(j, "wob_ref_n", w);
+  std::set<std::string> keys{"type", "speed_unit", "wob_ref_n"};
+  auto num = [&](const std::string& k) {
+    keys.insert(k);
+    return get_number(j, k, w);
+  };
+  switch (l.kind) {
+    case BitRockLaw::Kind::tucker_wang:
+      l.c0 = num("c0");
+      l.alpha0 = num("alpha0");
+      l.alpha1 = num("alpha1");
+      l.alpha2 = num("alpha2");
+      break;
+    case BitRockLaw::Kind::hysteretic:
+      for (int i = 0; i < 6; ++i) l.b[i] = num("b" + std::to_string(i));
+      l.beta1 = num("beta1");
+      l.beta2 = num("beta2");
+      break;
+    case BitRockLaw::Kind::polynomial:
+    case BitRockLaw::Kind::polynomial_hysteretic:
+      for (int i = 0; i < 8; ++i) l.a[i] = num("a" + std::to_string(i));
+      l.ref_speed = num("ref_speed");
+      l.gain = num("gain");
+      if (l.kind == BitRockLaw::Kind::polynomial_hysteretic) {
+        l.beta1 = num("beta1");
+        l.beta2 = num("beta2");
+      }
+      break;
+  }
+  check_keys(j, w, keys);
+  return l;
+}
+
+inline json law_to_json(const BitRockLaw& l) {
+  json j{{"type", BitRockLaw::kind_name(l.kind)}, {"speed_unit", to_string(l.speed_unit)}, {"wob_ref_n", l.wob_ref}};
+  switch (l.kind) {
+    case BitRockLaw::Kind::tucker_wang:
+      j["c0"] = l.c0;
+      j["alpha0"] = l.alpha0;
+      j["alpha1"] = l.alpha1;
+      j["alpha2"] = l.alpha2;
+      break;
+    case BitRockLaw::Kind::hysteretic:
+      for (int i = 0; i < 6; ++i) j["b" + std::to_string(i)] = l.b[i];
+      j["beta1"] = l.beta1;
+      j["beta2"] = l.beta2;
+      break;
+    case BitRockLaw::Kind::polynomial:
+    case BitRockLaw::Kind::polynomial_hysteretic:
+      for (int i = 0; i < 8; ++i) j["a" + std::to_string(i)] = l.a[i];
+      j["ref_speed"] = l.ref_speed;
+      j["gain"] = l.gain;
+      if (l.kind == BitRockLaw::Kind::polynomial_hysteretic) {
+        j["beta1"] = l.beta1;
+        j["beta2"] = l.beta2;
+      }
+      break;
+  }
+  return j;
+}
+
+}  // namespace detail
+
+/// Parse and validate a configuration.
+inline Config parse_config(const json& j) {
+  using namespace detail;
+  check_keys(j, "config", {"name", "string", "rom", "damping", "law", "operation", "simulation", "metrics", "sweep",
+                           "craig_bampton", "description"});
+  Config c;
+  c.name = get_string(j, "name", "config", "custom");
+  if (!j.contains("string")) throw std::invalid_argument("config.string: missing (required object)");
+  const json& js = j.at("string");
+  check_keys(js, "string", {"sections", "lumped_inertias"});
+  if (!js.contains("sections") || !js.at("sections").is_array())
+    throw std::invalid_argument("string.sections: missing or not an array");
+  for (std::size_t k = 0; k < js.at("sections").size(); ++k) {
+    const json& s = js.at("sections")[k];
+    const std::string w = "string.sections[" + std::to_string(k) + "]";
+    check_keys(s, w, {"name", "length_m", "outer_radius_m", "inner_radius_m", "youngs_modulus_pa", "poisson_ratio",
+                      "density_kg_m3", "elements"});
+    Section sec;
+    sec.name = get_string(s, "name", w, "section" + std::to_string(k));
+    sec.length = get_number(s, "length_m", w);
+    sec.outer_radius = get_number(s, "outer_radius_m", w);
+    sec.inner_radius = get_number(s, "inner_radius_m", w, 0.0);
+    sec.youngs_modulus = get_number(s, "youngs_modulus_pa", w);
+    sec.poisson_ratio = get_number(s, "poisson_ratio", w);
+    sec.density = get_number(s, "density_kg_m3", w);
+    sec.elements = get_int(s, "elements", w, 0, true);
+    c.string.sections.push_back(sec);
+  }
+  if (js.contains("lumped_inertias")) {
+    const json& li = js.at("lumped_inertias");
+    if (!li.is_array()) throw std::invalid_argument("string.lumped_inertias = " + li.dump() + ": must be an array");
+    for (std::size_t k = 0; k < li.size(); ++k) {
+      const std::string w = "string.lumped_inertias[" + std::to_string(k) + "]";
+      check_keys(li[k], w, {"node", "inertia_kg_m2"});
+      c.string.lumped.push_back({get_int(li[k], "node", w, -1), get_number(li[k], "inertia_kg_m2", w)});
+    }
+  }
+  c.modes = std::min(20, c.string.n_elements());
+  if (j.contains("rom")) {
+    check_keys(j.at("rom"), "rom", {"modes"});
+    c.modes = get_int(j.at("rom"), "modes", "rom", c.modes);
+  }
+  if (j.contains("damping")) {
+    const json& d = j.at("damping");
+    const std::string type = get_string(d, "type", "damping", "", true);
+    if (type == "modal") {
+      check_keys(d, "damping", {"type", "ratios"});
+      c.damping.kind = DampingSpec::Kind::modal;
+      c.damping.ratios = get_numbers(d, "ratios", "damping");
+    } else if (type == "rayleigh") {
+      check_keys(d, "damping", {"type", "pairs"});
+      c.damping.kind = DampingSpec::Kind::rayleigh;
+      const json& p = d.contains("pairs") ? d.at("pairs") : json();
+      if (!p.is_array() || p.size() != 2 || !p[0].is_array() || !p[1].is_array() || p[0].size() != 2 ||
+          p[1].size() != 2 || !p[0][0].is_number() || !p[0][1].is_number() || !p[1][0].is_number() ||
+          !p[1][1].is_number())
+        throw std::invalid_argument("damping.pairs = " + p.dump() +
+                                    ": must be [[f1_hz, ratio1], [f2_hz, ratio2]]");
+      c.damping.f1 = p[0][0];
+      c.damping.z1 = p[0][1];
+      c.damping.f2 = p[1][0];
+      c.damping.z2 = p[1][1];
+    } else {
+      throw std::invalid_argument("damping.type = \"" + type + "\": unknown damping (use modal or rayleigh)");
+    }
+  }
+  if (!j.contains("law")) throw std::invalid_argument("config.law: missing (required object)");
+  c.law = parse_law(j.at("law"));
+  if (j.contains("operation")) {
+    const json& o = j.at("operation");
+    check_keys(o, "operation", {"top_speed_rad_s", "wob_n", "bit_viscous_nms"});
+    c.top_speed = get_number(o, "top_speed_rad_s", "operation", c.top_speed);
+    c.wob = get_number(o, "wob_n", "operation", c.law.wob_ref);
+    c.bit_viscous = get_number(o, "bit_viscous_nms", "operation", 0.0);
+  } else {
+    c.wob = c.law.wob_ref;
+  }
+  if (j.contains("simulation")) {
+    const json& s = j.at("simulation");
+    check_keys(s, "simulation", {"scheme", "dt_s", "duration_s", "transient_s", "output_stride"});
+    c.sim.scheme = parse_scheme(get_string(s, "scheme", "simulation", to_string(c.sim.scheme)));
+    c.sim.dt = get_number(s, "dt_s", "simulation", c.sim.dt);
+    c.sim.duration = get_number(s, "duration_s", "simulation", c.sim.duration);
+    c.transient = get_number(s, "transient_s", "simulation", std::min(c.transient, 0.5 * c.sim.duration));
+    c.output_stride = get_int(s, "output_stride", "simulation", static_cast<int>(c.output_stride));
+  }
+  if (j.contains("metrics")) {
+    const json& m = j.at("metrics");
+    check_keys(m, "metrics", {"stick_threshold_fraction", "stick_debounce_s"});
+    c.metrics.stick_threshold_fraction =
+        get_number(m, "stick_threshold_fraction", "metrics", c.metrics.stick_threshold_fraction);
+    c.metrics.stick_debounce_s = get_number(m, "stick_debounce_s", "metrics", c.metrics.stick_debounce_s);
+  }
+  if (j.contains("sweep")) {
+    check_keys(j.at("sweep"), "sweep", {"top_speeds_rad_s", "wobs_n"});
+    c.sweep_speeds = get_numbers(j.at("sweep"), "top_speeds_rad_s", "sweep");
+    c.sweep_wobs = get_numbers(j.at("sweep"), "wobs_n", "sweep");
+  }
+  if (j.contains("craig_bampton")) {
+    check_keys(j.at("craig_bampton"), "craig_bampton", {"modes"});
+    for (double v : get_numbers(j.at("craig_bampton"), "modes", "craig_bampton")) c.cb_modes.push_back(static_cast<int>(v));
+  }
+  c.validate();
+  return c;
+}
+
+/// Parse JSON text; syntax errors become std::invalid_argument naming the position.
+inline Config parse_config_text(const std::string& text) {
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw std::invalid_argument(std::string("config: malformed JSON: ") + e.what());
+  }
+  return parse_config(j);
+}
+
+/// The configuration written back as JSON (all defaults made explicit).
+inline json to_json(const Config& c) {
+  json secs = json::array();
+  for (const auto& s : c.string.sections)
+    secs.push_back({{"name", s.name}, {"length_m", s.length}, {"outer_radius_m", s.outer_radius},
+                    {"inner_radius_m", s.inner_radius}, {"youngs_modulus_pa", s.youngs_modulus},
+                    {"poisson_ratio", s.poisson_ratio}, {"density_kg_m3", s.density}, {"elements", s.elements}});
+  json li = json::array();
+  for (const auto& l : c.string.lumped) li.push_back({{"node", l.node}, {"inertia_kg_m2", l.inertia}});
+  json damping = c.damping.kind == DampingSpec::Kind::modal
+                     ? json{{"type", "modal"}, {"ratios", c.damping.ratios}}
+                     : json{{"type", "rayleigh"},
+                            {"pairs", {{c.damping.f1, c.damping.z1}, {c.damping.f2, c.damping.z2}}}};
+  json j{{"name", c.name},
+         {"string", {{"sections", secs}, {"lumped_inertias", li}}},
+         {"rom", {{"modes", c.modes}}},
+         {"damping", damping},
+         {"law", detail::law_to_json(c.law)},
+         {"operation", {{"top_speed_rad_s", c.top_speed}, {"wob_n", c.wob}, {"bit_viscous_nms", c.bit_viscous}}},
+         {"simulation",
+          {{"scheme", to_string(c.sim.scheme)}, {"dt_s", c.sim.dt}, {"duration_s", c.sim.duration},
+           {"transient_s", c.transient}, {"output_stride", c.output_stride}}},
+         {"metrics",
+          {{"stick_threshold_fraction", c.metrics.stick_threshold_fraction},
+           {"stick_debounce_s", c.metrics.stick_debounce_s}}}};
+  if (!c.sweep_speeds.empty() || !c.sweep_wobs.empty())
+    j["sweep"] = {{"top_speeds_rad_s", c.sweep_speeds}, {"wobs_n", c.sweep_wobs}};
+  if (!c.cb_modes.empty()) j["craig_bampton"] = {{"modes", c.cb_modes}};
+  return j;
+}
+
+}  // namespace drill

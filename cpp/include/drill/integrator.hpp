@@ -1,0 +1,312 @@
+// Time integration of the reduced drill-string model with the torque on bit (appendices A, B).
+//
+// Equation of motion in the rotating frame (Eqs. 2.5, 2.9), with a top speed Omega(t):
+//   M~ q'' + D~ q' + K~ q = -bit^T T_bit - top_load Omega'(t),
+//   bit speed  = Omega(t) + bit q',   T_bit = T_law(v, a, W(t)) (1 + eta(t)) + c_v v     (Eq. 4.1)
+// The reduced matrices are first brought to M = I, K = diag(omega^2) by the generalized
+// eigenvectors of (K~, M~); D~ stays diagonal for modal or Rayleigh damping and is used dense
+// otherwise (random matrices, Craig-Bampton).
+//
+// Schemes:
+//  * modified_euler (appendix A, Eqs. A.5-A.6): semi-implicit Euler, velocity first, then the
+//    displacement with the new velocity; the torque on bit is explicit, evaluated at the previous
+//    step with the bit acceleration taken as the backward difference of the bit speed over the
+//    previous step (Eq. A.1 written one step back; zero at t = 0). First order. Refused when
+//    dt >= pi / (5 omega_max) (Eq. A.7) with omega_max the highest retained frequency.
+//  * bdf2: second-order backward differentiation (backward Euler for the first step), L-stable,
+//    with the torque on bit implicit: the scalar equation for the new bit speed is solved by a
+//    safeguarded Newton iteration, and the bit acceleration in Eq. (3.3) is the BDF2 derivative
+//    of the bit speed at the new step. No stability bound; no chattering at stick.
+#pragma once
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "drill/bitrock.hpp"
+#include "drill/errors.hpp"
+#include "drill/modal.hpp"
+#include "drill/signal.hpp"
+
+namespace drill {
+
+enum class Scheme { modified_euler, bdf2 };
+
+inline Scheme parse_scheme(const std::string& s) {
+  if (s == "modified_euler") return Scheme::modified_euler;
+  if (s == "bdf2") return Scheme::bdf2;
+  throw std::invalid_argument("simulation.scheme = \"" + s + "\": unknown scheme (use modified_euler or bdf2)");
+}
+inline std::string to_string(Scheme s) { return s == Scheme::bdf2 ? "bdf2" : "modified_euler"; }
+
+struct SimOptions {
+  Scheme scheme = Scheme::modified_euler;
+  double dt = 5.12e-4;      ///< time step [s] (the thesis's 0.512 ms)
+  double duration = 100.0;  ///< simulated time [s]
+  void validate() const {
+    require_positive(dt, "simulation.dt_s");
+    require_positive(duration, "simulation.duration_s");
+    require(duration >= dt, "simulation.duration_s", duration, "must be at least one time step");
+    require(duration / dt < 2e9, "simulation.duration_s", duration, "needs more than 2e9 steps");
+  }
+  long steps() const { return std::lround(duration / dt); }
+};
+
+/// Boundary inputs and the extra bit terms of one run.
+struct Inputs {
+  Signal top_speed = Signal::constant(10.0);  ///< [rad/s]
+  Signal wob = Signal::constant(245e3);       ///< [N]
+  Signal eta = Signal::constant(0.0);         ///< multiplicative torque fluctuation (Eq. 4.1)
+  double bit_viscous = 0.0;                   ///< extra viscous torque at the bit [N m s/rad]
+  void validate() const {
+    top_speed.validate("operation.top_speed_rad_s");
+    wob.validate("operation.wob_n");
+    eta.validate("eta");
+    require_non_negative(bit_viscous, "operation.bit_viscous_nms");
+  }
+};
+
+/// What an observer sees at every time step (absolute frame, SI).
+struct StepState {
+  long step = 0;
+  double t = 0.0;
+  double bit_speed = 0.0;      ///< [rad/s]
+  double bit_accel = 0.0;      ///< [rad/s^2] (the value used by the law)
+  double bit_angle = 0.0;      ///< [rad]
+  double torque_on_bit = 0.0;  ///< [N m]
+  double top_torque = 0.0;     ///< elastic torque applied by the top drive [N m]
+  double top_speed = 0.0;      ///< [rad/s]
+};
+
+/// Generalized coordinates and velocities of the reduced model (original basis).
+struct ModelState {
+  Eigen::VectorXd q, qdot;
+};
+
+class Integrator {
+ public:
+  Integrator(const ReducedModel& model, const BitRockLaw& law, const SimOptions& opt)
+      : law_(law), opt_(opt) {
+    law_.validate();
+    opt_.validate();
+    const int m = model.size();
+    require(m >= 1, "rom.modes", m, "the reduced model is empty");
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(model.K, model.M);
+    if (es.info() != Eigen::Success) throw std::runtime_error("reduced eigenproblem failed");
+    V_ = es.eigenvectors();  // V^T M V = I
+    w2_ = es.eigenvalues().cwiseMax(0.0);
+    omega_max_ = std::sqrt(w2_.maxCoeff());
+    D_ = V_.transpose() * model.D * V_;
+    const double dscale = std::max(D_.diagonal().cwiseAbs().maxCoeff(), 1e-300);
+    diag_damping_ = (D_ - Eigen::MatrixXd(D_.diagonal().asDiagonal())).cwiseAbs().maxCoeff() <= 1e-10 * dscale;
+    d_ = D_.diagonal();
+    bit_ = (model.bit * V_).transpose();
+    top_torque_ = (model.top_torque * V_).transpose();
+    top_load_ = V_.transpose() * model.top_load;
+    init_vel_ = V_.transpose() * model.M * model.init_velocity;  // V^-1 = V^T M
+    Vinv_ = V_.transpose() * model.M;
+    if (opt_.scheme == Scheme::modified_euler) {
+      const double bound = stability_bound();
+      require(opt_.dt < bound, "simulation.dt_s", opt_.dt,
+              "exceeds the modified-Euler stability bound dt < pi / (5 omega_max) = " + show(bound) +
+                  " s (Eq. A.7, omega_max = " + show(omega_max_) + " rad/s of the retained modes)");
+    } else {
+      prepare_implicit(opt_.dt, be_);
+      prepare_implicit(2.0 * opt_.dt / 3.0, bdf_);
+    }
+  }
+
+  /// Eq. (A.7): dt < pi / (5 omega_max) with omega_max the highest retained natural frequency.
+  double stability_bound() const { return M_PI / (5.0 * omega_max_); }
+  double omega_max() const { return omega_max_; }
+  const SimOptions& options() const { return opt_; }
+  const BitRockLaw& law() const { return law_; }
+
+  /// Initial state of Eq. (2.10) for a top speed Omega0: q = 0, q' = -Omega0 M~^-1 Phi^T M 1.
+  ModelState initial_state(double omega0) const {
+    return {Eigen::VectorXd::Zero(V_.rows()), V_ * (-omega0 * init_vel_)};
+  }
+
+  /// Integrate from `start` (or Eq. 2.10) and call obs(const StepState&) at every step
+  /// including t = 0. Returns the final state.
+  template <class Observer>
+  ModelState run(const Inputs& in, Observer&& obs, const ModelState* start = nullptr) const {
+    in.validate();
+    const ModelState s0 = start ? *start : initial_state(in.top_speed.at(0.0));
+    require(s0.q.size() == V_.rows() && s0.qdot.size() == V_.rows(), "initial_state", s0.q.size(),
+            "has the wrong size (the model has " + show(V_.rows()) + " coordinates)");
+    Eigen::VectorXd z = Vinv_ * s0.q, p = Vinv_ * s0.qdot;
+    return opt_.scheme == Scheme::modified_euler ? run_euler(in, obs, z, p) : run_bdf2(in, obs, z, p);
+  }
+
+ private:
+  struct Implicit {
+    double gamma = 0.0, g = 0.0;
+    Eigen::VectorXd sdiag_inv;  ///< 1 / diag(S) when the damping is diagonal
+    Eigen::MatrixXd Sinv;       ///< S^-1 otherwise
+    Eigen::VectorXd s;          ///< S^-1 bit^T
+  };
+
+  void prepare_implicit(double gamma, Implicit& im) const {
+    im.gamma = gamma;
+    const int m = static_cast<int>(w2_.size());
+    if (diag_damping_) {
+      im.sdiag_inv = (Eigen::VectorXd::Ones(m) + gamma * d_ + gamma * gamma * w2_).cwiseInverse();
+      im.s = im.sdiag_inv.cwiseProduct(bit_);
+    } else {
+      Eigen::MatrixXd S = Eigen::MatrixXd::Identity(m, m) + gamma * D_;
+      S.diagonal() += gamma * gamma * w2_;
+      im.Sinv = S.inverse();
+      im.s = im.Sinv * bit_;
+    }
+    im.g = bit_.dot(im.s);
+  }
+
+  /// Total torque on bit (law x (1 + eta) + viscous) with derivatives.
+  TorqueEval total_torque(double v, double a, double wob, double eta, double cv) const {
+    TorqueEval e = law_.eval(v, a, wob);
+    const double f = 1.0 + eta;
+    return {e.T * f + cv * v, e.dT_dv * f + cv, e.dT_da * f};
+  }
+
+  ModelState to_model(const Eigen::VectorXd& z, const Eigen::VectorXd& p) const { return {V_ * z, V_ * p}; }
+
+  template <class Observer>
+  ModelState run_euler(const Inputs& in, Observer& obs, Eigen::VectorXd& z, Eigen::VectorXd& p) const {
+    const double dt = opt_.dt;
+    const long n = opt_.steps();
+    StepState st;
+    double theta_top = 0.0, v_prev = 0.0;
+    for (long i = 0;; ++i) {
+      const double t = i * dt;
+      const double om = in.top_speed.at(t);
+      const double v = om + bit_.dot(p);
+      // Eq. (A.1) one step back: the bit acceleration of the last step (0 at the start).
+      const double a = i == 0 ? 0.0 : (v - v_prev) / dt;
+      const double T = total_torque(v, a, in.wob.at(t), in.eta.at(t), in.bit_viscous).T;
+      st = {i, t, v, a, theta_top + bit_.dot(z), T, top_torque_.dot(z), om};
+      if (!std::isfinite(v) || !std::isfinite(T)) diverged(t);
+      obs(static_cast<const StepState&>(st));
+      if (i == n) break;
+      const double force_top = in.top_speed.rate(t);
+      // Eq. (A.5): velocity first, with the torque of the previous step ...
+      if (diag_damping_)
+        p.array() += dt * (-bit_.array() * T - top_load_.array() * force_top - d_.array() * p.array() -
+                           w2_.array() * z.array());
+      else
+        p += dt * (-bit_ * T - top_load_ * force_top - D_ * p - w2_.cwiseProduct(z));
+      // ... Eq. (A.6): then the displacement with the new velocity.
+      z += dt * p;
+      theta_top += 0.5 * dt * (om + in.top_speed.at(t + dt));
+      v_prev = v;
+    }
+    return to_model(z, p);
+  }
+
+  template <class Observer>
+  ModelState run_bdf2(const Inputs& in, Observer& obs, Eigen::VectorXd& z, Eigen::VectorXd& p) const {
+    const double dt = opt_.dt;
+    const long n = opt_.steps();
+    const int m = static_cast<int>(z.size());
+    Eigen::VectorXd z_old = z, p_old = p, cz(m), cp(m), rhs(m), pstar(m);
+    double theta_top = 0.0;
+    double x_n = bit_.dot(p), x_old = x_n;  // relative bit speeds at n and n-1
+    // Step 0: report the initial state with the explicit torque (zero acceleration).
+    {
+      const double om = in.top_speed.at(0.0);
+      const double v = om + x_n;
+      const double T = total_torque(v, 0.0, in.wob.at(0.0), in.eta.at(0.0), in.bit_viscous).T;
+      obs(static_cast<const StepState&>(StepState{0, 0.0, v, 0.0, bit_.dot(z), T, top_torque_.dot(z), om}));
+    }
+    for (long i = 0; i < n; ++i) {
+      const bool first = i == 0;
+      const Implicit& im = first ? be_ : bdf_;
+      const double t1 = (i + 1) * dt;
+      if (first) {
+        cz = z;
+        cp = p;
+      } else {
+        cz = (4.0 * z - z_old) / 3.0;
+        cp = (4.0 * p - p_old) / 3.0;
+      }
+      const double om1 = in.top_speed.at(t1), domega = in.top_speed.rate(t1 - 0.5 * dt);
+      const double wob = in.wob.at(t1), eta = in.eta.at(t1);
+      rhs = cp - im.gamma * (w2_.cwiseProduct(cz) + top_load_ * domega);
+      if (diag_damping_)
+        pstar = im.sdiag_inv.cwiseProduct(rhs);
+      else
+        pstar = im.Sinv * rhs;
+      const double w = bit_.dot(pstar);
+      // Bit acceleration consistent with the scheme: BDF2 (or backward Euler) derivative.
+      const double ca = first ? 1.0 / dt : 1.5 / dt;
+      const double a0 = first ? -x_n / dt : (-2.0 * x_n + 0.5 * x_old) / dt;
+      double Tnew = 0.0;
+      const double x = solve_bit(w, im.gamma * im.g, om1, ca, a0 + domega, wob, eta, in.bit_viscous,
+                                 x_n, t1, Tnew);
+      z_old = z;
+      p_old = p;
+      p = pstar - (im.gamma * Tnew) * im.s;
+      z = cz + im.gamma * p;
+      theta_top += 0.5 * dt * (in.top_speed.at(t1 - dt) + om1);
+      x_old = x_n;
+      x_n = x;
+      const StepState st{i + 1, t1, om1 + x, ca * x + a0 + domega, theta_top + bit_.dot(z), Tnew,
+                         top_torque_.dot(z), om1};
+      obs(st);
+    }
+    return to_model(z, p);
+  }
+
+  /// Solve x + c T(om + x, ca x + a0) = w for the relative bit speed x (safeguarded Newton with
+  /// bracketing; bisection converges to the jump of a discontinuous law, i.e. to stick).
+  double solve_bit(double w, double c, double om, double ca, double a0, double wob, double eta, double cv,
+                   double guess, double t, double& Tout) const {
+    auto F = [&](double x, double& dF, double& T) {
+      const TorqueEval e = total_torque(om + x, ca * x + a0, wob, eta, cv);
+      T = e.T;
+      dF = 1.0 + c * (e.dT_dv + e.dT_da * ca);
+      return x + c * e.T - w;
+    };
+    double lo = -HUGE_VAL, hi = HUGE_VAL, dF, T;
+    double x = guess, f = F(x, dF, T);
+    double step = std::max(1e-3, std::fabs(w - guess));
+    double dx_old = HUGE_VAL;
+    const double tol = 1e-12 * (1.0 + std::fabs(om) + std::fabs(w));
+    for (int it = 0; it < 300 && std::fabs(f) > tol; ++it) {
+      (f < 0.0 ? lo : hi) = x;
+      const bool bracketed = std::isfinite(lo) && std::isfinite(hi);
+      if (bracketed && hi - lo <= tol) break;
+      const bool newton = dF > 0.0 && std::isfinite(dF);
+      double xn = newton ? x - f / dF : x;
+      if (bracketed) {
+        // Newton inside the bracket while it at least halves the step; bisection otherwise.
+        if (!newton || !(xn > lo && xn < hi) || std::fabs(xn - x) > 0.5 * dx_old) xn = 0.5 * (lo + hi);
+      } else if (!newton || std::fabs(xn - x) <= tol) {
+        xn = f > 0.0 ? x - step : x + step;  // march downhill until the root is bracketed
+        step *= 2.0;
+      }
+      dx_old = std::fabs(xn - x);
+      x = xn;
+      f = F(x, dF, T);
+      if (!std::isfinite(f)) diverged(t);
+    }
+    Tout = T;
+    return x;
+  }
+
+  [[noreturn]] static void diverged(double t) {
+    throw std::runtime_error("simulation diverged at t = " + show(t) +
+                             " s (non-finite bit speed or torque); check the law parameters and dt");
+  }
+
+  BitRockLaw law_;
+  SimOptions opt_;
+  Eigen::MatrixXd V_, Vinv_, D_;
+  Eigen::VectorXd w2_, d_, bit_, top_torque_, top_load_, init_vel_;
+  double omega_max_ = 0.0;
+  bool diag_damping_ = true;
+  Implicit be_, bdf_;
+};
+
+}  // namespace drill

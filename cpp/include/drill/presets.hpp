@@ -1,0 +1,108 @@
+// Built-in configurations of the thesis's three systems.
+//  * thesis-field  Table 3.1 string (Ritto et al. 2017), 100 elements (91 DP + 9 BHA), modal damping
+//                  0.095 / 0.02, hysteretic law of section 3.2 (beta1 = 0.14), dt = 0.512 ms.
+//  * thesis-rig    Table 5.1 test rig: 1.7 m steel bar of radius 2.5 mm with the 3.921 kg disk of
+//                  radius 0.069 m lumped at the bit (0.5 m r^2 = 9.33e-3 kg m^2); first mode 2.89 Hz.
+//  * thesis-ch6    section 6.6: 1700 m DP + 300 m BHA (Table 3.1 cross sections), 100 elements each,
+//                  Rayleigh damping 0.05 at 1 Hz and 0.01 at 10 Hz, 25 fixed-interface modes each.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "drill/config.hpp"
+
+namespace drill {
+
+inline std::vector<std::string> preset_names() { return {"thesis-field", "thesis-rig", "thesis-ch6"}; }
+
+inline json thesis_hysteretic_law_json(double beta1) {
+  // Section 3.2 parameters; the bit speed unit is RPM (docs/units.md gives the evidence).
+  return {{"type", "hysteretic"}, {"speed_unit", "rpm"}, {"wob_ref_n", 245e3}, {"b0", 3478.0}, {"b1", 938.0},
+          {"b2", 2.56},          {"b3", 0.38},          {"b4", 0.78},         {"b5", 1.1},     {"beta1", beta1},
+          {"beta2", 10.6}};
+}
+
+inline json table31_section(const std::string& name, double length, int elements) {
+  const bool dp = name == "DP";
+  return {{"name", name},
+          {"length_m", length},
+          {"outer_radius_m", dp ? 0.070 : 0.0803},
+          {"inner_radius_m", dp ? 0.0595 : 0.0363},
+          {"youngs_modulus_pa", 220e9},
+          {"poisson_ratio", 0.29},
+          {"density_kg_m3", 7800.0},
+          {"elements", elements}};
+}
+
+inline json preset_json(const std::string& name) {
+  std::vector<double> speeds, wobs;
+  for (int k = 0; k < 22; ++k) speeds.push_back(6.0 + k);              // B = [6, 27] rad/s
+  for (int k = 0; k < 12; ++k) wobs.push_back(22e3 + k * 245e3 / 11);  // 22 ... 267 kN
+  if (name == "thesis-field") {
+    return {{"name", name},
+            {"description", "Table 3.1 field string (thesis chapters 3-4)"},
+            {"string", {{"sections", {table31_section("DP", 4733.60, 91), table31_section("BHA", 466.45, 9)}}}},
+            {"rom", {{"modes", 20}}},
+            {"damping", {{"type", "modal"}, {"ratios", {0.095, 0.02}}}},
+            {"law", thesis_hysteretic_law_json(0.14)},
+            {"operation", {{"top_speed_rad_s", 16.0}, {"wob_n", 245e3}}},
+            {"simulation",
+             {{"scheme", "modified_euler"}, {"dt_s", 5.12e-4}, {"duration_s", 200.0}, {"transient_s", 100.0},
+              {"output_stride", 20}}},
+            {"sweep", {{"top_speeds_rad_s", speeds}, {"wobs_n", wobs}}}};
+  }
+  if (name == "thesis-rig") {
+    // Law: least-squares fit of Eq. (3.1) to sample 175 (0-40 s) with alpha0 fixed at 10 /RPM
+    // (docs/presets.md); damping ratio 0.02 is assumed until identified from a record.
+    return {{"name", name},
+            {"description", "Table 5.1 laboratory test rig (thesis chapter 5)"},
+            {"string",
+             {{"sections",
+               {{{"name", "bar"},
+                 {"length_m", 1.7},
+                 {"outer_radius_m", 0.0025},
+                 {"inner_radius_m", 0.0},
+                 {"youngs_modulus_pa", 220e9},
+                 {"poisson_ratio", 0.29},
+                 {"density_kg_m3", 7800.0},
+                 {"elements", 20}}}},
+              {"lumped_inertias", {{{"node", -1}, {"inertia_kg_m2", 0.5 * 3.921 * 0.069 * 0.069}}}}}},
+            {"rom", {{"modes", 1}}},
+            {"damping", {{"type", "modal"}, {"ratios", {0.02}}}},
+            {"law",
+             {{"type", "tucker_wang"},
+              {"speed_unit", "rpm"},
+              {"wob_ref_n", 563.0},
+              {"c0", 1.68},
+              {"alpha0", 10.0},
+              {"alpha1", 0.173},
+              {"alpha2", 0.0106}}},
+            {"operation", {{"top_speed_rad_s", 80.0 * M_PI / 30.0}, {"wob_n", 563.0}}},
+            {"simulation",
+             {{"scheme", "modified_euler"}, {"dt_s", 1e-4}, {"duration_s", 40.0}, {"transient_s", 5.0},
+              {"output_stride", 10}}},
+            {"metrics", {{"stick_threshold_fraction", 0.05}, {"stick_debounce_s", 0.005}}}};
+  }
+  if (name == "thesis-ch6") {
+    return {{"name", name},
+            {"description", "Section 6.6 string: 1700 m DP + 300 m BHA, Craig-Bampton substructures"},
+            {"string", {{"sections", {table31_section("DP", 1700.0, 100), table31_section("BHA", 300.0, 100)}}}},
+            {"rom", {{"modes", 50}}},
+            {"damping", {{"type", "rayleigh"}, {"pairs", {{1.0, 0.05}, {10.0, 0.01}}}}},
+            {"law", thesis_hysteretic_law_json(0.14)},
+            {"operation", {{"top_speed_rad_s", 16.0}, {"wob_n", 245e3}}},
+            {"simulation",
+             {{"scheme", "modified_euler"}, {"dt_s", 2e-4}, {"duration_s", 200.0}, {"transient_s", 100.0},
+              {"output_stride", 50}}},
+            {"sweep", {{"top_speeds_rad_s", speeds}}},
+            {"craig_bampton", {{"modes", {25, 25}}}}};
+  }
+  std::string known;
+  for (const auto& n : preset_names()) known += (known.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("preset = \"" + name + "\": unknown preset (known: " + known + ")");
+}
+
+inline Config preset(const std::string& name) { return parse_config(preset_json(name)); }
+
+}  // namespace drill

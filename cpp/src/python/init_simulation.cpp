@@ -1,0 +1,120 @@
+// Bindings: configured simulations, single runs and parallel SS sweeps (GIL released, Ctrl-C aware).
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "drill/config.hpp"
+#include "drill/metrics.hpp"
+#include "drill/simulation.hpp"
+#include "glue.hpp"
+
+namespace py = pybind11;
+using namespace drill;
+
+namespace {
+
+py::array_t<double> as_array(const std::vector<double>& v) { return py::array_t<double>(v.size(), v.data()); }
+
+Signal to_signal(const py::object& series, double dt, double t0, double constant, const std::string& field) {
+  if (series.is_none()) return Signal::constant(constant);
+  auto a = py::cast<py::array_t<double, py::array::c_style | py::array::forcecast>>(series);
+  require(a.ndim() == 1, field, a.ndim(), "must be a 1-D array");
+  require(a.size() >= 1, field, a.size(), "must not be empty");
+  Signal s = Signal::sampled(std::vector<double>(a.data(), a.data() + a.size()), t0, dt);
+  s.validate(field);
+  return s;
+}
+
+py::dict report_to_dict(const RunReport& r) {
+  py::dict d;
+  d["t"] = as_array(r.series.t);
+  d["bit_speed"] = as_array(r.series.bit_speed);
+  d["bit_accel"] = as_array(r.series.bit_accel);
+  d["bit_angle"] = as_array(r.series.bit_angle);
+  d["torque_on_bit"] = as_array(r.series.torque_on_bit);
+  d["top_torque"] = as_array(r.series.top_torque);
+  d["top_speed"] = as_array(r.series.top_speed);
+  d["severity"] = r.severity;
+  d["mean_top_speed"] = r.mean_top_speed;
+  d["stick_fraction"] = r.stick_fraction;
+  d["stick_durations"] = as_array(r.stick);
+  d["slip_durations"] = as_array(r.slip);
+  d["slip_first"] = r.slip_first;
+  d["period_cycles"] = r.periodic.period_cycles;
+  d["period_stick"] = as_array(r.periodic.stick);
+  d["period_slip"] = as_array(r.periodic.slip);
+  d["period_mismatch"] = r.periodic.mismatch;
+  d["final_q"] = r.final_state.q;
+  d["final_qdot"] = r.final_state.qdot;
+  return d;
+}
+
+}  // namespace
+
+void init_simulation(py::module_& m) {
+  py::class_<Simulation>(m, "Simulation", "A configured reduced-order simulation (appendix B).")
+      .def(py::init([](const std::string& text) { return Simulation(parse_config_text(text)); }), py::arg("config"))
+      .def_property_readonly("config", [](const Simulation& s) { return to_json(s.config()).dump(); })
+      .def_property_readonly("frequencies_hz", [](const Simulation& s) { return Eigen::VectorXd(s.rom().omega / (2 * M_PI)); })
+      .def_property_readonly("stability_bound", [](const Simulation& s) { return s.integrator().stability_bound(); },
+                             "Modified-Euler bound pi / (5 omega_max) [s] (Eq. A.7).")
+      .def(
+          "reduced_matrices",
+          [](const Simulation& s) {
+            const ReducedModel& r = s.rom().model;
+            return py::dict(py::arg("M") = r.M, py::arg("D") = r.D, py::arg("K") = r.K, py::arg("basis") = r.basis,
+                            py::arg("bit") = Eigen::VectorXd(r.bit.transpose()),
+                            py::arg("top_torque") = Eigen::VectorXd(r.top_torque.transpose()),
+                            py::arg("top_load") = r.top_load, py::arg("init_velocity") = r.init_velocity);
+          },
+          "Generalized matrices and couplings of the reduced model (Eqs. 2.8-2.10).")
+      .def(
+          "run",
+          [](const Simulation& s, py::object top_speed, py::object wob, py::object top_speed_series,
+             py::object wob_series, py::object eta_series, double series_dt, double series_t0,
+             py::object bit_viscous, bool record, py::object q0, py::object qdot0) {
+            Inputs in = s.inputs();
+            const double om = top_speed.is_none() ? s.config().top_speed : py::cast<double>(top_speed);
+            const double w = wob.is_none() ? s.config().wob : py::cast<double>(wob);
+            in.top_speed = to_signal(top_speed_series, series_dt, series_t0, om, "top_speed_series");
+            in.wob = to_signal(wob_series, series_dt, series_t0, w, "wob_series");
+            in.eta = to_signal(eta_series, series_dt, series_t0, 0.0, "eta_series");
+            if (!bit_viscous.is_none()) in.bit_viscous = py::cast<double>(bit_viscous);
+            ModelState start;
+            const bool has_start = !q0.is_none();
+            if (has_start) {
+              start.q = py::cast<Eigen::VectorXd>(q0);
+              start.qdot = qdot0.is_none() ? Eigen::VectorXd::Zero(start.q.size()) : py::cast<Eigen::VectorXd>(qdot0);
+            }
+            RunReport r;
+            {
+              py::gil_scoped_release nogil;
+              r = s.run(in, record, has_start ? &start : nullptr);
+            }
+            return report_to_dict(r);
+          },
+          py::arg("top_speed") = py::none(), py::arg("wob") = py::none(), py::arg("top_speed_series") = py::none(),
+          py::arg("wob_series") = py::none(), py::arg("eta_series") = py::none(), py::arg("series_dt") = 1e-3,
+          py::arg("series_t0") = 0.0, py::arg("bit_viscous") = py::none(), py::arg("record") = true,
+          py::arg("q0") = py::none(), py::arg("qdot0") = py::none(),
+          "Run one simulation; series inputs are sampled every series_dt from series_t0.")
+      .def(
+          "sweep",
+          [](const Simulation& s, const std::vector<double>& speeds, const std::vector<double>& wobs,
+             py::object progress, int threads) {
+            std::vector<double> out;
+            {
+              py::gil_scoped_release nogil;
+              out = s.sweep_severity(speeds, wobs, drillpy_glue::progress_callback(progress), threads);
+            }
+            const std::size_t nw = wobs.empty() ? 1 : wobs.size();
+            py::array_t<double> a({nw, speeds.size()});
+            std::copy(out.begin(), out.end(), a.mutable_data());
+            return a;
+          },
+          py::arg("speeds"), py::arg("wobs") = std::vector<double>{}, py::arg("progress") = py::none(),
+          py::arg("threads") = 0, "SS (Eq. 3.4) on a WOB x top-speed grid, in parallel.");
+  m.def("severity_threshold", &severity_threshold, py::arg("speeds"), py::arg("severities"), py::arg("level") = 0.5,
+        "Top speed below which SS > level (NaN if the curve does not cross the level).");
+}

@@ -1,0 +1,15 @@
+"""drillpy: torsional dynamics of oil-well drill strings under uncertainty.
+
+The numerics run in the C++ engine (``drillpy._core``); this package adds configuration
+handling, progress bars, figures, reports and the ``drillpy`` command.
+"""
+from . import _core
+from .config import load_config, preset_names, with_overrides
+from .simulation import (SimulationResult, natural_frequencies, simulate, stability_map,
+                         sweep_severity, severity_threshold, law_torque)
+
+__all__ = [
+    "load_config", "preset_names", "with_overrides", "SimulationResult", "natural_frequencies",
+    "simulate", "stability_map", "sweep_severity", "severity_threshold", "law_torque", "_core",
+]
+__version__ = "0.1.0"

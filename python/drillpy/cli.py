@@ -1,0 +1,203 @@
+"""The ``drillpy`` command.
+
+  drillpy report   --preset thesis-field --out DIR      main job: frequencies, SS sweep, maps
+  drillpy modes    --preset thesis-field --elements 100 -n 5 --json
+  drillpy simulate --preset thesis-field --top-speed 16 --out DIR
+  drillpy sweep    --preset thesis-field --law hysteretic --beta1 0.14 --speeds 6:27:22 --json
+  drillpy map      --preset thesis-field --beta1 0.56 --speeds-rpm 50:160:23 --wobs-kn 22:267:12
+
+Every error prints one line ``drillpy: error: ...`` and exits with status 2.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from .config import load_config, with_overrides
+
+
+def parse_grid(text: str, name: str) -> np.ndarray:
+    """'start:stop:num' (inclusive linspace) or a comma-separated list."""
+    try:
+        if ":" in text:
+            a, b, n = text.split(":")
+            n = int(n)
+            if n < 1:
+                raise ValueError
+            return np.linspace(float(a), float(b), n)
+        vals = [float(x) for x in text.split(",") if x.strip()]
+        if not vals:
+            raise ValueError
+        return np.asarray(vals)
+    except ValueError:
+        raise ValueError(f"{name} = {text!r}: use start:stop:num or a comma-separated list") from None
+
+
+def _model_args(p: argparse.ArgumentParser) -> None:
+    src = p.add_mutually_exclusive_group(required=True)
+    src.add_argument("--preset", help="built-in configuration (thesis-field, thesis-rig, thesis-ch6)")
+    src.add_argument("--config", help="JSON configuration file")
+    p.add_argument("--elements", type=int, help="total elements, split in proportion to section lengths")
+    p.add_argument("--modes", type=int, help="elastic modes kept in the reduced-order model")
+    p.add_argument("--law", choices=["hysteretic", "tucker_wang"], help="thesis bit-rock law parameter set")
+    p.add_argument("--beta1", type=float, help="hysteresis amplitude of Eq. (3.3)")
+    p.add_argument("--speed-unit", choices=["rad_s", "rpm"], help="speed unit of the law parameters")
+    p.add_argument("--scheme", choices=["modified_euler", "bdf2"], help="time integration scheme")
+    p.add_argument("--dt", type=float, help="time step [s]")
+    p.add_argument("--duration", type=float, help="simulated time [s]")
+    p.add_argument("--transient", type=float, help="time discarded before metrics [s]")
+    p.add_argument("--threads", type=int, default=0, help="OpenMP threads (0: default)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def _config(a) -> dict:
+    base = load_config(preset=a.preset) if a.preset else load_config(path=a.config)
+    return with_overrides(base, elements=a.elements, modes=a.modes, law=a.law, beta1=a.beta1,
+                          speed_unit=a.speed_unit, scheme=a.scheme, dt=a.dt,
+                          duration=a.duration, transient=a.transient)
+
+
+def cmd_modes(a) -> int:
+    from .simulation import natural_frequencies
+    f = natural_frequencies(_config(a), a.n)
+    if a.json:
+        print(json.dumps({"frequencies_hz": [float(x) for x in f]}))
+    else:
+        for k, x in enumerate(f, 1):
+            print(f"mode {k}: {x:.4f} Hz")
+    return 0
+
+
+def cmd_simulate(a) -> int:
+    from . import plotting
+    from .simulation import simulate
+    cfg = _config(a)
+    r = simulate(cfg, a.top_speed, None if a.wob_kn is None else a.wob_kn * 1e3)
+    summary = {"severity": r.severity, "mean_top_speed_rad_s": r.mean_top_speed,
+               "stick_fraction": r.stick_fraction,
+               "stick_durations_s": r.stick_durations.tolist(),
+               "slip_durations_s": r.slip_durations.tolist(), "period_cycles": r.period_cycles,
+               "period_stick_s": r.period_stick.tolist(), "period_slip_s": r.period_slip.tolist()}
+    if a.out:
+        out = Path(a.out)
+        out.mkdir(parents=True, exist_ok=True)
+        cols = np.column_stack([r.t, r.bit_speed, r.bit_accel, r.bit_angle, r.torque_on_bit,
+                                r.top_torque, r.top_speed])
+        np.savetxt(out / "series.csv", cols, delimiter=",", comments="",
+                   header="time_s,bit_speed_rad_s,bit_accel_rad_s2,bit_angle_rad,torque_on_bit_Nm,"
+                          "top_torque_Nm,top_speed_rad_s")
+        plotting.time_series(out / "time_series.png", r.t, r.bit_speed, r.torque_on_bit, r.top_speed)
+        (out / "summary.json").write_text(json.dumps({**summary, "config": r.config}, indent=2))
+    print(json.dumps(summary) if a.json else
+          f"SS = {r.severity:.3f}, stick fraction = {r.stick_fraction:.3f}, "
+          f"periodic over {r.period_cycles} cycle(s)")
+    return 0
+
+
+def cmd_sweep(a) -> int:
+    from . import plotting
+    from .simulation import severity_threshold, sweep_severity
+    cfg = _config(a)
+    speeds = parse_grid(a.speeds, "--speeds")
+    ss = sweep_severity(cfg, speeds, progress=not a.no_progress, threads=a.threads)
+    thr = severity_threshold(speeds, ss)
+    res = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.tolist(), "threshold_rad_s": thr}
+    if a.out:
+        out = Path(a.out)
+        out.mkdir(parents=True, exist_ok=True)
+        plotting.severity_curve(out / "severity_vs_top_speed.png", speeds, ss, thr)
+        (out / "sweep.json").write_text(json.dumps({**res, "config": cfg}, indent=2))
+    if a.json:
+        print(json.dumps(res))
+    else:
+        for s, v in zip(speeds, ss):
+            print(f"{s:8.3f} rad/s  SS = {v:.3f}")
+        print("SS > 0.5 below", "no crossing in range" if thr is None else f"{thr:.2f} rad/s")
+    return 0
+
+
+def cmd_map(a) -> int:
+    from . import plotting
+    from .simulation import stability_map
+    cfg = _config(a)
+    sp = parse_grid(a.speeds_rpm, "--speeds-rpm")
+    w = parse_grid(a.wobs_kn, "--wobs-kn")
+    m = stability_map(cfg, sp * np.pi / 30.0, w * 1e3, progress=not a.no_progress, threads=a.threads)
+    res = {"top_speeds_rpm": sp.tolist(), "wobs_kn": w.tolist(), "severity": m.tolist()}
+    if a.out:
+        out = Path(a.out)
+        out.mkdir(parents=True, exist_ok=True)
+        plotting.stability_maps(out / "stability_map.png", sp, w, {cfg["law"]["type"]: m})
+        (out / "map.json").write_text(json.dumps({**res, "config": cfg}, indent=2))
+    print(json.dumps(res) if a.json else f"stable fraction (SS < 0.5): {np.mean(m < 0.5):.3f}")
+    return 0
+
+
+def cmd_report(a) -> int:
+    from .report import field_report, print_field_summary
+    s = field_report(_config(a), a.out, progress=not a.no_progress, threads=a.threads)
+    if a.json:
+        print(json.dumps({k: v for k, v in s.items() if k != "config"}))
+    else:
+        print_field_summary(s)
+        print(f"figures and summary.json written to {a.out}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="drillpy", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = p.add_subparsers(dest="command", required=True)
+
+    s = sub.add_parser("report", help="main job: deterministic analysis with figures")
+    _model_args(s)
+    s.add_argument("--out", default="results", help="output folder")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_report)
+
+    s = sub.add_parser("modes", help="natural frequencies (Eq. 2.7)")
+    _model_args(s)
+    s.add_argument("-n", type=int, default=5, help="number of frequencies")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_modes)
+
+    s = sub.add_parser("simulate", help="one run: time series and stick-slip metrics")
+    _model_args(s)
+    s.add_argument("--top-speed", type=float, help="top-drive speed [rad/s]")
+    s.add_argument("--wob-kn", type=float, help="weight on bit [kN]")
+    s.add_argument("--out", help="folder for series.csv, summary.json and a figure")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_simulate)
+
+    s = sub.add_parser("sweep", help="SS versus top speed (Fig. 4.8)")
+    _model_args(s)
+    s.add_argument("--speeds", default="6:27:22", help="top speeds [rad/s], start:stop:num or list")
+    s.add_argument("--out", help="folder for the figure and sweep.json")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_sweep)
+
+    s = sub.add_parser("map", help="stability map over top speed x WOB (Figs. 3.11-3.12)")
+    _model_args(s)
+    s.add_argument("--speeds-rpm", default="50:160:23", help="top speeds [RPM]")
+    s.add_argument("--wobs-kn", default="22:267:12", help="weights on bit [kN]")
+    s.add_argument("--out", help="folder for the figure and map.json")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_map)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except (ValueError, RuntimeError, OSError) as e:
+        print(f"drillpy: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("drillpy: interrupted", file=sys.stderr)
+        return 130

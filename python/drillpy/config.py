@@ -1,0 +1,108 @@
+"""Configurations: the JSON schema shared with ``drillsim`` (parsed and validated by the engine).
+
+A configuration is a plain ``dict``; :func:`load_config` returns it normalized (every default
+made explicit) so that what a run used can always be written back next to its results.
+"""
+from __future__ import annotations
+
+import copy
+import json
+import math
+from pathlib import Path
+
+from . import _core
+
+
+def preset_names() -> list[str]:
+    """Names of the built-in presets (``thesis-field``, ``thesis-rig``, ``thesis-ch6``)."""
+    return list(_core.preset_names())
+
+
+def normalize(config: dict) -> dict:
+    """Validate a configuration in the engine and return it with all defaults explicit.
+
+    Raises ValueError naming the field and the value when the configuration is invalid.
+    """
+    return json.loads(_core.normalize_config(json.dumps(config, allow_nan=True)))
+
+
+def load_config(preset: str | None = None, path: str | Path | None = None,
+                config: dict | None = None) -> dict:
+    """Load exactly one of a preset name, a JSON file or a dict, validated and normalized."""
+    given = [x is not None for x in (preset, path, config)]
+    if sum(given) != 1:
+        raise ValueError("load_config: give exactly one of preset, path or config")
+    if preset is not None:
+        return json.loads(_core.normalize_config(_core.preset_json(preset)))
+    if path is not None:
+        p = Path(path)
+        if not p.is_file():
+            raise ValueError(f"config = {str(p)!r}: no such file")
+        try:
+            cfg = json.loads(p.read_text())
+        except json.JSONDecodeError as e:
+            raise ValueError(f"config = {str(p)!r}: malformed JSON: {e}") from None
+        return normalize(cfg)
+    return normalize(copy.deepcopy(config))
+
+
+def thesis_law(name: str, beta1: float | None = None) -> dict:
+    """The thesis's parameter sets: ``tucker_wang`` (section 3.1, rad/s) or ``hysteretic``
+    (section 3.2, RPM; beta1 = 0, 0.14, 0.56 for models 1-3). See docs/units.md for the units."""
+    if name == "tucker_wang":
+        return {"type": "tucker_wang", "speed_unit": "rad_s", "wob_ref_n": 245e3, "c0": 4700.0,
+                "alpha0": 1.67e4, "alpha1": 5.30, "alpha2": 3.45}
+    if name == "hysteretic":
+        law = json.loads(_core.preset_json("thesis-field"))["law"]
+        if beta1 is not None:
+            law["beta1"] = float(beta1)
+        return law
+    raise ValueError(f"law = {name!r}: no thesis parameter set (use tucker_wang or hysteretic)")
+
+
+def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None = None,
+                   law: str | None = None, beta1: float | None = None,
+                   speed_unit: str | None = None, scheme: str | None = None,
+                   dt: float | None = None, duration: float | None = None,
+                   transient: float | None = None, top_speed: float | None = None,
+                   wob: float | None = None) -> dict:
+    """Return a normalized copy of ``cfg`` with command-line style overrides applied.
+
+    ``elements`` re-meshes the string with that many elements split in proportion to the
+    section lengths (100 on Table 3.1 gives 91 DP + 9 BHA); ``law`` selects a thesis parameter
+    set; ``beta1`` sets the hysteresis amplitude of Eq. (3.3).
+    """
+    c = copy.deepcopy(cfg)
+    if elements is not None:
+        _check_int(elements, "elements", minimum=1)
+        c = json.loads(_core.with_total_elements(json.dumps(c), int(elements)))
+    if modes is not None:
+        _check_int(modes, "modes", minimum=1)
+        c["rom"]["modes"] = int(modes)
+    if law is not None:
+        c["law"] = thesis_law(law, beta1)
+    elif beta1 is not None:
+        if "beta1" not in c["law"]:
+            raise ValueError(f"beta1 = {beta1}: the law {c['law']['type']!r} has no hysteresis")
+        c["law"]["beta1"] = float(beta1)
+    if speed_unit is not None:
+        c["law"]["speed_unit"] = speed_unit
+    sim = c.setdefault("simulation", {})
+    for key, val in (("scheme", scheme), ("dt_s", dt), ("duration_s", duration),
+                     ("transient_s", transient)):
+        if val is not None:
+            sim[key] = val
+    if duration is not None and transient is None and sim.get("transient_s", 0) >= duration:
+        sim["transient_s"] = 0.5 * duration
+    op = c.setdefault("operation", {})
+    if top_speed is not None:
+        op["top_speed_rad_s"] = float(top_speed)
+    if wob is not None:
+        op["wob_n"] = float(wob)
+    return normalize(c)
+
+
+def _check_int(value, field: str, minimum: int) -> None:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+            or int(value) != value or value < minimum:
+        raise ValueError(f"{field} = {value!r}: must be an integer >= {minimum}")

@@ -1,0 +1,74 @@
+"""Matplotlib figures (Agg backend: files only, no screen needed). Axes carry units."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+RPM = 30.0 / np.pi  # rad/s -> RPM
+
+
+def _save(fig, path: str | Path) -> Path:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return path
+
+
+def severity_curve(path, speeds, ss, threshold=None, level=0.5, title="", extra=None):
+    """SS versus top speed (Fig. 4.8). ``extra``: list of (label, speeds, ss) curves."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    ax.plot(speeds, ss, "k.-", label="SS (deterministic)")
+    for label, sp, s in extra or []:
+        ax.plot(sp, s, ".-", label=label)
+    ax.axhline(level, color="r", ls="--", label=f"stability threshold SS = {level}")
+    if threshold is not None:
+        ax.axvline(threshold, color="r", ls=":", label=f"SS > {level} below {threshold:.1f} rad/s")
+    ax.set_xlabel("top-drive speed [rad/s]")
+    ax.set_ylabel("stick-slip severity SS [-]")
+    ax.set_title(title or "Stick-slip severity versus top speed")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def stability_maps(path, speeds_rpm, wobs_kn, maps: dict, vmax=None):
+    """One panel per model: SS over top speed x WOB (Figs. 3.11-3.12), shared colour scale."""
+    n = len(maps)
+    vmax = vmax or max(float(np.nanmax(m)) for m in maps.values())
+    fig, axes = plt.subplots(1, n, figsize=(4.6 * n, 4.0), squeeze=False)
+    for ax, (label, m) in zip(axes[0], maps.items()):
+        pc = ax.pcolormesh(speeds_rpm, wobs_kn, m, shading="nearest", cmap="jet", vmin=0, vmax=vmax)
+        ax.contour(speeds_rpm, wobs_kn, m, levels=[0.5], colors="w", linewidths=1.5)
+        ax.set_xlabel("top-drive speed [RPM]")
+        ax.set_ylabel("weight on bit [kN]")
+        ax.set_title(label, fontsize=10)
+        fig.colorbar(pc, ax=ax, label="SS [-]")
+    return _save(fig, path)
+
+
+def time_series(path, t, bit_speed, torque_on_bit, top_speed=None, t_window=None, title=""):
+    """Bit speed and torque on bit versus time (Figs. 4.6, 5.5)."""
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.0, 5.0), sharex=True)
+    sel = slice(None) if t_window is None else (t >= t_window[0]) & (t <= t_window[1])
+    a1.plot(t[sel], bit_speed[sel], "b", lw=0.8, label="bit")
+    if top_speed is not None:
+        a1.plot(t[sel], top_speed[sel], "k--", lw=0.8, label="top drive")
+    a1.set_ylabel("speed [rad/s]")
+    a1.legend(fontsize=8, loc="upper right")
+    a1.grid(alpha=0.3)
+    tob = np.asarray(torque_on_bit)[sel]
+    kilo = np.nanmax(np.abs(tob)) > 1e3 if tob.size else False
+    a2.plot(t[sel], tob / 1e3 if kilo else tob, "m", lw=0.8)
+    a2.set_ylabel("torque on bit [kN m]" if kilo else "torque on bit [N m]")
+    a2.set_xlabel("time [s]")
+    a2.grid(alpha=0.3)
+    if title:
+        a1.set_title(title)
+    return _save(fig, path)

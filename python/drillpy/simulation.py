@@ -1,0 +1,127 @@
+"""Single runs, SS sweeps and stability maps through the C++ engine (appendix B)."""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _core
+from .config import normalize
+from .progress import progress_bar
+
+
+@dataclass
+class SimulationResult:
+    """Time series (SI, absolute frame) and metrics of one run.
+
+    ``severity`` is SS of Eq. (3.4) over t >= transient; ``stick_durations`` and
+    ``slip_durations`` are complete phases after the transient; ``period_cycles`` is the number
+    of stick-slip cycles after which the phase durations repeat (0 when no periodic regime).
+    """
+    t: np.ndarray
+    bit_speed: np.ndarray
+    bit_accel: np.ndarray
+    bit_angle: np.ndarray
+    torque_on_bit: np.ndarray
+    top_torque: np.ndarray
+    top_speed: np.ndarray
+    severity: float
+    mean_top_speed: float
+    stick_fraction: float
+    stick_durations: np.ndarray
+    slip_durations: np.ndarray
+    slip_first: bool
+    period_cycles: int
+    period_stick: np.ndarray
+    period_slip: np.ndarray
+    final_q: np.ndarray
+    final_qdot: np.ndarray
+    config: dict = field(repr=False, default_factory=dict)
+
+
+def _engine(cfg: dict) -> "_core.Simulation":
+    return _core.Simulation(json.dumps(cfg))
+
+
+def simulate(cfg: dict, top_speed: float | None = None, wob: float | None = None, *,
+             top_speed_series=None, wob_series=None, eta_series=None, series_dt: float = 1e-3,
+             series_t0: float = 0.0, bit_viscous: float | None = None, record: bool = True,
+             q0=None, qdot0=None) -> SimulationResult:
+    """Run one simulation of ``cfg``.
+
+    top_speed [rad/s] and wob [N] default to the configuration's operation point. Series inputs
+    (top speed [rad/s], WOB [N], torque fluctuation eta of Eq. 4.1) are sampled every
+    ``series_dt`` seconds from ``series_t0`` and interpolated linearly. ``q0``/``qdot0`` restart
+    from a reduced state (default: Eq. 2.10).
+    """
+    sim = _engine(cfg)
+    d = sim.run(top_speed=top_speed, wob=wob, top_speed_series=_opt(top_speed_series),
+                wob_series=_opt(wob_series), eta_series=_opt(eta_series), series_dt=series_dt,
+                series_t0=series_t0, bit_viscous=bit_viscous, record=record,
+                q0=_opt(q0), qdot0=_opt(qdot0))
+    return SimulationResult(
+        t=d["t"], bit_speed=d["bit_speed"], bit_accel=d["bit_accel"], bit_angle=d["bit_angle"],
+        torque_on_bit=d["torque_on_bit"], top_torque=d["top_torque"], top_speed=d["top_speed"],
+        severity=d["severity"], mean_top_speed=d["mean_top_speed"],
+        stick_fraction=d["stick_fraction"], stick_durations=d["stick_durations"],
+        slip_durations=d["slip_durations"], slip_first=d["slip_first"],
+        period_cycles=d["period_cycles"], period_stick=d["period_stick"],
+        period_slip=d["period_slip"], final_q=d["final_q"], final_qdot=d["final_qdot"],
+        config=json.loads(sim.config))
+
+
+def _opt(x):
+    return None if x is None else np.ascontiguousarray(x, dtype=float)
+
+
+def _grid(values, name: str) -> np.ndarray:
+    a = np.atleast_1d(np.asarray(values, dtype=float))
+    if a.ndim != 1 or a.size == 0:
+        raise ValueError(f"{name} = {values!r}: must be a non-empty 1-D list of numbers")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} = {values!r}: must be finite")
+    return a
+
+
+def sweep_severity(cfg: dict, speeds, wobs=None, *, progress: bool = True,
+                   threads: int = 0) -> np.ndarray:
+    """SS (Eq. 3.4) for each top speed [rad/s] (and WOB [N]), computed in parallel.
+
+    Returns shape (len(speeds),) without ``wobs``, else (len(wobs), len(speeds)).
+    Ctrl-C stops the sweep (KeyboardInterrupt); the bar goes to stderr.
+    """
+    sp = _grid(speeds, "speeds")
+    wb = None if wobs is None else _grid(wobs, "wobs")
+    sim = _engine(cfg)
+    total = sp.size * (1 if wb is None else wb.size)
+    with progress_bar(total, "SS sweep", progress) as cb:
+        out = sim.sweep(list(sp), [] if wb is None else list(wb), cb, threads)
+    return out[0] if wb is None else out
+
+
+def stability_map(cfg: dict, speeds_rad_s, wobs_n, *, progress: bool = True,
+                  threads: int = 0) -> np.ndarray:
+    """SS over a WOB x top-speed grid (Figs. 3.11-3.12): shape (len(wobs_n), len(speeds_rad_s))."""
+    return sweep_severity(cfg, speeds_rad_s, wobs_n, progress=progress, threads=threads)
+
+
+def severity_threshold(speeds, severities, level: float = 0.5) -> float | None:
+    """Top speed below which SS > level (linear interpolation; None if no crossing)."""
+    v = _core.severity_threshold(list(map(float, speeds)), list(map(float, severities)), level)
+    return None if math.isnan(v) else v
+
+
+def natural_frequencies(cfg: dict, n: int) -> np.ndarray:
+    """First n natural frequencies [Hz] of the clamped string (Eq. 2.7)."""
+    return np.asarray(_core.natural_frequencies(json.dumps(cfg), int(n)))
+
+
+def law_torque(law: dict, speed, acceleration=0.0, wob=None) -> np.ndarray:
+    """Torque on bit [N m] of a law (dict as in the config) at SI speed and acceleration."""
+    v = np.atleast_1d(np.asarray(speed, dtype=float))
+    a = np.broadcast_to(np.asarray(acceleration, dtype=float), v.shape)
+    w = np.broadcast_to(np.asarray(law["wob_ref_n"] if wob is None else wob, dtype=float), v.shape)
+    T, _, _ = _core.law_torque(json.dumps(law), v, np.ascontiguousarray(a), np.ascontiguousarray(w))
+    return T
