@@ -18,12 +18,28 @@ def preset_names() -> list[str]:
     return list(_core.preset_names())
 
 
+def to_json_text(config: dict) -> str:
+    """JSON text for the engine; non-finite numbers (which JSON cannot carry) are refused here
+    with the path of the field, e.g. ``string.sections[0].length_m = nan``."""
+    def walk(x, path):
+        if isinstance(x, dict):
+            for k, v in x.items():
+                walk(v, f"{path}.{k}" if path else str(k))
+        elif isinstance(x, (list, tuple)):
+            for i, v in enumerate(x):
+                walk(v, f"{path}[{i}]")
+        elif isinstance(x, float) and not math.isfinite(x):
+            raise ValueError(f"{path} = {x}: must be a finite number")
+    walk(config, "")
+    return json.dumps(config, allow_nan=False)
+
+
 def normalize(config: dict) -> dict:
     """Validate a configuration in the engine and return it with all defaults explicit.
 
     Raises ValueError naming the field and the value when the configuration is invalid.
     """
-    return json.loads(_core.normalize_config(json.dumps(config, allow_nan=True)))
+    return json.loads(_core.normalize_config(to_json_text(config)))
 
 
 def load_config(preset: str | None = None, path: str | Path | None = None,
@@ -75,7 +91,7 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
     c = copy.deepcopy(cfg)
     if elements is not None:
         _check_int(elements, "elements", minimum=1)
-        c = json.loads(_core.with_total_elements(json.dumps(c), int(elements)))
+        c = json.loads(_core.with_total_elements(to_json_text(c), int(elements)))
     if modes is not None:
         _check_int(modes, "modes", minimum=1)
         c["rom"]["modes"] = int(modes)

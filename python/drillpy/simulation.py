@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _core
-from .config import normalize
+from .config import to_json_text
 from .progress import progress_bar
 
 
@@ -42,7 +42,7 @@ class SimulationResult:
 
 
 def _engine(cfg: dict) -> "_core.Simulation":
-    return _core.Simulation(json.dumps(cfg))
+    return _core.Simulation(to_json_text(cfg))
 
 
 def simulate(cfg: dict, top_speed: float | None = None, wob: float | None = None, *,
@@ -115,7 +115,7 @@ def severity_threshold(speeds, severities, level: float = 0.5) -> float | None:
 
 def natural_frequencies(cfg: dict, n: int) -> np.ndarray:
     """First n natural frequencies [Hz] of the clamped string (Eq. 2.7)."""
-    return np.asarray(_core.natural_frequencies(json.dumps(cfg), int(n)))
+    return np.asarray(_core.natural_frequencies(to_json_text(cfg), int(n)))
 
 
 def law_torque(law: dict, speed, acceleration=0.0, wob=None) -> np.ndarray:
@@ -123,5 +123,5 @@ def law_torque(law: dict, speed, acceleration=0.0, wob=None) -> np.ndarray:
     v = np.atleast_1d(np.asarray(speed, dtype=float))
     a = np.broadcast_to(np.asarray(acceleration, dtype=float), v.shape)
     w = np.broadcast_to(np.asarray(law["wob_ref_n"] if wob is None else wob, dtype=float), v.shape)
-    T, _, _ = _core.law_torque(json.dumps(law), v, np.ascontiguousarray(a), np.ascontiguousarray(w))
+    T, _, _ = _core.law_torque(to_json_text(law), v, np.ascontiguousarray(a), np.ascontiguousarray(w))
     return T

@@ -71,10 +71,6 @@ struct BitRockLaw {
       default: return "polynomial_hysteretic";
     }
   }
-  bool has_hysteresis() const {
-    return (kind == Kind::hysteretic || kind == Kind::polynomial_hysteretic) && beta1 != 0.0;
-  }
-
   void validate() const {
     require_positive(wob_ref, "law.wob_ref_n");
     switch (kind) {
@@ -102,42 +98,44 @@ struct BitRockLaw {
     require_non_negative(beta2, "law.beta2");
   }
 
-  /// Torque on bit [N.m] at SI bit speed v [rad/s], acceleration acc [rad/s^2] and WOB [N].
-  double torque(double v, double acc, double wob) const { return eval(v, acc, wob).T; }
+  /// The law at a fixed bit speed as a function of the bit acceleration (all SI, WOB applied):
+  ///   T(a) = base + frac (1 + c tanh(k a)),  c = beta1 sign(v), k = beta2 s    (Eqs. 3.2-3.3, 5.3)
+  /// with base/frac and their speed derivatives. Every law has this form (frac = 0 without
+  /// hysteresis); the integrators use it to solve for the acceleration cheaply.
+  struct AtSpeed {
+    double base = 0.0, frac = 0.0, dbase_dv = 0.0, dfrac_dv = 0.0, c = 0.0, k = 0.0;
+    double torque(double a) const { return base + frac * (1.0 + c * std::tanh(k * a)); }
+    TorqueEval eval(double a) const {
+      const double th = std::tanh(k * a), h = 1.0 + c * th;
+      return {base + frac * h, dbase_dv + dfrac_dv * h, frac * c * k * (1.0 - th * th)};
+    }
+  };
 
-  /// Torque with partial derivatives (used by the implicit integrator and the identification).
-  TorqueEval eval(double v_si, double a_si, double wob) const {
+  AtSpeed at_speed(double v_si, double wob) const {
     const double s = speed_factor(speed_unit);
-    const double v = v_si * s, acc = a_si * s, w = wob / wob_ref;
+    const double v = v_si * s, w = wob / wob_ref;
     const double sg = (v > 0.0) - (v < 0.0);
-    TorqueEval r;
-    // Eq. (3.3): H = beta1 tanh(beta2 a) sign(v)
-    const double th = std::tanh(beta2 * acc);
-    const double H = beta1 * th * sg;
-    const double dH_da = beta1 * beta2 * (1.0 - th * th) * sg;
+    AtSpeed r;
     switch (kind) {
       case Kind::tucker_wang: {  // Eq. (3.1)
         const double t = std::tanh(alpha0 * v), den = 1.0 + alpha2 * v * v;
-        r.T = c0 * (t + alpha1 * v / den);
-        r.dT_dv = c0 * (alpha0 * (1.0 - t * t) + alpha1 * (1.0 - alpha2 * v * v) / (den * den));
+        r.base = c0 * (t + alpha1 * v / den);
+        r.dbase_dv = c0 * (alpha0 * (1.0 - t * t) + alpha1 * (1.0 - alpha2 * v * v) / (den * den));
         break;
       }
-      case Kind::hysteretic: {  // Eqs. (3.2)-(3.3); H = 0 when beta1 = 0 (model 1)
-        const double av = std::max(std::fabs(v), 1e-300);
+      case Kind::hysteretic: {  // Eq. (3.2): b0 tanh(b1 v) + b0 b2 |v|^b4 sign(v) / (1 + b3 |v|^b5) (1 + H)
         const double t = std::tanh(b[1] * v);
-        const double num = b[2] * std::pow(av, b[4]), pw5 = std::pow(av, b[5]);
-        const double den = 1.0 + b[3] * pw5;
-        const double f = sg * num / den;  // odd fraction term
-        const double df = b[2] * (b[4] * std::pow(av, b[4] - 1.0) * den - std::pow(av, b[4]) * b[3] * b[5] *
-                                                                                 std::pow(av, b[5] - 1.0)) /
-                          (den * den);  // even derivative
-        r.T = b[0] * (t + f * (1.0 + H));
-        r.dT_dv = b[0] * (b[1] * (1.0 - t * t) + df * (1.0 + H));
-        r.dT_da = b[0] * f * dH_da;
+        r.base = b[0] * t;
+        r.dbase_dv = b[0] * b[1] * (1.0 - t * t);
+        const double av = std::max(std::fabs(v), 1e-300), lv = std::log(av);
+        const double p4 = std::exp(b[4] * lv), p5 = std::exp(b[5] * lv), den = 1.0 + b[3] * p5;
+        r.frac = b[0] * sg * b[2] * p4 / den;
+        r.dfrac_dv = b[0] * b[2] * (b[4] * den - b[3] * b[5] * p5) * p4 / (av * den * den);
+        r.c = beta1 * sg;  // Eq. (3.3)
         break;
       }
       case Kind::polynomial:
-      case Kind::polynomial_hysteretic: {  // Eq. (5.1), hysteretic form Eq. (5.3)
+      case Kind::polynomial_hysteretic: {  // Eq. (5.1) and its hysteretic form Eq. (5.3)
         double p, dp;
         if (v <= 0.01 * ref_speed) {
           p = a[0] + a[1] * v;
@@ -149,19 +147,30 @@ struct BitRockLaw {
           p = a[4] + v * (a[5] + v * (a[6] + v * a[7]));
           dp = a[5] + v * (2.0 * a[6] + 3.0 * v * a[7]);
         }
-        const double h = kind == Kind::polynomial ? 0.0 : H;
-        const double dh = kind == Kind::polynomial ? 0.0 : dH_da;
-        r.T = gain * p * (1.0 + h);
-        r.dT_dv = gain * dp * (1.0 + h);
-        r.dT_da = gain * p * dh;
+        if (kind == Kind::polynomial) {
+          r.base = gain * p;
+          r.dbase_dv = gain * dp;
+        } else {
+          r.frac = gain * p;
+          r.dfrac_dv = gain * dp;
+          r.c = beta1 * sg;
+        }
         break;
       }
     }
-    r.T *= w;
-    r.dT_dv *= w * s;
-    r.dT_da *= w * s;
+    r.k = beta2 * s;  // tanh(beta2 a_unit) = tanh(beta2 s a_si)
+    r.base *= w;
+    r.frac *= w;
+    r.dbase_dv *= w * s;
+    r.dfrac_dv *= w * s;
     return r;
   }
+
+  /// Torque on bit [N.m] at SI bit speed v [rad/s], acceleration acc [rad/s^2] and WOB [N].
+  double torque(double v, double acc, double wob) const { return at_speed(v, wob).torque(acc); }
+
+  /// Torque with partial derivatives (used by the implicit integrator and the identification).
+  TorqueEval eval(double v_si, double a_si, double wob) const { return at_speed(v_si, wob).eval(a_si); }
 };
 
 /// The thesis's Tucker-Wang fit of section 3.1: mu W r = 4700, alpha0 = 1.67e4, alpha1 = 5.30,

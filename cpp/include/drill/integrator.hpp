@@ -9,10 +9,13 @@
 //
 // Schemes:
 //  * modified_euler (appendix A, Eqs. A.5-A.6): semi-implicit Euler, velocity first, then the
-//    displacement with the new velocity; the torque on bit is explicit, evaluated at the previous
-//    step with the bit acceleration taken as the backward difference of the bit speed over the
-//    previous step (Eq. A.1 written one step back; zero at t = 0). First order. Refused when
-//    dt >= pi / (5 omega_max) (Eq. A.7) with omega_max the highest retained frequency.
+//    displacement with the new velocity; the torque on bit is explicit in the bit speed of the
+//    current step. Its bit acceleration is the one Eq. (A.1) defines, the forward difference
+//    (v_{i+1} - v_i) / dt, which the update (A.5) itself produces: since the torque depends on it
+//    (Eq. 3.3) it is found from the scalar equation a = alpha_i - g T(v_i, a) (g = bit . bit, alpha_i
+//    the bit acceleration without the bit torque), monotone in a, by safeguarded Newton. (A lagged
+//    backward difference instead makes H flip sign at every step: docs/numerics.md.) First order.
+//    Refused when dt >= pi / (5 omega_max) (Eq. A.7) with omega_max the highest retained frequency.
 //  * bdf2: second-order backward differentiation (backward Euler for the first step), L-stable,
 //    with the torque on bit implicit: the scalar equation for the new bit speed is solved by a
 //    safeguarded Newton iteration, and the bit acceleration in Eq. (3.3) is the BDF2 derivative
@@ -176,30 +179,49 @@ class Integrator {
   ModelState run_euler(const Inputs& in, Observer& obs, Eigen::VectorXd& z, Eigen::VectorXd& p) const {
     const double dt = opt_.dt;
     const long n = opt_.steps();
-    StepState st;
-    double theta_top = 0.0, v_prev = 0.0;
+    const double g = bit_.squaredNorm();
+    Eigen::VectorXd f(z.size());
+    double theta_top = 0.0, a_guess = 0.0;
     for (long i = 0;; ++i) {
       const double t = i * dt;
-      const double om = in.top_speed.at(t);
+      const double om = in.top_speed.at(t), domega = in.top_speed.rate(t);
+      const double wob = in.wob.at(t), eta = in.eta.at(t);
       const double v = om + bit_.dot(p);
-      // Eq. (A.1) one step back: the bit acceleration of the last step (0 at the start).
-      const double a = i == 0 ? 0.0 : (v - v_prev) / dt;
-      const double T = total_torque(v, a, in.wob.at(t), in.eta.at(t), in.bit_viscous).T;
-      st = {i, t, v, a, theta_top + bit_.dot(z), T, top_torque_.dot(z), om};
-      if (!std::isfinite(v) || !std::isfinite(T)) diverged(t);
-      obs(static_cast<const StepState&>(st));
-      if (i == n) break;
-      const double force_top = in.top_speed.rate(t);
-      // Eq. (A.5): velocity first, with the torque of the previous step ...
+      // modal forces other than the bit torque: damping, stiffness, accelerating frame
       if (diag_damping_)
-        p.array() += dt * (-bit_.array() * T - top_load_.array() * force_top - d_.array() * p.array() -
-                           w2_.array() * z.array());
+        f.array() = -d_.array() * p.array() - w2_.array() * z.array() - top_load_.array() * domega;
       else
-        p += dt * (-bit_ * T - top_load_ * force_top - D_ * p - w2_.cwiseProduct(z));
-      // ... Eq. (A.6): then the displacement with the new velocity.
-      z += dt * p;
+        f = -D_ * p - w2_.cwiseProduct(z) - top_load_ * domega;
+      const double alpha = bit_.dot(f) + domega;
+      // Eq. (A.1): a = (v_{i+1} - v_i) / dt = alpha - g T(v_i, a), with
+      // T(a) = (1 + eta) (base + frac (1 + c tanh(k a))) + c_v v increasing in a.
+      const BitRockLaw::AtSpeed ts = law_.at_speed(v, wob);
+      const double scale = 1.0 + eta, rest = in.bit_viscous * v;
+      double a = alpha - g * (scale * (ts.base + ts.frac) + rest);
+      if (ts.frac * ts.c != 0.0 && ts.k != 0.0) {
+        // saturated branches first (tanh = +-1 to double precision), Newton otherwise
+        const double up = alpha - g * (scale * (ts.base + ts.frac * (1.0 + ts.c)) + rest);
+        const double dn = alpha - g * (scale * (ts.base + ts.frac * (1.0 - ts.c)) + rest);
+        if (ts.k * up > 19.0) a = up;
+        else if (ts.k * dn < -19.0) a = dn;
+        else
+          a = solve_root(
+              [&](double x, double& dF) {
+                const TorqueEval e = ts.eval(x);
+                dF = 1.0 + g * scale * e.dT_da;
+                return x + g * (scale * e.T + rest) - alpha;
+              },
+              std::min(std::max(a_guess, std::min(up, dn)), std::max(up, dn)), std::fabs(up - dn) + 1e-12,
+              1e-12 * (1.0 + std::fabs(alpha)), t);
+        a_guess = a;
+      }
+      const double T = scale * ts.torque(a) + rest;
+      if (!std::isfinite(v) || !std::isfinite(T)) diverged(t);
+      obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T, top_torque_.dot(z), om}));
+      if (i == n) break;
+      p += dt * (f - bit_ * T);  // Eq. (A.5): velocity first, with the torque of step i ...
+      z += dt * p;               // Eq. (A.6): ... then the displacement with the new velocity.
       theta_top += 0.5 * dt * (om + in.top_speed.at(t + dt));
-      v_prev = v;
     }
     return to_model(z, p);
   }
@@ -258,21 +280,27 @@ class Integrator {
     return to_model(z, p);
   }
 
-  /// Solve x + c T(om + x, ca x + a0) = w for the relative bit speed x (safeguarded Newton with
-  /// bracketing; bisection converges to the jump of a discontinuous law, i.e. to stick).
+  /// Solve x + c T(om + x, ca x + a0) = w for the relative bit speed x; Tout receives T at x.
   double solve_bit(double w, double c, double om, double ca, double a0, double wob, double eta, double cv,
                    double guess, double t, double& Tout) const {
-    auto F = [&](double x, double& dF, double& T) {
-      const TorqueEval e = total_torque(om + x, ca * x + a0, wob, eta, cv);
-      T = e.T;
-      dF = 1.0 + c * (e.dT_dv + e.dT_da * ca);
-      return x + c * e.T - w;
-    };
-    double lo = -HUGE_VAL, hi = HUGE_VAL, dF, T;
-    double x = guess, f = F(x, dF, T);
-    double step = std::max(1e-3, std::fabs(w - guess));
-    double dx_old = HUGE_VAL;
-    const double tol = 1e-12 * (1.0 + std::fabs(om) + std::fabs(w));
+    return solve_root(
+        [&](double x, double& dF) {
+          const TorqueEval e = total_torque(om + x, ca * x + a0, wob, eta, cv);
+          Tout = e.T;
+          dF = 1.0 + c * (e.dT_dv + e.dT_da * ca);
+          return x + c * e.T - w;
+        },
+        guess, std::max(1e-3, std::fabs(w - guess)), 1e-12 * (1.0 + std::fabs(om) + std::fabs(w)), t);
+  }
+
+  /// Root of an increasing scalar function F(x, dF) by Newton steps safeguarded by a bracket
+  /// (march downhill until bracketed, then Newton while it halves the step, else bisection; a
+  /// jump of a discontinuous law is found as the limit of the bracket). F is last evaluated at
+  /// the returned root.
+  template <class F>
+  static double solve_root(F&& func, double x, double step, double tol, double t) {
+    double lo = -HUGE_VAL, hi = HUGE_VAL, dF = 0.0, dx_old = HUGE_VAL;
+    double f = func(x, dF);
     for (int it = 0; it < 300 && std::fabs(f) > tol; ++it) {
       (f < 0.0 ? lo : hi) = x;
       const bool bracketed = std::isfinite(lo) && std::isfinite(hi);
@@ -280,18 +308,16 @@ class Integrator {
       const bool newton = dF > 0.0 && std::isfinite(dF);
       double xn = newton ? x - f / dF : x;
       if (bracketed) {
-        // Newton inside the bracket while it at least halves the step; bisection otherwise.
         if (!newton || !(xn > lo && xn < hi) || std::fabs(xn - x) > 0.5 * dx_old) xn = 0.5 * (lo + hi);
       } else if (!newton || std::fabs(xn - x) <= tol) {
-        xn = f > 0.0 ? x - step : x + step;  // march downhill until the root is bracketed
+        xn = f > 0.0 ? x - step : x + step;
         step *= 2.0;
       }
       dx_old = std::fabs(xn - x);
       x = xn;
-      f = F(x, dF, T);
+      f = func(x, dF);
       if (!std::isfinite(f)) diverged(t);
     }
-    Tout = T;
     return x;
   }
 

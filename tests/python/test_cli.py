@@ -1,0 +1,78 @@
+"""The drillpy and drillsim commands: outputs, exit codes and one-line errors."""
+import json
+
+import numpy as np
+import pytest
+
+from conftest import run_cli
+import subprocess
+
+
+def test_modes_json_gives_thesis_frequencies():
+    r = run_cli("modes", "--preset", "thesis-field", "--elements", "100", "-n", "5", "--json")
+    assert r.returncode == 0, r.stderr
+    f = json.loads(r.stdout)["frequencies_hz"]
+    np.testing.assert_allclose(f, [0.13, 0.42, 0.74, 1.07, 1.41], atol=0.005)
+
+
+def test_sweep_json_reports_threshold():
+    r = run_cli("sweep", "--preset", "thesis-field", "--law", "hysteretic", "--beta1", "0.14",
+                "--speeds", "6:27:22", "--json", "--no-progress")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert len(d["severity"]) == 22 and 15.0 < d["threshold_rad_s"] < 21.0
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["modes", "--preset", "nope"], 'preset = "nope"'),
+    (["modes", "--preset", "thesis-field", "--elements", "0"], "elements = 0"),
+    (["modes", "--preset", "thesis-field", "--modes", "500"], "rom.modes = 500"),
+    (["simulate", "--preset", "thesis-field", "--dt", "0.05"], "stability bound"),
+    (["sweep", "--preset", "thesis-field", "--speeds", "6:27"], "--speeds = '6:27'"),
+    (["sweep", "--preset", "thesis-rig", "--beta1", "0.1"], "has no hysteresis"),
+])
+def test_bad_input_gives_one_line_error(args, needle):
+    r = run_cli(*args)
+    assert r.returncode == 2
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("drillpy: error:") and needle in lines[0], r.stderr
+
+
+def test_config_file_errors(tmp_path):
+    p = tmp_path / "c.json"
+    p.write_text("{not json")
+    r = run_cli("modes", "--config", str(p))
+    assert r.returncode == 2 and "malformed JSON" in r.stderr
+
+
+def test_drillsim_run_and_sweep(drillsim, tmp_path):
+    r = subprocess.run([drillsim, "--preset", "thesis-rig", "--out", str(tmp_path / "run")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    s = json.loads((tmp_path / "run" / "summary.json").read_text())
+    assert s["severity"] > 0.5 and s["config"]["name"] == "thesis-rig"
+    data = np.genfromtxt(tmp_path / "run" / "series.csv", delimiter=",", names=True)
+    assert data["time_s"][-1] == pytest.approx(40.0) and np.all(np.isfinite(data["bit_speed_rad_s"]))
+
+    cfg = json.loads(subprocess.run([drillsim, "--preset", "thesis-field", "--out", str(tmp_path / "x")],
+                                    capture_output=True, text=True).returncode == 0 and
+                     (tmp_path / "x" / "summary.json").read_text())["config"]
+    cfg["sweep"] = {"top_speeds_rad_s": [8.0, 14.0, 20.0, 26.0], "wobs_n": []}
+    (tmp_path / "c.json").write_text(json.dumps(cfg))
+    r = subprocess.run([drillsim, "--config", str(tmp_path / "c.json"), "--job", "sweep", "--format", "npy",
+                        "--out", str(tmp_path / "sw")], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    ss = np.load(tmp_path / "sw" / "severity.npy")
+    assert ss.shape == (1, 4) and ss[0, 0] > 1.0 and ss[0, 3] < 0.2
+    assert 14.0 < json.loads((tmp_path / "sw" / "summary.json").read_text())["threshold_rad_s"] < 26.0
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["--preset", "nope"], 'preset = "nope"'),
+    (["--preset", "thesis-field", "--format", "xls"], '--format = "xls"'),
+    (["--config", "/nonexistent.json"], "cannot open file"),
+])
+def test_drillsim_errors(drillsim, args, needle):
+    r = subprocess.run([drillsim, *args], capture_output=True, text=True)
+    assert r.returncode == 2
+    assert r.stderr.count("\n") == 1 and r.stderr.startswith("drillsim: error:") and needle in r.stderr

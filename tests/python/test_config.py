@@ -1,0 +1,61 @@
+"""Configurations: presets, overrides, and errors that name the field and the value."""
+import json
+
+import pytest
+
+import drillpy
+from drillpy.config import thesis_law, with_overrides
+
+
+def test_presets_load_normalized():
+    assert set(drillpy.preset_names()) == {"thesis-field", "thesis-rig", "thesis-ch6"}
+    c = drillpy.load_config(preset="thesis-field")
+    assert [s["elements"] for s in c["string"]["sections"]] == [91, 9]
+    assert c["law"]["speed_unit"] == "rpm" and c["law"]["beta1"] == 0.14
+    assert c["simulation"]["dt_s"] == pytest.approx(5.12e-4)
+
+
+def test_file_round_trip(tmp_path):
+    c = drillpy.load_config(preset="thesis-rig")
+    p = tmp_path / "rig.json"
+    p.write_text(json.dumps(c))
+    assert drillpy.load_config(path=p) == c
+
+
+def test_elements_override_splits_by_length():
+    c = with_overrides(drillpy.load_config(preset="thesis-field"), elements=200)
+    assert [s["elements"] for s in c["string"]["sections"]] == [182, 18]
+
+
+def test_thesis_laws():
+    assert thesis_law("hysteretic", 0.56)["beta1"] == 0.56
+    assert thesis_law("tucker_wang")["c0"] == 4700.0
+
+
+@pytest.mark.parametrize("edit, field", [
+    (lambda c: c["string"]["sections"][0].update(length_m=-1.0), "string.sections[0].length_m = -1"),
+    (lambda c: c["string"]["sections"][1].update(inner_radius_m=0.2), "string.sections[1].inner_radius_m = 0.2"),
+    (lambda c: c["string"]["sections"][0].update(elements=0), "string.sections[0].elements = 0"),
+    (lambda c: c["string"]["sections"][0].update(outer_radius_m=float("nan")), "outer_radius_m"),
+    (lambda c: c["rom"].update(modes=101), "rom.modes = 101"),
+    (lambda c: c["law"].update(type="coulomb"), 'law.type = "coulomb"'),
+    (lambda c: c["law"].pop("b2"), "law.b2: missing"),
+    (lambda c: c.pop("string"), "config.string: missing"),
+    (lambda c: c["simulation"].update(dt_s=0.05), "simulation.dt_s = 0.05"),
+    (lambda c: c.update(colour="red"), 'config.colour = "red": unknown key'),
+])
+def test_bad_config_names_field_and_value(edit, field):
+    c = drillpy.load_config(preset="thesis-field")
+    edit(c)
+    with pytest.raises(ValueError) as e:
+        drillpy.simulate(c)
+    assert field in str(e.value)
+
+
+def test_malformed_json_file(tmp_path):
+    p = tmp_path / "bad.json"
+    p.write_text('{"string": [1, 2')
+    with pytest.raises(ValueError, match="malformed JSON"):
+        drillpy.load_config(path=p)
+    with pytest.raises(ValueError, match="no such file"):
+        drillpy.load_config(path=tmp_path / "missing.json")

@@ -1,0 +1,107 @@
+"""Simulation through the bindings: NumPy oracle, metrics, sweeps, GIL release and Ctrl-C."""
+import os
+import signal
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import drillpy
+from numpy_rom import run_modified_euler
+
+FIELD = drillpy.load_config(preset="thesis-field")
+
+
+def test_engine_matches_numpy_reference_loop():
+    cfg = drillpy.with_overrides(FIELD, duration=3.0, transient=1.0)
+    ref = run_modified_euler(cfg, 16.0)
+    r = drillpy.simulate(cfg, 16.0)
+    stride = cfg["simulation"]["output_stride"]
+    np.testing.assert_allclose(r.bit_speed, ref[::stride], rtol=0, atol=1e-7)  # root-solver round-off
+    assert r.t[1] - r.t[0] == pytest.approx(stride * 5.12e-4)
+
+
+def test_run_outputs_and_severity_definition():
+    r = drillpy.simulate(FIELD, 10.0)
+    n = round(200 / 5.12e-4) // 20 + 1
+    for a in (r.t, r.bit_speed, r.bit_angle, r.torque_on_bit, r.top_torque, r.top_speed):
+        assert a.shape == (n,) and np.all(np.isfinite(a))
+    w = r.t >= 100.0
+    ss = (r.bit_speed[w].max() - r.bit_speed[w].min()) / (2 * 10.0)  # Eq. (3.4) on the samples
+    assert r.severity >= ss - 1e-12 and r.severity == pytest.approx(ss, rel=0.02)
+    assert r.severity > 1.0 and 0.1 < r.stick_fraction < 0.6
+    # bit angle is the integral of bit speed
+    dth = np.diff(r.bit_angle)
+    np.testing.assert_allclose(dth, np.diff(r.t) * 0.5 * (r.bit_speed[1:] + r.bit_speed[:-1]),
+                               rtol=0, atol=0.15)
+
+
+def test_constant_series_input_equals_constant_top_speed():
+    cfg = drillpy.with_overrides(FIELD, duration=20.0, transient=5.0)
+    a = drillpy.simulate(cfg, 12.0)
+    b = drillpy.simulate(cfg, top_speed_series=np.full(100, 12.0), series_dt=1.0)
+    np.testing.assert_array_equal(a.bit_speed, b.bit_speed)
+
+
+def test_sweep_threshold_and_figure_4_8_shape():
+    speeds = np.arange(6.0, 28.0)
+    ss = drillpy.sweep_severity(FIELD, speeds, progress=False)
+    assert ss.shape == (22,)
+    thr = drillpy.severity_threshold(speeds, ss)
+    assert 15.0 < thr < 21.0  # thesis: 16 rad/s (docs/validation.md)
+    assert ss[0] > 1.0 and ss[-1] < 0.1
+
+
+def test_progress_callback_and_grid_shape():
+    calls = []
+    sim = drillpy._core.Simulation(drillpy.config.to_json_text(FIELD))
+    out = sim.sweep([10.0, 20.0, 30.0], [100e3, 200e3], lambda d, t: calls.append((d, t)), 1)
+    assert out.shape == (2, 3)
+    assert calls[-1] == (6, 6) and all(a[0] < b[0] for a, b in zip(calls, calls[1:]))
+
+
+def test_sweep_releases_the_gil():
+    cfg = drillpy.with_overrides(FIELD, duration=400.0, transient=100.0)
+    ticks = []
+    done = threading.Event()
+
+    def work():
+        drillpy.sweep_severity(cfg, np.arange(6.0, 16.0), progress=False, threads=1)
+        done.set()
+
+    th = threading.Thread(target=work)
+    th.start()
+    while not done.is_set():
+        ticks.append(time.perf_counter())
+        time.sleep(0.01)
+    th.join()
+    assert len(ticks) > 10  # the main thread kept running Python while the engine worked
+
+
+@pytest.mark.skipif(os.name != "posix", reason="needs SIGINT")
+def test_ctrl_c_stops_a_sweep():
+    cfg = drillpy.with_overrides(FIELD, duration=400.0, transient=100.0)
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    t0 = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        drillpy.sweep_severity(cfg, np.linspace(6, 27, 200), progress=False, threads=1)
+    assert time.perf_counter() - t0 < 10.0  # 200 runs would take far longer
+
+
+def test_law_torque_matches_thesis_values():
+    rpm = np.pi / 30
+    T = drillpy.law_torque(FIELD["law"], [10 * rpm, 200 * rpm])
+    np.testing.assert_allclose(T, [12.8e3, 7.8e3], atol=100)
+    T = drillpy.law_torque(drillpy.config.thesis_law("tucker_wang"), 1.0)
+    assert T[0] == pytest.approx(10.3e3, abs=60)
+
+
+def test_bad_inputs_raise_value_errors():
+    with pytest.raises(ValueError, match="speeds"):
+        drillpy.sweep_severity(FIELD, [], progress=False)
+    with pytest.raises(ValueError, match=r"sweep.top_speeds_rad_s\[1\] = -3"):
+        drillpy.sweep_severity(FIELD, [5.0, -3.0], progress=False)
+    with pytest.raises(ValueError, match="top_speed_series"):
+        drillpy.simulate(FIELD, top_speed_series=np.array([1.0, np.nan]))
