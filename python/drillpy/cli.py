@@ -5,6 +5,7 @@
   drillpy simulate --preset thesis-field --top-speed 16 --out DIR
   drillpy sweep    --preset thesis-field --law hysteretic --beta1 0.14 --speeds 6:27:22 --json
   drillpy map      --preset thesis-field --beta1 0.56 --speeds-rpm 50:160:23 --wobs-kn 22:267:12
+  drillpy convergence --preset thesis-field            FE and time-step convergence orders
 
 Every error prints one line ``drillpy: error: ...`` and exits with status 2.
 """
@@ -148,6 +149,30 @@ def cmd_report(a) -> int:
     return 0
 
 
+def cmd_convergence(a) -> int:
+    from .convergence import convergence_report
+    r = convergence_report(_config(a))
+    if a.json:
+        print(json.dumps(r))
+        return 0
+    sp = r["space"]
+    print("FE frequencies vs exact (max relative error over the first 5):")
+    for n, e in zip(sp["elements"], sp["max_rel_error"]):
+        print(f"  {n:5d} elements  {e:.3e}")
+    print("  observed orders:", ", ".join(f"{o:.2f}" for o in sp["orders"]))
+    for key, title in (("time_slip", "slip regime"), ("time_stick_slip", "stick-slip regime")):
+        t = r[key]
+        print(f"time integration, {title} ({t['top_speed_rad_s']} rad/s, {t['duration_s']} s; "
+              f"max |bit speed error| vs BDF2 at dt = {t['reference_dt_s']:.2e} s):")
+        print("  dt [s]      modified_euler   bdf2")
+        for i, dt in enumerate(t["dt_s"]):
+            print(f"  {dt:.2e}   {t['modified_euler']['max_error_rad_s'][i]:.3e}        "
+                  f"{t['bdf2']['max_error_rad_s'][i]:.3e}")
+        print("  orders: modified_euler", ", ".join(f"{o:.2f}" for o in t["modified_euler"]["orders"]),
+              "| bdf2", ", ".join(f"{o:.2f}" for o in t["bdf2"]["orders"]))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="drillpy", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -187,6 +212,11 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--out", help="folder for the figure and map.json")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_map)
+
+    s = sub.add_parser("convergence", help="FE and time-step convergence studies (docs/numerics.md)")
+    _model_args(s)
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_convergence)
     return p
 
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 
+#include "drill/exact.hpp"
 #include "drill/fem.hpp"
 #include "drill/modal.hpp"
 #include "drill/presets.hpp"
@@ -18,36 +19,6 @@ StringModel table31(int n_dp, int n_bha) {
   s.sections = {{"DP", 4733.60, 0.070, 0.0595, 220e9, 0.29, 7800, n_dp},
                 {"BHA", 466.45, 0.0803, 0.0363, 220e9, 0.29, 7800, n_bha}};
   return s;
-}
-
-/// Frequency equation of a clamped-free bar of two sections (continuity of angle and torque at
-/// the interface): Z1 cos(k1 L1) cos(k2 L2) - Z2 sin(k1 L1) sin(k2 L2) = 0, k = w / c, Z = G J k.
-double char_eq(const StringModel& s, double w) {
-  const Section &a = s.sections[0], &b = s.sections[1];
-  const double k1 = w / a.wave_speed(), k2 = w / b.wave_speed();
-  const double z1 = a.shear_modulus() * a.polar_moment() * k1, z2 = b.shear_modulus() * b.polar_moment() * k2;
-  return z1 * std::cos(k1 * a.length) * std::cos(k2 * b.length) - z2 * std::sin(k1 * a.length) * std::sin(k2 * b.length);
-}
-
-/// First n roots of the characteristic equation by scanning and bisection.
-std::vector<double> exact_frequencies_hz(const StringModel& s, int n) {
-  std::vector<double> out;
-  const double dw = 1e-3;
-  double w0 = 1e-6, f0 = char_eq(s, w0);
-  while (static_cast<int>(out.size()) < n) {
-    const double w1 = w0 + dw, f1 = char_eq(s, w1);
-    if (f0 * f1 < 0) {
-      double lo = w0, hi = w1;
-      for (int i = 0; i < 100; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (char_eq(s, lo) * char_eq(s, mid) <= 0 ? hi : lo) = mid;
-      }
-      out.push_back(0.5 * (lo + hi) / (2 * M_PI));
-    }
-    w0 = w1;
-    f0 = f1;
-  }
-  return out;
 }
 
 }  // namespace
@@ -93,11 +64,30 @@ TEST(Fem, FrequenciesConvergeToExactSolutionAtSecondOrder) {
   EXPECT_LT(err.back(), 1e-4);
 }
 
+TEST(Fem, TransferMatrixMatchesTheTwoSectionFrequencyEquation) {
+  // Continuity of angle and torque at the interface of a clamped-free two-section bar:
+  // Z1 cos(k1 L1) cos(k2 L2) - Z2 sin(k1 L1) sin(k2 L2) = 0.
+  const StringModel s = table31(1, 1);
+  const Section &a = s.sections[0], &b = s.sections[1];
+  for (double f : exact_frequencies_hz(s, 5)) {
+    const double w = 2 * M_PI * f, k1 = w / a.wave_speed(), k2 = w / b.wave_speed();
+    const double z1 = a.shear_modulus() * a.polar_moment() * k1, z2 = b.shear_modulus() * b.polar_moment() * k2;
+    const double r = z1 * std::cos(k1 * a.length) * std::cos(k2 * b.length) - z2 * std::sin(k1 * a.length) * std::sin(k2 * b.length);
+    EXPECT_LT(std::fabs(r), 1e-9 * z1) << f;
+  }
+  // a single uniform clamped-free bar: f_n = (2n - 1) c / (4 L)
+  StringModel u;
+  u.sections = {a};
+  const auto fu = exact_frequencies_hz(u, 3);
+  for (int n = 1; n <= 3; ++n) EXPECT_NEAR(fu[n - 1], (2 * n - 1) * a.wave_speed() / (4 * a.length), 1e-9);
+}
+
 TEST(Fem, TestRigFirstFrequencyNearTheMeasured3Hz) {
   const Config c = preset("thesis-rig");
   const Eigen::VectorXd f = natural_frequencies_hz(c.string, 2);
   // sqrt(k / I) / (2 pi) with k = G J / L = 3.08 N m/rad and I = 9.33e-3 kg m^2: 2.89 Hz
   EXPECT_NEAR(f(0), 2.89, 0.01);
+  EXPECT_NEAR(f(0), exact_frequencies_hz(c.string, 1, 0.05)[0], 1e-4);  // bar + disk, exact
   EXPECT_NEAR(f(0), 3.0, 0.15);  // the thesis measured 3 Hz
   EXPECT_GT(f(1), 100.0);        // the bar's own modes are far above
 }

@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include "drill/config.hpp"
+#include "drill/exact.hpp"
 #include "drill/modal.hpp"
 #include "drill/parallel.hpp"
 #include "drill/presets.hpp"
@@ -32,6 +33,11 @@ void init_model(py::module_& m) {
       "natural_frequencies",
       [](const std::string& text, int n) { return natural_frequencies_hz(parse_config_text(text).string, n); },
       py::arg("config"), py::arg("n"), "First n natural frequencies [Hz] of the clamped string (Eq. 2.7).");
+  m.def(
+      "exact_frequencies",
+      [](const std::string& text, int n) { return exact_frequencies_hz(parse_config_text(text).string, n); },
+      py::arg("config"), py::arg("n"),
+      "First n exact natural frequencies [Hz] of the continuous string (transfer matrices).");
   m.def(
       "fe_matrices",
       [](const std::string& text) {

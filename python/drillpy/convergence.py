@@ -1,0 +1,67 @@
+"""Convergence studies behind docs/numerics.md (run them with ``drillpy convergence``).
+
+* Space: FE natural frequencies (Eq. 2.7) against the exact frequencies of the continuous
+  string (transfer matrices), as the number of elements doubles; linear elements with a
+  consistent mass converge at order 2 in the element size.
+* Time: bit speed of the modified Euler scheme (appendix A) and of BDF2 against a BDF2 reference
+  with a 32x smaller step, as dt halves, in a smooth slipping regime (orders 1 and 2) and in the
+  stick-slip regime (where the stick/slip switching limits the order).
+"""
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+
+from . import _core
+from .config import normalize, to_json_text, with_overrides
+from .simulation import natural_frequencies, simulate
+
+
+def observed_orders(h, err) -> list[float]:
+    """log2 of successive error ratios for a step halved each time (log(e1/e2)/log(h1/h2))."""
+    h, err = np.asarray(h, float), np.asarray(err, float)
+    return [float(np.log(err[i - 1] / err[i]) / np.log(h[i - 1] / h[i])) for i in range(1, len(h))]
+
+
+def space_study(cfg: dict, elements=(25, 50, 100, 200, 400), n_freq: int = 5) -> dict:
+    exact = np.asarray(_core.exact_frequencies(to_json_text(cfg), n_freq))
+    errs = []
+    for n in elements:
+        f = natural_frequencies(with_overrides(cfg, elements=n), n_freq)
+        errs.append(float(np.max(np.abs(f - exact) / exact)))
+    h = [1.0 / n for n in elements]
+    return {"elements": list(elements), "exact_hz": exact.tolist(), "max_rel_error": errs,
+            "orders": observed_orders(h, errs)}
+
+
+def _with_step(cfg: dict, scheme: str, dt: float, duration: float, sample_every: float) -> dict:
+    c = copy.deepcopy(cfg)
+    c["simulation"].update(scheme=scheme, dt_s=dt, duration_s=duration, transient_s=0.0,
+                           output_stride=int(round(sample_every / dt)))
+    return normalize(c)
+
+
+def time_study(cfg: dict, top_speed: float, duration: float, rigid_start: bool,
+               dts=(2e-3, 1e-3, 5e-4, 2.5e-4), sample_every: float = 0.01) -> dict:
+    """Max |bit speed - reference| over the run for both schemes and each dt."""
+    m = cfg["rom"]["modes"]
+    start = dict(q0=np.zeros(m), qdot0=np.zeros(m)) if rigid_start else {}
+    ref_dt = min(dts) / 32
+    ref = simulate(_with_step(cfg, "bdf2", ref_dt, duration, sample_every), top_speed, **start)
+    out = {"top_speed_rad_s": top_speed, "duration_s": duration, "rigid_start": rigid_start,
+           "dt_s": list(dts), "reference_dt_s": ref_dt,
+           "reference_min_bit_speed": float(ref.bit_speed.min())}
+    for scheme in ("modified_euler", "bdf2"):
+        errs = []
+        for dt in dts:
+            r = simulate(_with_step(cfg, scheme, dt, duration, sample_every), top_speed, **start)
+            errs.append(float(np.max(np.abs(r.bit_speed - ref.bit_speed))))
+        out[scheme] = {"max_error_rad_s": errs, "orders": observed_orders(dts, errs)}
+    return out
+
+
+def convergence_report(cfg: dict) -> dict:
+    return {"space": space_study(cfg),
+            "time_slip": time_study(cfg, 30.0, 10.0, rigid_start=True),
+            "time_stick_slip": time_study(cfg, 16.0, 20.0, rigid_start=False)}
