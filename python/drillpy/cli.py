@@ -52,6 +52,8 @@ def _model_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--duration", type=float, help="simulated time [s]")
     p.add_argument("--transient", type=float, help="time discarded before metrics [s]")
     p.add_argument("--threads", type=int, default=0, help="OpenMP threads (0: default)")
+    p.add_argument("--start", choices=["rest", "steady"], default="rest",
+                   help="initial state: bit at rest (Eq. 2.10) or steady drilling")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
@@ -77,7 +79,7 @@ def cmd_simulate(a) -> int:
     from . import plotting
     from .simulation import simulate
     cfg = _config(a)
-    r = simulate(cfg, a.top_speed, None if a.wob_kn is None else a.wob_kn * 1e3)
+    r = simulate(cfg, a.top_speed, None if a.wob_kn is None else a.wob_kn * 1e3, start=a.start)
     summary = {"severity": r.severity, "mean_top_speed_rad_s": r.mean_top_speed,
                "stick_fraction": r.stick_fraction,
                "stick_durations_s": r.stick_durations.tolist(),
@@ -104,7 +106,7 @@ def cmd_sweep(a) -> int:
     from .simulation import severity_threshold, sweep_severity
     cfg = _config(a)
     speeds = parse_grid(a.speeds, "--speeds")
-    ss = sweep_severity(cfg, speeds, progress=not a.no_progress, threads=a.threads)
+    ss = sweep_severity(cfg, speeds, progress=not a.no_progress, threads=a.threads, start=a.start)
     thr = severity_threshold(speeds, ss)
     res = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.tolist(), "threshold_rad_s": thr}
     if a.out:
@@ -127,7 +129,8 @@ def cmd_map(a) -> int:
     cfg = _config(a)
     sp = parse_grid(a.speeds_rpm, "--speeds-rpm")
     w = parse_grid(a.wobs_kn, "--wobs-kn")
-    m = stability_map(cfg, sp * np.pi / 30.0, w * 1e3, progress=not a.no_progress, threads=a.threads)
+    m = stability_map(cfg, sp * np.pi / 30.0, w * 1e3, progress=not a.no_progress, threads=a.threads,
+                      start=a.start)
     res = {"top_speeds_rpm": sp.tolist(), "wobs_kn": w.tolist(), "severity": m.tolist()}
     if a.out:
         out = Path(a.out)

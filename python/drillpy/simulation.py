@@ -48,15 +48,25 @@ def _engine(cfg: dict) -> "_core.Simulation":
 def simulate(cfg: dict, top_speed: float | None = None, wob: float | None = None, *,
              top_speed_series=None, wob_series=None, eta_series=None, series_dt: float = 1e-3,
              series_t0: float = 0.0, bit_viscous: float | None = None, record: bool = True,
-             q0=None, qdot0=None) -> SimulationResult:
+             q0=None, qdot0=None, start: str = "rest") -> SimulationResult:
     """Run one simulation of ``cfg``.
 
     top_speed [rad/s] and wob [N] default to the configuration's operation point. Series inputs
     (top speed [rad/s], WOB [N], torque fluctuation eta of Eq. 4.1) are sampled every
-    ``series_dt`` seconds from ``series_t0`` and interpolated linearly. ``q0``/``qdot0`` restart
-    from a reduced state (default: Eq. 2.10).
+    ``series_dt`` seconds from ``series_t0`` and interpolated linearly. ``start="rest"`` starts
+    from Eq. (2.10) (bit at rest, string untwisted), ``start="steady"`` from steady drilling at the
+    initial top speed; ``q0``/``qdot0`` give any reduced state instead.
     """
     sim = _engine(cfg)
+    _check_start(start)
+    if start == "steady" and q0 is None:
+        om0 = cfg["operation"]["top_speed_rad_s"] if top_speed is None else top_speed
+        if top_speed_series is not None:
+            om0 = float(np.asarray(top_speed_series, dtype=float)[0])
+        w0 = cfg["operation"]["wob_n"] if wob is None else wob
+        if wob_series is not None:
+            w0 = float(np.asarray(wob_series, dtype=float)[0])
+        q0, qdot0 = sim.steady_state(om0, w0)
     d = sim.run(top_speed=top_speed, wob=wob, top_speed_series=_opt(top_speed_series),
                 wob_series=_opt(wob_series), eta_series=_opt(eta_series), series_dt=series_dt,
                 series_t0=series_t0, bit_viscous=bit_viscous, record=record,
@@ -70,6 +80,11 @@ def simulate(cfg: dict, top_speed: float | None = None, wob: float | None = None
         period_cycles=d["period_cycles"], period_stick=d["period_stick"],
         period_slip=d["period_slip"], final_q=d["final_q"], final_qdot=d["final_qdot"],
         config=json.loads(sim.config))
+
+
+def _check_start(start: str) -> None:
+    if start not in ("rest", "steady"):
+        raise ValueError(f"start = {start!r}: use 'rest' (Eq. 2.10) or 'steady' (steady drilling)")
 
 
 def _opt(x):
@@ -86,25 +101,28 @@ def _grid(values, name: str) -> np.ndarray:
 
 
 def sweep_severity(cfg: dict, speeds, wobs=None, *, progress: bool = True,
-                   threads: int = 0) -> np.ndarray:
+                   threads: int = 0, start: str = "rest") -> np.ndarray:
     """SS (Eq. 3.4) for each top speed [rad/s] (and WOB [N]), computed in parallel.
 
+    Every run starts from Eq. (2.10) (``start="rest"``) or from steady drilling
+    (``start="steady"``); between the two thresholds the string is bistable.
     Returns shape (len(speeds),) without ``wobs``, else (len(wobs), len(speeds)).
     Ctrl-C stops the sweep (KeyboardInterrupt); the bar goes to stderr.
     """
+    _check_start(start)
     sp = _grid(speeds, "speeds")
     wb = None if wobs is None else _grid(wobs, "wobs")
     sim = _engine(cfg)
     total = sp.size * (1 if wb is None else wb.size)
     with progress_bar(total, "SS sweep", progress) as cb:
-        out = sim.sweep(list(sp), [] if wb is None else list(wb), cb, threads)
+        out = sim.sweep(list(sp), [] if wb is None else list(wb), cb, threads, start == "steady")
     return out[0] if wb is None else out
 
 
 def stability_map(cfg: dict, speeds_rad_s, wobs_n, *, progress: bool = True,
-                  threads: int = 0) -> np.ndarray:
+                  threads: int = 0, start: str = "rest") -> np.ndarray:
     """SS over a WOB x top-speed grid (Figs. 3.11-3.12): shape (len(wobs_n), len(speeds_rad_s))."""
-    return sweep_severity(cfg, speeds_rad_s, wobs_n, progress=progress, threads=threads)
+    return sweep_severity(cfg, speeds_rad_s, wobs_n, progress=progress, threads=threads, start=start)
 
 
 def severity_threshold(speeds, severities, level: float = 0.5) -> float | None:

@@ -105,3 +105,16 @@ def test_bad_inputs_raise_value_errors():
         drillpy.sweep_severity(FIELD, [5.0, -3.0], progress=False)
     with pytest.raises(ValueError, match="top_speed_series"):
         drillpy.simulate(FIELD, top_speed_series=np.array([1.0, np.nan]))
+
+
+def test_bistable_band_rest_versus_steady_start():
+    # At 16 rad/s the field string sticks and slips when started from rest (Eq. 2.10) but keeps
+    # drilling smoothly from disturbed steady drilling: the stick-slip cycle and the steady state
+    # coexist (docs/validation.md).
+    rest = drillpy.simulate(FIELD, 16.0, record=False)
+    steady = drillpy.simulate(FIELD, 16.0, record=False, start="steady")
+    assert rest.severity > 1.0 and steady.severity < 0.05
+    ss = drillpy.sweep_severity(FIELD, [16.0], progress=False, start="steady")
+    assert ss[0] == pytest.approx(steady.severity, abs=1e-12)
+    with pytest.raises(ValueError, match="start = 'cold'"):
+        drillpy.simulate(FIELD, 16.0, start="cold")

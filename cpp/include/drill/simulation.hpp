@@ -46,6 +46,17 @@ class Simulation {
   }
   Inputs inputs() const { return inputs(cfg_.top_speed, cfg_.wob); }
 
+  /// Steady drilling at a constant top speed, disturbed: the static twist that carries the torque
+  /// on bit, K~ q = -bit^T T(Omega, 0, W) (Eq. 2.9 at equilibrium), and a relative velocity that
+  /// is `disturbance` times the one of Eq. (2.10) (the string lagging the top by that fraction of
+  /// Omega). An unstable equilibrium needs the disturbance to leave it. Starting here instead of
+  /// from Eq. (2.10) probes the other side of the bistable band (docs/validation.md).
+  ModelState steady_state(double top_speed, double wob, double disturbance = 0.01) const {
+    const ReducedModel& r = rom_.model;
+    const double T = cfg_.law.torque(top_speed, 0.0, wob) + cfg_.bit_viscous * top_speed;
+    return {r.K.ldlt().solve(-T * r.bit.transpose()), -disturbance * top_speed * r.init_velocity};
+  }
+
   /// One run with metrics; `record` keeps every output_stride-th step of the series.
   RunReport run(const Inputs& in, bool record = true, const ModelState* start = nullptr) const {
     RunReport r;
@@ -73,8 +84,10 @@ class Simulation {
 
   /// SS on a grid: result[w * speeds.size() + s] for wobs[w], speeds[s]. An empty `wobs` means
   /// the configured WOB. Returns an empty vector if cancelled.
+  /// With from_steady, every run starts from steady drilling (steady_state) instead of Eq. (2.10).
   std::vector<double> sweep_severity(const std::vector<double>& speeds, const std::vector<double>& wobs,
-                                     const ProgressFn& progress = nullptr, int threads = 0) const {
+                                     const ProgressFn& progress = nullptr, int threads = 0,
+                                     bool from_steady = false) const {
     require(!speeds.empty(), "sweep.top_speeds_rad_s", speeds.size(), "is empty");
     const std::vector<double> w = wobs.empty() ? std::vector<double>{cfg_.wob} : wobs;
     for (std::size_t k = 0; k < speeds.size(); ++k) {
@@ -88,7 +101,12 @@ class Simulation {
         [&](std::size_t i) {
           const Inputs in = inputs(speeds[i % speeds.size()], w[i / speeds.size()]);
           SeverityObserver sev(cfg_.transient);
-          integ_.run(in, sev);
+          if (from_steady) {
+            const ModelState s0 = steady_state(in.top_speed.value, in.wob.value);
+            integ_.run(in, sev, &s0);
+          } else {
+            integ_.run(in, sev);
+          }
           out[i] = sev.severity();
         },
         progress, threads);

@@ -102,11 +102,11 @@ void init_simulation(py::module_& m) {
       .def(
           "sweep",
           [](const Simulation& s, const std::vector<double>& speeds, const std::vector<double>& wobs,
-             py::object progress, int threads) {
+             py::object progress, int threads, bool from_steady) {
             std::vector<double> out;
             {
               py::gil_scoped_release nogil;
-              out = s.sweep_severity(speeds, wobs, drillpy_glue::progress_callback(progress), threads);
+              out = s.sweep_severity(speeds, wobs, drillpy_glue::progress_callback(progress), threads, from_steady);
             }
             const std::size_t nw = wobs.empty() ? 1 : wobs.size();
             py::array_t<double> a({nw, speeds.size()});
@@ -114,7 +114,15 @@ void init_simulation(py::module_& m) {
             return a;
           },
           py::arg("speeds"), py::arg("wobs") = std::vector<double>{}, py::arg("progress") = py::none(),
-          py::arg("threads") = 0, "SS (Eq. 3.4) on a WOB x top-speed grid, in parallel.");
+          py::arg("threads") = 0, py::arg("from_steady") = false,
+          "SS (Eq. 3.4) on a WOB x top-speed grid, in parallel; from Eq. (2.10) or steady drilling.")
+      .def(
+          "steady_state",
+          [](const Simulation& s, double top_speed, double wob) {
+            const ModelState m = s.steady_state(top_speed, wob);
+            return py::make_tuple(m.q, m.qdot);
+          },
+          py::arg("top_speed"), py::arg("wob"), "Reduced state (q, q') of steady drilling at a top speed.");
   m.def("severity_threshold", &severity_threshold, py::arg("speeds"), py::arg("severities"), py::arg("level") = 0.5,
         "Top speed below which SS > level (NaN if the curve does not cross the level).");
 }
