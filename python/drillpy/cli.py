@@ -5,6 +5,7 @@
   drillpy simulate --preset thesis-field --top-speed 16 --out DIR
   drillpy sweep    --preset thesis-field --law hysteretic --beta1 0.14 --speeds 6:27:22 --json
   drillpy map      --preset thesis-field --beta1 0.56 --speeds-rpm 50:160:23 --wobs-kn 22:267:12
+  drillpy analyze  ../shared/data/testrig/sample175_0-40s.mat --out DIR   measured record: report
 
 Every error prints one line ``drillpy: error: ...`` and exits with status 2.
 """
@@ -148,6 +149,17 @@ def cmd_report(a) -> int:
     return 0
 
 
+def cmd_analyze(a) -> int:
+    from .analysis import AnalysisOptions, analyze_record
+    opt = AnalysisOptions(t0=a.t0, t1=a.t1, cycle_at_s=a.cycle_at, folds=a.folds, psd_fmax_hz=a.psd_fmax,
+                          simulate=not a.no_sim)
+    s = analyze_record(a.record, a.out, opt, log=(lambda *_: None) if a.json else print)
+    if a.json:
+        print(json.dumps({k: s[k] for k in ("cleaning", "cycles", "severity", "torque_statistics", "psd")
+                          if k in s}, default=str))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="drillpy", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -187,6 +199,19 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--out", help="folder for the figure and map.json")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_map)
+
+    s = sub.add_parser("analyze", help="measured record (.mat or .csv): cleaning, cycles, identification, "
+                                       "rig simulation; report.md + figures + summary.json")
+    s.add_argument("record", help="rig MATLAB file or drillpy CSV (see README: CSV format)")
+    s.add_argument("--out", required=True, help="output folder")
+    s.add_argument("--t0", type=float, help="start of the analysed window [s]")
+    s.add_argument("--t1", type=float, help="end of the analysed window [s]")
+    s.add_argument("--cycle-at", type=float, help="time [s] inside the cycle shown in cycle.png")
+    s.add_argument("--folds", type=int, default=5, help="cross-validation folds over cycles (0: none)")
+    s.add_argument("--psd-fmax", type=float, default=10.0, help="upper end of the PSD-model fit band [Hz]")
+    s.add_argument("--no-sim", action="store_true", help="skip the rig simulations")
+    s.add_argument("--json", action="store_true", help="print the main numbers as JSON")
+    s.set_defaults(func=cmd_analyze)
     return p
 
 

@@ -260,7 +260,7 @@ def stick_slip_metrics(t, bit_speed, top_speed, torque, stick_threshold: float, 
     ok = np.isfinite(v) & np.isfinite(torque) if valid is None else np.asarray(valid, bool)
     dt = float(np.median(np.diff(t)))
     cyc = segment_cycles(v, dt, stick_threshold, valid=ok)
-    per = cyc.period_s[cyc.valid]
+    per = cyc.period_s[cyc.valid]  # empty when the bit does not stick-slip
     tq = np.asarray(torque, float)[ok]
     vv = v[ok]
     # dominant frequency on the longest run of valid samples
