@@ -12,4 +12,9 @@ __all__ = [
     "load_config", "preset_names", "with_overrides", "SimulationResult", "natural_frequencies",
     "simulate", "stability_map", "sweep_severity", "severity_threshold", "law_torque", "_core",
 ]
+# measured records (issue 5); analysis, identification and rigsim are imported on demand
+from .records import Record, read_record, write_csv  # noqa: E402
+from .cleaning import clean  # noqa: E402
+
+__all__ += ["Record", "read_record", "write_csv", "clean"]
 __version__ = "0.1.0"

@@ -134,10 +134,11 @@ def analyze_record(record: Record | str | Path, out_dir: str | Path, options: An
     acc = sig.derivative(vf, dt)
     lab = cyc.branch_labels(len(rec))
     cid = cyc.cycle_id(len(rec))
-    cst = sig.cycle_statistics(cyc, v, rec.top_speed, tq, rec.wob)
     if not cyc.valid.any():
         raise ValueError("no valid stick-slip cycle found: the record shows no stick-slip oscillation "
-                         f"(bit speed prominence below 25 % of its range, or excluded samples everywhere)")
+                         "(no bit-speed peak with a prominence of 25 % of its range, or excluded samples "
+                         "everywhere)")
+    cst = sig.cycle_statistics(cyc, v, rec.top_speed, tq, rec.wob)
     okt = ok & (rec.valid("top_speed") if rec.top_speed is not None else True)
     top_mean = float(np.mean(rec.top_speed[okt])) if rec.top_speed is not None else float("nan")
     S["stick_threshold_rpm"] = thr * RPM

@@ -28,14 +28,15 @@ only samples removed, and they are counted.
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 from scipy import ndimage
 
-from .records import CHANNELS, Flag, Record
+from .records import Flag, Record
 
 KINDS = ("time", "duplicate", "gap", "nonfinite", "spike", "oscillation")
+MAX_RESTAMP = 10  #: anchors re-stamped on each side of a run of bad time stamps, at most
 
 
 @dataclass
@@ -53,10 +54,12 @@ class CleaningOptions:
     spike_sigmas : float
         Detection threshold in robust standard deviations of (signal - running median).
     spike_min_fraction : float
-        ... and at least this fraction of the channel's 1-99 % range (so that smooth signals with
-        a tiny median residual do not flag their own curvature).
+        ... and at least this fraction of the 1-99 % range of the running median (so that smooth
+        signals with a tiny median residual do not flag their own curvature).
     spike_max_width_s : float
         A flagged excursion wider than this is not a spike: it is flagged UNRELIABLE unrepaired.
+    spike_pad_s : float
+        Samples this close to a spike are taken with it (the filtered tails of the spike).
     stretch_gap_s : float
         Spikes closer than this (end to start) belong to one artifact stretch.
     stretch_min_spikes : int
@@ -71,16 +74,17 @@ class CleaningOptions:
     grid_tolerance: float = 0.1
     spike_window_s: float = 0.051
     spike_sigmas: float = 8.0
-    spike_min_fraction: float = 0.3
+    spike_min_fraction: float = 0.5
     spike_max_width_s: float = 0.06
+    spike_pad_s: float = 0.003
     stretch_gap_s: float = 0.1
     stretch_min_spikes: int = 3
     stick_threshold_rad_s: float | None = None
     stuck_fraction: float = 0.9
 
     def validate(self) -> None:
-        for name in ("max_fill_s", "grid_tolerance", "spike_window_s", "spike_sigmas",
-                     "spike_min_fraction", "spike_max_width_s", "stretch_gap_s", "stuck_fraction"):
+        for name in ("max_fill_s", "grid_tolerance", "spike_window_s", "spike_sigmas", "spike_min_fraction",
+                     "spike_max_width_s", "spike_pad_s", "stretch_gap_s", "stuck_fraction"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and np.isfinite(v) and v >= 0):
                 raise ValueError(f"cleaning.{name} = {v!r}: must be a finite non-negative number")
@@ -208,40 +212,50 @@ def _regrid(record: Record, opt: CleaningOptions, rep: CleaningReport) -> Record
     on_grid = fin & (np.abs(t - (t0 + k * dt)) <= opt.grid_tolerance * dt)
     rows = np.arange(t.size)
     data = {c: getattr(record, c) for c in record.channels}
-    keep = np.ones(t.size, bool)
+    restamped = np.zeros(t.size, bool)
+    # exact duplicates of the previous row (same stamp, same values) are removed and counted
+    dup = np.r_[False, t[1:] == t[:-1]]
+    for x in data.values():
+        dup &= np.r_[False, (x[1:] == x[:-1]) | (np.isnan(x[1:]) & np.isnan(x[:-1]))]
+    keep = ~dup
+    for run in _runs(dup):
+        rep.artifacts.append(Artifact("duplicate", "time", float(t[run[0]]), float(t[run[-1]]),
+                                      len(run), "removed (exact duplicate of the previous row)"))
 
-    increasing = np.all(np.diff(k[on_grid]) > 0) if on_grid.sum() > 1 else True
-    if on_grid.all() and increasing:
-        anchors = rows
+    good = on_grid & keep
+    increasing = np.all(np.diff(k[good]) > 0) if good.sum() > 1 else True
+    if good.sum() == keep.sum() and increasing:
+        anchors = rows[keep]
     else:
         # Consistent rows: longest strictly increasing subsequence of the grid index among the
-        # on-grid rows; everything else has a bad stamp (or is a duplicate).
-        cand = rows[on_grid]
+        # on-grid rows; every other kept row has a bad stamp.
+        cand = rows[good]
         anchors = cand[_lis(k[cand])]
         is_anchor = np.zeros(t.size, bool)
         is_anchor[anchors] = True
-        bad = rows[~is_anchor]
-        # exact duplicates of the previous row (same stamp, same values) are removed and counted
-        dup = []
-        for i in bad:
-            if i > 0 and t[i] == t[i - 1] and all(_same(data[c][i], data[c][i - 1]) for c in data):
-                dup.append(i)
-        if dup:
-            keep[dup] = False
-            for run in _runs(np.isin(rows, dup)):
-                rep.artifacts.append(Artifact("duplicate", "time", float(t[run[0]]), float(t[run[-1]]),
-                                              len(run), "removed (exact duplicate of the previous row)"))
-        bad = np.setdiff1d(bad, dup)
-        # place each run of bad stamps between its anchors, in acquisition order
+        bad = rows[~is_anchor & keep]
+        # place each run of bad stamps between its anchors, in acquisition order; when the anchors
+        # leave too few grid slots (e.g. two swapped stamps), the neighbouring anchors are re-stamped
+        # too, up to MAX_RESTAMP of them on each side
+        kept_rows = rows[keep]
         for run in _split_consecutive(bad, keep):
-            lo = anchors[anchors < run[0]]
-            hi = anchors[anchors > run[-1]]
+            first, last = run[0], run[-1]
+            for _ in range(MAX_RESTAMP + 1):
+                lo = anchors[anchors < first]
+                hi = anchors[anchors > last]
+                if not (lo.size and hi.size):
+                    break
+                seg = kept_rows[(kept_rows >= first) & (kept_rows <= last)]
+                if k[hi[0]] - k[lo[-1]] - 1 >= seg.size:
+                    break
+                first, last = lo[-1], hi[0]
+            run = kept_rows[(kept_rows >= first) & (kept_rows <= last)]
             n = len(run)
             if lo.size and hi.size:
                 klo, khi = k[lo[-1]], k[hi[0]]
                 if khi - klo - 1 < n:
                     raise ValueError(
-                        f"time_s: {n} sample(s) from row {run[0]} (t = {t[run[0]]!r} s) cannot be placed "
+                        f"time_s: {n} sample(s) from row {run[0]} (t = {float(t[run[0]])!r} s) cannot be placed "
                         f"between t = {t[lo[-1]]:g} s and t = {t[hi[0]]:g} s: the time stamps go "
                         "backwards or repeat with different values (sort or fix the file)")
                 k[run] = klo + 1 + np.arange(n)
@@ -249,6 +263,7 @@ def _regrid(record: Record, opt: CleaningOptions, rep: CleaningReport) -> Record
                 k[run] = k[lo[-1]] + 1 + np.arange(n)
             else:
                 k[run] = k[hi[0]] - n + np.arange(n)
+            restamped[run] = True
             rep.artifacts.append(Artifact(
                 "time", "time", float(t0 + k[run[0]] * dt), float(t0 + k[run[-1]] * dt), n,
                 "time stamp replaced by its place on the sampling grid (acquisition order kept)"))
@@ -271,9 +286,7 @@ def _regrid(record: Record, opt: CleaningOptions, rep: CleaningReport) -> Record
         flags[c] = f
     ft = np.full(n, int(Flag.GAP), np.uint16)
     ft[ks] = 0
-    moved = np.zeros(t.size, bool)
-    moved[rows[~np.isin(rows, anchors)]] = True
-    ft[ks[moved[src_rows]]] |= int(Flag.TIME)
+    ft[ks[restamped[src_rows]]] |= int(Flag.TIME)
     flags["time"] = ft
     inserted = (ft & Flag.GAP) != 0
     for c in out:
@@ -288,10 +301,6 @@ def _regrid(record: Record, opt: CleaningOptions, rep: CleaningReport) -> Record
         rep.artifacts.append(Artifact("gap", "time", float(grid[run[0]]), float(grid[run[-1]]), len(run), how))
     return Record(time_s=grid, **out, units=dict(record.units), provenance=dict(record.provenance),
                   flags=flags)
-
-
-def _same(a, b) -> bool:
-    return (a == b) or (np.isnan(a) and np.isnan(b))
 
 
 def _lis(x: np.ndarray) -> np.ndarray:
@@ -389,7 +398,7 @@ def spike_regions(x: np.ndarray, dt: float, opt: CleaningOptions | None = None) 
     w = max(3, int(round(opt.spike_window_s / dt)) | 1)
     r = xf - ndimage.median_filter(xf, size=w, mode="nearest")
     sigma = 1.4826 * np.median(np.abs(r[fin]))
-    lo, hi = np.percentile(xf[fin], [1, 99])
+    lo, hi = np.percentile((xf - r)[fin], [1, 99])  # range of the running median: spikes do not widen it
     thr = max(opt.spike_sigmas * sigma, opt.spike_min_fraction * (hi - lo))
     if not thr > 0:
         return []
@@ -398,7 +407,12 @@ def spike_regions(x: np.ndarray, dt: float, opt: CleaningOptions | None = None) 
         return []
     grown, _ = ndimage.label(np.abs(r) > 0.25 * thr)
     keep_labels = np.unique(grown[core])
-    return _runs(np.isin(grown, keep_labels[keep_labels > 0]))
+    region = np.isin(grown, keep_labels[keep_labels > 0])
+    # the acquisition filter smears a spike: take its tails too
+    pad = int(round(opt.spike_pad_s / dt))
+    if pad:
+        region = ndimage.binary_dilation(region, iterations=pad)
+    return _runs(region)
 
 
 def _spikes(rec: Record, name: str, opt: CleaningOptions, rep: CleaningReport) -> None:

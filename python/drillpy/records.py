@@ -217,6 +217,14 @@ def _factor(quantity: str, unit: str, where: str) -> float:
         raise ValueError(f"{where} = {unit!r}: unknown unit for {quantity} (use {known})") from None
 
 
+def _require_time_and_data(path: Path, found, time_hint: str, data_hint: str, listing: str) -> None:
+    """The error for a file without its time or without any data channel."""
+    if "time" not in found:
+        raise ValueError(f"record = {str(path)!r}: no time (expected {time_hint}; {listing})")
+    if len(found) == 1:
+        raise ValueError(f"record = {str(path)!r}: no data channel (expected {data_hint}; {listing})")
+
+
 # ---------------------------------------------------------------------------------- MATLAB
 def read_mat(path: str | Path, variables: dict | None = None) -> Record:
     """Read a test-rig MATLAB (v5/v7) file.
@@ -267,12 +275,8 @@ def read_mat(path: str | Path, variables: dict | None = None) -> Record:
                                  f"{', '.join(hits)}; pass variables= to choose")
             if hits:
                 chosen[q] = (hits[0], unit)
-    if "time" not in chosen:
-        raise ValueError(f"record = {str(p)!r}: no time variable (expected a name like "
-                         f"Time_Sample_<n>_complete; variables in the file: {', '.join(names)})")
-    if len(chosen) == 1:
-        raise ValueError(f"record = {str(p)!r}: no data channel (expected Bit_Speed_*, Top_Speed_*, "
-                         f"Bit_Torque_* or WOB_*; variables in the file: {', '.join(names)})")
+    _require_time_and_data(p, chosen, "a variable like Time_Sample_<n>_complete",
+                           "Bit_Speed_*, Top_Speed_*, Bit_Torque_* or WOB_*", "variables in the file: " + ", ".join(names))
     arrays = {}
     for q, (var, unit) in chosen.items():
         a = data[var]
@@ -340,17 +344,16 @@ def read_csv(path: str | Path) -> Record:
     cols = []
     seen = {}
     for h in header:
-        q, unit = parse_column(h)
+        try:
+            q, unit = parse_column(h)
+        except ValueError as e:
+            raise ValueError(f"record = {str(p)!r}: {e}") from None
         if q in seen:
             raise ValueError(f"record = {str(p)!r}: columns {seen[q]!r} and {h!r} are both {q}")
         seen[q] = h
         cols.append((q, unit))
-    if "time" not in seen:
-        raise ValueError(f"record = {str(p)!r}: no time column (expected time_s or time_ms; "
-                         f"header is {','.join(header)})")
-    if len(seen) == 1:
-        raise ValueError(f"record = {str(p)!r}: no data column (need at least one of "
-                         f"{', '.join(CHANNELS)}; header is {','.join(header)})")
+    _require_time_and_data(p, seen, "a column time_s or time_ms", "columns " + ", ".join(
+        f"{c}_<unit>" for c in CHANNELS), "header is " + ",".join(header))
     body = [(rest[k][0], r) for k, r in enumerate(rows[1:], 1) if any(c.strip() for c in r)]
     if not body:
         raise ValueError(f"record = {str(p)!r}: no data rows after the header")
