@@ -449,16 +449,19 @@ def compare_laws(fits: list) -> dict:
     out = {"table": table, "preferred": best.name, "n_eff": best.n_eff}
     if second is not None:
         d = second.bic - best.bic
-        cv_best = min(fits, key=lambda f: f.cv_rmse if np.isfinite(f.cv_rmse) else np.inf)
         out["runner_up"] = second.name
         out["delta_bic"] = d
         out["evidence"] = evidence_label(d)
-        out["best_cv"] = cv_best.name
         out["statement"] = (
             f"The data prefer the {best.name} law (Eq. {EQUATIONS[best.name]}): BIC lower by {d:.1f} than "
             f"the next, {second.name} ({evidence_label(d)} evidence on the Kass-Raftery scale, with "
-            f"n_eff = {best.n_eff:.0f} independent residuals); Akaike weight {table[0]['akaike_weight']:.2f}. "
-            f"Out of sample (cross-validation over cycles) the lowest RMSE is {cv_best.name} "
-            + (f"({cv_best.cv_rmse:.4f} N m vs {best.cv_rmse:.4f} N m for {best.name})."
-               if cv_best is not best else f"too ({best.cv_rmse:.4f} N m)."))
+            f"n_eff = {best.n_eff:.0f} independent residuals); Akaike weight {table[0]['akaike_weight']:.2f}.")
+        cv = [f for f in fits if np.isfinite(f.cv_rmse)]
+        if cv:
+            cv_best = min(cv, key=lambda f: f.cv_rmse)
+            out["best_cv"] = cv_best.name
+            out["statement"] += (
+                f" Out of sample (cross-validation over cycles) the lowest RMSE is {cv_best.name} "
+                + (f"({cv_best.cv_rmse:.4f} N m vs {best.cv_rmse:.4f} N m for {best.name})."
+                   if cv_best is not best else f"too ({best.cv_rmse:.4f} N m)."))
     return out

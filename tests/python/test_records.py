@@ -99,6 +99,12 @@ def test_bad_matlab_files(tmp_path):
         savemat(tmp_path / name, data)
         with pytest.raises(ValueError, match=msg):
             read_mat(tmp_path / name)
+    savemat(tmp_path / "empty_vars.mat", {"Time_Sample_1_complete": np.zeros(0), "WOB_Sample_1_complete": np.zeros(0)})
+    with pytest.raises(ValueError, match="is empty"):
+        read_mat(tmp_path / "empty_vars.mat")
+    (tmp_path / "empty.mat").write_bytes(b"")
+    with pytest.raises(ValueError, match="empty.mat"):
+        read_mat(tmp_path / "empty.mat")
     (tmp_path / "junk.mat").write_bytes(b"not a matlab file at all" * 10)
     with pytest.raises(ValueError, match="not a readable MATLAB file"):
         read_mat(tmp_path / "junk.mat")
