@@ -17,7 +17,7 @@ import numpy as np
 
 from . import record_figures as figs
 from . import identification as ident
-from . import rigsim
+from . import process, rigsim
 from . import signals as sig
 from .cleaning import CleaningOptions, clean
 from .config import load_config
@@ -171,16 +171,19 @@ def analyze_record(record: Record | str | Path, out_dir: str | Path, options: An
                        "half_width_rpm": mc.half_width * RPM}
     mcw = sig.mean_cycle(v, rec.wob, acc, lab * rec.valid("wob")) if rec.wob is not None else None
     eta = sig.eta_exp(rec.time_s, v, tq, lab, mc, reference=opt.eta_reference)
-    f, p = sig.periodogram(eta.eta, eta.fs_hz)
-    psd = sig.fit_psd_model_scipy(f, p, fmax_hz=opt.psd_fmax_hz)
+    f, p = process.periodogram(eta.eta, 1.0 / eta.fs_hz)  # Schuster's raw periodogram (section 4.1)
+    psd = process.fit_psd_model(f, p, averages=1.0, fmax=opt.psd_fmax_hz)  # Eq. (4.4)
     S["eta"] = {**eta.statistics(), "reference": opt.eta_reference,
                 "thesis_rig_mean": sig.THESIS_ETA_MEAN, "thesis_rig_std": sig.THESIS_ETA_STD}
-    S["psd"] = {"fit": psd.as_dict(), "thesis_field": sig.THESIS_PSD_MODEL,
-                "convention": "Eq. (4.4) with natural logarithms; one-sided PSD of eta in 1/Hz, f in Hz; "
-                              "raw periodogram averaged over 20 log-spaced bins per decade",
-                "fitter": "drillpy.signals.fit_psd_model_scipy (scipy stop-gap until issue 3's engine fit)"}
+    band = f[(f > 0) & (f <= opt.psd_fmax_hz)]
+    S["psd"] = {"fit": {**psd.model.as_dict(), "rms_log": psd.rms_log_residual, "points": psd.points,
+                        "f_range_hz": [float(band[0]), float(band[-1])]},
+                "thesis_field": process.THESIS_PSD.as_dict(),
+                "convention": "Eq. (4.4) with natural logarithms; one-sided PSD of eta in 1/Hz, f in Hz; fit "
+                              "of ln S to the raw periodogram (bias of ln of an exponential ordinate removed)",
+                "fitter": "drillpy.process.fit_psd_model"}
     log(f"eta_exp: std {S['eta']['std']:.3f} (thesis rig average {sig.THESIS_ETA_STD}); PSD model f0 = "
-        f"{psd.f0_hz:.3g} Hz, A0 = {psd.A0:.2f}, a = {psd.a:.2f}, b = {psd.b:.2f} "
+        f"{psd.model.f0:.3g} Hz, A0 = {psd.model.A0:.2f}, a = {psd.model.a:.2f}, b = {psd.model.b:.2f} "
         f"(thesis field 0.27 Hz, -7.6, -3.13, -11.67)")
 
     # ---------------------------------------------------------------- identification
@@ -308,7 +311,7 @@ def _figures(out, raw, rec, rep, cyc, cst, j, lab, acc, mc, mcw, eta, fp, psd, f
              figs.cycle_statistics(out / "cycle_statistics.png", cst, thr),
              figs.laws(out / "laws.png", rec, lab, acc, mc, fits_by["constant_wob"],
                        "laws fitted at constant WOB (sample set: slip phases of valid cycles)"),
-             figs.psd(out / "psd.png", eta, fp[0], fp[1], psd, sig.THESIS_PSD_MODEL)]
+             figs.psd(out / "psd.png", eta, fp[0], fp[1], psd.model, process.THESIS_PSD, S["psd"]["fit"]["f_range_hz"])]
     if sims:
         paths.append(figs.rig_time_series(out / "rig_time_series.png", rec, sims))
         paths.append(figs.rig_loops(out / "rig_loops.png", sims))

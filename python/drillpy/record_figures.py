@@ -228,9 +228,9 @@ def laws(path, rec, labels, accel, mc, fits, subtitle=""):
     return _save(fig, path)
 
 
-def psd(path, eta, f, p, fit, thesis):
+def psd(path, eta, f, p, model, thesis, band):
     """eta_exp(t) over 5 s and its periodogram with the log-binned average, the fitted PSD model
-    (Eq. 4.4) and the thesis's field model."""
+    (Eq. 4.4, ``model``) over the fit ``band`` [Hz] and the thesis's field model (``thesis``)."""
     from .signals import log_binned
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 7.5))
     t0 = eta.t[0] + 0.5 * (eta.t[-1] - eta.t[0])
@@ -242,16 +242,18 @@ def psd(path, eta, f, p, fit, thesis):
     a1.set_title("Experimental fluctuation process eta_exp = T / T_hys - 1 (Eq. 4.2)", fontsize=10)
     a1.legend(fontsize=8, loc="upper right")
     a1.grid(alpha=0.3)
-    a2.loglog(f, p, color="0.75", lw=0.4, label="raw periodogram")
+    keep = f > 0
+    f, p = f[keep], p[keep]
+    a2.loglog(f, p, color="0.75", lw=0.4, label="raw periodogram (Schuster)")
     fb, pb, _ = log_binned(f, p)
-    a2.loglog(fb, pb, "b.-", ms=3, lw=0.8, label="log-binned average")
+    a2.loglog(fb, pb, "b.-", ms=3, lw=0.8, label="log-binned average (display)")
     ff = np.geomspace(f[0], f[-1], 400)
-    inb = (ff >= fit.f_range_hz[0]) & (ff <= fit.f_range_hz[1])
-    a2.loglog(ff[inb], fit(ff[inb]), "r", lw=2,
-              label=f"fit: f0 {fit.f0_hz:.2f} Hz, A0 {fit.A0:.2f}, a {fit.a:.2f}, b {fit.b:.2f}")
-    th = np.exp(np.where(ff < thesis["f0_hz"], thesis["A0"], thesis["a"] * np.log(ff) + thesis["b"]))
-    a2.loglog(ff, th, "k--", lw=1.2, label="thesis field model (f0 0.27 Hz, A0 -7.6, a -3.13, b -11.67)")
-    a2.axvspan(fit.f_range_hz[1], f[-1], color="0.9", lw=0)
+    inb = (ff >= band[0]) & (ff <= band[1])
+    a2.loglog(ff[inb], model(ff[inb]), "r", lw=2,
+              label=f"fit: f0 {model.f0:.2f} Hz, A0 {model.A0:.2f}, a {model.a:.2f}, b {model.b:.2f}")
+    a2.loglog(ff, thesis(ff), "k--", lw=1.2,
+              label=f"thesis field model (f0 {thesis.f0} Hz, A0 {thesis.A0}, a {thesis.a}, b {thesis.b})")
+    a2.axvspan(band[1], f[-1], color="0.9", lw=0)
     a2.set_xlabel("frequency [Hz]")
     a2.set_ylabel("PSD of eta [1/Hz] (one-sided)")
     a2.set_title("PSD of eta_exp and the model of Eq. (4.4) (grey band: outside the fit band)", fontsize=10)

@@ -3,9 +3,9 @@
 Smoothing and derivatives (sliding-window average, the rig's 10 Hz IIR low-pass, the bit
 acceleration), stick-slip cycle segmentation with per-cycle statistics (period, stick duration,
 SS of Eq. 3.4), the accelerating (upper) and decelerating (lower) branches of each cycle, the mean
-cycle per branch (Fig. 3.5), the experimental fluctuation process eta_exp (Eq. 4.2) with its
-periodogram and the PSD model of Eq. (4.4), and the sample statistics of Table 5.2 (mean, std, CV)
-and Var[MSE] (Eq. 5.2).
+cycle per branch (Fig. 3.5), the experimental fluctuation process eta_exp (Eq. 4.2) on a regular
+grid (Eq. 4.3; its periodogram and the PSD model of Eq. 4.4 are in :mod:`drillpy.process`), and the
+sample statistics of Table 5.2 (mean, std, CV) and Var[MSE] (Eq. 5.2).
 
 Arrays are SI (rad/s, rad/s^2, N m, s) unless a name says otherwise. Everything is vectorized
 NumPy/SciPy; there is no per-sample Python loop.
@@ -17,11 +17,6 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal as sps
 
-EULER_GAMMA = 0.5772156649015329
-
-#: The thesis's PSD model of eta (Eq. 4.4) fitted to field data, natural logarithm (see
-#: THESIS-NOTES: it is continuous at f0 only with ln).
-THESIS_PSD_MODEL = {"f0_hz": 0.27, "A0": -7.6, "a": -3.13, "b": -11.67}
 #: Statistics of eta_exp over the 210 rig samples (section 5.3.2).
 THESIS_ETA_MEAN, THESIS_ETA_STD = 7.8296e-5, 0.4674
 
@@ -425,39 +420,10 @@ def eta_exp(t, bit_speed, torque, labels, mc: MeanCycle, reference: str = "mean"
     return EtaSeries(tt, ee, mm)
 
 
-# ------------------------------------------------------------------------------ PSD
-def periodogram(x, fs_hz: float):
-    """Raw (Schuster) periodogram, one-sided, in units of x^2 per Hz (section 4.1).
-
-    Returns frequencies [Hz] and PSD, without the zero frequency.
-    """
-    f, p = sps.periodogram(np.asarray(x, float), fs=fs_hz, detrend="constant", scaling="density",
-                           return_onesided=True)
-    return f[1:], p[1:]
-
-
-@dataclass
-class PsdModelFit:
-    """Eq. (4.4) in natural logarithms: ln S = A0 for f < f0, ln S = a ln f + b for f >= f0,
-    S one-sided in 1/Hz, f in Hz."""
-    f0_hz: float
-    A0: float
-    a: float
-    b: float
-    rms_log: float       #: rms of the ln-residuals over the fitted band
-    f_range_hz: tuple
-
-    def __call__(self, f) -> np.ndarray:
-        f = np.asarray(f, float)
-        return np.exp(np.where(f < self.f0_hz, self.A0, self.a * np.log(f) + self.b))
-
-    def as_dict(self) -> dict:
-        return {"f0_hz": self.f0_hz, "A0": self.A0, "a": self.a, "b": self.b, "rms_log": self.rms_log,
-                "f_range_hz": list(self.f_range_hz)}
-
-
+# ------------------------------------------------------------------------------ PSD display
 def log_binned(f, psd, bins_per_decade: float = 20.0):
-    """Average a periodogram over log-spaced frequency bins (the averaged S-bar of section 4.1).
+    """Average a periodogram over log-spaced frequency bins (the averaged S-bar of section 4.1,
+    for display; the PSD-model fit itself is :func:`drillpy.process.fit_psd_model`).
 
     Returns the geometric-centre frequency of each non-empty bin, the mean PSD in it and the
     number of periodogram ordinates averaged.
@@ -474,53 +440,6 @@ def log_binned(f, psd, bins_per_decade: float = 20.0):
     sl = np.bincount(k, weights=np.log(f), minlength=edges.size - 1)
     ok = cnt > 0
     return np.exp(sl[ok] / cnt[ok]), sp[ok] / cnt[ok], cnt[ok]
-
-
-def fit_psd_model_scipy(f, psd, fmin_hz: float | None = None, fmax_hz: float | None = None,
-                        bins_per_decade: float | None = 20.0, min_points: int = 3) -> PsdModelFit:
-    """Least-squares fit of the 4-parameter PSD model (Eq. 4.4) to a periodogram.
-
-    Stop-gap until the engine's PSD-model fit (issue 3, ``process.hpp``) is available in Python;
-    unify with it then. The periodogram is first averaged over log-spaced bins
-    (``bins_per_decade``; None fits the raw ordinates), so every decade weighs the same. The fit
-    is on ln S-bar corrected for the log bias of averaged exponential ordinates
-    (E[ln mean of K] = ln S + digamma(K) - ln K). For a given f0, A0 is the mean below f0 and
-    (a, b) the linear regression of ln S on ln f above it; f0 is the bin frequency minimising the
-    total squared residual (scipy.optimize.brute over the candidates).
-    """
-    from scipy import optimize, special
-
-    f = np.asarray(f, float)
-    p = np.asarray(psd, float)
-    m = (f > 0) & np.isfinite(p) & (p > 0)
-    if fmin_hz is not None:
-        m &= f >= fmin_hz
-    if fmax_hz is not None:
-        m &= f <= fmax_hz
-    f, p = f[m], p[m]
-    if bins_per_decade is None:
-        cnt = np.ones(f.size)
-    else:
-        f, p, cnt = log_binned(f, p, bins_per_decade)
-    if f.size < 2 * min_points:
-        raise ValueError(f"fit_psd_model: only {f.size} (binned) periodogram points in the band")
-    y = np.log(p) + np.log(cnt) - special.digamma(cnt)
-    x = np.log(f)
-
-    def parts(k):
-        k = int(np.clip(round(float(np.ravel(k)[0])), min_points, f.size - min_points))
-        A0 = float(np.mean(y[:k]))
-        a, b = np.polyfit(x[k:], y[k:], 1)
-        r = np.r_[y[:k] - A0, y[k:] - (a * x[k:] + b)]
-        return k, A0, float(a), float(b), r
-
-    def cost(k):
-        return float(np.sum(parts(k)[4] ** 2))
-
-    k = optimize.brute(cost, [(min_points, f.size - min_points)], Ns=f.size - 2 * min_points + 1,
-                       finish=None)
-    k, A0, a, b, r = parts(k)
-    return PsdModelFit(float(f[k]), A0, a, b, float(np.sqrt(np.mean(r ** 2))), (float(f[0]), float(f[-1])))
 
 
 # ------------------------------------------------------------------------------ statistics

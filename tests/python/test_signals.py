@@ -91,27 +91,6 @@ def test_mean_cycle_separates_the_branches_and_eta_is_recovered():
     assert abs(e.statistics()["mean"]) < 0.01
 
 
-def test_psd_model_fit_recovers_a_known_spectrum():
-    rng = np.random.default_rng(12)
-    fs, n = 200.0, 2 ** 17
-    f0, A0, a = 2.0, -6.0, -2.0
-    b = A0 - a * np.log(f0)  # continuous at f0
-    f = np.fft.rfftfreq(n, 1 / fs)
-    S = np.exp(np.where(f < f0, A0, a * np.log(np.maximum(f, 1e-9)) + b))
-    S[0] = 0.0
-    df = fs / n
-    c = n / 2 * np.sqrt(S * df) * (rng.standard_normal(f.size) - 1j * rng.standard_normal(f.size))
-    x = np.fft.irfft(c, n)
-    assert np.var(x) == pytest.approx(np.sum(S) * df, rel=0.05)
-    fp, p = sig.periodogram(x, fs)
-    fit = sig.fit_psd_model_scipy(fp, p, fmax_hz=80)
-    assert fit.f0_hz == pytest.approx(f0, rel=0.15)
-    assert fit.A0 == pytest.approx(A0, abs=0.15)
-    assert fit.a == pytest.approx(a, abs=0.1)
-    assert fit.b == pytest.approx(b, abs=0.3)
-    assert fit(np.array([1.0]))[0] == pytest.approx(np.exp(fit.A0))
-
-
 def test_statistics_identities():
     x = np.array([1.0, 2.0, 3.0, 6.0])
     s = sig.sample_statistics(x)
