@@ -7,9 +7,19 @@ from . import _core
 from .config import load_config, preset_names, with_overrides
 from .simulation import (SimulationResult, natural_frequencies, simulate, stability_map,
                          sweep_severity, severity_threshold, law_torque)
+from .process import (PsdModel, PsdTable, THESIS_PSD, generate, periodogram, welch, fit_psd_model,
+                      fit_eta)
+from .montecarlo import StochasticStudy, PhaseStudy, stochastic_study, phase_study, conv1
 
 __all__ = [
     "load_config", "preset_names", "with_overrides", "SimulationResult", "natural_frequencies",
     "simulate", "stability_map", "sweep_severity", "severity_threshold", "law_torque", "_core",
+    "PsdModel", "PsdTable", "THESIS_PSD", "generate", "periodogram", "welch", "fit_psd_model",
+    "fit_eta", "StochasticStudy", "PhaseStudy", "stochastic_study", "phase_study", "conv1",
 ]
+# measured records (issue 5); analysis, identification and rigsim are imported on demand
+from .records import Record, read_record, write_csv  # noqa: E402
+from .cleaning import clean  # noqa: E402
+
+__all__ += ["Record", "read_record", "write_csv", "clean"]
 __version__ = "0.1.0"

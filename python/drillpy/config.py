@@ -96,8 +96,8 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
         _check_int(modes, "modes", minimum=1)
         c["rom"]["modes"] = int(modes)
     if law is not None:
-        c["law"] = thesis_law(law, beta1)
-    elif beta1 is not None:
+        c["law"] = thesis_law(law)
+    if beta1 is not None:
         if "beta1" not in c["law"]:
             raise ValueError(f"beta1 = {beta1}: the law {c['law']['type']!r} has no hysteresis")
         c["law"]["beta1"] = float(beta1)

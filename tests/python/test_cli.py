@@ -29,7 +29,7 @@ def test_sweep_json_reports_threshold():
     (["modes", "--preset", "thesis-field", "--modes", "500"], "rom.modes = 500"),
     (["simulate", "--preset", "thesis-field", "--dt", "0.05"], "stability bound"),
     (["sweep", "--preset", "thesis-field", "--speeds", "6:27"], "--speeds = '6:27'"),
-    (["sweep", "--preset", "thesis-rig", "--beta1", "0.1"], "has no hysteresis"),
+    (["sweep", "--preset", "thesis-field", "--law", "tucker_wang", "--beta1", "0.1"], "has no hysteresis"),
 ])
 def test_bad_input_gives_one_line_error(args, needle):
     r = run_cli(*args)

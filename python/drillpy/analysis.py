@@ -1,0 +1,460 @@
+"""``drillpy analyze``: the full analysis of a measured record, written as a report.
+
+read -> clean (:mod:`drillpy.cleaning`) -> stick-slip cycles, mean cycle, eta_exp and its PSD,
+Table 5.2 statistics (:mod:`drillpy.signals`) -> least-squares identification of the bit-rock
+laws with intervals and a comparison table (:mod:`drillpy.identification`) -> the test rig in
+simulation with the identified law and an effective damping estimate (:mod:`drillpy.rigsim`)
+-> ``report.md``, PNG figures and ``summary.json`` (:func:`analyze_record`).
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import record_figures as figs
+from . import identification as ident
+from . import process, rigsim
+from . import signals as sig
+from .cleaning import CleaningOptions, clean
+from .config import load_config
+from .records import RPM, Record, read_record
+
+
+@dataclass
+class AnalysisOptions:
+    """Choices of :func:`analyze_record` (times in s, frequencies in Hz).
+
+    Attributes
+    ----------
+    t0, t1 : float, optional
+        Analysed window of the record.
+    stick_fraction : float
+        The bit is stuck at or below this fraction of the median top speed.
+    cycle_at_s : float, optional
+        Time inside the cycle shown in the one-cycle figure (default: a cycle with a clear stick
+        phase and a typical period).
+    laws : tuple
+        Laws to identify (:data:`drillpy.identification.LAWS`).
+    folds : int
+        Folds of the cross-validation over cycles (0: none).
+    fit_rate_hz : float
+        Samples used by the fits per second (the rig's channels are low-passed at 10 Hz).
+    psd_fmax_hz : float
+        Upper end of the PSD-model fit band (the rig's acquisition filter cuts at 10 Hz).
+    eta_reference : {"mean", "branch"}
+        T_hys of Eq. (4.2): the mean of all cycles (thesis) or the branch mean curves.
+    simulate : bool
+        Run the rig simulations (needs a top-speed channel).
+    preset : str
+        The rig preset simulated.
+    """
+    t0: float | None = None
+    t1: float | None = None
+    stick_fraction: float = 0.05
+    cycle_at_s: float | None = None
+    laws: tuple = ident.LAWS
+    folds: int = 5
+    fit_rate_hz: float = 100.0
+    psd_fmax_hz: float = 10.0
+    eta_reference: str = "mean"
+    simulate: bool = True
+    preset: str = "thesis-rig"
+
+
+def _stats(x) -> dict:
+    x = np.asarray(x, float)
+    if x.size == 0:
+        return {"n": 0}
+    return {"n": int(x.size), "mean": float(np.mean(x)), "std": float(np.std(x, ddof=1)) if x.size > 1 else 0.0,
+            "median": float(np.median(x)), "min": float(np.min(x)), "max": float(np.max(x))}
+
+
+def choose_cycle(cycles: sig.Cycles, t, at_s: float | None = None) -> int:
+    """Index of the cycle to show: the valid one containing ``at_s``, else among valid cycles with
+    a stick phase and a period within 1.5 x the median, the one with the longest stick."""
+    valid = np.flatnonzero(cycles.valid)
+    if valid.size == 0:
+        raise ValueError("no valid stick-slip cycle in the record")
+    if at_s is not None:
+        hit = [j for j in valid if t[cycles.start[j]] <= at_s < t[cycles.end[j]]]
+        if not hit:
+            raise ValueError(f"cycle_at_s = {at_s}: no valid cycle contains this time")
+        return int(hit[0])
+    per = cycles.period_s
+    med = np.median(per[valid])
+    cand = [j for j in valid if cycles.stick_s[j] > 0 and per[j] <= 1.5 * med]
+    if not cand:
+        return int(valid[np.argmin(np.abs(per[valid] - med))])
+    return int(max(cand, key=lambda j: cycles.stick_s[j]))
+
+
+def analyze_record(record: Record | str | Path, out_dir: str | Path, options: AnalysisOptions | None = None,
+                   log=print) -> dict:
+    """Analyse a measured record and write ``report.md``, figures and ``summary.json`` to ``out_dir``.
+
+    Returns the summary (the content of ``summary.json``).
+    """
+    opt = options or AnalysisOptions()
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    raw = read_record(record) if isinstance(record, (str, Path)) else record
+    for need in ("bit_speed", "torque_on_bit"):
+        raw.channel(need)  # the analysis needs these two; the error names the missing one
+    if opt.t0 is not None or opt.t1 is not None:
+        raw = raw.select(opt.t0, opt.t1)
+    cl_opt = CleaningOptions()
+    if raw.top_speed is None:
+        cl_opt.stick_threshold_rad_s = None
+    rec, rep = clean(raw, cl_opt)
+    if raw.top_speed is not None:
+        thr = opt.stick_fraction * abs(float(np.nanmedian(rec.top_speed[rec.valid("top_speed")])))
+    else:
+        thr = rep.stick_threshold_rad_s
+    S: dict = {"record": {"source": rec.provenance.get("source"), "format": rec.provenance.get("format"),
+                          "channels": list(rec.channels), "units_in_file": rec.units,
+                          "n_samples": len(rec), "duration_s": rec.duration_s,
+                          "sample_rate_hz": rec.sample_rate_hz,
+                          "window_s": [float(rec.time_s[0]), float(rec.time_s[-1])]},
+               "cleaning": rep.summary()}
+    log(f"record: {len(rec)} samples at {rec.sample_rate_hz:.0f} Hz over {rec.duration_s:.2f} s; "
+        f"channels {', '.join(rec.channels)}")
+    for line in rep.lines():
+        log(f"  artifacts: {line}")
+
+    # ---------------------------------------------------------------- cycles and statistics
+    dt = rec.dt
+    v, tq = rec.bit_speed, rec.torque_on_bit
+    ok = rec.valid("bit_speed", "torque_on_bit")
+    cyc = sig.segment_cycles(v, dt, thr, valid=ok)
+    vf = np.where(np.isfinite(v), v, 0.0)
+    acc = sig.derivative(vf, dt)
+    lab = cyc.branch_labels(len(rec))
+    cid = cyc.cycle_id(len(rec))
+    if not cyc.valid.any():
+        raise ValueError("no valid stick-slip cycle found: the record shows no stick-slip oscillation "
+                         "(no bit-speed peak with a prominence of 25 % of its range, or excluded samples "
+                         "everywhere)")
+    cst = sig.cycle_statistics(cyc, v, rec.top_speed, tq, rec.wob)
+    okt = ok & (rec.valid("top_speed") if rec.top_speed is not None else True)
+    top_mean = float(np.mean(rec.top_speed[okt])) if rec.top_speed is not None else float("nan")
+    S["stick_threshold_rpm"] = thr * RPM
+    S["cycles"] = {"n_found": len(cyc), "n_valid": int(cyc.valid.sum()),
+                   "period_s": _stats(cst["period_s"]), "frequency_hz": _stats(cst["frequency_hz"]),
+                   "stick_s": _stats(cst["stick_s"]), "slip_s": _stats(cst["slip_s"]),
+                   "max_bit_speed_rpm": _stats(cst["max_speed"] * RPM),
+                   "dominant_frequency_hz": sig.dominant_frequency(vf[ok] if ok.all() else vf, 1 / dt)}
+    if "ss" in cst:
+        S["cycles"]["ss"] = _stats(cst["ss"])
+    S["severity"] = {"ss": sig.severity(v[okt], rec.top_speed[okt]) if rec.top_speed is not None else None,
+                     "mean_top_speed_rpm": top_mean * RPM, "mean_bit_speed_rpm": float(np.mean(v[ok])) * RPM,
+                     "max_bit_speed_rpm": float(np.max(v[ok])) * RPM, "min_bit_speed_rpm": float(np.min(v[ok])) * RPM,
+                     "stick_fraction": float(np.mean(v[ok] <= thr))}
+    S["torque_statistics"] = sig.sample_statistics(tq[ok])  # Table 5.2
+    S["torque_statistics"]["thesis_table_5_2_mean_cv_samples_11_20"] = 0.329
+    if rec.wob is not None:
+        S["wob_statistics"] = sig.sample_statistics(rec.wob[rec.valid("wob")])
+    c = S["cycles"]
+    log(f"cycles: {c['n_valid']} valid of {c['n_found']}; period {c['period_s']['mean']:.3f} s mean, "
+        f"{c['period_s']['median']:.3f} s median; dominant frequency {c['dominant_frequency_hz']:.2f} Hz")
+    if S["severity"]["ss"] is not None:
+        log(f"SS = {S['severity']['ss']:.3f} (Eq. 3.4, mean top speed {top_mean * RPM:.1f} RPM); per cycle "
+            f"{c['ss']['mean']:.3f} +/- {c['ss']['std']:.3f}; stick fraction {S['severity']['stick_fraction']:.3f}")
+
+    # ---------------------------------------------------------------- mean cycle and eta
+    mc = sig.mean_cycle(v, tq, acc, lab)
+    S["mean_cycle"] = {"speed_rpm": (mc.speed * RPM).tolist(), "all_nm": _nan_list(mc.all),
+                       "upper_nm": _nan_list(mc.upper), "lower_nm": _nan_list(mc.lower),
+                       "half_width_rpm": mc.half_width * RPM}
+    mcw = sig.mean_cycle(v, rec.wob, acc, lab * rec.valid("wob")) if rec.wob is not None else None
+    eta = sig.eta_exp(rec.time_s, v, tq, lab, mc, reference=opt.eta_reference)
+    f, p = process.periodogram(eta.eta, 1.0 / eta.fs_hz)  # Schuster's raw periodogram (section 4.1)
+    psd = process.fit_psd_model(f, p, averages=1.0, fmax=opt.psd_fmax_hz)  # Eq. (4.4)
+    S["eta"] = {**eta.statistics(), "reference": opt.eta_reference,
+                "thesis_rig_mean": sig.THESIS_ETA_MEAN, "thesis_rig_std": sig.THESIS_ETA_STD}
+    band = f[(f > 0) & (f <= opt.psd_fmax_hz)]
+    S["psd"] = {"fit": {**psd.model.as_dict(), "rms_log": psd.rms_log_residual, "points": psd.points,
+                        "f_range_hz": [float(band[0]), float(band[-1])]},
+                "thesis_field": process.THESIS_PSD.as_dict(),
+                "convention": "Eq. (4.4) with natural logarithms; one-sided PSD of eta in 1/Hz, f in Hz; fit "
+                              "of ln S to the raw periodogram (bias of ln of an exponential ordinate removed)",
+                "fitter": "drillpy.process.fit_psd_model"}
+    log(f"eta_exp: std {S['eta']['std']:.3f} (thesis rig average {sig.THESIS_ETA_STD}); PSD model f0 = "
+        f"{psd.model.f0:.3g} Hz, A0 = {psd.model.A0:.2f}, a = {psd.model.a:.2f}, b = {psd.model.b:.2f} "
+        f"(thesis field 0.27 Hz, -7.6, -3.13, -11.67)")
+
+    # ---------------------------------------------------------------- identification
+    every = max(1, int(round(rec.sample_rate_hz / opt.fit_rate_hz)))
+    variants = {"constant_wob": False}
+    if rec.wob is not None and rec.valid("wob")[ok].all():
+        variants["measured_wob"] = True
+    S["identification"] = {"fit_every": every, "note": ident.METHOD_NOTE}
+    fits_by = {}
+    for key, use_wob in variants.items():
+        data = ident.FitData.from_arrays(v, acc, tq, lab, cid, wob=rec.wob, use_wob=use_wob, every=every)
+        fits = ident.fit_laws(data, opt.laws, mc=mc, folds=opt.folds)
+        cmp = ident.compare_laws(fits)
+        fits_by[key] = fits
+        S["identification"][key] = {"n_samples": len(data), "n_cycles": int(np.unique(data.group).size),
+                                    "wob_ref_n": data.wob_ref, "fits": [f.as_dict() for f in fits],
+                                    "comparison": cmp}
+        log(f"identification ({key.replace('_', ' ')}): {cmp.get('statement', '')}")
+        for row in cmp["table"]:
+            log(f"  {row['law']:<22} k={row['k']}  RMSE {row['rmse_nm']:.4f}  CV-RMSE {_f(row['cv_rmse_nm'], '.4f')}  "
+                f"Var[MSE] {row['var_mse']:.3g}  BIC {row['bic']:.1f}  dBIC {row['delta_bic']:.1f}")
+
+    if "measured_wob" in fits_by:
+        S["identification"]["wob_versus_hysteresis"] = _wob_effect(fits_by)
+        log(f"identification: {S['identification']['wob_versus_hysteresis']['statement']}")
+
+    # ---------------------------------------------------------------- rig simulation
+    sims = {}
+    if opt.simulate and rec.top_speed is not None and rec.valid("top_speed").all():
+        S["rig"], sims = _rig_section(rec, raw_threshold=thr, fits_by=fits_by, preset=opt.preset, log=log)
+    elif opt.simulate:
+        S["rig"] = {"skipped": "the record has no complete top-speed channel to drive the rig model"}
+
+    # ---------------------------------------------------------------- figures and report
+    j = choose_cycle(cyc, rec.time_s, opt.cycle_at_s)
+    S["figures"] = _figures(out, raw, rec, rep, cyc, cst, j, lab, acc, mc, mcw, eta, (f, p), psd, fits_by,
+                            sims, S, thr)
+    S["shown_cycle_s"] = [float(rec.time_s[cyc.start[j]]), float(rec.time_s[cyc.end[j]])]
+    (out / "summary.json").write_text(json.dumps(_jsonable(S), indent=2))
+    (out / "report.md").write_text(render_report(S))
+    log(f"report.md, summary.json and {len(S['figures'])} figures written to {out}")
+    return S
+
+
+def _wob_effect(fits_by: dict) -> dict:
+    """How much of the torque the hysteresis term and the measured WOB explain (RMSE drops)."""
+    c = {f.name: f.rmse for f in fits_by["constant_wob"]}
+    m = {f.name: f.rmse for f in fits_by["measured_wob"]}
+    out = {}
+    pairs = [("polynomial", "polynomial_hysteretic"), ("hysteretic_reversible", "hysteretic")]
+    for rev, hys in pairs:
+        if rev in c and hys in c and rev in m:
+            out[rev] = {"rmse_constant_wob": c[rev], "rmse_with_hysteresis": c[hys], "rmse_measured_wob": m[rev],
+                        "rmse_measured_wob_with_hysteresis": m.get(hys, float("nan"))}
+    if out:
+        rev = next(iter(out))
+        d = out[rev]
+        out["statement"] = (
+            f"For the {rev} law the hysteresis term of Eq. (3.3) lowers the RMSE from {d['rmse_constant_wob']:.3f} to "
+            f"{d['rmse_with_hysteresis']:.3f} N m, scaling by the measured WOB (T = T_law W / W_ref) from "
+            f"{d['rmse_constant_wob']:.3f} to {d['rmse_measured_wob']:.3f} N m, and both together to "
+            f"{d['rmse_measured_wob_with_hysteresis']:.3f} N m")
+        alone = d["rmse_constant_wob"] - d["rmse_with_hysteresis"]
+        after = d["rmse_measured_wob"] - d["rmse_measured_wob_with_hysteresis"]
+        out["hysteresis_gain_alone_nm"], out["hysteresis_gain_after_wob_nm"] = alone, after
+        out["statement"] += (": once the measured WOB is in, the hysteresis term adds little, so the WOB "
+                             "oscillation of the cycle accounts for most of the loop the constant-WOB "
+                             "hysteretic laws describe." if after < 0.25 * alone else
+                             ": the hysteresis term still helps with the measured WOB in, so the two effects "
+                             "are distinct.")
+    return out
+
+
+def _rig_section(rec: Record, raw_threshold: float, fits_by: dict, preset: str, log) -> tuple:
+    base = load_config(preset=preset)
+    out = {"preset": preset, "preset_law": base["law"], "preset_damping": base["damping"], "cases": [],
+           "law_selection": []}
+    sims = {}
+
+    def case(label, law, zeta, drive):
+        sim = rigsim.simulate_rig(rec, law, zeta, drive=drive, preset=preset)
+        cmp = rigsim.compare(rec, sim, raw_threshold)
+        out["cases"].append({"label": label, "law": law, "damping_ratio": zeta, "drive": drive,
+                             "measured": cmp.measured, "simulated": cmp.simulated, "mismatch": cmp.mismatch,
+                             "loop_rms_nm": cmp.loop_rms_nm})
+        sims[label] = (sim, cmp)
+        log(f"rig: {label}: mismatch {cmp.mismatch:.3f}, SS {cmp.simulated['ss']:.3f} "
+            f"(measured {cmp.measured['ss']:.3f}), stick fraction {cmp.simulated['stick_fraction']:.3f} "
+            f"(measured {cmp.measured['stick_fraction']:.3f})")
+
+    # effective damping of each identified law, self-excited (constant top speed)
+    ests = []
+    for f in fits_by["constant_wob"]:
+        est = rigsim.estimate_damping(rec, f.law, raw_threshold, preset=preset)
+        ests.append((f, est))
+        out["law_selection"].append({"law": f.name, "damping_ratio": est["ratio"], "mismatch": est["mismatch"],
+                                     "bic_rank": sorted(fits_by["constant_wob"], key=lambda g: g.bic).index(f) + 1,
+                                     "scan": est["scan"]})
+    best, est = min(ests, key=lambda p: p[1]["mismatch"])
+    zb = est["ratio"]
+    z0 = base["damping"]["ratios"][0] if base["damping"]["type"] == "modal" else None
+    case(f"preset law, zeta {z0:g}, constant top speed", base["law"], z0, "constant")
+    case(f"preset law, zeta {z0:g}, measured top speed", base["law"], z0, "measured")
+    case(f"{best.name} (fitted), zeta {zb:.3g} (estimated), constant top speed", best.law, zb, "constant")
+    case(f"{best.name} (fitted), zeta {zb:.3g} (estimated), measured top speed", best.law, zb, "measured")
+    pref = min(fits_by["constant_wob"], key=lambda f: f.bic)
+    if pref is not best:
+        zp = dict((f.name, e["ratio"]) for f, e in ests)[pref.name]
+        case(f"{pref.name} (fitted, lowest BIC), zeta {zp:.3g} (estimated), constant top speed", pref.law, zp,
+             "constant")
+    out["recommended"] = {"law": best.law, "law_name": best.name, "damping_ratio": zb, "mismatch": est["mismatch"],
+                          "rule": "the identified law (constant WOB) and effective modal damping ratio whose "
+                                  "simulation at the constant mean top speed matches the measured stick-slip best "
+                                  "(rigsim.estimate_damping)"}
+    log(f"rig: recommended preset law {best.name} with effective damping ratio {zb:.3g} "
+        f"(mismatch {est['mismatch']:.3f})")
+    return out, sims
+
+
+def _figures(out, raw, rec, rep, cyc, cst, j, lab, acc, mc, mcw, eta, fp, psd, fits_by, sims, S, thr) -> list:
+    paths = [figs.time_series(out / "time_series.png", raw, rec, rep),
+             figs.cleaning(out / "cleaning.png", raw, rec, rep),
+             figs.one_cycle(out / "cycle.png", rec, cyc, j),
+             figs.loops(out / "loops.png", rec, lab, mc, mcw),
+             figs.cycle_statistics(out / "cycle_statistics.png", cst, thr),
+             figs.laws(out / "laws.png", rec, lab, acc, mc, fits_by["constant_wob"],
+                       "laws fitted at constant WOB (sample set: slip phases of valid cycles)"),
+             figs.psd(out / "psd.png", eta, fp[0], fp[1], psd.model, process.THESIS_PSD, S["psd"]["fit"]["f_range_hz"])]
+    if sims:
+        paths.append(figs.rig_time_series(out / "rig_time_series.png", rec, sims))
+        paths.append(figs.rig_loops(out / "rig_loops.png", sims))
+    return [p.name for p in paths]
+
+
+def _nan_list(x) -> list:
+    return [None if not np.isfinite(v) else float(v) for v in np.asarray(x, float)]
+
+
+def _jsonable(o):
+    if isinstance(o, dict):
+        return {str(k): _jsonable(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [_jsonable(v) for v in o]
+    if isinstance(o, np.ndarray):
+        return _jsonable(o.tolist())
+    if isinstance(o, (np.integer,)):
+        return int(o)
+    if isinstance(o, (float, np.floating)):
+        return None if not math.isfinite(float(o)) else float(o)
+    if isinstance(o, (np.bool_,)):
+        return bool(o)
+    return o
+
+
+# ------------------------------------------------------------------------------ report
+def _f(x, fmt=".3f"):
+    return "n/a" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, fmt)
+
+
+def render_report(S: dict) -> str:
+    """The Markdown report of a summary."""
+    r, c, sv = S["record"], S["cycles"], S["severity"]
+    L = [f"# Stick-slip analysis of `{Path(str(r['source'])).name}`", "",
+         f"Source `{r['source']}` ({r['format']}), {r['n_samples']} samples at {r['sample_rate_hz']:.0f} Hz, "
+         f"{r['window_s'][0]:.3f}-{r['window_s'][1]:.3f} s; channels {', '.join(r['channels'])} "
+         f"(units in the file: {', '.join(f'{k} {u}' for k, u in r['units_in_file'].items())}).", "",
+         "![time series](time_series.png)", "", "## Cleaning", "",
+         "| artifact | events | samples | repaired | excluded |", "|---|---:|---:|---:|---:|"]
+    for k, v in S["cleaning"]["counts"].items():
+        L.append(f"| {k} | {v['events']} | {v['samples']} | {v['repaired_samples']} | {v['excluded_samples']} |")
+    L += ["", "Artifacts (channel, time span, samples, repair):", ""]
+    for a in S["cleaning"]["artifacts"]:
+        L.append(f"- {a['kind']} in {a['channel']}: {a['start_s']:.3f}-{a['end_s']:.3f} s, {a['samples']} samples; "
+                 f"{a['repair']}")
+    if not S["cleaning"]["artifacts"]:
+        L.append("- none")
+    L += ["", "![cleaning](cleaning.png)", "",
+          "## Stick-slip cycles", "",
+          f"Stick threshold {S['stick_threshold_rpm']:.2f} RPM (5 % of the median top speed). "
+          f"{c['n_valid']} valid cycles of {c['n_found']}; dominant frequency of the bit speed "
+          f"{c['dominant_frequency_hz']:.2f} Hz.", "",
+          "| per cycle | mean | std | median | min | max |", "|---|---:|---:|---:|---:|---:|"]
+    for key, lab in (("period_s", "period [s]"), ("frequency_hz", "frequency [Hz]"), ("stick_s", "stick [s]"),
+                     ("slip_s", "slip [s]"), ("max_bit_speed_rpm", "max bit speed [RPM]"), ("ss", "SS (Eq. 3.4) [-]")):
+        if key in c:
+            s = c[key]
+            L.append(f"| {lab} | {s['mean']:.3f} | {s['std']:.3f} | {s['median']:.3f} | {s['min']:.3f} | {s['max']:.3f} |")
+    L += ["", f"Whole window: SS = {_f(sv['ss'])} (max {sv['max_bit_speed_rpm']:.1f} RPM, min "
+              f"{sv['min_bit_speed_rpm']:.1f} RPM, mean top speed {sv['mean_top_speed_rpm']:.1f} RPM; mean bit speed "
+              f"{sv['mean_bit_speed_rpm']:.1f} RPM), stick fraction {sv['stick_fraction']:.3f}.", "",
+          "![cycle statistics](cycle_statistics.png)", "",
+          f"One cycle ({S['shown_cycle_s'][0]:.3f}-{S['shown_cycle_s'][1]:.3f} s; Figs. 5.6-5.7):", "",
+          "![one cycle](cycle.png)", "",
+          "Torque and WOB versus bit speed, with the mean cycle per branch (Fig. 3.5):", "",
+          "![loops](loops.png)", "", "## Sample statistics (Table 5.2)", ""]
+    ts = S["torque_statistics"]
+    L += ["| quantity | mean | std | CV |", "|---|---:|---:|---:|",
+          f"| torque on bit [N m] | {ts['mean']:.4f} | {ts['std']:.4f} | {ts['cv']:.4f} |"]
+    if "wob_statistics" in S:
+        w = S["wob_statistics"]
+        L.append(f"| WOB [N] | {w['mean']:.2f} | {w['std']:.2f} | {w['cv']:.4f} |")
+    L += ["", "The thesis's samples 11-20 have a mean CV of 0.329 (Table 5.2).", "", "## Identification", "",
+          S["identification"]["note"], ""]
+    for key, title in (("constant_wob", "Laws evaluated at the mean WOB"),
+                       ("measured_wob", "Laws scaled by the measured WOB, T = T_law W(t) / W_ref")):
+        if key not in S["identification"]:
+            continue
+        blk = S["identification"][key]
+        L += [f"### {title}", "", f"{blk['n_samples']} samples (every {S['identification']['fit_every']}th slip "
+              f"sample of {blk['n_cycles']} cycles), W_ref = {blk['wob_ref_n']:.1f} N.", "",
+              "| law | Eq. | k | RMSE [N m] | CV RMSE [N m] | R^2 | Var[MSE] (5.2) | AIC | BIC | dBIC | Akaike weight |",
+              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        for row in blk["comparison"]["table"]:
+            L.append(f"| {row['law']} | {row['equation']} | {row['k']} | {row['rmse_nm']:.4f} | "
+                     f"{_f(row['cv_rmse_nm'], '.4f')} | {row['r2']:.3f} | {_f(row['var_mse'], '.3g')} | "
+                     f"{row['aic']:.1f} | {row['bic']:.1f} | {row['delta_bic']:.1f} | {row['akaike_weight']:.3f} |")
+        L += ["", blk["comparison"].get("statement", ""), "", "Parameters (95 % intervals, cluster-robust over cycles; "
+              "speed unit RPM):", ""]
+        for fit in blk["fits"]:
+            ps = ", ".join(f"{n} = {p['value']:.4g} [{p['ci95'][0]:.4g}, {p['ci95'][1]:.4g}]"
+                           for n, p in fit["parameters"].items())
+            fx = ", ".join(f"{k} = {v:g}" for k, v in fit["fixed"].items())
+            bound = f"; at bound: {', '.join(fit['at_bound'])}" if fit["at_bound"] else ""
+            L.append(f"- **{fit['law']}** (Eq. {fit['equation']}): {ps}; fixed {fx}{bound}")
+        L.append("")
+    if "wob_versus_hysteresis" in S["identification"]:
+        L += [S["identification"]["wob_versus_hysteresis"].get("statement", ""), ""]
+    L += ["![laws](laws.png)", "", "## eta_exp and its PSD (Eqs. 4.2-4.4)", ""]
+    e, p = S["eta"], S["psd"]
+    fit, th = p["fit"], p["thesis_field"]
+    L += [f"eta_exp = T / T_hys - 1 with T_hys the {'mean of all cycles' if e['reference'] == 'mean' else 'branch mean curves'}; "
+          f"{e['n_measured']} slip samples, {100 * e['interpolated_fraction']:.1f} % of the grid interpolated "
+          f"(stick phases). Mean {e['mean']:.2e}, std {e['std']:.4f} (thesis, 210 rig samples: mean "
+          f"{e['thesis_rig_mean']:.2e}, std {e['thesis_rig_std']}).", "",
+          f"PSD model ({p['convention']}; {p['fitter']}), band {fit['f_range_hz'][0]:.3g}-{fit['f_range_hz'][1]:.3g} Hz:", "",
+          "| parameter | sample | thesis (field data) |", "|---|---:|---:|",
+          f"| f0 [Hz] | {fit['f0_hz']:.3f} | {th['f0_hz']} |", f"| A0 | {fit['A0']:.2f} | {th['A0']} |",
+          f"| a | {fit['a']:.2f} | {th['a']} |", f"| b | {fit['b']:.2f} | {th['b']} |",
+          f"| rms of ln residuals | {fit['rms_log']:.2f} | |", "", "![psd](psd.png)", ""]
+    if "rig" in S:
+        rg = S["rig"]
+        L += ["## Test rig in simulation", ""]
+        if "skipped" in rg:
+            L += [f"Skipped: {rg['skipped']}.", ""]
+        else:
+            L += [f"Preset `{rg['preset']}` (one elastic mode, first frequency 2.89 Hz). Simulated bit speed, top "
+                  "speed and torque pass through the rig's 10 Hz filter; the first 2 s are discarded. Mismatch = rms "
+                  "relative error over SS, stick fraction, 95th percentile of the bit speed, 5th and 95th percentiles "
+                  "of the torque and median cycle period.", "",
+                  "Effective modal damping ratio of each identified law: the value whose simulation at the "
+                  "constant mean top speed matches the measurement best (grid scan; it lumps every dissipation "
+                  "the one-mode model lacks):", "",
+                  "| law | BIC rank | damping ratio | mismatch |", "|---|---:|---:|---:|"]
+            for ls in rg["law_selection"]:
+                L.append(f"| {ls['law']} | {ls['bic_rank']} | {ls['damping_ratio']:.3g} | {ls['mismatch']:.3f} |")
+            L += ["",
+                  "| case | SS | cycle freq. [Hz] | median period [s] | stick fraction | bit speed p95 [RPM] | "
+                  "torque p5 [N m] | torque p95 [N m] | torque min-max [N m] | mismatch | loop rms [N m] |",
+                  "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+            m = rg["cases"][0]["measured"]
+            L.append(f"| **measured** | {m['ss']:.3f} | {m['cycle_frequency_hz']:.2f} | {m['median_period_s']:.3f} | "
+                     f"{m['stick_fraction']:.3f} | {m['bit_speed_p95'] * RPM:.1f} | {m['torque_p5']:.2f} | "
+                     f"{m['torque_p95']:.2f} | {m['torque_min']:.2f}-{m['torque_max']:.2f} | | |")
+            for cs in rg["cases"]:
+                s = cs["simulated"]
+                L.append(f"| {cs['label']} | {s['ss']:.3f} | {s['cycle_frequency_hz']:.2f} | {s['median_period_s']:.3f} | "
+                         f"{s['stick_fraction']:.3f} | {s['bit_speed_p95'] * RPM:.1f} | {s['torque_p5']:.2f} | "
+                         f"{s['torque_p95']:.2f} | {s['torque_min']:.2f}-{s['torque_max']:.2f} | {cs['mismatch']:.3f} | "
+                         f"{_f(cs['loop_rms_nm'])} |")
+            rec_ = rg["recommended"]
+            L += ["", f"Recommended rig law ({rec_['rule']}): `{json.dumps(rec_['law'])}` with modal damping ratio "
+                  f"{rec_['damping_ratio']:.3g}.", "", "![rig time series](rig_time_series.png)", "",
+                  "![rig loops](rig_loops.png)", ""]
+    return "\n".join(L) + "\n"

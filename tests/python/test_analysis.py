@@ -1,0 +1,61 @@
+"""``drillpy analyze`` end to end: sample 175 through the CLI, and a CSV record without top speed."""
+import json
+
+import numpy as np
+import pytest
+
+from _testrig import sample175_path, sample175_raw
+from drillpy.analysis import AnalysisOptions, analyze_record
+from drillpy.cli import main
+from drillpy.records import Record, write_csv
+
+FIGURES = {"time_series.png", "cleaning.png", "cycle.png", "loops.png", "cycle_statistics.png", "laws.png",
+           "psd.png", "rig_time_series.png", "rig_loops.png"}
+
+
+def test_analyze_sample175_from_the_command_line(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["analyze", str(sample175_path()), "--out", str(out), "--folds", "0", "--cycle-at", "35.4"]) == 0
+    printed = capsys.readouterr().out
+    assert "spike: 16 event(s)" in printed and "oscillation: 1 event(s)" in printed
+    S = json.loads((out / "summary.json").read_text())
+    assert {p.name for p in out.glob("*.png")} == FIGURES == set(S["figures"])
+    report = (out / "report.md").read_text()
+    for fig in FIGURES:
+        assert f"]({fig})" in report
+    assert S["cleaning"]["counts"]["spike"]["events"] == 16
+    assert S["cycles"]["n_valid"] >= 95 and 2.6 <= S["cycles"]["dominant_frequency_hz"] <= 2.9
+    assert S["shown_cycle_s"][0] <= 35.4 <= S["shown_cycle_s"][1]
+    ident = S["identification"]["constant_wob"]
+    assert {f["law"] for f in ident["fits"]} == {"tucker_wang", "hysteretic_reversible", "hysteretic",
+                                                  "polynomial", "polynomial_hysteretic"}
+    assert ident["comparison"]["preferred"] in ("polynomial_hysteretic", "hysteretic")
+    assert "measured_wob" in S["identification"]
+    assert S["psd"]["fit"]["f0_hz"] > 0 and S["psd"]["thesis_field"]["a"] == -3.13
+    rig = S["rig"]
+    assert len(rig["law_selection"]) == 5 and len(rig["cases"]) >= 4
+    assert rig["recommended"]["mismatch"] == min(x["mismatch"] for x in rig["law_selection"])
+    # the thesis-rig preset holds the identified law and damping: it reproduces the record
+    preset_const = rig["cases"][0]
+    assert preset_const["drive"] == "constant" and preset_const["mismatch"] < 0.2
+    assert abs(preset_const["simulated"]["stick_fraction"] - preset_const["measured"]["stick_fraction"]) < 0.05
+
+
+def test_analyze_a_csv_without_top_speed(tmp_path):
+    r = sample175_raw().select(30.0, 40.0)
+    only = Record(time_s=r.time_s, bit_speed=r.bit_speed, torque_on_bit=r.torque_on_bit)
+    p = write_csv(only, tmp_path / "bit_only.csv", speed_unit="rpm")
+    S = analyze_record(p, tmp_path / "out", AnalysisOptions(folds=0, laws=("tucker_wang", "polynomial")),
+                       log=lambda *_: None)
+    assert S["severity"]["ss"] is None  # Eq. 3.4 needs the top speed
+    assert "skipped" in S["rig"] and "measured_wob" not in S["identification"]
+    assert S["cycles"]["n_valid"] >= 20
+    assert not (tmp_path / "out" / "rig_loops.png").exists()
+    assert np.isfinite(S["identification"]["constant_wob"]["fits"][0]["rmse_nm"])
+
+
+def test_analyze_refuses_a_record_without_stick_slip(tmp_path):
+    t = np.arange(0, 5, 1e-3)
+    flat = Record(time_s=t, bit_speed=np.full(t.size, 8.0) + 0.01 * np.sin(t), torque_on_bit=np.full(t.size, 2.0))
+    with pytest.raises(ValueError, match="no valid stick-slip cycle"):
+        analyze_record(flat, tmp_path, AnalysisOptions(folds=0), log=lambda *_: None)

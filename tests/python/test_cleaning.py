@@ -1,0 +1,133 @@
+"""Cleaning: the artifacts of sample 175 and injected faults of every kind."""
+import numpy as np
+import pytest
+
+from _testrig import sample175_cleaned, sample175_raw
+from drillpy.cleaning import CleaningOptions, clean
+from drillpy.records import RPM, Flag, Record
+
+
+def test_sample175_artifacts_found_and_repaired():
+    rec, rep = sample175_cleaned()
+    c = rep.counts()
+    # README: isolated spikes to about -200 RPM and one stretch (28-30 s) oscillating while the bit sticks
+    assert c["spike"]["events"] == 16 and c["spike"]["excluded_samples"] == 0
+    assert c["oscillation"]["events"] == 1
+    (osc,) = [a for a in rep.artifacts if a.kind == "oscillation"]
+    assert osc.channel == "top_speed" and 28.0 < osc.start_s < osc.end_s < 29.6
+    assert all(a.channel == "top_speed" for a in rep.artifacts)  # bit speed, torque, WOB are clean
+    for k in ("time", "gap", "nonfinite", "duplicate"):
+        assert c[k]["events"] == 0
+    raw = sample175_raw()
+    assert np.min(raw.top_speed) * RPM < -200 and np.min(rec.top_speed) * RPM > -10
+    # the stretch is replaced by the (stuck) bit speed; other channels are untouched
+    m = (rec.time_s >= osc.start_s) & (rec.time_s <= osc.end_s)
+    np.testing.assert_array_equal(rec.top_speed[m], rec.bit_speed[m])
+    assert np.all(np.abs(rec.bit_speed[m]) * RPM < 4.1)
+    for ch in ("bit_speed", "torque_on_bit", "wob"):
+        np.testing.assert_array_equal(getattr(rec, ch), getattr(raw, ch))
+    # no net winding of the bar: over the record the cleaned top speed averages the bit speed
+    assert np.mean(rec.top_speed) == pytest.approx(np.mean(rec.bit_speed), rel=0.03)
+    assert rec.valid().all() and len(rec) == len(raw)
+    assert rec.provenance["cleaning"]["counts"]["spike"]["events"] == 16
+
+
+def test_cleaning_is_idempotent():
+    rec, _ = sample175_cleaned()
+    again, rep = clean(rec.take(np.arange(len(rec))))
+    assert rep.lines() == ["no artifact found"]
+    np.testing.assert_array_equal(again.top_speed, rec.top_speed)
+
+
+@pytest.fixture
+def window():
+    """5-9 s of sample 175, without artifacts there except two top-speed spikes."""
+    return sample175_raw().select(7.5, 11.5)
+
+
+def test_short_nonfinite_run_is_interpolated(window):
+    ref = window.torque_on_bit.copy()
+    window.torque_on_bit[1000:1010] = np.nan
+    window.wob[2000] = np.inf
+    rec, rep = clean(window)
+    fl = rec.flags["torque_on_bit"][1000:1010]
+    assert np.all(fl & Flag.NONFINITE) and np.all(fl & Flag.REPAIRED)
+    assert np.max(np.abs(rec.torque_on_bit[1000:1010] - ref[1000:1010])) < 0.05  # N m, 10 ms of a 10 Hz signal
+    assert rep.counts()["nonfinite"] == {"events": 2, "samples": 11, "repaired_samples": 11, "excluded_samples": 0}
+    assert rec.valid().all()
+
+
+def test_long_nonfinite_run_is_excluded_not_invented(window):
+    window.bit_speed[1000:1200] = np.nan
+    rec, rep = clean(window)
+    assert np.all(np.isnan(rec.bit_speed[1000:1200]))
+    assert np.all(rec.flags["bit_speed"][1000:1200] & Flag.UNRELIABLE)
+    assert (~rec.valid()).sum() == 200 and rep.counts()["nonfinite"]["excluded_samples"] == 200
+
+
+def test_gaps_are_refilled_on_the_grid(window):
+    n = len(window)
+    keep = np.ones(n, bool)
+    keep[500:520] = False      # 20 ms: interpolated
+    keep[2000:2300] = False    # 300 ms: inserted but excluded
+    rec, rep = clean(window.take(np.flatnonzero(keep)))
+    assert len(rec) == n
+    np.testing.assert_allclose(rec.time_s, window.time_s, atol=1e-9)
+    gaps = [a for a in rep.artifacts if a.kind == "gap"]
+    assert [(g.samples, g.repaired) for g in gaps] == [(20, True), (300, False)]
+    assert np.all(rec.flags["time"][500:520] & Flag.GAP)
+    assert np.all(np.isfinite(rec.wob[500:520])) and np.all(np.isnan(rec.wob[2000:2300]))
+    assert (~rec.valid()).sum() == 300
+
+
+def test_backward_time_stamp_and_duplicate_row(window):
+    t = window.time_s.copy()
+    t[1500] -= 0.5                         # a stamp that jumps back
+    t[2500], t[2501] = t[2501], t[2500]    # two stamps swapped
+    window.time_s = t
+    idx = np.r_[np.arange(3000), 2999, np.arange(3000, len(window))]  # one row logged twice
+    rec, rep = clean(window.take(idx))
+    c = rep.counts()
+    assert c["duplicate"]["events"] == 1 and c["time"]["events"] == 2
+    assert len(rec) == len(window)
+    np.testing.assert_allclose(np.diff(rec.time_s), 1e-3, rtol=1e-9)
+    assert rec.flags["time"][1500] & Flag.TIME
+    np.testing.assert_array_equal(rec.bit_speed, window.bit_speed)  # acquisition order kept
+
+
+def test_overlapping_pieces_cannot_be_placed(window):
+    t = window.time_s.copy()
+    t[2000:] -= 1.0  # a second piece that starts 1 s back in time
+    window.time_s = t
+    with pytest.raises(ValueError, match="cannot be placed"):
+        clean(window)
+
+
+def test_injected_spike_in_bit_speed_is_repaired(window):
+    ref = window.bit_speed.copy()
+    window.bit_speed[1500:1508] += 150 / RPM
+    rec, rep = clean(window)
+    spikes = [a for a in rep.artifacts if a.kind == "spike" and a.channel == "bit_speed"]
+    assert len(spikes) == 1 and spikes[0].repaired
+    assert np.max(np.abs(rec.bit_speed - ref)) * RPM < 10
+
+
+def test_oscillation_while_the_bit_moves_is_excluded(window):
+    # spikes every 40 ms in the top speed while the bit slips (8-9 s): not repairable
+    for k in range(10):
+        a = 600 + 40 * k
+        window.top_speed[a:a + 8] = -200 / RPM
+    rec, rep = clean(window, CleaningOptions(stuck_fraction=0.9))
+    (osc,) = [a for a in rep.artifacts if a.kind == "oscillation"]
+    assert not osc.repaired and "UNRELIABLE" in osc.repair
+    m = (rec.time_s >= osc.start_s) & (rec.time_s <= osc.end_s)
+    assert not rec.valid("top_speed")[m].any() and rec.valid("bit_speed")[m].all()
+
+
+def test_bad_options_are_refused():
+    with pytest.raises(ValueError, match="cleaning.max_fill_s"):
+        CleaningOptions(max_fill_s=-1).validate()
+    with pytest.raises(ValueError, match="stretch_min_spikes"):
+        CleaningOptions(stretch_min_spikes=1).validate()
+    with pytest.raises(ValueError, match="only 2 finite time stamp"):
+        clean(Record(time_s=np.array([0.0, 1.0, np.nan]), wob=np.ones(3)))

@@ -1,0 +1,105 @@
+"""Identification: recovery of known parameters through the engine, intervals, and sample 175."""
+import numpy as np
+import pytest
+
+from _testrig import sample175_cleaned, sample175_cycles
+from drillpy import identification as ident
+from drillpy import signals as sig
+
+TRUTH = {
+    "tucker_wang": [1.0, 0.2, 0.003],
+    "hysteretic_reversible": [0.5, 2.0, 120.0, 0.5, 2.0],
+    "hysteretic": [0.5, 2.0, 120.0, 0.5, 2.0, 0.1, 0.01],
+    "polynomial": [2.0, -2e-3, -5e-5, 1e-7],
+    "polynomial_hysteretic": [2.0, -2e-3, -5e-5, 1e-7, 0.1, 0.01],
+}
+
+
+def _synthetic_data(name, sigma=0.05, seed=3):
+    """Stick-slip-like speeds (0-200 RPM), their acceleration, torque = law + white noise."""
+    rng = np.random.default_rng(seed)
+    dt, period, stick = 2e-3, 0.4, 0.05
+    tau = np.arange(0, 30 * period, dt) % period
+    amp = 200 * np.pi / 30 * (1 + 0.1 * np.sin(np.arange(tau.size) * dt / 3))
+    v = np.where(tau < stick, 0.0, amp * np.sin(np.pi * (tau - stick).clip(0) / (period - stick)))
+    a = sig.derivative(v, dt)
+    cyc = sig.segment_cycles(v, dt, 0.4)
+    lab, cid = cyc.branch_labels(v.size), cyc.cycle_id(v.size)
+    d = ident.FitData.from_arrays(v, a, np.zeros(v.size), lab, cid, wob=np.full(v.size, 500.0))
+    fx = {"alpha0": 10.0, "b1": 10.0, "gain": 1.36}
+    law = ident.FAMILIES[name].build(np.array(TRUTH[name]), d, "rpm", fx)
+    T = ident.law_eval(law, d.speed, d.accel, d.wob)[0]
+    d.torque = T + sigma * rng.standard_normal(T.size)
+    return d
+
+
+@pytest.mark.parametrize("name", ident.LAWS)
+def test_fit_recovers_known_parameters(name):
+    d = _synthetic_data(name)
+    f = ident.fit_law(name, d)
+    truth = np.array(TRUTH[name])
+    assert f.rmse == pytest.approx(0.05, rel=0.1)  # the noise level: nothing left to explain
+    assert np.all(np.abs(f.values - truth) <= 4 * f.stderr + 1e-9 * np.abs(truth)), (f.values, truth, f.stderr)
+    assert np.all(f.ci_low <= f.ci_high)
+    # the fitted law is the engine's: evaluating it gives the fitted values
+    np.testing.assert_allclose(f.predict(d.speed, d.accel, d.wob), d.torque + f.residual, rtol=1e-12, atol=1e-12)
+
+
+def test_autocorrelation_time():
+    rng = np.random.default_rng(5)
+    assert ident.autocorrelation_time(rng.standard_normal(20000)) == pytest.approx(1.0, abs=0.3)
+    e = rng.standard_normal(200000)
+    x = np.empty_like(e)
+    x[0] = e[0]
+    for i in range(1, e.size):  # AR(1), phi = 0.9: tau = (1 + phi) / (1 - phi) = 19
+        x[i] = 0.9 * x[i - 1] + e[i]
+    assert ident.autocorrelation_time(x) == pytest.approx(19.0, rel=0.2)
+
+
+def test_bad_identification_input():
+    with pytest.raises(ValueError, match="unknown"):
+        ident.fit_law("coulomb", _synthetic_data("polynomial"))
+    with pytest.raises(ValueError, match="speed_unit"):
+        ident.fit_law("polynomial", _synthetic_data("polynomial"), speed_unit="hz")
+    with pytest.raises(ValueError, match="FitData.torque: has non-finite"):
+        ident.FitData(np.ones(30), np.ones(30), np.r_[np.nan, np.ones(29)], np.ones(30), np.zeros(30), 1.0, 1.0)
+    with pytest.raises(ValueError, match="only 5 samples"):
+        ident.FitData(*(np.ones(5),) * 5, 1.0, 1.0)
+
+
+@pytest.fixture(scope="module")
+def sample175_fits():
+    rec, _ = sample175_cleaned()
+    cyc, acc, lab = sample175_cycles()
+    mc = sig.mean_cycle(rec.bit_speed, rec.torque_on_bit, acc, lab)
+    d = ident.FitData.from_arrays(rec.bit_speed, acc, rec.torque_on_bit, lab, cyc.cycle_id(len(rec)),
+                                  wob=rec.wob, every=10)
+    return d, {f.name: f for f in ident.fit_laws(d, mc=mc, folds=0)}
+
+
+def test_sample175_laws_compare(sample175_fits):
+    d, fits = sample175_fits
+    assert 500 < d.wob_ref < 620 and len(d) > 3000
+    # hysteresis explains part of the torque: the hysteretic forms beat their reversible forms
+    assert fits["polynomial_hysteretic"].rmse < 0.95 * fits["polynomial"].rmse
+    assert fits["hysteretic"].rmse < 0.95 * fits["hysteretic_reversible"].rmse
+    assert fits["tucker_wang"].rmse == max(f.rmse for f in fits.values())
+    ph = fits["polynomial_hysteretic"]
+    k = ph.names.index("beta1")
+    assert ph.ci_low[k] > 0  # beta1 > 0 with 95 % confidence
+    # the regularized law (3.1) fits the mean cycle worst (Var[MSE], Eq. 5.2, as in Table 5.2)
+    assert fits["tucker_wang"].var_mse > 10 * fits["polynomial"].var_mse
+    cmp = ident.compare_laws(list(fits.values()))
+    assert cmp["preferred"] in ("polynomial_hysteretic", "hysteretic")
+    assert cmp["table"][0]["delta_bic"] == 0 and all(r["delta_bic"] >= 0 for r in cmp["table"])
+    assert sum(r["akaike_weight"] for r in cmp["table"]) == pytest.approx(1.0)
+    assert "prefer" in cmp["statement"]
+
+
+def test_sample175_wob_scaling_explains_torque():
+    rec, _ = sample175_cleaned()
+    cyc, acc, lab = sample175_cycles()
+    args = (rec.bit_speed, acc, rec.torque_on_bit, lab, cyc.cycle_id(len(rec)))
+    const = ident.fit_law("polynomial", ident.FitData.from_arrays(*args, wob=rec.wob, every=10))
+    meas = ident.fit_law("polynomial", ident.FitData.from_arrays(*args, wob=rec.wob, use_wob=True, every=10))
+    assert meas.rmse < 0.85 * const.rmse  # T proportional to the measured WOB (section 3.3)
