@@ -7,9 +7,13 @@ from . import _core
 from .config import load_config, preset_names, with_overrides
 from .simulation import (SimulationResult, natural_frequencies, simulate, stability_map,
                          sweep_severity, severity_threshold, law_torque)
+from .frf import FRFEnvelope, cb_frequencies, dispersions, frf_envelope, stochastic_model
+from .structural_mc import SeverityStudy, severity_sources, severity_study
 
 __all__ = [
     "load_config", "preset_names", "with_overrides", "SimulationResult", "natural_frequencies",
     "simulate", "stability_map", "sweep_severity", "severity_threshold", "law_torque", "_core",
+    "FRFEnvelope", "cb_frequencies", "dispersions", "frf_envelope", "stochastic_model",
+    "SeverityStudy", "severity_sources", "severity_study",
 ]
 __version__ = "0.1.0"

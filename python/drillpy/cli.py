@@ -151,6 +151,15 @@ def cmd_report(a) -> int:
     return 0
 
 
+def _uncertainty_args(p: argparse.ArgumentParser, samples: int, out: str) -> None:
+    _model_args(p)
+    p.add_argument("--cb-modes", help="fixed-interface modes per substructure, e.g. 25,25")
+    p.add_argument("--samples", type=int, default=samples, help="Monte Carlo samples")
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--out", help=out)
+    p.add_argument("--json", action="store_true")
+
+
 def _cb_config(a) -> dict:
     cfg = _config(a)
     if a.cb_modes:
@@ -268,40 +277,25 @@ def build_parser() -> argparse.ArgumentParser:
     s.set_defaults(func=cmd_map)
 
     s = sub.add_parser("frf", help="acceleration FRF envelopes under structural uncertainty (chapter 6)")
-    _model_args(s)
+    _uncertainty_args(s, samples=2500, out="folder for the figures and envelope.json")
     s.add_argument("--model", choices=["SM_full", "SM_CB1", "SM_CB2"], default="SM_CB2", help="stochastic model")
     s.add_argument("--case", type=int, help="SM_CB2 case study 1-7 (Tables 6.1-6.7)")
     s.add_argument("--delta", type=float, help="one dispersion for every random matrix (default 0.1)")
-    s.add_argument("--cb-modes", help="fixed-interface modes per substructure, e.g. 25,25")
-    s.add_argument("--samples", type=int, default=2500, help="Monte Carlo samples")
-    s.add_argument("--seed", type=int, default=1)
     s.add_argument("--probability", type=float, default=0.95, help="probability level of the envelope")
     s.add_argument("--freqs", default="0.01:10:1000", help="frequencies [Hz], start:stop:num or list")
-    s.add_argument("--out", help="folder for the figures and envelope.json")
-    s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_frf)
 
     s = sub.add_parser("frf-report", help="chapter 6 and appendix C: envelopes, case studies, Conv2, conclusions")
-    _model_args(s)
-    s.add_argument("--cb-modes", help="fixed-interface modes per substructure, e.g. 25,25")
-    s.add_argument("--samples", type=int, default=2500, help="samples of each envelope study")
+    _uncertainty_args(s, samples=2500, out="output folder (default results-ch6)")
     s.add_argument("--mode-samples", type=int, default=400, help="samples per point of Conv2 versus modes")
-    s.add_argument("--seed", type=int, default=1)
-    s.add_argument("--out", default="results-ch6", help="output folder")
-    s.add_argument("--json", action="store_true")
-    s.set_defaults(func=cmd_frf_report)
+    s.set_defaults(func=cmd_frf_report, out="results-ch6")
 
     s = sub.add_parser("robust-ss", help="SS versus top speed with SM_CB2 structural uncertainty (time domain)")
-    _model_args(s)
-    s.add_argument("--cb-modes", help="fixed-interface modes per substructure, e.g. 25,25")
+    _uncertainty_args(s, samples=40, out="folder for the figure and robust_ss.json")
     s.add_argument("--delta", type=float, default=0.1, help="dispersion of every SM_CB2 matrix")
-    s.add_argument("--samples", type=int, default=40, help="Monte Carlo samples")
     s.add_argument("--speeds", default="6:27:8", help="top speeds [rad/s], start:stop:num or list")
-    s.add_argument("--seed", type=int, default=1)
     s.add_argument("--eta-npy", help="eta(t) of Eq. (4.1), one row per sample (.npy), for bit-rock uncertainty")
     s.add_argument("--eta-dt", type=float, default=0.01, help="sampling step of the eta rows [s]")
-    s.add_argument("--out", help="folder for the figure and robust_ss.json")
-    s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_robust_ss)
     return p
 

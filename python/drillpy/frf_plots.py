@@ -18,7 +18,9 @@ def envelope_figure(path, envelopes: dict, point: int, title: str = ""):
     for (label, env), color in zip(envelopes.items(), COLORS):
         pct = int(round(100 * env.probability))
         ax.fill_between(env.freq_hz, env.lower_db[:, point], env.upper_db[:, point], color=color,
-                        alpha=0.25, lw=0, label=f"{label}: {pct} % envelope")
+                        alpha=0.18, lw=0, label=f"{label}: {pct} % envelope")
+        for bound in (env.lower_db[:, point], env.upper_db[:, point]):
+            ax.plot(env.freq_hz, bound, color=color, lw=0.4, alpha=0.9)
         ax.plot(env.freq_hz, env.mean_db[:, point], color=color, lw=0.8, label=f"{label}: sample mean")
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("acceleration 20 log10|a| [dB re 1 rad/s² per N m]")
