@@ -8,6 +8,7 @@
   drillpy frf      --preset thesis-ch6 --model SM_CB2 --case 4 --samples 2500 --json
   drillpy frf-report --preset thesis-ch6 --out DIR          chapter 6 and appendix C figures
   drillpy robust-ss --preset thesis-ch6 --samples 40 --speeds 6:27:8 --out DIR
+  drillpy mc       --preset thesis-field --samples 500 --speeds 6:27:22 --seed 1 --json
 
 Every error prints one line ``drillpy: error: ...`` and exits with status 2.
 """
@@ -233,6 +234,65 @@ def cmd_robust_ss(a) -> int:
             print(f"{label}:")
             for v, m, lo, hi, p in zip(speeds, st.mean, st.q05, st.q95, st.p_stick_slip):
                 print(f"  {v:7.2f} rad/s  SS mean {m:.3f}  5-95 % [{lo:.3f}, {hi:.3f}]  P(SS > 0.5) {p:.2f}")
+def _int_arg(text: str, name: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise ValueError(f"{name} = {text!r}: must be an integer") from None
+
+
+def _psd_arg(a):
+    from .process import PSD_CONVENTIONS, THESIS_PSD, PsdModel, PsdTable, convert_psd_model
+    if a.psd_table:
+        p = Path(a.psd_table)
+        if not p.is_file():
+            raise ValueError(f"--psd-table = {str(p)!r}: no such file")
+        try:
+            data = np.loadtxt(p, delimiter=",", ndmin=2, comments="#")
+        except ValueError as e:
+            raise ValueError(f"--psd-table = {str(p)!r}: {e}") from None
+        if data.shape[1] != 2:
+            raise ValueError(f"--psd-table = {str(p)!r}: needs two columns f_hz,S (one-sided, 1/Hz)")
+        return PsdTable(data[:, 0], data[:, 1] * PSD_CONVENTIONS[a.psd_convention])
+    if a.psd_model:
+        try:
+            f0, A0, aa, b = (float(x) for x in a.psd_model.split(","))
+        except ValueError:
+            raise ValueError(f"--psd-model = {a.psd_model!r}: use f0,A0,a,b") from None
+        return convert_psd_model(PsdModel(f0, A0, aa, b), a.psd_convention)
+    return convert_psd_model(THESIS_PSD, a.psd_convention)
+
+
+def cmd_mc(a) -> int:
+    from . import montecarlo as mcm
+    from .stochastic_report import write_figures
+    cfg = _config(a)
+    speeds = parse_grid(a.speeds, "--speeds")
+    study = mcm.stochastic_study(
+        cfg, speeds, _int_arg(a.samples, "samples"), _int_arg(a.seed, "seed"), psd=_psd_arg(a),
+        eta_dt=a.eta_dt, warmup=mcm.WARMUP_S if a.warmup is None else a.warmup,
+        duration=mcm.DURATION_S if a.duration is None else a.duration,
+        transient=mcm.TRANSIENT_S if a.transient is None else a.transient,
+        first_sample=_int_arg(a.first_sample, "first_sample"), threads=a.threads,
+        progress=not a.no_progress)
+    res = study.summary()
+    if a.out:
+        res["figures"] = write_figures(study, cfg, a.out, psd=_psd_arg(a), eta_dt=a.eta_dt,
+                                       threads=a.threads, progress=not a.no_progress)
+    if a.json:
+        print(json.dumps(res))
+    else:
+        print(f"{res['samples']} samples, eta std {res['eta_std']:.4f}")
+        for r in res["speeds"]:
+            print(f"{r['top_speed_rad_s']:8.3f} rad/s  mean SS = {r['mean_ss']:.3f}  "
+                  f"[q05 {r['q05']:.3f}, q95 {r['q95']:.3f}]  P(SS > 0.5) = {r['p_ss_gt_0_5']:.3f}")
+        p05 = res["p05_speed_rad_s"]
+        print("P(SS > 0.5) <= 5 % from", "no crossing in range" if p05 is None else f"{p05:.2f} rad/s",
+              "(deterministic SS < 0.5 from",
+              "no crossing" if res["deterministic_threshold_rad_s"] is None
+              else f"{res['deterministic_threshold_rad_s']:.2f} rad/s)")
+        if a.out:
+            print(f"figures and mc.json written to {a.out}")
     return 0
 
 
@@ -297,6 +357,26 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--eta-npy", help="eta(t) of Eq. (4.1), one row per sample (.npy), for bit-rock uncertainty")
     s.add_argument("--eta-dt", type=float, default=0.01, help="sampling step of the eta rows [s]")
     s.set_defaults(func=cmd_robust_ss)
+    s = sub.add_parser("mc", help="Monte Carlo of the stochastic bit-rock law (Figs. 4.4-4.9, C.1)")
+    _model_args(s)
+    s.add_argument("--samples", default="500", help="number of Monte Carlo samples")
+    s.add_argument("--seed", default="0", help="integer seed; sample i depends only on (seed, i)")
+    s.add_argument("--first-sample", default="0", help="index of the first sample (chunked runs)")
+    s.add_argument("--speeds", default="6:27:22", help="top speeds [rad/s], start:stop:num or list")
+    s.add_argument("--warmup", type=float, help="deterministic start-up shared by all samples [s] "
+                                                "(default 100)")
+    s.add_argument("--eta-dt", type=float, default=0.05, help="sampling step of eta [s]")
+    g = s.add_mutually_exclusive_group()
+    g.add_argument("--psd-model", help="f0,A0,a,b of Eq. (4.4) (default: the thesis's "
+                                       "0.27,-7.6,-3.13,-11.67)")
+    g.add_argument("--psd-table", help="CSV file with columns f_hz,S")
+    s.add_argument("--psd-convention", default="one-sided-hz",
+                   choices=["one-sided-hz", "two-sided-hz", "one-sided-rad-s", "two-sided-rad-s"],
+                   help="convention of the PSD given by --psd-model/--psd-table or the thesis "
+                        "parameters (converted to drillpy's one-sided PSD per Hz)")
+    s.add_argument("--out", help="folder for the figures and mc.json")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_mc)
     return p
 
 

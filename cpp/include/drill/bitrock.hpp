@@ -103,7 +103,40 @@ struct BitRockLaw {
   }
 
   /// Torque on bit [N.m] at SI bit speed v [rad/s], acceleration acc [rad/s^2] and WOB [N].
-  double torque(double v, double acc, double wob) const { return eval(v, acc, wob).T; }
+  /// Value only: the same arithmetic as eval(...).T (bit-identical) without the derivatives, for
+  /// the explicit scheme's per-step call.
+  double torque(double v_si, double a_si, double wob) const {
+    const double s = speed_factor(speed_unit);
+    const double v = v_si * s, w = wob / wob_ref;
+    const double sg = (v > 0.0) - (v < 0.0);
+    // Eq. (3.3); skipped when beta1 = 0 (then H = 0 exactly and tanh is wasted work)
+    const double H = beta1 != 0.0 ? beta1 * std::tanh(beta2 * (a_si * s)) * sg : 0.0;
+    double T = 0.0;
+    switch (kind) {
+      case Kind::tucker_wang:  // Eq. (3.1)
+        T = c0 * (std::tanh(alpha0 * v) + alpha1 * v / (1.0 + alpha2 * v * v));
+        break;
+      case Kind::hysteretic: {  // Eqs. (3.2)-(3.3)
+        const double av = std::max(std::fabs(v), 1e-300);
+        const double f = sg * (b[2] * std::pow(av, b[4])) / (1.0 + b[3] * std::pow(av, b[5]));
+        T = b[0] * (std::tanh(b[1] * v) + f * (1.0 + H));
+        break;
+      }
+      case Kind::polynomial:
+      case Kind::polynomial_hysteretic: {  // Eq. (5.1), hysteretic form Eq. (5.3)
+        double p;
+        if (v <= 0.01 * ref_speed)
+          p = a[0] + a[1] * v;
+        else if (v <= 0.05 * ref_speed)
+          p = a[2] + a[3] * v;
+        else
+          p = a[4] + v * (a[5] + v * (a[6] + v * a[7]));
+        T = gain * p * (1.0 + (kind == Kind::polynomial ? 0.0 : H));
+        break;
+      }
+    }
+    return T * w;
+  }
 
   /// Torque with partial derivatives (used by the implicit integrator and the identification).
   TorqueEval eval(double v_si, double a_si, double wob) const {

@@ -170,6 +170,12 @@ class Integrator {
     return {e.T * f + cv * v, e.dT_dv * f + cv, e.dT_da * f};
   }
 
+  /// The value of total_torque(...).T (bit-identical) without derivatives: the explicit scheme's
+  /// per-step call.
+  double total_torque_value(double v, double a, double wob, double eta, double cv) const {
+    return law_.torque(v, a, wob) * (1.0 + eta) + cv * v;
+  }
+
   ModelState to_model(const Eigen::VectorXd& z, const Eigen::VectorXd& p) const { return {V_ * z, V_ * p}; }
 
   template <class Observer>
@@ -184,7 +190,7 @@ class Integrator {
       const double v = om + bit_.dot(p);
       // Eq. (A.1) one step back: the bit acceleration of the last step (0 at the start).
       const double a = i == 0 ? 0.0 : (v - v_prev) / dt;
-      const double T = total_torque(v, a, in.wob.at(t), in.eta.at(t), in.bit_viscous).T;
+      const double T = total_torque_value(v, a, in.wob.at(t), in.eta.at(t), in.bit_viscous);
       st = {i, t, v, a, theta_top + bit_.dot(z), T, top_torque_.dot(z), om};
       if (!std::isfinite(v) || !std::isfinite(T)) diverged(t);
       obs(static_cast<const StepState&>(st));

@@ -1,0 +1,218 @@
+"""Monte Carlo analysis of the stochastic drill-string model (thesis section 4.2, appendix C).
+
+One call runs a study in the C++ engine (OpenMP, GIL released, tqdm progress bar, Ctrl-C stops it)
+and returns arrays:
+
+* :func:`stochastic_study` -- SS (Eq. 3.4) of ``samples`` realizations of eta at every top speed,
+  with the mean, the 5 %-95 % band, P(SS > 0.5), the lowest speed from which P(SS > 0.5) <= 5 %
+  (Fig. 4.9), the deterministic curve (Fig. 4.8) and Conv1(n_s) (Eq. C.1, Fig. C.1).
+* :func:`phase_study` -- stick and slip durations over many cycles at one top speed (Fig. 4.7),
+  next to the deterministic periodic values (section 4.2.1).
+
+Sample ``i`` depends only on ``(seed, i)``: any thread count and any split of the sample range
+(``first_sample``) give bit-identical rows.
+
+Durations. Every run starts from the deterministic state reached after ``warmup`` seconds from
+Eq. (2.10) at the same top speed (shared by all samples), then runs ``duration`` seconds with
+T_sto = T_hys (1 + eta(t)) (Eq. 4.1), of which the first ``transient`` seconds are discarded.
+The defaults (``WARMUP_S``, ``DURATION_S``, ``TRANSIENT_S``) and the evidence that they do not
+change the statistics materially are in docs/stochastic.md.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _core
+from .config import with_overrides
+from .process import THESIS_PSD, Psd, check_count, check_seed, psd_on_grid, _positive
+from .progress import progress_bar
+
+WARMUP_S = 100.0     #: deterministic start-up shared by all samples [s]
+DURATION_S = 60.0    #: stochastic part of every run [s]
+TRANSIENT_S = 20.0   #: discarded at the start of the stochastic part [s] (40-s SS window)
+ETA_DT_S = 0.05      #: sampling step of eta (Nyquist 10 Hz; S above it < 0.02 % of the variance)
+SS_LEVEL = 0.5       #: stick-slip threshold on SS (section 3.3)
+P_LEVEL = 0.05       #: probability level of the robust speed (section 4.2.2)
+MAX_SAMPLES = 10_000_000
+
+
+@dataclass
+class StochasticStudy:
+    """Result of :func:`stochastic_study` (speeds in rad/s; ``severity`` rows are samples)."""
+    speeds: np.ndarray
+    severity: np.ndarray            #: SS_i(speed), shape (samples, speeds)
+    mean: np.ndarray
+    q05: np.ndarray
+    q95: np.ndarray
+    p_exceed: np.ndarray            #: P(SS > 0.5) per speed
+    p05_speed: float | None         #: lowest speed from which P(SS > 0.5) <= 5 % (None: no crossing)
+    deterministic: np.ndarray | None  #: SS with eta = 0 and the same durations
+    deterministic_threshold: float | None
+    conv1: np.ndarray               #: Conv1(n_s), n_s = 1 .. samples (Eq. C.1)
+    seed: int
+    first_sample: int
+    eta_std: float                  #: standard deviation of the generated eta
+    settings: dict = field(default_factory=dict)
+    config: dict = field(repr=False, default_factory=dict)
+
+    def summary(self) -> dict:
+        """JSON-ready per-speed statistics (what ``drillpy mc --json`` prints)."""
+        rows = [{"top_speed_rad_s": float(s), "mean_ss": float(m), "q05": float(a), "q95": float(b),
+                 "p_ss_gt_0_5": float(p)}
+                for s, m, a, b, p in zip(self.speeds, self.mean, self.q05, self.q95, self.p_exceed)]
+        if self.deterministic is not None:
+            for r, d in zip(rows, self.deterministic):
+                r["deterministic_ss"] = float(d)
+        return {"preset": self.config.get("name"), "samples": int(self.severity.shape[0]),
+                "seed": self.seed, "first_sample": self.first_sample, **self.settings,
+                "eta_std": self.eta_std, "speeds": rows, "p05_speed_rad_s": self.p05_speed,
+                "deterministic_threshold_rad_s": self.deterministic_threshold,
+                "conv1_final": float(self.conv1[-1])}
+
+
+@dataclass
+class PhaseStudy:
+    """Result of :func:`phase_study`: stick and slip durations [s] pooled over samples."""
+    speed: float
+    stick: np.ndarray
+    slip: np.ndarray
+    samples: int
+    severity: np.ndarray
+    deterministic_stick: np.ndarray
+    deterministic_slip: np.ndarray
+    deterministic_period_cycles: int
+    seed: int
+
+
+def _study_config(cfg: dict, duration: float, transient: float) -> dict:
+    return with_overrides(cfg, duration=_positive(duration, "duration_s"),
+                          transient=float(transient))
+
+
+def _engine(cfg: dict, psd: Psd, eta_dt: float, seed: int, warmup: float):
+    sim = cfg["simulation"]
+    _, S = psd_on_grid(psd, eta_dt, sim["duration_s"])
+    return _core.MonteCarlo(json.dumps(cfg), S, float(eta_dt), seed, float(warmup))
+
+
+def _speeds(speeds) -> np.ndarray:
+    a = np.atleast_1d(np.asarray(speeds, dtype=float))
+    if a.ndim != 1 or a.size == 0:
+        raise ValueError(f"speeds = {speeds!r}: the speed grid is empty (give at least one top speed)")
+    if not np.all(np.isfinite(a)) or np.any(a <= 0):
+        raise ValueError(f"speeds = {speeds!r}: top speeds must be positive finite numbers [rad/s]")
+    return a
+
+
+def _none_if_nan(x: float) -> float | None:
+    return None if x is None or math.isnan(x) else float(x)
+
+
+def stochastic_study(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = THESIS_PSD,
+                     eta_dt: float = ETA_DT_S, warmup: float = WARMUP_S,
+                     duration: float = DURATION_S, transient: float = TRANSIENT_S,
+                     first_sample: int = 0, deterministic: bool = True, threads: int = 0,
+                     progress: bool = True) -> StochasticStudy:
+    """SS statistics of the stochastic model over top speeds (Fig. 4.9) with Conv1 (Eq. C.1).
+
+    ``cfg`` is a configuration dict (e.g. ``load_config(preset="thesis-field")``): its model,
+    time step and scheme are used; ``warmup``, ``duration`` and ``transient`` [s] replace its
+    durations (module docstring). ``psd`` is the one-sided PSD per Hz of eta (default: the
+    thesis's Eq. 4.4 calibration). Samples ``first_sample .. first_sample + samples - 1`` run.
+    """
+    sp = _speeds(speeds)
+    n = check_count(samples, "samples", MAX_SAMPLES)
+    first = check_count(first_sample, "first_sample", 2**62, minimum=0)
+    seed = check_seed(seed)
+    c = _study_config(cfg, duration, transient)
+    mc = _engine(c, psd, eta_dt, seed, warmup)
+    with progress_bar(n, "Monte Carlo samples", progress) as cb:
+        ss = mc.severity(list(sp), first, n, cb, int(threads))
+    if ss.size == 0:  # cancelled by the callback without an exception
+        raise KeyboardInterrupt
+    st = _core.severity_statistics(ss, list(sp), SS_LEVEL, P_LEVEL, 0.05, 0.95)
+    det = det_thr = None
+    if deterministic:
+        zero = _engine(c, lambda f: np.zeros_like(f), eta_dt, seed, warmup)
+        det = zero.severity(list(sp), 0, 1, None, int(threads))[0]
+        det_thr = _none_if_nan(_core.severity_threshold(list(sp), list(det), SS_LEVEL))
+    conv = np.asarray(_core.conv1(ss, list(sp))) if sp.size >= 2 else np.full(n, np.nan)
+    settings = {"warmup_s": float(warmup), "duration_s": c["simulation"]["duration_s"],
+                "transient_s": c["simulation"]["transient_s"], "dt_s": c["simulation"]["dt_s"],
+                "eta_dt_s": float(eta_dt),
+                "psd": psd.as_dict() if hasattr(psd, "as_dict") else {"type": "callable"},
+                "psd_convention": "one-sided, per Hz: Var[eta] = integral_0^inf S(f) df"}
+    return StochasticStudy(
+        speeds=sp, severity=ss, mean=st["mean"], q05=st["q_low"], q95=st["q_high"],
+        p_exceed=st["p_exceed"], p05_speed=_none_if_nan(st["p_speed"]), deterministic=det,
+        deterministic_threshold=det_thr, conv1=conv, seed=seed, first_sample=first,
+        eta_std=math.sqrt(mc.eta_variance), settings=settings, config=c)
+
+
+def conv1(severity, speeds) -> np.ndarray:
+    """Conv1(n_s) of Eq. (C.1) for an SS matrix (rows: samples, columns: speeds [rad/s])."""
+    ss = np.asarray(severity, dtype=float)
+    if ss.ndim != 2:
+        raise ValueError(f"severity: must be a 2-D array (samples x speeds), got shape {ss.shape}")
+    return np.asarray(_core.conv1(ss, list(_speeds(speeds))))
+
+
+def phase_study(cfg: dict, speed: float | None = None, *, seed: int, cycles: int = 750,
+                psd: Psd = THESIS_PSD, eta_dt: float = ETA_DT_S, warmup: float = WARMUP_S,
+                duration: float = 200.0, transient: float = TRANSIENT_S, batch: int = 16,
+                threads: int = 0, progress: bool = True) -> PhaseStudy:
+    """Stick and slip durations at one top speed (default: the configuration's) pooled over
+    samples until at least ``cycles`` stick phases are collected (Fig. 4.7; the thesis used 750),
+    with the deterministic periodic values from the same configuration (section 4.2.1).
+
+    Samples run in batches of ``batch`` in index order, so the result depends only on the seed.
+    """
+    seed = check_seed(seed)
+    ncyc = check_count(cycles, "cycles", 10**6)
+    nb = check_count(batch, "batch", 100000)
+    c = _study_config(cfg, duration, transient)
+    om = float(c["operation"]["top_speed_rad_s"] if speed is None else speed)
+    _speeds([om])
+    mc = _engine(c, psd, eta_dt, seed, warmup)
+    stick, slip, sev = [], [], []
+    with progress_bar(ncyc, "stick-slip cycles", progress) as cb:
+        first = 0
+        while sum(len(s) for s in stick) < ncyc:
+            st, sl, ss = mc.phases(om, first, nb, None, int(threads))
+            stick += list(st)
+            slip += list(sl)
+            sev += list(ss)
+            first += nb
+            if cb:
+                cb(min(ncyc, sum(len(s) for s in stick)), ncyc)
+            if first >= 64 * nb and not any(len(s) for s in stick):
+                break  # no stick-slip at this speed
+    det = _core.Simulation(json.dumps(with_overrides(c, duration=warmup + duration,
+                                                    transient=warmup + transient)))
+    d = det.run(top_speed=om, record=False)
+    if d["period_cycles"]:
+        dst, dsl = d["period_stick"], d["period_slip"]
+    else:  # not periodic within the tolerance: show the last three cycles
+        dst, dsl = d["stick_durations"][-3:], d["slip_durations"][-3:]
+    return PhaseStudy(speed=om, stick=np.concatenate(stick) if stick else np.zeros(0),
+                      slip=np.concatenate(slip) if slip else np.zeros(0), samples=first,
+                      severity=np.asarray(sev), deterministic_stick=np.asarray(dst),
+                      deterministic_slip=np.asarray(dsl),
+                      deterministic_period_cycles=int(d["period_cycles"]), seed=seed)
+
+
+def stochastic_run(cfg: dict, top_speed: float, seed: int, *, sample: int = 0,
+                   psd: Psd = THESIS_PSD, eta_dt: float = ETA_DT_S, duration: float = 200.0,
+                   transient: float = 100.0):
+    """One stochastic run from rest (Eq. 2.10) with eta of ``sample`` over the whole run
+    (Algorithm 1; Figs. 4.5-4.6): returns (SimulationResult, t_eta, eta)."""
+    from .process import generate
+    from .simulation import simulate
+    c = _study_config(cfg, duration, transient)
+    t, eta = generate(psd, dt=eta_dt, duration=c["simulation"]["duration_s"], samples=1,
+                      seed=seed, first_sample=sample)
+    return simulate(c, float(top_speed), eta_series=eta[0], series_dt=eta_dt), t, eta[0]

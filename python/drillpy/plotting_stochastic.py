@@ -1,0 +1,136 @@
+"""Figures of the stochastic analysis (thesis Figs. 4.2-4.9 and C.1). Axes carry units."""
+from __future__ import annotations
+
+import numpy as np
+from scipy.stats import gaussian_kde
+
+from .plotting import _save, plt
+
+
+def psd_fit(path, f, S_raw, fit_model, *, S_welch=None, f_welch=None, target=None,
+            zoom=(0.03, 3.0), title=""):
+    """Raw (Schuster) periodogram with the fitted Eq. (4.4) model (Figs. 4.2-4.3): full range
+    and a zoom around f0. ``target``: the PSD the series was generated from, if known."""
+    fig, axes = plt.subplots(1, 2, figsize=(11.0, 4.2))
+    pos = f > 0
+    for ax, lim in zip(axes, (None, zoom)):
+        ax.loglog(f[pos], S_raw[pos], color="0.55", lw=0.5, label="raw periodogram (Schuster)")
+        if S_welch is not None:
+            pw = f_welch > 0
+            ax.loglog(f_welch[pw], S_welch[pw], "b", lw=1.0, label="Welch")
+        ff = f[pos] if lim is None else f[pos][(f[pos] >= lim[0]) & (f[pos] <= lim[1])]
+        m = fit_model
+        ax.loglog(ff, m(ff), "r", lw=1.6,
+                  label=f"fit (4.4): f0={m.f0:.3f} Hz, A0={m.A0:.2f}, a={m.a:.2f}, b={m.b:.2f}")
+        if target is not None:
+            ax.loglog(ff, target(ff), "k--", lw=1.0,
+                      label=f"target: f0={target.f0:.2f}, A0={target.A0:.2f}, a={target.a:.2f}, "
+                            f"b={target.b:.2f}")
+        if lim is not None:
+            ax.set_xlim(*lim)
+            sel = (f >= lim[0]) & (f <= lim[1]) & pos
+            if np.any(sel):
+                ax.set_ylim(np.percentile(S_raw[sel], 0.5) / 2, np.max(S_raw[sel]) * 2)
+        ax.set_xlabel("frequency f [Hz]")
+        ax.set_ylabel("one-sided PSD of eta [1/Hz]")
+        ax.grid(alpha=0.3, which="both")
+    axes[0].set_title(title or "PSD of eta (Fig. 4.2)")
+    axes[1].set_title("zoom: fitted model (Fig. 4.3)")
+    axes[1].legend(fontsize=7, loc="lower left")
+    return _save(fig, path)
+
+
+def eta_realizations(path, t, eta, t_max=None):
+    """Independent realizations of eta(t) (Fig. 4.4)."""
+    fig, ax = plt.subplots(figsize=(7.0, 3.6))
+    sel = slice(None) if t_max is None else t <= t_max
+    for k, e in enumerate(np.atleast_2d(eta)):
+        ax.plot(t[sel], e[sel], lw=0.8, label=f"realization {k + 1}")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("eta [-]")
+    ax.set_title("Independent realizations of eta (Fig. 4.4)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def deterministic_vs_stochastic(path, det, sto, t_window):
+    """Bit speed of the deterministic and the stochastic model (Fig. 4.6)."""
+    fig, axes = plt.subplots(1, 2, figsize=(11.0, 3.8), sharey=True)
+    for ax, r, label in zip(axes, (det, sto), ("deterministic", "stochastic")):
+        sel = (r.t >= t_window[0]) & (r.t <= t_window[1])
+        ax.plot(r.t[sel], r.bit_speed[sel], "b", lw=0.8, label="bit")
+        ax.plot(r.t[sel], r.top_speed[sel], "k--", lw=0.8, label="top drive")
+        ax.set_xlabel("time [s]")
+        ax.set_title(f"{label} bit-rock interaction (SS = {r.severity:.2f})", fontsize=10)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("speed [rad/s]")
+    axes[0].legend(fontsize=8)
+    return _save(fig, path)
+
+
+def phase_pdfs(path, study):
+    """PDFs of the random stick and slip durations with the deterministic values (Fig. 4.7)."""
+    fig, axes = plt.subplots(1, 2, figsize=(11.0, 3.8))
+    for ax, x, d, name in zip(axes, (study.stick, study.slip),
+                              (study.deterministic_stick, study.deterministic_slip),
+                              ("stick", "slip")):
+        if x.size >= 2 and np.ptp(x) > 0:
+            grid = np.linspace(x.min() - 0.1 * np.ptp(x), x.max() + 0.1 * np.ptp(x), 400)
+            ax.hist(x, bins=40, density=True, color="0.85", label=f"{x.size} phases")
+            ax.plot(grid, gaussian_kde(x)(grid), "k", lw=1.5, label="kernel density")
+        for k, v in enumerate(d):
+            ax.axvline(v, color="r", ls="-", lw=1.2,
+                       label="deterministic" + (f" ({study.deterministic_period_cycles}-cycle)"
+                                                if study.deterministic_period_cycles else "")
+                       if k == 0 else None)
+        ax.set_xlabel(f"{name} duration [s]")
+        ax.set_ylabel("probability density [1/s]")
+        ax.set_title(f"{name} phases at {study.speed:g} rad/s", fontsize=10)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def severity_band(path, study, level=0.5, prob=0.05):
+    """Mean SS with the 90 % band, the deterministic curve and P(SS > level) (Fig. 4.9)."""
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.0, 6.4), sharex=True,
+                                 gridspec_kw={"height_ratios": [2, 1]})
+    sp = study.speeds
+    a1.fill_between(sp, study.q05, study.q95, color="tab:blue", alpha=0.25,
+                    label="5 %-95 % band (90 % region)")
+    a1.plot(sp, study.mean, "b-", lw=1.6, label=f"mean ({study.severity.shape[0]} samples)")
+    if study.deterministic is not None:
+        a1.plot(sp, study.deterministic, "k--", lw=1.2, label="deterministic")
+    a1.axhline(level, color="r", ls="--", lw=1.0, label=f"threshold SS = {level}")
+    a1.set_ylabel("stick-slip severity SS [-]")
+    a1.set_title("Random SS for the stochastic bit-rock interaction (Fig. 4.9)")
+    a1.grid(alpha=0.3)
+    a1.legend(fontsize=8)
+    a2.plot(sp, study.p_exceed, "m.-", label=f"P(SS > {level})")
+    a2.axhline(prob, color="r", ls="--", lw=1.0, label=f"{prob:.0%}")
+    if study.p05_speed is not None:
+        a2.axvline(study.p05_speed, color="m", ls=":",
+                   label=f"P <= {prob:.0%} from {study.p05_speed:.2f} rad/s")
+        a1.axvline(study.p05_speed, color="m", ls=":")
+    if study.deterministic_threshold is not None:
+        a2.axvline(study.deterministic_threshold, color="k", ls=":",
+                   label=f"deterministic: {study.deterministic_threshold:.2f} rad/s")
+    a2.set_xlabel("top-drive speed [rad/s]")
+    a2.set_ylabel("probability [-]")
+    a2.set_ylim(-0.03, 1.03)
+    a2.grid(alpha=0.3)
+    a2.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def conv1_curve(path, conv1):
+    """Convergence function n_s -> Conv1(n_s) of Eq. (C.1) (Fig. C.1)."""
+    fig, ax = plt.subplots(figsize=(6.4, 3.8))
+    n = np.arange(1, len(conv1) + 1)
+    ax.plot(n, conv1, "k", lw=1.2)
+    ax.set_xlabel("number of samples n_s [-]")
+    ax.set_ylabel("Conv1(n_s) [(rad/s)^0.5]")
+    ax.set_title("Convergence of the Monte Carlo estimate (Eq. C.1, Fig. C.1)")
+    ax.grid(alpha=0.3)
+    return _save(fig, path)
