@@ -210,11 +210,15 @@ def cmd_frf_report(a) -> int:
 
 def cmd_robust_ss(a) -> int:
     from . import frf_plots
+    from .process import THESIS_PSD
     from .structural_mc import severity_sources, severity_study
     cfg = _cb_config(a)
+    if a.bit_rock and a.eta_npy:
+        raise ValueError("--bit-rock and --eta-npy: give one source of eta")
     speeds = parse_grid(a.speeds, "--speeds")
     kw = dict(seed=a.seed, progress=not a.no_progress, threads=a.threads)
-    studies = severity_sources(cfg, speeds, a.samples, delta=a.delta, **kw)
+    studies = severity_sources(cfg, speeds, a.samples, delta=a.delta, eta_psd=THESIS_PSD if a.bit_rock else None,
+                               eta_dt=a.eta_dt, **kw)
     if a.eta_npy:
         eta = np.load(a.eta_npy)
         studies["bit-rock (eta)"] = severity_study(cfg, speeds, a.samples, delta=0.0, structural=False, eta=eta,
@@ -234,6 +238,9 @@ def cmd_robust_ss(a) -> int:
             print(f"{label}:")
             for v, m, lo, hi, p in zip(speeds, st.mean, st.q05, st.q95, st.p_stick_slip):
                 print(f"  {v:7.2f} rad/s  SS mean {m:.3f}  5-95 % [{lo:.3f}, {hi:.3f}]  P(SS > 0.5) {p:.2f}")
+    return 0
+
+
 def _int_arg(text: str, name: str) -> int:
     try:
         return int(text)
@@ -354,9 +361,12 @@ def build_parser() -> argparse.ArgumentParser:
     _uncertainty_args(s, samples=40, out="folder for the figure and robust_ss.json")
     s.add_argument("--delta", type=float, default=0.1, help="dispersion of every SM_CB2 matrix")
     s.add_argument("--speeds", default="6:27:8", help="top speeds [rad/s], start:stop:num or list")
+    s.add_argument("--bit-rock", action="store_true",
+                   help="add the stochastic bit-rock law: eta with the thesis PSD (Eqs. 4.1-4.4)")
     s.add_argument("--eta-npy", help="eta(t) of Eq. (4.1), one row per sample (.npy), for bit-rock uncertainty")
-    s.add_argument("--eta-dt", type=float, default=0.01, help="sampling step of the eta rows [s]")
+    s.add_argument("--eta-dt", type=float, default=0.05, help="sampling step of eta [s]")
     s.set_defaults(func=cmd_robust_ss)
+
     s = sub.add_parser("mc", help="Monte Carlo of the stochastic bit-rock law (Figs. 4.4-4.9, C.1)")
     _model_args(s)
     s.add_argument("--samples", default="500", help="number of Monte Carlo samples")

@@ -2,10 +2,13 @@
 work item 1): random SM_CB2 (or SM_CB1 / SM_full) realizations of the string integrated with the
 bit-rock law, optionally with the stochastic law T_sto = T_hys (1 + eta(t)) (Eq. 4.1).
 
-The bit-rock uncertainty enters through ``eta``: an array with one eta(t) series per sample
-(sampled every ``eta_dt`` seconds from t = 0), or an ``eta_generator(sample, n, dt) -> array``
-callable, e.g. the PSD-based generator of Eq. (4.4). Sample i then carries realization i of the
-random matrices and eta series i at every top speed (common random numbers).
+The bit-rock uncertainty enters through ``eta_psd``, the one-sided PSD per Hz of eta (Eq. 4.4;
+default calibration ``THESIS_PSD``), generated in the engine by the chapter-4 process generator:
+sample i gets the same eta as sample i of :func:`drillpy.montecarlo.stochastic_study` with the same
+seed, and the random matrices of the same sample from other random streams (independent sources).
+Any other eta can be given as an array ``eta`` with one series per sample (sampled every
+``eta_dt`` seconds from t = 0). Sample i carries realization i of the random matrices and of eta at
+every top speed (common random numbers).
 """
 from __future__ import annotations
 
@@ -14,6 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .frf import stochastic_model
+from .montecarlo import ETA_DT_S
+from .process import psd_on_grid
 from .progress import progress_bar
 
 
@@ -52,52 +57,41 @@ class SeverityStudy:
                 "q95_ss": self.q95.round(4).tolist(), "p_ss_above_0_5": self.p_stick_slip.round(4).tolist()}
 
 
-def eta_array(eta_generator, samples: int, duration_s: float, dt: float) -> np.ndarray:
-    """Stack ``eta_generator(i, n, dt)`` for i = 0..samples-1 into a (samples, n) array that covers
-    ``duration_s``."""
-    n = int(np.ceil(duration_s / dt)) + 2
-    rows = [np.asarray(eta_generator(i, n, dt), dtype=float) for i in range(samples)]
-    for i, r in enumerate(rows):
-        if r.shape != (n,) or not np.all(np.isfinite(r)):
-            raise ValueError(f"eta_generator({i}, {n}, {dt}) must return {n} finite values, got shape {r.shape}")
-    return np.vstack(rows)
-
-
 def severity_study(cfg: dict, speeds, samples: int, *, model: str = "SM_CB2", delta=0.1, case=None,
-                   structural: bool = True, eta=None, eta_generator=None, eta_dt: float = 0.01,
+                   structural: bool = True, eta=None, eta_psd=None, eta_dt: float = ETA_DT_S,
                    seed: int = 1, label: str = "", progress: bool = True, threads: int = 0) -> SeverityStudy:
     """SS of ``samples`` realizations at each top speed [rad/s] (constant WOB of the configuration).
 
-    ``structural=False`` keeps the mean structure (only eta is random). ``eta`` (array
-    (samples, n) sampled every ``eta_dt`` s) or ``eta_generator`` adds the bit-rock uncertainty.
+    ``structural=False`` keeps the mean structure. ``eta_psd`` (a PSD, e.g. ``THESIS_PSD``) or
+    ``eta`` (array (samples, n) sampled every ``eta_dt`` s) adds the bit-rock uncertainty (Eq. 4.1).
+    The law, WOB, time step, duration and transient are the configuration's.
     """
     sp = np.atleast_1d(np.asarray(speeds, dtype=float))
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 1:
         raise ValueError(f"samples = {samples!r}: must be an integer >= 1")
-    if eta is not None and eta_generator is not None:
-        raise ValueError("give either eta or eta_generator, not both")
-    if eta_generator is not None:
-        eta = eta_array(eta_generator, samples, cfg["simulation"]["duration_s"], eta_dt)
+    if eta is not None and eta_psd is not None:
+        raise ValueError("give either eta or eta_psd, not both")
+    S = None if eta_psd is None else psd_on_grid(eta_psd, eta_dt, cfg["simulation"]["duration_s"])[1]
     sm = stochastic_model(cfg, model, delta, case)
     eta_arg = None if eta is None else np.ascontiguousarray(eta, dtype=float)
     with progress_bar(samples * sp.size, label or "SS under structural uncertainty", progress) as cb:
-        ss = sm.severity_samples(list(sp), int(samples), int(seed), bool(structural), eta_arg, float(eta_dt), cb,
+        ss = sm.severity_samples(list(sp), int(samples), int(seed), bool(structural), eta_arg, S, float(eta_dt), cb,
                                  threads)
     return SeverityStudy(speeds=sp, ss=np.asarray(ss), label=label)
 
 
-def severity_sources(cfg: dict, speeds, samples: int, *, delta=0.1, eta_generator=None, eta_dt: float = 0.01,
+def severity_sources(cfg: dict, speeds, samples: int, *, delta=0.1, eta_psd=None, eta_dt: float = ETA_DT_S,
                      seed: int = 1, progress: bool = True, threads: int = 0) -> dict:
     """How much each source widens the SS band: the deterministic string, structural uncertainty
-    (SM_CB2 with ``delta``), and, when ``eta_generator`` is given, bit-rock uncertainty alone and
-    both together. Returns label -> SeverityStudy."""
+    (SM_CB2 with ``delta``), and, when ``eta_psd`` is given, the stochastic bit-rock law alone
+    (mean structure) and both together (same eta and same matrices per sample). Returns
+    label -> SeverityStudy."""
     kw = dict(seed=seed, progress=progress, threads=threads)
     out = {"deterministic": severity_study(cfg, speeds, 1, delta=0.0, structural=False, label="deterministic", **kw),
            "structure (SM_CB2)": severity_study(cfg, speeds, samples, delta=delta, label="structure (SM_CB2)", **kw)}
-    if eta_generator is not None:
-        eta = eta_array(eta_generator, samples, cfg["simulation"]["duration_s"], eta_dt)
-        out["bit-rock (eta)"] = severity_study(cfg, speeds, samples, delta=0.0, structural=False, eta=eta,
+    if eta_psd is not None:
+        out["bit-rock (eta)"] = severity_study(cfg, speeds, samples, delta=0.0, structural=False, eta_psd=eta_psd,
                                                eta_dt=eta_dt, label="bit-rock (eta)", **kw)
-        out["structure + bit-rock"] = severity_study(cfg, speeds, samples, delta=delta, eta=eta, eta_dt=eta_dt,
-                                                     label="structure + bit-rock", **kw)
+        out["structure + bit-rock"] = severity_study(cfg, speeds, samples, delta=delta, eta_psd=eta_psd,
+                                                     eta_dt=eta_dt, label="structure + bit-rock", **kw)
     return out

@@ -85,6 +85,26 @@ TEST(StructuralSeverity, EtaHookFeedsEachSampleItsOwnSeries) {
   EXPECT_EQ(with_eta(1, 0), sev.severity());
 }
 
+TEST(StructuralSeverity, PsdEtaIsChapterFourEtaAndIndependentOfTheMatrices) {
+  const Config c = short_ch6();
+  const StochasticModel sm(c, StochasticKind::cb2, std::vector<Dispersions>(2, Dispersions::Constant(0.1)));
+  const GaussianProcess thesis = GaussianProcess::from_psd(PsdModel{}, 0.05, c.sim.duration);
+  // Sample i gets the eta of sample i of the chapter-4 Monte Carlo with the same seed.
+  const MonteCarlo mc(c, thesis, 5);
+  EXPECT_EQ(psd_eta(thesis, 5)(3).samples, mc.eta(3).samples);
+  SeverityStudyOptions o;
+  o.speeds = {20.0};
+  o.samples = 3;
+  o.seed = 5;
+  const Eigen::MatrixXd structure = severity_samples(sm, o);
+  // A zero PSD leaves every sample's structural realization and SS unchanged ...
+  const GaussianProcess zero(std::vector<double>(thesis.psd().size(), 0.0), 0.05, c.sim.duration);
+  EXPECT_EQ(severity_samples(sm, o, psd_eta(zero, 5)), structure);
+  // ... and the thesis PSD changes them.
+  const Eigen::MatrixXd both = severity_samples(sm, o, psd_eta(thesis, 5));
+  EXPECT_GT((both - structure).cwiseAbs().maxCoeff(), 1e-4);
+}
+
 TEST(StructuralSeverity, RefusesBadInput) {
   const Config c = short_ch6();
   const StochasticModel sm(c, StochasticKind::cb2, std::vector<Dispersions>(2, Dispersions::Zero()));

@@ -12,8 +12,8 @@
 // A floating substructure (the BHA: its K~_k has the interface rigid rotation in its null space)
 // is randomized in SE+0 (Eqs. 6.24-6.25), detected automatically from the mean blocks.
 //
-// Random numbers: realization i uses only RandomStream(seed, i, stream) with one stream per
-// (substructure, matrix, inner/interface), so realization i is the same whatever the thread count,
+// Random numbers: realization i uses only RandomStream(seed, i, stream) with one stream (from 16 on)
+// per (substructure, matrix, inner/interface), so realization i is the same whatever the thread count,
 // the chunking, or the dispersions of the other matrices.
 #pragma once
 
@@ -108,6 +108,9 @@ class StochasticModel {
   /// The configuration the model was built from (string, damping, law, simulation options).
   const Config& config() const { return cfg_; }
   StochasticKind kind() const { return kind_; }
+  /// Stream numbers first_stream + 6 k + 2 a + s hold the random matrices of a sample; the lower
+  /// ones are left to other random inputs of the same sample (the bit-rock eta uses stream 1).
+  static constexpr std::uint32_t first_stream = 16;
   const std::vector<Dispersions>& dispersions() const { return delta_; }
   /// The mean (deterministic) reduced model.
   const ReducedModel& mean() const { return mean_; }
@@ -177,7 +180,7 @@ class StochasticModel {
   }
 
  private:
-  static std::uint32_t stream(int k, int a, int s) { return static_cast<std::uint32_t>(1 + 6 * k + 2 * a + s); }
+  static std::uint32_t stream(int k, int a, int s) { return first_stream + static_cast<std::uint32_t>(6 * k + 2 * a + s); }
 
   Config cfg_;
   StochasticKind kind_;

@@ -8,8 +8,11 @@
 // (sample, speed), so the results do not depend on the thread count or on the chunking.
 //
 // The bit-rock uncertainty is a hook: the EtaProvider maps a sample index to its eta(t) Signal.
-// It must be thread-safe and depend only on the sample index (and its own seed), e.g. a PSD-based
-// generator (Eq. 4.4) keyed by (seed, i). Without it only the structure is uncertain.
+// It must be thread-safe and depend only on the sample index (and its own seed). psd_eta() gives
+// the chapter-4 one: the PSD-based Gaussian process (Eq. 4.4, process.hpp) drawn from
+// RandomStream(seed, i, MonteCarlo::eta_stream), the same eta as sample i of the chapter-4 Monte
+// Carlo with that seed; the random matrices use other streams of the same sample, so the two
+// sources are independent. Without a provider only the structure is uncertain.
 #pragma once
 
 #include <Eigen/Dense>
@@ -21,7 +24,9 @@
 #include "drill/errors.hpp"
 #include "drill/integrator.hpp"
 #include "drill/metrics.hpp"
+#include "drill/montecarlo.hpp"
 #include "drill/parallel.hpp"
+#include "drill/process.hpp"
 #include "drill/signal.hpp"
 #include "drill/stochastic_model.hpp"
 
@@ -29,6 +34,16 @@ namespace drill {
 
 /// eta(t) of Monte Carlo sample i (Eq. 4.1): the bit-rock uncertainty hook.
 using EtaProvider = std::function<Signal(std::size_t sample)>;
+
+static_assert(StochasticModel::first_stream > MonteCarlo::eta_stream, "eta and the random matrices share a stream");
+
+/// The stochastic bit-rock law of chapter 4 as an EtaProvider (Eqs. 4.1-4.4).
+inline EtaProvider psd_eta(GaussianProcess process, std::uint64_t seed) {
+  return [process = std::move(process), seed](std::size_t i) {
+    RandomStream rng(seed, i, MonteCarlo::eta_stream);
+    return process.signal(rng);
+  };
+}
 
 struct SeverityStudyOptions {
   std::vector<double> speeds;  ///< constant top speeds [rad/s]

@@ -141,13 +141,14 @@ void init_uncertainty(py::module_& m) {
       .def(
           "severity_samples",
           [](const StochasticModel& s, const std::vector<double>& speeds, std::size_t samples, std::uint64_t seed,
-             bool structural, py::object eta, double eta_dt, py::object progress, int threads) {
+             bool structural, py::object eta, py::object eta_psd, double eta_dt, py::object progress, int threads) {
             SeverityStudyOptions o;
             o.speeds = speeds;
             o.samples = samples;
             o.seed = seed;
             o.structural = structural;
             o.threads = threads;
+            require(eta.is_none() || eta_psd.is_none(), "eta", "series and PSD", "give either eta or eta_psd");
             EtaProvider provider;
             std::vector<Signal> series;
             if (!eta.is_none()) {
@@ -160,6 +161,11 @@ void init_uncertainty(py::module_& m) {
                 series.back().validate("eta[" + std::to_string(i) + "]");
               }
               provider = [&series](std::size_t i) { return series[i]; };
+            } else if (!eta_psd.is_none()) {
+              const Array S = py::cast<Array>(eta_psd);
+              provider = psd_eta(GaussianProcess(std::vector<double>(S.data(), S.data() + S.size()), eta_dt,
+                                                 s.config().sim.duration),
+                                 seed);
             }
             Eigen::MatrixXd ss;
             {
@@ -169,8 +175,10 @@ void init_uncertainty(py::module_& m) {
             return ss;
           },
           py::arg("speeds"), py::arg("samples"), py::arg("seed") = 1, py::arg("structural") = true,
-          py::arg("eta") = py::none(), py::arg("eta_dt") = 1e-2, py::arg("progress") = py::none(), py::arg("threads") = 0,
-          "SS (Eq. 3.4) for samples x top speeds with random structure (and eta rows of Eq. 4.1 if given).");
+          py::arg("eta") = py::none(), py::arg("eta_psd") = py::none(), py::arg("eta_dt") = 0.05,
+          py::arg("progress") = py::none(), py::arg("threads") = 0,
+          "SS (Eq. 3.4) for samples x top speeds with random structure; bit-rock uncertainty (Eq. 4.1) from eta "
+          "rows sampled every eta_dt, or from a PSD on the generator grid of (eta_dt, duration) (Eq. 4.4).");
   m.def("observation_nodes", [](const std::string& text) { return thesis_observation_nodes(parse_config_text(text).string); },
         py::arg("config"), "P_obs,1 (first free node), P_obs,2 (first interface), P_obs,3 (bit) of section 6.6.");
 }
