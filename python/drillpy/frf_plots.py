@@ -78,19 +78,23 @@ def cb_convergence_figure(path, modes, rel_errors):
 
 
 def severity_bands_figure(path, speeds, studies: dict, level: float = 0.5, title: str = ""):
-    """SS versus top speed: sample mean and 5-95 % band of each uncertainty source
-    (``studies``: label -> SeverityStudy)."""
-    fig, ax = plt.subplots(figsize=(7.0, 4.4))
-    for (label, st), color in zip(studies.items(), COLORS):
+    """SS versus top speed: sample mean and 5-95 % band of each uncertainty source (top), and the
+    band width q95 - q05 of each source (bottom); ``studies``: label -> SeverityStudy."""
+    fig, (ax, aw) = plt.subplots(2, 1, figsize=(7.0, 6.4), sharex=True, gridspec_kw={"height_ratios": [3, 2]})
+    for (label, st), color in zip(studies.items(), ("k",) + COLORS):
         if st.ss.shape[0] == 1:
-            ax.plot(speeds, st.ss[0], "k.-", label=label)
+            ax.plot(speeds, st.ss[0], ".-", color=color, label=label)
             continue
-        ax.fill_between(speeds, st.q05, st.q95, color=color, alpha=0.22, lw=0)
-        ax.plot(speeds, st.mean, ".-", color=color, label=f"{label}: mean and 5-95 % band")
+        ax.fill_between(speeds, st.q05, st.q95, color=color, alpha=0.2, lw=0)
+        ax.plot(speeds, st.mean, ".-", color=color, lw=1.0, label=f"{label}: mean and 5-95 % band")
+        aw.plot(speeds, st.band_width, ".-", color=color, lw=1.0, label=label)
     ax.axhline(level, color="r", ls="--", lw=0.8, label=f"SS = {level}")
-    ax.set_xlabel("top-drive speed [rad/s]")
     ax.set_ylabel("stick-slip severity SS [-]")
-    ax.set_title(title or "SS under structural uncertainty (SM_CB2)", fontsize=10)
+    ax.set_title(title or "SS under structural (SM_CB2) and bit-rock uncertainty", fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
+    aw.set_xlabel("top-drive speed [rad/s]")
+    aw.set_ylabel("band width q95 - q05 [-]")
+    aw.grid(alpha=0.3)
+    aw.legend(fontsize=7)
     return _save(fig, path)
