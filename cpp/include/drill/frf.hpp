@@ -193,7 +193,8 @@ inline FrfEnvelope frf_envelope(const StochasticModel& sm, const std::vector<int
   const double values = static_cast<double>(ns) * static_cast<double>(nf) * static_cast<double>(no);
   require(values <= 2.5e8, "samples", ns,
           "x frequencies x nodes = " + show(values) + " values exceeds the 2.5e8 (1 GB) kept for the quantiles");
-  // db[(o nf + f) ns + i]: sample i's response, contiguous over samples for the quantiles.
+  // db[(i no + o) nf + f]: each sample writes its own contiguous block (no false sharing between
+  // threads); the statistics read blocks of `fb` consecutive frequencies (whole cache lines).
   std::vector<float> db(static_cast<std::size_t>(values));
   env.energy.resize(static_cast<Eigen::Index>(ns), no);
   const bool done1 = parallel_for(
@@ -210,7 +211,8 @@ inline FrfEnvelope frf_envelope(const StochasticModel& sm, const std::vector<int
         for (Eigen::Index o = 0; o < no; ++o) {
           env.energy(static_cast<Eigen::Index>(i), o) = (a2.col(o) * weight).sum();
           for (Eigen::Index f = 0; f < nf; ++f)
-            db[static_cast<std::size_t>(o * nf + f) * ns + i] = static_cast<float>(a2db(f, o));
+            db[(i * static_cast<std::size_t>(no) + static_cast<std::size_t>(o)) * static_cast<std::size_t>(nf) +
+               static_cast<std::size_t>(f)] = static_cast<float>(a2db(f, o));
         }
       },
       progress ? ProgressFn([&](std::size_t d, std::size_t) { return progress(d, total); }) : ProgressFn(),
@@ -221,22 +223,33 @@ inline FrfEnvelope frf_envelope(const StochasticModel& sm, const std::vector<int
   env.lower_db.resize(nf, no);
   env.upper_db.resize(nf, no);
   const double plo = 0.5 * (1.0 - opt.probability), phi = 0.5 * (1.0 + opt.probability);
+  const std::size_t fb = 16, n_blocks = (static_cast<std::size_t>(nf) + fb - 1) / fb;
   const bool done2 = parallel_for(
-      static_cast<std::size_t>(nf),
-      [&](std::size_t f) {
-        std::vector<double> v(ns);
-        const Eigen::Index fi = static_cast<Eigen::Index>(f);
+      n_blocks,
+      [&](std::size_t b) {
+        const std::size_t f0 = b * fb, nb = std::min(fb, static_cast<std::size_t>(nf) - f0);
+        std::vector<double> v(nb * ns);  // v[k ns + i]: frequency f0 + k, sample i
         for (Eigen::Index o = 0; o < no; ++o) {
-          const float* col = db.data() + static_cast<std::size_t>(o * nf + fi) * ns;
-          double s = 0.0;
-          for (std::size_t i = 0; i < ns; ++i) s += (v[i] = col[i]);  // index order
-          env.mean_db(fi, o) = s / static_cast<double>(ns);
-          env.lower_db(fi, o) = quantile_inplace(v, plo);
-          env.upper_db(fi, o) = quantile_inplace(v, phi);
+          for (std::size_t i = 0; i < ns; ++i) {
+            const float* row = db.data() + (i * static_cast<std::size_t>(no) + static_cast<std::size_t>(o)) *
+                                               static_cast<std::size_t>(nf) + f0;
+            for (std::size_t k = 0; k < nb; ++k) v[k * ns + i] = row[k];
+          }
+          for (std::size_t k = 0; k < nb; ++k) {
+            std::vector<double> col(v.begin() + static_cast<std::ptrdiff_t>(k * ns),
+                                    v.begin() + static_cast<std::ptrdiff_t>((k + 1) * ns));
+            double sum = 0.0;
+            for (double x : col) sum += x;  // index order
+            const Eigen::Index fi = static_cast<Eigen::Index>(f0 + k);
+            env.mean_db(fi, o) = sum / static_cast<double>(ns);
+            env.lower_db(fi, o) = quantile_inplace(col, plo);
+            env.upper_db(fi, o) = quantile_inplace(col, phi);
+          }
         }
       },
-      progress ? ProgressFn([&](std::size_t d, std::size_t) { return progress(ns + d, total); }) : ProgressFn(),
-      opt.threads, 64);
+      progress ? ProgressFn([&](std::size_t d, std::size_t) { return progress(ns + std::min(d * fb, static_cast<std::size_t>(nf)), total); })
+               : ProgressFn(),
+      opt.threads);
   if (!done2) return FrfEnvelope{};
   env.samples = ns;
   return env;
