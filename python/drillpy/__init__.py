@@ -7,6 +7,8 @@ from . import _core
 from .config import load_config, preset_names, with_overrides
 from .simulation import (SimulationResult, natural_frequencies, simulate, stability_map,
                          sweep_severity, severity_threshold, law_torque)
+from .frf import FRFEnvelope, cb_frequencies, dispersions, frf_envelope, stochastic_model
+from .structural_mc import SeverityStudy, severity_sources, severity_study
 from .process import (PsdModel, PsdTable, THESIS_PSD, generate, periodogram, welch, fit_psd_model,
                       fit_eta)
 from .montecarlo import StochasticStudy, PhaseStudy, stochastic_study, phase_study, conv1
@@ -14,6 +16,8 @@ from .montecarlo import StochasticStudy, PhaseStudy, stochastic_study, phase_stu
 __all__ = [
     "load_config", "preset_names", "with_overrides", "SimulationResult", "natural_frequencies",
     "simulate", "stability_map", "sweep_severity", "severity_threshold", "law_torque", "_core",
+    "FRFEnvelope", "cb_frequencies", "dispersions", "frf_envelope", "stochastic_model",
+    "SeverityStudy", "severity_sources", "severity_study",
     "PsdModel", "PsdTable", "THESIS_PSD", "generate", "periodogram", "welch", "fit_psd_model",
     "fit_eta", "StochasticStudy", "PhaseStudy", "stochastic_study", "phase_study", "conv1",
 ]

@@ -7,6 +7,9 @@
   drillpy map      --preset thesis-field --beta1 0.56 --speeds-rpm 50:160:23 --wobs-kn 22:267:12
   drillpy convergence --preset thesis-field            FE and time-step convergence orders
   drillpy analyze  ../shared/data/testrig/sample175_0-40s.mat --out DIR   measured record: report
+  drillpy frf      --preset thesis-ch6 --model SM_CB2 --case 4 --samples 2500 --json
+  drillpy frf-report --preset thesis-ch6 --out DIR          chapter 6 and appendix C figures
+  drillpy robust-ss --preset thesis-ch6 --samples 40 --speeds 6:27:8 --out DIR
   drillpy mc       --preset thesis-field --samples 500 --speeds 6:27:22 --seed 1 --json
 
 Every error prints one line ``drillpy: error: ...`` and exits with status 2.
@@ -189,6 +192,95 @@ def cmd_analyze(a) -> int:
     return 0
 
 
+def _uncertainty_args(p: argparse.ArgumentParser, samples: int, out: str) -> None:
+    _model_args(p)
+    p.add_argument("--cb-modes", help="fixed-interface modes per substructure, e.g. 25,25")
+    p.add_argument("--samples", type=int, default=samples, help="Monte Carlo samples")
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--out", help=out)
+    p.add_argument("--json", action="store_true")
+
+
+def _cb_config(a) -> dict:
+    cfg = _config(a)
+    if a.cb_modes:
+        from .frf import with_cb_modes
+        cfg = with_cb_modes(cfg, [int(x) for x in parse_grid(a.cb_modes, "--cb-modes")])
+    return cfg
+
+
+def cmd_frf(a) -> int:
+    from . import frf_plots
+    from .frf import band_widths, frf_envelope
+    from .uncertainty_report import BANDS_HZ
+    cfg = _cb_config(a)
+    env = frf_envelope(cfg, a.model, a.delta, a.case, samples=a.samples, seed=a.seed,
+                       freq_hz=parse_grid(a.freqs, "--freqs"), probability=a.probability,
+                       progress=not a.no_progress, threads=a.threads)
+    res = {**env.to_json(), "case": a.case}
+    bands = {b: r for b, r in BANDS_HZ.items() if np.sum((env.freq_hz >= r[0]) & (env.freq_hz <= r[1])) >= 2}
+    if a.out:
+        out = Path(a.out)
+        out.mkdir(parents=True, exist_ok=True)
+        title = a.model + (f" case {a.case}" if a.case else f" delta {a.delta if a.delta is not None else 0.1}")
+        for p, label in enumerate(env.labels):
+            frf_plots.envelope_figure(out / f"frf_point{p + 1}.png", {title: env}, p, f"{title}: {label}")
+        (out / "envelope.json").write_text(json.dumps({**res, "config": cfg}))
+    if a.json:
+        print(json.dumps(res))
+    else:
+        print(f"{a.model}, {env.samples} samples, {int(round(100 * env.probability))} % envelope; "
+              "mean width [dB] per band:")
+        for band, w in zip(bands, band_widths(env, list(bands.values()))):
+            print(f"  {band:24s} " + "  ".join(f"{lab.split(' ')[0]} {x:6.2f}" for lab, x in zip(env.labels, w)))
+    return 0
+
+
+def cmd_frf_report(a) -> int:
+    from .uncertainty_report import chapter6_report, print_conclusions
+    s = chapter6_report(_cb_config(a), a.out, samples=a.samples, mode_samples=a.mode_samples, seed=a.seed,
+                        progress=not a.no_progress, threads=a.threads)
+    if a.json:
+        print(json.dumps(s))
+    else:
+        print_conclusions(s["conclusions"])
+        print(f"figures and summary.json written to {a.out}")
+    return 0
+
+
+def cmd_robust_ss(a) -> int:
+    from . import frf_plots
+    from .process import THESIS_PSD
+    from .structural_mc import severity_sources, severity_study
+    cfg = _cb_config(a)
+    if a.bit_rock and a.eta_npy:
+        raise ValueError("--bit-rock and --eta-npy: give one source of eta")
+    speeds = parse_grid(a.speeds, "--speeds")
+    kw = dict(seed=a.seed, progress=not a.no_progress, threads=a.threads)
+    studies = severity_sources(cfg, speeds, a.samples, delta=a.delta, eta_psd=THESIS_PSD if a.bit_rock else None,
+                               eta_dt=a.eta_dt, **kw)
+    if a.eta_npy:
+        eta = np.load(a.eta_npy)
+        studies["bit-rock (eta)"] = severity_study(cfg, speeds, a.samples, delta=0.0, structural=False, eta=eta,
+                                                   eta_dt=a.eta_dt, label="bit-rock (eta)", **kw)
+        studies["structure + bit-rock"] = severity_study(cfg, speeds, a.samples, delta=a.delta, eta=eta,
+                                                         eta_dt=a.eta_dt, label="structure + bit-rock", **kw)
+    res = {label: st.to_json() for label, st in studies.items()}
+    if a.out:
+        out = Path(a.out)
+        out.mkdir(parents=True, exist_ok=True)
+        frf_plots.severity_bands_figure(out / "severity_bands.png", speeds, studies)
+        (out / "robust_ss.json").write_text(json.dumps({**res, "config": cfg}, indent=2))
+    if a.json:
+        print(json.dumps(res))
+    else:
+        for label, st in studies.items():
+            print(f"{label}:")
+            for v, m, lo, hi, p in zip(speeds, st.mean, st.q05, st.q95, st.p_stick_slip):
+                print(f"  {v:7.2f} rad/s  SS mean {m:.3f}  5-95 % [{lo:.3f}, {hi:.3f}]  P(SS > 0.5) {p:.2f}")
+    return 0
+
+
 def _int_arg(text: str, name: str) -> int:
     try:
         return int(text)
@@ -307,6 +399,30 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--no-sim", action="store_true", help="skip the rig simulations")
     s.add_argument("--json", action="store_true", help="print the main numbers as JSON")
     s.set_defaults(func=cmd_analyze)
+
+    s = sub.add_parser("frf", help="acceleration FRF envelopes under structural uncertainty (chapter 6)")
+    _uncertainty_args(s, samples=2500, out="folder for the figures and envelope.json")
+    s.add_argument("--model", choices=["SM_full", "SM_CB1", "SM_CB2"], default="SM_CB2", help="stochastic model")
+    s.add_argument("--case", type=int, help="SM_CB2 case study 1-7 (Tables 6.1-6.7)")
+    s.add_argument("--delta", type=float, help="one dispersion for every random matrix (default 0.1)")
+    s.add_argument("--probability", type=float, default=0.95, help="probability level of the envelope")
+    s.add_argument("--freqs", default="0.01:10:1000", help="frequencies [Hz], start:stop:num or list")
+    s.set_defaults(func=cmd_frf)
+
+    s = sub.add_parser("frf-report", help="chapter 6 and appendix C: envelopes, case studies, Conv2, conclusions")
+    _uncertainty_args(s, samples=2500, out="output folder (default results-ch6)")
+    s.add_argument("--mode-samples", type=int, default=400, help="samples per point of Conv2 versus modes")
+    s.set_defaults(func=cmd_frf_report, out="results-ch6")
+
+    s = sub.add_parser("robust-ss", help="SS versus top speed with SM_CB2 structural uncertainty (time domain)")
+    _uncertainty_args(s, samples=40, out="folder for the figure and robust_ss.json")
+    s.add_argument("--delta", type=float, default=0.1, help="dispersion of every SM_CB2 matrix")
+    s.add_argument("--speeds", default="6:27:8", help="top speeds [rad/s], start:stop:num or list")
+    s.add_argument("--bit-rock", action="store_true",
+                   help="add the stochastic bit-rock law: eta with the thesis PSD (Eqs. 4.1-4.4)")
+    s.add_argument("--eta-npy", help="eta(t) of Eq. (4.1), one row per sample (.npy), for bit-rock uncertainty")
+    s.add_argument("--eta-dt", type=float, default=0.05, help="sampling step of eta [s]")
+    s.set_defaults(func=cmd_robust_ss)
 
     s = sub.add_parser("mc", help="Monte Carlo of the stochastic bit-rock law (Figs. 4.4-4.9, C.1)")
     _model_args(s)

@@ -1,0 +1,93 @@
+"""Stick-slip severity under structural uncertainty in the time domain (thesis chapter 7, future
+work item 1): random SM_CB2 (or SM_CB1 / SM_full) realizations of the string integrated with the
+bit-rock law, optionally with the stochastic law T_sto = T_hys (1 + eta(t)) (Eq. 4.1).
+
+The bit-rock uncertainty enters through ``eta_psd``, the one-sided PSD per Hz of eta (Eq. 4.4;
+default calibration ``THESIS_PSD``), generated in the engine by the chapter-4 process generator:
+sample i gets the same eta as sample i of :func:`drillpy.montecarlo.stochastic_study` with the same
+seed, and the random matrices of the same sample from other random streams (independent sources).
+Any other eta can be given as an array ``eta`` with one series per sample (sampled every
+``eta_dt`` seconds from t = 0). Sample i carries realization i of the random matrices and of eta at
+every top speed (common random numbers).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import trapezoid
+
+from . import _core
+from .frf import stochastic_model
+from .montecarlo import ETA_DT_S
+from .process import psd_on_grid
+from .progress import progress_bar
+
+
+@dataclass
+class SeverityStudy:
+    """SS (Eq. 3.4) for ``samples x speeds`` and its statistics per top speed (the chapter-4
+    engine statistics: mean, 5 % and 95 % quantiles, P(SS > 0.5), and the speed from which
+    P(SS > 0.5) <= 5 %)."""
+    speeds: np.ndarray
+    ss: np.ndarray
+    label: str = ""
+
+    def __post_init__(self):
+        st = _core.severity_statistics(self.ss, list(self.speeds), 0.5, 0.05, 0.05, 0.95)
+        self.mean, self.q05, self.q95 = (np.asarray(st[k]) for k in ("mean", "q_low", "q_high"))
+        self.p_stick_slip = np.asarray(st["p_exceed"])
+        self.p05_speed = None if math.isnan(st["p_speed"]) else float(st["p_speed"])
+
+    @property
+    def band_width(self) -> np.ndarray:
+        """Width of the 90 % band (q95 - q05) per speed."""
+        return self.q95 - self.q05
+
+    def to_json(self) -> dict:
+        return {"label": self.label, "top_speeds_rad_s": self.speeds.tolist(), "samples": int(self.ss.shape[0]),
+                "mean_ss": self.mean.round(4).tolist(), "q05_ss": self.q05.round(4).tolist(),
+                "q95_ss": self.q95.round(4).tolist(), "p_ss_above_0_5": self.p_stick_slip.round(4).tolist(),
+                "p05_speed_rad_s": self.p05_speed,
+                "band_width_integral": float(trapezoid(self.band_width, self.speeds)) if self.speeds.size > 1 else 0.0}
+
+
+def severity_study(cfg: dict, speeds, samples: int, *, model: str = "SM_CB2", delta=0.1, case=None,
+                   structural: bool = True, eta=None, eta_psd=None, eta_dt: float = ETA_DT_S,
+                   seed: int = 1, label: str = "", progress: bool = True, threads: int = 0) -> SeverityStudy:
+    """SS of ``samples`` realizations at each top speed [rad/s] (constant WOB of the configuration).
+
+    ``structural=False`` keeps the mean structure. ``eta_psd`` (a PSD, e.g. ``THESIS_PSD``) or
+    ``eta`` (array (samples, n) sampled every ``eta_dt`` s) adds the bit-rock uncertainty (Eq. 4.1).
+    The law, WOB, time step, duration and transient are the configuration's.
+    """
+    sp = np.atleast_1d(np.asarray(speeds, dtype=float))
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 1:
+        raise ValueError(f"samples = {samples!r}: must be an integer >= 1")
+    if eta is not None and eta_psd is not None:
+        raise ValueError("give either eta or eta_psd, not both")
+    S = None if eta_psd is None else psd_on_grid(eta_psd, eta_dt, cfg["simulation"]["duration_s"])[1]
+    sm = stochastic_model(cfg, model, delta, case)
+    eta_arg = None if eta is None else np.ascontiguousarray(eta, dtype=float)
+    with progress_bar(samples * sp.size, label or "SS under structural uncertainty", progress) as cb:
+        ss = sm.severity_samples(list(sp), int(samples), int(seed), bool(structural), eta_arg, S, float(eta_dt), cb,
+                                 threads)
+    return SeverityStudy(speeds=sp, ss=np.asarray(ss), label=label)
+
+
+def severity_sources(cfg: dict, speeds, samples: int, *, delta=0.1, eta_psd=None, eta_dt: float = ETA_DT_S,
+                     seed: int = 1, progress: bool = True, threads: int = 0) -> dict:
+    """How much each source widens the SS band: the deterministic string, structural uncertainty
+    (SM_CB2 with ``delta``), and, when ``eta_psd`` is given, the stochastic bit-rock law alone
+    (mean structure) and both together (same eta and same matrices per sample). Returns
+    label -> SeverityStudy."""
+    kw = dict(seed=seed, progress=progress, threads=threads)
+    out = {"deterministic": severity_study(cfg, speeds, 1, delta=0.0, structural=False, label="deterministic", **kw),
+           "structure (SM_CB2)": severity_study(cfg, speeds, samples, delta=delta, label="structure (SM_CB2)", **kw)}
+    if eta_psd is not None:
+        out["bit-rock (eta)"] = severity_study(cfg, speeds, samples, delta=0.0, structural=False, eta_psd=eta_psd,
+                                               eta_dt=eta_dt, label="bit-rock (eta)", **kw)
+        out["structure + bit-rock"] = severity_study(cfg, speeds, samples, delta=delta, eta_psd=eta_psd,
+                                                     eta_dt=eta_dt, label="structure + bit-rock", **kw)
+    return out

@@ -1,0 +1,162 @@
+"""The chapter-6 study with figures and the thesis's conclusions checked on measured widths.
+
+:func:`chapter6_report` runs, on a configuration such as ``thesis-ch6``:
+  * Craig-Bampton natural frequencies versus the full FE model as modes per substructure grow;
+  * SM_full, SM_CB1 and SM_CB2 at delta = 0.1 (Figs. 6.1-6.3);
+  * SM_CB2 case studies 1-7 (Tables 6.1-6.7, Figs. 6.4-6.12);
+  * Conv2 (Eq. C.2) versus samples (Fig. C.2) and versus DP and BHA modes (Figs. C.3-C.4);
+and writes the figures and ``summary.json``. :func:`conclusions` turns envelope widths (dB,
+averaged over frequency bands) into a verdict on each conclusion of section 6.6.
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from . import frf_plots
+from .frf import CASE_TITLES, band_widths, cb_frequencies, conv2_vs_modes, default_frequencies, frf_envelope
+from .simulation import natural_frequencies
+
+# Frequency bands [Hz]: below the first resonance (0.31 Hz on thesis-ch6), then low, mid, high.
+BANDS_HZ = {"very low 0.01-0.25 Hz": (0.01, 0.25), "low 0.25-2 Hz": (0.25, 2.0), "mid 2-5 Hz": (2.0, 5.0),
+            "high 5-10 Hz": (5.0, 10.0), "whole 0.01-10 Hz": (0.01, 10.0)}
+FIGURE_PAIRS = {"6.4-6.6": (1, 2, 3), "6.7-6.9": (4, 5), "6.10-6.12": (6, 7)}
+
+
+def widths_table(envs: dict) -> dict:
+    """label -> band -> [mean width per point] (dB)."""
+    return {label: {b: band_widths(env, [rng])[0].round(3).tolist() for b, rng in BANDS_HZ.items()}
+            for label, env in envs.items()}
+
+
+def conclusions(models: dict, cases: dict) -> list[dict]:
+    """Check each conclusion of section 6.6 on the envelopes.
+
+    ``models``: "SM_full"/"SM_CB1"/"SM_CB2" -> FRFEnvelope at delta = 0.1; ``cases``: 1..7 -> FRFEnvelope.
+    Each entry states the claim, the test applied, the measured mean widths [dB] and whether it holds.
+    """
+    W = {k: {b: band_widths(e, [r])[0] for b, r in BANDS_HZ.items()} for k, e in {**models, **cases}.items()}
+    whole, vlow = "whole 0.01-10 Hz", "very low 0.01-0.25 Hz"
+    out = []
+
+    w = np.array([W[m][whole] for m in ("SM_full", "SM_CB1", "SM_CB2")])
+    ratio = w.max(axis=0) / w.min(axis=0)
+    mean_gap = np.array([[np.mean(np.abs(models[a].mean_db[:, p] - models[b].mean_db[:, p]))
+                          for p in range(w.shape[1])] for a, b in (("SM_full", "SM_CB2"), ("SM_CB1", "SM_CB2"))])
+    out.append({"claim": "the three stochastic models agree at delta = 0.1 (Figs. 6.1-6.3)",
+                "test": "per point, whole-band mean widths within a factor 1.5 and sample-mean curves within 2 dB "
+                        "(mean absolute difference)",
+                "widths_db": {m: W[m][whole].round(2).tolist() for m in ("SM_full", "SM_CB1", "SM_CB2")},
+                "width_ratio_max_over_min": ratio.round(3).tolist(),
+                "mean_curve_gap_db": {"SM_full vs SM_CB2": mean_gap[0].round(3).tolist(),
+                                      "SM_CB1 vs SM_CB2": mean_gap[1].round(3).tolist()},
+                "holds": bool((ratio <= 1.5).all() and (mean_gap < 2.0).all())})
+
+    out.append({"claim": "damping uncertainty gives the thinnest envelopes (case 2 vs cases 1 and 3)",
+                "test": "per point, whole-band mean width of case 2 below those of cases 1 and 3",
+                "widths_db": {f"case {c}": W[c][whole].round(2).tolist() for c in (1, 2, 3)},
+                "holds": bool((W[2][whole] < np.minimum(W[1][whole], W[3][whole])).all())})
+
+    out.append({"claim": "stiffness uncertainty dominates at very low frequency (case 3 vs 1 and 2)",
+                "test": f"per point, mean width over {vlow} of case 3 above those of cases 1 and 2",
+                "widths_db": {f"case {c}": W[c][vlow].round(3).tolist() for c in (1, 2, 3)},
+                "holds": bool((W[3][vlow] > np.maximum(W[1][vlow], W[2][vlow])).all())})
+
+    out.append({"claim": "DP uncertainty widens the envelopes more than BHA uncertainty (case 4 vs 5)",
+                "test": "per point, whole-band mean width of case 4 above that of case 5",
+                "widths_db": {f"case {c}": W[c][whole].round(2).tolist() for c in (4, 5)},
+                "widths_db_high_band": {f"case {c}": W[c]["high 5-10 Hz"].round(2).tolist() for c in (4, 5)},
+                "holds": bool((W[4][whole] > W[5][whole]).all())})
+
+    out.append({"claim": "interface-DOF uncertainty gives thinner envelopes than inner-DOF uncertainty (7 vs 6)",
+                "test": "per point, whole-band mean width of case 7 below that of case 6",
+                "widths_db": {f"case {c}": W[c][whole].round(2).tolist() for c in (6, 7)},
+                "holds": bool((W[7][whole] < W[6][whole]).all())})
+
+    order = ("low 0.25-2 Hz", "mid 2-5 Hz", "high 5-10 Hz")
+    grows = {}
+    for label in ("SM_CB2", 1, 3, 4, 6):
+        w3 = np.array([W[label][b] for b in order])
+        grows[str(label) if isinstance(label, str) else f"case {label}"] = {
+            "widths_db": w3.round(2).tolist(), "increasing": bool((np.diff(w3, axis=0) > 0).all())}
+    out.append({"claim": "the envelopes widen with frequency",
+                "test": "per point, mean width increasing from the low (0.25-2 Hz) to the mid (2-5 Hz) to the high "
+                        "(5-10 Hz) band; widths_db rows are the bands, columns the points",
+                "by_study": grows,
+                "holds": bool(grows["SM_CB2"]["increasing"])})
+    return out
+
+
+def print_conclusions(rows: list[dict]) -> None:
+    for r in rows:
+        print(f"[{'holds' if r['holds'] else 'does NOT hold'}] {r['claim']}")
+        for k, v in r.items():
+            if k not in ("claim", "holds", "test"):
+                print(f"    {k}: {v}")
+
+
+def chapter6_report(cfg: dict, out_dir, *, samples: int = 2500, mode_samples: int = 400, seed: int = 1,
+                    freq_hz=None, modes=(1, 2, 3, 5, 7, 10, 15, 20, 25), progress: bool = True,
+                    threads: int = 0) -> dict:
+    """Run the chapter-6 study, write figures and summary.json into ``out_dir``, return the summary."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    f = default_frequencies() if freq_hz is None else np.asarray(freq_hz, dtype=float)
+    kw = dict(samples=samples, seed=seed, freq_hz=f, progress=progress, threads=threads)
+    summary: dict = {"preset": cfg.get("name"), "samples": samples, "seed": seed,
+                     "frequencies_hz": [float(f[0]), float(f[-1]), int(f.size)], "bands_hz": BANDS_HZ}
+
+    n_fe = 8
+    fe = natural_frequencies(cfg, n_fe)
+    mode_list = [m for m in (3, 5, 7, 10, 15, 20, 25, 35, 50) if 2 * m + 1 >= n_fe]
+    errs = [np.abs(cb_frequencies(cfg, n_fe, [m] * len(cfg["string"]["sections"])) / fe - 1.0) for m in mode_list]
+    frf_plots.cb_convergence_figure(out / "cb_frequency_convergence.png", mode_list, errs)
+    summary["cb_convergence"] = {"fe_frequencies_hz": fe.round(5).tolist(), "modes": mode_list,
+                                 "max_rel_error_first5": [float(e[:5].max()) for e in errs],
+                                 "max_rel_error_first8": [float(e.max()) for e in errs]}
+
+    summary["nominal_modal_rom_vs_cb_max_abs_db"] = nominal_agreement(cfg, f)
+    models = {m: frf_envelope(cfg, m, 0.1, **kw) for m in ("SM_full", "SM_CB1", "SM_CB2")}
+    labels = models["SM_CB2"].labels
+    for p in range(3):
+        frf_plots.envelope_figure(out / f"fig6_{p + 1}_models_point{p + 1}.png", models, p,
+                                  f"SM_full / SM_CB1 / SM_CB2, delta = 0.1: {labels[p]} (Fig. 6.{p + 1})")
+    cases = {c: frf_envelope(cfg, "SM_CB2", case=c, **kw) for c in range(1, 8)}
+    fig_no = 4
+    for figs, group in FIGURE_PAIRS.items():
+        for p in range(3):
+            envs = {f"case {c}: {CASE_TITLES[c].split(' (')[0]}": cases[c] for c in group}
+            frf_plots.envelope_figure(out / f"fig6_{fig_no}_cases{''.join(map(str, group))}_point{p + 1}.png", envs, p,
+                                      f"SM_CB2 cases {', '.join(map(str, group))}: {labels[p]} (Fig. 6.{fig_no})")
+            fig_no += 1
+    summary["widths_db"] = widths_table({**models, **{f"case {c}": e for c, e in cases.items()}})
+    summary["conclusions"] = conclusions(models, cases)
+
+    env = models["SM_CB2"]
+    frf_plots.conv2_samples_figure(out / "figC_2_conv2_samples.png", env)
+    c2 = env.conv2()
+    summary["conv2_samples"] = {"n": [int(n) for n in (100, 500, 1000, 1500, 2000, samples) if n <= samples],
+                                "relative_to_final": [(c2[n - 1] / c2[-1]).round(4).tolist()
+                                                      for n in (100, 500, 1000, 1500, 2000, samples) if n <= samples]}
+    scenarios = {"DP and BHA, delta = 0.1": dict(delta=0.1), "BHA only (case 5)": dict(case=5),
+                 "DP only (case 4)": dict(case=4)}
+    conv_modes = {}
+    for k, name in enumerate(s["name"] for s in cfg["string"]["sections"]):
+        curves = {sc: conv2_vs_modes(cfg, k, modes, "SM_CB2", samples=mode_samples, seed=seed, freq_hz=f,
+                                     progress=progress, threads=threads, **a) for sc, a in scenarios.items()}
+        frf_plots.conv2_modes_figure(out / f"figC_{3 + k}_conv2_modes_{name}.png", list(modes), curves, name, labels)
+        conv_modes[name] = {sc: c.round(6).tolist() for sc, c in curves.items()}
+    summary["conv2_modes"] = {"modes": list(modes), "samples": mode_samples, "curves": conv_modes}
+    (out / "summary.json").write_text(json.dumps(summary, indent=2))
+    return summary
+
+
+def nominal_agreement(cfg: dict, f_hz=None) -> float:
+    """Largest |dB| difference between the nominal FRFs of the modal ROM (SM_full mean) and the
+    Craig-Bampton model (SM_CB2 mean) over the grid, at the three points."""
+    f = default_frequencies() if f_hz is None else f_hz
+    a = frf_envelope(cfg, "SM_full", 0.0, samples=1, freq_hz=f, progress=False)
+    b = frf_envelope(cfg, "SM_CB2", 0.0, samples=1, freq_hz=f, progress=False)
+    return float(np.abs(a.nominal_db - b.nominal_db).max())

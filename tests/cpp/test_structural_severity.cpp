@@ -1,0 +1,119 @@
+// SS under structural uncertainty in the time domain (the thesis's future work, item 1): random
+// SM_CB2 realizations in the integrator, the eta hook, thread invariance.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "drill/presets.hpp"
+#include "drill/structural_severity.hpp"
+
+using namespace drill;
+
+namespace {
+
+Config short_ch6() {
+  Config c = preset("thesis-ch6");
+  c.cb_modes = {6, 3};
+  c.sim.dt = 1e-3;
+  c.sim.duration = 30.0;
+  c.transient = 15.0;
+  return c;
+}
+
+}  // namespace
+
+TEST(StructuralSeverity, ThreadInvariantAndMeanStructureMatchesADirectRun) {
+  const Config c = short_ch6();
+  const StochasticModel sm(c, StochasticKind::cb2, std::vector<Dispersions>(2, Dispersions::Constant(0.1)));
+  SeverityStudyOptions o;
+  o.speeds = {8.0, 20.0};
+  o.samples = 4;
+  o.seed = 3;
+  o.threads = 1;
+  const Eigen::MatrixXd a = severity_samples(sm, o);
+  o.threads = 2;
+  const Eigen::MatrixXd b = severity_samples(sm, o);
+  ASSERT_EQ(a.rows(), 4);
+  EXPECT_EQ(a, b);
+  EXPECT_GT((a.col(0).array() - a(0, 0)).abs().maxCoeff(), 1e-6) << "samples differ";
+
+  // Sample 2 is the integrator run on realization 2 of the random matrices.
+  const Integrator integ(sm.sample(3, 2), c.law, c.sim);
+  Inputs in;
+  in.top_speed = Signal::constant(20.0);
+  in.wob = Signal::constant(c.wob);
+  SeverityObserver sev(c.transient);
+  integ.run(in, sev);
+  EXPECT_EQ(a(2, 1), sev.severity());
+
+  o.structural = false;
+  const Eigen::MatrixXd m = severity_samples(sm, o);
+  const Integrator mean_integ(sm.mean(), c.law, c.sim);
+  SeverityObserver sev_mean(c.transient);
+  mean_integ.run(in, sev_mean);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(m(i, 1), sev_mean.severity());
+  // Low speed: stick-slip (SS > 0.5, Eq. 3.4) for the mean string.
+  EXPECT_GT(m(0, 0), 0.5);
+}
+
+TEST(StructuralSeverity, EtaHookFeedsEachSampleItsOwnSeries) {
+  const Config c = short_ch6();
+  const StochasticModel sm(c, StochasticKind::cb2, std::vector<Dispersions>(2, Dispersions::Zero()));
+  SeverityStudyOptions o;
+  o.speeds = {20.0};
+  o.samples = 3;
+  o.structural = false;
+  const EtaProvider eta = [](std::size_t i) {
+    std::vector<double> s(400);
+    for (std::size_t k = 0; k < s.size(); ++k) s[k] = 0.3 * std::sin(0.37 * k + i);  // every 0.1 s
+    return Signal::sampled(s, 0.0, 0.1);
+  };
+  o.threads = 1;
+  const Eigen::MatrixXd with_eta = severity_samples(sm, o, eta);
+  const Eigen::MatrixXd without = severity_samples(sm, o);
+  EXPECT_EQ(without(0, 0), without(2, 0));
+  EXPECT_GT(std::fabs(with_eta(0, 0) - without(0, 0)), 1e-4);
+  EXPECT_NE(with_eta(0, 0), with_eta(1, 0));
+  const Integrator integ(sm.mean(), c.law, c.sim);
+  Inputs in;
+  in.top_speed = Signal::constant(20.0);
+  in.wob = Signal::constant(c.wob);
+  in.eta = eta(1);
+  SeverityObserver sev(c.transient);
+  integ.run(in, sev);
+  EXPECT_EQ(with_eta(1, 0), sev.severity());
+}
+
+TEST(StructuralSeverity, PsdEtaIsChapterFourEtaAndIndependentOfTheMatrices) {
+  const Config c = short_ch6();
+  const StochasticModel sm(c, StochasticKind::cb2, std::vector<Dispersions>(2, Dispersions::Constant(0.1)));
+  const GaussianProcess thesis = GaussianProcess::from_psd(PsdModel{}, 0.05, c.sim.duration);
+  // Sample i gets the eta of sample i of the chapter-4 Monte Carlo with the same seed.
+  const MonteCarlo mc(c, thesis, 5);
+  EXPECT_EQ(psd_eta(thesis, 5)(3).samples, mc.eta(3).samples);
+  SeverityStudyOptions o;
+  o.speeds = {20.0};
+  o.samples = 3;
+  o.seed = 5;
+  const Eigen::MatrixXd structure = severity_samples(sm, o);
+  // A zero PSD leaves every sample's structural realization and SS unchanged ...
+  const GaussianProcess zero(std::vector<double>(thesis.psd().size(), 0.0), 0.05, c.sim.duration);
+  EXPECT_EQ(severity_samples(sm, o, psd_eta(zero, 5)), structure);
+  // ... and the thesis PSD changes them.
+  const Eigen::MatrixXd both = severity_samples(sm, o, psd_eta(thesis, 5));
+  EXPECT_GT((both - structure).cwiseAbs().maxCoeff(), 1e-4);
+}
+
+TEST(StructuralSeverity, RefusesBadInput) {
+  const Config c = short_ch6();
+  const StochasticModel sm(c, StochasticKind::cb2, std::vector<Dispersions>(2, Dispersions::Zero()));
+  SeverityStudyOptions o;
+  o.samples = 1;
+  EXPECT_THROW(severity_samples(sm, o), std::invalid_argument);  // no speeds
+  o.speeds = {10.0, -1.0};
+  EXPECT_THROW(severity_samples(sm, o), std::invalid_argument);
+  o.speeds = {10.0};
+  o.samples = 0;
+  EXPECT_THROW(severity_samples(sm, o), std::invalid_argument);
+}
