@@ -196,8 +196,11 @@ class Integrator {
       obs(static_cast<const StepState&>(st));
       if (i == n) break;
       const double force_top = in.top_speed.rate(t);
-      // Eq. (A.5): velocity first, with the torque of the previous step ...
-      if (diag_damping_)
+      // Eq. (A.5): velocity first, with the torque of the previous step ... (the top-drive
+      // forcing term is skipped at constant top speed, where it is exactly zero)
+      if (diag_damping_ && force_top == 0.0)
+        p.array() += dt * (-bit_.array() * T - d_.array() * p.array() - w2_.array() * z.array());
+      else if (diag_damping_)
         p.array() += dt * (-bit_.array() * T - top_load_.array() * force_top - d_.array() * p.array() -
                            w2_.array() * z.array());
       else
