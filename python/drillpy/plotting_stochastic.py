@@ -26,14 +26,13 @@ def psd_fit(path, f, S_raw, fit_model, *, S_welch=None, f_welch=None, target=Non
             ax.loglog(ff, target(ff), "k--", lw=1.0,
                       label=f"target: f0={target.f0:.2f}, A0={target.A0:.2f}, a={target.a:.2f}, "
                             f"b={target.b:.2f}")
-        if lim is not None:
+        if lim is not None and ff.size:
             ax.set_xlim(*lim)
-            sel = (f >= lim[0]) & (f <= lim[1]) & pos
-            if np.any(sel):
-                ax.set_ylim(np.percentile(S_raw[sel], 0.5) / 2, np.max(S_raw[sel]) * 2)
+            model = m(ff)
+            ax.set_ylim(model.min() / 30.0, model.max() * 10.0)
         ax.set_xlabel("frequency f [Hz]")
         ax.set_ylabel("one-sided PSD of eta [1/Hz]")
-        ax.grid(alpha=0.3, which="both")
+        ax.grid(alpha=0.3)
     axes[0].set_title(title or "PSD of eta (Fig. 4.2)")
     axes[1].set_title("zoom: fitted model (Fig. 4.3)")
     axes[1].legend(fontsize=7, loc="lower left")

@@ -2,7 +2,6 @@
 command: statistics against numpy oracles, thread-count and chunk invariance, eta of sample i,
 Conv1, stick/slip phases, Ctrl-C, bad input."""
 import json
-import math
 import os
 import signal
 import subprocess

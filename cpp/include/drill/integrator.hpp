@@ -189,9 +189,10 @@ class Integrator {
       const double v = om + bit_.dot(p);
       // modal forces other than the bit torque: damping, stiffness, accelerating frame
       if (diag_damping_)
-        f.array() = -d_.array() * p.array() - w2_.array() * z.array() - top_load_.array() * domega;
+        f.array() = -d_.array() * p.array() - w2_.array() * z.array();
       else
-        f = -D_ * p - w2_.cwiseProduct(z) - top_load_ * domega;
+        f = -D_ * p - w2_.cwiseProduct(z);
+      if (domega != 0.0) f -= top_load_ * domega;  // exactly zero at constant top speed
       const double alpha = bit_.dot(f) + domega;
       // Eq. (A.1): a = (v_{i+1} - v_i) / dt = alpha - g T(v_i, a), with
       // T(a) = (1 + eta) (base + frac (1 + c tanh(k a))) + c_v v increasing in a.
