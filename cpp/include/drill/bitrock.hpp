@@ -32,6 +32,14 @@ inline std::string to_string(SpeedUnit u) { return u == SpeedUnit::rpm ? "rpm" :
 /// Factor converting rad/s to the unit: v_unit = v_si * speed_factor(unit).
 inline double speed_factor(SpeedUnit u) { return u == SpeedUnit::rpm ? 30.0 / M_PI : 1.0; }
 
+/// tanh(x), returning +-1 without the call where tanh rounds to +-1 in double precision
+/// (|x| > 19.1): the regularizing tanh terms of Eqs. (3.1)-(3.3) saturate most of the time.
+inline double tanh_sat(double x) {
+  if (x > 19.1) return 1.0;
+  if (x < -19.1) return -1.0;
+  return std::tanh(x);
+}
+
 /// Torque and its partial derivatives with respect to SI bit speed and SI bit acceleration.
 struct TorqueEval {
   double T = 0.0, dT_dv = 0.0, dT_da = 0.0;
@@ -104,9 +112,9 @@ struct BitRockLaw {
   /// hysteresis); the integrators use it to solve for the acceleration cheaply.
   struct AtSpeed {
     double base = 0.0, frac = 0.0, dbase_dv = 0.0, dfrac_dv = 0.0, c = 0.0, k = 0.0;
-    double torque(double a) const { return base + frac * (1.0 + c * std::tanh(k * a)); }
+    double torque(double a) const { return base + frac * (1.0 + c * tanh_sat(k * a)); }
     TorqueEval eval(double a) const {
-      const double th = std::tanh(k * a), h = 1.0 + c * th;
+      const double th = tanh_sat(k * a), h = 1.0 + c * th;
       return {base + frac * h, dbase_dv + dfrac_dv * h, frac * c * k * (1.0 - th * th)};
     }
   };
@@ -118,13 +126,13 @@ struct BitRockLaw {
     AtSpeed r;
     switch (kind) {
       case Kind::tucker_wang: {  // Eq. (3.1)
-        const double t = std::tanh(alpha0 * v), den = 1.0 + alpha2 * v * v;
+        const double t = tanh_sat(alpha0 * v), den = 1.0 + alpha2 * v * v;
         r.base = c0 * (t + alpha1 * v / den);
         r.dbase_dv = c0 * (alpha0 * (1.0 - t * t) + alpha1 * (1.0 - alpha2 * v * v) / (den * den));
         break;
       }
       case Kind::hysteretic: {  // Eq. (3.2): b0 tanh(b1 v) + b0 b2 |v|^b4 sign(v) / (1 + b3 |v|^b5) (1 + H)
-        const double t = std::tanh(b[1] * v);
+        const double t = tanh_sat(b[1] * v);
         r.base = b[0] * t;
         r.dbase_dv = b[0] * b[1] * (1.0 - t * t);
         const double av = std::max(std::fabs(v), 1e-300), lv = std::log(av);

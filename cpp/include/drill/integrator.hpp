@@ -199,13 +199,19 @@ class Integrator {
       const BitRockLaw::AtSpeed ts = law_.at_speed(v, wob);
       const double scale = 1.0 + eta, rest = in.bit_viscous * v;
       double a = alpha - g * (scale * (ts.base + ts.frac) + rest);
+      double T = scale * (ts.base + ts.frac) + rest;
       if (ts.frac * ts.c != 0.0 && ts.k != 0.0) {
         // saturated branches first (tanh = +-1 to double precision), Newton otherwise
-        const double up = alpha - g * (scale * (ts.base + ts.frac * (1.0 + ts.c)) + rest);
-        const double dn = alpha - g * (scale * (ts.base + ts.frac * (1.0 - ts.c)) + rest);
-        if (ts.k * up > 19.0) a = up;
-        else if (ts.k * dn < -19.0) a = dn;
-        else
+        const double T_up = scale * (ts.base + ts.frac * (1.0 + ts.c)) + rest;
+        const double T_dn = scale * (ts.base + ts.frac * (1.0 - ts.c)) + rest;
+        const double up = alpha - g * T_up, dn = alpha - g * T_dn;
+        if (ts.k * up > 19.1) {
+          a = up;
+          T = T_up;
+        } else if (ts.k * dn < -19.1) {
+          a = dn;
+          T = T_dn;
+        } else {
           a = solve_root(
               [&](double x, double& dF) {
                 const TorqueEval e = ts.eval(x);
@@ -214,9 +220,10 @@ class Integrator {
               },
               std::min(std::max(a_guess, std::min(up, dn)), std::max(up, dn)), std::fabs(up - dn) + 1e-12,
               1e-12 * (1.0 + std::fabs(alpha)), t);
+          T = scale * ts.torque(a) + rest;
+        }
         a_guess = a;
       }
-      const double T = scale * ts.torque(a) + rest;
       if (!std::isfinite(v) || !std::isfinite(T)) diverged(t);
       obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T, top_torque_.dot(z), om}));
       if (i == n) break;
