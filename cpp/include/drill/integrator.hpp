@@ -212,15 +212,30 @@ class Integrator {
           a = dn;
           T = T_dn;
         } else {
-          a = solve_root(
-              [&](double x, double& dF) {
-                const TorqueEval e = ts.eval(x);
-                dF = 1.0 + g * scale * e.dT_da;
-                return x + g * (scale * e.T + rest) - alpha;
-              },
-              std::min(std::max(a_guess, std::min(up, dn)), std::max(up, dn)), std::fabs(up - dn) + 1e-12,
-              1e-12 * (1.0 + std::fabs(alpha)), t);
-          T = scale * ts.torque(a) + rest;
+          // F(x) = x + g T(x) - alpha is increasing with F' >= 1 and changes sign on [lo, hi]:
+          // Newton steps kept inside the shrinking bracket (bisection when a step leaves it or
+          // does not halve the previous one); converged when the step is below tol, the next
+          // Newton error being of the order of its square. Faster than the generic solve_root
+          // below (one evaluation less per step, no bracket search) on the Monte Carlo runs.
+          double lo = std::min(up, dn), hi = std::max(up, dn), x = std::min(std::max(a_guess, lo), hi);
+          const double tol = 1e-9 * (1.0 + std::fabs(alpha));
+          double dx_old = HUGE_VAL;
+          T = NAN;  // stays NaN (and is reported as a divergence) only if 200 steps do not converge
+          for (int it = 0; it < 200; ++it) {
+            const TorqueEval e = ts.eval(x);
+            const double F = x + g * (scale * e.T + rest) - alpha;
+            (F < 0.0 ? lo : hi) = x;
+            double xn = x - F / (1.0 + g * scale * e.dT_da);
+            if (!(xn >= lo && xn <= hi) || std::fabs(xn - x) > 0.5 * dx_old) xn = 0.5 * (lo + hi);
+            dx_old = std::fabs(xn - x);
+            if (std::fabs(xn - x) <= tol || hi - lo <= 1e-15 * (1.0 + std::fabs(alpha))) {
+              T = scale * (e.T + e.dT_da * (xn - x)) + rest;  // to second order in the last step
+              x = xn;
+              break;
+            }
+            x = xn;
+          }
+          a = x;
         }
         a_guess = a;
       }
