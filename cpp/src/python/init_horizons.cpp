@@ -63,6 +63,22 @@ void init_horizons(py::module_& m) {
       "columns the samples dt, 2 dt, ... after each start; bit speed [rad/s], contact torque [N m], top speed "
       "[rad/s], after the configured sensors.");
   m.def(
+      "top_torque_from_bit",
+      [](const Simulation& sim, const Eigen::VectorXd& v, const Eigen::VectorXd& a, const Eigen::VectorXd& T,
+         const Eigen::VectorXd& omega, const Eigen::VectorXd& domega) {
+        const Eigen::Index n = v.size();
+        for (const Eigen::VectorXd* x : {&a, &T, &omega, &domega})
+          require(x->size() == n, "top_torque_from_bit arrays", x->size(), "must all have " + show(n) + " entries");
+        Eigen::VectorXd out(n);
+        const Integrator& integ = sim.integrator();
+        for (Eigen::Index i = 0; i < n; ++i)
+          out(i) = integ.top_torque(integ.state_from_bit(v(i), a(i), T(i), omega(i), domega(i)));
+        return out;
+      },
+      py::arg("simulation"), py::arg("bit_speed"), py::arg("bit_accel"), py::arg("torque"), py::arg("top_speed"),
+      py::arg("top_accel"),
+      "Elastic torque at the top [N m] of the states reproducing measured bit states (one per sample).");
+  m.def(
       "state_from_bit",
       [](const Simulation& sim, double v, double a, double T, double omega, double domega) {
         const ModelState s = sim.integrator().state_from_bit(v, a, T, omega, domega);
