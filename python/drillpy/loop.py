@@ -414,6 +414,8 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
     n = idx.size
     if td is not None:  # the top at its measured speed (motor state or kinematic drive)
         om, dom = chs["top"][idx], chs["dtop"][idx]
+        if td.get("variant") == "motor":  # its rate from the motor equation, not the noisy record
+            dom = np.full(n, np.nan)
     else:
         om, dom = np.full(n, model.top_speed), np.zeros(n)
     state = np.column_stack([chs["v"][idx], chs["a"][idx], chs["T"][idx], om, dom])
@@ -735,6 +737,12 @@ def _motor_starts(model: LoopModel, data: LoopData, chs: dict, tr: np.ndarray) -
     if J > jmin and c > 0:
         starts.append({"variant": "motor", "droop_rad_s_per_nm": float(np.clip(1.0 / c, 1e-3, 1e3)),
                        "inertia_kg_m2": float(J), "command_rad_s": float(c_om / c)})
+    slope, icpt = np.polyfit(ttop, top, 1)  # quasi-static droop: Omega = Omega_c - T_top / c_m
+    if slope < 0:
+        droop = float(np.clip(-slope, 1e-3, 1e3))
+        for tau in (0.01, 0.05):
+            starts.append({"variant": "motor", "droop_rad_s_per_nm": droop, "inertia_kg_m2": max(tau / droop, jmin),
+                           "command_rad_s": float(icpt)})
     for droop in (1.0, 4.0):
         starts.append({"variant": "motor", "droop_rad_s_per_nm": droop, "inertia_kg_m2": max(0.05 / droop, jmin),
                        "command_rad_s": mean_top + droop * mean_t})
@@ -827,6 +835,7 @@ class LoopResult:
     options: LoopOptions
     config: dict       #: declared configuration (normalized, analysis time step)
     notes: list
+    last_round: dict = field(default_factory=dict)  #: candidate -> Evaluation of the last round
 
     def metric(self) -> str:
         d = self.data
@@ -874,7 +883,7 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
     base = evaluate(calibrate(cfg, data, th), data, th)
     log(f"baseline (declared model calibrated): validation error E = {base.E_test:.4f} (calibration {base.E_train:.4f}); "
         f"law residual RMSE {base.law_rmse_test:.4f} N m")
-    cur, steps, rounds = base, [], []
+    cur, steps, rounds, last = base, [], [], {}
     for _ in range(opt.max_steps):
         cands = [e for e in opt.effects if e not in cur.model.effects
                  and all(c in data.channels() for c in CATALOGUE[e].needs)]
@@ -895,6 +904,7 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
                 f"dBIC {e['delta_bic']:.1f}, explained {e['explained_fraction']:.2f}"
                 if ev is not None else e["reasons"][0]) + ("  <- passes" if e["accepted"] else ""))
         rounds.append([{"effect": n, **e} for n, _, e in results])
+        last = {n: ev for n, ev, _ in results if ev is not None}
         ok = [(n, ev, e) for n, ev, e in results if e["accepted"]]
         if not ok:
             log("no candidate passes the guard: stop")
@@ -909,7 +919,7 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
                       "before": cur, "candidate": ev, "after": new})
         log(f"step {len(steps)}: add {name}: validation error {cur.E_test:.4f} -> {new.E_test:.4f}")
         cur = new
-    return LoopResult(data, base, cur, steps, rounds, opt, cfg, notes)
+    return LoopResult(data, base, cur, steps, rounds, opt, cfg, notes, last)
 
 
 def loop_record(record, out_dir, *, preset: str | None = None, config_path: str | None = None,

@@ -75,6 +75,20 @@ TEST(Horizons, StateFromBitIsTheModelsStateWithOneMode) {
   }
 }
 
+TEST(Horizons, MotorStateTakesTheTopAccelerationFromTheMotorEquation) {
+  // the acceleration the motor equation gives for a state of a run is the run's own
+  const Simulation sim(rig(true));
+  const LongRun lr = long_run(sim, 3.0);
+  const TopDrive& td = sim.config().top_drive;
+  const double dt = sim.config().sim.dt;
+  for (long i : {12000L, 17000L, 23000L}) {
+    const ModelState a = sim.integrator().state_from_bit(lr.v[i], lr.a[i], lr.T[i], lr.top[i], td, sim.config().top_speed);
+    const ModelState b = sim.integrator().state_from_bit(lr.v[i], lr.a[i], lr.T[i], lr.top[i], (lr.top[i + 1] - lr.top[i]) / dt);
+    EXPECT_NEAR(a.q(0), b.q(0), 1e-12 * (1.0 + std::fabs(b.q(0)))) << i;
+    EXPECT_NEAR(a.qdot(0), b.qdot(0), 1e-12) << i;
+  }
+}
+
 TEST(Horizons, RestartedHorizonsReproduceTheLongRun) {
   for (bool motor : {false, true}) {
     const Simulation sim(rig(motor));

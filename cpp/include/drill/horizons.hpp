@@ -27,7 +27,8 @@
 
 namespace drill {
 
-/// Where a horizon starts and the measured state it starts from.
+/// Where a horizon starts and the measured state it starts from. With a motor top drive a
+/// non-finite top_accel means: the one the motor equation gives for this state.
 struct HorizonStart {
   long index = 0;  ///< sample of the input grid at which the horizon starts
   // state of the model (sensor effects already removed), SI
@@ -103,8 +104,11 @@ inline HorizonResult predict_horizons(const Simulation& sim, const std::vector<H
           in.eta = Signal::sampled(std::vector<double>(row.data(), row.data() + row.size()), 0.0, hin.dt);
         }
         // the state carries the total torque on the bit: the measured contact torque plus c_v v
-        const ModelState s0 = integ.state_from_bit(st.bit_speed, st.bit_accel, st.torque + in.bit_viscous * st.bit_speed,
-                                                   st.top_speed, st.top_accel);
+        const double Tb = st.torque + in.bit_viscous * st.bit_speed;
+        const ModelState s0 =
+            in.top_drive.is_motor() && !std::isfinite(st.top_accel)
+                ? integ.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, in.top_drive, in.top_speed.at(0.0))
+                : integ.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, st.top_accel);
         LowPass2 fv(c.sensor_lowpass_hz, c.sim.dt), ft(c.sensor_lowpass_hz, c.sim.dt), fo(c.sensor_lowpass_hz, c.sim.dt);
         const Eigen::Index row = static_cast<Eigen::Index>(h);
         integ.run(

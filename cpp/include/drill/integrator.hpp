@@ -151,6 +151,20 @@ class Integrator {
   ///   z_1 = -(p_1' + D_11 p_1 + top_load_1 domega + bit_1 T) / omega_1^2,
   /// and the other modes are quasi-static (p_j = p_j' = 0, z_j = -(top_load_j domega + bit_j T) / omega_j^2).
   /// With one retained mode (the test rig) the state is exact; the motor speed is set to omega.
+  /// With a motor top drive the top's acceleration follows from the motor equation instead, as the
+  /// scheme's motor step makes it, (J_m + c_m dt) domega = c_m (command - omega) - T_top(domega), with
+  /// T_top linear in domega through the state: domega = (c_m (command - omega) - T_top(0)) /
+  /// (J_m + c_m dt + dT_top/ddomega).
+  ModelState state_from_bit(double v, double a, double T, double omega, const TopDrive& td, double command) const {
+    require(td.is_motor(), "top_drive.type", std::string(TopDrive::kind_name(td.kind)), "must be motor here");
+    const double t0 = top_torque(state_from_bit(v, a, T, omega, 0.0));
+    const double slope = top_torque(state_from_bit(v, a, T, omega, 1.0)) - t0;
+    const double den = td.inertia + td.slope * opt_.dt + slope;
+    require(den > 0.0, "top_drive.inertia_kg_m2", td.inertia,
+            "is too small for the string's inertia load at the top (J_m + dT_top/dOmega' = " + show(den) + " <= 0)");
+    return state_from_bit(v, a, T, omega, (td.slope * (command - omega) - t0) / den);
+  }
+
   ModelState state_from_bit(double v, double a, double T, double omega, double domega) const {
     for (double x : {v, a, T, omega, domega}) require_finite(x, "measured state (v, a, T, omega, domega)");
     const Eigen::Index m = w2_.size();
