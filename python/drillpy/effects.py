@@ -20,11 +20,12 @@ effect                  level   model change (parameters)
                                 [Hz] (drill/sensor.hpp): the model's outputs pass through it, its state comes
                                 from the recorded values and rates, the model's state from the channels with
                                 the filter undone, x = y + (sqrt(2)/omega_c) y' + y''/omega_c^2
-``torque_fluctuation``  dynamic T = T_law (1 + eta(t)) (Eq. 4.1) with eta a coloured (Ornstein-Uhlenbeck)
-                                process of correlation time tau [s]: its value at a restart is estimated from
-                                the record's past, eta_hat = exponentially weighted mean of T/T_law - 1 over
-                                the slip samples with memory m [s], and the prediction uses the conditional
-                                mean eta_hat exp(-s/tau) over the horizon
+``torque_fluctuation``  dynamic T = T_law (1 + eta(t)) (Eq. 4.1) with eta coloured: white noise through a
+                                critically damped second-order low-pass of time constant tau [s] (PSD falling
+                                as f^-4, the steep shape of Eq. 4.4). Its state (eta, eta') at a restart is
+                                estimated from the record's past (a line fitted to T/T_law - 1 over the slip
+                                samples with weights exp(-age/m), memory m [s]) and the prediction uses the
+                                conditional mean exp(-s/tau) [eta (1 + s/tau) + s eta'] over the horizon
 ``viscous_damping``     dynamic an extra viscous torque c_v v [N m s/rad] on the bit that the torque sensor
                                 (under the rock holder) does not see
 ======================= ======= =============================================================================
@@ -95,8 +96,9 @@ CATALOGUE = {
         "torque_fluctuation", "dynamic",
         (("tau_s", "s", "correlation time of eta"), ("memory_s", "s", "memory of the estimate of eta from the past"),
          ("std", "-", "standard deviation of eta (estimated, reported)")),
-        "T = T_law (1 + eta(t)) (Eq. 4.1), eta coloured: at a restart eta_hat from the past of T/T_law - 1, "
-        "then eta_hat exp(-s/tau) over the horizon",
+        "T = T_law (1 + eta(t)) (Eq. 4.1), eta white noise through a critically damped second-order low-pass "
+        "(time constant tau): at a restart (eta, eta') from the past of T/T_law - 1, then the conditional mean "
+        "exp(-s/tau) [eta (1 + s/tau) + s eta'] over the horizon",
         "a law residual, relative to T_law, that its own recent past predicts (correlated over longer than "
         "the horizon)",
         "slow changes of the bit-rock contact that no input explains: rock heterogeneity, cuttings, wear, "

@@ -382,19 +382,39 @@ def law_torque(model: LoopModel, chs: dict, index=None) -> np.ndarray:
     return ident.law_eval(model.law, chs["v"][sl], chs["a"][sl], chs["W_eff"][sl])[0]
 
 
-def eta_estimate(model: LoopModel, data: LoopData, chs: dict) -> np.ndarray:
-    """Per sample, the estimate of eta from the record's past: the exponentially weighted mean
-    (memory m) of T / T_law - 1 over the slip samples up to and including that sample."""
+def eta_estimate(model: LoopModel, data: LoopData, chs: dict) -> tuple:
+    """Per sample, the state (eta, eta') of the fluctuation estimated from the record's past: the
+    straight line fitted by least squares to eta_obs = T / T_law - 1 over the slip samples up to and
+    including that sample, with weights exp(-age / m) (m: ``memory_s``). The weighted sums are
+    recursive: filters with the kernels lambda^n, n lambda^n, n^2 lambda^n (lambda = exp(-dt / m))."""
     p = model.effects["torque_fluctuation"]
     Tl = law_torque(model, chs)
     slip = data.valid & (chs["v"] > data.stick_threshold)
     floor = 0.1 * float(np.median(np.abs(Tl[slip]))) if slip.any() else 0.0
     m = (slip & (np.abs(Tl) > floor)).astype(float)
-    obs = np.where(m > 0, chs["T"] / np.where(m > 0, Tl, 1.0) - 1.0, 0.0)
+    y = np.where(m > 0, chs["T"] / np.where(m > 0, Tl, 1.0) - 1.0, 0.0)
     lam = math.exp(-data.dt / p["memory_s"])
-    num = sps.lfilter([1.0 - lam], [1.0, -lam], obs * m)
-    den = sps.lfilter([1.0 - lam], [1.0, -lam], m)
-    return np.where(den > 1e-6, num / np.maximum(den, 1e-12), 0.0)
+    kernels = (([1.0], [1.0, -lam]), ([0.0, lam], [1.0, -2 * lam, lam ** 2]),
+               ([0.0, lam, lam ** 2], [1.0, -3 * lam, 3 * lam ** 2, -lam ** 3]))
+    S = [sps.lfilter(b, a, m) for b, a in kernels]          # sum w age^k  (age in samples)
+    Y = [sps.lfilter(b, a, m * y) for b, a in kernels[:2]]  # sum w y age^k
+    det = S[0] * S[2] - S[1] ** 2
+    ok = (S[0] > 1e-6) & (det > 1e-9 * np.maximum(S[0] * S[2], 1e-300))
+    level = np.where(S[0] > 1e-6, Y[0] / np.maximum(S[0], 1e-300), 0.0)
+    # y = level - slope * age dt: least squares with the weights
+    a0 = np.where(ok, (S[2] * Y[0] - S[1] * Y[1]) / np.where(ok, det, 1.0), level)
+    a1 = np.where(ok, (S[1] * Y[0] - S[0] * Y[1]) / np.where(ok, det, 1.0), 0.0) / data.dt
+    return a0, a1
+
+
+def eta_forecast(model: LoopModel, level: np.ndarray, slope: np.ndarray, lead: np.ndarray) -> np.ndarray:
+    """Conditional mean of eta at the leads [s] (columns) from (eta, eta') at the restarts (rows):
+    eta is modelled as white noise through a critically damped second-order low-pass of time
+    constant tau (PSD falling as f^-4 above 1/(2 pi tau), the steep coloured shape of Eq. 4.4), whose
+    free response is exp(-s/tau) [eta (1 + s/tau) + s eta']."""
+    tau = model.effects["torque_fluctuation"]["tau_s"]
+    s = lead[None, :]
+    return np.exp(-s / tau) * (level[:, None] * (1.0 + s / tau) + s * slope[:, None])
 
 
 def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, top: bool = False) -> tuple:
@@ -428,9 +448,8 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
     wob_series = chs["W_eff"] if "wob_coupling" in model.effects else None
     eta = None
     if "torque_fluctuation" in model.effects:
-        e0 = eta_estimate(model, data, chs)[idx]
-        decay = np.exp(-np.arange(data.L + D + 1) * data.dt / model.effects["torque_fluctuation"]["tau_s"])
-        eta = e0[:, None] * decay[None, :]
+        level, slope = eta_estimate(model, data, chs)
+        eta = eta_forecast(model, level[idx], slope[idx], np.arange(data.L + D + 1) * data.dt)
     r = _core.predict_horizons(sim, idx.tolist(), np.ascontiguousarray(state), np.ascontiguousarray(sensor),
                                data.dt, data.L + D, top_speed=top_series, wob=wob_series, eta=eta, threads=threads)
     if top:
@@ -540,8 +559,7 @@ def fit_law(model: LoopModel, data: LoopData) -> LoopModel:
     lb = list(fam.lower) + ([-5.0] if wob else [])
     ub = list(fam.upper) + ([5.0] if wob else [])
     lo, hi = np.array(lb, float), np.array(ub, float)
-    x0 = np.clip(np.array(x0, float), np.where(np.isfinite(lo), lo + 1e-6 * (np.abs(lo) + 1), -np.inf),
-                 np.where(np.isfinite(hi), hi - 1e-6 * (np.abs(hi) + 1), np.inf))
+    x0 = np.clip(np.array(x0, float), _inside(lo, +1), _inside(hi, -1))
     npar = len(fam.names)
 
     def resid(x):
@@ -633,14 +651,21 @@ def _unpack(model: LoopModel, x, where) -> LoopModel:
     return m
 
 
+def _inside(bound: np.ndarray, sign: int) -> np.ndarray:
+    """Bounds moved inside by a relative 1e-9 (infinite ones unchanged)."""
+    b = np.asarray(bound, float).copy()
+    f = np.isfinite(b)
+    b[f] += sign * 1e-9 * (1.0 + np.abs(b[f]))
+    return b
+
+
 def fit_dynamic(model: LoopModel, data: LoopData, names, threads: int = 0) -> LoopModel:
     """Least squares on the calibration horizons' normalized residuals over the free parameters
     of the dynamic effects ``names`` (the others held)."""
     x0, lo, hi, where = _pack(model, names)
     if x0.size == 0:
         return model.copy()
-    x0 = np.clip(x0, np.where(np.isfinite(lo), lo + 1e-9 * (1 + np.abs(lo)), lo),
-                 np.where(np.isfinite(hi), hi - 1e-9 * (1 + np.abs(hi)), hi))
+    x0 = np.clip(x0, _inside(lo, +1), _inside(hi, -1))
     top = model.effects.get("top_drive_dynamics", {}).get("variant") == "motor"
     size = (3 if top else 2) * int((~data.is_test).sum()) * data.L
 
@@ -658,9 +683,11 @@ def fit_dynamic(model: LoopModel, data: LoopData, names, threads: int = 0) -> Lo
 def _e_train(model: LoopModel, data: LoopData, threads: int) -> float:
     try:
         r = _residual_vector(model, data, threads)
-        return float(np.sqrt(r @ r))
     except (ValueError, RuntimeError):
         return math.inf
+    with np.errstate(over="ignore", invalid="ignore"):
+        e = float(np.sqrt(r @ r))
+    return e if math.isfinite(e) else math.inf
 
 
 def _best_start(model: LoopModel, data: LoopData, name: str, grid, threads: int) -> LoopModel:
@@ -691,15 +718,14 @@ def fit_candidate(model: LoopModel, data: LoopData, name: str, threads: int = 0)
     m = model.copy()
     if name in ("bit_hysteresis", "wob_coupling"):
         m.effects[name] = {} if name == "bit_hysteresis" else {"gain": 1.0}
-        # the law with its new term: on the law residual first, then on the horizons like every law
-        return fit_dynamic(fit_law(m, data), data, [LAW], threads)
+        return _calibrate(fit_law(m, data), data, threads)  # the law's new term on the law residual first
     chs = state_channels(m, data)
     tr = np.flatnonzero(data.valid & (data.t < data.t_split))
     if name == "top_drive_dynamics":
-        motor = fit_dynamic(_best_start(m, data, name, _motor_starts(m, data, chs, tr), threads), data, [name],
-                            threads)
+        motor = _calibrate(_best_start(m, data, name, _motor_starts(m, data, chs, tr), threads), data, threads)
         kin = m.copy()
         kin.effects[name] = {"variant": "measured"}
+        kin = _calibrate(kin, data, threads)
         return motor if _e_train(motor, data, threads) <= _e_train(kin, data, threads) else kin
     if name == "sensor_lag":
         grid = [{"lowpass_hz": f} for f in (2.0, 4.0, 8.0, 16.0, 32.0)]
@@ -711,9 +737,7 @@ def fit_candidate(model: LoopModel, data: LoopData, name: str, threads: int = 0)
         grid = [{"bit_viscous_nms": f * cref} for f in (0.01, 0.05, 0.2)]
     else:
         raise ValueError(f"effect = {name!r}: unknown")
-    # with a fluctuation the law is the torque with eta divided out: it is refitted with tau and m
-    best = fit_dynamic(_best_start(m, data, name, grid, threads), data,
-                       [LAW, name] if name == "torque_fluctuation" else [name], threads)
+    best = _calibrate(_best_start(m, data, name, grid, threads), data, threads)
     if name == "torque_fluctuation":
         best.effects[name]["std"] = _eta_std(best, data)
     return best
@@ -757,11 +781,21 @@ def _eta_std(model: LoopModel, data: LoopData) -> float:
     return float(np.std(chs["T"][idx][ok] / Tl[ok] - 1.0, ddof=1))
 
 
+def _calibrate(model: LoopModel, data: LoopData, threads: int = 0) -> LoopModel:
+    """The law and every dynamic effect's parameters jointly on the calibration horizons, from the
+    model's values (the same procedure for the baseline and for every candidate, so that a
+    candidate gains only through its own parameters)."""
+    return fit_dynamic(model, data, [LAW] + [e for e in model.effects if _free(model, e)], threads)
+
+
 def refit(model: LoopModel, data: LoopData, threads: int = 0) -> LoopModel:
     """Calibrate every parameter of a model: the law (with its law-level effects) on the law
-    residual, then the law and the dynamic effects' parameters jointly on the calibration horizons."""
-    m = fit_law(model, data)
-    m = fit_dynamic(m, data, [LAW] + [e for e in m.effects if _free(m, e)], threads)
+    residual as a start, then the law and the dynamic effects' parameters jointly on the
+    calibration horizons. The calibration (never the validation) error decides whether the new
+    start beats the model's own values."""
+    m = _calibrate(fit_law(model, data), data, threads)
+    if _e_train(model, data, threads) < _e_train(m, data, threads):
+        m = model.copy()  # a candidate arrives calibrated: keep it if the fresh start does worse
     if "torque_fluctuation" in m.effects:
         m.effects["torque_fluctuation"]["std"] = _eta_std(m, data)
     return m

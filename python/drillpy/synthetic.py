@@ -8,7 +8,7 @@ and switches on any subset of the effects of :mod:`drillpy.effects`, then adds m
 effect                  what the simulated "truth" has (parameters, defaults in :data:`DEFAULTS`)
 ======================= =============================================================================
 ``bit_hysteresis``      the law's acceleration term, Eq. (3.3): ``beta1`` [-], ``beta2`` [s/RPM]
-``wob_coupling``        torque proportional to the recorded WOB, T = T_law W(t) / W_ref
+``wob_coupling``        torque following the recorded WOB, T = T_law (1 + ``gain`` (W(t) / W_0 - 1))
 ``top_drive_dynamics``  an open-loop motor with droop: ``slope_nms_rad`` c_m, ``inertia_kg_m2`` J_m,
                         commanded so that its mean speed stays near the preset's 80.9 RPM
 ``sensor_lag``          every recorded channel through a second-order Butterworth at ``lowpass_hz``
@@ -42,7 +42,7 @@ EFFECTS = ("bit_hysteresis", "wob_coupling", "top_drive_dynamics", "sensor_lag",
 #: Parameters of each effect when switched on without values.
 DEFAULTS = {
     "bit_hysteresis": {"beta1": 0.2, "beta2": 0.005},
-    "wob_coupling": {},
+    "wob_coupling": {"gain": 1.0},
     "top_drive_dynamics": {"slope_nms_rad": 0.25, "inertia_kg_m2": 0.02},
     "sensor_lag": {"lowpass_hz": 10.0},
     "torque_fluctuation": {"std": 0.15, "f0_hz": 0.25},
@@ -83,7 +83,7 @@ def _check_effects(effects) -> dict:
         if name not in EFFECTS:
             raise ValueError(f"effect = {name!r}: unknown (known: {', '.join(EFFECTS)})")
         p = dict(DEFAULTS[name])
-        unknown = set(par or {}) - set(p) - ({"gain"} if name == "wob_coupling" else set())
+        unknown = set(par or {}) - set(p)
         if unknown:
             raise ValueError(f"effects[{name!r}]: unknown parameter(s) {sorted(unknown)} (known: {sorted(p)})")
         p.update(par or {})
@@ -166,8 +166,10 @@ def synthetic_record(effects=(), *, duration_s: float = 12.0, seed: int = 0, fs_
         f0 = p["f0_hz"]
         psd = PsdModel(f0=f0, A0=0.0, a=-3.13, b=3.13 * math.log(f0))  # Eq. (4.4) shape, continuous at f0
         eta = p["std"] * _unit_process(psd, sdt, total + 1.0, seed, _STREAMS["eta"])
-    res = simulate(cfg, wob_series=wob if "wob_coupling" in eff else None, eta_series=eta, series_dt=sdt,
-                   start="steady")
+    wob_law = None
+    if "wob_coupling" in eff:  # the law's input: W_0 (1 + k (W / W_0 - 1)), proportional for k = 1
+        wob_law = w0 * (1.0 + eff["wob_coupling"]["gain"] * (wob / w0 - 1.0))
+    res = simulate(cfg, wob_series=wob_law, eta_series=eta, series_dt=sdt, start="steady")
     keep = res.t >= settle_s - 1e-12
     t = res.t[keep] - settle_s
     vb, top = res.bit_speed[keep], res.top_speed[keep]
