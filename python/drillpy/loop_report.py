@@ -100,10 +100,11 @@ def overlay_figure(path, res: LoopResult) -> Path:
         for j, h in enumerate(w):
             t = d.t[hs[h]]
             ax.plot(t, getattr(res.baseline, key)[h] * scale, color=C_BASE, lw=1,
-                    label="baseline (declared model, calibrated)" if j == 0 else None)
-            ax.plot(t, getattr(res.final, key)[h] * scale, color=C_FINAL, lw=1,
-                    label="final (" + (", ".join(s["effect"] for s in res.steps) or "no effect added") + ")"
-                    if j == 0 else None)
+                    label=("baseline (declared model, calibrated)" if res.steps else
+                           "declared model, calibrated (no effect added: final = baseline)") if j == 0 else None)
+            if res.steps:
+                ax.plot(t, getattr(res.final, key)[h] * scale, color=C_FINAL, lw=1,
+                        label="final (+ " + ", ".join(s["effect"] for s in res.steps) + ")" if j == 0 else None)
             ax.axvline(d.t[d.starts[h]], color="0.85", lw=0.6)
         ax.set_ylabel(unit)
         ax.grid(alpha=0.3)
@@ -113,7 +114,8 @@ def overlay_figure(path, res: LoopResult) -> Path:
     ax = axes[2]
     ts = d.t[d.starts]
     ax.semilogy(ts, np.sqrt(res.baseline.e_h), ".", color=C_BASE, ms=4, label="baseline")
-    ax.semilogy(ts, np.sqrt(res.final.e_h), ".", color=C_FINAL, ms=4, label="final")
+    if res.steps:
+        ax.semilogy(ts, np.sqrt(res.final.e_h), ".", color=C_FINAL, ms=4, label="final")
     ax.axvline(d.t_split, color="k", ls="--", lw=1, label="calibration | validation")
     ax.set_xlabel("horizon start [s]")
     ax.set_ylabel("horizon error sqrt(e_h) [-]")
