@@ -971,22 +971,7 @@ def loop_record(record, out_dir, *, preset: str | None = None, config_path: str 
     return js
 
 
-def jsonable(o):
-    """Plain JSON types (NaN and inf become null)."""
-    if isinstance(o, dict):
-        return {str(k): jsonable(v) for k, v in o.items()}
-    if isinstance(o, (list, tuple)):
-        return [jsonable(v) for v in o]
-    if isinstance(o, np.ndarray):
-        return jsonable(o.tolist())
-    if isinstance(o, (bool, np.bool_)):
-        return bool(o)
-    if isinstance(o, (np.integer,)):
-        return int(o)
-    if isinstance(o, (float, np.floating)):
-        return None if not math.isfinite(float(o)) else float(o)
-    return o
-
-
 def dumps(o) -> str:
-    return json.dumps(jsonable(o), indent=2)
+    """JSON text of plain and NumPy values (NaN and inf become null)."""
+    from .analysis import _jsonable
+    return json.dumps(_jsonable(o), indent=2)

@@ -343,6 +343,14 @@ def render_report(res: LoopResult, files: dict) -> str:
                      f"{c['p_value']:.2g} | {c['delta_bic']:.1f} | {c['explained_fraction']:.2f} | "
                      f"{'passes' if c['accepted'] else 'rejected: ' + '; '.join(c['reasons'])} |")
         L.append("")
+    if res.rounds:
+        L += [f"What each candidate of the last round fitted, and what it would mean on the rig (round "
+              f"{len(res.rounds)}):", ""]
+        for c in res.rounds[-1]:
+            if c.get("parameters"):  # a candidate whose fit failed has none
+                L.append(f"- `{c['effect']}` ({'passes' if c['accepted'] else 'rejected'}): "
+                         f"{reading(c['effect'], c['parameters'])}")
+        L.append("")
     L += ["Explained = (R.S)^2 / (|R|^2 |S|^2): the fraction of the calibration residual R (both channels, "
           "normalized) that the candidate's signature S (its change of the predictions) accounts for.", "",
           "## Parameters", "", "```json", dumps(f.model.parameters()), "```", "",
