@@ -52,13 +52,17 @@ def _signature_row(axs, res: LoopResult, before, after, name: str, accepted: boo
     hs = d.horizon_samples
     te = np.flatnonzero(d.is_test)
     h0 = te[: max(1, int(round(2.0 / (d.L * d.dt))))]
+    # the channel the signature moves most (normalized): bit speed [RPM] or torque [N m]
+    torque = float(np.sum(sT[tr] ** 2)) > float(np.sum(sv[tr] ** 2))
+    r_, s_, scale, what = (rT, sT, d.sigma_T, "torque on bit [N m]") if torque else (rv, sv, d.sigma_v * RPM,
+                                                                                        "bit speed [RPM]")
     for j, h in enumerate(h0):
         t = d.t[hs[h]]
-        ax.plot(t, rv[h] * d.sigma_v * RPM, color=C_MEAS, lw=0.8, label="bit-speed residual before" if j == 0 else None)
-        ax.plot(t, sv[h] * d.sigma_v * RPM, color=C_SIG, lw=0.8, label="signature (after - before)" if j == 0 else None)
+        ax.plot(t, r_[h] * scale, color=C_MEAS, lw=0.8, label="residual before" if j == 0 else None)
+        ax.plot(t, s_[h] * scale, color=C_SIG, lw=0.8, label="signature (after - before)" if j == 0 else None)
         ax.axvline(d.t[d.starts[h]], color="0.8", lw=0.5)
     ax.set_xlabel("time [s] (validation part; grey: restarts)")
-    ax.set_ylabel("bit speed [RPM]")
+    ax.set_ylabel(what)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
 
@@ -153,6 +157,7 @@ def errors_figure(path, res: LoopResult) -> Path:
     ax.bar(x - 0.2, [e.E_train for e in ev], 0.4, color="0.6", label="calibration part")
     ax.bar(x + 0.2, [e.E_test for e in ev], 0.4, color=C_FINAL, label="validation part")
     ax.set_xticks(x, labels, rotation=20, fontsize=8)
+    ax.set_xlim(-1.0, max(len(ev), 2))
     ax.set_ylabel("normalized prediction error E [-]")
     ax.grid(alpha=0.3, axis="y")
     ax.legend(fontsize=8)
@@ -247,6 +252,12 @@ def _f(x, fmt=".4f"):
     return "n/a" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, fmt)
 
 
+def _damping(d: dict) -> str:
+    if d.get("type") == "modal":
+        return "modal damping ratios " + ", ".join(f"{r:g}" for r in d["ratios"])
+    return "Rayleigh damping " + ", ".join(f"{z:g} at {f:g} Hz" for f, z in d["pairs"])
+
+
 def _params(p: dict) -> str:
     return ", ".join(f"{k} = {v:.4g}" if isinstance(v, float) else f"{k} = {v}" for k, v in p.items()) or "-"
 
@@ -284,8 +295,8 @@ def render_report(res: LoopResult, files: dict) -> str:
     o = res.options
     L = [f"# drillpy loop: `{Path(d.source).name}`", "",
          f"Declared model `{res.config.get('name')}` ({res.config['rom']['modes']} mode(s), law "
-         f"`{res.config['law']['type']}`, damping {res.config['damping']}), calibrated on the record, then extended "
-         f"by the effects of the catalogue the evidence supports.", "",
+         f"`{res.config['law']['type']}`, {_damping(res.config['damping'])}), calibrated on the record, then "
+         f"extended by the effects of the catalogue the evidence supports.", "",
          "## Data", "",
          f"- {d.t.size} samples at {1 / d.dt:g} Hz (record {d.record_rate_hz:g} Hz, decimated by {d.decimation}), "
          f"{d.t[0]:.3f}-{d.t[-1]:.3f} s; cleaning: {'; '.join(d.cleaning)}.",
