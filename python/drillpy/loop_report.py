@@ -61,7 +61,10 @@ def _signature_row(axs, res: LoopResult, before, after, name: str, accepted: boo
         ax.plot(t, r_[h] * scale, color=C_MEAS, lw=0.8, label="residual before" if j == 0 else None)
         ax.plot(t, s_[h] * scale, color=C_SIG, lw=0.8, label="signature (after - before)" if j == 0 else None)
         ax.axvline(d.t[d.starts[h]], color="0.8", lw=0.5)
-    ax.set_xlabel("time [s] (validation part; grey: restarts)")
+    shown = np.abs(np.r_[r_[h0].ravel(), s_[h0].ravel()]) * scale
+    top = 1.3 * np.percentile(shown, 99) if shown.size else 1.0
+    ax.set_ylim(-top, top)  # the sharp torque drops at stick-slip transitions would flatten the rest
+    ax.set_xlabel("time [s] (validation part; grey: restarts; clipped at 1.3 x the 99th percentile)")
     ax.set_ylabel(what)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)

@@ -131,7 +131,7 @@ inline HorizonResult predict_horizons(const Simulation& sim, const std::vector<H
             },
             &s0);
       },
-      progress, threads);
+      progress, threads, n);  // one parallel region: a call is short, and barriers cost on busy machines
   if (!done) return HorizonResult{};
   return r;
 }
