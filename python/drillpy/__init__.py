@@ -26,4 +26,9 @@ from .records import Record, read_record, write_csv  # noqa: E402
 from .cleaning import clean  # noqa: E402
 
 __all__ += ["Record", "read_record", "write_csv", "clean"]
+# drillpy loop: residual -> missing effect -> corrected model (issue 6)
+from .loop import LoopOptions, run_loop, loop_record  # noqa: E402
+from .synthetic import synthetic_record  # noqa: E402
+
+__all__ += ["LoopOptions", "run_loop", "loop_record", "synthetic_record"]
 __version__ = "0.1.0"

@@ -69,6 +69,10 @@ class CleaningOptions:
         top speed (of the bit speed's 95th percentile without a top-speed channel).
     stuck_fraction : float
         Fraction of a stretch the bit must be stuck for the top-speed repair.
+    spike_channels : tuple or None
+        Channels searched for spikes and artifact stretches (None: all). ``drillpy loop`` searches
+        the encoder channels only: a load cell's torque drops sharply, and genuinely, when the bit
+        nearly sticks for a few milliseconds.
     """
     max_fill_s: float = 0.05
     grid_tolerance: float = 0.1
@@ -81,6 +85,7 @@ class CleaningOptions:
     stretch_min_spikes: int = 3
     stick_threshold_rad_s: float | None = None
     stuck_fraction: float = 0.9
+    spike_channels: tuple | None = None
 
     def validate(self) -> None:
         for name in ("max_fill_s", "grid_tolerance", "spike_window_s", "spike_sigmas", "spike_min_fraction",
@@ -187,7 +192,8 @@ def clean(record: Record, options: CleaningOptions | None = None) -> tuple[Recor
         _fill_missing(rec, name, opt, rep)
     rep.stick_threshold_rad_s = _stick_threshold(rec, opt)
     for name in rec.channels:
-        _spikes(rec, name, opt, rep)
+        if opt.spike_channels is None or name in opt.spike_channels:
+            _spikes(rec, name, opt, rep)
     rep.n_output = len(rec)
     rep.artifacts.sort(key=lambda a: (a.start_s, a.channel))
     rec.provenance = dict(rec.provenance, cleaning=rep.summary())

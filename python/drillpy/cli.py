@@ -11,6 +11,7 @@
   drillpy frf-report --preset thesis-ch6 --out DIR          chapter 6 and appendix C figures
   drillpy robust-ss --preset thesis-ch6 --samples 40 --speeds 6:27:8 --out DIR
   drillpy mc       --preset thesis-field --samples 500 --speeds 6:27:22 --seed 1 --json
+  drillpy loop     RECORD --preset thesis-rig --out DIR      residual -> missing effect -> corrected model
 
 Every error prints one line ``drillpy: error: ...`` and exits with status 2.
 """
@@ -343,6 +344,21 @@ def cmd_mc(a) -> int:
     return 0
 
 
+def cmd_loop(a) -> int:
+    from .loop import LoopOptions, loop_record
+    from .effects import NAMES
+    effects = NAMES if a.effects is None else tuple(e.strip() for e in a.effects.split(",") if e.strip())
+    opt = LoopOptions(horizon_s=a.horizon, calibration_fraction=a.calibration_fraction, rate_hz=a.rate,
+                      min_gain=a.min_gain, alpha=a.alpha, min_delta_bic=a.min_delta_bic, max_steps=a.max_steps,
+                      effects=effects, threads=a.threads, dt_s=a.dt)
+    js = loop_record(a.record, a.out, preset=a.preset, config_path=a.config, options=opt,
+                     log=(lambda *_: None) if a.json else print)
+    if a.json:
+        print(json.dumps({k: js[k] for k in ("metric", "baseline_error", "final_error")} |
+                         {"effects": [s["effect"] for s in js["steps"]]}))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="drillpy", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -444,6 +460,27 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--out", help="folder for the figures and mc.json")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_mc)
+
+    s = sub.add_parser("loop", help="measured record versus a declared model: residuals, the missing effects the "
+                                    "evidence supports, the corrected model, errors before and after")
+    s.add_argument("record", help="rig MATLAB file or drillpy CSV (see README: CSV format)")
+    src = s.add_mutually_exclusive_group(required=True)
+    src.add_argument("--preset", help="declared model: a built-in configuration (e.g. thesis-rig)")
+    src.add_argument("--config", help="declared model: a JSON configuration file")
+    s.add_argument("--out", required=True, help="output folder (loop.json, predictions.csv, report.md, figures)")
+    s.add_argument("--horizon", type=float, default=0.25, help="prediction horizon between restarts [s]")
+    s.add_argument("--calibration-fraction", type=float, default=0.5,
+                   help="fraction of the record (from its start) used to calibrate; the rest validates")
+    s.add_argument("--rate", type=float, default=1000.0, help="analysis sampling rate, at most [Hz]")
+    s.add_argument("--min-gain", type=float, default=0.05, help="minimum relative validation improvement")
+    s.add_argument("--alpha", type=float, default=0.05, help="family-wise level of the test per round")
+    s.add_argument("--min-delta-bic", type=float, default=6.0, help="minimum BIC improvement (calibration part)")
+    s.add_argument("--max-steps", type=int, default=6, help="at most this many effects are added")
+    s.add_argument("--effects", help="comma-separated candidate effects (default: the whole catalogue)")
+    s.add_argument("--dt", type=float, help="engine time step of the predictions [s] (default: the model's)")
+    s.add_argument("--threads", type=int, default=0, help="OpenMP threads (0: default)")
+    s.add_argument("--json", action="store_true", help="print the errors and the effects found as JSON")
+    s.set_defaults(func=cmd_loop)
     return p
 
 

@@ -48,14 +48,16 @@ def _engine(cfg: dict) -> "_core.Simulation":
 def simulate(cfg: dict, top_speed: float | None = None, wob: float | None = None, *,
              top_speed_series=None, wob_series=None, eta_series=None, series_dt: float = 1e-3,
              series_t0: float = 0.0, bit_viscous: float | None = None, record: bool = True,
-             q0=None, qdot0=None, start: str = "rest") -> SimulationResult:
+             q0=None, qdot0=None, top_speed0: float | None = None,
+             start: str = "rest") -> SimulationResult:
     """Run one simulation of ``cfg``.
 
     top_speed [rad/s] and wob [N] default to the configuration's operation point. Series inputs
     (top speed [rad/s], WOB [N], torque fluctuation eta of Eq. 4.1) are sampled every
     ``series_dt`` seconds from ``series_t0`` and interpolated linearly. ``start="rest"`` starts
     from Eq. (2.10) (bit at rest, string untwisted), ``start="steady"`` from steady drilling at the
-    initial top speed; ``q0``/``qdot0`` give any reduced state instead.
+    initial top speed; ``q0``/``qdot0`` give any reduced state instead (with ``top_speed0`` the
+    initial speed of a motor top drive, which otherwise starts at its command).
     """
     sim = _engine(cfg)
     _check_start(start)
@@ -66,11 +68,12 @@ def simulate(cfg: dict, top_speed: float | None = None, wob: float | None = None
         w0 = cfg["operation"]["wob_n"] if wob is None else wob
         if wob_series is not None:
             w0 = float(np.asarray(wob_series, dtype=float)[0])
-        q0, qdot0 = sim.steady_state(om0, w0)
+        q0, qdot0, top_speed0 = sim.steady_state(om0, w0, with_top_speed=True)
     d = sim.run(top_speed=top_speed, wob=wob, top_speed_series=_opt(top_speed_series),
                 wob_series=_opt(wob_series), eta_series=_opt(eta_series), series_dt=series_dt,
                 series_t0=series_t0, bit_viscous=bit_viscous, record=record,
-                q0=_opt(q0), qdot0=_opt(qdot0))
+                q0=_opt(q0), qdot0=_opt(qdot0),
+                top_speed0=None if top_speed0 is None else float(top_speed0))
     return SimulationResult(
         t=d["t"], bit_speed=d["bit_speed"], bit_accel=d["bit_accel"], bit_angle=d["bit_angle"],
         torque_on_bit=d["torque_on_bit"], top_torque=d["top_torque"], top_speed=d["top_speed"],

@@ -12,6 +12,13 @@
 //           "b0".."b5", "beta1", "beta2"}          (tucker_wang: "c0", "alpha0".."alpha2";
 //           polynomial[_hysteretic]: "a0".."a7", "ref_speed", "gain", "beta1", "beta2"),
 //   "operation": {"top_speed_rad_s": 16, "wob_n": 245000, "bit_viscous_nms": 0},
+//   "top_drive": {"type": "ideal"}                 (the thesis: the top turns at top_speed_rad_s)
+//              | {"type": "motor", "slope_nms_rad": c_m, "inertia_kg_m2": J_m}
+//                                                  (open-loop motor commanded at top_speed_rad_s:
+//                                                   J_m Omega' = c_m (Omega_c - Omega) - T_top),
+//   "sensors": {"lowpass_hz": 10}                  (measurement chain of recorded channels: second-
+//                                                   order Butterworth low-pass; 0 = ideal sensors;
+//                                                   used when a model is compared with a record),
 //   "simulation": {"scheme": "modified_euler", "dt_s": 5.12e-4, "duration_s": 200,
 //                  "transient_s": 100, "output_stride": 20},
 //   "metrics": {"stick_threshold_fraction": 0.05, "stick_debounce_s": 0.02},
@@ -32,6 +39,7 @@
 #include "drill/fem.hpp"
 #include "drill/integrator.hpp"
 #include "drill/modal.hpp"
+#include "drill/topdrive.hpp"
 
 namespace drill {
 
@@ -51,6 +59,8 @@ struct Config {
   double top_speed = 10.0;    ///< [rad/s]
   double wob = 245e3;         ///< [N]
   double bit_viscous = 0.0;   ///< [N m s/rad]
+  TopDrive top_drive;         ///< ideal (default) or open-loop motor
+  double sensor_lowpass_hz = 0.0;  ///< cutoff of the recorded channels' low-pass [Hz]; 0: ideal sensors
   SimOptions sim;
   double transient = 100.0;   ///< [s] discarded before metrics
   long output_stride = 20;
@@ -67,6 +77,10 @@ struct Config {
     require_finite(top_speed, "operation.top_speed_rad_s");
     require_non_negative(wob, "operation.wob_n");
     require_non_negative(bit_viscous, "operation.bit_viscous_nms");
+    top_drive.validate();
+    require(!top_drive.is_motor() || sim.scheme == Scheme::modified_euler, "top_drive.type", std::string("motor"),
+            "is implemented for simulation.scheme = modified_euler only");
+    require_non_negative(sensor_lowpass_hz, "sensors.lowpass_hz");
     sim.validate();
     require_non_negative(transient, "simulation.transient_s");
     require(transient < sim.duration, "simulation.transient_s", transient,
@@ -243,7 +257,7 @@ inline json law_to_json(const BitRockLaw& l) {
 inline Config parse_config(const json& j) {
   using namespace detail;
   check_keys(j, "config", {"name", "string", "rom", "damping", "law", "operation", "simulation", "metrics", "sweep",
-                           "craig_bampton", "description"});
+                           "craig_bampton", "description", "top_drive", "sensors"});
   Config c;
   c.name = get_string(j, "name", "config", "custom");
   if (!j.contains("string")) throw std::invalid_argument("config.string: missing (required object)");
@@ -316,6 +330,21 @@ inline Config parse_config(const json& j) {
   } else {
     c.wob = c.law.wob_ref;
   }
+  if (j.contains("top_drive")) {
+    const json& t = j.at("top_drive");
+    c.top_drive.kind = TopDrive::parse_kind(get_string(t, "type", "top_drive", "", true));
+    if (c.top_drive.is_motor()) {
+      check_keys(t, "top_drive", {"type", "slope_nms_rad", "inertia_kg_m2"});
+      c.top_drive.slope = get_number(t, "slope_nms_rad", "top_drive");
+      c.top_drive.inertia = get_number(t, "inertia_kg_m2", "top_drive");
+    } else {
+      check_keys(t, "top_drive", {"type"});
+    }
+  }
+  if (j.contains("sensors")) {
+    check_keys(j.at("sensors"), "sensors", {"lowpass_hz"});
+    c.sensor_lowpass_hz = get_number(j.at("sensors"), "lowpass_hz", "sensors", 0.0);
+  }
   if (j.contains("simulation")) {
     const json& s = j.at("simulation");
     check_keys(s, "simulation", {"scheme", "dt_s", "duration_s", "transient_s", "output_stride"});
@@ -384,6 +413,9 @@ inline json to_json(const Config& c) {
   if (!c.sweep_speeds.empty() || !c.sweep_wobs.empty())
     j["sweep"] = {{"top_speeds_rad_s", c.sweep_speeds}, {"wobs_n", c.sweep_wobs}};
   if (!c.cb_modes.empty()) j["craig_bampton"] = {{"modes", c.cb_modes}};
+  if (c.top_drive.is_motor())
+    j["top_drive"] = {{"type", "motor"}, {"slope_nms_rad", c.top_drive.slope}, {"inertia_kg_m2", c.top_drive.inertia}};
+  if (c.sensor_lowpass_hz > 0.0) j["sensors"] = {{"lowpass_hz", c.sensor_lowpass_hz}};
   return j;
 }
 

@@ -3,6 +3,8 @@
 // Equation of motion in the rotating frame (Eqs. 2.5, 2.9), with a top speed Omega(t):
 //   M~ q'' + D~ q' + K~ q = -bit^T T_bit - top_load Omega'(t),
 //   bit speed  = Omega(t) + bit q',   T_bit = T_law(v, a, W(t)) (1 + eta(t)) + c_v v     (Eq. 4.1)
+// Omega(t) is the commanded speed (ideal top drive) or the state of a motor model driven by it
+// (topdrive.hpp: J_m Omega' = c_m (Omega_c - Omega) - T_top; modified Euler only).
 // The reduced matrices are first brought to M = I, K = diag(omega^2) by the generalized
 // eigenvectors of (K~, M~); D~ stays diagonal for modal or Rayleigh damping and is used dense
 // otherwise (random matrices, Craig-Bampton).
@@ -15,7 +17,8 @@
 //    (Eq. 3.3) it is found from the scalar equation a = alpha_i - g T(v_i, a) (g = bit . bit, alpha_i
 //    the bit acceleration without the bit torque), monotone in a, by safeguarded Newton. (A lagged
 //    backward difference instead makes H flip sign at every step: docs/numerics.md.) First order.
-//    Refused when dt >= pi / (5 omega_max) (Eq. A.7) with omega_max the highest retained frequency.
+//    Refused when dt >= pi / (5 omega_max) (Eq. A.7) with omega_max the highest retained frequency
+//    (with a motor top drive: of the string stiffened by the motor inertia, K - top_load top_torque / J_m).
 //  * bdf2: second-order backward differentiation (backward Euler for the first step), L-stable,
 //    with the torque on bit implicit: the scalar equation for the new bit speed is solved by a
 //    safeguarded Newton iteration, and the bit acceleration in Eq. (3.3) is the BDF2 derivative
@@ -31,6 +34,7 @@
 #include "drill/errors.hpp"
 #include "drill/modal.hpp"
 #include "drill/signal.hpp"
+#include "drill/topdrive.hpp"
 
 namespace drill {
 
@@ -62,7 +66,9 @@ struct Inputs {
   Signal wob = Signal::constant(245e3);       ///< [N]
   Signal eta = Signal::constant(0.0);         ///< multiplicative torque fluctuation (Eq. 4.1)
   double bit_viscous = 0.0;                   ///< extra viscous torque at the bit [N m s/rad]
+  TopDrive top_drive;                         ///< ideal (Omega = top_speed) or motor (commanded by it)
   void validate() const {
+    top_drive.validate();
     top_speed.validate("operation.top_speed_rad_s");
     wob.validate("operation.wob_n");
     eta.validate("eta");
@@ -85,6 +91,7 @@ struct StepState {
 /// Generalized coordinates and velocities of the reduced model (original basis).
 struct ModelState {
   Eigen::VectorXd q, qdot;
+  double top_speed = NAN;  ///< motor speed [rad/s] (motor top drive; NaN: the command at t = 0)
 };
 
 class Integrator {
@@ -122,6 +129,61 @@ class Integrator {
 
   /// Eq. (A.7): dt < pi / (5 omega_max) with omega_max the highest retained natural frequency.
   double stability_bound() const { return M_PI / (5.0 * omega_max_); }
+
+  /// Eq. (A.7) with a motor top drive: omega_max of the string coupled to the motor inertia, the
+  /// largest |eigenvalue| of diag(omega^2) - top_load top_torque^T / J_m (the motor's own damping
+  /// is implicit and needs no bound).
+  double stability_bound(const TopDrive& td) const {
+    if (!td.is_motor()) return stability_bound();
+    const Eigen::MatrixXd Ka = Eigen::MatrixXd(w2_.asDiagonal()) - top_load_ * top_torque_.transpose() / td.inertia;
+    const double w2max = Ka.eigenvalues().cwiseAbs().maxCoeff();
+    return M_PI / (5.0 * std::sqrt(std::max(w2max, omega_max_ * omega_max_)));
+  }
+
+  /// Elastic torque the top drive applies for a state of the model [N m].
+  double top_torque(const ModelState& s) const { return top_torque_.dot(Vinv_ * s.q); }
+
+  /// The state of the model that reproduces, at one instant, a measured bit speed v [rad/s], bit
+  /// acceleration a [rad/s^2], torque on bit T [N m] (the torque acting on the bit), top speed
+  /// omega [rad/s] and top acceleration domega [rad/s^2] (Eq. 2.9 solved for the coordinates).
+  /// In the modal basis (M = I) the lowest mode in which the bit moves carries the motion,
+  ///   p_1 = (v - omega) / bit_1,  p_1' = (a - domega) / bit_1,
+  ///   z_1 = -(p_1' + D_11 p_1 + top_load_1 domega + bit_1 T) / omega_1^2,
+  /// and the other modes are quasi-static (p_j = p_j' = 0, z_j = -(top_load_j domega + bit_j T) / omega_j^2).
+  /// With one retained mode (the test rig) the state is exact; the motor speed is set to omega.
+  /// With a motor top drive the top's acceleration follows from the motor equation instead, as the
+  /// scheme's motor step makes it, (J_m + c_m dt) domega = c_m (command - omega) - T_top(domega), with
+  /// T_top linear in domega through the state: domega = (c_m (command - omega) - T_top(0)) /
+  /// (J_m + c_m dt + dT_top/ddomega).
+  ModelState state_from_bit(double v, double a, double T, double omega, const TopDrive& td, double command) const {
+    require(td.is_motor(), "top_drive.type", std::string(TopDrive::kind_name(td.kind)), "must be motor here");
+    const double t0 = top_torque(state_from_bit(v, a, T, omega, 0.0));
+    const double slope = top_torque(state_from_bit(v, a, T, omega, 1.0)) - t0;
+    const double den = td.inertia + td.slope * opt_.dt + slope;
+    require(den > 0.0, "top_drive.inertia_kg_m2", td.inertia,
+            "is too small for the string's inertia load at the top (J_m + dT_top/dOmega' = " + show(den) + " <= 0)");
+    return state_from_bit(v, a, T, omega, (td.slope * (command - omega) - t0) / den);
+  }
+
+  ModelState state_from_bit(double v, double a, double T, double omega, double domega) const {
+    for (double x : {v, a, T, omega, domega}) require_finite(x, "measured state (v, a, T, omega, domega)");
+    const Eigen::Index m = w2_.size();
+    const double bmax = bit_.cwiseAbs().maxCoeff();
+    Eigen::Index j0 = 0;
+    while (j0 < m && std::fabs(bit_(j0)) <= 1e-9 * bmax) ++j0;
+    require(j0 < m && bmax > 0.0, "rom.modes", m, "no retained mode moves the bit");
+    Eigen::VectorXd z(m), p = Eigen::VectorXd::Zero(m);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      require(w2_(j) > 0.0, "rom.modes", m, "a retained mode has zero stiffness");
+      z(j) = -(top_load_(j) * domega + bit_(j) * T) / w2_(j);
+    }
+    p(j0) = (v - omega) / bit_(j0);
+    const double pd = (a - domega) / bit_(j0);
+    z(j0) = -(pd + D_(j0, j0) * p(j0) + top_load_(j0) * domega + bit_(j0) * T) / w2_(j0);
+    ModelState s = to_model(z, p);
+    s.top_speed = omega;
+    return s;
+  }
   double omega_max() const { return omega_max_; }
   const SimOptions& options() const { return opt_; }
   const BitRockLaw& law() const { return law_; }
@@ -136,11 +198,20 @@ class Integrator {
   template <class Observer>
   ModelState run(const Inputs& in, Observer&& obs, const ModelState* start = nullptr) const {
     in.validate();
+    if (in.top_drive.is_motor()) {
+      require(opt_.scheme == Scheme::modified_euler, "top_drive.type", std::string("motor"),
+              "is implemented for simulation.scheme = modified_euler only");
+      const double bound = stability_bound(in.top_drive);
+      require(opt_.dt < bound, "simulation.dt_s", opt_.dt,
+              "exceeds the modified-Euler stability bound with the motor top drive, dt < " + show(bound) +
+                  " s (Eq. A.7 for the string coupled to top_drive.inertia_kg_m2 = " + show(in.top_drive.inertia) +
+                  ")");
+    }
     const ModelState s0 = start ? *start : initial_state(in.top_speed.at(0.0));
     require(s0.q.size() == V_.rows() && s0.qdot.size() == V_.rows(), "initial_state", s0.q.size(),
             "has the wrong size (the model has " + show(V_.rows()) + " coordinates)");
     Eigen::VectorXd z = Vinv_ * s0.q, p = Vinv_ * s0.qdot;
-    return opt_.scheme == Scheme::modified_euler ? run_euler(in, obs, z, p) : run_bdf2(in, obs, z, p);
+    return opt_.scheme == Scheme::modified_euler ? run_euler(in, obs, z, p, s0.top_speed) : run_bdf2(in, obs, z, p);
   }
 
  private:
@@ -176,15 +247,21 @@ class Integrator {
   ModelState to_model(const Eigen::VectorXd& z, const Eigen::VectorXd& p) const { return {V_ * z, V_ * p}; }
 
   template <class Observer>
-  ModelState run_euler(const Inputs& in, Observer& obs, Eigen::VectorXd& z, Eigen::VectorXd& p) const {
+  ModelState run_euler(const Inputs& in, Observer& obs, Eigen::VectorXd& z, Eigen::VectorXd& p, double top0) const {
     const double dt = opt_.dt;
     const long n = opt_.steps();
     const double g = bit_.squaredNorm();
     Eigen::VectorXd f(z.size());
     double theta_top = 0.0, a_guess = 0.0;
+    const bool motor = in.top_drive.is_motor();
+    double om_state = std::isfinite(top0) ? top0 : in.top_speed.at(0.0);  // motor speed
     for (long i = 0;; ++i) {
       const double t = i * dt;
-      const double om = in.top_speed.at(t), domega = in.top_speed.rate(t);
+      const double om = motor ? om_state : in.top_speed.at(t);
+      // the motor's speed at the next step, from the string's top torque of this step
+      const double om_next = motor ? in.top_drive.step(om, in.top_speed.at(t), top_torque_.dot(z), dt)
+                                   : in.top_speed.at(t + dt);
+      const double domega = motor ? (om_next - om) / dt : in.top_speed.rate(t);
       const double wob = in.wob.at(t), eta = in.eta.at(t);
       const double v = om + bit_.dot(p);
       // modal forces other than the bit torque: damping, stiffness, accelerating frame
@@ -244,9 +321,12 @@ class Integrator {
       if (i == n) break;
       p += dt * (f - bit_ * T);  // Eq. (A.5): velocity first, with the torque of step i ...
       z += dt * p;               // Eq. (A.6): ... then the displacement with the new velocity.
-      theta_top += 0.5 * dt * (om + in.top_speed.at(t + dt));
+      theta_top += 0.5 * dt * (om + om_next);
+      om_state = om_next;
     }
-    return to_model(z, p);
+    ModelState out = to_model(z, p);
+    out.top_speed = om_state;
+    return out;
   }
 
   template <class Observer>

@@ -42,6 +42,7 @@ class Simulation {
     in.top_speed = Signal::constant(top_speed);
     in.wob = Signal::constant(wob);
     in.bit_viscous = cfg_.bit_viscous;
+    in.top_drive = cfg_.top_drive;
     return in;
   }
   Inputs inputs() const { return inputs(cfg_.top_speed, cfg_.wob); }
@@ -51,10 +52,22 @@ class Simulation {
   /// is `disturbance` times the one of Eq. (2.10) (the string lagging the top by that fraction of
   /// Omega). An unstable equilibrium needs the disturbance to leave it. Starting here instead of
   /// from Eq. (2.10) probes the other side of the bistable band (docs/validation.md).
+  /// With a motor top drive the string turns at the speed where the motor's torque carries the
+  /// torque on bit, Omega = Omega_c - T(Omega) / c_m (bisection on [0, Omega_c]; 0 if it stalls).
   ModelState steady_state(double top_speed, double wob, double disturbance = 0.01) const {
     const ReducedModel& r = rom_.model;
-    const double T = cfg_.law.torque(top_speed, 0.0, wob) + cfg_.bit_viscous * top_speed;
-    return {r.K.ldlt().solve(-T * r.bit.transpose()), -disturbance * top_speed * r.init_velocity};
+    auto torque = [&](double om) { return cfg_.law.torque(om, 0.0, wob) + cfg_.bit_viscous * om; };
+    double om = top_speed;
+    if (cfg_.top_drive.is_motor() && top_speed > 0.0) {
+      double lo = 0.0, hi = top_speed;  // g(om) = om - Omega_c + T(om) / c_m is negative at 0 unless stalled
+      auto g = [&](double x) { return x - cfg_.top_drive.steady_speed(top_speed, torque(x)); };
+      if (g(lo) >= 0.0) hi = lo;
+      for (int it = 0; it < 200 && hi - lo > 1e-12 * top_speed; ++it) (g(0.5 * (lo + hi)) < 0.0 ? lo : hi) = 0.5 * (lo + hi);
+      om = 0.5 * (lo + hi);
+    }
+    ModelState s{r.K.ldlt().solve(-torque(om) * r.bit.transpose()), -disturbance * om * r.init_velocity};
+    if (cfg_.top_drive.is_motor()) s.top_speed = om;
+    return s;
   }
 
   /// One run with metrics; `record` keeps every output_stride-th step of the series.

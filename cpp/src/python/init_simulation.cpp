@@ -73,7 +73,7 @@ void init_simulation(py::module_& m) {
           "run",
           [](const Simulation& s, py::object top_speed, py::object wob, py::object top_speed_series,
              py::object wob_series, py::object eta_series, double series_dt, double series_t0,
-             py::object bit_viscous, bool record, py::object q0, py::object qdot0) {
+             py::object bit_viscous, bool record, py::object q0, py::object qdot0, py::object top_speed0) {
             Inputs in = s.inputs();
             const double om = top_speed.is_none() ? s.config().top_speed : py::cast<double>(top_speed);
             const double w = wob.is_none() ? s.config().wob : py::cast<double>(wob);
@@ -86,6 +86,7 @@ void init_simulation(py::module_& m) {
             if (has_start) {
               start.q = py::cast<Eigen::VectorXd>(q0);
               start.qdot = qdot0.is_none() ? Eigen::VectorXd::Zero(start.q.size()) : py::cast<Eigen::VectorXd>(qdot0);
+              if (!top_speed0.is_none()) start.top_speed = py::cast<double>(top_speed0);
             }
             RunReport r;
             {
@@ -97,8 +98,9 @@ void init_simulation(py::module_& m) {
           py::arg("top_speed") = py::none(), py::arg("wob") = py::none(), py::arg("top_speed_series") = py::none(),
           py::arg("wob_series") = py::none(), py::arg("eta_series") = py::none(), py::arg("series_dt") = 1e-3,
           py::arg("series_t0") = 0.0, py::arg("bit_viscous") = py::none(), py::arg("record") = true,
-          py::arg("q0") = py::none(), py::arg("qdot0") = py::none(),
-          "Run one simulation; series inputs are sampled every series_dt from series_t0.")
+          py::arg("q0") = py::none(), py::arg("qdot0") = py::none(), py::arg("top_speed0") = py::none(),
+          "Run one simulation; series inputs are sampled every series_dt from series_t0; top_speed0 is the "
+          "initial motor speed of a motor top drive (default: its command).")
       .def(
           "sweep",
           [](const Simulation& s, const std::vector<double>& speeds, const std::vector<double>& wobs,
@@ -118,11 +120,14 @@ void init_simulation(py::module_& m) {
           "SS (Eq. 3.4) on a WOB x top-speed grid, in parallel; from Eq. (2.10) or steady drilling.")
       .def(
           "steady_state",
-          [](const Simulation& s, double top_speed, double wob) {
+          [](const Simulation& s, double top_speed, double wob, bool with_top_speed) -> py::tuple {
             const ModelState m = s.steady_state(top_speed, wob);
+            if (with_top_speed) return py::make_tuple(m.q, m.qdot, std::isfinite(m.top_speed) ? m.top_speed : top_speed);
             return py::make_tuple(m.q, m.qdot);
           },
-          py::arg("top_speed"), py::arg("wob"), "Reduced state (q, q') of steady drilling at a top speed.");
+          py::arg("top_speed"), py::arg("wob"), py::arg("with_top_speed") = false,
+          "Reduced state (q, q') of steady drilling at a top speed (and the top's speed, which a motor top "
+          "drive lowers below its command, with with_top_speed).");
   m.def("severity_threshold", &severity_threshold, py::arg("speeds"), py::arg("severities"), py::arg("level") = 0.5,
         "Top speed below which SS > level (NaN if the curve does not cross the level).");
 }
