@@ -70,14 +70,6 @@ TEST(FrequencyResponse, PartialFractionsMatchDenseSolveOnRandomRealizations) {
   }
 }
 
-TEST(Quantile, Type7Interpolation) {
-  std::vector<double> v{5, 1, 4, 2, 3};
-  EXPECT_DOUBLE_EQ(quantile_inplace(v, 0.0), 1.0);
-  EXPECT_DOUBLE_EQ(quantile_inplace(v, 0.5), 3.0);
-  EXPECT_DOUBLE_EQ(quantile_inplace(v, 0.1), 1.4);
-  EXPECT_DOUBLE_EQ(quantile_inplace(v, 1.0), 5.0);
-}
-
 TEST(FrfEnvelope, HoldsTheProbabilityAndIsThreadInvariant) {
   const Config c = ch6();
   const StochasticModel sm(c, StochasticKind::cb2, thesis_case_dispersions(3));

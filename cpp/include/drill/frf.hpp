@@ -26,6 +26,7 @@
 #include "drill/errors.hpp"
 #include "drill/modal.hpp"
 #include "drill/parallel.hpp"
+#include "drill/quantile.hpp"
 #include "drill/stochastic_model.hpp"
 
 namespace drill {
@@ -122,17 +123,6 @@ inline FrequencyResponse bit_torque_response(const ReducedModel& r, const Eigen:
 /// top, P_obs,2 the DP/BHA interface (bottom of the first section), P_obs,3 the bit.
 inline std::vector<int> thesis_observation_nodes(const StringModel& s) {
   return {1, s.section_end(0), s.n_nodes() - 1};
-}
-
-/// Type-7 quantile (linear interpolation between order statistics) of v, which is reordered.
-inline double quantile_inplace(std::vector<double>& v, double p) {
-  const double h = (static_cast<double>(v.size()) - 1.0) * p;
-  const std::size_t k = static_cast<std::size_t>(std::floor(h));
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  const double lo = v[k];
-  if (k + 1 >= v.size()) return lo;
-  const double hi = *std::min_element(v.begin() + static_cast<std::ptrdiff_t>(k) + 1, v.end());
-  return lo + (h - static_cast<double>(k)) * (hi - lo);
 }
 
 struct EnvelopeOptions {
@@ -242,8 +232,8 @@ inline FrfEnvelope frf_envelope(const StochasticModel& sm, const std::vector<int
             for (double x : col) sum += x;  // index order
             const Eigen::Index fi = static_cast<Eigen::Index>(f0 + k);
             env.mean_db(fi, o) = sum / static_cast<double>(ns);
-            env.lower_db(fi, o) = quantile_inplace(col, plo);
-            env.upper_db(fi, o) = quantile_inplace(col, phi);
+            env.lower_db(fi, o) = quantile(col, plo);
+            env.upper_db(fi, o) = quantile(col, phi);
           }
         }
       },

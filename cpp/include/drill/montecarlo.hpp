@@ -23,6 +23,7 @@
 #include "drill/metrics.hpp"
 #include "drill/parallel.hpp"
 #include "drill/process.hpp"
+#include "drill/quantile.hpp"
 #include "drill/rng.hpp"
 #include "drill/simulation.hpp"
 
@@ -168,17 +169,6 @@ struct SeverityStatistics {
   double p_speed = NAN;  ///< lowest speed from which P(SS > level) <= prob (NaN: no crossing)
 };
 
-/// Sample quantile with linear interpolation between order statistics (numpy's default "linear",
-/// Hyndman-Fan type 7). `x` is sorted in place.
-inline double quantile_sorted(const std::vector<double>& x, double p) {
-  require(!x.empty(), "quantile sample size", x.size(), "must not be empty");
-  require(p >= 0.0 && p <= 1.0, "quantile level", p, "must lie in [0, 1]");
-  const double h = p * static_cast<double>(x.size() - 1);
-  const std::size_t lo = static_cast<std::size_t>(std::floor(h));
-  const std::size_t hi = std::min(lo + 1, x.size() - 1);
-  return x[lo] + (h - static_cast<double>(lo)) * (x[hi] - x[lo]);
-}
-
 /// Mean, quantiles q_low/q_high and P(SS > level) per speed (columns of `ss`), and the speed at
 /// which P(SS > level) last crosses `prob` going up in speed (linear interpolation, section 4.2.2:
 /// 20.5 rad/s in the thesis for level 0.5 and prob 0.05).
@@ -204,10 +194,9 @@ inline SeverityStatistics severity_statistics(const Eigen::MatrixXd& ss, const s
       sum += v;
       above += v > level;
     }
-    std::sort(col.begin(), col.end());
     st.mean.push_back(sum / static_cast<double>(n));
-    st.q_low.push_back(quantile_sorted(col, q_low));
-    st.q_high.push_back(quantile_sorted(col, q_high));
+    st.q_low.push_back(quantile(col, q_low));
+    st.q_high.push_back(quantile(col, q_high));
     st.p_exceed.push_back(static_cast<double>(above) / static_cast<double>(n));
   }
   st.p_speed = severity_threshold(speeds, st.p_exceed, prob);
