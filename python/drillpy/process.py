@@ -25,8 +25,6 @@ from scipy.special import digamma
 
 from . import _core
 
-EULER_GAMMA = 0.5772156649015329
-
 
 @dataclass(frozen=True)
 class PsdModel:

@@ -152,7 +152,7 @@ def _arrow_path(ax, x, y, color):
                     arrowprops=dict(arrowstyle="->", color="r", lw=1.2))
 
 
-def loops(path, rec, labels, mc, mcw=None, max_cycles=400):
+def loops(path, rec, labels, mc, mcw=None):
     """Torque (and WOB) versus bit speed over all valid cycles with the mean cycle per branch
     (Fig. 3.5): thin lines, red on the accelerating branch, cyan on the decelerating one."""
     v = rec.bit_speed * RPM
