@@ -47,6 +47,7 @@ from scipy import signal as sps
 
 from . import _core
 from . import identification as ident
+from . import signals
 from .cleaning import CleaningOptions, clean
 from .config import normalize, to_json_text
 from .effects import CATALOGUE, NAMES, declared_effects
@@ -176,9 +177,7 @@ class LoopData:
 
 
 def _savgol_set(x: np.ndarray, dt: float, window_s: float, orders) -> list:
-    n = max(int(round(window_s / dt)) | 1, 7)
-    if n > x.size:
-        n = x.size if x.size % 2 else x.size - 1
+    n = signals.savgol_length(window_s, dt, x.size, minimum=7)
     return [sps.savgol_filter(x, n, 4, deriv=k, delta=dt, mode="interp") for k in orders]
 
 

@@ -60,6 +60,15 @@ def rig_lowpass(x, fs_hz: float, cutoff_hz: float = 10.0, order: int = 2) -> np.
     return y
 
 
+def savgol_length(window_s: float, dt: float, size: int, minimum: int = 1) -> int:
+    """Odd Savitzky-Golay window length [samples] for ``window_s`` seconds (at least ``minimum``),
+    shortened to the longest odd length that fits ``size`` samples."""
+    n = max(int(round(window_s / dt)) | 1, minimum)
+    if n > size:
+        n = size if size % 2 else size - 1
+    return n
+
+
 def derivative(x, dt: float, window_s: float = 0.021, polyorder: int = 3) -> np.ndarray:
     """Time derivative by a Savitzky-Golay filter (local polynomial of ``polyorder`` over
     ``window_s`` seconds); ``window_s = 0`` gives second-order central differences.
@@ -69,9 +78,7 @@ def derivative(x, dt: float, window_s: float = 0.021, polyorder: int = 3) -> np.
     x = np.asarray(x, float)
     if not np.all(np.isfinite(x)):
         raise ValueError("derivative: the signal has non-finite values (clean it first)")
-    n = int(round(window_s / dt)) | 1
-    if n > x.size:
-        n = x.size if x.size % 2 else x.size - 1
+    n = savgol_length(window_s, dt, x.size)
     if n <= polyorder + 1:
         return np.gradient(x, dt)
     return sps.savgol_filter(x, n, polyorder, deriv=1, delta=dt, mode="interp")
