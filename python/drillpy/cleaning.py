@@ -3,8 +3,12 @@
 :func:`clean` puts a record on a uniform time grid and flags, per channel and per sample
 (:class:`drillpy.records.Flag`):
 
-* time stamps that go backwards, repeat or fall off the sampling grid (repaired from the
+* rows logged out of time order (e.g. two swapped rows): a row whose stamp lies on the sampling
+  grid, on a slot no other row holds and within ``MAX_RESTAMP`` rows of its place in the file is
+  sorted into place by its time stamp (an ``order`` artifact, flagged TIME);
+* other time stamps that go backwards, repeat or fall off the sampling grid (repaired from the
   acquisition order when the neighbours agree; an error when they cannot be placed);
+* a channel without a single finite value: an error naming the channel and the source;
 * gaps in the time grid (samples inserted);
 * non-finite values (NaN, empty cells, inf);
 * isolated spikes (encoder artifacts: short excursions far from the running median);
@@ -35,7 +39,7 @@ from scipy import ndimage
 
 from .records import Flag, Record
 
-KINDS = ("time", "duplicate", "gap", "nonfinite", "spike", "oscillation")
+KINDS = ("time", "order", "duplicate", "gap", "nonfinite", "spike", "oscillation")
 MAX_RESTAMP = 10  #: anchors re-stamped on each side of a run of bad time stamps, at most
 
 
@@ -182,10 +186,17 @@ def clean(record: Record, options: CleaningOptions | None = None) -> tuple[Recor
     ------
     ValueError
         If the time stamps cannot be placed on a uniform grid (e.g. a file made of concatenated
-        pieces that overlap in time), or there are fewer than 3 finite time stamps.
+        pieces that overlap in time), there are fewer than 3 finite time stamps, or a channel has
+        no finite value at all (the error names it).
     """
     opt = options or CleaningOptions()
     opt.validate()
+    for name in record.channels:
+        if not np.isfinite(getattr(record, name)).any():
+            src = record.provenance.get("source", "record")
+            col = record.provenance.get("variables", {}).get(name) or name
+            raise ValueError(f"record = {src!r}: channel {name!r} ({col}) has no finite value (all "
+                             f"{len(record)} samples NaN or missing); nothing to clean or analyse")
     rep = CleaningReport(n_input=len(record))
     rec = _regrid(record, opt, rep)
     for name in rec.channels:
@@ -240,6 +251,19 @@ def _regrid(record: Record, opt: CleaningOptions, rep: CleaningReport) -> Record
         is_anchor = np.zeros(t.size, bool)
         is_anchor[anchors] = True
         bad = rows[~is_anchor & keep]
+        # rows logged out of order (e.g. two swapped rows): a stamp on the grid, on a slot no other
+        # row holds and at most MAX_RESTAMP rows from where the acquisition order puts it, is
+        # trusted: the row is sorted into its place by time (reported as an "order" artifact)
+        taken = set(k[anchors].tolist())
+        moved = []
+        for b in bad:
+            if not good[b] or int(k[b]) in taken:
+                continue
+            shift = np.searchsorted(k[anchors], k[b]) - np.searchsorted(anchors, b)
+            if abs(shift) <= MAX_RESTAMP:
+                taken.add(int(k[b]))
+                moved.append(b)
+        bad = np.setdiff1d(bad, moved)
         # place each run of bad stamps between its anchors, in acquisition order; when the anchors
         # leave too few grid slots (e.g. two swapped stamps), the neighbouring anchors are re-stamped
         # too, up to MAX_RESTAMP of them on each side
@@ -277,6 +301,17 @@ def _regrid(record: Record, opt: CleaningOptions, rep: CleaningReport) -> Record
     ks = k[src_rows]
     if np.any(np.diff(ks) <= 0):  # the placement above leaves no repeat; guard against surprises
         raise ValueError("time_s: repeated time stamps remain after repair")
+    # rows whose place in time differs from their place in the file (sorted by time stamp above)
+    out_of_order = src_rows != np.sort(src_rows)
+    for run in _runs(out_of_order):
+        lo, hi = int(src_rows[run].min()), int(src_rows[run].max())
+        rep.artifacts.append(Artifact(
+            "order", "time", float(t0 + ks[run[0]] * dt), float(t0 + ks[run[-1]] * dt), len(run),
+            f"rows sorted by time stamp (file rows {lo}-{hi} were logged out of time order; stamps kept)"))
+        rep.notes.append(f"time_s: file rows {lo}-{hi} were out of time order "
+                         f"(t = {float(t0 + ks[run[0]] * dt):.6g}-{float(t0 + ks[run[-1]] * dt):.6g} s); "
+                         "sorted by their time stamps")
+        restamped[src_rows[run]] = True
     t0 += ks[0] * dt
     ks = ks - ks[0]
     n = int(ks[-1]) + 1

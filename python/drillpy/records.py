@@ -20,7 +20,7 @@ CSV format (documented in the README): one header row of ``<quantity>_<unit>`` c
 canonically ``time_s,bit_speed_rad_s,top_speed_rad_s,torque_on_bit_Nm,wob_N``; lines starting
 with ``#`` before the header are comments (the writer puts the provenance there); an empty cell or
 ``nan`` is a missing value (flagged, never invented); anything else that is not a number is an
-error.
+error, and so is a column without a single value (the error names the column and the file).
 """
 from __future__ import annotations
 
@@ -57,7 +57,7 @@ class Flag(enum.IntFlag):
 
     NONFINITE    the source value was NaN, empty or infinite
     GAP          the sample was inserted on the uniform time grid where the source had none
-    TIME         the time stamp of the sample was repaired
+    TIME         the time stamp of the sample was repaired, or the row was sorted into time order
     SPIKE        part of an isolated spike (encoder artifact)
     OSCILLATION  part of an artifact stretch (top speed oscillating while the bit is stuck)
     REPAIRED     the value was replaced (the cleaning report says how)
@@ -289,6 +289,9 @@ def read_mat(path: str | Path, variables: dict | None = None) -> Record:
             raise ValueError(f"record = {str(p)!r}: variable {var!r} ({q}) has shape {a.shape}; "
                              "expected a vector")
         arrays[q] = a.ravel().astype(float) * _factor(q, unit, where=q)
+        if not np.isfinite(arrays[q]).any():
+            raise ValueError(f"record = {str(p)!r}: variable {var!r} ({q}) has no finite value (all "
+                             f"{a.size} NaN or inf)")
     lengths = {chosen[q][0]: v.size for q, v in arrays.items()}
     if len(set(lengths.values())) > 1:
         raise ValueError(f"record = {str(p)!r}: variables have unequal lengths: "
@@ -323,7 +326,7 @@ def read_csv(path: str | Path) -> Record:
     ValueError
         Naming the file and, where it applies, the row and column: empty file, missing time
         column, no data column, unknown column or unit, duplicate column, a row with the wrong
-        number of cells, a cell that is not a number.
+        number of cells, a cell that is not a number, a column without any value.
     """
     p = Path(path)
     if not p.is_file():
@@ -373,6 +376,10 @@ def read_csv(path: str | Path) -> Record:
             except ValueError:
                 raise ValueError(f"record = {str(p)!r}: line {lineno}, column {header[j]!r}: "
                                  f"{cell!r} is not a number") from None
+    for j, (q, _) in enumerate(cols):
+        if not np.isfinite(values[:, j]).any():
+            raise ValueError(f"record = {str(p)!r}: column {header[j]!r} ({q}) has no value (all {len(body)} "
+                             "cells empty or nan); leave the column out if the channel was not measured")
     arrays = {q: values[:, j] * UNIT_FACTORS[q][unit] for j, (q, unit) in enumerate(cols)}
     prov = {"source": str(p), "format": "csv", "columns": header}
     if comments:

@@ -82,17 +82,44 @@ def test_gaps_are_refilled_on_the_grid(window):
 
 def test_backward_time_stamp_and_duplicate_row(window):
     t = window.time_s.copy()
-    t[1500] -= 0.5                         # a stamp that jumps back
-    t[2500], t[2501] = t[2501], t[2500]    # two stamps swapped
+    t[1500] -= 0.5                         # a stamp that jumps back onto another row's slot
     window.time_s = t
     idx = np.r_[np.arange(3000), 2999, np.arange(3000, len(window))]  # one row logged twice
     rec, rep = clean(window.take(idx))
     c = rep.counts()
-    assert c["duplicate"]["events"] == 1 and c["time"]["events"] == 2
+    assert c["duplicate"]["events"] == 1 and c["time"]["events"] == 1 and c["order"]["events"] == 0
     assert len(rec) == len(window)
     np.testing.assert_allclose(np.diff(rec.time_s), 1e-3, rtol=1e-9)
     assert rec.flags["time"][1500] & Flag.TIME
-    np.testing.assert_array_equal(rec.bit_speed, window.bit_speed)  # acquisition order kept
+    np.testing.assert_array_equal(rec.bit_speed, window.bit_speed)  # re-stamped in acquisition order
+
+
+@pytest.mark.parametrize("pairs", [[(2500, 2501)], [(10, 11), (3000, 3001)]])
+def test_swapped_rows_are_sorted_by_time_and_reported(window, pairs):
+    idx = np.arange(len(window))
+    for a, b in pairs:                     # whole rows (stamp and values) logged out of order
+        idx[a], idx[b] = idx[b], idx[a]
+    swapped = window.take(idx)
+    assert np.any(np.diff(swapped.time_s) < 0)
+    rec, rep = clean(swapped)
+    np.testing.assert_allclose(rec.time_s, window.time_s, rtol=0, atol=1e-9)  # the uniform grid
+    for ch in window.channels:  # back in time order, every channel with its stamp
+        np.testing.assert_array_equal(getattr(rec, ch), getattr(window, ch))
+    order = [a for a in rep.artifacts if a.kind == "order"]
+    assert [o.samples for o in order] == [b - a + 1 for a, b in pairs]
+    assert rep.counts()["time"]["events"] == 0 and rep.counts()["order"]["events"] == len(pairs)
+    a, b = pairs[-1]
+    assert order[-1].start_s == pytest.approx(window.time_s[a]) and "sorted by time stamp" in order[-1].repair
+    assert any("out of time order" in n for n in rep.notes)  # never silently
+    assert np.all(rec.flags["time"][a:b + 1] & Flag.TIME) and not (rec.flags["time"][b + 1] & Flag.TIME)
+    assert rec.provenance["cleaning"]["counts"]["order"]["samples"] == sum(b - a + 1 for a, b in pairs)
+
+
+def test_all_nan_channel_is_an_error_naming_it(window):
+    window.torque_on_bit[:] = np.nan
+    with pytest.raises(ValueError, match="channel 'torque_on_bit'.*no finite value") as e:
+        clean(window)
+    assert "sample175" in str(e.value) and "bit_speed" not in str(e.value)
 
 
 def test_overlapping_pieces_cannot_be_placed(window):

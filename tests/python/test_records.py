@@ -135,3 +135,37 @@ def test_cli_reports_bad_input_in_one_line(tmp_path, capsys):
     assert main(["analyze", str(p), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("drillpy: error:") and "'bit_speed' is missing" in err[0]
+
+
+def test_all_nan_torque_column_names_the_torque_and_the_file(tmp_path, capsys):
+    r = sample175_raw().select(10, 12)
+    r.torque_on_bit[:] = np.nan
+    p = write_csv(r, tmp_path / "no_torque.csv")
+    with pytest.raises(ValueError, match=r"no_torque.csv.*column 'torque_on_bit_Nm' \(torque_on_bit\) has no value"):
+        read_record(p)
+    # the command says the same, in one line, and does not blame the bit speed
+    assert main(["analyze", str(p), "--out", str(tmp_path / "out"), "--no-sim"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "torque_on_bit_Nm" in err[0] and "no_torque.csv" in err[0]
+    assert "bit_speed" not in err[0] and "bit-speed" not in err[0]
+    savemat(tmp_path / "nan.mat", {"Time_Sample_1_complete": r.time_s, "Bit_Torque_Sample_1_complete": r.torque_on_bit,
+                                   "Bit_Speed_Sample_1_complete": r.bit_speed * RPM})
+    with pytest.raises(ValueError, match=r"nan.mat.*'Bit_Torque_Sample_1_complete' \(torque_on_bit\) has no finite"):
+        read_mat(tmp_path / "nan.mat")
+
+
+def test_csv_rows_out_of_time_order_are_sorted_not_restamped(tmp_path):
+    r = sample175_raw().select(10, 11)
+    p = write_csv(r, tmp_path / "s.csv")
+    lines = p.read_text().splitlines()
+    h = next(i for i, ln in enumerate(lines) if ln.startswith("time_s"))
+    lines[h + 301], lines[h + 302] = lines[h + 302], lines[h + 301]  # two rows swapped in the file
+    p.write_text("\n".join(lines) + "\n")
+    back = read_record(p)
+    assert back.time_s[300] > back.time_s[301]  # read as written ...
+    from drillpy.cleaning import clean
+    rec, rep = clean(back)                     # ... and sorted by time, with the values, when cleaned
+    np.testing.assert_allclose(rec.bit_speed, r.bit_speed, rtol=1e-15)
+    np.testing.assert_allclose(rec.time_s, r.time_s, atol=1e-9)
+    (o,) = [a for a in rep.artifacts if a.kind == "order"]
+    assert o.samples == 2 and o.start_s == pytest.approx(r.time_s[300])
