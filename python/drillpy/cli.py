@@ -7,6 +7,7 @@
   drillpy map      --preset thesis-field --beta1 0.56 --speeds-rpm 50:160:23 --wobs-kn 22:267:12
   drillpy convergence --preset thesis-field            FE and time-step convergence orders
   drillpy analyze  ../shared/data/testrig/sample175_0-40s.mat --out DIR   measured record: report
+  drillpy analyze  REC1 REC2 ... (or a folder, or REC@T0:T1) --out DIR   section 5.3 across samples
   drillpy frf      --preset thesis-ch6 --model SM_CB2 --case 4 --samples 2500 --json
   drillpy frf-report --preset thesis-ch6 --out DIR          chapter 6 and appendix C figures
   drillpy robust-ss --preset thesis-ch6 --samples 40 --speeds 6:27:8 --out DIR
@@ -183,13 +184,30 @@ def cmd_convergence(a) -> int:
 
 
 def cmd_analyze(a) -> int:
-    from .analysis import AnalysisOptions, analyze_record
-    opt = AnalysisOptions(t0=a.t0, t1=a.t1, cycle_at_s=a.cycle_at, folds=a.folds, psd_fmax_hz=a.psd_fmax,
-                          simulate=not a.no_sim)
-    s = analyze_record(a.record, a.out, opt, log=(lambda *_: None) if a.json else print)
+    from .samples import Acceptance, SampleOptions, analyze_samples, find_records
+    log = (lambda *_: None) if a.json else print
+    items = find_records(a.record)
+    if len(items) == 1:  # one record (or one window of it): the single-record analysis
+        from .analysis import AnalysisOptions, _jsonable, analyze_record
+        t0, t1 = items[0][2] or (a.t0, a.t1)
+        opt = AnalysisOptions(t0=t0, t1=t1, cycle_at_s=a.cycle_at, folds=5 if a.folds is None else a.folds,
+                              psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim)
+        s = analyze_record(items[0][1], a.out, opt, log=log)
+        if a.json:
+            keys = ("cleaning", "cycles", "severity", "torque_statistics", "psd", "identification")
+            print(json.dumps(_jsonable({k: s[k] for k in keys if k in s}), default=str, allow_nan=False))
+        return 0
+    # two or more samples (files, a folder, FILE@T0:T1 windows): section 5.3 across samples
+    acc = Acceptance(max_var_mse={"tucker_wang": a.max_var_mse_regularized,
+                                  "polynomial": a.max_var_mse_non_regularized},
+                     cv_reference=a.cv_reference, concrete_variation=a.concrete_variation,
+                     require_cv=a.require_cv)
+    opt = SampleOptions(t0=a.t0, t1=a.t1, folds=0 if a.folds is None else a.folds, acceptance=acc)
+    s = analyze_samples([p if w is None else f"{p}@{w[0]!r}:{w[1]!r}" for _, p, w in items], a.out, opt, log=log)
     if a.json:
-        print(json.dumps({k: s[k] for k in ("cleaning", "cycles", "severity", "torque_statistics", "psd")
-                          if k in s}, default=str))
+        from .analysis import _jsonable
+        print(json.dumps(_jsonable({k: s[k] for k in ("n_samples", "laws", "table_5_2", "across_samples",
+                                                      "acceptance", "parameters")}), allow_nan=False))
     return 0
 
 
@@ -403,17 +421,35 @@ def build_parser() -> argparse.ArgumentParser:
     _model_args(s)
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_convergence)
-    s = sub.add_parser("analyze", help="measured record (.mat or .csv): cleaning, cycles, identification, "
-                                       "rig simulation; report.md + figures + summary.json")
-    s.add_argument("record", help="rig MATLAB file or drillpy CSV (see README: CSV format)")
+    s = sub.add_parser("analyze", help="measured record(s) (.mat or .csv): one record: cleaning, cycles, "
+                                       "identification, rig simulation (report.md + figures + summary.json); two or "
+                                       "more: statistics across samples, thesis section 5.3 (samples.md, "
+                                       "samples.json, fig5_4_boxplot.png)")
+    s.add_argument("record", nargs="+",
+                   help="rig MATLAB file or drillpy CSV (see README: CSV format), a folder of them, or FILE@T0:T1 "
+                        "(the window T0 <= t < T1 [s] of a file as one sample)")
     s.add_argument("--out", required=True, help="output folder")
-    s.add_argument("--t0", type=float, help="start of the analysed window [s]")
-    s.add_argument("--t1", type=float, help="end of the analysed window [s]")
-    s.add_argument("--cycle-at", type=float, help="time [s] inside the cycle shown in cycle.png")
-    s.add_argument("--folds", type=int, default=5, help="cross-validation folds over cycles (0: none)")
-    s.add_argument("--psd-fmax", type=float, default=10.0, help="upper end of the PSD-model fit band [Hz]")
-    s.add_argument("--no-sim", action="store_true", help="skip the rig simulations")
-    s.add_argument("--json", action="store_true", help="print the main numbers as JSON")
+    s.add_argument("--t0", type=float, help="start of the analysed window [s] (every record)")
+    s.add_argument("--t1", type=float, help="end of the analysed window [s] (every record)")
+    s.add_argument("--cycle-at", type=float, help="time [s] inside the cycle shown in cycle.png (one record)")
+    s.add_argument("--folds", type=int, help="cross-validation folds over cycles (0: none; default 5 for one record, "
+                                             "0 across samples)")
+    s.add_argument("--psd-fmax", type=float, default=10.0, help="upper end of the PSD-model fit band [Hz] (one record)")
+    s.add_argument("--no-sim", action="store_true", help="skip the rig simulations (one record)")
+    g = s.add_argument_group("acceptance criterion across samples (thesis section 5.3.3)")
+    g.add_argument("--max-var-mse-regularized", type=float, default=47.93,
+                   help="largest acceptable Var[MSE] (Eq. 5.2) of the regularized law Eq. (3.1)")
+    g.add_argument("--max-var-mse-non-regularized", type=float, default=0.26,
+                   help="largest acceptable Var[MSE] of the non-regularized law Eq. (5.1)")
+    g.add_argument("--cv-reference", type=float, default=0.329,
+                   help="CV average the variation limit starts from (thesis Table 5.2: 0.329)")
+    g.add_argument("--concrete-variation", type=float, default=0.10,
+                   help="variation of the concrete resistance added to it (thesis: 0.10)")
+    g.add_argument("--require-cv", action="store_true",
+                   help="also reject samples whose CV exceeds the variation limit (the thesis does not)")
+    s.add_argument("--json", action="store_true",
+                   help="print the main numbers and the identification results (one record) or the tables across "
+                        "samples as JSON")
     s.set_defaults(func=cmd_analyze)
 
     s = sub.add_parser("frf", help="acceleration FRF envelopes under structural uncertainty (chapter 6)")
