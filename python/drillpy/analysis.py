@@ -176,14 +176,15 @@ def analyze_record(record: Record | str | Path, out_dir: str | Path, options: An
     S["eta"] = {**eta.statistics(), "reference": opt.eta_reference,
                 "thesis_rig_mean": sig.THESIS_ETA_MEAN, "thesis_rig_std": sig.THESIS_ETA_STD}
     band = f[(f > 0) & (f <= opt.psd_fmax_hz)]
-    S["psd"] = {"fit": {**psd.model.as_dict(), "rms_log": psd.rms_log_residual, "points": psd.points,
+    S["psd"] = {"fit": {**psd.as_dict(),  # continuous at f0, with ci95 / se / continuity_jump
                         "f_range_hz": [float(band[0]), float(band[-1])]},
                 "thesis_field": process.THESIS_PSD.as_dict(),
                 "convention": "Eq. (4.4) with natural logarithms; one-sided PSD of eta in 1/Hz, f in Hz; fit "
                               "of ln S to the raw periodogram (bias of ln of an exponential ordinate removed)",
                 "fitter": "drillpy.process.fit_psd_model"}
     log(f"eta_exp: std {S['eta']['std']:.3f} (thesis rig average {sig.THESIS_ETA_STD}); PSD model f0 = "
-        f"{psd.model.f0:.3g} Hz, A0 = {psd.model.A0:.2f}, a = {psd.model.a:.2f}, b = {psd.model.b:.2f} "
+        f"{psd.model.f0:.3g} Hz (95 % {psd.ci95['f0_hz'][0]:.3g}-{psd.ci95['f0_hz'][1]:.3g}"
+        f"{', at the search edge' if psd.f0_ci_at_search_edge else ''}), A0 = {psd.model.A0:.2f}, a = {psd.model.a:.2f}, b = {psd.model.b:.2f} "
         f"(thesis field 0.27 Hz, -7.6, -3.13, -11.67)")
 
     # ---------------------------------------------------------------- identification

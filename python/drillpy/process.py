@@ -10,7 +10,8 @@ PSD convention (everywhere in drillpy): ``S(f)`` is **one-sided, per hertz**,
 * :func:`generate` -- realizations by the spectral representation with an FFT (C++ engine);
   realization ``i`` with seed ``s`` is exactly the eta of Monte Carlo sample ``i``.
 * :func:`periodogram` (Schuster's raw periodogram) and :func:`welch` (scipy.signal), and
-  :func:`fit_psd_model` / :func:`fit_eta`, which fit (f0, A0, a, b) to a PSD estimate.
+  :func:`fit_psd_model` / :func:`fit_eta`, which fit Eq. (4.4) continuous at f0 (free: f0,
+  a, b; A0 = a ln f0 + b) to a PSD estimate, with intervals.
 """
 from __future__ import annotations
 
@@ -21,7 +22,8 @@ from typing import Callable, Union
 
 import numpy as np
 from scipy import signal as _signal
-from scipy.special import digamma
+from scipy.optimize import brentq
+from scipy.special import digamma, polygamma
 
 from . import _core
 
@@ -41,6 +43,18 @@ class PsdModel:
     def integral(self, fmax: float = math.inf) -> float:
         """integral_0^fmax S df: the variance of eta for fmax = inf (needs a < -1)."""
         return _core.psd_model_integral(self.f0, self.A0, self.a, self.b, float(fmax))
+
+    @classmethod
+    def continuous(cls, f0: float, a: float, b: float) -> "PsdModel":
+        """The model continuous at f0: A0 = a ln f0 + b."""
+        f0 = _positive(f0, "f0_hz")
+        return cls(f0=f0, A0=a * math.log(f0) + b, a=a, b=b)
+
+    @property
+    def continuity_jump(self) -> float:
+        """S(f0+) / S(f0-) = exp(a ln f0 + b - A0): 1 for a model continuous at f0 (the thesis's
+        set gives 1.03)."""
+        return math.exp(self.a * math.log(self.f0) + self.b - self.A0)
 
     def as_dict(self) -> dict:
         return {"type": "model_4_4", "f0_hz": self.f0, "A0": self.A0, "a": self.a, "b": self.b}
@@ -145,20 +159,73 @@ def welch(x, dt: float, segment: int | None = None,
 
 @dataclass(frozen=True)
 class PsdFit:
+    """A fit of Eq. (4.4) continuous at f0 (:func:`fit_psd_model`) with its uncertainty.
+
+    ``ci95`` holds 95 % intervals (as ``(low, high)``) of f0 [Hz], A0, a and b: f0 by the profile
+    likelihood, the others by the Jacobian (Wald); ``se`` the standard errors from the Jacobian
+    (for f0 by the delta method, f0 se(ln f0)). ``log_variance`` is the variance of one ln S
+    ordinate used for both: the chi-square value psi'(K) (pi^2/6 for the raw periodogram) or the
+    residual variance if that is larger (``log_variance_source``). ``f0_search_hz`` is the range
+    f0 was searched in; ``f0_ci_at_search_edge`` says the f0 interval reaches an end of it (f0 is
+    then not determined by the data on that side). ``continuity_jump`` = S(f0+)/S(f0-) is 1.0.
+    """
     model: PsdModel
     rms_log_residual: float  #: rms of ln(S_estimate) + bias - ln(S_model) over the fitted points
     points: int
+    se: dict = None
+    ci95: dict = None
+    log_variance: float = math.nan
+    log_variance_source: str = ""
+    f0_search_hz: tuple = (math.nan, math.nan)
+    f0_ci_at_search_edge: bool = False
+    f0_ci_connected: bool = True  #: False: the 95 % profile set of f0 has gaps (ci95 is its hull)
+
+    @property
+    def continuity_jump(self) -> float:
+        return self.model.continuity_jump
+
+    def as_dict(self) -> dict:
+        return {**self.model.as_dict(), "constrained": "continuous at f0 (A0 = a ln f0 + b)",
+                "continuity_jump": self.continuity_jump, "rms_log": self.rms_log_residual,
+                "points": self.points, "se": dict(self.se or {}),
+                "ci95": {k: [float(v[0]), float(v[1])] for k, v in (self.ci95 or {}).items()},
+                "ci_method": {"f0_hz": "profile likelihood (chi^2_1)", "A0": "Jacobian (Wald)",
+                              "a": "Jacobian (Wald)", "b": "Jacobian (Wald)"},
+                "log_variance": self.log_variance, "log_variance_source": self.log_variance_source,
+                "f0_search_hz": [float(v) for v in self.f0_search_hz],
+                "f0_ci_at_search_edge": self.f0_ci_at_search_edge, "f0_ci_connected": self.f0_ci_connected}
+
+
+_CHI2_1_95 = 3.841458820694124  # 95 % quantile of chi^2 with 1 degree of freedom
+_Z_975 = 1.959963984540054
 
 
 def fit_psd_model(f, S, *, averages: float = 1.0, fmin: float | None = None,
                   fmax: float | None = None) -> PsdFit:
-    """Least-squares fit of Eq. (4.4) to a PSD estimate, in ln S versus ln f.
+    """Least-squares fit of Eq. (4.4), continuous at f0, to a PSD estimate in ln S versus ln f.
 
-    The four parameters are free (as in the thesis): for every split frequency f0 on the grid,
-    A0 is the mean of ln S below f0 and (a, b) the straight line through ln S above it; the split
-    with the smallest residual wins. Periodogram ordinates are S chi^2_{2K} / (2K) with K
-    ``averages`` (1 for the raw periodogram), so ln S is biased by psi(K) - ln K (-0.5772 for
-    K = 1); the bias is removed before fitting. Points at f <= 0 are ignored.
+    Model: ln S = A0 for f < f0 and a ln f + b for f >= f0 with A0 = a ln f0 + b (the thesis's own
+    set is continuous: -3.13 ln 0.27 - 11.67 = -7.57 ~ -7.6), i.e. a hinge in x = ln f:
+    ln S = A0 + a max(x - ln f0, 0). Free parameters: f0, A0 and a (b follows).
+
+    Periodogram ordinates are S chi^2_{2K} / (2K) with K ``averages`` (1 for the raw periodogram),
+    so ln S is biased by psi(K) - ln K (-0.5772 for K = 1); the bias is removed before fitting.
+    Points at f <= 0 or S = 0 are ignored.
+
+    Global and stable: for a fixed f0 the problem is linear, so the residual sum of squares
+    profiled over f0, SSE(f0), is computed in closed form (prefix sums). Between two consecutive
+    frequencies of the estimate SSE(f0) has no interior minimum other than where the free
+    (discontinuous) split fit of that partition happens to be continuous, so the minimum over the
+    ordinates' frequencies and those points is the exact global least-squares solution; no start
+    value or local minimum is involved. f0 is searched between the 3rd and the 3rd-last fitted
+    frequency (at least 3 points on each side).
+
+    Uncertainty (ordinates taken as independent with variance sigma^2 in ln S): sigma^2 is
+    psi'(K) (pi^2/6 for the raw periodogram), replaced by the residual variance SSE/(n - 3) when
+    that is larger (model misfit, e.g. spectral peaks). f0: profile-likelihood interval
+    {f0 : SSE(f0) - SSE_min <= 3.84 sigma^2} (on a 4000-point log grid plus the ordinates, edges
+    refined; its hull if it has gaps). A0, a, b: Wald intervals +-1.96 se from
+    sigma^2 (J^T J)^-1 with J the Jacobian in (ln f0, A0, a), b = A0 - a ln f0 by the delta method.
     """
     f = np.asarray(f, dtype=float).ravel()
     S = np.asarray(S, dtype=float).ravel()
@@ -176,29 +243,101 @@ def fit_psd_model(f, S, *, averages: float = 1.0, fmin: float | None = None,
     if fmax is not None:
         keep &= f <= fmax
     x, y = np.log(f[keep]), np.log(S[keep]) - (digamma(averages) - math.log(averages))
-    order = np.argsort(x)
+    order = np.argsort(x, kind="stable")
     x, y = x[order], y[order]
     n = x.size
     if n < 8:
         raise ValueError(f"only {n} positive frequencies to fit: need at least 8")
-    # prefix sums: SSE of the flat part [0, m) and of the line [m, n) for every split m
-    c1, cy, cyy = (np.concatenate([[0.0], np.cumsum(v)]) for v in (np.ones(n), y, y * y))
-    cx, cxx, cxy = (np.concatenate([[0.0], np.cumsum(v)]) for v in (x, x * x, x * y))
-    m = np.arange(3, n - 2)
-    sse_flat = cyy[m] - cy[m] ** 2 / c1[m]
-    k = n - m
-    sx, sy = cx[-1] - cx[m], cy[-1] - cy[m]
-    sxx, sxy, syy = cxx[-1] - cxx[m], cxy[-1] - cxy[m], cyy[-1] - cyy[m]
-    vxx = sxx - sx * sx / k
-    slope = (sxy - sx * sy / k) / vxx
-    sse_line = (syy - sy * sy / k) - slope * (sxy - sx * sy / k)
-    best = int(np.argmin(sse_flat + sse_line))
-    mb = int(m[best])
-    a = float(slope[best])
-    b = float((sy[best] - a * sx[best]) / k[best])
-    model = PsdModel(f0=float(np.exp(x[mb])), A0=float(cy[mb] / mb), a=a, b=b)
-    rms = math.sqrt(float(sse_flat[best] + sse_line[best]) / n)
-    return PsdFit(model=model, rms_log_residual=rms, points=n)
+    xm, ym = float(np.mean(x)), float(np.mean(y))  # centred sums: no cancellation
+    xc, yc = x - xm, y - ym
+    c1, cx, cy = (np.concatenate([[0.0], np.cumsum(v)]) for v in (np.ones(n), xc, yc))
+    cxx, cxy = (np.concatenate([[0.0], np.cumsum(v)]) for v in (xc * xc, xc * yc))
+    syy = float(np.sum(yc * yc))
+    lo, hi = float(x[2]), float(x[n - 3])
+
+    def profile(x0):
+        """(SSE, A0, a) of the hinge fit with its knot at each x0 (array)."""
+        x0 = np.atleast_1d(np.asarray(x0, dtype=float))
+        u = x0 - xm
+        m = np.searchsorted(x, x0, side="right")  # points at or below the knot: z = 0
+        k = n - m
+        hx, hy = cx[n] - cx[m], cy[n] - cy[m]
+        sz = hx - k * u
+        szz = (cxx[n] - cxx[m]) - 2 * u * hx + k * u * u
+        szy = (cxy[n] - cxy[m]) - u * hy
+        vzz = szz - sz * sz / n
+        vzy = szy  # sum y = 0 (centred)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            a = np.where(vzz > 0, vzy / vzz, 0.0)
+        sse = np.maximum(syy - a * vzy, 0.0)
+        A0 = ym - a * sz / n
+        return sse, A0, a
+
+    # candidates: every ordinate's frequency and, per partition, the knot of the free split fit
+    m = np.arange(3, n - 2)  # flat part = points [0, m)
+    kk = n - m
+    sx, sy = cx[n] - cx[m], cy[n] - cy[m]
+    vxx = (cxx[n] - cxx[m]) - sx * sx / kk
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slope = np.where(vxx > 0, ((cxy[n] - cxy[m]) - sx * sy / kk) / vxx, 0.0)
+        flat = cy[m] / m
+        inter = sy / kk - slope * sx / kk  # line: yc = inter + slope xc
+        knot = np.where(slope != 0, (flat - inter) / slope, np.nan) + xm
+    inside = np.isfinite(knot) & (knot >= x[m - 1]) & (knot <= x[m])
+    grid = np.unique(np.concatenate([x[2:n - 2], knot[inside], np.linspace(lo, hi, 4000)]))
+    grid = grid[(grid >= lo) & (grid <= hi)]
+    sse, A0s, as_ = profile(grid)
+    ib = int(np.argmin(sse))
+    x0, A0, a = float(grid[ib]), float(A0s[ib]), float(as_[ib])
+    sse_min = float(sse[ib])
+    resid = y - (A0 + a * np.maximum(x - x0, 0.0))
+    sse_fit = float(resid @ resid)  # direct (the profile's closed form loses ~1e-13 of syy)
+
+    sigma2_chi = float(polygamma(1, averages))
+    sigma2_res = sse_fit / (n - 3)
+    sigma2 = max(sigma2_chi, sigma2_res)
+    source = (f"chi-square: psi'({averages:g}) = {sigma2_chi:.4g}" if sigma2 == sigma2_chi
+              else f"residuals: SSE/(n-3) = {sigma2_res:.4g} > psi'({averages:g}) = {sigma2_chi:.4g}")
+
+    # profile-likelihood interval of ln f0
+    cut = sse_min + _CHI2_1_95 * sigma2
+    acc = sse <= cut
+    ia = np.flatnonzero(acc)
+    connected = bool(ia[-1] - ia[0] + 1 == ia.size)
+
+    def edge(i_in, i_out):
+        g = lambda t: float(profile(t)[0][0]) - cut  # noqa: E731
+        return float(brentq(g, grid[i_out], grid[i_in])) if g(grid[i_out]) > 0 else float(grid[i_out])
+
+    x_lo = float(grid[0]) if ia[0] == 0 else edge(ia[0], ia[0] - 1)
+    x_hi = float(grid[-1]) if ia[-1] == grid.size - 1 else edge(ia[-1], ia[-1] + 1)
+    at_edge = bool(ia[0] == 0 or ia[-1] == grid.size - 1)
+
+    # Jacobian in (ln f0, A0, a) at the optimum
+    z = np.maximum(x - x0, 0.0)
+    J = np.column_stack([-a * (x > x0), np.ones(n), z])
+    try:
+        cov = sigma2 * np.linalg.inv(J.T @ J)
+    except np.linalg.LinAlgError:
+        cov = np.full((3, 3), np.inf)
+    gb = np.array([-a, 1.0, -x0])  # b = A0 - a ln f0
+    se_x0, se_A0, se_a = (float(math.sqrt(v)) if v >= 0 else math.inf for v in np.diag(cov))
+    vb = float(gb @ cov @ gb)
+    se_b = math.sqrt(vb) if vb >= 0 else math.inf
+
+    f0 = float(math.exp(x0))
+    b = A0 - a * x0
+    A0 = a * math.log(f0) + b  # the same expression as PsdModel.continuity_jump: jump exactly 1
+    model = PsdModel(f0=f0, A0=A0, a=a, b=b)
+    se = {"f0_hz": f0 * se_x0, "ln_f0": se_x0, "A0": se_A0, "a": se_a, "b": se_b}
+    ci = {"f0_hz": (math.exp(x_lo), math.exp(x_hi)),
+          "A0": (A0 - _Z_975 * se_A0, A0 + _Z_975 * se_A0),
+          "a": (a - _Z_975 * se_a, a + _Z_975 * se_a),
+          "b": (b - _Z_975 * se_b, b + _Z_975 * se_b)}
+    return PsdFit(model=model, rms_log_residual=math.sqrt(sse_fit / n), points=n, se=se, ci95=ci,
+                  log_variance=sigma2, log_variance_source=source,
+                  f0_search_hz=(math.exp(lo), math.exp(hi)), f0_ci_at_search_edge=at_edge,
+                  f0_ci_connected=connected)
 
 
 def fit_eta(eta, dt: float, *, method: str = "schuster", segment: int | None = None,
