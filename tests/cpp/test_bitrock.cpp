@@ -87,6 +87,23 @@ TEST(BitRock, PolynomialPiecewiseAndHystereticForm) {
   EXPECT_NEAR(ph.torque(100 * RPM, 1e3, 500), 1.2 * p.torque(100 * RPM, 0, 500), 1e-9);  // Eq. (5.3)
 }
 
+TEST(BitRock, PolynomialIsOddWithItsStaticTorqueAtRest) {
+  BitRockLaw p;
+  p.kind = BitRockLaw::Kind::polynomial;
+  p.speed_unit = SpeedUnit::rpm;
+  p.wob_ref = 500.0;
+  p.a = {2.5, -0.3, 2.2, -0.01, 1.6, -0.004, 1e-5, 0.0};
+  p.ref_speed = 80.0;
+  EXPECT_NEAR(p.static_torque(500.0), 1.36 * 2.5, 1e-12);        // Eq. (5.1) at rest: 1.36 a0
+  EXPECT_NEAR(p.static_torque(250.0), 0.5 * 1.36 * 2.5, 1e-12);  // scales with W / W_ref
+  EXPECT_NEAR(p.torque(0.0, 0, 500), p.static_torque(500.0), 1e-12);
+  for (double v : {0.3, 2.0, 50.0, 120.0}) EXPECT_NEAR(p.torque(-v * RPM, 0, 500), -p.torque(v * RPM, 0, 500), 1e-12);
+  EXPECT_EQ(thesis_tucker_wang().static_torque(245e3), 0.0);  // regularized laws: zero at rest
+  EXPECT_EQ(thesis_hysteretic(0.14, SpeedUnit::rpm).static_torque(245e3), 0.0);
+  p.a[0] = 0.0;
+  EXPECT_EQ(p.static_torque(500.0), 0.0);
+}
+
 TEST(BitRock, DerivativesMatchFiniteDifferences) {
   for (auto law : {thesis_tucker_wang(), thesis_hysteretic(0.56, SpeedUnit::rpm), thesis_hysteretic(0.14, SpeedUnit::rad_s)}) {
     for (double v : {0.5, 3.0, 12.0}) {

@@ -205,3 +205,92 @@ TEST(Integrator, BadInputsAreRefused) {
     EXPECT_NE(std::string(e.what()).find("operation.top_speed_rad_s"), std::string::npos);
   }
 }
+
+namespace {
+
+/// Eq. (5.1) with a static torque Ts at rest and a constant kinetic torque Tk while slipping
+/// (a0 = Ts / gain; a2 = a4 = Tk / gain; the other coefficients zero), in rad/s, at W = W_ref.
+BitRockLaw coulomb_law(double Ts, double Tk) {
+  BitRockLaw l;
+  l.kind = BitRockLaw::Kind::polynomial;
+  l.speed_unit = SpeedUnit::rad_s;
+  l.wob_ref = 500.0;
+  l.ref_speed = 1.0;
+  l.a = {Ts / l.gain, 0.0, Tk / l.gain, 0.0, Tk / l.gain, 0.0, 0.0, 0.0};
+  return l;
+}
+
+ModalROM rig_rom(double zeta) {
+  Config c = preset("thesis-rig");
+  c.damping.ratios = {zeta};
+  return build_modal_rom(c.string, 1, c.damping);
+}
+
+}  // namespace
+
+TEST(Integrator, StuckBitBreaksAwayWhenTheStringTorqueReachesTheStaticTorque) {
+  // One mode, bit at rest at t = 0 with an untwisted string, top at Omega: while stuck the
+  // coordinate is z = -Omega t / b, so the string holds the bit with T(t) = Omega (d + w^2 t) / b^2
+  // (d = 2 zeta w); it breaks away at t_b = (Ts b^2 / Omega - d) / w^2.
+  const ModalROM rom = rig_rom(0.1);
+  const double b = rom.model.bit(0), w = rom.omega(0), d = 2 * 0.1 * w, Om = 8.0, Ts = 3.0;
+  const double t_b = (Ts * b * b / Om - d) / (w * w);
+  ASSERT_GT(t_b, 0.05);
+  ModelState start{Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, -Om / b)};
+  Inputs in;
+  in.top_speed = Signal::constant(Om);
+  in.wob = Signal::constant(500.0);
+  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2}) {
+    SimOptions o;
+    o.scheme = sch;
+    o.dt = 1e-4;
+    o.duration = 1.5 * t_b;
+    double t_move = -1, worst_T = 0, worst_v = 0;
+    Integrator(rom.model, coulomb_law(Ts, 0.6 * Ts), o).run(in, [&](const StepState& s) {
+      if (t_move >= 0) return;
+      if (s.bit_speed > 1e-9) {
+        t_move = s.t;
+        return;
+      }
+      worst_v = std::max(worst_v, std::fabs(s.bit_speed));
+      const double T_exact = Om * (d + w * w * s.t) / (b * b);  // the break-away step reports Ts itself
+      if (s.step > 0 && T_exact < Ts) worst_T = std::max(worst_T, std::fabs(s.torque_on_bit - T_exact));
+    }, &start);
+    EXPECT_LT(worst_v, 1e-9) << to_string(sch);
+    EXPECT_LT(worst_T, (sch == Scheme::bdf2 ? 1e-3 : 1e-9) * Ts) << to_string(sch);
+    EXPECT_NEAR(t_move, t_b, 2.5 * o.dt) << to_string(sch);
+  }
+}
+
+TEST(Integrator, StaticTorqueAboveKineticTorqueGivesTrueStickPhasesCappedByTheStaticTorque) {
+  const ModalROM rom = rig_rom(0.05);
+  const double Ts = 3.0;
+  Inputs in;
+  in.top_speed = Signal::constant(5.0);
+  in.wob = Signal::constant(500.0);
+  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2}) {
+    SimOptions o;
+    o.scheme = sch;
+    o.dt = 1e-4;
+    o.duration = 20.0;
+    long stuck = 0, n = 0, breaks = 0;
+    double vmin = 1e9, Tmax_stuck = 0, prev_v = 1.0;
+    Integrator(rom.model, coulomb_law(Ts, 0.6 * Ts), o).run(in, [&](const StepState& s) {
+      if (s.t < 5) return;
+      ++n;
+      vmin = std::min(vmin, s.bit_speed);
+      if (std::fabs(s.bit_speed) <= 1e-9) {
+        ++stuck;
+        Tmax_stuck = std::max(Tmax_stuck, s.torque_on_bit);
+      } else if (std::fabs(prev_v) <= 1e-9) {
+        ++breaks;
+      }
+      prev_v = s.bit_speed;
+    });
+    EXPECT_GT(breaks, 5) << to_string(sch) << ": a stick-slip limit cycle";
+    EXPECT_GT(stuck, n / 20) << to_string(sch);
+    EXPECT_GT(vmin, -1e-9) << to_string(sch) << ": no backward motion, no chatter";
+    EXPECT_LE(Tmax_stuck, Ts * (1 + 1e-12)) << to_string(sch);
+    EXPECT_GT(Tmax_stuck, 0.99 * Ts) << to_string(sch) << ": it breaks away at the static torque";
+  }
+}

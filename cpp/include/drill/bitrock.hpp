@@ -4,7 +4,10 @@
 //  * hysteretic             Eq. (3.2)  T = b0 [tanh(b1 v) + b2 |v|^b4 sign(v) / (1 + b3 |v|^b5) (1 + H)]
 //                           Eq. (3.3)  H = beta1 tanh(beta2 a) sign(v)
 //  * polynomial             Eq. (5.1)  non-regularized piecewise polynomial (coefficients a0..a7,
-//                                      breakpoints at 1 % and 5 % of a reference speed, gain 1.36)
+//                                      breakpoints at 1 % and 5 % of a reference speed, gain 1.36),
+//                                      odd in the bit speed; at rest it is set-valued: the bit stays
+//                                      stuck while |string torque| <= the static torque 1.36 a0 W / W_ref
+//                                      (static_torque(); the integrators apply this stick condition)
 //  * polynomial_hysteretic  Eq. (5.3)  T = T_poly(v) (1 + H(v, a))
 //
 // All laws scale linearly with the weight on bit: T(W) = T (W / W_ref) (section 3.3, b0 x WOB / 245 kN).
@@ -13,6 +16,7 @@
 // the engine's own state is always SI. See docs/units.md for which unit the thesis's sets use.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -146,17 +150,22 @@ struct BitRockLaw {
       }
       case Kind::polynomial:
       case Kind::polynomial_hysteretic: {  // Eq. (5.1) and its hysteretic form Eq. (5.3)
+        // Eq. (5.1) is written for v >= 0; the law is extended as an odd function (a reversible law
+        // resists the motion in either direction). At v = 0 this returns the right limit, the static
+        // torque a0 (the stick condition itself lives in the integrators).
+        const double u = std::fabs(v), su = v < 0.0 ? -1.0 : 1.0;
         double p, dp;
-        if (v <= 0.01 * ref_speed) {
-          p = a[0] + a[1] * v;
+        if (u <= 0.01 * ref_speed) {
+          p = a[0] + a[1] * u;
           dp = a[1];
-        } else if (v <= 0.05 * ref_speed) {
-          p = a[2] + a[3] * v;
+        } else if (u <= 0.05 * ref_speed) {
+          p = a[2] + a[3] * u;
           dp = a[3];
         } else {
-          p = a[4] + v * (a[5] + v * (a[6] + v * a[7]));
-          dp = a[5] + v * (2.0 * a[6] + 3.0 * v * a[7]);
+          p = a[4] + u * (a[5] + u * (a[6] + u * a[7]));
+          dp = a[5] + u * (2.0 * a[6] + 3.0 * u * a[7]);
         }
+        p *= su;  // d(su p(|v|))/dv = p'(|v|): dp unchanged
         if (kind == Kind::polynomial) {
           r.base = gain * p;
           r.dbase_dv = gain * dp;
@@ -174,6 +183,16 @@ struct BitRockLaw {
     r.dbase_dv *= w * s;
     r.dfrac_dv *= w * s;
     return r;
+  }
+
+  /// Static (break-away) torque at rest [N m] at WOB `wob`: gain a0 W / W_ref for the
+  /// non-regularized laws of Eqs. (5.1) and (5.3) (H = 0 at rest since sign(0) = 0), 0 for the
+  /// regularized laws (3.1)-(3.2), which vanish at rest and need no stick condition. While the bit is
+  /// at rest it stays stuck as long as the torque the string applies to it is within
+  /// [-static_torque, static_torque] (the set-valued law at v = 0).
+  double static_torque(double wob) const {
+    if (kind != Kind::polynomial && kind != Kind::polynomial_hysteretic) return 0.0;
+    return std::max(0.0, gain * a[0]) * wob / wob_ref;
   }
 
   /// Torque on bit [N.m] at SI bit speed v [rad/s], acceleration acc [rad/s^2] and WOB [N].

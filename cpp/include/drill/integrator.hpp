@@ -316,6 +316,8 @@ class Integrator {
         }
         a_guess = a;
       }
+      const double Ts = scale * law_.static_torque(wob);
+      if (Ts > 0.0) stick_euler(v, om, alpha, g, dt, Ts, rest, a, T);
       if (!std::isfinite(v) || !std::isfinite(T)) diverged(t);
       obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T, top_torque_.dot(z), om}));
       if (i == n) break;
@@ -327,6 +329,31 @@ class Integrator {
     ModelState out = to_model(z, p);
     out.top_speed = om_state;
     return out;
+  }
+
+  /// Bit speeds below this are "at rest" (a stuck bit's speed is zero up to rounding).
+  static double rest_tolerance(double om) { return 1e-12 * (1.0 + std::fabs(om)); }
+
+  /// Stick condition of the non-regularized laws (Eqs. 5.1, 5.3) in the modified Euler step: the
+  /// law is set-valued at rest, T in [-Ts, Ts]. The torque that brings the bit to rest at the end of
+  /// the step, v + dt (alpha - g T) = 0, is T_req = (alpha + v / dt) / g. A bit at rest stays stuck
+  /// while the friction T_req - c_v v it would need is within the static torque Ts, and breaks away
+  /// with the static torque otherwise; a moving bit whose slip step would reverse its speed comes to
+  /// rest when the friction can hold it (or the string pushes it on in its own direction).
+  /// On return (a, T) are the step's bit acceleration and torque.
+  static void stick_euler(double v, double om, double alpha, double g, double dt, double Ts, double rest,
+                          double& a, double& T) {
+    const double T_req = (alpha + v / dt) / g, F_req = T_req - rest;
+    const double sv = (v > 0.0) - (v < 0.0), sf = (F_req > 0.0) - (F_req < 0.0);
+    const bool at_rest = std::fabs(v) <= rest_tolerance(om);
+    const bool crossing = !at_rest && v * (v + dt * a) <= 0.0;
+    if ((at_rest || crossing) && (std::fabs(F_req) <= Ts || (crossing && sf == sv))) {
+      T = T_req;  // stuck: the bit is at rest at the end of the step
+      a = -v / dt;
+    } else if (at_rest) {
+      T = sf * Ts + rest;  // break-away: sign(0) = 0, so H = 0 in Eq. (5.3)
+      a = alpha - g * T;
+    }
   }
 
   template <class Observer>
@@ -344,8 +371,11 @@ class Integrator {
       const double T = total_torque(v, 0.0, in.wob.at(0.0), in.eta.at(0.0), in.bit_viscous).T;
       obs(static_cast<const StepState&>(StepState{0, 0.0, v, 0.0, bit_.dot(z), T, top_torque_.dot(z), om}));
     }
+    // backward Euler on the first step and on the step after each stuck step (the BDF2 history of a
+    // bit that has just been stopped by the stick condition is not smooth: restart the multistep)
+    bool restart = true;
     for (long i = 0; i < n; ++i) {
-      const bool first = i == 0;
+      const bool first = restart;
       const Implicit& im = first ? be_ : bdf_;
       const double t1 = (i + 1) * dt;
       if (first) {
@@ -367,8 +397,26 @@ class Integrator {
       const double ca = first ? 1.0 / dt : 1.5 / dt;
       const double a0 = first ? -x_n / dt : (-2.0 * x_n + 0.5 * x_old) / dt;
       double Tnew = 0.0;
-      const double x = solve_bit(w, im.gamma * im.g, om1, ca, a0 + domega, wob, eta, in.bit_viscous,
-                                 x_n, t1, Tnew);
+      const double c = im.gamma * im.g;
+      const double Ts = (1.0 + eta) * law_.static_torque(wob);
+      const double om0 = in.top_speed.at(t1 - dt), v_n = om0 + x_n;
+      const bool at_rest = Ts > 0.0 && std::fabs(v_n) <= rest_tolerance(om0);
+      // Stick condition of Eqs. (5.1), (5.3) (see stick_euler): at rest (x = -om1) the friction
+      // needed is T_req = (w + om1) / c.
+      const double T_req = (w + om1) / c, sf = (T_req > 0.0) - (T_req < 0.0);
+      bool stuck = at_rest && std::fabs(T_req) <= Ts;
+      double x = -om1;
+      if (!stuck) {
+        x = solve_bit(w, c, om1, ca, a0 + domega, wob, eta, in.bit_viscous, x_n, t1, Tnew);
+        const double v1 = om1 + x, sv = (v_n > 0.0) - (v_n < 0.0);
+        const bool lands = v_n * v1 <= 0.0 || std::fabs(v1) <= rest_tolerance(om1);  // at the jump of the law
+        stuck = Ts > 0.0 && !at_rest && lands && (std::fabs(T_req) <= Ts || sf == sv);
+      }
+      if (stuck) {
+        x = -om1;
+        Tnew = T_req;
+      }
+      restart = stuck;
       z_old = z;
       p_old = p;
       p = pstar - (im.gamma * Tnew) * im.s;
