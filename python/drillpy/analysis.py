@@ -48,9 +48,16 @@ class AnalysisOptions:
     eta_reference : {"mean", "branch"}
         T_hys of Eq. (4.2): the mean of all cycles (thesis) or the branch mean curves.
     simulate : bool
-        Run the rig simulations (needs a top-speed channel).
+        Run the rig simulations (needs a top-speed channel): the rig model calibrated on the record
+        (:func:`drillpy.rigsim.calibrate`), written as ``model.json``.
     preset : str
         The rig preset simulated.
+    calibrate : (float, float), optional
+        Calibration part [s]: cleaning, cycles, identification and the rig calibration use it only;
+        the rest of the record (pieces of at least ``min_holdout_s``) is predicted by the calibrated
+        model and reported with the same metrics.
+    min_holdout_s : float
+        Shortest held-out piece predicted [s].
     """
     t0: float | None = None
     t1: float | None = None
@@ -63,6 +70,8 @@ class AnalysisOptions:
     eta_reference: str = "mean"
     simulate: bool = True
     preset: str = "thesis-rig"
+    calibrate: tuple | None = None
+    min_holdout_s: float = 2.0
 
 
 def _stats(x) -> dict:
@@ -109,7 +118,13 @@ def analyze_record(record: Record | str | Path, out_dir: str | Path, options: An
     cl_opt = CleaningOptions()
     if raw.top_speed is None:
         cl_opt.stick_threshold_rad_s = None
-    rec, rep = clean(raw, cl_opt)
+    full, rep = clean(raw, cl_opt)
+    rec = full
+    if opt.calibrate is not None:
+        c0, c1 = (float(x) for x in opt.calibrate)
+        if not (math.isfinite(c0) and math.isfinite(c1) and c0 < c1):
+            raise ValueError(f"calibrate = {opt.calibrate!r}: needs T0 < T1 [s]")
+        rec = full.select(c0, c1)
     if raw.top_speed is not None:
         thr = opt.stick_fraction * abs(float(np.nanmedian(rec.top_speed[rec.valid("top_speed")])))
     else:
@@ -195,8 +210,9 @@ def analyze_record(record: Record | str | Path, out_dir: str | Path, options: An
     S["identification"] = {"fit_every": every, "note": ident.METHOD_NOTE}
     fits_by = {}
     for key, use_wob in variants.items():
-        data = ident.FitData.from_arrays(v, acc, tq, lab, cid, wob=rec.wob, use_wob=use_wob, every=every)
-        fits = ident.fit_laws(data, opt.laws, mc=mc, folds=opt.folds)
+        data = ident.FitData.from_arrays(v, acc, tq, lab, cid, wob=rec.wob, use_wob=use_wob, every=every,
+                                         cycles=cyc)
+        fits = ident.fit_laws(data, opt.laws, mc=mc, folds=opt.folds, stick_threshold=thr)
         cmp = ident.compare_laws(fits)
         fits_by[key] = fits
         S["identification"][key] = {"n_samples": len(data), "n_cycles": int(np.unique(data.group).size),
@@ -213,10 +229,13 @@ def analyze_record(record: Record | str | Path, out_dir: str | Path, options: An
 
     # ---------------------------------------------------------------- rig simulation
     sims = {}
-    if opt.simulate and rec.top_speed is not None and rec.valid("top_speed").all():
-        S["rig"], sims = _rig_section(rec, raw_threshold=thr, fits_by=fits_by, preset=opt.preset, log=log)
+    if opt.simulate and rec.top_speed is not None and rigsim.reliable_top_speed(rec).sum() >= 10:
+        held = _held_out(full, rec, opt.min_holdout_s) if opt.calibrate is not None else []
+        S["rig"], sims, model = _rig_section(rec, thr, fits_by, opt.preset, log, held)
+        (out / "model.json").write_text(json.dumps(_jsonable(model.to_dict()), indent=2))
+        log(f"rig model written to {out / 'model.json'} (apply it to any record: drillpy predict)")
     elif opt.simulate:
-        S["rig"] = {"skipped": "the record has no complete top-speed channel to drive the rig model"}
+        S["rig"] = {"skipped": "the record has no top-speed channel with reliable samples to set the rig's speed"}
 
     # ---------------------------------------------------------------- figures and report
     j = choose_cycle(cyc, rec.time_s, opt.cycle_at_s)
@@ -258,50 +277,87 @@ def _wob_effect(fits_by: dict) -> dict:
     return out
 
 
-def _rig_section(rec: Record, raw_threshold: float, fits_by: dict, preset: str, log) -> tuple:
+def _held_out(full: Record, cal: Record, min_s: float) -> list:
+    """The pieces of ``full`` before and after the calibration part, at least ``min_s`` long."""
+    t, a, b = full.time_s, cal.time_s[0], cal.time_s[-1]
+    out = []
+    for lo, hi in ((t[0], a - full.dt), (b + full.dt, t[-1])):
+        if hi - lo >= min_s:
+            out.append(full.select(lo, hi))
+    return out
+
+
+def _metric_row(cmp: rigsim.RigComparison) -> dict:
+    m, s = cmp.measured, cmp.simulated
+    return {k: {"measured": m[k], "simulated": s[k], "relative_error": rigsim.relative_error(s[k], m[k])}
+            for k in ("ss", "stick_fraction", "cycle_frequency_hz", "torque_p5", "torque_p95", "top_speed_std")}
+
+
+def _rig_section(rec: Record, thr: float, fits_by: dict, preset: str, log, held: list) -> tuple:
+    """The rig model: the identified law that can stick (the non-regularized Eq. 5.1/5.3 with the
+    lower BIC), its damping and top drive calibrated on ``rec`` (:func:`drillpy.rigsim.calibrate`),
+    every drive's best case simulated for the figures, and the prediction of the held-out pieces."""
+    from .prediction import short_horizon_error
+    fits = fits_by["constant_wob"]
+    sticky = [f for f in fits if f.name.startswith("polynomial")] or fits
+    law_fit = min(sticky, key=lambda f: f.bic)
     base = load_config(preset=preset)
     out = {"preset": preset, "preset_law": base["law"], "preset_damping": base["damping"], "cases": [],
-           "law_selection": []}
+           "law": law_fit.name, "law_rule": "the identified non-regularized law (Eq. 5.1 or 5.3, it sticks at its "
+                                            "static torque) with the lower BIC"}
     sims = {}
 
-    def case(label, law, zeta, drive):
-        sim = rigsim.simulate_rig(rec, law, zeta, drive=drive, preset=preset)
-        cmp = rigsim.compare(rec, sim, raw_threshold)
-        out["cases"].append({"label": label, "law": law, "damping_ratio": zeta, "drive": drive,
-                             "measured": cmp.measured, "simulated": cmp.simulated, "mismatch": cmp.mismatch,
-                             "loop_rms_nm": cmp.loop_rms_nm})
+    def case(label, model):
+        sim = rigsim.simulate_model(model, rec)
+        cmp = rigsim.compare(rec, sim, thr)
+        out["cases"].append({"label": label, "law": model.law, "damping_ratio": model.damping_ratio,
+                             "drive": model.drive, "measured": cmp.measured, "simulated": cmp.simulated,
+                             "mismatch": cmp.mismatch, "loop_rms_nm": cmp.loop_rms_nm})
         sims[label] = (sim, cmp)
         log(f"rig: {label}: mismatch {cmp.mismatch:.3f}, SS {cmp.simulated['ss']:.3f} "
             f"(measured {cmp.measured['ss']:.3f}), stick fraction {cmp.simulated['stick_fraction']:.3f} "
-            f"(measured {cmp.measured['stick_fraction']:.3f})")
+            f"(measured {cmp.measured['stick_fraction']:.3f}), cycle frequency {cmp.simulated['cycle_frequency_hz']:.2f} Hz "
+            f"(measured {cmp.measured['cycle_frequency_hz']:.2f})")
 
-    # effective damping of each identified law, self-excited (constant top speed)
-    ests = []
-    for f in fits_by["constant_wob"]:
-        est = rigsim.estimate_damping(rec, f.law, raw_threshold, preset=preset)
-        ests.append((f, est))
-        out["law_selection"].append({"law": f.name, "damping_ratio": est["ratio"], "mismatch": est["mismatch"],
-                                     "bic_rank": sorted(fits_by["constant_wob"], key=lambda g: g.bic).index(f) + 1,
-                                     "scan": est["scan"]})
-    best, est = min(ests, key=lambda p: p[1]["mismatch"])
-    zb = est["ratio"]
-    z0 = base["damping"]["ratios"][0] if base["damping"]["type"] == "modal" else None
-    case(f"preset law, zeta {z0:g}, constant top speed", base["law"], z0, "constant")
-    case(f"preset law, zeta {z0:g}, measured top speed", base["law"], z0, "measured")
-    case(f"{best.name} (fitted), zeta {zb:.3g} (estimated), constant top speed", best.law, zb, "constant")
-    case(f"{best.name} (fitted), zeta {zb:.3g} (estimated), measured top speed", best.law, zb, "measured")
-    pref = min(fits_by["constant_wob"], key=lambda f: f.bic)
-    if pref is not best:
-        zp = dict((f.name, e["ratio"]) for f, e in ests)[pref.name]
-        case(f"{pref.name} (fitted, lowest BIC), zeta {zp:.3g} (estimated), constant top speed", pref.law, zp,
-             "constant")
-    out["recommended"] = {"law": best.law, "law_name": best.name, "damping_ratio": zb, "mismatch": est["mismatch"],
-                          "rule": "the identified law (constant WOB) and effective modal damping ratio whose "
-                                  "simulation at the constant mean top speed matches the measured stick-slip best "
-                                  "(rigsim.estimate_damping)"}
-    log(f"rig: recommended preset law {best.name} with effective damping ratio {zb:.3g} "
-        f"(mismatch {est['mismatch']:.3f})")
-    return out, sims
+    z0 = base["damping"]["ratios"][0]
+    case(f"preset law, zeta {z0:g}, constant top speed", rigsim.RigModel(base["law"], z0, "constant", preset=preset))
+    cal = rigsim.calibrate(rec, law_fit.law, thr, preset=preset, log=log)
+    for drive, b in cal.per_drive.items():
+        m = rigsim.RigModel(law_fit.law, b["damping_ratio"], drive, b.get("motor_slope_nms_rad"),
+                            b.get("motor_inertia_kg_m2"), preset=preset)
+        extra = (f", c_m {m.motor_slope_nms_rad:.3g}, J_m {m.motor_inertia_kg_m2:.3g}" if drive == "motor" else "")
+        case(f"{law_fit.name}, {drive} drive, zeta {m.damping_ratio:.3g}{extra}"
+             + (" (calibrated model)" if drive == cal.model.drive else ""), m)
+    model = cal.model
+    out["calibration"] = cal.summary()
+    out["recommended"] = {"law": model.law, "law_name": law_fit.name, "damping_ratio": model.damping_ratio,
+                          "drive": model.drive, "motor_slope_nms_rad": model.motor_slope_nms_rad,
+                          "motor_inertia_kg_m2": model.motor_inertia_kg_m2, "mismatch": cal.comparison.mismatch,
+                          "rule": "damping ratio and top drive (constant, measured or motor) whose simulation matches "
+                                  "the record's SS, stick fraction, cycle frequency, bit-speed p95, torque p5/p95 and "
+                                  "top-speed fluctuation best (rigsim.calibrate)"}
+    log(f"rig: calibrated model: {law_fit.name}, {model.drive} drive, damping ratio {model.damping_ratio:.3g} "
+        f"(mismatch {cal.comparison.mismatch:.3f})")
+    out["calibration_metrics"] = _metric_row(cal.comparison)
+    out["held_out"] = []
+    for piece in held:
+        row = {"window_s": [float(piece.time_s[0]), float(piece.time_s[-1])]}
+        try:
+            sim = rigsim.simulate_model(model, piece)
+            cmp = rigsim.compare(piece, sim, thr)
+            row.update(metrics=_metric_row(cmp), mismatch=cmp.mismatch,
+                       short_horizon_error=short_horizon_error(model, piece, sim.provenance["command_rad_s"]))
+            sims[f"held-out {row['window_s'][0]:.1f}-{row['window_s'][1]:.1f} s (prediction)"] = (sim, cmp)
+            mm = row["metrics"]
+            log(f"rig: held-out {row['window_s'][0]:.1f}-{row['window_s'][1]:.1f} s: SS {mm['ss']['simulated']:.3f} "
+                f"(measured {mm['ss']['measured']:.3f}), stick fraction {mm['stick_fraction']['simulated']:.3f} "
+                f"({mm['stick_fraction']['measured']:.3f}), cycle frequency {mm['cycle_frequency_hz']['simulated']:.2f} Hz "
+                f"({mm['cycle_frequency_hz']['measured']:.2f}); short-horizon E {row['short_horizon_error']:.3f}")
+        except ValueError as e:
+            row["skipped"] = str(e)
+            log(f"rig: held-out piece not predicted: {e}")
+        out["held_out"].append(row)
+    return out, sims, model
 
 
 def _figures(out, raw, rec, rep, cyc, cst, j, lab, acc, mc, mcw, eta, fp, psd, fits_by, sims, S, thr) -> list:
@@ -404,11 +460,13 @@ def render_report(S: dict) -> str:
         L += ["", blk["comparison"].get("statement", ""), "", "Parameters (95 % intervals, cluster-robust over cycles; "
               "speed unit RPM):", ""]
         for fit in blk["fits"]:
-            ps = ", ".join(f"{n} = {p['value']:.4g} [{p['ci95'][0]:.4g}, {p['ci95'][1]:.4g}]"
+            ps = ", ".join(f"{n} = {p['value']:.4g} " + ("(at its bound: no interval)" if p["ci95"] is None
+                                                          else f"[{p['ci95'][0]:.4g}, {p['ci95'][1]:.4g}]")
+                           + (" (stick phases)" if p.get("source") == "stick phases" else "")
                            for n, p in fit["parameters"].items())
             fx = ", ".join(f"{k} = {v:g}" for k, v in fit["fixed"].items())
             bound = f"; at bound: {', '.join(fit['at_bound'])}" if fit["at_bound"] else ""
-            L.append(f"- **{fit['law']}** (Eq. {fit['equation']}): {ps}; fixed {fx}{bound}")
+            L.append(f"- **{fit['law']}** (Eq. {fit['equation']}): {ps}; fixed {fx}{bound}. {fit['fixed_rule']}")
         L.append("")
     if "wob_versus_hysteresis" in S["identification"]:
         L += [S["identification"]["wob_versus_hysteresis"].get("statement", ""), ""]
@@ -430,16 +488,17 @@ def render_report(S: dict) -> str:
         if "skipped" in rg:
             L += [f"Skipped: {rg['skipped']}.", ""]
         else:
-            L += [f"Preset `{rg['preset']}` (one elastic mode, first frequency 2.89 Hz). Simulated bit speed, top "
-                  "speed and torque pass through the rig's 10 Hz filter; the first 2 s are discarded. Mismatch = rms "
-                  "relative error over SS, stick fraction, 95th percentile of the bit speed, 5th and 95th percentiles "
-                  "of the torque and median cycle period.", "",
-                  "Effective modal damping ratio of each identified law: the value whose simulation at the "
-                  "constant mean top speed matches the measurement best (grid scan; it lumps every dissipation "
-                  "the one-mode model lacks):", "",
-                  "| law | BIC rank | damping ratio | mismatch |", "|---|---:|---:|---:|"]
-            for ls in rg["law_selection"]:
-                L.append(f"| {ls['law']} | {ls['bic_rank']} | {ls['damping_ratio']:.3g} | {ls['mismatch']:.3f} |")
+            L += [f"Preset `{rg['preset']}` (one elastic mode, first frequency 2.89 Hz) with the identified "
+                  f"{rg['law']} law ({rg['law_rule']}). Simulated bit speed, top speed and torque pass through the "
+                  "rig's 10 Hz filter; the first 2 s are discarded. Mismatch = rms relative error over SS, stick "
+                  "fraction, cycle frequency, 95th percentile of the bit speed, 5th and 95th percentiles of the torque "
+                  "and the standard deviation of the top speed. The constant drive turns at the record's mean top "
+                  "speed over its reliable samples; the motor's command reproduces that mean.", "",
+                  "Calibration (damping ratio and top drive, rigsim.calibrate), best of each drive:", "",
+                  "| drive | damping ratio | c_m [N m s/rad] | J_m [kg m^2] | mismatch |", "|---|---:|---:|---:|---:|"]
+            for d, b in rg["calibration"]["per_drive"].items():
+                L.append(f"| {d} | {b['damping_ratio']:.3g} | {_f(b.get('motor_slope_nms_rad'), '.3g')} | "
+                         f"{_f(b.get('motor_inertia_kg_m2'), '.3g')} | {b['mismatch']:.3f} |")
             L += ["",
                   "| case | SS | cycle freq. [Hz] | median period [s] | stick fraction | bit speed p95 [RPM] | "
                   "torque p5 [N m] | torque p95 [N m] | torque min-max [N m] | mismatch | loop rms [N m] |",
@@ -455,7 +514,26 @@ def render_report(S: dict) -> str:
                          f"{s['torque_p95']:.2f} | {s['torque_min']:.2f}-{s['torque_max']:.2f} | {cs['mismatch']:.3f} | "
                          f"{_f(cs['loop_rms_nm'])} |")
             rec_ = rg["recommended"]
-            L += ["", f"Recommended rig law ({rec_['rule']}): `{json.dumps(rec_['law'])}` with modal damping ratio "
-                  f"{rec_['damping_ratio']:.3g}.", "", "![rig time series](rig_time_series.png)", "",
-                  "![rig loops](rig_loops.png)", ""]
+            L += ["", f"Calibrated rig model ({rec_['rule']}): {rec_['law_name']} law, {rec_['drive']} drive, modal "
+                  f"damping ratio {rec_['damping_ratio']:.3g}; written as `model.json` (apply it to any record with "
+                  "`drillpy predict model.json RECORD`).", ""]
+            if rg.get("held_out"):
+                L += ["### Prediction of the held-out parts (never used by the fits)", "",
+                      "| window [s] | SS meas. / pred. | stick fraction meas. / pred. | cycle freq. [Hz] meas. / pred. | "
+                      "torque p5-p95 [N m] meas. / pred. | short-horizon E |", "|---|---|---|---|---|---:|"]
+                for h in rg["held_out"]:
+                    w = f"{h['window_s'][0]:.1f}-{h['window_s'][1]:.1f}"
+                    if "skipped" in h:
+                        L.append(f"| {w} | not predicted: {h['skipped']} | | | | |")
+                        continue
+                    m = h["metrics"]
+
+                    def mp(k, fmt=".3f"):
+                        return f"{_f(m[k]['measured'], fmt)} / {_f(m[k]['simulated'], fmt)} ({100 * m[k]['relative_error']:+.0f} %)"
+                    L.append(f"| {w} | {mp('ss')} | {mp('stick_fraction')} | {mp('cycle_frequency_hz', '.2f')} | "
+                             f"{m['torque_p5']['measured']:.2f}-{m['torque_p95']['measured']:.2f} / "
+                             f"{m['torque_p5']['simulated']:.2f}-{m['torque_p95']['simulated']:.2f} | "
+                             f"{_f(h['short_horizon_error'])} |")
+                L.append("")
+            L += ["![rig time series](rig_time_series.png)", "", "![rig loops](rig_loops.png)", ""]
     return "\n".join(L) + "\n"

@@ -13,6 +13,7 @@
   drillpy robust-ss --preset thesis-ch6 --samples 40 --speeds 6:27:8 --out DIR
   drillpy mc       --preset thesis-field --samples 500 --speeds 6:27:22 --seed 1 --json
   drillpy loop     RECORD --preset thesis-rig --out DIR      residual -> missing effect -> corrected model
+  drillpy predict  MODEL.json RECORD --out DIR --json       a calibrated rig model on a record it never saw
 
 Every error prints one line ``drillpy: error: ...`` and exits with status 2.
 """
@@ -190,11 +191,14 @@ def cmd_analyze(a) -> int:
     if len(items) == 1:  # one record (or one window of it): the single-record analysis
         from .analysis import AnalysisOptions, _jsonable, analyze_record
         t0, t1 = items[0][2] or (a.t0, a.t1)
+        cal = None if a.calibrate is None else tuple(parse_grid(a.calibrate.replace(":", ","), "--calibrate"))
+        if cal is not None and len(cal) != 2:
+            raise ValueError(f"--calibrate = {a.calibrate!r}: use T0:T1 [s]")
         opt = AnalysisOptions(t0=t0, t1=t1, cycle_at_s=a.cycle_at, folds=5 if a.folds is None else a.folds,
-                              psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim)
+                              psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim, calibrate=cal)
         s = analyze_record(items[0][1], a.out, opt, log=log)
         if a.json:
-            keys = ("cleaning", "cycles", "severity", "torque_statistics", "psd", "identification")
+            keys = ("cleaning", "cycles", "severity", "torque_statistics", "psd", "identification", "rig")
             print(json.dumps(_jsonable({k: s[k] for k in keys if k in s}), default=str, allow_nan=False))
         return 0
     # two or more samples (files, a folder, FILE@T0:T1 windows): section 5.3 across samples
@@ -208,6 +212,27 @@ def cmd_analyze(a) -> int:
         from .analysis import _jsonable
         print(json.dumps(_jsonable({k: s[k] for k in ("n_samples", "laws", "table_5_2", "across_samples",
                                                       "acceptance", "parameters")}), allow_nan=False))
+    return 0
+
+
+def cmd_predict(a) -> int:
+    from .prediction import load_model, predict_record, write_prediction
+    model = load_model(a.model)
+    pred = predict_record(model, a.record, t0=a.t0, t1=a.t1, horizon_s=a.horizon, threads=a.threads)
+    if a.out:
+        write_prediction(pred, a.out)
+    s = pred.summary()
+    if a.json:
+        print(json.dumps({k: s[k] for k in ("short_horizon_error", "long_run")}, allow_nan=False))
+    else:
+        lr = s["long_run"]
+        print(f"{model.drive} drive at the record's operating point; short-horizon error E = {s['short_horizon_error']:.3f}")
+        for k in ("ss", "stick_fraction", "cycle_frequency_hz"):
+            print(f"  {k}: measured {lr[k]['measured']:.3f}, predicted {lr[k]['predicted']:.3f} "
+                  f"({100 * lr[k]['relative_error']:+.1f} %)")
+        tq = lr["torque_p05_p95_nm"]
+        print(f"  torque p5-p95 [N m]: measured {tq['measured'][0]:.2f}-{tq['measured'][1]:.2f}, predicted "
+              f"{tq['predicted'][0]:.2f}-{tq['predicted'][1]:.2f}")
     return 0
 
 
@@ -436,6 +461,8 @@ def build_parser() -> argparse.ArgumentParser:
                                              "0 across samples)")
     s.add_argument("--psd-fmax", type=float, default=10.0, help="upper end of the PSD-model fit band [Hz] (one record)")
     s.add_argument("--no-sim", action="store_true", help="skip the rig simulations (one record)")
+    s.add_argument("--calibrate", metavar="T0:T1", help="fit and calibrate on this part [s] only and predict the rest "
+                                                        "of the record (one record)")
     g = s.add_argument_group("acceptance criterion across samples (thesis section 5.3.3)")
     g.add_argument("--max-var-mse-regularized", type=float, default=47.93,
                    help="largest acceptable Var[MSE] (Eq. 5.2) of the regularized law Eq. (3.1)")
@@ -451,6 +478,17 @@ def build_parser() -> argparse.ArgumentParser:
                    help="print the main numbers and the identification results (one record) or the tables across "
                         "samples as JSON")
     s.set_defaults(func=cmd_analyze)
+
+    s = sub.add_parser("predict", help="apply a calibrated rig model (model.json of analyze) to a record, no refitting")
+    s.add_argument("model", help="model.json written by drillpy analyze")
+    s.add_argument("record", help="rig MATLAB file or drillpy CSV")
+    s.add_argument("--out", help="folder for summary.json and overlay.png")
+    s.add_argument("--t0", type=float, help="start of the predicted window [s]")
+    s.add_argument("--t1", type=float, help="end of the predicted window [s]")
+    s.add_argument("--horizon", type=float, default=0.25, help="short-horizon length [s] (docs/loop.md)")
+    s.add_argument("--threads", type=int, default=0, help="OpenMP threads (0: default)")
+    s.add_argument("--json", action="store_true", help="print the short-horizon error and the long-run metrics")
+    s.set_defaults(func=cmd_predict)
 
     s = sub.add_parser("frf", help="acceleration FRF envelopes under structural uncertainty (chapter 6)")
     _uncertainty_args(s, samples=2500, out="folder for the figures and envelope.json")

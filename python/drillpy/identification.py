@@ -9,8 +9,8 @@ name                        equation  free parameters (speed unit RPM by default
 ``tucker_wang``             (3.1)     c0, alpha1, alpha2          (alpha0 fixed)
 ``hysteretic_reversible``   (3.2)     b0, b0*b2, v_knee, b4, b5   (b1 fixed, H = 0: model 1)
 ``hysteretic``              (3.2-3.3) b0, b0*b2, v_knee, b4, b5, beta1, beta2   (b1 fixed)
-``polynomial``              (5.1)     a4, a5, a6, a7              (gain 1.36, ref = mean speed)
-``polynomial_hysteretic``   (5.3)     a4..a7, beta1, beta2
+``polynomial``              (5.1)     a0 (stick phases), a4..a7   (gain 1.36, ref = mean speed; a1..a3 tied)
+``polynomial_hysteretic``   (5.3)     a0 (stick phases), a4..a7, beta1, beta2
 =========================== ========= ======================================================
 
 Fixed parameters and why: alpha0 (3.1) and b1 (3.2) only set how fast the tanh term saturates
@@ -19,11 +19,19 @@ are not identifiable, so they are fixed (default 10 per RPM: tanh > 0.9999 above
 parameters b0, b0*b2 (the amplitude of the fraction) and the knee speed v_knee = b3^(-1/b5)
 (where the denominator reaches 2): the thesis's b0..b5 make the problem ill-conditioned (b0 and
 b2 trade off when the Coulomb term is small, b3 and b5 scale together); b2 and b3 follow and are
-written in the engine law. In
-Eq. (5.1) the two low-speed pieces (below 1 % and 5 % of the mean bit speed) are below the stick
-threshold and carry no slip data; they are tied to the cubic piece: the law rises linearly from 0
-at zero speed to the cubic's value at 5 % of the mean speed, reached at 1 %, and stays flat
-in between (continuous, zero at rest like the regularized laws).
+written in the engine law.
+
+Eq. (5.1) is the *non-regularized* law: its a0 is the static (break-away) torque, 1.36 a0 at rest
+and W = W_ref, and the engine keeps the bit stuck while the string torque is below it. a0 is
+identified from the stick phases, not from the slip samples: the torque at which the bit breaks
+away is the largest measured torque of each stick phase (up to ``lag_s`` into the slip that
+follows, which the rig's 10 Hz filter delays), one value per cycle (:func:`breakaway_torques`);
+1.36 a0 is their mean, with a Student-t interval over the cycles. The slip branch a4..a7 (and
+beta1, beta2 of Eq. 5.3) is then fitted on the slip samples with a0 held at that value. The two
+low-speed pieces (below 1 % and 5 % of the mean bit speed) lie below the stick threshold and
+carry no slip data: a1, a2, a3 are tied (reported as such): the law falls linearly from the
+static torque at rest to the cubic's value at 5 % of the mean speed, reached at 1 %, and is flat
+in between (continuous on v > 0).
 
 The fit is :func:`scipy.optimize.least_squares` on the torque residuals. Parameter uncertainty:
 residuals of a 1 kHz record are strongly correlated within a stick-slip cycle, so the covariance
@@ -86,6 +94,9 @@ class FitData:
         Reference WOB of the fitted laws [N] (the mean measured WOB).
     speed_ref : float
         Mean bit speed [rad/s] (the reference speed of Eq. 5.1).
+    breakaway : ndarray, optional
+        Break-away torque of each stick phase, scaled to ``wob_ref`` [N m]
+        (:func:`breakaway_torques`): identifies the static torque a0 of Eqs. (5.1), (5.3).
     """
     speed: np.ndarray
     accel: np.ndarray
@@ -94,6 +105,7 @@ class FitData:
     group: np.ndarray
     wob_ref: float
     speed_ref: float
+    breakaway: np.ndarray | None = None
 
     def __post_init__(self):
         n = np.asarray(self.speed).size
@@ -112,18 +124,19 @@ class FitData:
     def subset(self, mask) -> "FitData":
         m = np.asarray(mask, bool)
         return FitData(self.speed[m], self.accel[m], self.torque[m], self.wob[m], self.group[m],
-                       self.wob_ref, self.speed_ref)
+                       self.wob_ref, self.speed_ref, self.breakaway)
 
     @classmethod
     def from_arrays(cls, speed, accel, torque, labels, cycle_id, wob=None, use_wob: bool = False,
-                    wob_ref: float | None = None, every: int = 1) -> "FitData":
+                    wob_ref: float | None = None, every: int = 1, cycles=None) -> "FitData":
         """Slip samples (``labels != 0``) of valid cycles (``cycle_id >= 0``), every ``every``-th.
 
         ``wob``: measured WOB [N] (its mean is the reference WOB; with ``use_wob`` the law is
         evaluated at the measured WOB, else at the reference). ``every``: keep one sample in
         ``every`` (the rig's channels are low-passed at 10 Hz, so 100 Hz of a 1 kHz record carries
         the same information at a tenth of the cost; the intervals are cluster-robust and do not
-        depend on the sampling rate).
+        depend on the sampling rate). ``cycles``: the :class:`drillpy.signals.Cycles` the labels
+        came from; their stick phases give the break-away torques (static torque of Eq. 5.1).
         """
         if int(every) != every or every < 1:
             raise ValueError(f"every = {every!r}: must be a positive integer")
@@ -138,8 +151,41 @@ class FitData:
         else:
             w_all, ref = None, (1.0 if wob_ref is None else float(wob_ref))
         w = w_all if (use_wob and w_all is not None) else np.full(v.size, ref)
+        brk = None
+        if cycles is not None:
+            brk = breakaway_torques(cycles, torque, wob if use_wob else None, ref)
+            brk = brk if brk.size >= 2 else None
         return cls(v, np.asarray(accel, float)[m], np.asarray(torque, float)[m], w,
-                   np.asarray(cycle_id)[m], ref, float(np.mean(v)))
+                   np.asarray(cycle_id)[m], ref, float(np.mean(v)), brk)
+
+
+def breakaway_torques(cycles, torque, wob=None, wob_ref: float = 1.0, *, min_stick_s: float = 0.01,
+                      lag_s: float = 0.03) -> np.ndarray:
+    """Break-away torque of every stick phase of the valid cycles [N m].
+
+    The bit of a valid cycle sticks from ``cycles.stick[j]`` to ``cycles.end[j]``; while stuck the
+    torque on it is the string's, rising until it reaches the static torque and the bit breaks
+    away. The break-away torque is the largest torque from the start of the stick phase to
+    ``lag_s`` after its end (the rig's 10 Hz filter delays the peak by a few 10 ms). Stick phases
+    shorter than ``min_stick_s`` are skipped (the bit barely stopped). With ``wob`` the value is
+    scaled to ``wob_ref`` by W_ref / W at the break-away instant (the law scales with W / W_ref).
+    """
+    tq = np.asarray(torque, float)
+    lag = int(round(lag_s / cycles.dt))
+    out = []
+    for j in np.flatnonzero(cycles.valid):
+        a, b = int(cycles.stick[j]), int(cycles.end[j])
+        if (b - a) * cycles.dt < min_stick_s:
+            continue
+        seg = tq[a:min(b + lag, tq.size)]
+        if not np.all(np.isfinite(seg)):
+            continue
+        k = a + int(np.argmax(seg))
+        val = float(tq[k])
+        if wob is not None:
+            val *= wob_ref / float(np.asarray(wob, float)[k])
+        out.append(val)
+    return np.asarray(out)
 
 
 # ----------------------------------------------------------------------------- law families
@@ -169,10 +215,11 @@ def _hys(p, d, unit, fx, hyst=True):
 def _poly(p, d, unit, fx, hyst=False):
     ref = d.speed_ref * (RPM if unit == "rpm" else 1.0)
     a4, a5, a6, a7 = p[:4]
+    a0 = float(fx.get("a0", 0.0))  # static torque / gain (identified from the stick phases)
     v5 = 0.05 * ref
     t5 = a4 + v5 * (a5 + v5 * (a6 + v5 * a7))  # cubic at 5 % of the reference speed
     law = {"type": "polynomial_hysteretic" if hyst else "polynomial", "speed_unit": unit,
-           "wob_ref_n": d.wob_ref, "a0": 0.0, "a1": t5 / (0.01 * ref), "a2": t5, "a3": 0.0,
+           "wob_ref_n": d.wob_ref, "a0": a0, "a1": (t5 - a0) / (0.01 * ref), "a2": t5, "a3": 0.0,
            "a4": a4, "a5": a5, "a6": a6, "a7": a7, "ref_speed": ref, "gain": fx["gain"]}
     if hyst:
         law["beta1"], law["beta2"] = p[4], p[5]
@@ -196,7 +243,7 @@ FAMILIES = {
 PARAM_UNITS = {  # for reports; speed unit RPM
     "c0": "N m", "alpha0": "1/RPM", "alpha1": "1/RPM", "alpha2": "1/RPM^2", "b0": "N m", "b1": "1/RPM",
     "b0*b2": "N m RPM^-b4", "v_knee": "RPM", "b3": "RPM^-b5", "b4": "-", "b5": "-", "beta1": "-", "beta2": "s/RPM",
-    "a4": "ft lbf", "a5": "ft lbf/RPM", "a6": "ft lbf/RPM^2", "a7": "ft lbf/RPM^3",
+    "a0": "ft lbf", "a4": "ft lbf", "a5": "ft lbf/RPM", "a6": "ft lbf/RPM^2", "a7": "ft lbf/RPM^3",
 }
 
 
@@ -231,11 +278,23 @@ class LawFit:
     at_bound: tuple = ()
     message: str = ""
     residual: np.ndarray = field(default=None, repr=False)
+    static_cycles: int = 0  #: stick phases a0 was identified from (Eqs. 5.1, 5.3; 0: not identified)
+
+    @property
+    def slip_values(self) -> np.ndarray:
+        """The parameters fitted to the slip samples (``values`` without a0 from the stick phases)."""
+        return self.values[1:] if self.static_cycles else self.values
+
+    @property
+    def static_torque_nm(self) -> float:
+        """Break-away torque at rest and W_ref [N m] (non-regularized laws; 0 for the others)."""
+        return float(self.law.get("gain", 0.0) * self.law.get("a0", 0.0))
 
     @property
     def k(self) -> int:
-        """Number of free parameters."""
-        return len(self.names)
+        """Number of parameters fitted to the slip samples (a0, identified from the stick phases,
+        is not one of them)."""
+        return len(self.names) - (1 if self.static_cycles else 0)
 
     def predict(self, speed, accel=0.0, wob=None) -> np.ndarray:
         """Torque [N m] of the fitted law (engine) at SI speed and acceleration."""
@@ -243,16 +302,31 @@ class LawFit:
         return law_eval(self.law, speed, accel, w)[0]
 
     def as_dict(self) -> dict:
+        def ci(lo, hi):
+            return None if not (np.isfinite(lo) and np.isfinite(hi)) else [float(lo), float(hi)]
         return {"law": self.name, "equation": EQUATIONS[self.name], "engine_law": self.law,
-                "parameters": {nm: {"value": float(v), "stderr": float(s), "ci95": [float(lo), float(hi)],
-                                    "unit": PARAM_UNITS.get(nm, "")}
+                "parameters": {nm: {"value": float(v), "stderr": None if nm in self.at_bound else float(s),
+                                    "ci95": ci(lo, hi), "unit": PARAM_UNITS.get(nm, ""),
+                                    "at_bound": nm in self.at_bound,
+                                    "source": "stick phases" if (nm == "a0" and self.static_cycles) else "slip samples"}
                                for nm, v, s, lo, hi in zip(self.names, self.values, self.stderr,
                                                            self.ci_low, self.ci_high)},
-                "fixed": self.fixed, "k": self.k, "n": self.n, "n_clusters": self.n_clusters,
+                "fixed": self.fixed, "fixed_rule": _fixed_rule(self.name),
+                "static_torque_nm": self.static_torque_nm, "static_torque_cycles": self.static_cycles, "k": self.k, "n": self.n, "n_clusters": self.n_clusters,
                 "n_eff": self.n_eff, "rmse_nm": self.rmse, "r2": self.r2, "cv_rmse_nm": self.cv_rmse,
                 "var_mse": self.var_mse, "aic": self.aic, "bic": self.bic,
                 "residual_autocorrelation_time_samples": self.tau, "at_bound": list(self.at_bound),
                 "message": self.message}
+
+
+def _fixed_rule(name: str) -> str:
+    if name == "tucker_wang":
+        return "alpha0 fixed: it only sets how fast tanh saturates near rest, not identifiable from slip samples"
+    if name.startswith("hyst"):
+        return "b1 fixed: it only sets how fast tanh saturates near rest, not identifiable from slip samples"
+    return ("gain fixed at 1.36 (Eq. 5.1); a1, a2, a3 tied: the law falls linearly from the static torque "
+            "1.36 a0 at rest to the cubic's value at 5 % of the reference speed, reached at 1 %, flat in between "
+            "(no slip samples below the stick threshold)")
 
 
 def _start(name: str, d: FitData, unit: str, fx: dict, prior: dict) -> np.ndarray:
@@ -329,6 +403,20 @@ def fit_law(name: str, data: FitData, *, speed_unit: str = "rpm", fixed: dict | 
     fx.update(fixed or {})
     used_fixed = {k: fx[k] for k in (("alpha0",) if name == "tucker_wang" else ("b1",) if name.startswith("hyst")
                                      else ("gain",))}
+    static = None  # (a0, stderr, ci_low, ci_high, cycles) of Eq. (5.1) from the stick phases
+    if name.startswith("polynomial"):
+        if "a0" in (fixed or {}):
+            used_fixed["a0"] = fx["a0"]
+        elif data.breakaway is not None:
+            b = np.asarray(data.breakaway, float) / fx["gain"]
+            G = b.size
+            se0 = float(np.std(b, ddof=1) / math.sqrt(G))
+            q0 = stats.t.ppf(0.5 + confidence / 2, G - 1)
+            fx["a0"] = float(np.mean(b))
+            static = (fx["a0"], se0, fx["a0"] - q0 * se0, fx["a0"] + q0 * se0, G)
+        else:
+            fx["a0"] = 0.0
+            used_fixed["a0"] = 0.0  # no stick phase: the law is zero at rest
     x0 = np.asarray(start if start is not None else _start(name, data, speed_unit, fx, prior or {}), float)
     lb, ub = np.array(fam.lower, float), np.array(fam.upper, float)
     with np.errstate(invalid="ignore"):
@@ -355,9 +443,22 @@ def fit_law(name: str, data: FitData, *, speed_unit: str = "rpm", fixed: dict | 
     at_bound = tuple(nm for nm, v, lo, hi in zip(fam.names, p, lb, ub)
                      if (np.isfinite(lo) and abs(v - lo) <= 1e-6 * (1 + abs(lo)))
                      or (np.isfinite(hi) and abs(v - hi) <= 1e-6 * (1 + abs(hi))))
-    return LawFit(name, fam.build(p, data, speed_unit, fx), fam.names, p, se, p - q * se, p + q * se,
+    lo_ci, hi_ci = p - q * se, p + q * se
+    for j, nm in enumerate(fam.names):  # a parameter at a bound gets a flag, not an interval
+        if nm in at_bound:
+            lo_ci[j] = hi_ci[j] = np.nan
+    law = fam.build(p, data, speed_unit, fx)
+    names = fam.names
+    if static is not None:
+        names = ("a0",) + names
+        p, se = np.r_[static[0], p], np.r_[static[1], se]
+        lo_ci, hi_ci = np.r_[static[2], lo_ci], np.r_[static[3], hi_ci]
+    if name.startswith("polynomial"):
+        used_fixed.update({k: law[k] for k in ("a1", "a2", "a3")})
+    return LawFit(name, law, names, p, se, lo_ci, hi_ci,
                   used_fixed, n, G, rss, math.sqrt(rss / n), 1.0 - rss / tss, autocorrelation_time(r),
-                  at_bound=at_bound, message=str(res.message), residual=r)
+                  at_bound=at_bound, message=str(res.message), residual=r,
+                  static_cycles=0 if static is None else static[4])
 
 
 def _jac(fun, p, lb, ub) -> np.ndarray:
@@ -390,29 +491,37 @@ def cross_validated_rmse(name: str, data: FitData, folds: int = 5, start=None, *
     return math.sqrt(sse / n)
 
 
-def mean_cycle_var_mse(fit: LawFit, mc: MeanCycle) -> float:
+def mean_cycle_var_mse(fit: LawFit, mc: MeanCycle, stick_threshold: float | None = None) -> float:
     """Var[MSE] (Eq. 5.2) between the mean cycle's branch curves and the law evaluated at the
-    same speeds with each branch's mean acceleration, at the reference WOB."""
+    same speeds with each branch's mean acceleration, at the reference WOB.
+
+    Bins at or below ``stick_threshold`` [rad/s] are excluded: there the bit is stuck or
+    breaking away, the measured torque is the string's (anything up to the static torque), and a
+    regularized law is zero by construction, so that one bin would dominate Eq. (5.2) for every
+    law alike and the statistic could not rank them.
+    """
     ref, mod = [], []
+    keep = np.ones(mc.speed.size, bool) if stick_threshold is None else mc.speed > stick_threshold
     for curve, acc in ((mc.upper, mc.accel_upper), (mc.lower, mc.accel_lower)):
-        ok = np.isfinite(curve) & np.isfinite(acc)
+        ok = np.isfinite(curve) & np.isfinite(acc) & keep
         ref.append(curve[ok])
         mod.append(fit.predict(mc.speed[ok], acc[ok]))
     return var_mse(np.concatenate(ref), np.concatenate(mod))
 
 
 def fit_laws(data: FitData, names=LAWS, *, mc: MeanCycle | None = None, folds: int = 5,
-             speed_unit: str = "rpm") -> list:
-    """Fit several laws, with cross-validated RMSE, Var[MSE] on the mean cycle and AIC/BIC on a
-    common effective sample size (see the module docstring)."""
+             speed_unit: str = "rpm", stick_threshold: float | None = None) -> list:
+    """Fit several laws, with cross-validated RMSE, Var[MSE] on the mean cycle (bins above
+    ``stick_threshold`` [rad/s], :func:`mean_cycle_var_mse`) and AIC/BIC on a common effective
+    sample size (see the module docstring)."""
     fits, prior = [], {}
     for nm in names:
         f = fit_law(nm, data, speed_unit=speed_unit, prior=prior)
-        prior[nm] = f.values
+        prior[nm] = f.slip_values
         if folds:
-            f.cv_rmse = cross_validated_rmse(nm, data, folds, start=f.values, speed_unit=speed_unit)
+            f.cv_rmse = cross_validated_rmse(nm, data, folds, start=f.slip_values, speed_unit=speed_unit)
         if mc is not None:
-            f.var_mse = mean_cycle_var_mse(f, mc)
+            f.var_mse = mean_cycle_var_mse(f, mc, stick_threshold)
         fits.append(f)
     tau = max(f.tau for f in fits)
     for f in fits:

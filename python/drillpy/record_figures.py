@@ -334,3 +334,32 @@ def rig_loops(path, sims):
 def _wrap(s, width=48):
     import textwrap
     return "\n".join(textwrap.wrap(s, width))
+
+
+def prediction_overlay(path, rec, sim, stick_threshold, label, window_s=3.0):
+    """A model's prediction of a record it was not calibrated on: bit speed, top speed and torque
+    on bit over the whole record (top) and over a window in its middle (bottom), measured and
+    simulated, with the stick threshold."""
+    fig, axes = plt.subplots(3, 1, figsize=(9.0, 7.5))
+    t, ts = rec.time_s, sim.time_s
+    tm = t[0] + 0.5 * (t[-1] - t[0])
+    for ax, sel, sels in ((axes[0], slice(None), slice(None)),
+                          (axes[1], (t >= tm) & (t <= tm + window_s), (ts >= tm) & (ts <= tm + window_s))):
+        ax.plot(t[sel], rec.bit_speed[sel] * RPM, color=C_BIT, lw=0.8, label="measured bit speed")
+        ax.plot(ts[sels], sim.bit_speed[sels] * RPM, "r", lw=0.8, alpha=0.8, label="predicted bit speed")
+        ax.plot(ts[sels], sim.top_speed[sels] * RPM, color=C_TOP, lw=0.7, label="predicted top speed")
+        ax.axhline(stick_threshold * RPM, color="k", lw=0.6, ls=":", label="stick threshold")
+        ax.set_ylabel("speed [RPM]")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=7, loc="upper right", ncol=4)
+    axes[0].set_title(f"prediction ({label})", fontsize=9)
+    sel = (t >= tm) & (t <= tm + window_s)
+    sels = (ts >= tm) & (ts <= tm + window_s)
+    axes[2].plot(t[sel], rec.torque_on_bit[sel], color=C_BIT, lw=1.0, label="measured")
+    axes[2].plot(ts[sels], sim.torque_on_bit[sels], "r", lw=1.0, label="predicted")
+    axes[2].set_ylabel("torque on bit [N m]")
+    axes[2].set_xlabel("time [s]")
+    axes[2].grid(alpha=0.3)
+    axes[2].legend(fontsize=7)
+    fig.tight_layout()
+    return _save(fig, path)

@@ -103,3 +103,61 @@ def test_sample175_wob_scaling_explains_torque():
     const = ident.fit_law("polynomial", ident.FitData.from_arrays(*args, wob=rec.wob, every=10))
     meas = ident.fit_law("polynomial", ident.FitData.from_arrays(*args, wob=rec.wob, use_wob=True, every=10))
     assert meas.rmse < 0.85 * const.rmse  # T proportional to the measured WOB (section 3.3)
+
+
+def test_static_torque_is_identified_from_the_stick_phases_of_a_different_truth():
+    """A rig simulated with a sticking Eq. (5.1) law (static torque 3.1 N m, kinetic 2.4 N m) at a
+    finer time step and another damping than any declared model: the break-away torques of the
+    unfiltered record are the static torque within 2 %; through the 10 Hz filter the identified
+    1.36 a0 is biased low by the filter (documented), with an interval."""
+    from drillpy import rigsim
+    law = {"type": "polynomial", "speed_unit": "rpm", "wob_ref_n": 500.0, "a0": 3.1 / 1.36, "a1": 0.0,
+           "a2": 2.4 / 1.36, "a3": 0.0, "a4": 2.4 / 1.36, "a5": 0.0, "a6": -2e-5, "a7": 0.0, "ref_speed": 90.0,
+           "gain": 1.36}
+    cfg = rigsim.rig_config(law, 0.08, duration_s=12.0, top_speed=8.5)
+    cfg["simulation"]["dt_s"], cfg["simulation"]["output_stride"] = 5e-5, 20
+    from drillpy.simulation import simulate
+    r = simulate(cfg)
+    dt = float(r.t[1] - r.t[0])
+    v, T = sig.rig_lowpass(r.bit_speed, 1 / dt), sig.rig_lowpass(r.torque_on_bit, 1 / dt)
+    keep = r.t >= 2.0
+    v, T = v[keep], T[keep]
+    cyc = sig.segment_cycles(v, dt, 0.05 * 8.5)
+    assert cyc.valid.sum() > 10 and np.mean(v <= 0.05 * 8.5) > 0.05  # it sticks
+    a = sig.derivative(v, dt)
+    d = ident.FitData.from_arrays(v, a, T, cyc.branch_labels(v.size), cyc.cycle_id(v.size),
+                                  wob=np.full(v.size, 500.0), cycles=cyc)
+    f = ident.fit_law("polynomial", d)
+    assert f.names[0] == "a0" and f.static_cycles == d.breakaway.size > 10
+    # through the rig's 10 Hz filter the sharp break-away peak is attenuated: biased low, by less than 12 %
+    assert 0.88 * 3.1 < f.static_torque_nm < 3.1
+    raw_T = r.torque_on_bit[keep]  # without the filter the stick phases give the static torque itself
+    assert np.mean(ident.breakaway_torques(cyc, raw_T, lag_s=0.03)) == pytest.approx(3.1, rel=0.02)
+    assert f.ci_low[0] < f.values[0] < f.ci_high[0]
+    assert f.as_dict()["parameters"]["a0"]["source"] == "stick phases"
+    assert {"a1", "a2", "a3", "gain"} <= set(f.fixed)  # tied and fixed parameters are named
+
+
+@pytest.mark.parametrize("window", [(0.0, 20.0), (20.0, 40.0)])
+def test_var_mse_ranks_the_laws_on_both_windows_of_sample175(window):
+    rec, rep = sample175_cleaned()
+    w = rec.select(*window)
+    thr = rep.stick_threshold_rad_s
+    cyc = sig.segment_cycles(w.bit_speed, w.dt, thr, valid=w.valid())
+    acc = sig.derivative(w.bit_speed, w.dt)
+    lab = cyc.branch_labels(len(w))
+    mc = sig.mean_cycle(w.bit_speed, w.torque_on_bit, acc, lab)
+    d = ident.FitData.from_arrays(w.bit_speed, acc, w.torque_on_bit, lab, cyc.cycle_id(len(w)), wob=w.wob,
+                                  every=10, cycles=cyc)
+    fits = {f.name: f for f in ident.fit_laws(d, mc=mc, folds=0, stick_threshold=thr)}
+    vm = {k: f.var_mse for k, f in fits.items()}
+    # bins above the stick threshold only: the regularized law (3.1) fits the mean cycle worst, by a
+    # factor (thesis Table 5.2), and each hysteretic form beats its reversible form
+    assert vm["tucker_wang"] > 3 * vm["polynomial"]
+    assert vm["polynomial_hysteretic"] < vm["polynomial"] and vm["hysteretic"] < vm["hysteretic_reversible"]
+    # the static torque is identified in both windows and agrees between them (about 3 N m)
+    assert 2.7 < fits["polynomial"].static_torque_nm < 3.3
+    # a parameter at its bound gets a flag and no interval
+    for f in fits.values():
+        for nm in f.at_bound:
+            assert f.as_dict()["parameters"][nm]["ci95"] is None

@@ -1,9 +1,12 @@
 """The test rig in simulation: configuration, drives, comparison identities, damping estimate."""
+import json
+
 import numpy as np
 import pytest
 
 from _testrig import sample175_cleaned
 from drillpy import rigsim
+from drillpy.analysis import _jsonable
 from drillpy.cleaning import clean
 from drillpy.config import load_config
 from drillpy.records import RPM, Flag
@@ -36,10 +39,11 @@ def test_preset_stick_slips_at_the_measured_mean_speed(window):
     rec, thr = window
     sim = rigsim.simulate_rig(rec, drive="constant")
     np.testing.assert_allclose(sim.time_s, rec.time_s, atol=1e-9)
-    assert np.allclose(sim.top_speed, np.mean(rec.top_speed))
+    # the record's operating point: the mean over reliable (measured, not repaired) top-speed samples
+    assert np.allclose(sim.top_speed, np.mean(rec.top_speed[rigsim.reliable_top_speed(rec)]))
     cmp = rigsim.compare(rec, sim, thr)
     s = cmp.simulated
-    assert s["ss"] > 0.5 and s["stick_fraction"] > 0.02  # self-excited stick-slip
+    assert s["ss"] > 0.5  # self-excited torsional oscillation (the preset's law is zero at rest and barely sticks)
     assert 2.0 < s["cycle_frequency_hz"] < 3.2  # near the 2.89 Hz first mode
     base = load_config(preset="thesis-rig")
     assert sim.provenance["config"]["law"] == base["law"]
@@ -51,13 +55,49 @@ def test_measured_drive_follows_the_top_speed(window):
     np.testing.assert_allclose(sim.top_speed, rec.top_speed, rtol=1e-5)  # the drive is the measured signal
 
 
-def test_damping_estimate_is_the_scan_minimum(window):
+def test_calibration_keeps_each_drives_scan_minimum(window):
     rec, thr = window
     law = load_config(preset="thesis-rig")["law"]
-    est = rigsim.estimate_damping(rec, law, thr, ratios=[0.02, 0.2, 0.6])
-    assert [r for r, _ in est["scan"]] == [0.02, 0.2, 0.6]
-    assert est["mismatch"] == min(m for _, m in est["scan"])
-    assert est["ratio"] in (0.02, 0.2, 0.6)
+    cal = rigsim.calibrate(rec, law, thr, drives=("constant", "measured"))
+    for d in ("constant", "measured"):
+        b = cal.per_drive[d]
+        assert b["mismatch"] == min(m for _, m in b["scan"])
+    assert cal.model.drive == min(cal.per_drive, key=lambda d: cal.per_drive[d]["mismatch"])
+    assert cal.comparison.mismatch == pytest.approx(cal.per_drive[cal.model.drive]["mismatch"], rel=1e-9)
+    back = rigsim.RigModel.from_dict(json.loads(json.dumps(_jsonable(cal.model.to_dict()))))
+    assert (back.drive, back.damping_ratio, back.law) == (cal.model.drive, cal.model.damping_ratio, cal.model.law)
+
+
+def test_motor_command_reproduces_the_reliable_mean_top_speed(window):
+    rec, _ = window
+    law = load_config(preset="thesis-rig")["law"]
+    sim = rigsim.simulate_model(rigsim.RigModel(law, 0.2, "motor", 0.3, 0.02), rec)
+    later = sim.time_s >= sim.time_s[0] + 2.0
+    target = rigsim.operating_point(rec)["top_speed_rad_s"]
+    assert np.mean(sim.top_speed[later]) == pytest.approx(target, rel=0.01)
+    assert sim.provenance["command_rad_s"] > target  # droop: the command is above the loaded speed
+
+
+def test_sample175_model_calibrated_on_0_20_s_predicts_20_40_s():
+    """Issue 9's target on data the model never saw: SS, stick fraction and cycle frequency of the
+    held-out 20-40 s within 15 % (law identified and rig calibrated on 0-20 s only)."""
+    from drillpy import identification as ident
+    from drillpy import signals as sig
+    rec, _ = sample175_cleaned()
+    cal, hold = rec.select(0.0, 20.0), rec.select(20.001, 40.0)
+    thr = 0.05 * float(np.median(cal.top_speed[rigsim.reliable_top_speed(cal)]))
+    cyc = sig.segment_cycles(cal.bit_speed, cal.dt, thr, valid=cal.valid())
+    acc = sig.derivative(cal.bit_speed, cal.dt)
+    d = ident.FitData.from_arrays(cal.bit_speed, acc, cal.torque_on_bit, cyc.branch_labels(len(cal)),
+                                  cyc.cycle_id(len(cal)), wob=cal.wob, every=10, cycles=cyc)
+    law = ident.fit_law("polynomial", d).law
+    assert law["a0"] * law["gain"] > 2.5  # it sticks: static torque about 3 N m
+    c = rigsim.calibrate(cal, law, thr, drives=("constant", "measured"))
+    assert c.comparison.mismatch < 0.15
+    pred = rigsim.compare(hold, rigsim.simulate_model(c.model, hold), thr)
+    for k in ("ss", "stick_fraction", "cycle_frequency_hz"):
+        assert abs(rigsim.relative_error(pred.simulated[k], pred.measured[k])) < 0.15, (k, pred.simulated[k],
+                                                                                          pred.measured[k])
 
 
 def test_simulate_rig_refuses_incomplete_drives(window):
@@ -70,4 +110,8 @@ def test_simulate_rig_refuses_incomplete_drives(window):
         rigsim.simulate_rig(cleaned)
     with pytest.raises(ValueError, match="drive = 'motor'"):
         rigsim.simulate_rig(rec, drive="motor")
+    with pytest.raises(ValueError, match="motor_slope_nms_rad"):
+        rigsim.RigModel({}, 0.1, "motor", -1.0, 0.01)
+    with pytest.raises(ValueError, match="drillpy rig model"):
+        rigsim.RigModel.from_dict({"config": {}})
     assert RPM > 0

@@ -1,0 +1,126 @@
+"""A calibrated rig model applied to a record it was not calibrated on (``drillpy predict``).
+
+Two checks, both on the record's own data only through its operating point (reliable mean top
+speed and mean WOB, or its measured top speed for the ``measured`` drive; see
+:func:`drillpy.rigsim.simulate_model`):
+
+* **long run**: the model simulated over the whole record, its stick-slip metrics (SS Eq. 3.4,
+  stick fraction, cycle frequency, torque percentiles) against the measured ones;
+* **short horizons**: the error E of docs/loop.md, the model restarted every ``horizon_s`` from
+  the measured state and integrated over the horizon,
+  E = sqrt(1/2 [mean (v_pred - v)^2 / sd_v^2 + mean (T_pred - T)^2 / sd_T^2]) over every horizon
+  of the record (sd_v, sd_T the standard deviations over the record's first half).
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import loop, rigsim
+from .analysis import _jsonable
+from .cleaning import clean
+from .records import Record, read_record
+
+
+@dataclass
+class Prediction:
+    """What :func:`predict_record` returns: the model, the measured and simulated records, their
+    comparison, the short-horizon error and the stick threshold used [rad/s]."""
+    model: rigsim.RigModel
+    measured: Record
+    simulated: Record
+    comparison: rigsim.RigComparison
+    short_horizon_error: float
+    stick_threshold: float
+
+    def summary(self) -> dict:
+        """The ``--json`` output (and ``summary.json``)."""
+        m, s = self.comparison.measured, self.comparison.simulated
+
+        def pair(k):
+            return {"measured": m[k], "predicted": s[k], "relative_error": rigsim.relative_error(s[k], m[k])}
+
+        return _jsonable({
+            "short_horizon_error": self.short_horizon_error,
+            "long_run": {"ss": pair("ss"), "stick_fraction": pair("stick_fraction"),
+                         "cycle_frequency_hz": pair("cycle_frequency_hz"),
+                         "torque_p05_p95_nm": {"measured": [m["torque_p5"], m["torque_p95"]],
+                                               "predicted": [s["torque_p5"], s["torque_p95"]]},
+                         "mean_top_speed_rad_s": pair("mean_top_speed"),
+                         "top_speed_std_rad_s": pair("top_speed_std"), "mismatch": self.comparison.mismatch},
+            "drive": self.model.drive, "command_rad_s": self.simulated.provenance.get("command_rad_s"),
+            "operating_point": self.simulated.provenance.get("operating_point"),
+            "record": {"source": str(self.measured.provenance.get("source")),
+                       "window_s": [float(self.measured.time_s[0]), float(self.measured.time_s[-1])]},
+            "stick_threshold_rad_s": self.stick_threshold})
+
+
+def stick_threshold(record: Record, fraction: float = 0.05) -> float:
+    """The bit is stuck at or below ``fraction`` of the median reliable top speed [rad/s]."""
+    ok = rigsim.reliable_top_speed(record)
+    if not ok.any():
+        raise ValueError("record: no reliable top-speed sample (the stick threshold is 5 % of the median top speed)")
+    return fraction * abs(float(np.median(record.top_speed[ok])))
+
+
+def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, horizon_s: float = 0.25,
+                        threads: int = 0) -> float:
+    """E of docs/loop.md over every horizon of ``record`` (restarted from the measured state)."""
+    op = rigsim.operating_point(record)
+    wob = op.get("wob_n", model.law["wob_ref_n"])
+    opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads)
+    cfg = model.config(command, wob)
+    data = loop.prepare(record, cfg, opt)
+    cfg = loop._analysis_config(cfg, data.dt)
+    effects = {}
+    if model.drive == "motor":
+        effects["top_drive_dynamics"] = {"variant": "motor", "droop_rad_s_per_nm": 1.0 / model.motor_slope_nms_rad,
+                                         "inertia_kg_m2": model.motor_inertia_kg_m2, "command_rad_s": command}
+    elif model.drive == "measured":
+        effects["top_drive_dynamics"] = {"variant": "measured"}
+    lm = loop.LoopModel(cfg, dict(model.law), op["top_speed_rad_s"], wob, effects)
+    ev = loop.evaluate(lm, data, threads)
+    return float(math.sqrt(np.mean(ev.e_h)))
+
+
+def predict_record(model: rigsim.RigModel, record: Record | str | Path, *, t0: float | None = None,
+                   t1: float | None = None, horizon_s: float = 0.25, threads: int = 0) -> Prediction:
+    """Apply ``model`` to a record (path or Record, cleaned here) without refitting anything."""
+    raw = read_record(record) if isinstance(record, (str, Path)) else record
+    for need in ("bit_speed", "torque_on_bit", "top_speed"):
+        raw.channel(need)
+    if t0 is not None or t1 is not None:
+        raw = raw.select(t0, t1)
+    rec, _ = clean(raw)
+    thr = stick_threshold(rec)
+    sim = rigsim.simulate_model(model, rec)
+    cmp = rigsim.compare(rec, sim, thr)
+    E = short_horizon_error(model, rec, sim.provenance["command_rad_s"], horizon_s, threads)
+    return Prediction(model, rec, sim, cmp, E, thr)
+
+
+def load_model(path: str | Path) -> rigsim.RigModel:
+    """A rig model from ``model.json`` (written by ``drillpy analyze``)."""
+    p = Path(path)
+    if not p.is_file():
+        raise ValueError(f"model = {str(p)!r}: no such file")
+    try:
+        d = json.loads(p.read_text())
+    except json.JSONDecodeError as e:
+        raise ValueError(f"model = {str(p)!r}: not JSON ({e.msg} at line {e.lineno})") from None
+    return rigsim.RigModel.from_dict(d)
+
+
+def write_prediction(pred: Prediction, out_dir: str | Path) -> list:
+    """``summary.json`` and the overlay figure ``overlay.png`` in ``out_dir``; returns the file names."""
+    from . import record_figures as figs
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "summary.json").write_text(json.dumps(pred.summary(), indent=2))
+    fig = figs.prediction_overlay(out / "overlay.png", pred.measured, pred.simulated, pred.stick_threshold,
+                                  f"{pred.model.drive} drive, damping ratio {pred.model.damping_ratio:.3g}")
+    return ["summary.json", fig.name]
