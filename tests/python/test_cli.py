@@ -76,3 +76,26 @@ def test_drillsim_errors(drillsim, args, needle):
     r = subprocess.run([drillsim, *args], capture_output=True, text=True)
     assert r.returncode == 2
     assert r.stderr.count("\n") == 1 and r.stderr.startswith("drillsim: error:") and needle in r.stderr
+
+
+def test_predict_applies_a_model_file_without_refitting(tmp_path):
+    from _testrig import sample175_path
+    from drillpy import rigsim
+    from drillpy.analysis import _jsonable
+    from drillpy.config import load_config
+    rec = str(sample175_path())
+    model = rigsim.RigModel(load_config(preset="thesis-rig")["law"], 0.3, "constant")
+    (tmp_path / "model.json").write_text(json.dumps(_jsonable(model.to_dict(top_speed=8.0, wob=560.0))))
+    r = run_cli("predict", str(tmp_path / "model.json"), rec, "--t0", "30", "--t1", "36", "--out",
+                str(tmp_path / "p"), "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert set(d) == {"short_horizon_error", "long_run"} and 0 < d["short_horizon_error"] < 3
+    lr = d["long_run"]
+    for k in ("ss", "stick_fraction", "cycle_frequency_hz"):
+        assert set(lr[k]) >= {"measured", "predicted"}
+    assert lr["ss"]["measured"] > 0.5 and len(lr["torque_p05_p95_nm"]["predicted"]) == 2
+    assert (tmp_path / "p" / "summary.json").is_file() and (tmp_path / "p" / "overlay.png").is_file()
+    (tmp_path / "bad.json").write_text(json.dumps({"config": {}}))
+    r = run_cli("predict", str(tmp_path / "bad.json"), rec, "--json")
+    assert r.returncode == 2 and "drillpy rig model" in r.stderr and len(r.stderr.strip().splitlines()) == 1
