@@ -56,7 +56,8 @@ import numpy as np
 from . import identification as ident
 from . import signals as sig
 from .cleaning import CleaningOptions, clean
-from .records import RPM, Flag, Record, read_record
+from .records import RPM, Record, read_record
+from .rigsim import reliable_top_speed
 
 #: Laws of Table 5.2: the regularized Eq. (3.1) and the non-regularized Eq. (5.1).
 TABLE_LAWS = {"tucker_wang": "regularized (Eq. 3.1)", "polynomial": "non-regularized (Eq. 5.1)"}
@@ -255,7 +256,7 @@ def analyze_sample(record: Record | str | Path, name: str, options: SampleOption
     rec, rep = clean(raw, CleaningOptions())
     top_ok = None  # reliable top-speed samples: not excluded, not an artifact stretch replaced by the bit speed
     if rec.top_speed is not None:
-        top_ok = rec.valid("top_speed") & ~rec.flagged("top_speed", Flag.OSCILLATION)
+        top_ok = reliable_top_speed(rec)
     if top_ok is not None and top_ok.any():
         thr = opt.stick_fraction * abs(float(np.median(rec.top_speed[top_ok])))
     else:
@@ -277,13 +278,13 @@ def analyze_sample(record: Record | str | Path, name: str, options: SampleOption
     stats = sig.sample_statistics(tq[ok])
     mc = sig.mean_cycle(v, tq, acc, lab)
     every = max(1, int(round(rec.sample_rate_hz / opt.fit_rate_hz)))
-    data = ident.FitData.from_arrays(v, acc, tq, lab, cid, wob=rec.wob, use_wob=False, every=every)
-    fits = ident.fit_laws(data, opt.laws, mc=mc, folds=opt.folds, speed_unit=opt.speed_unit)
+    data = ident.FitData.from_arrays(v, acc, tq, lab, cid, wob=rec.wob, use_wob=False, every=every, cycles=cyc)
+    fits = ident.fit_laws(data, opt.laws, mc=mc, folds=opt.folds, speed_unit=opt.speed_unit, stick_threshold=thr)
     var = {}
     for f in fits:
         vm = f.var_mse
         if not (isinstance(vm, float) and math.isfinite(vm)):
-            vm = ident.mean_cycle_var_mse(f, mc)
+            vm = ident.mean_cycle_var_mse(f, mc, thr)
         var[f.name] = float(vm)
     top_mean = float(np.mean(rec.top_speed[top_ok & ok])) if top_rel is not None and (top_ok & ok).any() \
         else float("nan")

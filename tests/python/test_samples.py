@@ -107,7 +107,8 @@ def test_synthetic_parameters_recover_the_truth_and_their_spread(synthetic_study
         x = np.array(P[k]["values"])
         assert P[k]["mean"] == pytest.approx(x.mean()) and P[k]["std"] == pytest.approx(x.std(ddof=1))
         assert P[k]["cv"] == pytest.approx(x.std(ddof=1) / abs(x.mean()))
-    assert S["parameters"]["polynomial"]["fixed"] == {"gain": 1.36}
+    fixed = S["parameters"]["polynomial"]["fixed"]
+    assert fixed["gain"] == 1.36 and {"a1", "a2", "a3"} <= set(fixed)  # tied low-speed pieces are named
     tw = S["parameters"]["tucker_wang"]["parameters"]
     assert tw["c0"]["values"][2] / tw["c0"]["values"][0] == pytest.approx(1.5, rel=1e-3)
     assert tw["alpha1"]["values"][2] == pytest.approx(tw["alpha1"]["values"][0], rel=1e-3)
