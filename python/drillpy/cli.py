@@ -117,6 +117,12 @@ def cmd_sweep(a) -> int:
     ss = sweep_severity(cfg, speeds, progress=not a.no_progress, threads=a.threads, start=a.start)
     thr = severity_threshold(speeds, ss)
     res = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.tolist(), "threshold_rad_s": thr}
+    if a.refine is not None and thr is not None:
+        from .simulation import refine_threshold
+        r = refine_threshold(cfg, speeds, ss, tol=a.refine, threads=a.threads, start=a.start)
+        thr = r.threshold
+        res.update(threshold_rad_s=r.threshold, threshold_precision_rad_s=r.precision,
+                   threshold_bracket_rad_s=[r.below, r.above], refinement_runs=[list(e) for e in r.evaluations])
     if a.out:
         out = Path(a.out)
         out.mkdir(parents=True, exist_ok=True)
@@ -127,7 +133,9 @@ def cmd_sweep(a) -> int:
     else:
         for s, v in zip(speeds, ss):
             print(f"{s:8.3f} rad/s  SS = {v:.3f}")
-        print("SS > 0.5 below", "no crossing in range" if thr is None else f"{thr:.2f} rad/s")
+        print("SS > 0.5 below", "no crossing in range" if thr is None else
+              f"{thr:.3f} +- {res['threshold_precision_rad_s']:.3f} rad/s (bisection)" if "threshold_precision_rad_s" in res
+              else f"{thr:.2f} rad/s (linear interpolation on the grid)")
     return 0
 
 
@@ -431,6 +439,7 @@ def build_parser() -> argparse.ArgumentParser:
     _model_args(s)
     s.add_argument("--speeds", default="6:27:22", help="top speeds [rad/s], start:stop:num or list")
     s.add_argument("--out", help="folder for the figure and sweep.json")
+    s.add_argument("--refine", type=float, metavar="TOL", help="locate the threshold by bisection to TOL [rad/s]")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_sweep)
 

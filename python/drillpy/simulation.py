@@ -128,6 +128,50 @@ def stability_map(cfg: dict, speeds_rad_s, wobs_n, *, progress: bool = True,
     return sweep_severity(cfg, speeds_rad_s, wobs_n, progress=progress, threads=threads, start=start)
 
 
+@dataclass
+class RefinedThreshold:
+    """A stick-slip threshold located by bisection: SS > ``level`` at ``below`` [rad/s] and SS <=
+    ``level`` at ``above``; ``threshold`` is their midpoint, ``precision`` half their distance."""
+    threshold: float
+    precision: float
+    below: float
+    above: float
+    evaluations: list  #: (top speed [rad/s], SS) of every run the refinement made
+
+
+def refine_threshold(cfg: dict, speeds, severities, *, level: float = 0.5, tol: float = 0.05, threads: int = 0,
+                     start: str = "rest", max_rounds: int = 12) -> RefinedThreshold | None:
+    """Locate the top speed below which SS > ``level`` to ``tol`` [rad/s] (issue: a linear
+    interpolation on a coarse grid is less precise than it reads, and SS jumps at the threshold).
+
+    Starts from the highest grid bracket where SS crosses ``level`` from above and splits it in three
+    per round (two runs in parallel), keeping the upper crossing; None without a crossing.
+    """
+    sp, ss = np.asarray(speeds, float), np.asarray(severities, float)
+    if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
+        raise ValueError(f"tol = {tol!r}: must be a positive number [rad/s]")
+    order = np.argsort(sp)
+    sp, ss = sp[order], ss[order]
+    k = [i for i in range(sp.size - 1) if ss[i] > level >= ss[i + 1]]
+    if not k:
+        return None
+    lo, hi = float(sp[k[-1]]), float(sp[k[-1] + 1])
+    evals = []
+    for _ in range(max_rounds):
+        if 0.5 * (hi - lo) <= tol:
+            break
+        pts = [lo + (hi - lo) / 3.0, lo + 2.0 * (hi - lo) / 3.0]
+        v = sweep_severity(cfg, pts, progress=False, threads=threads, start=start)
+        evals += list(zip(pts, map(float, v)))
+        if v[1] > level:      # still stick-slip at 2/3: the crossing is above it
+            lo = pts[1]
+        elif v[0] > level:    # between the two points
+            lo, hi = pts[0], pts[1]
+        else:                 # already smooth at 1/3
+            hi = pts[0]
+    return RefinedThreshold(0.5 * (lo + hi), 0.5 * (hi - lo), lo, hi, evals)
+
+
 def severity_threshold(speeds, severities, level: float = 0.5) -> float | None:
     """Top speed below which SS > level (linear interpolation; None if no crossing)."""
     v = _core.severity_threshold(list(map(float, speeds)), list(map(float, severities)), level)

@@ -118,3 +118,26 @@ def test_bistable_band_rest_versus_steady_start():
     assert ss[0] == pytest.approx(steady.severity, abs=1e-12)
     with pytest.raises(ValueError, match="start = 'cold'"):
         drillpy.simulate(FIELD, 16.0, start="cold")
+
+
+def test_threshold_located_by_bisection_to_the_stated_precision():
+    from drillpy.simulation import refine_threshold, sweep_severity
+    cfg = drillpy.with_overrides(drillpy.load_config(preset="thesis-field"), modes=5, duration=120.0, transient=60.0)
+    speeds = np.arange(18.0, 30.0, 2.0)
+    ss = sweep_severity(cfg, speeds, progress=False)
+    r = refine_threshold(cfg, speeds, ss, tol=0.05)
+    k = max(i for i in range(speeds.size - 1) if ss[i] > 0.5 >= ss[i + 1])
+    assert speeds[k] <= r.below < r.above <= speeds[k + 1]   # inside the grid's last crossing
+    assert r.precision <= 0.05 and r.threshold == pytest.approx(0.5 * (r.below + r.above))
+    runs = dict(r.evaluations)
+    if r.below in runs:
+        assert runs[r.below] > 0.5
+    if r.above in runs:
+        assert runs[r.above] <= 0.5
+    again = sweep_severity(cfg, [r.below, r.above], progress=False)  # the bracket straddles SS = 0.5
+    assert again[0] > 0.5 >= again[1]
+    finer = refine_threshold(cfg, [r.below, r.above], again, tol=0.01)
+    assert r.below <= finer.below < finer.above <= r.above and finer.precision <= 0.01
+    assert refine_threshold(cfg, speeds, np.zeros(speeds.size)) is None  # no crossing
+    with pytest.raises(ValueError, match="tol"):
+        refine_threshold(cfg, speeds, ss, tol=0.0)
