@@ -265,14 +265,20 @@ def _loop(rec: Record, thr: float, t_start: float, grid) -> MeanCycle | None:
 def compare(measured: Record, simulated: Record, stick_threshold: float, t_start: float = 2.0) -> RigComparison:
     """Compare a simulated record with the measured one after ``t_start`` seconds of simulation
     (the start-up of the simulation is discarded from both). ``top_speed_std`` is over the
-    reliable top-speed samples of the measurement (:func:`reliable_top_speed`)."""
+    reliable top-speed samples of the measurement (:func:`reliable_top_speed`). When the
+    simulation is driven by the measured top speed, the samples where that signal is not a
+    measurement (an artifact stretch the cleaning filled with the bit speed) are left out of both:
+    there the drive would impose the measured stall instead of predicting it."""
     t0 = simulated.time_s[0] + t_start
+    skip = np.zeros(len(measured), bool)
+    if simulated.provenance.get("drive") == "measured" and measured.top_speed is not None:
+        skip = ~reliable_top_speed(measured) & measured.valid("top_speed")
 
     def metrics(rec):
-        sel = (rec.time_s >= t0) & rec.valid("bit_speed", "top_speed", "torque_on_bit")
+        sel = (rec.time_s >= t0) & rec.valid("bit_speed", "top_speed", "torque_on_bit") & ~skip[:len(rec)]
         m = stick_slip_metrics(rec.time_s, rec.bit_speed, rec.top_speed, rec.torque_on_bit,
                                stick_threshold, valid=sel)
-        ok = (rec.time_s >= t0) & reliable_top_speed(rec)
+        ok = (rec.time_s >= t0) & reliable_top_speed(rec) & ~skip[:len(rec)]
         if ok.sum() > 1:  # the mean top speed and SS (Eq. 3.4) from reliable top-speed samples only
             m["top_speed_std"] = float(np.std(rec.top_speed[ok]))
             m["mean_top_speed"] = float(np.mean(rec.top_speed[ok]))
