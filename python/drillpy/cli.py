@@ -48,7 +48,7 @@ def parse_grid(text: str, name: str) -> np.ndarray:
 
 def _model_args(p: argparse.ArgumentParser) -> None:
     src = p.add_mutually_exclusive_group(required=True)
-    src.add_argument("--preset", help="built-in configuration (thesis-field, thesis-rig, thesis-ch6)")
+    src.add_argument("--preset", help="built-in configuration (thesis-field, thesis-ch4, thesis-rig, thesis-ch6)")
     src.add_argument("--config", help="JSON configuration file")
     p.add_argument("--elements", type=int, help="total elements, split in proportion to section lengths")
     p.add_argument("--modes", type=int, help="elastic modes kept in the reduced-order model")

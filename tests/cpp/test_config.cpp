@@ -79,6 +79,6 @@ TEST(Config, UnknownPresetListsTheKnownOnes) {
     preset("thesis-moon");
     FAIL();
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("thesis-field, thesis-rig, thesis-ch6"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("thesis-field, thesis-ch4, thesis-rig, thesis-ch6"), std::string::npos);
   }
 }

@@ -70,3 +70,55 @@ TEST(Metrics, ThresholdInterpolatesTheLastDownwardCrossing) {
   EXPECT_TRUE(std::isnan(severity_threshold(sp, {1, 1, 1, 1, 1, 1})));
   EXPECT_THROW(severity_threshold(sp, {1.0}), std::invalid_argument);
 }
+
+TEST(Metrics, LongLowChatterDuringStickIsMergedByTheSlipLevel) {
+  // 3-cycle pattern (stick 1, 2, 3 s; slip 4, 5, 6 s at 10 rad/s) with 60-ms excursions to 0.8 rad/s
+  // inside the sticks (above the 0.5 threshold, longer than the debounce): without a slip level
+  // they split the sticks and the 3-cycle is missed (the regular chatter even passes for a spurious
+  // 1-cycle); with a slip level of 2.5 rad/s they are chatter.
+  for (double level : {0.0, 2.5}) {
+    PhaseObserver ph(0.0, 0.5, 0.02, level);
+    const double st[3] = {1, 2, 3}, sl[3] = {4, 5, 6};
+    double t = 0;
+    const double dt = 1e-3;
+    ph(at(t, 10));
+    for (int rep = 0; rep < 6; ++rep) {
+      for (int k = 0; k < 3; ++k) {
+        const long nst = std::lround(st[k] / dt), nsl = std::lround(sl[k] / dt);
+        for (long i = 0; i < nst; ++i) ph(at(t += dt, (i % 400 >= 200 && i % 400 < 260) ? 0.8 : 0.0));
+        for (long i = 0; i < nsl; ++i) ph(at(t += dt, 10.0));
+      }
+    }
+    const Periodicity p = detect_periodicity(ph);
+    if (level == 0.0) {
+      EXPECT_NE(p.period_cycles, 3);
+      continue;
+    }
+    ASSERT_GE(ph.stick.size(), 15u);
+    for (std::size_t j = 0; j < ph.stick.size(); ++j) EXPECT_NEAR(ph.stick[j], st[j % 3], 2 * dt);
+    EXPECT_EQ(p.period_cycles, 3);
+    EXPECT_NEAR(p.slip[0] + p.slip[1] + p.slip[2], 15.0, 1e-2);
+    EXPECT_NEAR(ph.stick_fraction(), 6.0 / 21.0, 2e-3);  // chatter time counted as stick
+  }
+}
+
+TEST(Metrics, PeriodFoundThroughTheExplicitSchemesTimingJitter) {
+  // The modified Euler 3-cycle of the field string (100 modes, 16 rad/s): stick durations jitter by
+  // up to 0.045 s between periods. A 3 % relative tolerance finds k = 3 when durations alternate by
+  // +-1 % (a 0.047 s jitter on 2.35 s); +-10 % does not pass.
+  const double st[3] = {2.35, 1.24, 2.68}, sl[3] = {5.39, 6.40, 6.51};
+  for (double wander : {0.01, 0.10}) {
+    PhaseObserver ph(0.0, 0.5, 0.0);
+    double t = 0;
+    const double dt = 1e-3;
+    ph(at(t, 10));
+    for (int c = 0; c < 24; ++c) {
+      const double f = 1.0 + wander * (c % 2 ? 1.0 : -1.0);
+      const long nst = std::lround(st[c % 3] * f / dt), nsl = std::lround(sl[c % 3] / dt);
+      for (long i = 0; i < nst; ++i) ph(at(t += dt, 0.0));
+      for (long i = 0; i < nsl; ++i) ph(at(t += dt, 10.0));
+    }
+    const Periodicity p = detect_periodicity(ph);
+    EXPECT_EQ(p.period_cycles, wander < 0.05 ? 3 : 0) << wander;
+  }
+}

@@ -141,3 +141,14 @@ def test_threshold_located_by_bisection_to_the_stated_precision():
     assert refine_threshold(cfg, speeds, np.zeros(speeds.size)) is None  # no crossing
     with pytest.raises(ValueError, match="tol"):
         refine_threshold(cfg, speeds, ss, tol=0.0)
+
+
+def test_chapter4_preset_reproduces_the_thesis_threshold_of_16_rad_s():
+    """Fig. 4.8: SS > 0.5 below 16 rad/s (deterministic hysteretic model). With the Table 3.1 string
+    at WOB = 200 kN and all 100 modes (`thesis-ch4`) the crossing lies between 15.5 and 16.5 rad/s
+    (15.98 +- 0.02 by `drillpy sweep --preset thesis-ch4 --refine 0.02`)."""
+    from drillpy.simulation import sweep_severity
+    cfg = drillpy.load_config(preset="thesis-ch4")
+    assert cfg["operation"]["wob_n"] == 200e3 and cfg["rom"]["modes"] == 100
+    ss = sweep_severity(cfg, [15.5, 16.5], progress=False)
+    assert ss[0] > 0.5 > ss[1]

@@ -5,7 +5,7 @@
 //                           Eq. (3.3)  H = beta1 tanh(beta2 a) sign(v)
 //  * polynomial             Eq. (5.1)  non-regularized piecewise polynomial (coefficients a0..a7,
 //                                      breakpoints at 1 % and 5 % of a reference speed, gain 1.36),
-//                                      odd in the bit speed; at rest it is set-valued: the bit stays
+//                                      odd in the bit speed when a0 > 0; at rest it is set-valued: the bit stays
 //                                      stuck while |string torque| <= the static torque 1.36 a0 W / W_ref
 //                                      (static_torque(); the integrators apply this stick condition)
 //  * polynomial_hysteretic  Eq. (5.3)  T = T_poly(v) (1 + H(v, a))
@@ -150,10 +150,12 @@ struct BitRockLaw {
       }
       case Kind::polynomial:
       case Kind::polynomial_hysteretic: {  // Eq. (5.1) and its hysteretic form Eq. (5.3)
-        // Eq. (5.1) is written for v >= 0; the law is extended as an odd function (a reversible law
-        // resists the motion in either direction). At v = 0 this returns the right limit, the static
-        // torque a0 (the stick condition itself lives in the integrators).
-        const double u = std::fabs(v), su = v < 0.0 ? -1.0 : 1.0;
+        // With a static torque (a0 > 0, the non-regularized law) Eq. (5.1) is extended to v < 0 as an
+        // odd function (the friction resists the motion in either direction) and v = 0 returns the
+        // right limit a0 (the stick condition itself lives in the integrators). With a0 = 0 (the
+        // regularized reading) the first piece a1 v holds for every v <= 0.01 ref, as written.
+        const bool odd = a[0] > 0.0;
+        const double u = odd ? std::fabs(v) : v, su = (odd && v < 0.0) ? -1.0 : 1.0;
         double p, dp;
         if (u <= 0.01 * ref_speed) {
           p = a[0] + a[1] * u;

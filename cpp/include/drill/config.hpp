@@ -21,7 +21,7 @@
 //                                                   used when a model is compared with a record),
 //   "simulation": {"scheme": "modified_euler", "dt_s": 5.12e-4, "duration_s": 200,
 //                  "transient_s": 100, "output_stride": 20},
-//   "metrics": {"stick_threshold_fraction": 0.05, "stick_debounce_s": 0.02},
+//   "metrics": {"stick_threshold_fraction": 0.05, "stick_debounce_s": 0.02, "slip_level_fraction": 0.25},
 //   "sweep": {"top_speeds_rad_s": [...], "wobs_n": [...]},
 //   "craig_bampton": {"modes": [25, 25]}
 // }
@@ -48,6 +48,7 @@ using json = nlohmann::json;
 struct MetricsSpec {
   double stick_threshold_fraction = 0.05;  ///< stick when bit speed <= fraction x top speed
   double stick_debounce_s = 0.02;          ///< minimum duration of a phase change [s]
+  double slip_level_fraction = 0.25;       ///< a slip must exceed fraction x top speed, else it is chatter
 };
 
 struct Config {
@@ -88,6 +89,7 @@ struct Config {
     require(output_stride >= 1, "simulation.output_stride", output_stride, "must be at least 1");
     require_non_negative(metrics.stick_threshold_fraction, "metrics.stick_threshold_fraction");
     require_non_negative(metrics.stick_debounce_s, "metrics.stick_debounce_s");
+    require_non_negative(metrics.slip_level_fraction, "metrics.slip_level_fraction");
     for (std::size_t k = 0; k < sweep_speeds.size(); ++k)
       require_finite(sweep_speeds[k], "sweep.top_speeds_rad_s[" + std::to_string(k) + "]");
     for (std::size_t k = 0; k < sweep_wobs.size(); ++k)
@@ -356,10 +358,11 @@ inline Config parse_config(const json& j) {
   }
   if (j.contains("metrics")) {
     const json& m = j.at("metrics");
-    check_keys(m, "metrics", {"stick_threshold_fraction", "stick_debounce_s"});
+    check_keys(m, "metrics", {"stick_threshold_fraction", "stick_debounce_s", "slip_level_fraction"});
     c.metrics.stick_threshold_fraction =
         get_number(m, "stick_threshold_fraction", "metrics", c.metrics.stick_threshold_fraction);
     c.metrics.stick_debounce_s = get_number(m, "stick_debounce_s", "metrics", c.metrics.stick_debounce_s);
+    c.metrics.slip_level_fraction = get_number(m, "slip_level_fraction", "metrics", c.metrics.slip_level_fraction);
   }
   if (j.contains("sweep")) {
     check_keys(j.at("sweep"), "sweep", {"top_speeds_rad_s", "wobs_n"});
@@ -409,7 +412,8 @@ inline json to_json(const Config& c) {
            {"transient_s", c.transient}, {"output_stride", c.output_stride}}},
          {"metrics",
           {{"stick_threshold_fraction", c.metrics.stick_threshold_fraction},
-           {"stick_debounce_s", c.metrics.stick_debounce_s}}}};
+           {"stick_debounce_s", c.metrics.stick_debounce_s},
+           {"slip_level_fraction", c.metrics.slip_level_fraction}}}};
   if (!c.sweep_speeds.empty() || !c.sweep_wobs.empty())
     j["sweep"] = {{"top_speeds_rad_s", c.sweep_speeds}, {"wobs_n", c.sweep_wobs}};
   if (!c.cb_modes.empty()) j["craig_bampton"] = {{"modes", c.cb_modes}};

@@ -127,7 +127,7 @@ class MonteCarlo {
           in.eta = eta(first + r);
           SeverityObserver sev(c.transient);
           PhaseObserver ph(c.transient, c.metrics.stick_threshold_fraction * std::fabs(speed),
-                           c.metrics.stick_debounce_s);
+                           c.metrics.stick_debounce_s, c.metrics.slip_level_fraction * std::fabs(speed));
           sim_.integrator().run(
               in,
               [&](const StepState& s) {

@@ -76,7 +76,8 @@ class Simulation {
     r.series = Recorder(record ? cfg_.output_stride : 0, record ? cfg_.sim.steps() : 0);
     SeverityObserver sev(cfg_.transient);
     const double omega_ref = std::fabs(in.top_speed.is_constant() ? in.top_speed.value : mean(in.top_speed.samples));
-    PhaseObserver ph(cfg_.transient, cfg_.metrics.stick_threshold_fraction * omega_ref, cfg_.metrics.stick_debounce_s);
+    PhaseObserver ph(cfg_.transient, cfg_.metrics.stick_threshold_fraction * omega_ref, cfg_.metrics.stick_debounce_s,
+                     cfg_.metrics.slip_level_fraction * omega_ref);
     r.final_state = integ_.run(
         in,
         [&](const StepState& s) {
