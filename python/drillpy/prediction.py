@@ -59,14 +59,6 @@ class Prediction:
             "stick_threshold_rad_s": self.stick_threshold})
 
 
-def stick_threshold(record: Record, fraction: float = 0.05) -> float:
-    """The bit is stuck at or below ``fraction`` of the median reliable top speed [rad/s]."""
-    ok = rigsim.reliable_top_speed(record)
-    if not ok.any():
-        raise ValueError("record: no reliable top-speed sample (the stick threshold is 5 % of the median top speed)")
-    return fraction * abs(float(np.median(record.top_speed[ok])))
-
-
 def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, horizon_s: float = 0.25,
                         threads: int = 0) -> float:
     """E of docs/loop.md over every horizon of ``record`` (restarted from the measured state)."""
@@ -96,7 +88,7 @@ def predict_record(model: rigsim.RigModel, record: Record | str | Path, *, t0: f
     if t0 is not None or t1 is not None:
         raw = raw.select(t0, t1)
     rec, _ = clean(raw)
-    thr = stick_threshold(rec)
+    thr = rigsim.stick_threshold(rec)
     sim = rigsim.simulate_model(model, rec)
     cmp = rigsim.compare(rec, sim, thr)
     E = short_horizon_error(model, rec, sim.provenance["command_rad_s"], horizon_s, threads)

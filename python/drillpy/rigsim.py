@@ -71,6 +71,15 @@ def reliable_top_speed(record: Record) -> np.ndarray:
     return record.valid("top_speed") & ~record.flagged("top_speed", Flag.OSCILLATION)
 
 
+def stick_threshold(record: Record, fraction: float = 0.05) -> float:
+    """The bit is stuck at or below ``fraction`` of the median reliable top speed [rad/s]."""
+    ok = reliable_top_speed(record)
+    if not ok.any():
+        raise ValueError("record: no reliable top-speed sample (the stick threshold is a fraction of the median "
+                         "top speed)")
+    return fraction * abs(float(np.median(record.top_speed[ok])))
+
+
 def operating_point(record: Record) -> dict:
     """The record's operating point: mean top speed over its reliable samples [rad/s] (repaired
     stretches, e.g. the bit speed pasted over an encoder artifact, would bias it) and mean WOB [N]."""

@@ -57,7 +57,7 @@ from . import identification as ident
 from . import signals as sig
 from .cleaning import CleaningOptions, clean
 from .records import RPM, Record, read_record
-from .rigsim import reliable_top_speed
+from .rigsim import reliable_top_speed, stick_threshold
 
 #: Laws of Table 5.2: the regularized Eq. (3.1) and the non-regularized Eq. (5.1).
 TABLE_LAWS = {"tucker_wang": "regularized (Eq. 3.1)", "polynomial": "non-regularized (Eq. 5.1)"}
@@ -258,7 +258,7 @@ def analyze_sample(record: Record | str | Path, name: str, options: SampleOption
     if rec.top_speed is not None:
         top_ok = reliable_top_speed(rec)
     if top_ok is not None and top_ok.any():
-        thr = opt.stick_fraction * abs(float(np.median(rec.top_speed[top_ok])))
+        thr = stick_threshold(rec, opt.stick_fraction)
     else:
         thr = rep.stick_threshold_rad_s
     v, tq = rec.bit_speed, rec.torque_on_bit
