@@ -42,6 +42,17 @@ def normalize(config: dict) -> dict:
     return json.loads(_core.normalize_config(to_json_text(config)))
 
 
+def read_json(path, field: str):
+    """The JSON content of a file; ValueError naming ``field`` and the path when it is missing or malformed."""
+    p = Path(path)
+    if not p.is_file():
+        raise ValueError(f"{field} = {str(p)!r}: no such file")
+    try:
+        return json.loads(p.read_text())
+    except json.JSONDecodeError as e:
+        raise ValueError(f"{field} = {str(p)!r}: malformed JSON: {e}") from None
+
+
 def load_config(preset: str | None = None, path: str | Path | None = None,
                 config: dict | None = None) -> dict:
     """Load exactly one of a preset name, a JSON file or a dict, validated and normalized."""
@@ -51,14 +62,7 @@ def load_config(preset: str | None = None, path: str | Path | None = None,
     if preset is not None:
         return json.loads(_core.normalize_config(_core.preset_json(preset)))
     if path is not None:
-        p = Path(path)
-        if not p.is_file():
-            raise ValueError(f"config = {str(p)!r}: no such file")
-        try:
-            cfg = json.loads(p.read_text())
-        except json.JSONDecodeError as e:
-            raise ValueError(f"config = {str(p)!r}: malformed JSON: {e}") from None
-        return normalize(cfg)
+        return normalize(read_json(path, "config"))
     return normalize(copy.deepcopy(config))
 
 

@@ -23,6 +23,7 @@ import numpy as np
 from . import loop, rigsim
 from .analysis import _jsonable
 from .cleaning import clean
+from .config import read_json
 from .records import Record, read_record
 
 
@@ -97,14 +98,7 @@ def predict_record(model: rigsim.RigModel, record: Record | str | Path, *, t0: f
 
 def load_model(path: str | Path) -> rigsim.RigModel:
     """A rig model from ``model.json`` (written by ``drillpy analyze``)."""
-    p = Path(path)
-    if not p.is_file():
-        raise ValueError(f"model = {str(p)!r}: no such file")
-    try:
-        d = json.loads(p.read_text())
-    except json.JSONDecodeError as e:
-        raise ValueError(f"model = {str(p)!r}: not JSON ({e.msg} at line {e.lineno})") from None
-    return rigsim.RigModel.from_dict(d)
+    return rigsim.RigModel.from_dict(read_json(path, "model"))
 
 
 def write_prediction(pred: Prediction, out_dir: str | Path) -> list:

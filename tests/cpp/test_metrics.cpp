@@ -15,6 +15,22 @@ StepState at(double t, double v, double top = 10.0) {
   s.top_speed = top;
   return s;
 }
+
+/// Six repetitions of the 3-cycle stick 1, 2, 3 s / slip 4, 5, 6 s at 10 rad/s, 1-ms steps; the bit
+/// speed of step i of a stick phase is stick_speed(i) (0, or chatter).
+template <class F>
+void feed_three_cycles(PhaseObserver& ph, F stick_speed) {
+  const double st[3] = {1, 2, 3}, sl[3] = {4, 5, 6}, dt = 1e-3;
+  double t = 0;
+  ph(at(t, 10));
+  for (int rep = 0; rep < 6; ++rep) {
+    for (int k = 0; k < 3; ++k) {
+      const long nst = std::lround(st[k] / dt), nsl = std::lround(sl[k] / dt);
+      for (long i = 0; i < nst; ++i) ph(at(t += dt, stick_speed(i)));
+      for (long i = 0; i < nsl; ++i) ph(at(t += dt, 10.0));
+    }
+  }
+}
 }  // namespace
 
 TEST(Metrics, SeverityOfAFullStickSlipCycleIsOne) {
@@ -31,17 +47,8 @@ TEST(Metrics, SeverityOfAFullStickSlipCycleIsOne) {
 TEST(Metrics, PhaseDurationsWithDebounceIgnoringChatter) {
   // 3-cycle pattern: stick 1, 2, 3 s and slip 4, 5, 6 s, with 1-ms chatter spikes in the sticks.
   PhaseObserver ph(0.0, 0.5, 0.02);
-  const double st[3] = {1, 2, 3}, sl[3] = {4, 5, 6};
-  double t = 0;
-  const double dt = 1e-3;
-  ph(at(t, 10));
-  for (int rep = 0; rep < 6; ++rep) {
-    for (int k = 0; k < 3; ++k) {
-      const long nst = std::lround(st[k] / dt), nsl = std::lround(sl[k] / dt);
-      for (long i = 0; i < nst; ++i) ph(at(t += dt, i % 97 == 50 ? 2.0 : 0.0));
-      for (long i = 0; i < nsl; ++i) ph(at(t += dt, 10.0));
-    }
-  }
+  const double st[3] = {1, 2, 3}, dt = 1e-3;
+  feed_three_cycles(ph, [](long i) { return i % 97 == 50 ? 2.0 : 0.0; });
   ASSERT_GE(ph.stick.size(), 15u);
   EXPECT_FALSE(ph.slip_first);
   for (std::size_t j = 0; j < ph.stick.size(); ++j) EXPECT_NEAR(ph.stick[j], st[j % 3], 2 * dt);
@@ -78,17 +85,8 @@ TEST(Metrics, LongLowChatterDuringStickIsMergedByTheSlipLevel) {
   // 1-cycle); with a slip level of 2.5 rad/s they are chatter.
   for (double level : {0.0, 2.5}) {
     PhaseObserver ph(0.0, 0.5, 0.02, level);
-    const double st[3] = {1, 2, 3}, sl[3] = {4, 5, 6};
-    double t = 0;
-    const double dt = 1e-3;
-    ph(at(t, 10));
-    for (int rep = 0; rep < 6; ++rep) {
-      for (int k = 0; k < 3; ++k) {
-        const long nst = std::lround(st[k] / dt), nsl = std::lround(sl[k] / dt);
-        for (long i = 0; i < nst; ++i) ph(at(t += dt, (i % 400 >= 200 && i % 400 < 260) ? 0.8 : 0.0));
-        for (long i = 0; i < nsl; ++i) ph(at(t += dt, 10.0));
-      }
-    }
+    const double st[3] = {1, 2, 3}, dt = 1e-3;
+    feed_three_cycles(ph, [](long i) { return (i % 400 >= 200 && i % 400 < 260) ? 0.8 : 0.0; });
     const Periodicity p = detect_periodicity(ph);
     if (level == 0.0) {
       EXPECT_NE(p.period_cycles, 3);
