@@ -151,8 +151,7 @@ class RigModel:
             return cls(law=cfg["law"], damping_ratio=float(damp["ratios"][0]), drive=d.get("drive", "constant"),
                        motor_slope_nms_rad=td.get("slope_nms_rad") if motor else None,
                        motor_inertia_kg_m2=td.get("inertia_kg_m2") if motor else None,
-                       preset=cfg.get("name", "thesis-rig") if cfg.get("name") in ("thesis-rig",) else "thesis-rig",
-                       calibration=d.get("calibration", {}))
+                       calibration=d.get("calibration", {}))  # rebuilt on the thesis-rig geometry
         except KeyError as e:
             raise ValueError(f"model: config lacks {e}") from None
 
@@ -195,22 +194,22 @@ def simulate_model(model: RigModel, record: Record, *, filtered: bool = True, sk
         sel = record.time_s >= record.time_s[0] + skip_s
 
         def gap(c):
-            out = _run(model, record, c, wob, False)
-            return float(np.mean(out[4][sel[:out[2]]])) - target, out
+            _, _, n, _, top, _ = _run(model, record, c, wob, False)
+            return float(np.mean(top[sel[:n]])) - target
 
         # the mean top speed rises with the command, with jumps where the motor stalls or stick-slip
         # starts: bracket the record's mean, then bisect (a secant step can land in a stall)
         lo, hi = target, target + 2.0 / model.motor_slope_nms_rad  # droop at about 2 N m
-        g_hi = gap(hi)[0]
+        g_hi = gap(hi)
         for _ in range(8):
             if g_hi >= 0:
                 break
             lo, hi = hi, hi + 2.0 * (hi - target)
-            g_hi = gap(hi)[0]
+            g_hi = gap(hi)
         best = (abs(g_hi), hi)
         for _ in range(10):
             mid = 0.5 * (lo + hi)
-            g = gap(mid)[0]
+            g = gap(mid)
             best = min(best, (abs(g), mid))
             if abs(g) <= 5e-3 * abs(target):
                 break
@@ -333,7 +332,7 @@ class Calibration:
                 "motor_inertia_kg_m2": self.model.motor_inertia_kg_m2,
                 "mismatch": self.comparison.mismatch, "measured": self.comparison.measured,
                 "simulated": self.comparison.simulated,
-                "per_drive": {k: {kk: vv for kk, vv in v.items() if kk != "model"} for k, v in self.per_drive.items()}}
+                "per_drive": self.per_drive}
 
 
 def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVES, preset: str = "thesis-rig",
