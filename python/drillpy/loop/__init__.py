@@ -45,13 +45,13 @@ import numpy as np
 from scipy import optimize, stats
 from scipy import signal as sps
 
-from . import _core
-from . import identification as ident
-from . import signals
-from .cleaning import CleaningOptions, clean
-from .config import normalize, to_json_text
-from .effects import CATALOGUE, NAMES, declared_effects
-from .records import RPM, Record, read_record
+from .. import _core
+from .. import identification as ident
+from .. import signals
+from ..cleaning import CleaningOptions, clean
+from ..config import normalize, to_json_text
+from ..effects import CATALOGUE, NAMES, declared_effects
+from ..records import RPM, Record, read_record
 
 SQRT2 = math.sqrt(2.0)
 #: Channels the cleaning searches for spikes: the encoders (the load cells' torque and WOB drop
@@ -959,8 +959,8 @@ def loop_record(record, out_dir, *, preset: str | None = None, config_path: str 
                 config: dict | None = None, options: LoopOptions | None = None, log=print) -> dict:
     """``drillpy loop``: run the loop and write ``loop.json``, ``evidence.json``, ``predictions.csv``,
     ``model.json``, ``report.md`` and the figures to ``out_dir``. Returns the content of loop.json."""
-    from .config import load_config
-    from .loop_report import write_outputs
+    from ..config import load_config
+    from ..loop_report import write_outputs
     cfg = load_config(preset=preset, path=config_path, config=config)
     res = run_loop(record, cfg, options, log=log)
     out = Path(out_dir)
@@ -972,5 +972,5 @@ def loop_record(record, out_dir, *, preset: str | None = None, config_path: str 
 
 def dumps(o) -> str:
     """JSON text of plain and NumPy values (NaN and inf become null)."""
-    from .analysis import _jsonable
+    from ..analysis import _jsonable
     return json.dumps(_jsonable(o), indent=2)
