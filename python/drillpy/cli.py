@@ -234,7 +234,7 @@ def cmd_predict(a) -> int:
         print(json.dumps({k: s[k] for k in ("short_horizon_error", "long_run")}, allow_nan=False))
     else:
         lr = s["long_run"]
-        print(f"{model.drive} drive at the record's operating point; short-horizon error E = {s['short_horizon_error']:.3f}")
+        print(f"{prediction.describe(model)} at the record's operating point; short-horizon error E = {s['short_horizon_error']:.3f}")
         for k in ("ss", "stick_fraction", "cycle_frequency_hz"):
             print(f"  {k}: measured {lr[k]['measured']:.3f}, predicted {lr[k]['predicted']:.3f} "
                   f"({100 * lr[k]['relative_error']:+.1f} %)")
@@ -397,7 +397,7 @@ def cmd_mc(a) -> int:
 
 def cmd_loop(a) -> int:
     from .loop import LoopOptions, loop_record
-    from .effects import NAMES
+    from .loop.effects import NAMES
     effects = NAMES if a.effects is None else tuple(e.strip() for e in a.effects.split(",") if e.strip())
     opt = LoopOptions(horizon_s=a.horizon, calibration_fraction=a.calibration_fraction, rate_hz=a.rate,
                       min_gain=a.min_gain, alpha=a.alpha, min_delta_bic=a.min_delta_bic, max_steps=a.max_steps,

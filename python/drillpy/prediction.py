@@ -1,8 +1,10 @@
-"""A calibrated rig model applied to a record it was not calibrated on (``drillpy predict``).
+"""A calibrated model applied to a record it was not calibrated on (``drillpy predict``).
 
-Two checks, both on the record's own data only through its operating point (reliable mean top
-speed and mean WOB, or its measured top speed for the ``measured`` drive; see
-:func:`drillpy.rigsim.simulate_model`):
+The model is either a rig model (``drillpy analyze --calibrate``: format ``drillpy.rig_model``) or
+a loop model (``drillpy loop``: format ``drillpy.loop_model``, the declared model with its
+calibrated parameters and effects). Two checks, both on the record's own data only through its
+operating point (reliable mean top speed and mean WOB, or its measured top speed for a drive that
+follows it; see :func:`drillpy.rigsim.simulate_model` and :func:`drillpy.loop.longrun.simulate_record`):
 
 * **long run**: the model simulated over the whole record, its stick-slip metrics (SS Eq. 3.4,
   stick fraction, cycle frequency, torque percentiles) against the measured ones;
@@ -24,6 +26,9 @@ from . import loop, rigsim
 from .analysis import _jsonable
 from .cleaning import clean
 from .config import read_json
+from .loop.effects import stripped
+from .loop.longrun import simulate_record
+from .loop.run import analysis_config
 from .records import Record, read_record
 
 
@@ -31,7 +36,7 @@ from .records import Record, read_record
 class Prediction:
     """What :func:`predict_record` returns: the model, the measured and simulated records, their
     comparison, the short-horizon error and the stick threshold used [rad/s]."""
-    model: rigsim.RigModel
+    model: "rigsim.RigModel | loop.LoopModel"
     measured: Record
     simulated: Record
     comparison: rigsim.RigComparison
@@ -53,11 +58,38 @@ class Prediction:
                                                "predicted": [s["torque_p5"], s["torque_p95"]]},
                          "mean_top_speed_rad_s": pair("mean_top_speed"),
                          "top_speed_std_rad_s": pair("top_speed_std"), "mismatch": self.comparison.mismatch},
-            "drive": self.model.drive, "command_rad_s": self.simulated.provenance.get("command_rad_s"),
+            "model": describe(self.model), "command_rad_s": self.simulated.provenance.get("command_rad_s"),
             "operating_point": self.simulated.provenance.get("operating_point"),
             "record": {"source": str(self.measured.provenance.get("source")),
                        "window_s": [float(self.measured.time_s[0]), float(self.measured.time_s[-1])]},
             "stick_threshold_rad_s": self.stick_threshold})
+
+
+def describe(model) -> str:
+    """One line naming a model's kind and its parts."""
+    if isinstance(model, loop.LoopModel):
+        return f"loop model: effects {', '.join(model.effects) or 'none'}, damping ratios {model.damping_ratios}"
+    return f"rig model: {model.drive} drive, damping ratio {model.damping_ratio:.3g}"
+
+
+def _loop_model_at(model: "loop.LoopModel", record: Record, data) -> "loop.LoopModel":
+    """A loop model at a record's operating point (its reliable mean top speed for the ideal drive,
+    its mean WOB) on the analysis time grid; nothing is refitted."""
+    m = model.copy()
+    op = rigsim.operating_point(record)
+    m.top_speed = op["top_speed_rad_s"]
+    m.wob = op.get("wob_n", m.wob)
+    m.cfg = analysis_config(m.cfg, data.dt)
+    return m
+
+
+def _loop_prediction(model: "loop.LoopModel", rec: Record, thr: float, horizon_s: float, threads: int) -> tuple:
+    opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads)
+    data = loop.prepare(rec, model.engine_config(), opt)
+    m = _loop_model_at(model, rec, data)
+    sim = simulate_record(m, data)
+    ev = loop.evaluate(m, data, threads)
+    return sim, float(math.sqrt(np.mean(ev.e_h)))
 
 
 def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, horizon_s: float = 0.25,
@@ -68,7 +100,7 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
     opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads)
     cfg = model.config(command, wob)
     data = loop.prepare(record, cfg, opt)
-    cfg = loop._analysis_config(cfg, data.dt)
+    cfg = analysis_config(stripped(cfg), data.dt)
     effects = {}
     if model.drive == "motor":
         effects["top_drive_dynamics"] = {"variant": "motor", "droop_rad_s_per_nm": 1.0 / model.motor_slope_nms_rad,
@@ -80,9 +112,10 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
     return float(math.sqrt(np.mean(ev.e_h)))
 
 
-def predict_record(model: rigsim.RigModel, record: Record | str | Path, *, t0: float | None = None,
+def predict_record(model, record: Record | str | Path, *, t0: float | None = None,
                    t1: float | None = None, horizon_s: float = 0.25, threads: int = 0) -> Prediction:
-    """Apply ``model`` to a record (path or Record, cleaned here) without refitting anything."""
+    """Apply ``model`` (a :class:`~drillpy.rigsim.RigModel` or a :class:`~drillpy.loop.LoopModel`) to
+    a record (path or Record, cleaned here) without refitting anything."""
     raw = read_record(record) if isinstance(record, (str, Path)) else record
     for need in ("bit_speed", "torque_on_bit", "top_speed"):
         raw.channel(need)
@@ -90,15 +123,22 @@ def predict_record(model: rigsim.RigModel, record: Record | str | Path, *, t0: f
         raw = raw.select(t0, t1)
     rec, _ = clean(raw)
     thr = rigsim.stick_threshold(rec)
+    if isinstance(model, loop.LoopModel):
+        sim, E = _loop_prediction(model, rec, thr, horizon_s, threads)
+        return Prediction(model, rec, sim, rigsim.compare(rec, sim, thr, t_start=0.0), E, thr)
     sim = rigsim.simulate_model(model, rec)
     cmp = rigsim.compare(rec, sim, thr)
     E = short_horizon_error(model, rec, sim.provenance["command_rad_s"], horizon_s, threads)
     return Prediction(model, rec, sim, cmp, E, thr)
 
 
-def load_model(path: str | Path) -> rigsim.RigModel:
-    """A rig model from ``model.json`` (written by ``drillpy analyze``)."""
-    return rigsim.RigModel.from_dict(read_json(path, "model"))
+def load_model(path: str | Path):
+    """A model from ``model.json``: a rig model (``drillpy analyze --calibrate``) or a loop model
+    (``drillpy loop``)."""
+    d = read_json(path, "model")
+    if isinstance(d, dict) and d.get("format") == "drillpy.loop_model":
+        return loop.LoopModel.from_dict(d)
+    return rigsim.RigModel.from_dict(d)
 
 
 def write_prediction(pred: Prediction, out_dir: str | Path) -> list:
@@ -108,5 +148,5 @@ def write_prediction(pred: Prediction, out_dir: str | Path) -> list:
     out.mkdir(parents=True, exist_ok=True)
     (out / "summary.json").write_text(json.dumps(pred.summary(), indent=2))
     fig = figs.prediction_overlay(out / "overlay.png", pred.measured, pred.simulated, pred.stick_threshold,
-                                  f"{pred.model.drive} drive, damping ratio {pred.model.damping_ratio:.3g}")
+                                  describe(pred.model))
     return ["summary.json", fig.name]

@@ -1,63 +1,48 @@
-"""Synthetic records of the test rig with chosen effects of the loop's catalogue switched on.
+"""Synthetic records of the test rig with chosen effects switched on, from a *truth* that differs
+from the declared model.
 
-:func:`synthetic_record` simulates the ``thesis-rig`` model (Table 5.1, one mode at 2.89 Hz) with
-the law of the preset made reversible (beta1 = 0: the *declared* model of :func:`declared_config`)
-and switches on any subset of the effects of :mod:`drillpy.effects`, then adds measurement noise:
+:func:`declared_config` is the model a loop declares: the ``thesis-rig`` preset (Table 5.1, one mode
+at 2.89 Hz) with a reversible law (beta1 = 0), modal damping 0.05, an ideal top drive and ideal
+sensors. :func:`truth_config` draws, from the seed, a truth away from it (``nuisance=True``, the
+default): modal damping ratio in [0.03, 0.08], GJ within +-1.5 %, the law's slip branch scaled by
++-8 % with its slope changed by +-10 %, 40 elements with 3 modes instead of 20 elements with one,
+and a time step four times finer. :func:`synthetic_record` simulates the truth with any subset of
+the effects of the loop's catalogue (:mod:`drillpy.loop.effects`; each effect's ``inject``) and of
+:data:`EXTRA` (effects outside the catalogue), then adds measurement noise.
 
-======================= =============================================================================
-effect                  what the simulated "truth" has (parameters, defaults in :data:`DEFAULTS`)
-======================= =============================================================================
-``bit_hysteresis``      the law's acceleration term, Eq. (3.3): ``beta1`` [-], ``beta2`` [s/RPM]
-``wob_coupling``        torque following the recorded WOB, T = T_law (1 + ``gain`` (W(t) / W_0 - 1))
-``top_drive_dynamics``  an open-loop motor with droop: ``slope_nms_rad`` c_m, ``inertia_kg_m2`` J_m,
-                        commanded so that its mean speed stays near the preset's 80.9 RPM
-``sensor_lag``          every recorded channel through a second-order Butterworth at ``lowpass_hz``
-``torque_fluctuation``  T = T_law (1 + eta(t)), eta Gaussian with the PSD shape of Eq. (4.4), flat up
-                        to ``f0_hz`` and falling as f^-3.13 above, standard deviation ``std``
-``viscous_damping``     a viscous torque ``bit_viscous_nms`` v on the bit that the torque sensor (under
-                        the rock holder) does not see
-======================= =============================================================================
-
-The recorded WOB always fluctuates (``wob_std`` relative, band-limited to ``wob_band_hz``), with or
+The recorded WOB always fluctuates (``wob_std`` relative: 0.14 by default, the rig's 0.137 on sample
+175; band-limited to ``wob_band_hz``), with or
 without the coupling, so that a loop must tell whether the torque follows it. All random numbers
-(WOB, eta, noise) come from the engine's counter-based generator keyed by the seed
-(:func:`drillpy.process.generate`): the same seed gives the same record on any machine.
+(the truth's draws, WOB, eta, noise) come from the seed (the engine's counter-based generator,
+:func:`drillpy.process.generate`, for the series): the same seed gives the same record anywhere.
 """
 from __future__ import annotations
 
 import copy
 import math
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .config import load_config, normalize
-from .process import PsdModel, PsdTable, generate, process_variance
+from .loop.effects import CATALOGUE
+from .process import PsdTable, generate, process_variance
 from .records import Record
-from .signals import rig_lowpass
 from .simulation import simulate
 
-EFFECTS = ("bit_hysteresis", "wob_coupling", "top_drive_dynamics", "sensor_lag", "torque_fluctuation",
-           "viscous_damping")
-
+#: Effects outside the loop's catalogue the generator can inject, with their default parameters:
+#: ``top_speed_ramp``: the ideal drive's speed ramps linearly by ``ramp_fraction`` of its mean over the
+#: record (a driller changing the set point).
+EXTRA = {"top_speed_ramp": {"ramp_fraction": 0.15}}
+EFFECTS = tuple(CATALOGUE) + tuple(EXTRA)
 #: Parameters of each effect when switched on without values.
-DEFAULTS = {
-    "bit_hysteresis": {"beta1": 0.2, "beta2": 0.005},
-    "wob_coupling": {"gain": 1.0},
-    "top_drive_dynamics": {"slope_nms_rad": 0.25, "inertia_kg_m2": 0.02},
-    "sensor_lag": {"lowpass_hz": 10.0},
-    "torque_fluctuation": {"std": 0.15, "f0_hz": 0.25},
-    "viscous_damping": {"bit_viscous_nms": 0.03},
-}
+DEFAULTS = {**{n: dict(e.defaults) for n, e in CATALOGUE.items()}, **EXTRA}
 #: Standard deviations of the white measurement noise (scaled by ``noise``).
 NOISE = {"bit_speed": 0.05, "top_speed": 0.05, "torque_on_bit": 0.02, "wob": 2.0}
 #: Streams of the generator (sample indices of drillpy.process.generate).
 _STREAMS = {"wob": 0, "eta": 1, "bit_speed": 2, "top_speed": 3, "torque_on_bit": 4, "wob_noise": 5}
-
-
-#: Modal damping ratio of the synthetic rig. The preset's 0.25 is an effective value that lumps the
-#: dissipation the loop is meant to find (the motor's droop, water drag) and sits at the stability
-#: edge: with a motor top drive it no longer stick-slips. At 0.05 the rig stick-slips with every
-#: effect of the catalogue switched on.
+#: Modal damping ratio of the declared model (the preset's 0.25 is an effective value lumping the
+#: dissipation the loop is meant to find, at the stability edge).
 DAMPING_RATIO = 0.05
 
 
@@ -72,6 +57,47 @@ def declared_config(preset: str = "thesis-rig", damping_ratio: float = DAMPING_R
     cfg.pop("top_drive", None)
     cfg.pop("sensors", None)
     return normalize(cfg)
+
+
+def truth_config(seed: int, *, modes: int = 3, elements: int = 40, dt_factor: int = 4) -> tuple:
+    """A truth away from :func:`declared_config`, drawn from ``seed``: (config, the draws)."""
+    rng = np.random.default_rng([seed, 7919])
+    cfg = copy.deepcopy(declared_config())
+    z = float(rng.uniform(0.03, 0.08))
+    gj = float(rng.uniform(0.985, 1.015))
+    scale, slope = float(rng.uniform(0.92, 1.08)), float(rng.uniform(0.9, 1.1))
+    cfg["damping"] = {"type": "modal", "ratios": [z] * modes}
+    for s in cfg["string"]["sections"]:
+        s["youngs_modulus_pa"] *= gj
+        s["elements"] = elements
+    cfg["rom"]["modes"] = modes
+    law = cfg["law"]
+    for k in ("a4", "a5", "a6", "a7"):
+        law[k] *= scale
+    law["a5"] *= slope
+    cfg["simulation"]["dt_s"] /= dt_factor
+    draws = {"damping_ratio": z, "gj_factor": gj, "law_scale": scale, "law_slope_factor": slope, "modes": modes,
+             "elements": elements, "dt_s": cfg["simulation"]["dt_s"]}
+    return normalize(cfg), draws
+
+
+@dataclass
+class Truth:
+    """What the effects' ``inject`` change: the truth's configuration, its input series on the grid
+    ``sdt`` (the recorded WOB ``wob``, the law's WOB ``wob_law``, the relative torque fluctuation
+    ``eta``, the top-speed series ``top``) and functions applied to the recorded channels (``post``)."""
+    cfg: dict
+    wob: np.ndarray
+    sdt: float
+    seed: int
+    wob_law: np.ndarray | None = None
+    eta: np.ndarray | None = None
+    top: np.ndarray | None = None
+    post: list = field(default_factory=list)
+
+    def process(self, psd, stream: str) -> np.ndarray:
+        """A realization of unit variance of a Gaussian process with one-sided PSD ``psd``."""
+        return _unit_process(psd, self.sdt, self.wob.size * self.sdt, self.seed, _STREAMS[stream])[: self.wob.size]
 
 
 def _check_effects(effects) -> dict:
@@ -101,9 +127,9 @@ def _unit_process(psd, dt: float, duration: float, seed: int, stream: int) -> np
 
 
 def synthetic_record(effects=(), *, duration_s: float = 12.0, seed: int = 0, fs_hz: float = 500.0,
-                     noise: float = 1.0, settle_s: float = 3.0, wob_std: float = 0.1, wob_band_hz: float = 4.0,
-                     config: dict | None = None) -> Record:
-    """A record of the rig model with ``effects`` switched on, plus white measurement noise.
+                     noise: float = 1.0, settle_s: float = 6.0, wob_std: float = 0.14, wob_band_hz: float = 4.0,
+                     nuisance: bool = True, config: dict | None = None) -> Record:
+    """A record of the rig with ``effects`` switched on, plus white measurement noise.
 
     Parameters
     ----------
@@ -112,20 +138,24 @@ def synthetic_record(effects=(), *, duration_s: float = 12.0, seed: int = 0, fs_
     duration_s : float
         Length of the record [s] (after ``settle_s`` of simulation are dropped).
     seed : int
-        Seed of the WOB, eta and noise realizations.
+        Seed of the truth's draws and of the WOB, eta and noise realizations.
     fs_hz : float
         Sampling rate of the record [Hz] (the engine's step must divide 1 / fs_hz).
     noise : float
         Multiplier of the noise standard deviations :data:`NOISE` (0: noise free).
     wob_std, wob_band_hz : float
         Relative standard deviation of the recorded WOB and its band [Hz].
+    nuisance : bool
+        Simulate a truth away from the declared model (:func:`truth_config`); False: the declared
+        model itself (only to check that a model predicts its own records).
     config : dict, optional
-        Declared model to start from (default :func:`declared_config`).
+        The truth's configuration (overrides ``nuisance``).
 
     Returns
     -------
     Record
-        SI channels; ``provenance["synthetic"]`` holds the effects, their parameters and the seed.
+        SI channels; ``provenance["synthetic"]`` holds the effects, their parameters, the truth's
+        draws and the seed.
     """
     eff = _check_effects(effects)
     if not (isinstance(noise, (int, float)) and noise >= 0 and math.isfinite(noise)):
@@ -133,7 +163,13 @@ def synthetic_record(effects=(), *, duration_s: float = 12.0, seed: int = 0, fs_
     for name, val in (("duration_s", duration_s), ("fs_hz", fs_hz), ("wob_band_hz", wob_band_hz)):
         if not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
             raise ValueError(f"{name} = {val!r}: must be a positive number")
-    cfg = copy.deepcopy(config if config is not None else declared_config())
+    draws = {}
+    if config is not None:
+        cfg = copy.deepcopy(config)
+    elif nuisance:
+        cfg, draws = truth_config(seed)
+    else:
+        cfg = declared_config()
     dt_out = 1.0 / fs_hz
     stride = int(round(dt_out / cfg["simulation"]["dt_s"]))
     if stride < 1 or abs(stride * cfg["simulation"]["dt_s"] - dt_out) > 1e-9 * dt_out:
@@ -141,53 +177,41 @@ def synthetic_record(effects=(), *, duration_s: float = 12.0, seed: int = 0, fs_
     total = settle_s + duration_s
     cfg["simulation"].update({"duration_s": total, "transient_s": min(settle_s, 0.5 * total), "output_stride": stride})
     w0 = float(cfg["operation"]["wob_n"])
-    om0 = float(cfg["operation"]["top_speed_rad_s"])
-    if "bit_hysteresis" in eff:
-        if "beta1" not in cfg["law"]:
-            raise ValueError(f"bit_hysteresis: the law {cfg['law']['type']!r} has no hysteresis term")
-        cfg["law"]["beta1"] = eff["bit_hysteresis"]["beta1"]
-        cfg["law"]["beta2"] = eff["bit_hysteresis"]["beta2"]
-    c_v = eff.get("viscous_damping", {}).get("bit_viscous_nms", 0.0)
-    cfg["operation"]["bit_viscous_nms"] = c_v
-    if "top_drive_dynamics" in eff:
-        p = eff["top_drive_dynamics"]
-        cfg["top_drive"] = {"type": "motor", "slope_nms_rad": p["slope_nms_rad"], "inertia_kg_m2": p["inertia_kg_m2"]}
-        from .simulation import law_torque
-        t_mean = float(law_torque(cfg["law"], om0, 0.0, w0)[0]) + c_v * om0
-        cfg["operation"]["top_speed_rad_s"] = om0 + t_mean / p["slope_nms_rad"]  # command above the mean by the droop
-    cfg = normalize(cfg)
-    # random inputs on the engine's series grid (1 ms)
-    sdt = 1e-3
+    sdt = 1e-3  # random inputs on the engine's series grid
+    n_series = int(round((total + 1.0) / sdt))
     wob_psd = PsdTable([0.0, wob_band_hz, wob_band_hz * 1.01], [1.0, 1.0, 0.0])
-    wob = w0 * (1.0 + wob_std * _unit_process(wob_psd, sdt, total + 1.0, seed, _STREAMS["wob"]))
-    eta = None
-    if "torque_fluctuation" in eff:
-        p = eff["torque_fluctuation"]
-        f0 = p["f0_hz"]
-        psd = PsdModel(f0=f0, A0=0.0, a=-3.13, b=3.13 * math.log(f0))  # Eq. (4.4) shape, continuous at f0
-        eta = p["std"] * _unit_process(psd, sdt, total + 1.0, seed, _STREAMS["eta"])
-    wob_law = None
-    if "wob_coupling" in eff:  # the law's input: W_0 (1 + k (W / W_0 - 1)), proportional for k = 1
-        wob_law = w0 * (1.0 + eff["wob_coupling"]["gain"] * (wob / w0 - 1.0))
-    res = simulate(cfg, wob_series=wob_law, eta_series=eta, series_dt=sdt, start="steady")
+    wob = w0 * (1.0 + wob_std * _unit_process(wob_psd, sdt, n_series * sdt, seed, _STREAMS["wob"])[:n_series])
+    truth = Truth(cfg, wob, sdt, int(seed))
+    # the configuration changes first (a motor's command depends on the law and the extra torques)
+    order = sorted(eff, key=lambda n: n == "top_drive_dynamics")
+    for name in order:
+        if name in CATALOGUE:
+            CATALOGUE[name].inject(truth, eff[name])
+        elif name == "top_speed_ramp":
+            om = float(cfg["operation"]["top_speed_rad_s"])
+            t = np.arange(n_series) * sdt
+            truth.top = om * (1.0 + eff[name]["ramp_fraction"] * (t / total - 0.5))
+    cfg = normalize(truth.cfg)
+    res = simulate(cfg, wob_series=truth.wob_law, eta_series=truth.eta, top_speed_series=truth.top,
+                   series_dt=sdt, start="rest")
     keep = res.t >= settle_s - 1e-12
     t = res.t[keep] - settle_s
-    vb, top = res.bit_speed[keep], res.top_speed[keep]
-    tq = res.torque_on_bit[keep] - c_v * res.bit_speed[keep]  # the load cell sees the contact torque
+    vb = res.bit_speed[keep]
+    c_v = cfg["operation"].get("bit_viscous_nms", 0.0)
+    tq = res.torque_on_bit[keep] - c_v * vb  # the load cell sees the contact torque
     w = np.interp(res.t[keep], np.arange(wob.size) * sdt, wob)
-    chans = {"bit_speed": vb, "top_speed": top, "torque_on_bit": tq, "wob": w}
-    if "sensor_lag" in eff:
-        fc = eff["sensor_lag"]["lowpass_hz"]
-        chans = {k: rig_lowpass(x, fs_hz, cutoff_hz=fc) for k, x in chans.items()}
+    chans = {"bit_speed": vb, "top_speed": res.top_speed[keep], "torque_on_bit": tq, "wob": w}
+    for f in truth.post:
+        chans = f(chans, fs_hz)
     if noise > 0:
         n = t.size
         for k, sd in NOISE.items():
             white = PsdTable([0.0, 0.5 * fs_hz], [1.0, 1.0])
             stream = _STREAMS["wob_noise" if k == "wob" else k]
             chans[k] = chans[k] + noise * sd * _unit_process(white, dt_out, n * dt_out, seed, stream)[:n]
-    truth = {"effects": eff, "seed": int(seed), "noise": float(noise), "fs_hz": float(fs_hz),
-             "duration_s": float(duration_s), "wob_std": float(wob_std), "config": cfg}
+    info = {"effects": eff, "seed": int(seed), "noise": float(noise), "fs_hz": float(fs_hz),
+            "duration_s": float(duration_s), "wob_std": float(wob_std), "truth": draws, "config": cfg}
     return Record(time_s=t, **chans, units={"time": "s", "bit_speed": "rad_s", "top_speed": "rad_s",
                                             "torque_on_bit": "Nm", "wob": "N"},
                   provenance={"source": f"synthetic (seed {seed}; effects: {', '.join(eff) or 'none'})",
-                              "format": "drillpy.synthetic", "synthetic": truth})
+                              "format": "drillpy.synthetic", "synthetic": info})

@@ -44,7 +44,7 @@ def synthetic_study(tmp_path_factory):
     """A: the declared rig model (Eq. 5.1 law of the thesis-rig preset); B: the same at 1.3 x the top
     speed; C: A read through a torque sensor with a 1.5 x calibration error; D: the rig with the
     law's torque 1.2 x larger (a0..a7 x 1.2)."""
-    a = synthetic_record((), duration_s=6.0, seed=1)
+    a = synthetic_record((), duration_s=6.0, seed=1, nuisance=False)
     cb = declared_config()
     cb["operation"]["top_speed_rad_s"] *= 1.3
     b = synthetic_record((), duration_s=6.0, seed=1, config=cb)

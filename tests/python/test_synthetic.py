@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from drillpy.synthetic import DEFAULTS, EFFECTS, NOISE, declared_config, synthetic_record
+from drillpy.synthetic import DEFAULTS, EFFECTS, NOISE, declared_config, synthetic_record, truth_config
 
 
 def test_same_seed_same_record_other_seed_other_noise():
@@ -54,11 +54,44 @@ def test_viscous_torque_is_not_in_the_torque_channel():
     """The record's torque is the contact torque: with c_v the bit runs slower, yet the recorded
     torque stays on the law (the viscous drag acts outside the load cell)."""
     from drillpy.simulation import law_torque
-    rec = synthetic_record({"viscous_damping": {"bit_viscous_nms": 0.03}}, duration_s=4.0, seed=1, noise=0.0)
+    rec = synthetic_record({"viscous_damping": {"bit_viscous_nms": 0.03}}, duration_s=4.0, seed=1, noise=0.0,
+                           nuisance=False)
     cfg = declared_config()
     slip = rec.bit_speed > 1.0
     law = law_torque(cfg["law"], rec.bit_speed[slip], 0.0, cfg["operation"]["wob_n"])
     assert np.max(np.abs(rec.torque_on_bit[slip] - law)) < 1e-6
+
+
+def test_the_truth_is_drawn_away_from_the_declared_model():
+    """Damping, stiffness, law, modes and time step of the truth differ from the declared model's,
+    differently for each seed, identically for the same seed."""
+    d = declared_config()
+    a, da = truth_config(1)
+    b, db = truth_config(2)
+    assert truth_config(1)[1] == da and da != db
+    for t, dr in ((a, da), (b, db)):
+        assert t["rom"]["modes"] == 3 and t["string"]["sections"][0]["elements"] == 40
+        assert t["simulation"]["dt_s"] == pytest.approx(d["simulation"]["dt_s"] / 4)
+        assert 0.03 <= dr["damping_ratio"] <= 0.08 and 0.985 <= dr["gj_factor"] <= 1.015
+        assert t["law"]["a4"] != d["law"]["a4"]
+    rec = synthetic_record((), duration_s=2.0, seed=1)
+    assert rec.provenance["synthetic"]["truth"] == da
+
+
+def test_effects_outside_the_catalogue_and_new_catalogue_effects_leave_their_mark():
+    """A top-speed ramp ramps the top speed; a softer string lowers the stick-slip frequency; string
+    friction makes the bit stick longer without showing in the torque channel."""
+    base = synthetic_record((), duration_s=8.0, seed=3, noise=0.0)
+    ramp = synthetic_record({"top_speed_ramp": {"ramp_fraction": 0.2}}, duration_s=8.0, seed=3, noise=0.0)
+    slope = np.polyfit(ramp.time_s, ramp.top_speed, 1)[0]
+    assert slope * 11.0 == pytest.approx(0.2 * np.mean(base.top_speed), rel=0.05)  # over settle + record
+    soft = synthetic_record({"string_stiffness": {"gj_factor": 0.7}}, duration_s=8.0, seed=3, noise=0.0)
+
+    def freq(r):
+        x = r.bit_speed - r.bit_speed.mean()
+        f = np.fft.rfftfreq(x.size, r.dt)
+        return f[np.argmax(np.abs(np.fft.rfft(x)))]
+    assert freq(soft) < freq(base)
 
 
 def test_bad_requests_name_what_is_wrong():

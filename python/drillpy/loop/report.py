@@ -13,11 +13,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .config import normalize
+from ..config import normalize
 from .effects import CATALOGUE
-from .loop import LoopResult, dumps, measured
-from .plotting import _save, plt
-from .records import RPM
+from .data import measured
+from .run import LoopResult, dumps
+from ..plotting import _save, plt
+from ..records import RPM
 
 C_MEAS, C_BASE, C_FINAL, C_SIG = "k", "tab:red", "tab:blue", "tab:orange"
 
@@ -236,9 +237,10 @@ def evidence_json(res: LoopResult) -> dict:
             "options": {k: (list(v) if isinstance(v, tuple) else v) for k, v in vars(res.options).items()},
             "engine_dt_s": res.config["simulation"]["dt_s"],
             "baseline": ev_summary(res.baseline), "final": ev_summary(res.final),
-            "steps": [{"effect": s["effect"], "error_before": s["error_before"], "error_after": s["error_after"],
-                       "evidence": s["evidence"]} for s in res.steps],
-            "rounds": res.rounds, "notes": res.notes}
+            "adequacy": res.adequacy, "declared": res.declared, "baseline_long_run": res.baseline_long_run,
+            "steps": [{k: s[k] for k in ("action", "effect", "error_before", "error_after", "evidence", "long_run")}
+                      for s in res.steps],
+            "rounds": res.rounds, "discovery": res.discovery, "notes": res.notes}
 
 
 def model_config(res: LoopResult) -> dict:
@@ -246,7 +248,7 @@ def model_config(res: LoopResult) -> dict:
     c = res.final.model.engine_config()
     c["name"] = f"{c.get('name', 'model')}-loop"
     c["description"] = ("calibrated by drillpy loop on " + Path(res.data.source).name + "; effects: "
-                        + (", ".join(s["effect"] for s in res.steps) or "none"))
+                        + (", ".join(res.final.model.effects) or "none"))
     return normalize(c)
 
 
@@ -262,7 +264,20 @@ def _damping(d: dict) -> str:
 
 
 def _params(p: dict) -> str:
-    return ", ".join(f"{k} = {v:.4g}" if isinstance(v, float) else f"{k} = {v}" for k, v in p.items()) or "-"
+    def one(k, v):
+        if isinstance(v, dict):
+            ci = v.get("ci95")
+            txt = f"{k} = {v['value']:.4g}" + (f" [{ci[0]:.3g}, {ci[1]:.3g}]" if ci else "")
+            return txt + (" (at bound)" if v.get("at_bound") else "")
+        return f"{k} = {v:.4g}" if isinstance(v, float) else f"{k} = {v}"
+    return ", ".join(one(k, v) for k, v in p.items()) or "-"
+
+
+def _lr(x: dict | None) -> str:
+    if not x:
+        return "n/a"
+    return (f"SS {_f(x.get('ss'), '.3f')}, stick {_f(x.get('stick_fraction'), '.3f')}, "
+            f"{_f(x.get('cycle_frequency_hz'), '.2f')} Hz")
 
 
 def reading(name: str, p: dict) -> str:
@@ -289,8 +304,13 @@ def reading(name: str, p: dict) -> str:
         txt = (f"a torque fluctuation of standard deviation {p.get('std', float('nan')):.3g} that persists over "
                f"tau = {p['tau_s']:.3g} s")
     else:
-        txt = f"an unmeasured viscous torque {p['bit_viscous_nms']:.3g} N m s/rad on the bit"
+        txt = "; ".join(f"{q.meaning}: {p[q.name]:.4g} {q.unit}" for q in e.params if q.name in p)
     return f"{txt}. On the rig: {e.reading}."
+
+
+def values(params: dict) -> dict:
+    """Parameter values from a step's evidence (entries with intervals) or a model's effects."""
+    return {k: (v["value"] if isinstance(v, dict) and "value" in v else v) for k, v in params.items()}
 
 
 def render_report(res: LoopResult, files: dict) -> str:
@@ -325,26 +345,49 @@ def render_report(res: LoopResult, files: dict) -> str:
           f"autocorrelation) with p < {o.alpha:g} / (candidates in the round) (Bonferroni); BIC on the calibration "
           f"part lower by more than {o.min_delta_bic:g} (n_eff = residual samples / autocorrelation time). Among the "
           "candidates that pass, the one with the lowest validation error is added and the model is refitted.", ""]
+    a = res.adequacy
+    L += ["## Baseline", "",
+          f"- declared effects: {', '.join(res.declared) or 'none'}; calibrated modal damping ratios "
+          f"{b.model.damping_ratios}.",
+          f"- validation error E = {b.E_test:.4f}; trivial predictors: channel means {a['mean_predictor_error']:.4f}, "
+          f"value held from the restart {a['hold_last_predictor_error']:.4f} -> "
+          + ("**adequate** (better than both)." if a["adequate"] else
+             "**not adequate**: the declared model predicts no better than a trivial predictor; nothing is attributed."),
+          f"- long run (the model simulated over the record): measured {_lr(res.baseline_long_run.get('measured'))}; "
+          f"model {_lr(res.baseline_long_run.get('model'))}.", ""]
     L += ["## Result", "",
-          "| step | effect | E before | E after | gain | p | dBIC | explained | parameters |",
-          "|---|---|---:|---:|---:|---:|---:|---:|---|"]
+          "| step | action | effect | E before | E after | gain | p | dBIC | parameters [95 %] | long run after |",
+          "|---|---|---|---:|---:|---:|---:|---:|---|---|"]
     for k, s in enumerate(res.steps, 1):
         e = s["evidence"]
-        L.append(f"| {k} | `{s['effect']}` | {s['error_before']:.4f} | {s['error_after']:.4f} | "
+        L.append(f"| {k} | {s['action']} | `{s['effect']}` | {s['error_before']:.4f} | {s['error_after']:.4f} | "
                  f"{100 * (1 - s['error_after'] / s['error_before']):.1f} % | {e['p_value']:.2g} | {e['delta_bic']:.1f} | "
-                 f"{e['explained_fraction']:.2f} | {_params(e['parameters'])} |")
+                 f"{_params(e.get('parameters', {}))} | {_lr((s.get('long_run') or {}).get('after'))} |")
     if not res.steps:
-        L.append("| - | (none: no candidate passes the guard) | | | | | | | |")
+        L.append("| - | | (none: no candidate beats the null candidate) | | | | | | | |")
     L += ["", f"Validation error **{b.E_test:.4f} -> {f.E_test:.4f}** (calibration {b.E_train:.4f} -> {f.E_train:.4f}); "
           f"validation RMSE bit speed {b.channel_rmse['bit_speed_rad_s'] * RPM:.2f} -> "
           f"{f.channel_rmse['bit_speed_rad_s'] * RPM:.2f} RPM, torque {b.channel_rmse['torque_on_bit_nm']:.3f} -> "
           f"{f.channel_rmse['torque_on_bit_nm']:.3f} N m; law residual RMSE (validation) {_f(b.law_rmse_test)} -> "
           f"{_f(f.law_rmse_test)} N m.", ""]
-    if res.steps:
+    added = [s for s in res.steps if s["action"] == "add"]
+    if added:
         L += ["### Physical reading", ""]
-        for s in res.steps:
+        for s in added:
             L.append(f"- **{s['effect']}**: {reading(s['effect'], s['after'].model.effects[s['effect']])}")
         L.append("")
+    disc = res.discovery
+    if disc.get("terms") is not None:
+        L += ["### What the catalogue cannot name", "",
+              f"The final model's residual of the bit's equation of motion, regressed on a library of terms "
+              f"({disc.get('method', '')}): **unexplained: {100 * disc['unexplained_fraction']:.0f} % of the residual**.", ""]
+        for t in disc["terms"]:
+            ci = t.get("ci95") or [math.nan, math.nan]
+            L.append(f"- `{t['name']}`: {t['coefficient']:.4g} {t['unit']} [{ci[0]:.3g}, {ci[1]:.3g}], explains "
+                     f"{100 * t['explained_fraction']:.0f} %: {t['reading']}")
+        L.append("")
+    elif disc.get("skipped"):
+        L += [f"Discovery step skipped: {disc['skipped']}.", ""]
     L += ["## Evidence per round", ""]
     for r, cands in enumerate(res.rounds, 1):
         L += [f"Round {r}:", "", "| candidate | E_val with it | gain | p | dBIC | explained | decision |",
@@ -363,14 +406,14 @@ def render_report(res: LoopResult, files: dict) -> str:
         for c in res.rounds[-1]:
             if c.get("parameters"):  # a candidate whose fit failed has none
                 L.append(f"- `{c['effect']}` ({'passes' if c['accepted'] else 'rejected'}): "
-                         f"{reading(c['effect'], c['parameters'])}")
+                         f"{reading(c['effect'], values(c['parameters']))}")
         L.append("")
     L += ["Explained = (R.S)^2 / (|R|^2 |S|^2): the fraction of the calibration residual R (both channels, "
           "normalized) that the candidate's signature S (its change of the predictions) accounts for.", "",
           "## Parameters", "", "```json", dumps(f.model.parameters()), "```", "",
-          f"`model.json` holds the final model as an engine configuration (`drillpy simulate --config "
-          f"model.json`); the WOB coupling and the torque fluctuation need the record's WOB and past torque and are "
-          f"not part of it.", ""]
+          "`model.json` holds the final model (`drillpy predict model.json RECORD` applies it to another record); "
+          "`config.json` the same model as an engine configuration (`drillpy simulate --config config.json`), without "
+          "the WOB coupling and the torque fluctuation, which need the record's WOB and past torque.", ""]
     L += ["## Figures", ""]
     for key, cap in (("signature", "Residual versus signature"), ("overlay", "Before/after predictions"),
                      ("loops", "Torque-speed loops (validation)"), ("errors", "Errors per step and candidate")):
@@ -386,7 +429,8 @@ def write_outputs(res: LoopResult, out: Path) -> dict:
     js = res.loop_json()
     (out / "loop.json").write_text(dumps(js))
     (out / "evidence.json").write_text(dumps(evidence_json(res)))
-    (out / "model.json").write_text(dumps(model_config(res)))
+    (out / "model.json").write_text(dumps(res.final.model.to_dict()))
+    (out / "config.json").write_text(dumps(model_config(res)))
     write_predictions(out / "predictions.csv", res)
     files = {"signature": signature_figure(out / "residual_signature.png", res).name,
              "overlay": overlay_figure(out / "overlay.png", res).name,

@@ -1,0 +1,176 @@
+"""Validation of ``drillpy loop`` on records its declared model did not generate.
+
+Every case simulates a *truth* away from the declared model (:func:`drillpy.synthetic.truth_config`:
+damping ratio 0.03-0.08 against 0.05 declared, GJ +-1.5 %, the law's slip branch rescaled, 3 modes of
+40 elements against 1 of 20, a time step 4 x finer than the loop's), switches on the case's effects
+(full size: the catalogue's defaults; half size; two at once; outside the loop's catalogue: the
+loop then searches only the original six effects; larger noise), adds measurement noise, and runs
+the loop from :func:`drillpy.synthetic.declared_config`. One table row per case: truth, answer,
+E before -> after the first step -> final, the long-run metrics (SS, stick fraction, cycle
+frequency: record, baseline, final) and the unexplained fraction.
+
+Pass rules: ``clean``: nothing added; ``single``/``noise``: that effect named first with E after
+<= 0.6 E before; ``half``: named first (the summary counts them: "most" is the target); ``two``:
+both found; ``outside``: nothing misnamed (nothing added, or the listed acceptable name).
+
+    PYTHONPATH=python python3 benchmarks/loop_validation.py              # the whole table (~5 min)
+    PYTHONPATH=python python3 benchmarks/loop_validation.py --markdown   # as the table of docs/loop.md
+    PYTHONPATH=python python3 benchmarks/loop_validation.py --only fast  # the cases the tests run
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from dataclasses import dataclass
+
+from drillpy.loop import LoopOptions, run_loop
+from drillpy.synthetic import declared_config, synthetic_record
+
+#: The loop's catalogue before this validation's additions: the "outside" cases search only these.
+ORIGINAL_SIX = ("bit_hysteresis", "wob_coupling", "top_drive_dynamics", "sensor_lag", "torque_fluctuation",
+                "viscous_damping")
+#: Record length [s], rate [Hz] and engine step of the loop [s].
+DURATION_S, RATE_HZ, LOOP_DT_S = 20.0, 500.0, 2e-4
+
+
+@dataclass
+class Case:
+    kind: str
+    effects: dict
+    seed: int
+    noise: float = 1.0
+    search: tuple | None = None   #: the loop's candidates (None: the whole catalogue)
+    acceptable: tuple = ()        #: names that are a correct reading besides the truth's (documented)
+    fast: bool = False            #: run by the tests
+
+    @property
+    def label(self) -> str:
+        eff = "; ".join(f"{k} ({', '.join(f'{a} {b:g}' for a, b in v.items()) or 'defaults'})"
+                        for k, v in self.effects.items()) or "none"
+        return eff + (f", noise x{self.noise:g}" if self.noise != 1 else "") + (
+            ", catalogue without it" if self.search else "")
+
+
+CASES = [
+    Case("clean", {}, 1, fast=True), Case("clean", {}, 2), Case("clean", {}, 3),
+    Case("single", {"bit_hysteresis": {}}, 11),
+    Case("single", {"wob_coupling": {}}, 12),
+    Case("single", {"top_drive_dynamics": {}}, 13, fast=True),
+    Case("single", {"sensor_lag": {}}, 14, fast=True),
+    Case("single", {"torque_fluctuation": {}}, 15),
+    Case("single", {"viscous_damping": {}}, 16, acceptable=("string_friction",)),
+    Case("single", {"string_stiffness": {}}, 17, fast=True),
+    Case("single", {"static_friction": {}}, 18),
+    Case("single", {"string_friction": {}}, 19),
+    Case("half", {"bit_hysteresis": {"beta1": 0.1}}, 21),
+    Case("half", {"wob_coupling": {"gain": 0.5}}, 22),
+    Case("half", {"top_drive_dynamics": {"slope_nms_rad": 0.5}}, 23),
+    Case("half", {"sensor_lag": {"lowpass_hz": 20.0}}, 24),
+    Case("half", {"viscous_damping": {"bit_viscous_nms": 0.015}}, 26, acceptable=("string_friction",)),
+    Case("half", {"static_friction": {"static_torque_nm": 3.6}}, 28),
+    Case("half", {"string_stiffness": {"gj_factor": 0.925}}, 27),
+    Case("half", {"string_friction": {"string_friction_nm": 0.15}}, 29),
+    Case("two", {"top_drive_dynamics": {}, "wob_coupling": {}}, 31, fast=True),
+    Case("two", {"sensor_lag": {}, "bit_hysteresis": {}}, 32),
+    Case("two", {"static_friction": {}, "wob_coupling": {}}, 33),
+    Case("two", {"string_stiffness": {}, "top_drive_dynamics": {}}, 34),
+    Case("outside", {"string_stiffness": {}}, 41, search=ORIGINAL_SIX, fast=True),
+    Case("outside", {"string_friction": {}}, 42, search=ORIGINAL_SIX),
+    Case("outside", {"top_speed_ramp": {}}, 43, acceptable=("top_drive_dynamics",)),
+    Case("noise", {"top_drive_dynamics": {}}, 51, noise=3.0),
+    Case("noise", {"bit_hysteresis": {}}, 52, noise=3.0),
+]
+
+_DONE: dict = {}
+
+
+def run_case(case: Case) -> dict:
+    """Generate the record of a case, run the loop, summarize (cached: a case runs once)."""
+    key = (case.kind, repr(case.effects), case.seed, case.noise, case.search)
+    if key not in _DONE:
+        _DONE[key] = _run(case)
+    return _DONE[key]
+
+
+def _run(case: Case) -> dict:
+    rec = synthetic_record(case.effects, duration_s=DURATION_S, seed=case.seed, fs_hz=RATE_HZ, noise=case.noise)
+    opt = LoopOptions(rate_hz=RATE_HZ, dt_s=LOOP_DT_S, **({"effects": case.search} if case.search else {}))
+    res = run_loop(rec, declared_config(), opt, log=lambda *a: None)
+    added = [s["effect"] for s in res.steps if s["action"] == "add"]
+    first = next((s for s in res.steps if s["action"] == "add"), None)
+    truth = set(case.effects)
+    if case.kind == "clean":
+        ok = not added
+    elif case.kind in ("single", "noise"):
+        named = first is not None and (first["effect"] in truth or first["effect"] in case.acceptable)
+        ok = named and first["error_after"] <= 0.6 * first["error_before"]
+    elif case.kind == "half":
+        ok = first is not None and (first["effect"] in truth or first["effect"] in case.acceptable)
+    elif case.kind == "two":
+        ok = truth <= set(added)
+    else:
+        ok = set(added) <= set(case.acceptable)
+    lr_b, lr_f = res.baseline_long_run, (res.steps[-1]["long_run"] if res.steps else res.baseline_long_run)
+    return {"case": case, "found": added, "removed": res.removed, "baseline": res.baseline.E_test,
+            "first_after": first["error_after"] if first else res.baseline.E_test, "final": res.final.E_test,
+            "params": {s["effect"]: s["evidence"].get("parameters", {}) for s in res.steps if s["action"] == "add"},
+            "long_run": {"measured": (lr_b or {}).get("measured"), "baseline": (lr_b or {}).get("model"),
+                         "final": (lr_f or {}).get("after", (lr_f or {}).get("model"))},
+            "unexplained": res.unexplained_fraction, "adequate": res.adequacy["adequate"],
+            "terms": [t["name"] for t in res.discovery.get("terms", [])], "truth": rec.provenance["synthetic"]["truth"],
+            "ok": ok}
+
+
+def _lr(x) -> str:
+    if not x:
+        return "n/a"
+    f = x.get("cycle_frequency_hz")
+    return f"{x['ss']:.2f} / {x['stick_fraction']:.2f} / " + (f"{f:.2f}" if f is not None else "-")
+
+
+def _params(p: dict) -> str:
+    out = []
+    for k, v in p.items():
+        val = v["value"] if isinstance(v, dict) else v
+        if isinstance(val, float):
+            out.append(f"{k} {val:.3g}")
+    return ", ".join(out)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--markdown", action="store_true")
+    ap.add_argument("--only", help="run only one kind (clean, single, half, two, outside, noise) or 'fast'")
+    a = ap.parse_args(argv)
+    cases = [c for c in CASES if a.only is None or c.kind == a.only or (a.only == "fast" and c.fast)]
+    if a.markdown:
+        print("| kind | truth (injected) | seed | answer (added, in order) | E before | E after step 1 | E final | "
+              "SS / stick / Hz: record, baseline, final | unexplained | fitted | pass |")
+        print("|---|---|---:|---|---:|---:|---:|---|---:|---|---|")
+    tally: dict = {}
+    for c in cases:
+        t = time.time()
+        r = run_case(c)
+        tally.setdefault(c.kind, []).append(r["ok"])
+        lr = r["long_run"]
+        un = f"{100 * r['unexplained']:.0f} %" if r["unexplained"] is not None else "n/a"
+        ans = ", ".join(r["found"]) or "none"
+        if a.markdown:
+            print(f"| {c.kind} | {c.label} | {c.seed} | {ans} | {r['baseline']:.3f} | {r['first_after']:.3f} | "
+                  f"{r['final']:.3f} | {_lr(lr['measured'])}; {_lr(lr['baseline'])}; {_lr(lr['final'])} | {un} | "
+                  f"{'; '.join(f'{k}: {_params(v)}' for k, v in r['params'].items()) or '-'} | "
+                  f"{'yes' if r['ok'] else 'NO'} |")
+        else:
+            print(f"{c.kind:<8} {c.label:<70} seed {c.seed}: {ans:<40} E {r['baseline']:.3f} -> {r['first_after']:.3f} "
+                  f"-> {r['final']:.3f}  long run {_lr(lr['measured'])} | {_lr(lr['baseline'])} | {_lr(lr['final'])}  "
+                  f"unexplained {un}  {'ok' if r['ok'] else 'FAIL'}  [{time.time() - t:.1f} s]")
+        sys.stdout.flush()
+    summary = ", ".join(f"{k} {sum(v)}/{len(v)}" for k, v in tally.items())
+    total = sum(sum(v) for v in tally.values()), sum(len(v) for v in tally.values())
+    print(f"\npassed: {summary}; total {total[0]}/{total[1]}")
+    return 0 if total[0] == total[1] else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

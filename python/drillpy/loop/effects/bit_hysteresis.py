@@ -1,0 +1,41 @@
+"""``bit_hysteresis``: the acceleration term of the bit-rock law, Eqs. (3.2)-(3.3) and (5.3)."""
+from __future__ import annotations
+
+from .base import Effect, Param
+
+
+class BitHysteresis(Effect):
+    name = "bit_hysteresis"
+    level = "law"
+    params = (Param("beta1", "-", "amplitude of H (Eq. 3.3)", 0.0, 1.0, null=0.0),
+              Param("beta2", "s/speed unit", "acceleration scale of H; bounded so that tanh(beta2 a) is not a "
+                    "sign switch over the record's accelerations (100 / sd(a))", 0.0, float("inf")))
+    change = "T = T_law(v) (1 + beta1 tanh(beta2 a) sign(v)) (Eqs. 3.2-3.3; 5.3 for the polynomial law)"
+    signature = ("a law residual of the sign of the bit acceleration, proportional to the speed-dependent part of "
+                 "the torque: torque above the law while the bit accelerates, below while it decelerates (the "
+                 "upper and lower branches of Fig. 3.5)")
+    reading = ("the bit-rock torque depends on where the bit is in the cycle, not only on its speed: the "
+               "accelerating and decelerating branches of the rig's torque-speed loop (Figs. 3.5, 5.7)")
+    defaults = {"beta1": 0.2, "beta2": 0.005}
+
+    def count(self, p):
+        return 2
+
+    def declared(self, cfg):
+        law = cfg["law"]
+        return {"beta1": float(law["beta1"]), "beta2": float(law["beta2"])} if float(law.get("beta1", 0)) > 0 else None
+
+    def strip(self, cfg):
+        if "beta1" in cfg["law"]:
+            cfg["law"]["beta1"] = 0.0
+
+    def configure(self, cfg, p, model):
+        cfg["law"]["beta1"], cfg["law"]["beta2"] = float(p["beta1"]), float(p["beta2"])
+
+    def inject(self, truth, p):
+        if "beta1" not in truth.cfg["law"]:
+            raise ValueError(f"bit_hysteresis: the law {truth.cfg['law']['type']!r} has no hysteresis term")
+        self.configure(truth.cfg, p, None)
+
+
+EFFECT = BitHysteresis()

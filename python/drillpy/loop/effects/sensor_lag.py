@@ -1,0 +1,61 @@
+"""``sensor_lag``: the recorded channels went through a low-pass the model does not have."""
+from __future__ import annotations
+
+import math
+
+from .base import Effect, Param
+
+SQRT2 = math.sqrt(2.0)
+#: Highest credible cutoff [Hz]: an acquisition filter sits above the dynamics of interest; above 30 Hz
+#: its group delay (< 7.5 ms) is under 3 % of a 0.25 s horizon and it barely changes a 2.9 Hz rig's signals.
+MAX_CUTOFF_HZ = 30.0
+
+
+class SensorLag(Effect):
+    name = "sensor_lag"
+    params = (Param("lowpass_hz", "Hz", "cutoff f_c of a second-order Butterworth low-pass", 1.0, MAX_CUTOFF_HZ, "log"),)
+    change = ("the model's outputs through y'' + sqrt(2) omega_c y' + omega_c^2 y = omega_c^2 x (drill/sensor.hpp), "
+              "its state from the channels with the filter undone")
+    signature = ("residuals early in every horizon, where the recorded channels lag and round off what the model "
+                 "predicts from a state read off lagged channels (sharpest at the stick-slip transitions)")
+    reading = ("the acquisition's second-order IIR low-pass at 10 Hz on every channel, encoders included "
+               "(section 5.3.1), put there against the platform's 20 Hz mode")
+    defaults = {"lowpass_hz": 10.0}
+
+    def starts(self, model, data):
+        return [{"lowpass_hz": f} for f in (2.0, 4.0, 8.0, 16.0)]
+
+    def flags(self, p, data):
+        d = self.delay_s(p)
+        if d < 2.0 * data.dt:
+            return [f"a {p['lowpass_hz']:.3g} Hz filter delays the channels by {1e3 * d:.2f} ms, under two analysis "
+                    f"samples ({1e3 * data.dt:.2f} ms): it cannot move a {data.L * data.dt:g} s prediction"]
+        return []
+
+    def declared(self, cfg):
+        fc = float(cfg.get("sensors", {}).get("lowpass_hz", 0.0))
+        return {"lowpass_hz": fc} if fc > 0 else None
+
+    def strip(self, cfg):
+        cfg.pop("sensors", None)
+
+    def configure(self, cfg, p, model):
+        cfg["sensors"] = {"lowpass_hz": float(p["lowpass_hz"])}
+
+    def delay_s(self, p):
+        """Low-frequency group delay sqrt(2) / omega_c [s]."""
+        return SQRT2 / (2 * math.pi * p["lowpass_hz"])
+
+    def undo(self, p):
+        w = 2 * math.pi * p["lowpass_hz"]
+        return SQRT2 / w, 1.0 / w ** 2
+
+    def measure(self, p, chans, fs):
+        from ...signals import rig_lowpass
+        return {k: rig_lowpass(x, fs, cutoff_hz=p["lowpass_hz"]) for k, x in chans.items()}
+
+    def inject(self, truth, p):
+        truth.post.append(lambda chans, fs: self.measure(p, chans, fs))
+
+
+EFFECT = SensorLag()

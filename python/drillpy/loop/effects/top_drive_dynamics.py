@@ -1,0 +1,103 @@
+"""``top_drive_dynamics``: the top does not turn at the constant speed the model assumed."""
+from __future__ import annotations
+
+import numpy as np
+
+from .base import Effect, Param
+
+
+class TopDriveDynamics(Effect):
+    name = "top_drive_dynamics"
+    params = (Param("droop_rad_s_per_nm", "rad/s per N m", "1/c_m: speed lost per N m of top torque", 1e-3, 1e3, "log"),
+              Param("inertia_kg_m2", "kg m^2", "J_m: motor and drive-train inertia (lower bound: the modified-Euler "
+                    "stability bound at the engine step, Eq. A.7)", 1e-6, 10.0, "log"),
+              Param("command_rad_s", "rad/s", "Omega_c: no-load (commanded) speed", 0.0, float("inf")))
+    change = ("J_m Omega' = c_m (Omega_c - Omega) - T_top (drill/topdrive.hpp), started at the measured top speed; "
+              "variant `measured`: the top follows the measured top speed")
+    signature = ("a bit-speed residual that follows the top speed's departure from the constant the model assumed "
+                 "(the string is wound up or unwound from above)")
+    reading = ("the rig's open-loop DC motor gives way under load: its speed drops 40-60 % and oscillates with the "
+               "stick-slip cycle (section 5.3.2); it stalls when the bit sticks at a torque it cannot overcome")
+    needs = ("top_speed",)
+    defaults = {"slope_nms_rad": 0.25, "inertia_kg_m2": 0.02}
+
+    def free(self, p):
+        return self.params if p.get("variant") == "motor" else ()
+
+    def count(self, p):
+        return 3 if p.get("variant") == "motor" else 0
+
+    def bounds(self, q, model):
+        if q.name == "inertia_kg_m2":  # the modified-Euler bound with the motor (Eq. A.7)
+            from ..model import motor_inertia_floor
+            return max(q.lower, 2.0 * motor_inertia_floor(model)), q.upper
+        return q.lower, q.upper
+
+    def starts(self, model, data):
+        """Motor starts: the motor equation J_m Omega' + c_m Omega - c_m Omega_c = -T_top is linear in
+        (J_m, c_m, c_m Omega_c) given the top speed, its rate and the string's top torque of the states
+        read off the record (least squares over the calibration part), plus a few droops; and the
+        kinematic variant (the top at its measured speed)."""
+        from .. import model as M
+        from ... import _core
+        m = model.copy()
+        m.effects[self.name] = {"variant": "measured"}
+        chs = M.state_channels(m, data)
+        tr = np.flatnonzero(data.valid & (data.t < data.t_split))
+        sim = M.simulation(model.engine_config())
+        cv = model.effects.get("viscous_damping", {}).get("bit_viscous_nms", 0.0)
+        i = tr[::max(1, int(round(0.005 / data.dt)))]
+        top, dtop = chs["top"][i], chs["dtop"][i]
+        ttop = np.asarray(_core.top_torque_from_bit(sim, chs["v"][i], chs["a"][i], chs["T"][i] + cv * chs["v"][i],
+                                                    top, dtop))
+        jmin = 3.0 * M.motor_inertia_floor(model)
+        mean_top, mean_t = float(np.mean(top)), float(np.mean(ttop))
+        starts = [{"variant": "measured"}]
+        A = np.column_stack([dtop, top, -np.ones(i.size)])
+        (J, c, c_om), *_ = np.linalg.lstsq(A, -ttop, rcond=None)
+        if J > jmin and c > 0:
+            starts.append({"variant": "motor", "droop_rad_s_per_nm": float(np.clip(1.0 / c, 1e-3, 1e3)),
+                           "inertia_kg_m2": float(J), "command_rad_s": float(c_om / c)})
+        slope, icpt = np.polyfit(ttop, top, 1)  # quasi-static droop: Omega = Omega_c - T_top / c_m
+        if slope < 0:
+            droop = float(np.clip(-slope, 1e-3, 1e3))
+            for tau in (0.01, 0.05):
+                starts.append({"variant": "motor", "droop_rad_s_per_nm": droop,
+                               "inertia_kg_m2": max(tau / droop, jmin), "command_rad_s": float(icpt)})
+        for droop in (1.0, 4.0):
+            starts.append({"variant": "motor", "droop_rad_s_per_nm": droop, "inertia_kg_m2": max(0.05 / droop, jmin),
+                           "command_rad_s": mean_top + droop * mean_t})
+        return starts
+
+    def declared(self, cfg):
+        td = cfg.get("top_drive", {"type": "ideal"})
+        if td.get("type") != "motor":
+            return None
+        return {"variant": "motor", "droop_rad_s_per_nm": 1.0 / float(td["slope_nms_rad"]),
+                "inertia_kg_m2": float(td["inertia_kg_m2"]), "command_rad_s": float(cfg["operation"]["top_speed_rad_s"])}
+
+    def strip(self, cfg):
+        cfg.pop("top_drive", None)
+
+    def configure(self, cfg, p, model):
+        if p.get("variant") == "motor":
+            cfg["top_drive"] = {"type": "motor", "slope_nms_rad": 1.0 / p["droop_rad_s_per_nm"],
+                                "inertia_kg_m2": p["inertia_kg_m2"]}
+            cfg["operation"]["top_speed_rad_s"] = float(p["command_rad_s"])
+
+    def top_state(self, p, model, chs, idx):
+        om, dom = chs["top"][idx], chs["dtop"][idx]
+        if p.get("variant") == "motor":  # its rate from the motor equation, not the noisy record
+            return om, np.full(len(idx), np.nan), None
+        return om, dom, chs["top"]
+
+    def inject(self, truth, p):
+        cfg = truth.cfg
+        cfg["top_drive"] = {"type": "motor", "slope_nms_rad": p["slope_nms_rad"], "inertia_kg_m2": p["inertia_kg_m2"]}
+        from ...simulation import law_torque
+        om0, w0 = float(cfg["operation"]["top_speed_rad_s"]), float(cfg["operation"]["wob_n"])
+        t_mean = float(law_torque(cfg["law"], om0, 0.0, w0)[0]) + cfg["operation"].get("bit_viscous_nms", 0.0) * om0
+        cfg["operation"]["top_speed_rad_s"] = om0 + t_mean / p["slope_nms_rad"]  # command above the mean by the droop
+
+
+EFFECT = TopDriveDynamics()

@@ -1,0 +1,43 @@
+"""``viscous_damping``: an extra viscous torque on the bit that the torque sensor does not see."""
+from __future__ import annotations
+
+from .base import Effect, Param
+
+
+class ViscousDamping(Effect):
+    name = "viscous_damping"
+    params = (Param("bit_viscous_nms", "N m s/rad", "c_v: viscous torque per unit bit speed", 0.0, 10.0, null=0.0),)
+    change = "an extra torque c_v v on the bit, outside the torque sensor (operation.bit_viscous_nms)"
+    signature = ("a bit-speed residual growing with the bit speed over the horizon: the bit decelerates more than "
+                 "the measured torque explains")
+    reading = ("drag of the water added while drilling (section 5.3.1, step 5) on the disk and bit, and the lower "
+               "bearing")
+    #: With a constant top speed Omega, -c_v v = c_v (Omega - v) - c_v Omega: a string damping (which the
+    #: calibration of the modal damping ratio absorbs) plus a constant torque c_v Omega outside the
+    #: sensor, which ``string_friction`` describes while the bit slips. The effect is identifiable as
+    #: such only when the top speed varies.
+    confounded_with = ("string_friction",)
+    defaults = {"bit_viscous_nms": 0.03}
+
+    def starts(self, model, data):
+        from ..model import state_channels
+        chs = state_channels(model, data)
+        slip = data.valid & (chs["v"] > data.stick_threshold)
+        cref = float(abs(chs["T"][slip].mean()) / max(chs["v"][slip].mean(), 1e-9))
+        return [{"bit_viscous_nms": f * cref} for f in (0.01, 0.05, 0.2)]
+
+    def declared(self, cfg):
+        cv = float(cfg["operation"].get("bit_viscous_nms", 0.0))
+        return {"bit_viscous_nms": cv} if cv > 0 else None
+
+    def strip(self, cfg):
+        cfg["operation"]["bit_viscous_nms"] = 0.0
+
+    def configure(self, cfg, p, model):
+        cfg["operation"]["bit_viscous_nms"] = float(p["bit_viscous_nms"])
+
+    def inject(self, truth, p):
+        self.configure(truth.cfg, p, None)
+
+
+EFFECT = ViscousDamping()

@@ -1,0 +1,332 @@
+"""Calibration of a loop model: the law on the law residual, then the law, the modal damping ratios
+and every effect's free parameters jointly on the calibration horizons (least squares on the
+normalized short-horizon residuals), with 95 % intervals of the effects' parameters.
+
+The same procedure and budget (``LoopOptions.nfev_per_parameter`` evaluations per parameter, from
+the current model's values) calibrate the declared model, the null candidate (no effect added) and
+every candidate, so that a candidate gains only through its own parameters.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import optimize
+
+from .. import identification as ident
+from ..records import RPM
+from .data import LoopData
+from .effects import CATALOGUE, declared_effects, stripped
+from .model import LoopModel, law_channels, law_torque, residual_vector
+from .options import LoopOptions
+
+LAW = "law"          #: pseudo-effect: the law's free parameters (and the WOB coupling gain)
+DAMPING = "damping"  #: pseudo-effect: the modal damping ratios
+#: Bounds of a modal damping ratio (fitted in ln).
+DAMPING_BOUNDS = (1e-3, 1.0)
+#: tanh(beta2 a) may saturate at no less than 1/100 of the acceleration spread (else it is a sign switch).
+BETA2_SPREAD = 100.0
+
+
+class _FamilyData:
+    """What identification.FAMILIES' builders read: the reference WOB and speed [rad/s]."""
+    def __init__(self, wob_ref: float, speed_ref: float):
+        self.wob_ref, self.speed_ref = wob_ref, speed_ref
+
+
+def _law_family(law: dict, hysteresis: bool, a_scale: float) -> tuple:
+    """(family name, starting parameters, fixed parameters, _FamilyData) of a law."""
+    t, unit = law["type"], law["speed_unit"]
+    s = RPM if unit == "rpm" else 1.0
+    hyst0 = [float(law.get("beta1", 0.0)) or 0.1, float(law.get("beta2", 0.0)) or 1.0 / (a_scale * s)]
+    if t in ("polynomial", "polynomial_hysteretic"):
+        p = [law["a4"], law["a5"], law["a6"], law["a7"]]
+        fd = _FamilyData(law["wob_ref_n"], law["ref_speed"] / s)
+        name = "polynomial_hysteretic" if hysteresis else "polynomial"
+        return name, p + (hyst0 if hysteresis else []), {"gain": law["gain"]}, fd
+    fd = _FamilyData(law["wob_ref_n"], 1.0)
+    if t == "hysteretic":
+        knee = law["b3"] ** (-1.0 / law["b5"]) if law["b3"] > 0 else 1e6
+        p = [law["b0"], law["b0"] * law["b2"], knee, law["b4"], law["b5"]]
+        return ("hysteretic" if hysteresis else "hysteretic_reversible"), p + (hyst0 if hysteresis else []), \
+            {"b1": law["b1"]}, fd
+    if t == "tucker_wang":
+        if hysteresis:  # Eq. (3.2) with b4 = 1, b5 = 2 is Eq. (3.1); H acts on the fraction
+            knee = law["alpha2"] ** -0.5 if law["alpha2"] > 0 else 1e6
+            return "hysteretic", [law["c0"], law["c0"] * law["alpha1"], knee, 1.0, 2.0] + hyst0, \
+                {"b1": law["alpha0"]}, fd
+        return "tucker_wang", [law["c0"], law["alpha1"], law["alpha2"]], {"alpha0": law["alpha0"]}, fd
+    raise ValueError(f"law.type = {t!r}: not supported by drillpy loop")
+
+
+def _a_scale(data: LoopData) -> float:
+    return float(np.std(data.ch["v1"][data.law_train])) or 1.0
+
+
+def _law_bounds(model: LoopModel, data: LoopData, fam) -> tuple:
+    lo, hi = np.array(fam.lower, float), np.array(fam.upper, float)
+    if "beta2" in fam.names:
+        s = RPM if model.law["speed_unit"] == "rpm" else 1.0
+        hi[fam.names.index("beta2")] = BETA2_SPREAD / (_a_scale(data) * s)
+    return lo, hi
+
+
+def _inside(bound: np.ndarray, sign: int) -> np.ndarray:
+    """Bounds moved inside by a relative 1e-9 (infinite ones unchanged)."""
+    b = np.asarray(bound, float).copy()
+    f = np.isfinite(b)
+    b[f] += sign * 1e-9 * (1.0 + np.abs(b[f]))
+    return b
+
+
+def fit_law(model: LoopModel, data: LoopData) -> LoopModel:
+    """Least squares on the law residual of the calibration part's slip samples: the law's free
+    parameters, with the hysteresis term when ``bit_hysteresis`` is in the model and the coupling
+    gain k when ``wob_coupling`` is."""
+    m = model.copy()
+    chs = law_channels(m, data)
+    idx = data.law_train
+    v, a, T = chs["v"][idx], chs["a"][idx], chs["T"][idx]
+    hyst = "bit_hysteresis" in m.effects
+    wob = "wob_coupling" in m.effects
+    W = chs["W"][idx] if wob else np.full(idx.size, m.wob)
+    name, p0, fx, fd = _law_family(m.law, hyst, _a_scale(data))
+    fam = ident.FAMILIES[name]
+    unit = m.law["speed_unit"]
+    x0 = list(p0) + ([m.effects["wob_coupling"].get("gain", 1.0)] if wob else [])
+    lo, hi = _law_bounds(m, data, fam)
+    lo, hi = np.r_[lo, [-5.0] if wob else []], np.r_[hi, [5.0] if wob else []]
+    x0 = np.clip(np.array(x0, float), _inside(lo, +1), _inside(hi, -1))
+    npar = len(fam.names)
+
+    def resid(x):
+        law = fam.build(x[:npar], fd, unit, fx)
+        w = m.wob * (1.0 + x[npar] * (W / m.wob - 1.0)) if wob else W
+        return ident.law_eval(law, v, a, w)[0] - T
+
+    res = optimize.least_squares(resid, x0, bounds=(lo, hi), x_scale="jac", method="trf", max_nfev=200 * len(x0),
+                                 xtol=1e-10, ftol=1e-10)
+    law = fam.build(res.x[:npar], fd, unit, fx)
+    m.law = law
+    m.n_law = npar - (2 if hyst else 0)
+    if hyst:
+        m.effects["bit_hysteresis"] = {"beta1": float(law["beta1"]), "beta2": float(law["beta2"])}
+    if wob:
+        m.effects["wob_coupling"] = {"gain": float(res.x[npar])}
+    return m
+
+
+def _law_vector(model: LoopModel) -> tuple:
+    name, p0, fx, fd = _law_family(model.law, "bit_hysteresis" in model.effects, 1.0)
+    return ident.FAMILIES[name], np.array(p0, float), fx, fd
+
+
+def _pack(model: LoopModel, data: LoopData, names) -> tuple:
+    """(x, lower, upper, where) of the parameters ``names`` (LAW, DAMPING or effect names)."""
+    x, lo, hi, where = [], [], [], []
+
+    def add(val, a, b, scale, w):
+        if scale == "log":
+            x.append(math.log(min(max(val, a * 1.0001), b / 1.0001)))
+            lo.append(math.log(a))
+            hi.append(math.log(b))
+        else:
+            x.append(val)
+            lo.append(a)
+            hi.append(b)
+        where.append(w + (scale,))
+
+    for name in names:
+        if name == LAW:
+            fam, p0, _, _ = _law_vector(model)
+            flo, fhi = _law_bounds(model, data, fam)
+            for i in range(p0.size):
+                add(float(p0[i]), flo[i], fhi[i], "lin", (LAW, fam.names[i]))
+            if "wob_coupling" in model.effects:
+                add(model.effects["wob_coupling"]["gain"], -5.0, 5.0, "lin", ("wob_coupling", "gain"))
+        elif name == DAMPING:
+            for i, z in enumerate(model.damping_ratios or ()):
+                add(float(z), *DAMPING_BOUNDS, "log", (DAMPING, i))
+        else:
+            eff = CATALOGUE[name]
+            p = model.effects[name]
+            for q in eff.free(p):
+                a, b = eff.bounds(q, model)
+                add(float(p[q.name]), a, b, q.scale, (name, q.name))
+    return np.array(x, float), np.array(lo, float), np.array(hi, float), where
+
+
+def _unpack(model: LoopModel, x, where) -> LoopModel:
+    m = model.copy()
+    law_p = [xi for xi, w in zip(x, where) if w[0] == LAW]
+    if law_p:
+        fam, _, fx, fd = _law_vector(model)
+        m.law = fam.build(np.array(law_p), fd, model.law["speed_unit"], fx)
+        if "bit_hysteresis" in m.effects:
+            m.effects["bit_hysteresis"] = {"beta1": float(m.law["beta1"]), "beta2": float(m.law["beta2"])}
+    for xi, (name, key, scale) in zip(x, where):
+        val = float(math.exp(xi) if scale == "log" else xi)
+        if name == DAMPING:
+            m.cfg["damping"]["ratios"][key] = val
+        elif name != LAW:
+            m.effects[name][key] = val
+    return m
+
+
+def e_train(model: LoopModel, data: LoopData, threads: int) -> float:
+    """E on the calibration horizons (inf when the engine refuses the model)."""
+    try:
+        r = residual_vector(model, data, threads)
+    except (ValueError, RuntimeError):
+        return math.inf
+    with np.errstate(over="ignore", invalid="ignore"):
+        e = float(np.sqrt(r @ r))
+    return e if math.isfinite(e) else math.inf
+
+
+def fit_dynamic(model: LoopModel, data: LoopData, names, opt: LoopOptions) -> tuple:
+    """Least squares on the calibration horizons' normalized residuals over the parameters of
+    ``names`` (the others held), from the model's values, with ``opt.nfev_per_parameter``
+    evaluations per parameter. Returns the model and the 95 % intervals of the effects' parameters
+    ({effect: {parameter: {"value", "ci95", "at_bound"}}}; the intervals from the Jacobian at the
+    optimum, the residual variance inflated by its autocorrelation time)."""
+    x0, lo, hi, where = _pack(model, data, names)
+    if x0.size == 0:
+        return model.copy(), {}
+    x0 = np.clip(x0, _inside(lo, +1), _inside(hi, -1))
+    top = model.effects.get("top_drive_dynamics", {}).get("variant") == "motor"
+    size = (3 if top else 2) * int((~data.is_test).sum()) * data.L
+
+    def res(x):
+        try:
+            r = residual_vector(_unpack(model, x, where), data, opt.threads, top)
+        except (ValueError, RuntimeError):  # an unstable or diverging trial: a large residual
+            return np.full(size, 10.0)
+        return np.where(np.isfinite(r), r, 10.0)
+
+    r = optimize.least_squares(res, x0, bounds=(lo, hi), method="trf", diff_step=1e-3,
+                               max_nfev=opt.nfev_per_parameter * x0.size, x_scale="jac", xtol=1e-6, ftol=1e-6)
+    return _unpack(model, r.x, where), _intervals(r, lo, hi, where)
+
+
+def _intervals(r, lo, hi, where) -> dict:
+    J, f = r.jac, r.fun
+    n, p = f.size, r.x.size
+    tau = max(1.0, ident.autocorrelation_time(f)) if n > 3 and np.std(f) > 0 else 1.0
+    s2 = float(f @ f) * n / max(n - p, 1) / n  # the residuals are normalized by sqrt(2 n): their mean square
+    try:
+        cov = np.linalg.pinv(J.T @ J) * s2 * tau
+    except np.linalg.LinAlgError:
+        cov = np.full((p, p), np.nan)
+    out = {}
+    for i, (name, key, scale) in enumerate(where):
+        if name == LAW and key in ("beta1", "beta2"):
+            name = "bit_hysteresis"  # the law's hysteresis term is that effect's
+        elif name in (LAW, DAMPING):
+            continue
+        se = math.sqrt(max(cov[i, i], 0.0)) if np.isfinite(cov[i, i]) else math.nan
+        a, b = r.x[i] - 1.96 * se, r.x[i] + 1.96 * se
+        tr = math.exp if scale == "log" else float
+        span = hi[i] - lo[i] if np.isfinite(hi[i] - lo[i]) else max(abs(r.x[i]), 1.0)
+        edge = (np.isfinite(lo[i]) and r.x[i] - lo[i] <= 1e-3 * span) or (np.isfinite(hi[i]) and hi[i] - r.x[i] <= 1e-3 * span)
+        out.setdefault(name, {})[key] = {"value": tr(r.x[i]), "ci95": None if edge or not math.isfinite(se) else
+                                         [tr(a), tr(b)], "at_bound": bool(edge)}
+    return out
+
+
+def _calibrate(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
+    """The law, the damping ratios and every effect's free parameters jointly on the calibration
+    horizons, from the model's values."""
+    return fit_dynamic(model, data, [LAW, DAMPING] + list(model.effects), opt)
+
+
+def eta_std(model: LoopModel, data: LoopData) -> float:
+    """Standard deviation of T / T_law - 1 over the calibration part's slip samples."""
+    chs = law_channels(model, data)
+    idx = data.law_train
+    Tl = law_torque(model, chs, idx)
+    ok = np.abs(Tl) > 0.1 * np.median(np.abs(Tl))
+    return float(np.std(chs["T"][idx][ok] / Tl[ok] - 1.0, ddof=1))
+
+
+def _finish(model: LoopModel, data: LoopData) -> LoopModel:
+    if "torque_fluctuation" in model.effects:
+        model.effects["torque_fluctuation"]["std"] = eta_std(model, data)
+    return model
+
+
+def refit(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
+    """Calibrate every parameter of a model from a fresh law fit and from its own values; the
+    calibration (never the validation) error decides. Returns (model, intervals)."""
+    a = _calibrate(fit_law(model, data), data, opt)
+    b = _calibrate(model, data, opt)
+    best = a if e_train(a[0], data, opt.threads) < e_train(b[0], data, opt.threads) else b
+    return _finish(best[0], data), best[1]
+
+
+def null_candidate(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
+    """The control of a round: the current model recalibrated, no effect added, same procedure and
+    budget as every candidate."""
+    m, ci = _calibrate(model, data, opt)
+    return _finish(m, data), ci
+
+
+def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:
+    """The declared model calibrated on the calibration part: its catalogue effects taken out of
+    the configuration into the model, the law, the damping ratios, the effects' parameters, and
+    the operating point (top speed and WOB: the calibration part's means). Returns (model, intervals)."""
+    tr = data.valid & (data.t < data.t_split)
+    om = float(np.mean(data.ch["top"][tr])) if data.has_top else float(cfg["operation"]["top_speed_rad_s"])
+    w0 = float(np.mean(data.ch["W"][tr])) if data.has_wob else float(cfg["operation"]["wob_n"])
+    base = stripped(cfg)
+    m = LoopModel(base, dict(base["law"]), om, w0, declared_effects(cfg))
+    return refit(m, data, opt)
+
+
+def fit_candidate(model: LoopModel, data: LoopData, name: str, opt: LoopOptions) -> tuple:
+    """The model with effect ``name`` added, started from the current values and the effect's best
+    start, calibrated like the null candidate. Returns (model, intervals)."""
+    eff = CATALOGUE[name]
+    m = model.copy()
+    if eff.level == "law":
+        m.effects[name] = dict(eff.defaults)  # the law's start (fit_law starts the hysteresis from the law)
+        m, ci = _calibrate(fit_law(m, data), data, opt)  # the law's new term on the law residual first
+        return _finish(m, data), ci
+    best, err = None, math.inf
+    for p in eff.starts(m, data):
+        c = m.copy()
+        c.effects[name] = dict(p)
+        e = e_train(c, data, opt.threads)
+        if e < err:
+            best, err = c, e
+    if best is None:
+        raise ValueError(f"{name}: no start the engine accepts")
+    m, ci = _calibrate(best, data, opt)
+    return _finish(m, data), ci
+
+
+def parameter_evidence(model: LoopModel, name: str, ci: dict, data: LoopData) -> tuple:
+    """(parameters with intervals, reasons against crediting the effect): each fitted parameter
+    must be inside its bounds and its interval must exclude the no-effect value; the effect's own
+    plausibility checks must pass."""
+    eff = CATALOGUE[name]
+    p = model.effects.get(name, {})
+    rows, reasons = {}, []
+    for q in eff.params:
+        if q.name not in p:
+            continue
+        info = dict(ci.get(name, {}).get(q.name, {"value": p[q.name], "ci95": None, "at_bound": False}))
+        info["unit"] = q.unit
+        rows[q.name] = info
+        if not q.fitted:
+            continue
+        if info["at_bound"]:
+            reasons.append(f"{q.name} = {p[q.name]:.4g} {q.unit} at its bound")
+        elif q.null is not None and info.get("ci95") is not None:
+            lo, hi = info["ci95"]
+            if lo <= q.null + q.margin and hi >= q.null - q.margin:
+                what = f"the no-effect value {q.null:g}" + (f" +- {q.margin:g} (the declared model's tolerance)"
+                                                            if q.margin else "")
+                reasons.append(f"{q.name}: 95 % interval [{lo:.4g}, {hi:.4g}] reaches {what}")
+    reasons += eff.flags(p, data)
+    return rows, reasons

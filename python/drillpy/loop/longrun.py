@@ -1,0 +1,106 @@
+"""The limit cycle as part of the error: a loop model simulated over the whole record at the
+record's operating point, its stick-slip metrics (SS of Eq. 3.4 from the reliable mean top speed,
+stick fraction, cycle frequency) against the record's (:func:`drillpy.rigsim.compare`)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .. import rigsim
+from ..config import normalize
+from ..records import Record
+from ..simulation import simulate
+from .data import LoopData
+from .effects import CATALOGUE
+from .model import LoopModel
+
+METRICS = ("ss", "stick_fraction", "cycle_frequency_hz")
+#: A model stick-slips when its stick fraction reaches this (or its SS 0.5).
+STICK_FRACTION = 0.01
+#: Simulated time before the record's span starts [s] (the start from rest dies out).
+SETTLE_S = 2.0
+
+
+def simulate_record(model: LoopModel, data: LoopData) -> Record:
+    """The model over the record's span at its operating point: the model's top drive (ideal at
+    the calibrated top speed, the motor, or the measured top speed), the measured WOB when the law
+    takes it, after the model's measurement chain, on the record's time grid."""
+    rec = data.record
+    t, dt = rec.time_s, rec.dt
+    cfg = model.engine_config()
+    stride = max(1, int(round(dt / cfg["simulation"]["dt_s"])))
+    cfg["simulation"].update({"duration_s": float(t[-1] - t[0]) + SETTLE_S, "transient_s": 0.0,
+                              "output_stride": stride, "dt_s": dt / stride})
+    cfg = normalize(cfg)
+    pad = int(round(SETTLE_S / dt))
+
+    def series(x):  # the record's channel, its first value held over the settling time
+        return np.r_[np.full(pad, x[0]), x]
+
+    top = wob = None
+    w = _filled(rec, "wob") if rec.wob is not None else None
+    for name, p in model.effects.items():
+        eff = CATALOGUE[name]
+        if rec.top_speed is not None:
+            f = _filled(rec, "top_speed")
+            ts = eff.top_state(p, model, {"top": f, "dtop": np.zeros_like(f)}, [0])
+            if ts is not None and ts[2] is not None:
+                top = series(ts[2])
+        x = eff.wob_input(p, model, w)
+        if x is not None:
+            wob = series(x)
+    res = simulate(cfg, top_speed_series=top, wob_series=wob, series_dt=dt)
+    keep = res.t >= SETTLE_S - 1e-9
+    n = min(int(keep.sum()), t.size)
+    chans = {"bit_speed": res.bit_speed[keep][:n], "top_speed": res.top_speed[keep][:n],
+             "torque_on_bit": res.torque_on_bit[keep][:n]}
+    chans["torque_on_bit"] = chans["torque_on_bit"] - cfg["operation"].get("bit_viscous_nms", 0.0) * chans["bit_speed"]
+    for name, p in model.effects.items():
+        chans = CATALOGUE[name].measure(p, chans, 1.0 / dt)
+    return Record(time_s=t[:n], wob=np.full(n, model.wob), **chans,
+                  units={"time": "s", "bit_speed": "rad_s", "top_speed": "rad_s", "torque_on_bit": "Nm", "wob": "N"},
+                  provenance={"source": "simulation", "format": "drillpy.simulate",
+                              "drive": "measured" if top is not None else "model"})
+
+
+def _filled(rec: Record, name: str) -> np.ndarray:
+    """A channel with its excluded samples interpolated (a drive signal must be complete)."""
+    x = getattr(rec, name)
+    ok = rec.valid(name) & np.isfinite(x)
+    i = np.arange(x.size)
+    return np.interp(i, i[ok], x[ok])
+
+
+def stick_slips(m: dict) -> bool:
+    """Whether metrics describe a stick-slip cycle (stick phases, or SS at least 0.5)."""
+    return bool((m.get("stick_fraction") or 0.0) >= STICK_FRACTION or (m.get("ss") or 0.0) >= 0.5)
+
+
+def long_run(model: LoopModel, data: LoopData) -> dict:
+    """{"measured": {...}, "model": {...}, "relative_error": {...}, "stick_slips": {...}} for SS,
+    stick fraction and cycle frequency [Hz]; a model the engine refuses gets ``"error"``."""
+    try:
+        sim = simulate_record(model, data)
+    except (ValueError, RuntimeError) as err:
+        return {"error": str(err)}
+    cmp = rigsim.compare(data.record, sim, data.stick_threshold, t_start=0.0)
+
+    def pick(m):
+        return {k: (float(m[k]) if m.get(k) is not None and math.isfinite(m[k]) else None) for k in METRICS}
+
+    meas, mod = pick(cmp.measured), pick(cmp.simulated)
+    rel = {k: (rigsim.relative_error(mod[k] if mod[k] is not None else math.nan, meas[k])
+               if meas[k] is not None else None) for k in METRICS}
+    return {"measured": meas, "model": mod, "relative_error": rel,
+            "stick_slips": {"measured": stick_slips(meas), "model": stick_slips(mod)}}
+
+
+def destroys_cycle(before: dict, after: dict) -> bool:
+    """A correction destroys the measured stick-slip cycle when the record and the model before it
+    stick-slip and the model after it does not."""
+    if "error" in after:
+        return True
+    if "error" in before:
+        return False
+    return after["stick_slips"]["measured"] and before["stick_slips"]["model"] and not after["stick_slips"]["model"]

@@ -1,0 +1,310 @@
+"""A calibrated loop model (:class:`LoopModel`) and its short-horizon predictions.
+
+The model is the declared configuration with every catalogue effect stripped (``cfg``), its
+calibrated law, modal damping ratios and operating point, and the effects it has (declared or
+added) with their parameters. :func:`predict` restarts it every horizon from the state read off
+the record (``Integrator::state_from_bit``, exact for the rig's one mode) and integrates the next
+horizon with the engine (``drill/horizons.hpp``); :func:`evaluate` scores the predictions with the
+metric E of docs/loop.md.
+"""
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import _core
+from .. import identification as ident
+from ..config import to_json_text
+from .data import LoopData, measured
+from .effects import CATALOGUE
+
+
+@dataclass
+class LoopModel:
+    """A calibrated model: the declared configuration without the catalogue's effects, its
+    calibrated law, modal damping ratios and operating point, and its effects (SI parameters)."""
+    cfg: dict
+    law: dict
+    top_speed: float  #: constant top speed of the ideal drive [rad/s]
+    wob: float        #: WOB W_0 at which the law is evaluated [N]
+    effects: dict = field(default_factory=dict)
+    n_law: int = 0    #: free parameters of the law
+
+    def copy(self) -> "LoopModel":
+        return copy.deepcopy(self)
+
+    @property
+    def damping_ratios(self) -> list | None:
+        """Modal damping ratios (calibrated), or None for Rayleigh damping (held as declared)."""
+        d = self.cfg["damping"]
+        return list(d["ratios"]) if d.get("type") == "modal" else None
+
+    @property
+    def k(self) -> int:
+        """Number of calibrated parameters (law, damping ratios, effects)."""
+        return self.n_law + len(self.damping_ratios or ()) + sum(CATALOGUE[n].count(p) for n, p in self.effects.items())
+
+    def engine_config(self) -> dict:
+        """The engine configuration of the model, every effect applied."""
+        c = copy.deepcopy(self.cfg)
+        c["law"] = dict(self.law)
+        c["operation"]["wob_n"] = float(self.wob)
+        c["operation"]["top_speed_rad_s"] = float(self.top_speed)
+        for name, p in self.effects.items():
+            CATALOGUE[name].configure(c, p, self)
+        return c
+
+    def parameters(self) -> dict:
+        """The model's parameters for ``loop.json`` (SI; the law in its own speed unit)."""
+        return {"law": dict(self.law), "top_speed_rad_s": self.top_speed, "wob_n": self.wob,
+                "damping": self.cfg["damping"], "effects": copy.deepcopy(self.effects)}
+
+    def to_dict(self) -> dict:
+        """``model.json``: the engine configuration with every effect applied, the effects and the
+        operating point (read back by :meth:`from_dict` and by ``drillpy predict``)."""
+        return {"format": "drillpy.loop_model", "version": 1, "config": self.engine_config(),
+                "base_config": self.cfg, "law": self.law, "top_speed_rad_s": self.top_speed, "wob_n": self.wob,
+                "effects": self.effects, "n_law": self.n_law}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "LoopModel":
+        if not isinstance(d, dict) or d.get("format") != "drillpy.loop_model":
+            raise ValueError("model: not a drillpy loop model (format must be 'drillpy.loop_model')")
+        try:
+            eff = d["effects"]
+            unknown = set(eff) - set(CATALOGUE)
+            if unknown:
+                raise ValueError(f"model: effects {sorted(unknown)} are not in the catalogue")
+            return cls(d["base_config"], d["law"], float(d["top_speed_rad_s"]), float(d["wob_n"]), eff,
+                       int(d.get("n_law", 0)))
+        except KeyError as e:
+            raise ValueError(f"model: lacks {e}") from None
+
+
+_SIMS: dict = {}
+
+
+def simulation(cfg: dict) -> "_core.Simulation":
+    """The engine's Simulation of a configuration (cached by its JSON text)."""
+    text = to_json_text(cfg)
+    sim = _SIMS.get(text)
+    if sim is None:
+        if len(_SIMS) > 64:
+            _SIMS.clear()
+        sim = _SIMS[text] = _core.Simulation(text)
+    return sim
+
+
+def motor_inertia_floor(model: LoopModel) -> float:
+    """Smallest motor inertia the modified-Euler bound (Eq. A.7) allows at the engine step [kg m^2]."""
+    dt = model.cfg["simulation"]["dt_s"]
+    sim = simulation(model.engine_config())
+    rm = sim.reduced_matrices()
+    coupling = abs(float(np.asarray(rm["top_load"]) @ np.asarray(rm["top_torque"])))
+    wmax = math.pi / (5.0 * dt)
+    w2 = float(np.max(np.linalg.eigvals(np.linalg.solve(rm["M"], rm["K"])).real))
+    return 2.0 * coupling / max(wmax ** 2 - w2, 1e-12)
+
+
+def sensor_delay(model: LoopModel) -> float:
+    """Delay of the recorded channels behind the model's state [s] (its sensors; 0 without)."""
+    return sum(CATALOGUE[n].delay_s(p) for n, p in model.effects.items())
+
+
+def _wob_input(model: LoopModel, w, n: int) -> np.ndarray:
+    for name, p in model.effects.items():
+        x = CATALOGUE[name].wob_input(p, model, w)
+        if x is not None:
+            return x
+    return np.full(n, model.wob)
+
+
+def state_channels(model: LoopModel, data: LoopData) -> dict:
+    """The channels as the model's state sees them at each sample: bit speed ``v``, acceleration
+    ``a``, torque ``T``, top speed ``top`` and its rate ``dtop``, WOB ``W`` and the law's WOB input
+    ``W_eff``. With sensors the recorded channels lag the model's by about the filter's group delay
+    tau: the model at time t is read off the record at t + tau (causal for a restart placed tau
+    before the horizon: :func:`predict`)."""
+    ch, t = data.ch, data.t
+    tau = sensor_delay(model)
+
+    def at(k):
+        return np.interp(t + tau, t, ch[k]) if tau > 0 else ch[k]
+
+    out = {"v": at("v"), "a": at("v1"), "T": at("T")}
+    if data.has_top:
+        out["top"], out["dtop"] = at("top"), at("top1")
+    w = at("W") if data.has_wob else None
+    if w is not None:
+        out["W"] = w
+    out["W_eff"] = _wob_input(model, w, t.size)
+    return out
+
+
+def law_channels(model: LoopModel, data: LoopData) -> dict:
+    """The channels for the law residual (simultaneous v, a, T, W): a second-order measurement chain
+    is undone, x = y + c1 y' + c2 y'' (c1 = sqrt(2)/omega_c, c2 = 1/omega_c^2)."""
+    ch = data.ch
+    c1 = c2 = 0.0
+    for name, p in model.effects.items():
+        u1, u2 = CATALOGUE[name].undo(p)
+        c1, c2 = c1 + u1, c2 + u2
+
+    def undo(k):
+        return ch[k] + c1 * ch[k + "1"] + c2 * ch[k + "2"]
+
+    out = {"v": undo("v"), "a": ch["v1"] + c1 * ch["v2"] + c2 * ch["v3"], "T": undo("T")}
+    w = undo("W") if data.has_wob else None
+    if w is not None:
+        out["W"] = w
+    out["W_eff"] = _wob_input(model, w, data.t.size)
+    return out
+
+
+def law_torque(model: LoopModel, chs: dict, index=None) -> np.ndarray:
+    """The model's law T_law(v, a, W_eff) [N m] at the state channels (engine evaluation)."""
+    sl = slice(None) if index is None else index
+    return ident.law_eval(model.law, chs["v"][sl], chs["a"][sl], chs["W_eff"][sl])[0]
+
+
+def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, top: bool = False) -> tuple:
+    """Predicted bit speed [rad/s] and torque on bit [N m] (and top speed [rad/s] with ``top``) of
+    the horizons (rows; default all), after the model's sensors.
+
+    Each horizon restarts D = ceil(tau / dt) samples before its first sample (tau: the sensors'
+    delay, 0 without them) from the state read off the record (:func:`state_channels`), with the
+    sensors' filters started from the recorded values and rates at the restart."""
+    h = np.arange(data.starts.size) if horizons is None else np.asarray(horizons)
+    D = int(math.ceil(sensor_delay(model) / data.dt - 1e-9))
+    idx = data.starts[h] - D
+    sim = simulation(model.engine_config())
+    chs = state_channels(model, data)
+    ch = data.ch
+    n = idx.size
+    om, dom, top_series = np.full(n, model.top_speed), np.zeros(n), None
+    eta = None
+    leads = np.arange(data.L + D + 1) * data.dt
+    for name, p in model.effects.items():
+        eff = CATALOGUE[name]
+        ts = eff.top_state(p, model, chs, idx)
+        if ts is not None:
+            om, dom, top_series = ts
+        e = eff.eta(p, model, data, chs, idx, leads)
+        if e is not None:
+            eta = e
+    state = np.column_stack([chs["v"][idx], chs["a"][idx], chs["T"][idx], om, dom])
+    if data.has_top:
+        ytop, dytop = ch["top"][idx], ch["top1"][idx]
+    else:
+        ytop, dytop = om, dom
+    sensor = np.column_stack([ch["v"][idx], ch["v1"][idx], ch["T"][idx], ch["T1"][idx], ytop, dytop])
+    wob_series = chs["W_eff"] if any(CATALOGUE[n].wob_input(p, model, chs.get("W")) is not None
+                                     for n, p in model.effects.items()) else None
+    r = _core.predict_horizons(sim, idx.tolist(), np.ascontiguousarray(state), np.ascontiguousarray(sensor),
+                               data.dt, data.L + D, top_speed=top_series, wob=wob_series, eta=eta, threads=threads)
+    if top:
+        return r["bit_speed"][:, D:], r["torque"][:, D:], r["top_speed"][:, D:]
+    return r["bit_speed"][:, D:], r["torque"][:, D:]
+
+
+@dataclass
+class Evaluation:
+    """A model with its predictions of every horizon and its errors."""
+    model: LoopModel
+    v: np.ndarray          #: predicted bit speed, horizons x L [rad/s]
+    T: np.ndarray          #: predicted torque on bit [N m]
+    e_h: np.ndarray        #: per-horizon normalized mean squared error
+    E_train: float
+    E_test: float
+    law_rmse_train: float  #: law residual RMSE on the calibration part's slip samples [N m]
+    law_rmse_test: float   #: ... on the validation part's [N m]
+    channel_rmse: dict     #: validation RMSE per channel: bit speed [rad/s], torque [N m]
+
+
+def score(v: np.ndarray, T: np.ndarray, data: LoopData) -> tuple:
+    """Per-horizon normalized mean squared errors and (E_train, E_test) of predictions (horizons x L)."""
+    Yv, YT = measured(data)
+    e_h = 0.5 * (np.mean((v - Yv) ** 2, axis=1) / data.sigma_v ** 2 + np.mean((T - YT) ** 2, axis=1) / data.sigma_T ** 2)
+    te = data.is_test
+    return e_h, float(np.sqrt(np.mean(e_h[~te]))), float(np.sqrt(np.mean(e_h[te])))
+
+
+def evaluate(model: LoopModel, data: LoopData, threads: int = 0) -> Evaluation:
+    v, T = predict(model, data, threads=threads)
+    Yv, YT = measured(data)
+    e_h, e_tr, e_te = score(v, T, data)
+    chs = law_channels(model, data)
+    lr = {}
+    for key, idx in (("train", data.law_train), ("test", data.law_test)):
+        r = chs["T"][idx] - law_torque(model, chs, idx) if idx.size else np.zeros(0)
+        lr[key] = float(np.sqrt(np.mean(r ** 2))) if r.size else float("nan")
+    te = data.is_test
+    rm = {"bit_speed_rad_s": float(np.sqrt(np.mean((v[te] - Yv[te]) ** 2))),
+          "torque_on_bit_nm": float(np.sqrt(np.mean((T[te] - YT[te]) ** 2)))}
+    return Evaluation(model, v, T, e_h, e_tr, e_te, lr["train"], lr["test"], rm)
+
+
+def residual_vector(model: LoopModel, data: LoopData, threads: int, top: bool = False) -> np.ndarray:
+    """Normalized residuals of the calibration horizons; their sum of squares is E_train^2. With
+    ``top`` the top speed's residual (normalized by its standard deviation over the calibration
+    part) is appended: a motor model must also reproduce the recorded top speed."""
+    h = np.flatnonzero(~data.is_test)
+    out = predict(model, data, h, threads, top=top)
+    Yv, YT = measured(data, h)
+    n = Yv.size
+    parts = [((out[0] - Yv) / data.sigma_v).ravel(), ((out[1] - YT) / data.sigma_T).ravel()]
+    if top:
+        s_top = max(data.sigma_top, 1e-3 * data.sigma_v)
+        parts.append(((out[2] - data.top_meas[data.horizon_samples[h]]) / s_top).ravel())
+    return np.concatenate(parts) / math.sqrt(2 * n)
+
+
+def bit_equation(model: LoopModel) -> dict:
+    """The bit's equation of motion of the model's string as one torsional spring and a lumped
+    inertia, J a = k phi + c (Omega - v) - T - T_extra (phi the twist, Omega the top speed):
+    k = 1 / sum(L_i / (G_i J_p,i)) of the sections in series, J = the lumped bit inertia plus a third
+    of the string's (the rig's first mode), c = 2 zeta sqrt(k J) with the first modal damping ratio,
+    T_extra the model's torques outside the torque sensor (viscous c_v v, string friction)."""
+    cfg = model.engine_config()
+    flex, j_string = 0.0, 0.0
+    for s in cfg["string"]["sections"]:
+        jp = math.pi / 2.0 * (s["outer_radius_m"] ** 4 - s["inner_radius_m"] ** 4)
+        g = s["youngs_modulus_pa"] / (2.0 * (1.0 + s["poisson_ratio"]))
+        flex += s["length_m"] / (g * jp)
+        j_string += s["density_kg_m3"] * jp * s["length_m"]
+    k = 1.0 / flex
+    j_bit = sum(li["inertia_kg_m2"] for li in cfg["string"].get("lumped_inertias", []) if li.get("node", -1) == -1)
+    J = j_bit + j_string / 3.0
+    ratios = model.damping_ratios or [0.0]
+    op = cfg["operation"]
+    return {"k_nm_rad": k, "J_kg_m2": J, "c_nms_rad": 2.0 * ratios[0] * math.sqrt(k * J),
+            "viscous_nms_rad": float(op.get("bit_viscous_nms", 0.0)),
+            "string_friction_nm": float(op.get("string_friction_nm", 0.0))}
+
+
+def equation_residual(model: LoopModel, data: LoopData) -> tuple:
+    """The residual of the bit's equation of motion (:func:`bit_equation`) on the record, in N m,
+    and the channels the discovery step regresses it on (v, a, T, twist, top, dtop, W). The twist
+    is the integral of top minus bit speed, linearly detrended (its offset and an encoder scale
+    mismatch are unknown) and its offset fitted by least squares. None without a top-speed channel."""
+    if not data.has_top:
+        return None
+    ch, dt = data.ch, data.dt
+    eq = bit_equation(model)
+    v, a, T, top = ch["v"], ch["v1"], ch["T"], ch["top"]
+    ok = data.valid
+    phi = np.concatenate([[0.0], np.cumsum(0.5 * ((top - v)[1:] + (top - v)[:-1]) * dt)])
+    tt = data.t - data.t[0]
+    slope, icpt = np.polyfit(tt[ok], phi[ok], 1)
+    phi = phi - (slope * tt + icpt)
+    eps = 0.05 * float(np.mean(np.abs(v[ok])))
+    extra = eq["viscous_nms_rad"] * v + eq["string_friction_nm"] * v / np.sqrt(v ** 2 + eps ** 2)
+    r = eq["J_kg_m2"] * a - eq["k_nm_rad"] * phi - eq["c_nms_rad"] * (top - v) + T + extra
+    r = r - float(np.mean(r[ok]))  # the twist's offset: k phi_0
+    chans = {"v": v, "a": a, "T": T, "twist": phi, "top": top, "dtop": ch["top1"]}
+    if data.has_wob:
+        chans["W"] = ch["W"]
+    return np.where(ok, r, np.nan), chans, eq

@@ -1,0 +1,79 @@
+"""The loop's catalogue: one module per effect behind one protocol; each effect has parameters
+with physical bounds, a model change, a signature and a reading; it enters the engine
+configuration and is read back from it; stripping a configuration removes every effect."""
+from __future__ import annotations
+
+import copy
+import math
+
+import pytest
+
+from drillpy.config import load_config, normalize
+from drillpy.loop.effects import CATALOGUE, NAMES, Effect, declared_effects, stripped
+from drillpy.loop.model import LoopModel
+
+
+def test_catalogue_has_the_nine_named_effects_with_their_descriptions():
+    assert set(NAMES) >= {"string_stiffness", "static_friction", "string_friction", "top_drive_dynamics"}
+    assert len(NAMES) == 9
+    for name in NAMES:
+        e = CATALOGUE[name]
+        assert isinstance(e, Effect) and e.name == name and e.level in ("law", "dynamic")
+        assert e.params and e.change and e.signature and e.reading
+        for q in e.params:
+            assert q.lower <= q.upper and q.scale in ("lin", "log") and q.unit
+            if q.null is not None and q.scale == "lin":
+                assert q.lower <= q.null <= q.upper
+        assert e.__class__.__module__ == f"drillpy.loop.effects.{name}"  # one module per effect
+    assert CATALOGUE["wob_coupling"].needs == ("wob",)
+    assert CATALOGUE["top_drive_dynamics"].needs == ("top_speed",)
+    # physical bounds the issue names: beta2 is bounded by the data (fitting.BETA2_SPREAD), the
+    # sensor cutoff at 30 Hz, the motor inertia by the integrator's stability bound
+    assert CATALOGUE["sensor_lag"].params[0].upper == 30.0
+
+
+def test_declared_effects_are_read_off_the_configuration_and_stripped():
+    rig = load_config(preset="thesis-rig")
+    assert set(declared_effects(rig)) == {"bit_hysteresis"}  # Eq. (5.3) with beta1 = 0.086
+    assert declared_effects(rig)["bit_hysteresis"]["beta1"] == rig["law"]["beta1"]
+    c = copy.deepcopy(rig)
+    c["law"]["beta1"] = 0.0
+    c["law"]["a0"] = 1.5
+    c["top_drive"] = {"type": "motor", "slope_nms_rad": 0.5, "inertia_kg_m2": 0.02}
+    c["sensors"] = {"lowpass_hz": 10.0}
+    c["operation"]["bit_viscous_nms"] = 0.01
+    c["operation"]["string_friction_nm"] = 0.2
+    d = declared_effects(normalize(c))
+    assert set(d) == {"top_drive_dynamics", "sensor_lag", "viscous_damping", "static_friction", "string_friction"}
+    assert d["top_drive_dynamics"]["droop_rad_s_per_nm"] == 2.0
+    assert d["sensor_lag"]["lowpass_hz"] == 10.0
+    # the static torque at the operating WOB: gain a0 W / W_ref (Eq. 5.1)
+    assert d["static_friction"]["static_torque_nm"] == pytest.approx(1.36 * 1.5 * c["operation"]["wob_n"] / 557.1)
+    assert declared_effects(normalize(stripped(normalize(c)))) == {}
+
+
+@pytest.mark.parametrize("name", [n for n in NAMES if CATALOGUE[n].level == "dynamic" and n != "torque_fluctuation"])
+def test_an_effect_configured_into_a_model_is_declared_by_its_configuration(name):
+    """configure() then declared() gives the parameters back: a model written by the loop is read
+    back with the same effects (drillpy predict)."""
+    cfg = stripped(load_config(preset="thesis-rig"))
+    m = LoopModel(cfg, dict(cfg["law"]), 8.5, 557.1)
+    p = {"top_drive_dynamics": {"variant": "motor", "droop_rad_s_per_nm": 2.0, "inertia_kg_m2": 0.03,
+                                "command_rad_s": 10.0}}.get(name, {q.name: (q.lower + 1.0 if q.scale == "lin" else
+                                                                          math.sqrt(q.lower * q.upper))
+                                                                  for q in CATALOGUE[name].params})
+    m.effects[name] = p
+    eng = normalize(m.engine_config())
+    if name == "string_stiffness":  # the geometry is not a declaration: it is the factor in the modulus
+        e0 = load_config(preset="thesis-rig")["string"]["sections"][0]["youngs_modulus_pa"]
+        assert eng["string"]["sections"][0]["youngs_modulus_pa"] == pytest.approx(e0 * p["gj_factor"])
+        return
+    back = declared_effects(eng)[name]
+    for k, v in p.items():
+        assert back[k] == (v if isinstance(v, str) else pytest.approx(v)), k
+
+
+def test_static_friction_needs_a_law_with_a_static_torque():
+    cfg = stripped(load_config(preset="thesis-field"))
+    with pytest.raises(ValueError, match="static_friction: the law 'hysteretic' has no static torque"):
+        CATALOGUE["static_friction"].configure(cfg, {"static_torque_nm": 1.0}, None)
