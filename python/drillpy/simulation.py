@@ -47,7 +47,8 @@ def _engine(cfg: dict) -> "_core.Simulation":
 
 def simulate(cfg: dict, top_speed: float | None = None, wob: float | None = None, *,
              top_speed_series=None, wob_series=None, eta_series=None, series_dt: float = 1e-3,
-             series_t0: float = 0.0, bit_viscous: float | None = None, record: bool = True,
+             series_t0: float = 0.0, bit_viscous: float | None = None,
+             string_friction: float | None = None, record: bool = True,
              q0=None, qdot0=None, top_speed0: float | None = None,
              start: str = "rest") -> SimulationResult:
     """Run one simulation of ``cfg``.
@@ -58,6 +59,8 @@ def simulate(cfg: dict, top_speed: float | None = None, wob: float | None = None
     from Eq. (2.10) (bit at rest, string untwisted), ``start="steady"`` from steady drilling at the
     initial top speed; ``q0``/``qdot0`` give any reduced state instead (with ``top_speed0`` the
     initial speed of a motor top drive, which otherwise starts at its command).
+    ``bit_viscous`` [N m s/rad] and ``string_friction`` [N m] override ``operation.bit_viscous_nms``
+    and ``operation.string_friction_nm``; ``torque_on_bit`` leaves the string friction out.
     """
     sim = _engine(cfg)
     _check_start(start)
@@ -71,7 +74,8 @@ def simulate(cfg: dict, top_speed: float | None = None, wob: float | None = None
         q0, qdot0, top_speed0 = sim.steady_state(om0, w0, with_top_speed=True)
     d = sim.run(top_speed=top_speed, wob=wob, top_speed_series=_opt(top_speed_series),
                 wob_series=_opt(wob_series), eta_series=_opt(eta_series), series_dt=series_dt,
-                series_t0=series_t0, bit_viscous=bit_viscous, record=record,
+                series_t0=series_t0, bit_viscous=bit_viscous, string_friction=string_friction,
+                record=record,
                 q0=_opt(q0), qdot0=_opt(qdot0),
                 top_speed0=None if top_speed0 is None else float(top_speed0))
     return SimulationResult(

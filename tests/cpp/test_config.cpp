@@ -3,6 +3,7 @@
 
 #include "drill/config.hpp"
 #include "drill/presets.hpp"
+#include "drill/simulation.hpp"
 
 using namespace drill;
 
@@ -80,5 +81,43 @@ TEST(Config, UnknownPresetListsTheKnownOnes) {
     FAIL();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("thesis-field, thesis-ch4, thesis-rig, thesis-ch6"), std::string::npos);
+  }
+}
+
+TEST(Config, StringFrictionRoundTripsAndDefaultsToZero) {
+  // operation.string_friction_nm: Coulomb string friction T_sf at the bit [N m] (an extension, not in the thesis)
+  EXPECT_EQ(preset("thesis-field").string_friction, 0.0);
+  EXPECT_EQ(to_json(preset("thesis-field"))["operation"]["string_friction_nm"], 0.0);
+  const Config c = parse_config_text(with("/operation/string_friction_nm", 1.25));
+  EXPECT_EQ(c.string_friction, 1.25);
+  EXPECT_EQ(c.bit_viscous, 0.0);
+  const Config back = parse_config(to_json(c));
+  EXPECT_EQ(back.string_friction, 1.25);
+  EXPECT_EQ(to_json(back), to_json(c));
+  EXPECT_EQ(Simulation(c).inputs().string_friction, 1.25);
+}
+
+TEST(Config, NegativeOrNonFiniteStringFrictionIsRefused) {
+  EXPECT_NE(error_of(with("/operation/string_friction_nm", -0.5))
+                .find("operation.string_friction_nm = -0.5: must not be negative"),
+            std::string::npos)
+      << error_of(with("/operation/string_friction_nm", -0.5));
+  // JSON has no NaN or infinity literal (an infinite value is written as null); a Config set in
+  // code is validated with the same message
+  EXPECT_NE(error_of(with("/operation/string_friction_nm", 1e308 * 10)).find("operation.string_friction_nm = null"),
+            std::string::npos);
+  EXPECT_NE(error_of(with("/operation/string_friction_nm", "big")).find("operation.string_friction_nm = \"big\""),
+            std::string::npos);
+  Config c = preset("thesis-field");
+  for (double bad : {std::nan(""), HUGE_VAL}) {
+    c.string_friction = bad;
+    try {
+      c.validate();
+      FAIL() << bad;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("operation.string_friction_nm = " + show(bad) + ": must be a finite number"),
+                std::string::npos)
+          << e.what();
+    }
   }
 }

@@ -125,6 +125,46 @@ TEST(Horizons, RestartedHorizonsReproduceTheLongRun) {
   }
 }
 
+TEST(Horizons, StringFrictionIsPartOfTheRestartStateButNotOfTheReportedTorque) {
+  // operation.string_friction_nm (an extension, not in the thesis): a horizon restarted from a
+  // slipping bit's measured contact torque T carries the total torque T + c_v v + T_sf sign(v) in its
+  // state, and reports the contact torque: it reproduces the long run it was taken from.
+  Config c = rig(false);
+  c.string_friction = 0.4;
+  c.bit_viscous = 0.01;
+  const Simulation sim(c);
+  const double dt = c.sim.dt, cv = c.bit_viscous;
+  const LongRun lr = long_run(sim, 6.0);
+  const int stride = 10, samples = 200;
+  std::vector<HorizonStart> starts;
+  long stuck = 0;
+  for (long i = 40000; i < 56000 && starts.size() < 8; i += 1990) {
+    if (lr.v[i] < 0.5) continue;  // slipping: the string friction at the start is T_sf sign(v)
+    HorizonStart h;
+    h.index = i / stride;
+    h.bit_speed = lr.v[i];
+    h.bit_accel = lr.a[i];
+    h.torque = lr.T[i] - cv * lr.v[i];  // what the load cell sees
+    h.top_speed = lr.top[i];
+    starts.push_back(h);
+  }
+  ASSERT_GE(starts.size(), 4u);
+  for (std::size_t i = 0; i < lr.v.size(); ++i) stuck += std::fabs(lr.v[i]) <= 1e-9;
+  EXPECT_GT(stuck, 1000);  // stick-slip
+  HorizonInputs hin;
+  hin.dt = stride * dt;
+  hin.samples = samples;
+  const HorizonResult r = predict_horizons(sim, starts, hin);
+  double err = 0.0;
+  for (std::size_t h = 0; h < starts.size(); ++h)
+    for (int j = 0; j < samples; ++j) {
+      const long i = (starts[h].index + j + 1) * stride;
+      err = std::max(err, std::fabs(r.bit_speed(h, j) - lr.v[i]));
+      err = std::max(err, std::fabs(r.torque(h, j) - (lr.T[i] - cv * lr.v[i])));
+    }
+  EXPECT_LT(err, 1e-6);
+}
+
 TEST(Horizons, SensorsFilterTheOutputsAndThreadsDoNotMatter) {
   Config c = preset("thesis-rig");
   const Simulation raw(c);

@@ -4,6 +4,9 @@
 
 #include <cmath>
 #include <complex>
+#include <cstring>
+#include <string>
+#include <vector>
 
 #include "drill/integrator.hpp"
 #include "drill/metrics.hpp"
@@ -292,5 +295,164 @@ TEST(Integrator, StaticTorqueAboveKineticTorqueGivesTrueStickPhasesCappedByTheSt
     EXPECT_GT(vmin, -1e-9) << to_string(sch) << ": no backward motion, no chatter";
     EXPECT_LE(Tmax_stuck, Ts * (1 + 1e-12)) << to_string(sch);
     EXPECT_GT(Tmax_stuck, 0.99 * Ts) << to_string(sch) << ": it breaks away at the static torque";
+  }
+}
+
+// Coulomb string friction T_sf sign(v) (operation.string_friction_nm, an extension not in the
+// thesis): set-valued at rest, it adds to the stick capacity; it acts outside the bit's torque
+// sensor, so the reported torque on bit leaves it out.
+
+namespace {
+
+/// The bit at rest under an untwisted string with the top at Om (as in the static-torque test
+/// above): the string torque at the bit is T(t) = Om (d + w^2 t) / b^2 while stuck, and the bit
+/// breaks away when it reaches Ts + Tsf. Checks the reported (contact) torque while stuck against
+/// min(T(t), Ts) (the contact takes the string torque up to the static torque, the string friction
+/// the rest) and the break-away time.
+void expect_stick_and_break_away(const BitRockLaw& law, double Ts, double Tsf, const std::string& what) {
+  const ModalROM rom = rig_rom(0.1);
+  const double b = rom.model.bit(0), w = rom.omega(0), d = 2 * 0.1 * w, Om = 8.0;
+  const double t_b = ((Ts + Tsf) * b * b / Om - d) / (w * w);
+  ASSERT_GT(t_b, 0.05) << what;
+  ASSERT_DOUBLE_EQ(law.static_torque(500.0), Ts) << what;
+  const ModelState start{Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, -Om / b)};
+  Inputs in;
+  in.top_speed = Signal::constant(Om);
+  in.wob = Signal::constant(500.0);
+  in.string_friction = Tsf;
+  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2}) {
+    SimOptions o;
+    o.scheme = sch;
+    o.dt = 1e-4;
+    o.duration = t_b + 50 * o.dt;
+    double t_move = -1, worst_T = 0, worst_v = 0;
+    long stuck_steps = 0;
+    Integrator(rom.model, law, o).run(in, [&](const StepState& s) {
+      if (t_move >= 0) return;
+      if (s.bit_speed > 1e-9) {
+        t_move = s.t;
+        return;
+      }
+      worst_v = std::max(worst_v, std::fabs(s.bit_speed));
+      const double T_exact = Om * (d + w * w * s.t) / (b * b);
+      if (s.step > 0 && T_exact < Ts + Tsf) {
+        ++stuck_steps;
+        worst_T = std::max(worst_T, std::fabs(s.torque_on_bit - std::min(T_exact, Ts)));
+      }
+    }, &start);
+    EXPECT_GT(stuck_steps, 100) << what << " " << to_string(sch);
+    EXPECT_LT(worst_v, 1e-9) << what << " " << to_string(sch);
+    EXPECT_LT(worst_T, (sch == Scheme::bdf2 ? 1e-3 : 1e-9) * (Ts + Tsf)) << what << " " << to_string(sch);
+    EXPECT_NEAR(t_move, t_b, 2.5 * o.dt) << what << " " << to_string(sch);
+  }
+}
+
+}  // namespace
+
+TEST(Integrator, StringFrictionAloneSticksTheLawsWithoutStaticTorqueAndBreaksAwayAtTsf) {
+  const double Tsf = 2.0;
+  BitRockLaw hys = thesis_hysteretic(0.14, SpeedUnit::rpm);
+  hys.wob_ref = 500.0;
+  hys.b[0] = 1.0;
+  BitRockLaw tw = thesis_tucker_wang();
+  tw.c0 = 1.0;
+  expect_stick_and_break_away(coulomb_law(0.0, 0.6 * Tsf), 0.0, Tsf, "polynomial a0 = 0");
+  expect_stick_and_break_away(hys, 0.0, Tsf, "hysteretic");
+  expect_stick_and_break_away(tw, 0.0, Tsf, "tucker_wang");
+  expect_stick_and_break_away(zero_law(), 0.0, Tsf, "zero law");
+}
+
+TEST(Integrator, StringFrictionAddsToTheStaticTorqueOfTheStickCondition) {
+  expect_stick_and_break_away(coulomb_law(3.0, 1.8), 3.0, 1.5, "polynomial a0 > 0");
+}
+
+TEST(Integrator, SteadySlipStringTorqueIsTheReportedTorqueOnBitPlusTheStringFriction) {
+  // One mode, constant kinetic torque Tk above 0.01 rad/s: started with the twist of the contact
+  // torque alone, the string settles to steady slip at the top speed with the twist of Tk + T_sf,
+  // while the reported torque on bit stays the contact torque Tk.
+  const ModalROM rom = rig_rom(0.1);
+  const double Om = 10.0, Tk = 2.0, Tsf = 0.5;
+  Inputs in;
+  in.top_speed = Signal::constant(Om);
+  in.wob = Signal::constant(500.0);
+  in.string_friction = Tsf;
+  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2}) {
+    SimOptions o;
+    o.scheme = sch;
+    o.dt = 1e-4;
+    o.duration = 20.0;
+    const Integrator integ(rom.model, coulomb_law(0.0, Tk), o);
+    const ModelState start = integ.state_from_bit(Om, 0.0, Tk, Om, 0.0);
+    double vmin = 1e9;
+    StepState last;
+    integ.run(in, [&](const StepState& s) {
+      vmin = std::min(vmin, s.bit_speed);
+      last = s;
+    }, &start);
+    ASSERT_GT(vmin, 0.5) << to_string(sch) << ": the bit is expected to slip throughout";
+    EXPECT_NEAR(last.bit_speed, Om, 1e-6) << to_string(sch);
+    EXPECT_NEAR(last.torque_on_bit, Tk, 1e-9) << to_string(sch);
+    // the string torque: the top torque of the static twist per N m at the bit (1 + 1.4e-5 with one mode)
+    const double per_nm = integ.top_torque(integ.state_from_bit(Om, 0.0, 1.0, Om, 0.0));
+    ASSERT_NEAR(per_nm, 1.0, 1e-4);
+    EXPECT_NEAR(last.top_torque / per_nm, Tk + Tsf, 1e-6) << to_string(sch);
+    EXPECT_NEAR(last.top_torque / per_nm - last.torque_on_bit, Tsf, 1e-6) << to_string(sch);
+  }
+}
+
+TEST(Integrator, ZeroStringFrictionLeavesRunsBitIdentical) {
+  // T_sf = 0 takes the code paths of the engine without string friction (checked at the change
+  // against the previous headers on rig, field and motor runs); here: the default and an explicit
+  // 0, from Inputs and from a configuration with and without the key, step for step.
+  const ModalROM rom = rig_rom(0.05);
+  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2}) {
+    SimOptions o;
+    o.scheme = sch;
+    o.dt = 1e-4;
+    o.duration = 5.0;
+    const Integrator integ(rom.model, coulomb_law(3.0, 1.8), o);
+    Inputs a;
+    a.top_speed = Signal::constant(5.0);
+    a.wob = Signal::constant(500.0);
+    a.bit_viscous = 0.01;
+    Inputs b = a;
+    b.string_friction = 0.0;
+    std::vector<StepState> ra, rb;
+    integ.run(a, [&](const StepState& s) { ra.push_back(s); });
+    integ.run(b, [&](const StepState& s) { rb.push_back(s); });
+    ASSERT_EQ(ra.size(), rb.size());
+    long stuck = 0;
+    for (std::size_t k = 0; k < ra.size(); ++k) {
+      ASSERT_EQ(std::memcmp(&ra[k], &rb[k], sizeof(StepState)), 0) << to_string(sch) << " step " << k;
+      stuck += std::fabs(ra[k].bit_speed) <= 1e-9;
+    }
+    EXPECT_GT(stuck, 1000) << to_string(sch) << ": the stick condition is exercised";
+  }
+  json with_key = preset_json("thesis-rig"), without = with_key;
+  with_key["operation"]["string_friction_nm"] = 0.0;
+  with_key["simulation"]["duration_s"] = without["simulation"]["duration_s"] = 6.0;
+  const Simulation s1(parse_config(with_key)), s2(parse_config(without));
+  const RunReport r1 = s1.run(s1.inputs()), r2 = s2.run(s2.inputs());
+  EXPECT_EQ(r1.series.bit_speed, r2.series.bit_speed);
+  EXPECT_EQ(r1.series.torque_on_bit, r2.series.torque_on_bit);
+  EXPECT_EQ(r1.series.top_torque, r2.series.top_torque);
+}
+
+TEST(Integrator, NegativeOrNonFiniteStringFrictionIsRefused) {
+  const ModalROM rom = rig_rom(0.1);
+  SimOptions o;
+  o.dt = 1e-4;
+  o.duration = 0.01;
+  const Integrator integ(rom.model, coulomb_law(0.0, 1.0), o);
+  for (double bad : {-1.0, std::nan(""), HUGE_VAL}) {
+    Inputs in;
+    in.string_friction = bad;
+    try {
+      integ.run(in, [](const StepState&) {});
+      FAIL() << bad;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("operation.string_friction_nm = " + show(bad)), std::string::npos)
+          << e.what();
+    }
   }
 }

@@ -13,6 +13,7 @@ def test_presets_load_normalized():
     assert [s["elements"] for s in c["string"]["sections"]] == [91, 9]
     assert c["law"]["speed_unit"] == "rpm" and c["law"]["beta1"] == 0.14
     assert c["simulation"]["dt_s"] == pytest.approx(5.12e-4)
+    assert c["operation"]["bit_viscous_nms"] == 0.0 and c["operation"]["string_friction_nm"] == 0.0
 
 
 def test_file_round_trip(tmp_path):
@@ -43,6 +44,9 @@ def test_thesis_laws():
     (lambda c: c.pop("string"), "config.string: missing"),
     (lambda c: c["simulation"].update(dt_s=0.05), "simulation.dt_s = 0.05"),
     (lambda c: c.update(colour="red"), 'config.colour = "red": unknown key'),
+    (lambda c: c["operation"].update(string_friction_nm=-1.5),
+     "operation.string_friction_nm = -1.5: must not be negative"),
+    (lambda c: c["operation"].update(string_friction_nm="high"), 'operation.string_friction_nm = "high"'),
 ])
 def test_bad_config_names_field_and_value(edit, field):
     c = drillpy.load_config(preset="thesis-field")

@@ -152,3 +152,32 @@ def test_chapter4_preset_reproduces_the_thesis_threshold_of_16_rad_s():
     assert cfg["operation"]["wob_n"] == 200e3 and cfg["rom"]["modes"] == 100
     ss = sweep_severity(cfg, [15.5, 16.5], progress=False)
     assert ss[0] > 0.5 > ss[1]
+
+
+def test_string_friction_loads_the_string_but_not_the_torque_on_bit():
+    # operation.string_friction_nm (an extension, not in the thesis): a Coulomb torque T_sf sign(v)
+    # on the bit outside its torque sensor. In steady slip the string carries the torque on bit plus
+    # T_sf; the torque on bit itself is the one without string friction.
+    tsf = 0.3
+    cfg = drillpy.load_config(preset="thesis-rig")
+    cfg["simulation"].update(duration_s=12.0, transient_s=8.0)
+    base = drillpy.load_config(config=cfg)
+    cfg["operation"]["string_friction_nm"] = tsf
+    cfg = drillpy.load_config(config=cfg)
+    assert base["operation"]["string_friction_nm"] == 0.0
+    om = 30.0  # above the rig's stick-slip band (SS 0.77 at 20 rad/s): steady slip
+    r = drillpy.simulate(cfg, om, start="steady")
+    r0 = drillpy.simulate(base, om, start="steady")
+    w = r.t >= 8.0
+    assert r.severity < 1e-3 and r0.severity < 1e-3
+    assert np.all(r.bit_speed[w] > 0.9 * om)
+    # the one-mode string's top torque per N m at the bit is 1 + 1.4e-5 (modal truncation)
+    string, bit = np.mean(r.top_torque[w]), np.mean(r.torque_on_bit[w])
+    assert string - bit == pytest.approx(tsf, rel=1e-3)
+    assert bit == pytest.approx(np.mean(r0.torque_on_bit[w]), rel=1e-6)
+    assert string == pytest.approx(np.mean(r0.top_torque[w]) + tsf, rel=1e-4)
+    # the keyword overrides the configuration like bit_viscous
+    a = drillpy.simulate(cfg, om, start="rest")
+    b = drillpy.simulate(base, om, start="rest", string_friction=tsf)
+    np.testing.assert_array_equal(a.bit_speed, b.bit_speed)
+    np.testing.assert_array_equal(a.torque_on_bit, b.torque_on_bit)

@@ -11,7 +11,12 @@
 //   "law": {"type": "hysteretic", "speed_unit": "rpm", "wob_ref_n": 245000,
 //           "b0".."b5", "beta1", "beta2"}          (tucker_wang: "c0", "alpha0".."alpha2";
 //           polynomial[_hysteretic]: "a0".."a7", "ref_speed", "gain", "beta1", "beta2"),
-//   "operation": {"top_speed_rad_s": 16, "wob_n": 245000, "bit_viscous_nms": 0},
+//   "operation": {"top_speed_rad_s": 16, "wob_n": 245000, "bit_viscous_nms": 0, "string_friction_nm": 0},
+//                                                  (bit_viscous_nms: extra viscous torque c_v v on the bit;
+//                                                   string_friction_nm: Coulomb torque T_sf sign(v) of the
+//                                                   string on its guides, lumped at the bit, set-valued at
+//                                                   rest (adds to the stick capacity); both act outside the
+//                                                   bit's torque sensor and are not in the thesis),
 //   "top_drive": {"type": "ideal"}                 (the thesis: the top turns at top_speed_rad_s)
 //              | {"type": "motor", "slope_nms_rad": c_m, "inertia_kg_m2": J_m}
 //                                                  (open-loop motor commanded at top_speed_rad_s:
@@ -60,6 +65,7 @@ struct Config {
   double top_speed = 10.0;    ///< [rad/s]
   double wob = 245e3;         ///< [N]
   double bit_viscous = 0.0;   ///< [N m s/rad]
+  double string_friction = 0.0;  ///< Coulomb string friction at the bit [N m] (an extension, not in the thesis)
   TopDrive top_drive;         ///< ideal (default) or open-loop motor
   double sensor_lowpass_hz = 0.0;  ///< cutoff of the recorded channels' low-pass [Hz]; 0: ideal sensors
   SimOptions sim;
@@ -78,6 +84,7 @@ struct Config {
     require_finite(top_speed, "operation.top_speed_rad_s");
     require_non_negative(wob, "operation.wob_n");
     require_non_negative(bit_viscous, "operation.bit_viscous_nms");
+    require_non_negative(string_friction, "operation.string_friction_nm");
     top_drive.validate();
     require(!top_drive.is_motor() || sim.scheme == Scheme::modified_euler, "top_drive.type", std::string("motor"),
             "is implemented for simulation.scheme = modified_euler only");
@@ -325,10 +332,11 @@ inline Config parse_config(const json& j) {
   c.law = parse_law(j.at("law"));
   if (j.contains("operation")) {
     const json& o = j.at("operation");
-    check_keys(o, "operation", {"top_speed_rad_s", "wob_n", "bit_viscous_nms"});
+    check_keys(o, "operation", {"top_speed_rad_s", "wob_n", "bit_viscous_nms", "string_friction_nm"});
     c.top_speed = get_number(o, "top_speed_rad_s", "operation", c.top_speed);
     c.wob = get_number(o, "wob_n", "operation", c.law.wob_ref);
     c.bit_viscous = get_number(o, "bit_viscous_nms", "operation", 0.0);
+    c.string_friction = get_number(o, "string_friction_nm", "operation", 0.0);
   } else {
     c.wob = c.law.wob_ref;
   }
@@ -406,7 +414,11 @@ inline json to_json(const Config& c) {
          {"rom", {{"modes", c.modes}}},
          {"damping", damping},
          {"law", detail::law_to_json(c.law)},
-         {"operation", {{"top_speed_rad_s", c.top_speed}, {"wob_n", c.wob}, {"bit_viscous_nms", c.bit_viscous}}},
+         {"operation",
+          {{"top_speed_rad_s", c.top_speed},
+           {"wob_n", c.wob},
+           {"bit_viscous_nms", c.bit_viscous},
+           {"string_friction_nm", c.string_friction}}},
          {"simulation",
           {{"scheme", to_string(c.sim.scheme)}, {"dt_s", c.sim.dt}, {"duration_s", c.sim.duration},
            {"transient_s", c.transient}, {"output_stride", c.output_stride}}},

@@ -11,8 +11,11 @@
 // are comparable with the recorded channels.
 //
 // The torque reported is the contact torque T_law (1 + eta) that a load cell under the rock
-// holder measures; the extra viscous torque c_v v of `operation.bit_viscous_nms` acts on the bit
-// but is not part of it. Horizons are independent and run in parallel; each writes its own rows.
+// holder measures; the extra viscous torque c_v v of `operation.bit_viscous_nms` and the string
+// friction T_sf sign(v) of `operation.string_friction_nm` (extensions, not in the thesis) act on the
+// bit but are not part of it. The restart state carries the total torque T + c_v v + T_sf sign(v),
+// with sign(0) = 0 (a measured bit at rest: the set-valued string friction is taken as zero).
+// Horizons are independent and run in parallel; each writes its own rows.
 #pragma once
 
 #include <Eigen/Dense>
@@ -104,7 +107,9 @@ inline HorizonResult predict_horizons(const Simulation& sim, const std::vector<H
           in.eta = Signal::sampled(std::vector<double>(row.data(), row.data() + row.size()), 0.0, hin.dt);
         }
         // the state carries the total torque on the bit: the measured contact torque plus c_v v
-        const double Tb = st.torque + in.bit_viscous * st.bit_speed;
+        // and the string friction T_sf sign(v)
+        double Tb = st.torque + in.bit_viscous * st.bit_speed;
+        if (in.string_friction > 0.0) Tb += in.string_friction * ((st.bit_speed > 0.0) - (st.bit_speed < 0.0));
         const ModelState s0 =
             in.top_drive.is_motor() && !std::isfinite(st.top_accel)
                 ? integ.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, in.top_drive, in.top_speed.at(0.0))
@@ -114,6 +119,7 @@ inline HorizonResult predict_horizons(const Simulation& sim, const std::vector<H
         integ.run(
             in,
             [&](const StepState& s) {
+              // (the integrator's torque on bit already leaves the string friction out)
               const double contact = s.torque_on_bit - in.bit_viscous * s.bit_speed;
               if (s.step == 0) {
                 fv.reset(st.y_bit_speed, st.dy_bit_speed, s.bit_speed);

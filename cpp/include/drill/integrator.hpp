@@ -2,7 +2,15 @@
 //
 // Equation of motion in the rotating frame (Eqs. 2.5, 2.9), with a top speed Omega(t):
 //   M~ q'' + D~ q' + K~ q = -bit^T T_bit - top_load Omega'(t),
-//   bit speed  = Omega(t) + bit q',   T_bit = T_law(v, a, W(t)) (1 + eta(t)) + c_v v     (Eq. 4.1)
+//   bit speed  = Omega(t) + bit q',   T_bit = T_law(v, a, W(t)) (1 + eta(t)) + c_v v + T_sf sign(v)
+// (Eq. 4.1 for the law term). The viscous torque c_v v (`operation.bit_viscous_nms`) and the
+// Coulomb string friction T_sf sign(v) (`operation.string_friction_nm`: the string rubbing on its
+// guides or the borehole, lumped at the bit DOF) are not in the thesis: both are extensions that
+// act on the bit outside its torque sensor. The torque on bit reported to observers excludes
+// T_sf sign(v) (it is the law's contact torque plus c_v v). At rest T_sf is set-valued like the
+// law's static torque: the stick condition holds the bit while |string torque at the bit| <=
+// static_torque(W) (1 + eta) + T_sf, and it applies whenever that capacity is positive (so T_sf
+// alone makes the laws without a static torque stick).
 // Omega(t) is the commanded speed (ideal top drive) or the state of a motor model driven by it
 // (topdrive.hpp: J_m Omega' = c_m (Omega_c - Omega) - T_top; modified Euler only).
 // The reduced matrices are first brought to M = I, K = diag(omega^2) by the generalized
@@ -66,6 +74,7 @@ struct Inputs {
   Signal wob = Signal::constant(245e3);       ///< [N]
   Signal eta = Signal::constant(0.0);         ///< multiplicative torque fluctuation (Eq. 4.1)
   double bit_viscous = 0.0;                   ///< extra viscous torque at the bit [N m s/rad]
+  double string_friction = 0.0;               ///< Coulomb string friction T_sf at the bit [N m] (not reported)
   TopDrive top_drive;                         ///< ideal (Omega = top_speed) or motor (commanded by it)
   void validate() const {
     top_drive.validate();
@@ -73,6 +82,7 @@ struct Inputs {
     wob.validate("operation.wob_n");
     eta.validate("eta");
     require_non_negative(bit_viscous, "operation.bit_viscous_nms");
+    require_non_negative(string_friction, "operation.string_friction_nm");
   }
 };
 
@@ -83,7 +93,7 @@ struct StepState {
   double bit_speed = 0.0;      ///< [rad/s]
   double bit_accel = 0.0;      ///< [rad/s^2] (the value used by the law)
   double bit_angle = 0.0;      ///< [rad]
-  double torque_on_bit = 0.0;  ///< [N m]
+  double torque_on_bit = 0.0;  ///< [N m]: law (1 + eta) + c_v v; the string friction is not part of it
   double top_torque = 0.0;     ///< elastic torque applied by the top drive [N m]
   double top_speed = 0.0;      ///< [rad/s]
 };
@@ -237,11 +247,23 @@ class Integrator {
     im.g = bit_.dot(im.s);
   }
 
-  /// Total torque on bit (law x (1 + eta) + viscous) with derivatives.
-  TorqueEval total_torque(double v, double a, double wob, double eta, double cv) const {
+  /// Total torque on bit (law x (1 + eta) + viscous + string friction T_sf sign(v)) with derivatives.
+  TorqueEval total_torque(double v, double a, double wob, double eta, double cv, double sf = 0.0) const {
     TorqueEval e = law_.eval(v, a, wob);
     const double f = 1.0 + eta;
-    return {e.T * f + cv * v, e.dT_dv * f + cv, e.dT_da * f};
+    TorqueEval out{e.T * f + cv * v, e.dT_dv * f + cv, e.dT_da * f};
+    if (sf != 0.0) out.T += sf * sign(v);  // a jump at v = 0 (solve_root finds it as a bracket limit)
+    return out;
+  }
+
+  static double sign(double v) { return (v > 0.0) - (v < 0.0); }
+
+  /// The share of a stuck bit's friction F (string torque at the bit less c_v v) that the string
+  /// friction carries: the bit-rock contact takes F up to the static torque Ts, the string friction
+  /// the rest up to T_sf (the split of two set-valued frictions is otherwise indeterminate; this one
+  /// reports the whole string torque as contact torque when there is no string friction).
+  static double string_share(double F, double Ts, double Tsf) {
+    return sign(F) * std::min(std::max(std::fabs(F) - Ts, 0.0), Tsf);
   }
 
   ModelState to_model(const Eigen::VectorXd& z, const Eigen::VectorXd& p) const { return {V_ * z, V_ * p}; }
@@ -274,7 +296,10 @@ class Integrator {
       // Eq. (A.1): a = (v_{i+1} - v_i) / dt = alpha - g T(v_i, a), with
       // T(a) = (1 + eta) (base + frac (1 + c tanh(k a))) + c_v v increasing in a.
       const BitRockLaw::AtSpeed ts = law_.at_speed(v, wob);
-      const double scale = 1.0 + eta, rest = in.bit_viscous * v;
+      const double scale = 1.0 + eta, visc = in.bit_viscous * v;
+      // string friction T_sf sign(v) of the moving bit (at rest the stick condition sets it)
+      double fric = in.string_friction > 0.0 ? in.string_friction * sign(v) : 0.0;
+      const double rest = fric != 0.0 ? visc + fric : visc;
       double a = alpha - g * (scale * (ts.base + ts.frac) + rest);
       double T = scale * (ts.base + ts.frac) + rest;
       if (ts.frac * ts.c != 0.0 && ts.k != 0.0) {
@@ -317,9 +342,10 @@ class Integrator {
         a_guess = a;
       }
       const double Ts = scale * law_.static_torque(wob);
-      if (Ts > 0.0) stick_euler(v, om, alpha, g, dt, Ts, rest, a, T);
+      if (Ts + in.string_friction > 0.0) stick_euler(v, om, alpha, g, dt, Ts, in.string_friction, visc, a, T, fric);
       if (!std::isfinite(v) || !std::isfinite(T)) diverged(t);
-      obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T, top_torque_.dot(z), om}));
+      const double T_bit = fric != 0.0 ? T - fric : T;  // the string friction acts outside the torque sensor
+      obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, top_torque_.dot(z), om}));
       if (i == n) break;
       p += dt * (f - bit_ * T);  // Eq. (A.5): velocity first, with the torque of step i ...
       z += dt * p;               // Eq. (A.6): ... then the displacement with the new velocity.
@@ -335,23 +361,27 @@ class Integrator {
   static double rest_tolerance(double om) { return 1e-12 * (1.0 + std::fabs(om)); }
 
   /// Stick condition of the non-regularized laws (Eqs. 5.1, 5.3) in the modified Euler step: the
-  /// law is set-valued at rest, T in [-Ts, Ts]. The torque that brings the bit to rest at the end of
-  /// the step, v + dt (alpha - g T) = 0, is T_req = (alpha + v / dt) / g. A bit at rest stays stuck
-  /// while the friction T_req - c_v v it would need is within the static torque Ts, and breaks away
-  /// with the static torque otherwise; a moving bit whose slip step would reverse its speed comes to
+  /// law is set-valued at rest, T in [-Ts, Ts], and so is the string friction, in [-Tsf, Tsf]. The
+  /// torque that brings the bit to rest at the end of the step, v + dt (alpha - g T) = 0, is
+  /// T_req = (alpha + v / dt) / g. A bit at rest stays stuck while the friction T_req - c_v v it
+  /// would need is within the static capacity Ts + Tsf, and breaks away with the static torque and
+  /// the string friction otherwise; a moving bit whose slip step would reverse its speed comes to
   /// rest when the friction can hold it (or the string pushes it on in its own direction).
-  /// On return (a, T) are the step's bit acceleration and torque.
-  static void stick_euler(double v, double om, double alpha, double g, double dt, double Ts, double rest,
-                          double& a, double& T) {
-    const double T_req = (alpha + v / dt) / g, F_req = T_req - rest;
+  /// On return (a, T) are the step's bit acceleration and total torque, and fric the part of T that
+  /// is string friction (unchanged when the bit slips on).
+  static void stick_euler(double v, double om, double alpha, double g, double dt, double Ts, double Tsf, double visc,
+                          double& a, double& T, double& fric) {
+    const double T_req = (alpha + v / dt) / g, F_req = T_req - visc;
     const double sv = (v > 0.0) - (v < 0.0), sf = (F_req > 0.0) - (F_req < 0.0);
     const bool at_rest = std::fabs(v) <= rest_tolerance(om);
     const bool crossing = !at_rest && v * (v + dt * a) <= 0.0;
-    if ((at_rest || crossing) && (std::fabs(F_req) <= Ts || (crossing && sf == sv))) {
+    if ((at_rest || crossing) && (std::fabs(F_req) <= Ts + Tsf || (crossing && sf == sv))) {
       T = T_req;  // stuck: the bit is at rest at the end of the step
       a = -v / dt;
+      fric = Tsf > 0.0 ? string_share(F_req, Ts, Tsf) : 0.0;
     } else if (at_rest) {
-      T = sf * Ts + rest;  // break-away: sign(0) = 0, so H = 0 in Eq. (5.3)
+      fric = sf * Tsf;
+      T = sf * (Ts + Tsf) + visc;  // break-away: sign(0) = 0, so H = 0 in Eq. (5.3)
       a = alpha - g * T;
     }
   }
@@ -398,23 +428,25 @@ class Integrator {
       const double a0 = first ? -x_n / dt : (-2.0 * x_n + 0.5 * x_old) / dt;
       double Tnew = 0.0;
       const double c = im.gamma * im.g;
-      const double Ts = (1.0 + eta) * law_.static_torque(wob);
+      const double Ts = (1.0 + eta) * law_.static_torque(wob), Tsf = in.string_friction, cap = Ts + Tsf;
       const double om0 = in.top_speed.at(t1 - dt), v_n = om0 + x_n;
-      const bool at_rest = Ts > 0.0 && std::fabs(v_n) <= rest_tolerance(om0);
+      const bool at_rest = cap > 0.0 && std::fabs(v_n) <= rest_tolerance(om0);
       // Stick condition of Eqs. (5.1), (5.3) (see stick_euler): at rest (x = -om1) the friction
-      // needed is T_req = (w + om1) / c.
+      // needed is T_req = (w + om1) / c, held by the static torque and the string friction.
       const double T_req = (w + om1) / c, sf = (T_req > 0.0) - (T_req < 0.0);
-      bool stuck = at_rest && std::fabs(T_req) <= Ts;
-      double x = -om1;
+      bool stuck = at_rest && std::fabs(T_req) <= cap;
+      double x = -om1, fric = 0.0;
       if (!stuck) {
-        x = solve_bit(w, c, om1, ca, a0 + domega, wob, eta, in.bit_viscous, x_n, t1, Tnew);
+        x = solve_bit(w, c, om1, ca, a0 + domega, wob, eta, in.bit_viscous, Tsf, x_n, t1, Tnew);
         const double v1 = om1 + x, sv = (v_n > 0.0) - (v_n < 0.0);
         const bool lands = v_n * v1 <= 0.0 || std::fabs(v1) <= rest_tolerance(om1);  // at the jump of the law
-        stuck = Ts > 0.0 && !at_rest && lands && (std::fabs(T_req) <= Ts || sf == sv);
+        stuck = cap > 0.0 && !at_rest && lands && (std::fabs(T_req) <= cap || sf == sv);
+        if (Tsf > 0.0) fric = Tsf * sign(v1);
       }
       if (stuck) {
         x = -om1;
         Tnew = T_req;
+        fric = Tsf > 0.0 ? string_share(T_req, Ts, Tsf) : 0.0;
       }
       restart = stuck;
       z_old = z;
@@ -424,19 +456,20 @@ class Integrator {
       theta_top += 0.5 * dt * (in.top_speed.at(t1 - dt) + om1);
       x_old = x_n;
       x_n = x;
-      const StepState st{i + 1, t1, om1 + x, ca * x + a0 + domega, theta_top + bit_.dot(z), Tnew,
-                         top_torque_.dot(z), om1};
+      const StepState st{i + 1, t1, om1 + x, ca * x + a0 + domega, theta_top + bit_.dot(z),
+                         fric != 0.0 ? Tnew - fric : Tnew, top_torque_.dot(z), om1};
       obs(st);
     }
     return to_model(z, p);
   }
 
-  /// Solve x + c T(om + x, ca x + a0) = w for the relative bit speed x; Tout receives T at x.
+  /// Solve x + c T(om + x, ca x + a0) = w for the relative bit speed x; Tout receives T at x (the
+  /// total torque, string friction sf sign(v) included).
   double solve_bit(double w, double c, double om, double ca, double a0, double wob, double eta, double cv,
-                   double guess, double t, double& Tout) const {
+                   double sf, double guess, double t, double& Tout) const {
     return solve_root(
         [&](double x, double& dF) {
-          const TorqueEval e = total_torque(om + x, ca * x + a0, wob, eta, cv);
+          const TorqueEval e = total_torque(om + x, ca * x + a0, wob, eta, cv, sf);
           Tout = e.T;
           dF = 1.0 + c * (e.dT_dv + e.dT_da * ca);
           return x + c * e.T - w;

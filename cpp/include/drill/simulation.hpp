@@ -42,6 +42,7 @@ class Simulation {
     in.top_speed = Signal::constant(top_speed);
     in.wob = Signal::constant(wob);
     in.bit_viscous = cfg_.bit_viscous;
+    in.string_friction = cfg_.string_friction;
     in.top_drive = cfg_.top_drive;
     return in;
   }
@@ -54,9 +55,15 @@ class Simulation {
   /// from Eq. (2.10) probes the other side of the bistable band (docs/validation.md).
   /// With a motor top drive the string turns at the speed where the motor's torque carries the
   /// torque on bit, Omega = Omega_c - T(Omega) / c_m (bisection on [0, Omega_c]; 0 if it stalls).
+  /// The twist and the motor carry the total torque at the bit, c_v Omega and the string friction
+  /// T_sf sign(Omega) of `operation.string_friction_nm` included.
   ModelState steady_state(double top_speed, double wob, double disturbance = 0.01) const {
     const ReducedModel& r = rom_.model;
-    auto torque = [&](double om) { return cfg_.law.torque(om, 0.0, wob) + cfg_.bit_viscous * om; };
+    const double sf = cfg_.string_friction;
+    auto torque = [&](double om) {
+      const double T = cfg_.law.torque(om, 0.0, wob) + cfg_.bit_viscous * om;
+      return sf > 0.0 ? T + sf * ((om > 0.0) - (om < 0.0)) : T;
+    };
     double om = top_speed;
     if (cfg_.top_drive.is_motor() && top_speed > 0.0) {
       double lo = 0.0, hi = top_speed;  // g(om) = om - Omega_c + T(om) / c_m is negative at 0 unless stalled

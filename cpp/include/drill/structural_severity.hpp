@@ -76,6 +76,7 @@ inline Eigen::MatrixXd severity_samples(const StochasticModel& sm, const Severit
         in.top_speed = Signal::constant(opt.speeds[k]);
         in.wob = Signal::constant(cfg.wob);
         in.bit_viscous = cfg.bit_viscous;
+        in.string_friction = cfg.string_friction;
         if (eta) in.eta = eta(i);
         SeverityObserver sev(cfg.transient);
         integ.run(in, sev);

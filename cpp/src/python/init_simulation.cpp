@@ -73,7 +73,8 @@ void init_simulation(py::module_& m) {
           "run",
           [](const Simulation& s, py::object top_speed, py::object wob, py::object top_speed_series,
              py::object wob_series, py::object eta_series, double series_dt, double series_t0,
-             py::object bit_viscous, bool record, py::object q0, py::object qdot0, py::object top_speed0) {
+             py::object bit_viscous, py::object string_friction, bool record, py::object q0, py::object qdot0,
+             py::object top_speed0) {
             Inputs in = s.inputs();
             const double om = top_speed.is_none() ? s.config().top_speed : py::cast<double>(top_speed);
             const double w = wob.is_none() ? s.config().wob : py::cast<double>(wob);
@@ -81,6 +82,7 @@ void init_simulation(py::module_& m) {
             in.wob = to_signal(wob_series, series_dt, series_t0, w, "wob_series");
             in.eta = to_signal(eta_series, series_dt, series_t0, 0.0, "eta_series");
             if (!bit_viscous.is_none()) in.bit_viscous = py::cast<double>(bit_viscous);
+            if (!string_friction.is_none()) in.string_friction = py::cast<double>(string_friction);
             ModelState start;
             const bool has_start = !q0.is_none();
             if (has_start) {
@@ -97,7 +99,8 @@ void init_simulation(py::module_& m) {
           },
           py::arg("top_speed") = py::none(), py::arg("wob") = py::none(), py::arg("top_speed_series") = py::none(),
           py::arg("wob_series") = py::none(), py::arg("eta_series") = py::none(), py::arg("series_dt") = 1e-3,
-          py::arg("series_t0") = 0.0, py::arg("bit_viscous") = py::none(), py::arg("record") = true,
+          py::arg("series_t0") = 0.0, py::arg("bit_viscous") = py::none(), py::arg("string_friction") = py::none(),
+          py::arg("record") = true,
           py::arg("q0") = py::none(), py::arg("qdot0") = py::none(), py::arg("top_speed0") = py::none(),
           "Run one simulation; series inputs are sampled every series_dt from series_t0; top_speed0 is the "
           "initial motor speed of a motor top drive (default: its command).")
