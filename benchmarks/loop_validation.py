@@ -11,7 +11,10 @@ frequency: record, baseline, final) and the unexplained fraction.
 
 Pass rules: ``clean``: nothing added; ``single``/``noise``: that effect named first with E after
 <= 0.6 E before; ``half``: named first (the summary counts them: "most" is the target); ``two``:
-both found; ``outside``: nothing misnamed (nothing added, or the listed acceptable name).
+both found; ``outside``: nothing misnamed (nothing added, or the listed acceptable name);
+``confounded``: a bit viscous torque under a constant top speed, -c_v v = c_v (Omega - v) - c_v Omega,
+is exactly a string damping plus a constant torque that the restart state absorbs into the twist:
+the calibrated damping ratio takes it (docs/loop.md); nothing else may be named.
 
     PYTHONPATH=python python3 benchmarks/loop_validation.py              # the whole table (~5 min)
     PYTHONPATH=python python3 benchmarks/loop_validation.py --markdown   # as the table of docs/loop.md
@@ -31,7 +34,7 @@ from drillpy.synthetic import declared_config, synthetic_record
 ORIGINAL_SIX = ("bit_hysteresis", "wob_coupling", "top_drive_dynamics", "sensor_lag", "torque_fluctuation",
                 "viscous_damping")
 #: Record length [s], rate [Hz] and engine step of the loop [s].
-DURATION_S, RATE_HZ, LOOP_DT_S = 20.0, 500.0, 2e-4
+DURATION_S, RATE_HZ, LOOP_DT_S = 40.0, 500.0, 2e-4
 
 
 @dataclass
@@ -59,7 +62,7 @@ CASES = [
     Case("single", {"top_drive_dynamics": {}}, 13, fast=True),
     Case("single", {"sensor_lag": {}}, 14, fast=True),
     Case("single", {"torque_fluctuation": {}}, 15),
-    Case("single", {"viscous_damping": {}}, 16, acceptable=("string_friction",)),
+    Case("confounded", {"viscous_damping": {}}, 16, acceptable=("viscous_damping",)),
     Case("single", {"string_stiffness": {}}, 17, fast=True),
     Case("single", {"static_friction": {}}, 18),
     Case("single", {"string_friction": {}}, 19),
@@ -67,7 +70,7 @@ CASES = [
     Case("half", {"wob_coupling": {"gain": 0.5}}, 22),
     Case("half", {"top_drive_dynamics": {"slope_nms_rad": 0.5}}, 23),
     Case("half", {"sensor_lag": {"lowpass_hz": 20.0}}, 24),
-    Case("half", {"viscous_damping": {"bit_viscous_nms": 0.015}}, 26, acceptable=("string_friction",)),
+    Case("confounded", {"viscous_damping": {"bit_viscous_nms": 0.015}}, 26, acceptable=("viscous_damping",)),
     Case("half", {"static_friction": {"static_torque_nm": 3.6}}, 28),
     Case("half", {"string_stiffness": {"gj_factor": 0.925}}, 27),
     Case("half", {"string_friction": {"string_friction_nm": 0.15}}, 29),
@@ -109,7 +112,7 @@ def _run(case: Case) -> dict:
         ok = first is not None and (first["effect"] in truth or first["effect"] in case.acceptable)
     elif case.kind == "two":
         ok = truth <= set(added)
-    else:
+    else:  # outside the catalogue, or confounded with the calibrated damping: nothing misnamed
         ok = set(added) <= set(case.acceptable)
     lr_b, lr_f = res.baseline_long_run, (res.steps[-1]["long_run"] if res.steps else res.baseline_long_run)
     return {"case": case, "found": added, "removed": res.removed, "baseline": res.baseline.E_test,

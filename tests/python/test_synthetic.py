@@ -84,7 +84,7 @@ def test_effects_outside_the_catalogue_and_new_catalogue_effects_leave_their_mar
     base = synthetic_record((), duration_s=8.0, seed=3, noise=0.0)
     ramp = synthetic_record({"top_speed_ramp": {"ramp_fraction": 0.2}}, duration_s=8.0, seed=3, noise=0.0)
     slope = np.polyfit(ramp.time_s, ramp.top_speed, 1)[0]
-    assert slope * 11.0 == pytest.approx(0.2 * np.mean(base.top_speed), rel=0.05)  # over settle + record
+    assert slope * (6.0 + 8.0) == pytest.approx(0.2 * np.mean(base.top_speed), rel=0.05)  # over settle + record
     soft = synthetic_record({"string_stiffness": {"gj_factor": 0.7}}, duration_s=8.0, seed=3, noise=0.0)
 
     def freq(r):

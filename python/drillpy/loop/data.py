@@ -12,6 +12,7 @@ from scipy import signal as sps
 from .. import signals
 from ..cleaning import CleaningOptions, clean
 from ..records import Record, read_record
+from ..rigsim import reliable_top_speed
 from .options import LoopOptions
 
 #: Channels the cleaning searches for spikes: the encoders (the load cells' torque and WOB drop
@@ -49,7 +50,7 @@ class LoopData:
     sigma_v: float
     sigma_T: float
     top_meas: np.ndarray | None
-    sigma_top: float
+    top_ok: np.ndarray | None  #: top-speed samples that are measurements (not an artifact the cleaning filled)
     law_train: np.ndarray
     law_test: np.ndarray
     cleaning: list
@@ -130,7 +131,7 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopDat
     train = ok & (t < t_split)
     sv, sT = float(np.std(v_meas[train])), float(np.std(T_meas[train]))
     top_meas = filled(rec.top_speed)[::q] if has_top else None
-    s_top = float(np.std(top_meas[train])) if has_top else float("nan")
+    top_ok = (reliable_top_speed(rec)[::q] & ok) if has_top else None
     if not (sv > 0 and sT > 0):
         raise ValueError("record: the bit speed or the torque on bit is constant over the calibration part")
     every = max(1, int(round(0.01 / dt)))  # law fits on 100 Hz: the channels are smooth at that scale
@@ -142,7 +143,7 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopDat
     if law_train.size < 20:
         raise ValueError(f"record: only {law_train.size} slip samples in the calibration part to fit the law")
     return LoopData(str(rec.provenance.get("source", "record")), t, dt, ch, v_meas, T_meas, ok, has_top, has_wob, thr,
-                    t_split, starts, is_test, L, sv, sT, top_meas, s_top, law_train, law_test, rep.lines(), q, fs, rec)
+                    t_split, starts, is_test, L, sv, sT, top_meas, top_ok, law_train, law_test, rep.lines(), q, fs, rec)
 
 
 

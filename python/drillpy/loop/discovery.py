@@ -1,6 +1,6 @@
 """What the catalogue cannot name: sparse regression of a residual on a library of candidate terms.
 
-The loop's catalogue (:mod:`drillpy.effects`) only tries effects it knows by name. This module is
+The loop's catalogue (:mod:`drillpy.loop.effects`) only tries effects it knows by name. This module is
 the step after it: the residual r [N m] left by the declared model (one value per sample, NaN where
 undefined) is regressed on a library of candidate terms built from the measured channels
 (:func:`library`), the few terms that explain it are kept (:func:`discover`) and each is reported

@@ -9,8 +9,8 @@ import numpy as np
 from scipy import stats
 
 from .. import identification as ident
-from .data import LoopData, measured
-from .model import Evaluation, score
+from .data import LoopData
+from .model import Evaluation, channel_errors, score
 from .options import LoopOptions
 
 
@@ -33,15 +33,13 @@ def evidence(before: Evaluation, after: Evaluation, data: LoopData, n_candidates
     sd = float(np.std(d, ddof=1))
     tstat = float(np.mean(d) / (sd / math.sqrt(k_eff))) if sd > 0 else (math.inf if np.mean(d) > 0 else 0.0)
     p = float(stats.t.sf(tstat, max(k_eff - 1.0, 1.0)))
-    Yv, YT = measured(data)
-    rv = ((Yv - before.v) / data.sigma_v)[tr].ravel()
-    rT = ((YT - before.T) / data.sigma_T)[tr].ravel()
-    sv = ((after.v - before.v) / data.sigma_v)[tr].ravel()
-    sT = ((after.T - before.T) / data.sigma_T)[tr].ravel()
-    R, S = np.r_[rv, rT], np.r_[sv, sT]
+    eb = channel_errors(before.v, before.T, before.top, data)
+    ea = channel_errors(after.v, after.T, after.top, data)
+    R = np.concatenate([-r[tr].ravel() for r in eb])  # measured - predicted
+    S = np.concatenate([(a - b)[tr].ravel() for a, b in zip(ea, eb)])
     explained = float((R @ S) ** 2 / ((R @ R) * (S @ S))) if (S @ S) > 0 and (R @ R) > 0 else 0.0
-    tau_r = 0.5 * (_autocorrelation_time(rv) + _autocorrelation_time(rT))
-    n_eff = rv.size / tau_r
+    tau_r = float(np.mean([_autocorrelation_time(r[tr].ravel()) for r in eb[:2]]))
+    n_eff = eb[0][tr].size / tau_r
     dk = after.model.k - before.model.k
     dbic = float(n_eff * math.log(before.E_train ** 2 / after.E_train ** 2) - dk * math.log(n_eff))
     level = opt.alpha / max(n_candidates, 1)
@@ -68,9 +66,11 @@ def trivial_predictors(data: LoopData) -> dict:
     L = data.L
     n = data.starts.size
     mean_v, mean_T = float(np.mean(data.v_meas[tr])), float(np.mean(data.T_meas[tr]))
-    _, _, e_mean = score(np.full((n, L), mean_v), np.full((n, L), mean_T), data)
+    mean_top = np.full((n, L), float(np.mean(data.top_meas[tr & data.top_ok]))) if data.has_top else None
+    _, _, e_mean = score(np.full((n, L), mean_v), np.full((n, L), mean_T), data, mean_top)
     v0, T0 = data.ch["v"][data.starts], data.ch["T"][data.starts]
-    _, _, e_hold = score(np.repeat(v0[:, None], L, 1), np.repeat(T0[:, None], L, 1), data)
+    top0 = np.repeat(data.ch["top"][data.starts][:, None], L, 1) if data.has_top else None
+    _, _, e_hold = score(np.repeat(v0[:, None], L, 1), np.repeat(T0[:, None], L, 1), data, top0)
     return {"mean": e_mean, "hold_last": e_hold}
 
 
@@ -82,3 +82,21 @@ def adequacy(base: Evaluation, data: LoopData) -> dict:
     return {"baseline_error": base.E_test, "mean_predictor_error": triv["mean"],
             "hold_last_predictor_error": triv["hold_last"], "adequate": bool(base.E_test < best),
             "skill": 1.0 - base.E_test / best}
+
+
+def law_evidence(effect, null_model, data: LoopData, opt: LoopOptions) -> tuple:
+    """A law-level effect changes only the torque the law gives for the measured bit speed,
+    acceleration and WOB: fitted on the law residual T - T_law(v, a, W) of the calibration part's
+    slip samples alone (:func:`.fitting.fit_law`), it must lower that residual's RMSE by at least
+    ``min_gain``. (A stiffness or damping mismatch leaves that residual unchanged, however much a
+    law term improves the predictions by mimicking it.) Returns (RMSE before, after, reasons)."""
+    if effect.level != "law":
+        return None, None, []
+    from .fitting import law_fit_rmse
+    with_it = null_model.copy()
+    with_it.effects[effect.name] = dict(effect.defaults)
+    before, after = law_fit_rmse(null_model, data), law_fit_rmse(with_it, data)
+    if after <= (1.0 - opt.min_gain) * before:
+        return before, after, []
+    return before, after, [f"fitted on the law residual alone it lowers it by less than {100 * opt.min_gain:.0f} % "
+                           f"({before:.4g} -> {after:.4g} N m): a law-level effect must show in it"]

@@ -59,6 +59,14 @@ def _law_family(law: dict, hysteresis: bool, a_scale: float) -> tuple:
     raise ValueError(f"law.type = {t!r}: not supported by drillpy loop")
 
 
+def law_fit_rmse(model: LoopModel, data: LoopData) -> float:
+    """RMSE [N m] of the law residual on the calibration part's slip samples after :func:`fit_law`."""
+    m = fit_law(model, data)
+    chs = law_channels(m, data)
+    idx = data.law_train
+    return float(np.sqrt(np.mean((chs["T"][idx] - law_torque(m, chs, idx)) ** 2)))
+
+
 def _a_scale(data: LoopData) -> float:
     return float(np.std(data.ch["v1"][data.law_train])) or 1.0
 
@@ -194,12 +202,11 @@ def fit_dynamic(model: LoopModel, data: LoopData, names, opt: LoopOptions) -> tu
     if x0.size == 0:
         return model.copy(), {}
     x0 = np.clip(x0, _inside(lo, +1), _inside(hi, -1))
-    top = model.effects.get("top_drive_dynamics", {}).get("variant") == "motor"
-    size = (3 if top else 2) * int((~data.is_test).sum()) * data.L
+    size = (3 if data.has_top else 2) * int((~data.is_test).sum()) * data.L
 
     def res(x):
         try:
-            r = residual_vector(_unpack(model, x, where), data, opt.threads, top)
+            r = residual_vector(_unpack(model, x, where), data, opt.threads)
         except (ValueError, RuntimeError):  # an unstable or diverging trial: a large residual
             return np.full(size, 10.0)
         return np.where(np.isfinite(r), r, 10.0)
@@ -237,7 +244,7 @@ def _intervals(r, lo, hi, where) -> dict:
 def _calibrate(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
     """The law, the damping ratios and every effect's free parameters jointly on the calibration
     horizons, from the model's values."""
-    return fit_dynamic(model, data, [LAW, DAMPING] + list(model.effects), opt)
+    return fit_dynamic(model, data, [LAW] + ([] if model.damping_held else [DAMPING]) + list(model.effects), opt)
 
 
 def eta_std(model: LoopModel, data: LoopData) -> float:
@@ -293,7 +300,8 @@ def fit_candidate(model: LoopModel, data: LoopData, name: str, opt: LoopOptions)
         m, ci = _calibrate(fit_law(m, data), data, opt)  # the law's new term on the law residual first
         return _finish(m, data), ci
     best, err = None, math.inf
-    for p in eff.starts(m, data):
+    d = eff.direct(m, data)
+    for p in ([d["params"]] if d and d["significant"] else eff.starts(m, data)):
         c = m.copy()
         c.effects[name] = dict(p)
         e = e_train(c, data, opt.threads)
@@ -312,15 +320,20 @@ def parameter_evidence(model: LoopModel, name: str, ci: dict, data: LoopData) ->
     eff = CATALOGUE[name]
     p = model.effects.get(name, {})
     rows, reasons = {}, []
+    direct = eff.direct(model, data) if p.get("source") else None
     for q in eff.params:
         if q.name not in p:
             continue
         info = dict(ci.get(name, {}).get(q.name, {"value": p[q.name], "ci95": None, "at_bound": False}))
+        if direct is not None:
+            info.update(ci95=direct["ci95"][q.name], source=p["source"])
         info["unit"] = q.unit
         rows[q.name] = info
         if not q.fitted:
             continue
-        if info["at_bound"]:
+        if info["at_bound"] and not q.binding:
+            info["flag"] = "at its bound"
+        elif info["at_bound"]:
             reasons.append(f"{q.name} = {p[q.name]:.4g} {q.unit} at its bound")
         elif q.null is not None and info.get("ci95") is not None:
             lo, hi = info["ci95"]

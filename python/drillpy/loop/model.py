@@ -32,6 +32,7 @@ class LoopModel:
     wob: float        #: WOB W_0 at which the law is evaluated [N]
     effects: dict = field(default_factory=dict)
     n_law: int = 0    #: free parameters of the law
+    damping_held: bool = False  #: the damping ratios are set by the limit cycle, not fitted (run._hold_damping)
 
     def copy(self) -> "LoopModel":
         return copy.deepcopy(self)
@@ -45,7 +46,7 @@ class LoopModel:
     @property
     def k(self) -> int:
         """Number of calibrated parameters (law, damping ratios, effects)."""
-        return self.n_law + len(self.damping_ratios or ()) + sum(CATALOGUE[n].count(p) for n, p in self.effects.items())
+        return self.n_law + (0 if self.damping_held else len(self.damping_ratios or ())) + sum(CATALOGUE[n].count(p) for n, p in self.effects.items())
 
     def engine_config(self) -> dict:
         """The engine configuration of the model, every effect applied."""
@@ -67,7 +68,7 @@ class LoopModel:
         operating point (read back by :meth:`from_dict` and by ``drillpy predict``)."""
         return {"format": "drillpy.loop_model", "version": 1, "config": self.engine_config(),
                 "base_config": self.cfg, "law": self.law, "top_speed_rad_s": self.top_speed, "wob_n": self.wob,
-                "effects": self.effects, "n_law": self.n_law}
+                "effects": self.effects, "n_law": self.n_law, "damping_held": self.damping_held}
 
     @classmethod
     def from_dict(cls, d: dict) -> "LoopModel":
@@ -79,7 +80,7 @@ class LoopModel:
             if unknown:
                 raise ValueError(f"model: effects {sorted(unknown)} are not in the catalogue")
             return cls(d["base_config"], d["law"], float(d["top_speed_rad_s"]), float(d["wob_n"]), eff,
-                       int(d.get("n_law", 0)))
+                       int(d.get("n_law", 0)), bool(d.get("damping_held", False)))
         except KeyError as e:
             raise ValueError(f"model: lacks {e}") from None
 
@@ -216,6 +217,7 @@ class Evaluation:
     model: LoopModel
     v: np.ndarray          #: predicted bit speed, horizons x L [rad/s]
     T: np.ndarray          #: predicted torque on bit [N m]
+    top: np.ndarray | None  #: predicted top speed [rad/s] (records with a top-speed channel)
     e_h: np.ndarray        #: per-horizon normalized mean squared error
     E_train: float
     E_test: float
@@ -224,18 +226,33 @@ class Evaluation:
     channel_rmse: dict     #: validation RMSE per channel: bit speed [rad/s], torque [N m]
 
 
-def score(v: np.ndarray, T: np.ndarray, data: LoopData) -> tuple:
-    """Per-horizon normalized mean squared errors and (E_train, E_test) of predictions (horizons x L)."""
-    Yv, YT = measured(data)
-    e_h = 0.5 * (np.mean((v - Yv) ** 2, axis=1) / data.sigma_v ** 2 + np.mean((T - YT) ** 2, axis=1) / data.sigma_T ** 2)
+def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=None) -> list:
+    """Normalized residuals per channel of predictions (horizons x L): bit speed over sd_v, torque
+    over sd_T and, with a top-speed channel, top speed over sd_v (the bit speed's spread: a top that
+    turns steadily adds nothing; a drive that gives way is an error of the same scale as the bit's),
+    zero where the recorded top speed is not a measurement."""
+    h = np.arange(data.starts.size) if horizons is None else np.asarray(horizons)
+    Yv, YT = measured(data, h)
+    out = [(v - Yv) / data.sigma_v, (T - YT) / data.sigma_T]
+    if data.has_top:
+        s = data.horizon_samples[h]
+        out.append(np.where(data.top_ok[s], (top - data.top_meas[s]) / data.sigma_v, 0.0))
+    return out
+
+
+def score(v: np.ndarray, T: np.ndarray, data: LoopData, top=None) -> tuple:
+    """Per-horizon normalized mean squared errors and (E_train, E_test) of predictions (horizons x L):
+    E^2 is the mean over the channels of :func:`channel_errors` squared."""
+    parts = channel_errors(v, T, top, data)
+    e_h = sum(np.mean(r ** 2, axis=1) for r in parts) / len(parts)
     te = data.is_test
     return e_h, float(np.sqrt(np.mean(e_h[~te]))), float(np.sqrt(np.mean(e_h[te])))
 
 
 def evaluate(model: LoopModel, data: LoopData, threads: int = 0) -> Evaluation:
-    v, T = predict(model, data, threads=threads)
+    v, T, top = predict(model, data, threads=threads, top=True)
     Yv, YT = measured(data)
-    e_h, e_tr, e_te = score(v, T, data)
+    e_h, e_tr, e_te = score(v, T, data, top)
     chs = law_channels(model, data)
     lr = {}
     for key, idx in (("train", data.law_train), ("test", data.law_test)):
@@ -244,22 +261,16 @@ def evaluate(model: LoopModel, data: LoopData, threads: int = 0) -> Evaluation:
     te = data.is_test
     rm = {"bit_speed_rad_s": float(np.sqrt(np.mean((v[te] - Yv[te]) ** 2))),
           "torque_on_bit_nm": float(np.sqrt(np.mean((T[te] - YT[te]) ** 2)))}
-    return Evaluation(model, v, T, e_h, e_tr, e_te, lr["train"], lr["test"], rm)
+    return Evaluation(model, v, T, top if data.has_top else None, e_h, e_tr, e_te, lr["train"], lr["test"], rm)
 
 
-def residual_vector(model: LoopModel, data: LoopData, threads: int, top: bool = False) -> np.ndarray:
-    """Normalized residuals of the calibration horizons; their sum of squares is E_train^2. With
-    ``top`` the top speed's residual (normalized by its standard deviation over the calibration
-    part) is appended: a motor model must also reproduce the recorded top speed."""
+def residual_vector(model: LoopModel, data: LoopData, threads: int) -> np.ndarray:
+    """Normalized residuals of the calibration horizons (every channel of :func:`channel_errors`);
+    their sum of squares is E_train^2."""
     h = np.flatnonzero(~data.is_test)
-    out = predict(model, data, h, threads, top=top)
-    Yv, YT = measured(data, h)
-    n = Yv.size
-    parts = [((out[0] - Yv) / data.sigma_v).ravel(), ((out[1] - YT) / data.sigma_T).ravel()]
-    if top:
-        s_top = max(data.sigma_top, 1e-3 * data.sigma_v)
-        parts.append(((out[2] - data.top_meas[data.horizon_samples[h]]) / s_top).ravel())
-    return np.concatenate(parts) / math.sqrt(2 * n)
+    v, T, top = predict(model, data, h, threads, top=True)
+    parts = channel_errors(v, T, top, data, h)
+    return np.concatenate([r.ravel() for r in parts]) / math.sqrt(len(parts) * v.size)
 
 
 def bit_equation(model: LoopModel) -> dict:
@@ -285,26 +296,32 @@ def bit_equation(model: LoopModel) -> dict:
             "string_friction_nm": float(op.get("string_friction_nm", 0.0))}
 
 
-def equation_residual(model: LoopModel, data: LoopData) -> tuple:
+def equation_residual(model: LoopModel, data: LoopData, highpass_s: float = 2.0) -> tuple | None:
     """The residual of the bit's equation of motion (:func:`bit_equation`) on the record, in N m,
-    and the channels the discovery step regresses it on (v, a, T, twist, top, dtop, W). The twist
-    is the integral of top minus bit speed, linearly detrended (its offset and an encoder scale
-    mismatch are unknown) and its offset fitted by least squares. None without a top-speed channel."""
+    and the channels the discovery step regresses it on (v, a, T, twist, top, dtop, W). The twist is
+    the integral of top minus bit speed with its centred ``highpass_s`` moving average removed (its
+    offset and a slow drift from an encoder scale mismatch are unknown; a constant term of the
+    library takes the mean). Samples where the top speed is not a measurement, and those within
+    ``highpass_s`` after one (the integral carries the error), are left out (NaN). None without a
+    top-speed channel."""
     if not data.has_top:
         return None
+    from scipy.ndimage import uniform_filter1d
     ch, dt = data.ch, data.dt
     eq = bit_equation(model)
     v, a, T, top = ch["v"], ch["v1"], ch["T"], ch["top"]
-    ok = data.valid
-    phi = np.concatenate([[0.0], np.cumsum(0.5 * ((top - v)[1:] + (top - v)[:-1]) * dt)])
-    tt = data.t - data.t[0]
-    slope, icpt = np.polyfit(tt[ok], phi[ok], 1)
-    phi = phi - (slope * tt + icpt)
-    eps = 0.05 * float(np.mean(np.abs(v[ok])))
+    slip = top - v
+    phi = np.concatenate([[0.0], np.cumsum(0.5 * (slip[1:] + slip[:-1]) * dt)])
+    w = max(3, int(round(highpass_s / dt)))
+    phi = phi - uniform_filter1d(phi, w, mode="nearest")
+    bad = ~(data.valid & data.top_ok)
+    bad = np.convolve(bad.astype(float), np.ones(w), mode="full")[: bad.size] > 0  # and highpass_s after
+    eps = 0.05 * float(np.mean(np.abs(v[~bad]))) if (~bad).any() else 1.0
     extra = eq["viscous_nms_rad"] * v + eq["string_friction_nm"] * v / np.sqrt(v ** 2 + eps ** 2)
     r = eq["J_kg_m2"] * a - eq["k_nm_rad"] * phi - eq["c_nms_rad"] * (top - v) + T + extra
-    r = r - float(np.mean(r[ok]))  # the twist's offset: k phi_0
+    if (~bad).any():
+        r = r - float(np.mean(r[~bad]))
     chans = {"v": v, "a": a, "T": T, "twist": phi, "top": top, "dtop": ch["top1"]}
     if data.has_wob:
         chans["W"] = ch["W"]
-    return np.where(ok, r, np.nan), chans, eq
+    return np.where(bad, np.nan, r), chans, eq

@@ -188,18 +188,25 @@ def errors_figure(path, res: LoopResult) -> Path:
 # ---------------------------------------------------------------------------------- files
 def write_predictions(path, res: LoopResult) -> Path:
     """predictions.csv: every sample of the analysis grid (header row first, numbers only; empty
-    cells where no horizon covers a sample): time, the recorded bit speed and torque on bit, the
-    baseline's and the final model's predictions of both, whether the sample is in the validation
-    part (1) or the calibration part (0), and the index of the horizon that predicts it."""
+    cells where no horizon covers a sample or the record has no top speed): time, the recorded bit
+    speed, torque on bit and top speed, whether the recorded top speed is a measurement (1; 0: an
+    artifact the cleaning filled, left out of E), the baseline's and the final model's predictions
+    of the three, whether the sample is in the validation part (1) or the calibration part (0), and
+    the index of the horizon that predicts it."""
     d = res.data
     n = d.t.size
-    cols = {k: np.full(n, np.nan) for k in ("bv", "bT", "fv", "fT", "val", "hor")}
+    keys = ("bv", "bT", "btop", "fv", "fT", "ftop", "val", "hor")
+    cols = {k: np.full(n, np.nan) for k in keys}
     hs = d.horizon_samples
     for key, ev in (("b", res.baseline), ("f", res.final)):
         cols[key + "v"][hs] = ev.v
         cols[key + "T"][hs] = ev.T
+        if ev.top is not None:
+            cols[key + "top"][hs] = ev.top
     cols["val"][hs] = d.is_test[:, None].astype(float)
     cols["hor"][hs] = np.arange(d.starts.size)[:, None]
+    top = d.top_meas if d.has_top else np.full(n, np.nan)
+    top_ok = d.top_ok.astype(float) if d.has_top else np.full(n, np.nan)
 
     def f(x):
         return "" if not np.isfinite(x) else repr(float(x))
@@ -209,12 +216,13 @@ def write_predictions(path, res: LoopResult) -> Path:
 
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["time_s", "bit_speed_rad_s", "torque_on_bit_Nm", "baseline_bit_speed_rad_s",
-                    "baseline_torque_on_bit_Nm", "final_bit_speed_rad_s", "final_torque_on_bit_Nm", "validation",
-                    "horizon"])
+        w.writerow(["time_s", "bit_speed_rad_s", "torque_on_bit_Nm", "top_speed_rad_s", "top_speed_measured",
+                    "baseline_bit_speed_rad_s", "baseline_torque_on_bit_Nm", "baseline_top_speed_rad_s",
+                    "final_bit_speed_rad_s", "final_torque_on_bit_Nm", "final_top_speed_rad_s", "validation", "horizon"])
         for k in range(n):
-            w.writerow([repr(float(d.t[k])), f(d.v_meas[k]), f(d.T_meas[k]), f(cols["bv"][k]), f(cols["bT"][k]),
-                        f(cols["fv"][k]), f(cols["fT"][k]), i(cols["val"][k]), i(cols["hor"][k])])
+            w.writerow([repr(float(d.t[k])), f(d.v_meas[k]), f(d.T_meas[k]), f(top[k]), i(top_ok[k])]
+                       + [f(cols[c][k]) for c in ("bv", "bT", "btop", "fv", "fT", "ftop")]
+                       + [i(cols["val"][k]), i(cols["hor"][k])])
     return Path(path)
 
 

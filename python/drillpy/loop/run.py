@@ -10,11 +10,13 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from ..config import normalize
 from .data import LoopData, prepare
 from .discovery import discover, library, residual_structure
 from .effects import CATALOGUE
-from .evidence import adequacy, evidence
+from .evidence import adequacy, evidence, law_evidence
 from .fitting import calibrate, fit_candidate, null_candidate, parameter_evidence, refit
 from .longrun import destroys_cycle, long_run
 from .model import Evaluation, LoopModel, equation_residual, evaluate
@@ -39,11 +41,14 @@ class LoopResult:
 
     def metric(self) -> str:
         d = self.data
+        top = (" + (top_pred - top)^2 / sd(v)^2" if d.has_top else "")
+        n = 3 if d.has_top else 2
         return (f"normalized short-horizon prediction error E = sqrt(((v_pred - v)^2 / sd(v)^2 + (T_pred - T)^2 / "
-                f"sd(T)^2) / 2), averaged over every sample of the validation part (t >= {d.t_split:.3f} s); "
-                f"v bit speed, T torque on bit as recorded, sd over the calibration part (sd(v) = {d.sigma_v:.4g} "
-                f"rad/s, sd(T) = {d.sigma_T:.4g} N m); predictions restarted every {self.options.horizon_s:g} s "
-                f"from the measured state")
+                f"sd(T)^2{top}) / {n}), averaged over every sample of the validation part (t >= {d.t_split:.3f} s); "
+                f"v bit speed, T torque on bit" + (", top top speed (where it is a measurement)" if d.has_top else "")
+                + f" as recorded, sd over the calibration part (sd(v) = {d.sigma_v:.4g} rad/s, sd(T) = "
+                f"{d.sigma_T:.4g} N m); predictions restarted every {self.options.horizon_s:g} s from the measured "
+                "state")
 
     @property
     def removed(self) -> list:
@@ -105,20 +110,99 @@ def _backward(cur: Evaluation, cur_lr: dict, data: LoopData, opt: LoopOptions, k
             except (ValueError, RuntimeError):
                 continue
             e = evidence(red, cur, data, len(cur.model.effects), opt)
+            lr = _long(opt, red.model, data)
+            kept = opt.long_run and destroys_cycle(cur_lr, lr)
             log(f"  remove {name:<20} E_val {red.E_test:.4f} (the effect's gain {100 * e['relative_gain']:+.1f} %)"
-                + ("" if e["accepted"] else "  <- not defended: removed"))
-            if not e["accepted"]:
-                trials.append((red.E_test, name, red, e))
+                + ("" if e["accepted"] else "  <- kept: without it the model no longer sticks" if kept else
+                   "  <- not defended: removed"))
+            if not e["accepted"] and not kept:
+                trials.append((red.E_test, name, red, e, lr))
         if not trials:
             return cur, cur_lr, steps
-        _, name, red, e = min(trials, key=lambda r: r[0])
-        lr = _long(opt, red.model, data)
+        _, name, red, e, lr = min(trials, key=lambda r: r[0])
         steps.append({"action": "remove", "effect": name, "error_before": cur.E_test, "error_after": red.E_test,
                       "evidence": {**e, "accepted": True, "reasons": [f"the guard does not defend {name}: " +
                                                                       "; ".join(e["reasons"])]},
                       "long_run": _pair(cur_lr, lr), "before": cur, "candidate": red, "after": red})
         log(f"step: remove {name}: validation error {cur.E_test:.4f} -> {red.E_test:.4f}")
         cur, cur_lr = red, lr
+
+
+#: A directly measured effect must lower the sum of the long run's relative SS and stick-fraction
+#: errors by at least this.
+DIRECT_LONG_RUN_GAIN = 0.02
+
+
+def _direct(effect, cur: Evaluation, cur_lr: dict, cand: Evaluation, e: dict, data: LoopData,
+            opt: LoopOptions) -> None:
+    """An effect measured directly on the record (its ``direct`` hook, e.g. the break-away torques
+    of the stick phases) whose short-horizon evidence is weak is added when its direct measurement is
+    significant, it costs the predictions at most ``min_gain``, and it brings the long run's stick
+    fraction and SS closer to the record's (the limit cycle is the evidence: by
+    :data:`DIRECT_LONG_RUN_GAIN` at least)."""
+    d = effect.direct(cur.model, data)
+    if not d or not d["significant"] or e["relative_gain"] < -opt.min_gain or not opt.long_run or not cur_lr \
+            or "error" in cur_lr:
+        return
+    lr = long_run(cand.model, data)
+    if "error" in lr:
+        return
+
+    def miss(r):
+        return sum(abs(x) for k, x in r["relative_error"].items() if k in ("ss", "stick_fraction") and x is not None)
+
+    if miss(lr) < miss(cur_lr) - DIRECT_LONG_RUN_GAIN:
+        e["accepted"] = True
+        e["direct"] = d["detail"]
+        e["reasons"] = [f"measured directly: {d['detail']}; long-run SS and stick-fraction errors "
+                        f"{miss(cur_lr):.2f} -> {miss(lr):.2f}"]
+
+
+def _hold_damping(model: LoopModel, lr: dict, data: LoopData, opt: LoopOptions, log) -> tuple:
+    """When the record stick-slips and the calibrated model does not, the short horizons have
+    over-damped it (a prediction that cannot follow the phase scores better when damped towards the
+    mean): the damping ratios are scaled down to the value whose long run matches the record's SS and
+    stick fraction best (a geometric grid down to a tenth of it), then held while the rest is
+    recalibrated. Returns (model, long run, note) or the inputs with note None."""
+    retune = model.damping_held
+    if not lr or "error" in lr or not lr["stick_slips"]["measured"] or model.damping_ratios is None \
+            or (lr["stick_slips"]["model"] and not retune):
+        return model, lr, None
+    meas = lr["measured"]
+    z0 = model.damping_ratios
+    factors = np.geomspace(1.6, 0.4, 13) if retune else np.geomspace(1.0, 0.1, 13)[1:]
+
+    def mismatch(r):
+        if "error" in r:
+            return math.inf
+        m = r["model"]
+        return abs((m["ss"] or 0.0) - meas["ss"]) / meas["ss"] + abs(
+            (m["stick_fraction"] or 0.0) - meas["stick_fraction"]) / max(meas["stick_fraction"], 0.01)
+
+    best = (mismatch(lr) if retune else math.inf, 1.0, lr)
+    for f in factors:
+        m = model.copy()
+        m.cfg["damping"]["ratios"] = [z * float(f) for z in z0]
+        r = long_run(m, data)
+        best = min(best, (mismatch(r), float(f), r), key=lambda b: b[0])
+    f = best[1]
+    if retune and f == 1.0:
+        return model, lr, None
+    held = model.copy()
+    held.cfg["damping"]["ratios"] = [z * f for z in z0]
+    held.damping_held = True
+    held, _ = refit(held, data, opt)
+    new_lr = long_run(held, data)
+    if retune:
+        note = (f"damping ratios re-held at {[round(z * f, 4) for z in z0]} (from {[round(z, 4) for z in z0]}): the "
+                "value whose long run matches the record's SS and stick fraction best with this step's model")
+    else:
+        note = (f"the short-horizon calibration gives damping ratios {[round(z, 4) for z in z0]}, with which the "
+                f"model does not stick-slip while the record does (SS {lr['model']['ss']:.3f} against "
+                f"{meas['ss']:.3f}); the ratios are held at {[round(z * f, 4) for z in z0]}, the value whose long "
+                "run matches the record's SS and stick fraction best, and the rest is recalibrated")
+    log(note)
+    return held, new_lr, note
 
 
 def _discovery(model: LoopModel, data: LoopData, log) -> dict:
@@ -130,6 +214,17 @@ def _discovery(model: LoopModel, data: LoopData, log) -> dict:
     out = discover(r, terms, dt=data.dt)
     out["structure"] = residual_structure(r, chans, data.dt)
     out["equation"] = coeffs
+    # terms of the equation itself: a relative change beyond 50 % is not a mismatch but an equation
+    # that does not balance on this record (e.g. a twist integrated from unreliable encoders)
+    nominal = {"T": 1.0, "twist": coeffs["k_nm_rad"], "a": coeffs["J_kg_m2"]}
+    off = [f"{t['name']} ({t['coefficient'] / nominal[t['name']]:+.0%} of its own coefficient)"
+           for t in out["terms"] if t["name"] in nominal and abs(t["coefficient"]) > 0.5 * nominal[t["name"]]]
+    out["balanced"] = not off
+    if off:
+        out["warning"] = ("the bit's equation does not balance on this record: " + ", ".join(off) + "; the twist "
+                          "integrated from the top and bit encoders does not follow the measured torque, so the "
+                          "terms found are not a model mismatch and the unexplained fraction is not meaningful")
+        log("discovery: " + out["warning"])
     names = ", ".join(f"{t['name']} ({t['coefficient']:.3g} {t['unit']})" for t in out["terms"]) or "none"
     log(f"discovery: terms {names}; unexplained: {100 * out['unexplained_fraction']:.0f} % of the final model's "
         f"equation residual")
@@ -154,9 +249,12 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
     log(f"record: {data.source}; {data.t.size} samples at {1 / data.dt:.0f} Hz; calibration t < {data.t_split:.2f} s "
         f"({int((~data.is_test).sum())} horizons), validation ({int(data.is_test.sum())} horizons of {opt.horizon_s:g} s)")
     m0, _ = calibrate(cfg, data, opt)
+    base_lr = _long(opt, m0, data)
+    m0, base_lr, note = _hold_damping(m0, base_lr, data, opt, log)
+    if note:
+        notes.append(note)
     base = evaluate(m0, data, th)
     adeq = adequacy(base, data)
-    base_lr = _long(opt, m0, data)
     declared = list(m0.effects)
     log(f"baseline (declared model calibrated: damping {m0.damping_ratios}, effects {declared or 'none'}): validation "
         f"error E = {base.E_test:.4f} (calibration {base.E_train:.4f}); mean predictor {adeq['mean_predictor_error']:.4f}, "
@@ -172,7 +270,8 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
             steps += rem
         tried = set(cur.model.effects) | {s["effect"] for s in steps}
         for _ in range(opt.max_steps):
-            cands = [e for e in opt.effects if e not in tried and all(c in data.channels() for c in CATALOGUE[e].needs)]
+            cands = [e for e in opt.effects if e not in tried and all(c in data.channels() for c in CATALOGUE[e].needs)
+                     and not (cur.model.damping_held and "damping" in CATALOGUE[e].confounded_with)]
             if not cands:
                 break
             null_m, _ = null_candidate(cur.model, data, opt)
@@ -185,9 +284,15 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
                     ev = evaluate(cm, data, th)
                     e = evidence(null, ev, data, len(cands), opt)
                     e["parameters"], why = parameter_evidence(cm, name, ci, data)
+                    lb, la, lwhy = law_evidence(CATALOGUE[name], null.model, data, opt)
+                    if lb is not None:
+                        e["law_fit_rmse_before_nm"], e["law_fit_rmse_after_nm"] = lb, la
+                    why += lwhy
                     if why:
                         e["accepted"] = False
                         e["reasons"] = e["reasons"] + why
+                    elif not e["accepted"]:
+                        _direct(CATALOGUE[name], cur, cur_lr, ev, e, data, opt)
                 except (ValueError, RuntimeError) as err:  # a candidate the engine refuses is not evidence
                     ev, e = None, {"accepted": False, "reasons": [f"fit failed: {err}"]}
                 results.append((name, ev, e))
@@ -214,6 +319,10 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
                 break
             name, ev, e, new, lr = chosen
             e = dict(e, error_test_refit=new.E_test, error_test_null=null.E_test, candidates=rounds[-1])
+            if new.model.damping_held:  # the limit cycle sets the damping: re-held with the new effect
+                m2, lr2, note = _hold_damping(new.model, lr, data, opt, log)
+                if note:
+                    new, lr, e["damping"] = evaluate(m2, data, th), lr2, note
             steps.append({"action": "add", "effect": name, "error_before": cur.E_test, "error_after": new.E_test,
                           "evidence": e, "long_run": _pair(cur_lr, lr), "before": cur, "candidate": ev, "after": new})
             log(f"step {len(steps)}: add {name}: validation error {cur.E_test:.4f} -> {new.E_test:.4f}")

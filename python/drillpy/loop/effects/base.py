@@ -38,6 +38,7 @@ class Param:
     null: float | None = None
     fitted: bool = True
     margin: float = 0.0
+    binding: bool = True  #: a fit at a bound means the effect is not identified (False: a shape parameter, flagged only)
 
 
 class Effect:
@@ -67,6 +68,12 @@ class Effect:
     def starts(self, model, data) -> list:
         """Starting parameter sets of the fit (the best on the calibration horizons is refined)."""
         raise NotImplementedError(self.name)
+
+    def direct(self, model, data) -> dict | None:
+        """A direct measurement of the effect from the record's calibration part, independent of
+        the short-horizon fit: {"params": {...}, "ci95": {...}, "significant": bool, "detail": str},
+        or None when the effect has none (default)."""
+        return None
 
     def flags(self, p: dict, data) -> list:
         """Reasons why fitted values are physically implausible (an empty list: plausible)."""

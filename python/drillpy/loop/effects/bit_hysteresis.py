@@ -9,7 +9,8 @@ class BitHysteresis(Effect):
     level = "law"
     params = (Param("beta1", "-", "amplitude of H (Eq. 3.3)", 0.0, 1.0, null=0.0),
               Param("beta2", "s/speed unit", "acceleration scale of H; bounded so that tanh(beta2 a) is not a "
-                    "sign switch over the record's accelerations (100 / sd(a))", 0.0, float("inf")))
+                    "sign switch over the record's accelerations (100 / sd(a)); at that bound H is a switch on the sign of a, "
+                    "which is flagged, not refused", 0.0, float("inf"), binding=False))
     change = "T = T_law(v) (1 + beta1 tanh(beta2 a) sign(v)) (Eqs. 3.2-3.3; 5.3 for the polynomial law)"
     signature = ("a law residual of the sign of the bit acceleration, proportional to the speed-dependent part of "
                  "the torque: torque above the law while the bit accelerates, below while it decelerates (the "

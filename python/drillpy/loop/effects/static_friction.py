@@ -28,13 +28,43 @@ class StaticFriction(Effect):
         if not str(law["type"]).startswith("polynomial"):
             raise ValueError(f"static_friction: the law {law['type']!r} has no static torque (Eq. 5.1 needed)")
 
+    def free(self, p):
+        return () if p.get("source") == "stick phases" else self.params
+
+    def direct(self, model, data):
+        """The break-away torque of every stick phase of the calibration part (the largest torque
+        from the start of the stick to just after it ends, scaled to the model's WOB:
+        :func:`drillpy.identification.breakaway_torques`), its mean with a Student-t interval over
+        the stick phases; significant when the interval lies above the law's torque at the stick
+        threshold by more than 5 % (below that the law itself holds the bit)."""
+        if not str(model.law["type"]).startswith("polynomial"):
+            return None
+        from scipy import stats
+        from ... import identification as ident
+        from ...signals import segment_cycles
+        cal = data.valid & (data.t < data.t_split)
+        cyc = segment_cycles(data.ch["v"], data.dt, data.stick_threshold, valid=cal)
+        w = data.ch["W"] if data.has_wob else None
+        brk = ident.breakaway_torques(cyc, np.where(cal, data.ch["T"], np.nan), w, model.wob)
+        if brk.size < 3:
+            return None
+        m, se = float(np.mean(brk)), float(np.std(brk, ddof=1) / np.sqrt(brk.size))
+        h = float(stats.t.ppf(0.975, brk.size - 1)) * se
+        t_low = float(ident.law_eval(model.law, np.array([data.stick_threshold]), np.zeros(1),
+                                     np.array([model.wob]))[0][0])
+        return {"params": {"static_torque_nm": m, "source": "stick phases"},
+                "ci95": {"static_torque_nm": [m - h, m + h]}, "significant": bool(m - h > 1.05 * t_low),
+                "detail": f"break-away torque {m:.3f} N m [{m - h:.3f}, {m + h:.3f}] over {brk.size} stick phases "
+                          f"against the law's {t_low:.3f} N m at the stick threshold"}
+
     def starts(self, model, data):
+        """Multiples of the law's torque at the stick threshold: a static torque below it changes
+        nothing (the law already holds the bit there)."""
         self._check(model.law)
-        from ..model import state_channels
-        chs = state_channels(model, data)
-        slip = data.valid & (chs["v"] > data.stick_threshold)
-        t95 = float(np.percentile(np.abs(chs["T"][slip]), 95))
-        return [{"static_torque_nm": f * t95} for f in (0.6, 0.9, 1.2)]
+        from ... import identification as ident
+        t_low = float(ident.law_eval(model.law, np.array([data.stick_threshold]), np.zeros(1),
+                                     np.array([model.wob]))[0][0])
+        return [{"static_torque_nm": f * t_low} for f in (1.1, 1.4, 1.8, 2.4)]
 
     def declared(self, cfg):
         law = cfg["law"]

@@ -16,7 +16,9 @@ class ViscousDamping(Effect):
     #: calibration of the modal damping ratio absorbs) plus a constant torque c_v Omega outside the
     #: sensor, which ``string_friction`` describes while the bit slips. The effect is identifiable as
     #: such only when the top speed varies.
-    confounded_with = ("string_friction",)
+    #: While the damping ratios are held by the limit cycle (loop.run._hold_damping) an extra viscous
+    #: torque would undo that choice: it is then not a candidate.
+    confounded_with = ("damping",)
     defaults = {"bit_viscous_nms": 0.03}
 
     def starts(self, model, data):
