@@ -307,22 +307,25 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
                 nm, ci = refit(ev.model, data, opt)
                 new = evaluate(nm, data, th)
                 lr = _long(opt, nm, data)
+                held = None
+                if nm.damping_held:  # the limit cycle sets the damping: re-held with the new effect
+                    m2, lr2, held = _hold_damping(nm, lr, data, opt, log)
+                    if held:
+                        new, lr = evaluate(m2, data, th), lr2
                 if opt.long_run and destroys_cycle(cur_lr, lr):
                     e["accepted"] = False
                     e["reasons"] = e["reasons"] + ["the corrected model no longer stick-slips while the record does"]
                     log(f"  {name}: rejected, the corrected model's limit cycle has no stick-slip")
                     continue
-                chosen = (name, ev, e, new, lr)
+                chosen = (name, ev, e, new, lr, held)
                 break
             if chosen is None:
                 log("no candidate beats the null candidate with significant, physical parameters: stop")
                 break
-            name, ev, e, new, lr = chosen
+            name, ev, e, new, lr, held = chosen
             e = dict(e, error_test_refit=new.E_test, error_test_null=null.E_test, candidates=rounds[-1])
-            if new.model.damping_held:  # the limit cycle sets the damping: re-held with the new effect
-                m2, lr2, note = _hold_damping(new.model, lr, data, opt, log)
-                if note:
-                    new, lr, e["damping"] = evaluate(m2, data, th), lr2, note
+            if held:
+                e["damping"] = held
             steps.append({"action": "add", "effect": name, "error_before": cur.E_test, "error_after": new.E_test,
                           "evidence": e, "long_run": _pair(cur_lr, lr), "before": cur, "candidate": ev, "after": new})
             log(f"step {len(steps)}: add {name}: validation error {cur.E_test:.4f} -> {new.E_test:.4f}")
