@@ -19,6 +19,7 @@ the calibrated damping ratio takes it (docs/loop.md); nothing else may be named.
     PYTHONPATH=python python3 benchmarks/loop_validation.py              # the whole table (~5 min)
     PYTHONPATH=python python3 benchmarks/loop_validation.py --markdown   # as the table of docs/loop.md
     PYTHONPATH=python python3 benchmarks/loop_validation.py --only fast  # the cases the tests run
+    PYTHONPATH=python python3 benchmarks/loop_validation.py --only half,two --markdown --no-header  # part
 """
 from __future__ import annotations
 
@@ -144,10 +145,13 @@ def _params(p: dict) -> str:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--markdown", action="store_true")
-    ap.add_argument("--only", help="run only one kind (clean, single, half, two, outside, noise) or 'fast'")
+    ap.add_argument("--only", help="run only these kinds, comma-separated (clean, single, confounded, half, two, "
+                                   "outside, noise), or 'fast' (the cases the tests run)")
+    ap.add_argument("--no-header", action="store_true", help="Markdown rows only (to join the outputs of several runs)")
     a = ap.parse_args(argv)
-    cases = [c for c in CASES if a.only is None or c.kind == a.only or (a.only == "fast" and c.fast)]
-    if a.markdown:
+    kinds = None if a.only is None else set(a.only.split(","))
+    cases = [c for c in CASES if kinds is None or c.kind in kinds or ("fast" in kinds and c.fast)]
+    if a.markdown and not a.no_header:
         print("| kind | truth (injected) | seed | answer (added, in order) | E before | E after step 1 | E final | "
               "SS / stick / Hz: record, baseline, final | unexplained | fitted | pass |")
         print("|---|---|---:|---|---:|---:|---:|---|---:|---|---|")

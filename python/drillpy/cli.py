@@ -405,8 +405,9 @@ def cmd_loop(a) -> int:
     js = loop_record(a.record, a.out, preset=a.preset, config_path=a.config, options=opt,
                      log=(lambda *_: None) if a.json else print)
     if a.json:
-        print(json.dumps({k: js[k] for k in ("metric", "baseline_error", "final_error")} |
-                         {"effects": [s["effect"] for s in js["steps"]]}))
+        print(json.dumps({k: js[k] for k in ("metric", "baseline_error", "final_error", "declared", "removed",
+                                             "final_effects", "unexplained_fraction")} |
+                         {"added": [s["effect"] for s in js["steps"] if s["action"] == "add"]}))
     return 0
 
 

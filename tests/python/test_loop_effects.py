@@ -77,3 +77,27 @@ def test_static_friction_needs_a_law_with_a_static_torque():
     cfg = stripped(load_config(preset="thesis-field"))
     with pytest.raises(ValueError, match="static_friction: the law 'hysteretic' has no static torque"):
         CATALOGUE["static_friction"].configure(cfg, {"static_torque_nm": 1.0}, None)
+
+
+def test_the_engine_numerics_the_effects_call():
+    """The sensor chain is the engine's (drill/sensor.hpp): a 10 Hz second-order Butterworth passes a
+    constant, gives -3 dB at its cutoff and agrees with SciPy's bilinear design to 1 % of the signal;
+    the motor inertia floor is where the engine's Eq. (A.7) bound with the motor meets the step."""
+    import numpy as np
+    from drillpy import _core
+    from drillpy.loop.model import motor_inertia_floor, simulation
+    from drillpy.signals import rig_lowpass
+    fs = 2000.0
+    t = np.arange(int(4 * fs)) / fs
+    assert np.allclose(_core.lowpass2(np.full(100, 3.0), 10.0, 1 / fs), 3.0)
+    y = _core.lowpass2(np.sin(2 * np.pi * 10.0 * t), 10.0, 1 / fs)
+    assert np.std(y[t > 2]) * math.sqrt(2) == pytest.approx(1 / math.sqrt(2), rel=0.01)
+    x = np.sign(np.sin(2 * np.pi * 2.9 * t))
+    assert np.max(np.abs(_core.lowpass2(x, 10.0, 1 / fs) - rig_lowpass(x, fs, 10.0))) < 0.01
+    cfg = stripped(load_config(preset="thesis-rig"))
+    m = LoopModel(cfg, dict(cfg["law"]), 8.5, 557.1)
+    sim = simulation(m.engine_config())
+    j = motor_inertia_floor(m)
+    dt = cfg["simulation"]["dt_s"]
+    assert sim.motor_stability_bound(j * 1.01) >= dt > sim.motor_stability_bound(j * 0.99)
+    assert sim.motor_stability_bound(1e3) == pytest.approx(sim.stability_bound, rel=1e-3)  # a stiff top

@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include "drill/horizons.hpp"
+#include "drill/sensor.hpp"
 #include "glue.hpp"
 
 namespace py = pybind11;
@@ -24,6 +25,21 @@ std::vector<double> as_vector(const py::object& x, const std::string& field) {
 }  // namespace
 
 void init_horizons(py::module_& m) {
+  m.def(
+      "lowpass2",
+      [](const Eigen::VectorXd& x, double cutoff_hz, double dt) {
+        LowPass2 f(cutoff_hz, dt);
+        Eigen::VectorXd y(x.size());
+        if (x.size() == 0) return y;
+        require(x.allFinite(), "lowpass2 input", "non-finite values", "must be finite (clean the signal first)");
+        f.reset(x(0), 0.0, x(0));
+        y(0) = x(0);
+        for (Eigen::Index k = 1; k < x.size(); ++k) y(k) = f.step(x(k));
+        return y;
+      },
+      py::arg("x"), py::arg("cutoff_hz"), py::arg("dt"),
+      "The measurement chain of drill/sensor.hpp (second-order Butterworth, trapezoidal rule) over a series "
+      "sampled every dt [s], started at rest on its first value.");
   m.def(
       "predict_horizons",
       [](const Simulation& sim, const std::vector<long>& index, const RowMatrix& state, const RowMatrix& sensor,

@@ -60,6 +60,17 @@ void init_simulation(py::module_& m) {
       .def_property_readonly("stability_bound", [](const Simulation& s) { return s.integrator().stability_bound(); },
                              "Modified-Euler bound pi / (5 omega_max) [s] (Eq. A.7).")
       .def(
+          "motor_stability_bound",
+          [](const Simulation& s, double inertia) {
+            require_positive(inertia, "top_drive.inertia_kg_m2");
+            TopDrive td;
+            td.kind = TopDrive::Kind::motor;
+            td.inertia = inertia;
+            return s.integrator().stability_bound(td);
+          },
+          py::arg("inertia_kg_m2"),
+          "Modified-Euler bound [s] (Eq. A.7) with a motor top drive of this inertia coupled to the string.")
+      .def(
           "reduced_matrices",
           [](const Simulation& s) {
             const ReducedModel& r = s.rom().model;

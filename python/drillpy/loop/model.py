@@ -100,14 +100,19 @@ def simulation(cfg: dict) -> "_core.Simulation":
 
 
 def motor_inertia_floor(model: LoopModel) -> float:
-    """Smallest motor inertia the modified-Euler bound (Eq. A.7) allows at the engine step [kg m^2]."""
+    """Smallest motor inertia [kg m^2] for which the engine's modified-Euler bound with the motor
+    (Eq. A.7, ``Simulation.motor_stability_bound``) admits the engine step: bisection in ln J."""
     dt = model.cfg["simulation"]["dt_s"]
-    sim = simulation(model.engine_config())
-    rm = sim.reduced_matrices()
-    coupling = abs(float(np.asarray(rm["top_load"]) @ np.asarray(rm["top_torque"])))
-    wmax = math.pi / (5.0 * dt)
-    w2 = float(np.max(np.linalg.eigvals(np.linalg.solve(rm["M"], rm["K"])).real))
-    return 2.0 * coupling / max(wmax ** 2 - w2, 1e-12)
+    c = model.engine_config()
+    c.pop("top_drive", None)
+    sim = simulation(c)
+    lo, hi = math.log(1e-12), math.log(10.0)
+    if sim.motor_stability_bound(math.exp(lo)) >= dt:
+        return math.exp(lo)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if sim.motor_stability_bound(math.exp(mid)) >= dt else (mid, hi)
+    return math.exp(hi)
 
 
 def sensor_delay(model: LoopModel) -> float:

@@ -51,11 +51,14 @@ class SensorLag(Effect):
         return SQRT2 / w, 1.0 / w ** 2
 
     def measure(self, p, chans, fs):
-        from ...signals import rig_lowpass
-        return {k: rig_lowpass(x, fs, cutoff_hz=p["lowpass_hz"]) for k, x in chans.items()}
+        from ... import _core  # the engine's measurement chain (drill/sensor.hpp)
+        return {k: _core.lowpass2(x, p["lowpass_hz"], 1.0 / fs) for k, x in chans.items()}
 
     def inject(self, truth, p):
-        truth.post.append(lambda chans, fs: self.measure(p, chans, fs))
+        # the truth's acquisition filter is an independent implementation (SciPy's bilinear Butterworth)
+        from ...signals import rig_lowpass
+        truth.post.append(lambda chans, fs: {k: rig_lowpass(x, fs, cutoff_hz=p["lowpass_hz"])
+                                             for k, x in chans.items()})
 
 
 EFFECT = SensorLag()

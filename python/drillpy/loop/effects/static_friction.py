@@ -35,8 +35,8 @@ class StaticFriction(Effect):
         """The break-away torque of every stick phase of the calibration part (the largest torque
         from the start of the stick to just after it ends, scaled to the model's WOB:
         :func:`drillpy.identification.breakaway_torques`), its mean with a Student-t interval over
-        the stick phases; significant when the interval lies above the law's torque at the stick
-        threshold by more than 5 % (below that the law itself holds the bit)."""
+        the stick phases; significant when the interval lies above the law's largest torque over the
+        record's speeds by more than 5 % (below that it is the law's own peak)."""
         if not str(model.law["type"]).startswith("polynomial"):
             return None
         from scipy import stats
@@ -50,12 +50,14 @@ class StaticFriction(Effect):
             return None
         m, se = float(np.mean(brk)), float(np.std(brk, ddof=1) / np.sqrt(brk.size))
         h = float(stats.t.ppf(0.975, brk.size - 1)) * se
-        t_low = float(ident.law_eval(model.law, np.array([data.stick_threshold]), np.zeros(1),
-                                     np.array([model.wob]))[0][0])
+        # the largest torque the law itself gives over the record's speeds: a break-away torque (the
+        # peak just after the bit leaves) below it is the law's own peak, not a static friction
+        v = np.linspace(0.05 * data.stick_threshold, float(np.percentile(data.ch["v"][cal], 99)), 200)
+        t_low = float(np.max(ident.law_eval(model.law, v, np.zeros(v.size), np.full(v.size, model.wob))[0]))
         return {"params": {"static_torque_nm": m, "source": "stick phases"},
                 "ci95": {"static_torque_nm": [m - h, m + h]}, "significant": bool(m - h > 1.05 * t_low),
                 "detail": f"break-away torque {m:.3f} N m [{m - h:.3f}, {m + h:.3f}] over {brk.size} stick phases "
-                          f"against the law's {t_low:.3f} N m at the stick threshold"}
+                          f"against the law's largest torque {t_low:.3f} N m"}
 
     def starts(self, model, data):
         """Multiples of the law's torque at the stick threshold: a static torque below it changes
