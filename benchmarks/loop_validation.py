@@ -61,7 +61,7 @@ CASES = [
     Case("single", {"bit_hysteresis": {}}, 11),
     Case("single", {"wob_coupling": {}}, 12),
     Case("single", {"top_drive_dynamics": {}}, 13, fast=True),
-    Case("single", {"sensor_lag": {}}, 14, fast=True),
+    Case("single", {"sensor_lag": {}}, 14),
     Case("single", {"torque_fluctuation": {}}, 15),
     Case("confounded", {"viscous_damping": {}}, 16, acceptable=("viscous_damping",)),
     Case("single", {"string_stiffness": {}}, 17, fast=True),

@@ -389,6 +389,8 @@ def render_report(res: LoopResult, files: dict) -> str:
         L += ["### What the catalogue cannot name", "",
               f"The final model's residual of the bit's equation of motion, regressed on a library of terms "
               f"({disc.get('method', '')}): **unexplained: {100 * disc['unexplained_fraction']:.0f} % of the residual**.", ""]
+        if disc.get("warning"):
+            L += [f"**Warning**: {disc['warning']}.", ""]
         for t in disc["terms"]:
             ci = t.get("ci95") or [math.nan, math.nan]
             L.append(f"- `{t['name']}`: {t['coefficient']:.4g} {t['unit']} [{ci[0]:.3g}, {ci[1]:.3g}], explains "
