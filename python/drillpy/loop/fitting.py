@@ -59,12 +59,12 @@ def _law_family(law: dict, hysteresis: bool, a_scale: float) -> tuple:
     raise ValueError(f"law.type = {t!r}: not supported by drillpy loop")
 
 
-def law_fit_rmse(model: LoopModel, data: LoopData) -> float:
-    """RMSE [N m] of the law residual on the calibration part's slip samples after :func:`fit_law`."""
+def law_fit_residual(model: LoopModel, data: LoopData) -> np.ndarray:
+    """The law residual [N m] on the calibration part's slip samples after :func:`fit_law`."""
     m = fit_law(model, data)
     chs = law_channels(m, data)
     idx = data.law_train
-    return float(np.sqrt(np.mean((chs["T"][idx] - law_torque(m, chs, idx)) ** 2)))
+    return chs["T"][idx] - law_torque(m, chs, idx)
 
 
 def _a_scale(data: LoopData) -> float:

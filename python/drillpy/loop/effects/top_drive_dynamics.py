@@ -5,6 +5,9 @@ import numpy as np
 
 from .base import Effect, Param
 
+#: The motor inertia is bounded below by this multiple of the modified-Euler stability floor (Eq. A.7):
+#: at the floor the coupled motor mode has 10 steps per period; at 4 x, about 20 (it is resolved).
+RESOLVED = 4.0
 #: A top speed whose standard deviation is below this fraction of its mean is steady: no drive model
 #: can be credited with explaining it (the encoder's noise on the rig is about 0.6 % of 8.5 rad/s).
 STEADY_TOP = 0.01
@@ -13,8 +16,8 @@ STEADY_TOP = 0.01
 class TopDriveDynamics(Effect):
     name = "top_drive_dynamics"
     params = (Param("droop_rad_s_per_nm", "rad/s per N m", "1/c_m: speed lost per N m of top torque", 1e-3, 1e3, "log"),
-              Param("inertia_kg_m2", "kg m^2", "J_m: motor and drive-train inertia (lower bound: the modified-Euler "
-                    "stability bound at the engine step, Eq. A.7)", 1e-6, 10.0, "log"),
+              Param("inertia_kg_m2", "kg m^2", "J_m: motor and drive-train inertia (lower bound: 4 x the inertia at "
+                    "which the modified-Euler stability bound of Eq. A.7 meets the engine step)", 1e-6, 10.0, "log"),
               Param("command_rad_s", "rad/s", "Omega_c: no-load (commanded) speed", 0.0, float("inf")))
     change = ("J_m Omega' = c_m (Omega_c - Omega) - T_top (drill/topdrive.hpp), started at the measured top speed; "
               "variant `measured`: the top follows the measured top speed")
@@ -43,7 +46,7 @@ class TopDriveDynamics(Effect):
     def bounds(self, q, model):
         if q.name == "inertia_kg_m2":  # the modified-Euler bound with the motor (Eq. A.7)
             from ..model import motor_inertia_floor
-            return max(q.lower, 2.0 * motor_inertia_floor(model)), q.upper
+            return max(q.lower, RESOLVED * motor_inertia_floor(model)), q.upper
         return q.lower, q.upper
 
     def starts(self, model, data):
@@ -64,7 +67,7 @@ class TopDriveDynamics(Effect):
         top, dtop, v = chs["top"][i], chs["dtop"][i], chs["v"][i]
         total = chs["T"][i] + cv * v + tsf * np.sign(v)  # the torque on the bit, outside the sensor included
         ttop = np.asarray(_core.top_torque_from_bit(sim, v, chs["a"][i], total, top, dtop))
-        jmin = 3.0 * M.motor_inertia_floor(model)
+        jmin = 1.5 * RESOLVED * M.motor_inertia_floor(model)
         mean_top, mean_t = float(np.mean(top)), float(np.mean(ttop))
         starts = [{"variant": "measured"}]
         A = np.column_stack([dtop, top, -np.ones(i.size)])
