@@ -84,8 +84,9 @@ def adequacy(base: Evaluation, data: LoopData) -> dict:
             "skill": 1.0 - base.E_test / best}
 
 
-#: A law-level effect must lower the law residual's RMSE by this fraction at least (on synthetic truths
-#: the injected effects lower it by 35-52 %, spurious ones by 3-4 %: benchmarks/loop_validation.py).
+#: A law-level effect must lower the law residual's RMSE by this fraction at least (on the validation
+#: truths the injected law effects lower it by 35-52 %, absent ones by 0-4.3 %:
+#: ``PYTHONPATH=python python3 benchmarks/loop_law_evidence.py``).
 LAW_EFFECT_SIZE = 0.10
 
 
