@@ -56,19 +56,23 @@ def _model_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--beta1", type=float, help="hysteresis amplitude of Eq. (3.3)")
     p.add_argument("--speed-unit", choices=["rad_s", "rpm"], help="speed unit of the law parameters")
     p.add_argument("--scheme", choices=["modified_euler", "bdf2"], help="time integration scheme")
+    p.add_argument("--acceleration", choices=["implicit", "lagged"],
+                   help="bit acceleration in Eq. (3.3): the step's own (implicit, default) or the last "
+                        "step's backward difference (lagged, modified Euler only)")
     p.add_argument("--dt", type=float, help="time step [s]")
     p.add_argument("--duration", type=float, help="simulated time [s]")
     p.add_argument("--transient", type=float, help="time discarded before metrics [s]")
     p.add_argument("--threads", type=int, default=0, help="OpenMP threads (0: default)")
-    p.add_argument("--start", choices=["rest", "steady"], default="rest",
-                   help="initial state: bit at rest (Eq. 2.10) or steady drilling")
+    p.add_argument("--start", choices=["rest", "rigid", "steady"], default="rest",
+                   help="initial state: bit at rest (Eq. 2.10), string turning rigidly with the top "
+                        "(Eq. 2.3) or steady drilling")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
 def _config(a) -> dict:
     base = load_config(preset=a.preset) if a.preset else load_config(path=a.config)
     return with_overrides(base, elements=a.elements, modes=a.modes, law=a.law, beta1=a.beta1,
-                          speed_unit=a.speed_unit, scheme=a.scheme, dt=a.dt,
+                          speed_unit=a.speed_unit, scheme=a.scheme, acceleration=a.acceleration, dt=a.dt,
                           duration=a.duration, transient=a.transient)
 
 
@@ -318,6 +322,17 @@ def cmd_robust_ss(a) -> int:
         studies["structure + bit-rock"] = severity_study(cfg, speeds, a.samples, delta=a.delta, eta=eta,
                                                          eta_dt=a.eta_dt, label="structure + bit-rock", **kw)
     res = {label: st.to_json() for label, st in studies.items()}
+    for label, st in studies.items():
+        if st.ss.shape[0] < 2:
+            continue
+        kw_st = dict(delta=a.delta, seed=a.seed, progress=False, threads=a.threads, eta_dt=a.eta_dt, label=label,
+                     structural=label != "bit-rock (eta)")
+        if "bit-rock" in label:
+            kw_st["eta_psd" if a.bit_rock else "eta"] = THESIS_PSD if a.bit_rock else np.load(a.eta_npy)
+            if label == "bit-rock (eta)":
+                kw_st["delta"] = 0.0
+        res[label].update(_robust_speed(st.ss, st.speeds, a.refine, a.seed,
+                                        lambda sp, kw_st=kw_st: severity_study(cfg, sp, st.ss.shape[0], **kw_st).ss))
     if a.out:
         out = Path(a.out)
         out.mkdir(parents=True, exist_ok=True)
@@ -330,6 +345,9 @@ def cmd_robust_ss(a) -> int:
             print(f"{label}:")
             for v, m, lo, hi, p in zip(speeds, st.mean, st.q05, st.q95, st.p_stick_slip):
                 print(f"  {v:7.2f} rad/s  SS mean {m:.3f}  5-95 % [{lo:.3f}, {hi:.3f}]  P(SS > 0.5) {p:.2f}")
+            p05 = res[label].get("p05_speed_rad_s")
+            print("  P(SS > 0.5) <= 5 % from", "no crossing in range" if p05 is None else f"{p05:.2f} rad/s",
+                  _robust_speed_text(res[label]))
     return 0
 
 
@@ -375,6 +393,10 @@ def cmd_mc(a) -> int:
         first_sample=_int_arg(a.first_sample, "first_sample"), threads=a.threads,
         progress=not a.no_progress)
     res = study.summary()
+    res.update(_robust_speed(study.severity, study.speeds, a.refine, a.seed, lambda sp: mcm.stochastic_study(
+        cfg, sp, study.severity.shape[0], study.seed, psd=_psd_arg(a), eta_dt=a.eta_dt,
+        first_sample=study.first_sample, deterministic=False, threads=a.threads, progress=False,
+        **{k: study.settings[k + "_s"] for k in ("warmup", "duration", "transient")}).severity))
     if a.out:
         res["figures"] = write_figures(study, cfg, a.out, psd=_psd_arg(a), eta_dt=a.eta_dt,
                                        threads=a.threads, progress=not a.no_progress)
@@ -387,11 +409,52 @@ def cmd_mc(a) -> int:
                   f"[q05 {r['q05']:.3f}, q95 {r['q95']:.3f}]  P(SS > 0.5) = {r['p_ss_gt_0_5']:.3f}")
         p05 = res["p05_speed_rad_s"]
         print("P(SS > 0.5) <= 5 % from", "no crossing in range" if p05 is None else f"{p05:.2f} rad/s",
+              _robust_speed_text(res),
               "(deterministic SS < 0.5 from",
               "no crossing" if res["deterministic_threshold_rad_s"] is None
               else f"{res['deterministic_threshold_rad_s']:.2f} rad/s)")
         if a.out:
             print(f"figures and mc.json written to {a.out}")
+    return 0
+
+
+def _robust_speed(severity, speeds, refine, seed, evaluate) -> dict:
+    """The 5 % speed refined by bisection (``refine`` [rad/s], same samples) and its 90 % bootstrap
+    interval over the samples (drillpy.robust_speed)."""
+    from .robust_speed import bootstrap_interval, p_speed, refine_p_speed
+    out = {}
+    if refine is not None:
+        r = refine_p_speed(severity, speeds, evaluate, tol=refine)
+        if r is not None:
+            severity, speeds = r.severity, r.speeds
+            out["p05_speed_bracket_rad_s"] = [r.below, r.above]
+            out["p05_speed_rad_s"] = p_speed(severity, speeds)
+            out["refinement_speeds_rad_s"] = [float(x) for x in r.speeds]
+    if severity.shape[0] >= 2:
+        out["p05_speed_bootstrap"] = bootstrap_interval(severity, speeds, seed=int(seed) if str(seed).isdigit() else 0)
+    return out
+
+
+def _robust_speed_text(res: dict) -> str:
+    b = res.get("p05_speed_bootstrap")
+    txt = ""
+    if "p05_speed_bracket_rad_s" in res:
+        lo, hi = res["p05_speed_bracket_rad_s"]
+        txt += f"[bracket {lo:.2f}-{hi:.2f}] "
+    if b and b["low"] == b["low"]:
+        txt += f"[90 % bootstrap {b['low']:.2f}-{b['high']:.2f}] "
+    return txt
+
+
+def cmd_reproduce(a) -> int:
+    from .reproduce import Options, reproduce
+    res = reproduce(a.chapter, a.out, Options(quick=a.quick, threads=a.threads, progress=not a.no_progress,
+                                              seed=a.seed), record=a.record)
+    if a.json:
+        print(json.dumps(res.as_dict()))
+    else:
+        print((Path(a.out) / "table.md").read_text(), end="")
+        print(f"figures, table.md and reproduce.json written to {a.out}")
     return 0
 
 
@@ -522,7 +585,21 @@ def build_parser() -> argparse.ArgumentParser:
                    help="add the stochastic bit-rock law: eta with the thesis PSD (Eqs. 4.1-4.4)")
     s.add_argument("--eta-npy", help="eta(t) of Eq. (4.1), one row per sample (.npy), for bit-rock uncertainty")
     s.add_argument("--eta-dt", type=float, default=0.05, help="sampling step of eta [s]")
+    s.add_argument("--refine", type=float, metavar="TOL",
+                   help="locate each 5 %% speed by bisection to TOL [rad/s] (same samples at new speeds)")
     s.set_defaults(func=cmd_robust_ss)
+
+    s = sub.add_parser("reproduce", help="the thesis's studies chapter by chapter: figures under the thesis's "
+                                         "numbers and a table quantity | thesis | drillpy | tolerance | pass")
+    s.add_argument("--chapter", default="all", choices=["3", "4", "5", "6", "all"])
+    s.add_argument("--out", required=True, help="folder for the figures, table.md and reproduce.json")
+    s.add_argument("--quick", action="store_true", help="reduced studies (tests): not the thesis's settings")
+    s.add_argument("--record", help="test-rig record of sample 175 for chapter 5 (default: ../shared/data/testrig)")
+    s.add_argument("--seed", type=int, default=1, help="seed of the Monte Carlo studies")
+    s.add_argument("--threads", type=int, default=0, help="OpenMP threads (0: default)")
+    s.add_argument("--no-progress", action="store_true", help="no progress bar")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_reproduce)
 
     s = sub.add_parser("mc", help="Monte Carlo of the stochastic bit-rock law (Figs. 4.4-4.9, C.1)")
     _model_args(s)
@@ -541,6 +618,8 @@ def build_parser() -> argparse.ArgumentParser:
                    choices=["one-sided-hz", "two-sided-hz", "one-sided-rad-s", "two-sided-rad-s"],
                    help="convention of the PSD given by --psd-model/--psd-table or the thesis "
                         "parameters (converted to drillpy's one-sided PSD per Hz)")
+    s.add_argument("--refine", type=float, metavar="TOL",
+                   help="locate the 5 %% speed by bisection to TOL [rad/s] (same samples at new speeds)")
     s.add_argument("--out", help="folder for the figures and mc.json")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_mc)

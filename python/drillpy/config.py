@@ -83,14 +83,15 @@ def thesis_law(name: str, beta1: float | None = None) -> dict:
 def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None = None,
                    law: str | None = None, beta1: float | None = None,
                    speed_unit: str | None = None, scheme: str | None = None,
-                   dt: float | None = None, duration: float | None = None,
+                   acceleration: str | None = None, dt: float | None = None, duration: float | None = None,
                    transient: float | None = None, top_speed: float | None = None,
                    wob: float | None = None) -> dict:
     """Return a normalized copy of ``cfg`` with command-line style overrides applied.
 
     ``elements`` re-meshes the string with that many elements split in proportion to the
     section lengths (100 on Table 3.1 gives 91 DP + 9 BHA); ``law`` selects a thesis parameter
-    set; ``beta1`` sets the hysteresis amplitude of Eq. (3.3).
+    set; ``beta1`` sets the hysteresis amplitude of Eq. (3.3); ``acceleration`` the bit
+    acceleration of Eq. (3.3) (``implicit`` or ``lagged``, integrator.hpp).
     """
     c = copy.deepcopy(cfg)
     if elements is not None:
@@ -108,7 +109,7 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
     if speed_unit is not None:
         c["law"]["speed_unit"] = speed_unit
     sim = c.setdefault("simulation", {})
-    for key, val in (("scheme", scheme), ("dt_s", dt), ("duration_s", duration),
+    for key, val in (("scheme", scheme), ("acceleration", acceleration), ("dt_s", dt), ("duration_s", duration),
                      ("transient_s", transient)):
         if val is not None:
             sim[key] = val

@@ -80,6 +80,16 @@ def convert_psd_model(model: PsdModel, convention: str) -> PsdModel:
     return PsdModel(f0=model.f0, A0=model.A0 + k, a=model.a, b=model.b + k)
 
 
+def scaled_to_std(model: PsdModel, std: float) -> PsdModel:
+    """The shape of ``model`` scaled so that eta has standard deviation ``std`` (A0 and b shifted
+    by the same ln c): e.g. the +-20 % the thesis reads in the field torque (section 4.0) taken as
+    a two-sigma range gives std = 0.10 with the shape of Eq. (4.4)."""
+    if not (isinstance(std, (int, float)) and math.isfinite(std) and std > 0):
+        raise ValueError(f"std = {std!r}: must be a positive number")
+    k = math.log(std ** 2 / model.integral())
+    return PsdModel(f0=model.f0, A0=model.A0 + k, a=model.a, b=model.b + k)
+
+
 @dataclass(frozen=True)
 class PsdTable:
     """A tabulated one-sided PSD [1/Hz] at increasing frequencies [Hz]: linear between points,

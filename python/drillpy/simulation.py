@@ -56,7 +56,8 @@ def simulate(cfg: dict, top_speed: float | None = None, wob: float | None = None
     top_speed [rad/s] and wob [N] default to the configuration's operation point. Series inputs
     (top speed [rad/s], WOB [N], torque fluctuation eta of Eq. 4.1) are sampled every
     ``series_dt`` seconds from ``series_t0`` and interpolated linearly. ``start="rest"`` starts
-    from Eq. (2.10) (bit at rest, string untwisted), ``start="steady"`` from steady drilling at the
+    from Eq. (2.10) (bit at rest, string untwisted), ``start="rigid"`` from Eq. (2.3) (the whole
+    string turning with the top, untwisted), ``start="steady"`` from steady drilling at the
     initial top speed; ``q0``/``qdot0`` give any reduced state instead (with ``top_speed0`` the
     initial speed of a motor top drive, which otherwise starts at its command).
     ``bit_viscous`` [N m s/rad] and ``string_friction`` [N m] override ``operation.bit_viscous_nms``
@@ -72,6 +73,8 @@ def simulate(cfg: dict, top_speed: float | None = None, wob: float | None = None
         if wob_series is not None:
             w0 = float(np.asarray(wob_series, dtype=float)[0])
         q0, qdot0, top_speed0 = sim.steady_state(om0, w0, with_top_speed=True)
+    if start == "rigid" and q0 is None:
+        q0 = qdot0 = np.zeros(sim.reduced_matrices()["M"].shape[0])
     d = sim.run(top_speed=top_speed, wob=wob, top_speed_series=_opt(top_speed_series),
                 wob_series=_opt(wob_series), eta_series=_opt(eta_series), series_dt=series_dt,
                 series_t0=series_t0, bit_viscous=bit_viscous, string_friction=string_friction,
@@ -89,9 +92,14 @@ def simulate(cfg: dict, top_speed: float | None = None, wob: float | None = None
         config=json.loads(sim.config))
 
 
+#: initial states of a run (``Simulation::start_state`` in simulation.hpp)
+START_MODES = ("rest", "rigid", "steady")
+
+
 def _check_start(start: str) -> None:
-    if start not in ("rest", "steady"):
-        raise ValueError(f"start = {start!r}: use 'rest' (Eq. 2.10) or 'steady' (steady drilling)")
+    if start not in START_MODES:
+        raise ValueError(f"start = {start!r}: use 'rest' (Eq. 2.10), 'rigid' (Eq. 2.3) or 'steady' "
+                         "(steady drilling)")
 
 
 def _opt(x):
@@ -111,8 +119,8 @@ def sweep_severity(cfg: dict, speeds, wobs=None, *, progress: bool = True,
                    threads: int = 0, start: str = "rest") -> np.ndarray:
     """SS (Eq. 3.4) for each top speed [rad/s] (and WOB [N]), computed in parallel.
 
-    Every run starts from Eq. (2.10) (``start="rest"``) or from steady drilling
-    (``start="steady"``); between the two thresholds the string is bistable.
+    Every run starts from Eq. (2.10) (``start="rest"``), Eq. (2.3) (``start="rigid"``) or from
+    steady drilling (``start="steady"``); between the thresholds the string is bistable.
     Returns shape (len(speeds),) without ``wobs``, else (len(wobs), len(speeds)).
     Ctrl-C stops the sweep (KeyboardInterrupt); the bar goes to stderr.
     """
@@ -122,7 +130,7 @@ def sweep_severity(cfg: dict, speeds, wobs=None, *, progress: bool = True,
     sim = _engine(cfg)
     total = sp.size * (1 if wb is None else wb.size)
     with progress_bar(total, "SS sweep", progress) as cb:
-        out = sim.sweep(list(sp), [] if wb is None else list(wb), cb, threads, start == "steady")
+        out = sim.sweep(list(sp), [] if wb is None else list(wb), cb, threads, start)
     return out[0] if wb is None else out
 
 

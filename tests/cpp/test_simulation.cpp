@@ -79,3 +79,30 @@ TEST(Simulation, TestRigStickSlipNearItsTorsionalFrequency) {
   EXPECT_LT(1.0 / period, 3.2);
   EXPECT_GT(r.severity, 0.5);
 }
+
+TEST(Simulation, StartModesSetTheInitialBitSpeed) {
+  // rest (Eq. 2.10): the bit starts at rest; rigid (Eq. 2.3): it turns with the top, untwisted;
+  // steady: at the top speed with the static twist (a 1 % disturbance of the relative velocity).
+  Config c = preset("thesis-field");
+  c.modes = 10;
+  c.sim.duration = 1.0;
+  c.transient = 0.5;
+  const Simulation sim(c);
+  const Inputs in = sim.inputs(15.0, 245e3);
+  auto first_speed = [&](StartMode m) {
+    double v0 = NAN;
+    const std::optional<ModelState> s0 = sim.start_state(m, 15.0, 245e3);
+    sim.integrator().run(in, [&](const StepState& s) { if (s.step == 0) v0 = s.bit_speed; }, s0 ? &*s0 : nullptr);
+    return v0;
+  };
+  // Eq. (2.10) projected on 10 modes leaves the bit nearly at rest; the steady start's relative
+  // velocity is 1 % of Eq. (2.10)'s, so its bit speed is 15 - 0.01 (15 - v_rest) exactly.
+  const double v_rest = first_speed(StartMode::rest);
+  EXPECT_LT(std::fabs(v_rest), 0.05 * 15.0);
+  EXPECT_NEAR(first_speed(StartMode::rigid), 15.0, 1e-12);
+  EXPECT_NEAR(first_speed(StartMode::steady), 15.0 - 0.01 * (15.0 - v_rest), 1e-9);
+  const std::optional<ModelState> rigid = sim.start_state(StartMode::rigid, 15.0, 245e3);
+  EXPECT_EQ(rigid->q.norm(), 0.0);  // untwisted
+  EXPECT_GT(sim.start_state(StartMode::steady, 15.0, 245e3)->q.norm(), 0.0);
+  EXPECT_THROW(parse_start("spinning"), std::invalid_argument);
+}

@@ -181,3 +181,21 @@ def test_string_friction_loads_the_string_but_not_the_torque_on_bit():
     b = drillpy.simulate(base, om, start="rest", string_friction=tsf)
     np.testing.assert_array_equal(a.bit_speed, b.bit_speed)
     np.testing.assert_array_equal(a.torque_on_bit, b.torque_on_bit)
+
+
+def test_start_modes_and_the_lagged_acceleration_are_explicit_options():
+    """Eq. (2.3) (rigid) and Eq. (2.10) (rest) are different initial states; the lagged bit
+    acceleration of Eq. (3.3) is a different scheme, refused with BDF2, named in the saved config."""
+    cfg = drillpy.with_overrides(drillpy.load_config(preset="thesis-field"), modes=10, duration=40, transient=20)
+    rest = drillpy.simulate(cfg, 18.0, record=True)
+    rigid = drillpy.simulate(cfg, 18.0, start="rigid", record=True)
+    assert abs(rest.bit_speed[0]) < 0.05 * 18.0  # Eq. (2.10) on 10 modes: the bit nearly at rest
+    assert rigid.bit_speed[0] == pytest.approx(18.0, abs=1e-12)
+    ss = drillpy.sweep_severity(cfg, [18.0], progress=False, start="rigid")
+    assert ss[0] == pytest.approx(rigid.severity, rel=1e-12)  # the sweep starts the same way
+    with pytest.raises(ValueError, match="start"):
+        drillpy.sweep_severity(cfg, [18.0], progress=False, start="spinning")
+    lag = drillpy.with_overrides(cfg, acceleration="lagged")
+    assert drillpy.simulate(lag, 18.0, record=False).config["simulation"]["acceleration"] == "lagged"
+    with pytest.raises(ValueError, match="simulation.acceleration"):
+        drillpy.simulate(drillpy.with_overrides(lag, scheme="bdf2"), 18.0, record=False)

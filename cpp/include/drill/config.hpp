@@ -24,7 +24,8 @@
 //   "sensors": {"lowpass_hz": 10}                  (measurement chain of recorded channels: second-
 //                                                   order Butterworth low-pass; 0 = ideal sensors;
 //                                                   used when a model is compared with a record),
-//   "simulation": {"scheme": "modified_euler", "dt_s": 5.12e-4, "duration_s": 200,
+//   "simulation": {"scheme": "modified_euler", "acceleration": "implicit" | "lagged" (Eq. 3.3's bit
+//                  acceleration, integrator.hpp), "dt_s": 5.12e-4, "duration_s": 200,
 //                  "transient_s": 100, "output_stride": 20},
 //   "metrics": {"stick_threshold_fraction": 0.05, "stick_debounce_s": 0.02, "slip_level_fraction": 0.25},
 //   "sweep": {"top_speeds_rad_s": [...], "wobs_n": [...]},
@@ -357,8 +358,10 @@ inline Config parse_config(const json& j) {
   }
   if (j.contains("simulation")) {
     const json& s = j.at("simulation");
-    check_keys(s, "simulation", {"scheme", "dt_s", "duration_s", "transient_s", "output_stride"});
+    check_keys(s, "simulation", {"scheme", "acceleration", "dt_s", "duration_s", "transient_s", "output_stride"});
     c.sim.scheme = parse_scheme(get_string(s, "scheme", "simulation", to_string(c.sim.scheme)));
+    c.sim.acceleration =
+        parse_acceleration(get_string(s, "acceleration", "simulation", to_string(c.sim.acceleration)));
     c.sim.dt = get_number(s, "dt_s", "simulation", c.sim.dt);
     c.sim.duration = get_number(s, "duration_s", "simulation", c.sim.duration);
     c.transient = get_number(s, "transient_s", "simulation", std::min(c.transient, 0.5 * c.sim.duration));
@@ -420,7 +423,7 @@ inline json to_json(const Config& c) {
            {"bit_viscous_nms", c.bit_viscous},
            {"string_friction_nm", c.string_friction}}},
          {"simulation",
-          {{"scheme", to_string(c.sim.scheme)}, {"dt_s", c.sim.dt}, {"duration_s", c.sim.duration},
+          {{"scheme", to_string(c.sim.scheme)}, {"acceleration", to_string(c.sim.acceleration)}, {"dt_s", c.sim.dt}, {"duration_s", c.sim.duration},
            {"transient_s", c.transient}, {"output_stride", c.output_stride}}},
          {"metrics",
           {{"stick_threshold_fraction", c.metrics.stick_threshold_fraction},

@@ -55,8 +55,23 @@ inline Scheme parse_scheme(const std::string& s) {
 }
 inline std::string to_string(Scheme s) { return s == Scheme::bdf2 ? "bdf2" : "modified_euler"; }
 
+/// The bit acceleration in the hysteretic term of Eq. (3.3). `implicit`: the one the step itself
+/// produces (Eq. A.1's forward difference, solved with the torque; BDF2's derivative with bdf2).
+/// `lagged`: the backward difference of the last two bit speeds, (v_i - v_{i-1}) / dt, known
+/// before the step (Algorithm 1 read literally: the acceleration of step i from the speeds already
+/// computed); modified Euler only. The thesis does not say which it used (docs/numerics.md).
+enum class Acceleration { implicit, lagged };
+
+inline Acceleration parse_acceleration(const std::string& s) {
+  if (s == "implicit") return Acceleration::implicit;
+  if (s == "lagged") return Acceleration::lagged;
+  throw std::invalid_argument("simulation.acceleration = \"" + s + "\": unknown reading (use implicit or lagged)");
+}
+inline std::string to_string(Acceleration a) { return a == Acceleration::lagged ? "lagged" : "implicit"; }
+
 struct SimOptions {
   Scheme scheme = Scheme::modified_euler;
+  Acceleration acceleration = Acceleration::implicit;  ///< bit acceleration in Eq. (3.3)
   double dt = 5.12e-4;      ///< time step [s] (the thesis's 0.512 ms)
   double duration = 100.0;  ///< simulated time [s]
   void validate() const {
@@ -64,6 +79,8 @@ struct SimOptions {
     require_positive(duration, "simulation.duration_s");
     require(duration >= dt, "simulation.duration_s", duration, "must be at least one time step");
     require(duration / dt < 2e9, "simulation.duration_s", duration, "needs more than 2e9 steps");
+    require(acceleration == Acceleration::implicit || scheme == Scheme::modified_euler, "simulation.acceleration",
+            to_string(acceleration), "is implemented for simulation.scheme = modified_euler only");
   }
   long steps() const { return std::lround(duration / dt); }
 };
@@ -274,8 +291,8 @@ class Integrator {
     const long n = opt_.steps();
     const double g = bit_.squaredNorm();
     Eigen::VectorXd f(z.size());
-    double theta_top = 0.0, a_guess = 0.0;
-    const bool motor = in.top_drive.is_motor();
+    double theta_top = 0.0, a_guess = 0.0, v_prev = NAN;
+    const bool motor = in.top_drive.is_motor(), lagged = opt_.acceleration == Acceleration::lagged;
     double om_state = std::isfinite(top0) ? top0 : in.top_speed.at(0.0);  // motor speed
     for (long i = 0;; ++i) {
       const double t = i * dt;
@@ -302,7 +319,12 @@ class Integrator {
       const double rest = fric != 0.0 ? visc + fric : visc;
       double a = alpha - g * (scale * (ts.base + ts.frac) + rest);
       double T = scale * (ts.base + ts.frac) + rest;
-      if (ts.frac * ts.c != 0.0 && ts.k != 0.0) {
+      if (lagged) {
+        // the acceleration of the last step enters the law; the step's own follows from it
+        const double a_lag = std::isfinite(v_prev) ? (v - v_prev) / dt : 0.0;
+        T = scale * ts.eval(a_lag).T + rest;
+        a = alpha - g * T;
+      } else if (ts.frac * ts.c != 0.0 && ts.k != 0.0) {
         // saturated branches first (tanh = +-1 to double precision), Newton otherwise
         const double T_up = scale * (ts.base + ts.frac * (1.0 + ts.c)) + rest;
         const double T_dn = scale * (ts.base + ts.frac * (1.0 - ts.c)) + rest;
@@ -347,6 +369,7 @@ class Integrator {
       const double T_bit = fric != 0.0 ? T - fric : T;  // the string friction acts outside the torque sensor
       obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, top_torque_.dot(z), om}));
       if (i == n) break;
+      v_prev = v;
       p += dt * (f - bit_ * T);  // Eq. (A.5): velocity first, with the torque of step i ...
       z += dt * p;               // Eq. (A.6): ... then the displacement with the new velocity.
       theta_top += 0.5 * dt * (om + om_next);

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cmath>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "drill/config.hpp"
@@ -24,6 +26,21 @@ struct RunReport {
   Periodicity periodic;
   ModelState final_state;
 };
+
+/// How a run starts (the thesis is ambiguous, docs/validation.md):
+///  * rest   Eq. (2.10) and Algorithm 1: string untwisted, at rest in the ground frame while the
+///           top turns at Omega (q = 0, q' = -Omega M~^-1 Phi^T M 1);
+///  * rigid  Eq. (2.3) read at t = 0: the whole string already turning rigidly with the top
+///           (q = 0, q' = 0), untwisted, so the bit meets the rock at full speed;
+///  * steady steady drilling, slightly disturbed (Simulation::steady_state).
+enum class StartMode { rest, rigid, steady };
+
+inline StartMode parse_start(const std::string& s) {
+  if (s == "rest") return StartMode::rest;
+  if (s == "rigid") return StartMode::rigid;
+  if (s == "steady") return StartMode::steady;
+  throw std::invalid_argument("start = \"" + s + "\": unknown initial state (use rest, rigid or steady)");
+}
 
 class Simulation {
  public:
@@ -77,6 +94,16 @@ class Simulation {
     return s;
   }
 
+  /// The initial state of a run at this top speed and WOB (nothing for `rest`: the integrator's Eq. 2.10).
+  std::optional<ModelState> start_state(StartMode mode, double top_speed, double wob) const {
+    if (mode == StartMode::steady) return steady_state(top_speed, wob);
+    if (mode == StartMode::rigid) {
+      const int m = rom_.model.size();
+      return ModelState{Eigen::VectorXd::Zero(m), Eigen::VectorXd::Zero(m)};
+    }
+    return std::nullopt;
+  }
+
   /// One run with metrics; `record` keeps every output_stride-th step of the series.
   RunReport run(const Inputs& in, bool record = true, const ModelState* start = nullptr) const {
     RunReport r;
@@ -105,10 +132,10 @@ class Simulation {
 
   /// SS on a grid: result[w * speeds.size() + s] for wobs[w], speeds[s]. An empty `wobs` means
   /// the configured WOB. Returns an empty vector if cancelled.
-  /// With from_steady, every run starts from steady drilling (steady_state) instead of Eq. (2.10).
+  /// Every run starts as `start` says (Eq. 2.10 by default).
   std::vector<double> sweep_severity(const std::vector<double>& speeds, const std::vector<double>& wobs,
                                      const ProgressFn& progress = nullptr, int threads = 0,
-                                     bool from_steady = false) const {
+                                     StartMode start = StartMode::rest) const {
     require(!speeds.empty(), "sweep.top_speeds_rad_s", speeds.size(), "is empty");
     const std::vector<double> w = wobs.empty() ? std::vector<double>{cfg_.wob} : wobs;
     for (std::size_t k = 0; k < speeds.size(); ++k) {
@@ -122,12 +149,8 @@ class Simulation {
         [&](std::size_t i) {
           const Inputs in = inputs(speeds[i % speeds.size()], w[i / speeds.size()]);
           SeverityObserver sev(cfg_.transient);
-          if (from_steady) {
-            const ModelState s0 = steady_state(in.top_speed.value, in.wob.value);
-            integ_.run(in, sev, &s0);
-          } else {
-            integ_.run(in, sev);
-          }
+          const std::optional<ModelState> s0 = start_state(start, in.top_speed.value, in.wob.value);
+          integ_.run(in, sev, s0 ? &*s0 : nullptr);
           out[i] = sev.severity();
         },
         progress, threads);

@@ -118,11 +118,12 @@ void init_simulation(py::module_& m) {
       .def(
           "sweep",
           [](const Simulation& s, const std::vector<double>& speeds, const std::vector<double>& wobs,
-             py::object progress, int threads, bool from_steady) {
+             py::object progress, int threads, const std::string& start) {
+            const StartMode mode = parse_start(start);
             std::vector<double> out;
             {
               py::gil_scoped_release nogil;
-              out = s.sweep_severity(speeds, wobs, drillpy_glue::progress_callback(progress), threads, from_steady);
+              out = s.sweep_severity(speeds, wobs, drillpy_glue::progress_callback(progress), threads, mode);
             }
             const std::size_t nw = wobs.empty() ? 1 : wobs.size();
             py::array_t<double> a({nw, speeds.size()});
@@ -130,8 +131,8 @@ void init_simulation(py::module_& m) {
             return a;
           },
           py::arg("speeds"), py::arg("wobs") = std::vector<double>{}, py::arg("progress") = py::none(),
-          py::arg("threads") = 0, py::arg("from_steady") = false,
-          "SS (Eq. 3.4) on a WOB x top-speed grid, in parallel; from Eq. (2.10) or steady drilling.")
+          py::arg("threads") = 0, py::arg("start") = "rest",
+          "SS (Eq. 3.4) on a WOB x top-speed grid, in parallel; start: rest (Eq. 2.10), rigid (Eq. 2.3) or steady.")
       .def(
           "steady_state",
           [](const Simulation& s, double top_speed, double wob, bool with_top_speed) -> py::tuple {

@@ -1,0 +1,114 @@
+"""The robust top speed of a Monte Carlo study (section 4.2.2): the lowest speed from which
+P(SS > 0.5) <= 5 %, located to a stated precision and with its Monte Carlo uncertainty.
+
+On a 1 rad/s grid the speed is a linear interpolation of an estimated probability between two
+grid points: less precise than it reads. :func:`refine_p_speed` bisects the bracket where the
+probability crosses the level with new speeds run on the **same samples** (common random
+numbers), so the bracket narrows to ``tol``; :func:`bootstrap_interval` resamples the samples
+(rows) to give the interval the finite number of samples leaves on the speed.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from . import _core
+
+SS_LEVEL = 0.5  #: stick-slip threshold on SS (section 3.3)
+P_LEVEL = 0.05  #: probability level of the robust speed (section 4.2.2)
+
+
+def _matrix(severity, speeds) -> tuple[np.ndarray, np.ndarray]:
+    ss = np.asarray(severity, dtype=float)
+    sp = np.asarray(speeds, dtype=float)
+    if ss.ndim != 2 or ss.shape[1] != sp.size or ss.shape[0] == 0:
+        raise ValueError(f"severity: must be a (samples x speeds) matrix with {sp.size} columns, got shape {ss.shape}")
+    order = np.argsort(sp)
+    return ss[:, order], sp[order]
+
+
+def exceedance(severity, level: float = SS_LEVEL) -> np.ndarray:
+    """P(SS > level) per speed (column)."""
+    return np.mean(np.asarray(severity, dtype=float) > level, axis=0)
+
+
+def p_speed(severity, speeds, level: float = SS_LEVEL, prob: float = P_LEVEL) -> float | None:
+    """Lowest speed from which P(SS > level) <= prob (linear interpolation between grid speeds,
+    the engine's ``severity_statistics``); None without a crossing."""
+    ss, sp = _matrix(severity, speeds)
+    v = _core.severity_statistics(ss, list(sp), level, prob, 0.05, 0.95)["p_speed"]
+    return None if math.isnan(v) else float(v)
+
+
+@dataclass
+class RefinedSpeed:
+    """The crossing of P(SS > level) = prob located by bisection: P > prob at ``below`` and
+    P <= prob at ``above`` [rad/s]; ``speed`` is their midpoint, ``precision`` half their distance.
+    ``speeds``/``severity`` hold the grid with every refinement speed added (same samples)."""
+    speed: float
+    precision: float
+    below: float
+    above: float
+    speeds: np.ndarray
+    severity: np.ndarray
+
+
+def refine_p_speed(severity, speeds, evaluate: Callable[[list], np.ndarray], *, tol: float,
+                   level: float = SS_LEVEL, prob: float = P_LEVEL, max_rounds: int = 10) -> RefinedSpeed | None:
+    """Bisect the highest bracket where P(SS > level) falls to ``prob`` until it is within
+    ``2 tol``. ``evaluate(speeds)`` returns the SS matrix of the same samples at new speeds.
+    Two speeds per round (the bracket is split in three, both run in one call). None without a
+    crossing on the grid."""
+    if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
+        raise ValueError(f"tol = {tol!r}: must be a positive number [rad/s]")
+    ss, sp = _matrix(severity, speeds)
+    p = exceedance(ss, level)
+    k = [i for i in range(sp.size - 1) if p[i] > prob >= p[i + 1]]
+    if not k:
+        return None
+    lo, hi = float(sp[k[-1]]), float(sp[k[-1] + 1])
+    for _ in range(max_rounds):
+        if 0.5 * (hi - lo) <= tol:
+            break
+        pts = [lo + (hi - lo) / 3.0, lo + 2.0 * (hi - lo) / 3.0]
+        new = np.asarray(evaluate(pts), dtype=float)
+        if new.shape != (ss.shape[0], 2):
+            raise ValueError(f"evaluate returned shape {new.shape}, expected ({ss.shape[0]}, 2)")
+        ss, sp = np.hstack([ss, new]), np.concatenate([sp, pts])
+        pn = exceedance(new, level)
+        if pn[1] > prob:
+            lo = pts[1]
+        elif pn[0] > prob:
+            lo, hi = pts[0], pts[1]
+        else:
+            hi = pts[0]
+    order = np.argsort(sp)
+    return RefinedSpeed(0.5 * (lo + hi), 0.5 * (hi - lo), lo, hi, sp[order], ss[:, order])
+
+
+def bootstrap_interval(severity, speeds, *, resamples: int = 400, confidence: float = 0.9, seed: int = 0,
+                       level: float = SS_LEVEL, prob: float = P_LEVEL) -> dict:
+    """Percentile bootstrap of the robust speed over the samples (rows resampled with
+    replacement): ``{"low", "high", "confidence", "resamples", "no_crossing"}`` where
+    ``no_crossing`` counts resamples without a crossing on the grid (left out of the percentiles)."""
+    ss, sp = _matrix(severity, speeds)
+    if not 0 < confidence < 1:
+        raise ValueError(f"confidence = {confidence!r}: must be between 0 and 1")
+    rng = np.random.default_rng(seed)
+    n = ss.shape[0]
+    above = (ss > level).astype(float)
+    vals, none = [], 0
+    for _ in range(int(resamples)):
+        p = rng.multinomial(n, np.full(n, 1.0 / n)) @ above / n  # P(SS > level) of a resample of the rows
+        v = _core.severity_threshold(list(sp), list(p), prob)
+        if math.isnan(v):
+            none += 1
+        else:
+            vals.append(float(v))
+    a = 0.5 * (1.0 - confidence)
+    lo, hi = (np.quantile(vals, [a, 1.0 - a]) if vals else (math.nan, math.nan))
+    return {"low": float(lo), "high": float(hi), "confidence": confidence, "resamples": int(resamples),
+            "no_crossing": none}
