@@ -136,6 +136,25 @@ def test_cli_mc_json(capsys):
     assert res["psd_convention"].startswith("one-sided, per Hz")
 
 
+def test_cli_mc_refine_brackets_the_5_percent_speed_on_the_same_samples(capsys):
+    argv = ["mc", "--preset", "thesis-field", "--modes", "10", "--samples", "12", "--speeds", "12:28:5",
+            "--seed", "3", "--warmup", "20", "--duration", "30", "--transient", "10", "--no-progress", "--json"]
+    assert main(argv) == 0
+    coarse = json.loads(capsys.readouterr().out)
+    assert main(argv + ["--refine", "0.25"]) == 0
+    fine = json.loads(capsys.readouterr().out)
+    lo, hi = fine["p05_speed_bracket_rad_s"]
+    assert hi - lo <= 0.5 and lo <= fine["p05_speed_rad_s"] <= hi
+    # the bracket lies inside the coarse grid interval that held the crossing
+    p = {r["top_speed_rad_s"]: r["p_ss_gt_0_5"] for r in coarse["speeds"]}
+    g = sorted(p)
+    k = max(i for i in range(len(g) - 1) if p[g[i]] > 0.05 >= p[g[i + 1]])
+    assert g[k] <= lo < hi <= g[k + 1]
+    assert set(g) <= set(fine["refinement_speeds_rad_s"])
+    b = fine["p05_speed_bootstrap"]
+    assert b["confidence"] == 0.9 and b["low"] <= b["high"]
+
+
 @pytest.mark.parametrize("argv, match", [
     (["--samples", "0"], "samples = 0"),
     (["--samples", "ten"], "samples = 'ten': must be an integer"),
