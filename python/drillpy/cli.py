@@ -370,14 +370,24 @@ def _psd_arg(a):
             raise ValueError(f"--psd-table = {str(p)!r}: {e}") from None
         if data.shape[1] != 2:
             raise ValueError(f"--psd-table = {str(p)!r}: needs two columns f_hz,S (one-sided, 1/Hz)")
+        if getattr(a, "eta_std", None) is not None:
+            raise ValueError("--eta-std scales the Eq. (4.4) model: not with --psd-table")
         return PsdTable(data[:, 0], data[:, 1] * PSD_CONVENTIONS[a.psd_convention])
     if a.psd_model:
         try:
             f0, A0, aa, b = (float(x) for x in a.psd_model.split(","))
         except ValueError:
             raise ValueError(f"--psd-model = {a.psd_model!r}: use f0,A0,a,b") from None
-        return convert_psd_model(PsdModel(f0, A0, aa, b), a.psd_convention)
-    return convert_psd_model(THESIS_PSD, a.psd_convention)
+        model = convert_psd_model(PsdModel(f0, A0, aa, b), a.psd_convention)
+    else:
+        model = convert_psd_model(THESIS_PSD, a.psd_convention)
+    if getattr(a, "eta_std", None) is not None:
+        from .process import scaled_to_std
+        try:
+            model = scaled_to_std(model, a.eta_std)
+        except ValueError:
+            raise ValueError(f"--eta-std = {a.eta_std!r}: must be a positive number") from None
+    return model
 
 
 def cmd_mc(a) -> int:
@@ -618,6 +628,9 @@ def build_parser() -> argparse.ArgumentParser:
                    choices=["one-sided-hz", "two-sided-hz", "one-sided-rad-s", "two-sided-rad-s"],
                    help="convention of the PSD given by --psd-model/--psd-table or the thesis "
                         "parameters (converted to drillpy's one-sided PSD per Hz)")
+    s.add_argument("--eta-std", type=float,
+                   help="scale the Eq. (4.4) model to this standard deviation of eta (e.g. 0.0667: the "
+                        "thesis's +-20 %% field fluctuation read as +-3 sigma; docs/stochastic.md)")
     s.add_argument("--refine", type=float, metavar="TOL",
                    help="locate the 5 %% speed by bisection to TOL [rad/s] (same samples at new speeds)")
     s.add_argument("--out", help="folder for the figures and mc.json")

@@ -291,3 +291,14 @@ def test_bad_series_for_estimators():
         periodogram(np.ones(64), 0)
     with pytest.raises(ValueError, match="method = 'burg'"):
         fit_eta(np.ones(64), 0.1, method="burg")
+
+
+def test_scaled_to_std_keeps_the_shape_and_sets_the_variance():
+    from drillpy.process import THESIS_PSD, scaled_to_std
+    m = scaled_to_std(THESIS_PSD, 0.2 / 3)
+    assert m.integral() == pytest.approx((0.2 / 3) ** 2, rel=1e-9)
+    f = np.array([0.1, 0.27, 1.0, 5.0])
+    ratio = m(f) / THESIS_PSD(f)
+    np.testing.assert_allclose(ratio, ratio[0], rtol=1e-12)  # one factor at every frequency
+    with pytest.raises(ValueError, match="std"):
+        scaled_to_std(THESIS_PSD, -0.1)
