@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import json
 import math
+import shutil
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -340,8 +341,8 @@ def chapter5(out: Path, o: Options, record: Path | None = None) -> tuple[list, l
     if not rec.exists():
         return [Row("5", "test-rig sample 175", "Figs. 5.5-5.7", f"record not found: {rec}", "-", None, "reading",
                     "give --record PATH (the .mat of ../shared/data/testrig)")], []
-    S = analyze_record(rec, out / "sample175", AnalysisOptions(simulate=False, folds=5 if not o.quick else 2),
-                       log=lambda *_: None)
+    S = analyze_record(rec, out / "sample175", AnalysisOptions(simulate=False, folds=5 if not o.quick else 2,
+                                                               cycle_at_s=35.5), log=lambda *_: None)
     sv, cy = S["severity"], S["cycles"]
     rows = [
         Row("5", "sample 175: mean top-drive speed [RPM] (Fig. 5.5)", "78", _fmt(sv["mean_top_speed_rpm"], 1),
@@ -353,6 +354,11 @@ def chapter5(out: Path, o: Options, record: Path | None = None) -> tuple[list, l
             f"{sv['stick_fraction']:.2f}", "SS > 0.5 and a cycle at least every second",
             sv["ss"] is not None and sv["ss"] > 0.5 and cy["n_valid"] >= S["record"]["duration_s"]),
     ]
+    c0, c1 = S["shown_cycle_s"]
+    rows.append(Row("5", "the stick-slip cycle of Fig. 5.7 [s]", "35.3-35.67", f"{c0:.3f}-{c1:.3f}",
+                    "each end within 0.05 s", abs(c0 - 35.3) <= 0.05 and abs(c1 - 35.67) <= 0.05,
+                    note="the cycle found by drillpy's segmentation (stick start to stick start) around 35.5 s",
+                    figure="fig5_7.png"))
     fits = {f["law"]: f for f in S["identification"]["constant_wob"]["fits"]}
     vr, vn = fits.get("tucker_wang", {}).get("var_mse"), fits.get("polynomial", {}).get("var_mse")
     rows.append(Row("5", "Var[MSE] of Eq. (5.2): regularized Eq. (3.1) vs non-regularized Eq. (5.1)",
@@ -362,7 +368,11 @@ def chapter5(out: Path, o: Options, record: Path | None = None) -> tuple[list, l
     rows.append(Row("5", "standard deviation of eta_exp (section 5.3.2)", "0.4674 (average over the 210 samples)",
                     f"{S['eta']['std']:.3f} (sample 175 alone)", "reported", None, "reading",
                     "one sample against the average of 210: not comparable as a target"))
-    figs = [str(out / "sample175" / f) for f in S.get("figures", [])]
+    figs = []
+    for src, dst in (("time_series.png", "fig5_5.png"), ("cycle.png", "fig5_7.png"), ("laws.png", "fig5_laws_sample175.png")):
+        if (out / "sample175" / src).is_file():
+            shutil.copyfile(out / "sample175" / src, out / dst)
+            figs.append(str(out / dst))
     return rows, figs
 
 
