@@ -476,7 +476,8 @@ TEST(Integrator, LaggedAccelerationEqualsImplicitWithoutHysteresis) {
 TEST(Integrator, LaggedAccelerationFlipsTheHysteresisAtEveryStep) {
   // docs/numerics.md: the law's dT/da acts as an added inertia at the bit far larger than the bit's
   // modal inertia, so an explicit (lagged) acceleration alternates in sign from step to step in
-  // steady slip at 50 rad/s, while the implicit one settles.
+  // slip at 50 rad/s, while the implicit one changes sign only at the turning points of the slow
+  // oscillation that remains (a sign change every few hundred steps at most).
   const ModalROM rom = field_rom(20);
   SimOptions o;
   o.duration = 60;
@@ -500,8 +501,7 @@ TEST(Integrator, LaggedAccelerationFlipsTheHysteresisAtEveryStep) {
   const double lag = alternations(Acceleration::lagged, amp_lag), imp = alternations(Acceleration::implicit, amp_imp);
   EXPECT_GT(lag, 0.9);
   EXPECT_GT(amp_lag, 1.0);  // rad/s^2
-  EXPECT_LT(amp_imp, 0.1 * amp_lag);
-  (void)imp;
+  EXPECT_LT(imp, 0.01);
 }
 
 TEST(Integrator, LaggedAccelerationIsRefusedWithBdf2) {
