@@ -20,6 +20,12 @@ the calibrated damping ratio takes it (docs/loop.md); nothing else may be named.
     PYTHONPATH=python python3 benchmarks/loop_validation.py --markdown   # as the table of docs/loop.md
     PYTHONPATH=python python3 benchmarks/loop_validation.py --only fast  # the cases the tests run
     PYTHONPATH=python python3 benchmarks/loop_validation.py --only half,two --markdown --no-header  # part
+    PYTHONPATH=python python3 benchmarks/loop_validation.py --only single --truth-model   # the floor of E
+
+``--truth-model`` runs no loop: it scores the case's truth itself through the loop's predictor (its
+law, damping, effects and stiffness, reduced to the declared model's one mode at the loop's engine
+step), once with the truth's GJ and once with the declared GJ (the draw inside the geometry's
+tolerance undone): the short-horizon error a perfect calibration of the declared structure reaches.
 """
 from __future__ import annotations
 
@@ -126,6 +132,38 @@ def _run(case: Case) -> dict:
             "ok": ok}
 
 
+#: Effects the truth's configuration carries (the others are input series or a measurement chain).
+IN_CONFIG = {"bit_hysteresis", "viscous_damping", "string_stiffness", "static_friction", "string_friction"}
+
+
+def truth_model_errors(case: Case) -> dict:
+    """(E_train, E_val) of the case's truth scored by the loop's predictor with one mode at the loop's
+    engine step: with the truth's GJ ("truth") and with the declared GJ ("declared_gj")."""
+    import copy
+    from drillpy.config import normalize
+    from drillpy.loop.data import prepare
+    from drillpy.loop.effects import declared_effects, stripped
+    from drillpy.loop.model import LoopModel, evaluate
+    from drillpy.loop.run import analysis_config
+    rec = synthetic_record(case.effects, duration_s=DURATION_S, seed=case.seed, fs_hz=RATE_HZ, noise=case.noise)
+    data = prepare(rec, normalize(declared_config()), LoopOptions(rate_hz=RATE_HZ, dt_s=LOOP_DT_S))
+    info = rec.provenance["synthetic"]
+    out = {}
+    for key, gj in (("truth", 1.0), ("declared_gj", info["truth"]["gj_factor"])):
+        c = copy.deepcopy(info["config"])
+        c["rom"]["modes"] = 1
+        c["damping"]["ratios"] = c["damping"]["ratios"][:1]
+        for sec in c["string"]["sections"]:
+            sec["youngs_modulus_pa"] /= gj
+        c = analysis_config(normalize(c), data.dt, LOOP_DT_S)
+        base = stripped(c)
+        m = LoopModel(base, dict(base["law"]), float(c["operation"]["top_speed_rad_s"]), float(c["operation"]["wob_n"]),
+                      declared_effects(c))
+        ev = evaluate(m, data)
+        out[key] = (ev.E_train, ev.E_test)
+    return out
+
+
 def _lr(x) -> str:
     if not x:
         return "n/a"
@@ -148,9 +186,22 @@ def main(argv=None) -> int:
     ap.add_argument("--only", help="run only these kinds, comma-separated (clean, single, confounded, half, two, "
                                    "outside, noise), or 'fast' (the cases the tests run)")
     ap.add_argument("--no-header", action="store_true", help="Markdown rows only (to join the outputs of several runs)")
+    ap.add_argument("--truth-model", action="store_true", help="score each case's truth (one mode, the loop's step) "
+                                                                "with the loop's predictor instead of running the loop")
     a = ap.parse_args(argv)
     kinds = None if a.only is None else set(a.only.split(","))
     cases = [c for c in CASES if kinds is None or c.kind in kinds or ("fast" in kinds and c.fast)]
+    if a.truth_model:
+        for c in cases:
+            if not set(c.effects) <= IN_CONFIG:
+                print(f"{c.kind:<8} {c.label:<60} seed {c.seed}: skipped (the truth's effect is an input series or a "
+                      "measurement chain, not in its configuration)")
+                continue
+            r = truth_model_errors(c)
+            print(f"{c.kind:<8} {c.label:<60} seed {c.seed}: truth E {r['truth'][0]:.4f} / {r['truth'][1]:.4f}, with the "
+                  f"declared GJ {r['declared_gj'][0]:.4f} / {r['declared_gj'][1]:.4f} (calibration / validation)")
+            sys.stdout.flush()
+        return 0
     if a.markdown and not a.no_header:
         print("| kind | truth (injected) | seed | answer (added, in order) | E before | E after step 1 | E final | "
               "SS / stick / Hz: record, baseline, final | unexplained | fitted | pass |")

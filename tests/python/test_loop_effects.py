@@ -101,3 +101,28 @@ def test_the_engine_numerics_the_effects_call():
     dt = cfg["simulation"]["dt_s"]
     assert sim.motor_stability_bound(j * 1.01) >= dt > sim.motor_stability_bound(j * 0.99)
     assert sim.motor_stability_bound(1e3) == pytest.approx(sim.stability_bound, rel=1e-3)  # a stiff top
+
+
+def test_string_friction_restarts_near_rest_with_the_share_of_the_contact_torque():
+    """Near rest the measured speed's sign is noise: the string friction's share of the restart
+    torque follows the contact torque (the inverse of the engine's split, contact first up to the
+    static torque), replacing the engine's T_sf sign(v); away from rest it is left to the engine."""
+    import numpy as np
+    from types import SimpleNamespace
+    cfg = stripped(load_config(preset="thesis-rig"))
+    m = LoopModel(cfg, dict(cfg["law"]), 8.5, 557.1, {"string_friction": {"string_friction_nm": 0.3}})
+    eff = CATALOGUE["string_friction"]
+    data = SimpleNamespace(stick_threshold=0.4)
+    v = np.array([-0.02, 0.02, 0.01, -0.01, 0.01, 5.0])
+    T = np.array([1.0, -1.0, 0.0, 0.15, 0.6, 2.0])
+    chs = {"v": v, "T": T, "W_eff": np.full(v.size, 557.1)}
+    d = eff.restart_torque({"string_friction_nm": 0.3}, m, data, chs, np.arange(v.size))
+    total = T + d + 0.3 * np.sign(v)  # what the engine's restart state then carries
+    assert total == pytest.approx([1.3, -1.3, 0.0, 0.3, 0.9, 2.3])
+    # with a static torque T_s in the model the contact holds alone below it
+    m.effects["static_friction"] = {"static_torque_nm": 2.0}
+    T2 = np.array([1.5, 2.15, 2.5, -2.5])
+    v2 = np.array([-0.01, -0.01, 0.01, 0.01])
+    chs2 = {"v": v2, "T": T2, "W_eff": np.full(4, 557.1)}
+    d2 = eff.restart_torque({"string_friction_nm": 0.3}, m, data, chs2, np.arange(4))
+    assert T2 + d2 + 0.3 * np.sign(v2) == pytest.approx([1.5, 2.3, 2.8, -2.8])

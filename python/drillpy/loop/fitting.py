@@ -292,7 +292,9 @@ def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:
 
 def fit_candidate(model: LoopModel, data: LoopData, name: str, opt: LoopOptions) -> tuple:
     """The model with effect ``name`` added, started from the current values and the effect's best
-    start, calibrated like the null candidate. Returns (model, intervals)."""
+    start (an effect that reshapes the law also from the law refitted on the law residual with it:
+    the calibration error of the starts decides), calibrated like the null candidate. Returns
+    (model, intervals)."""
     eff = CATALOGUE[name]
     m = model.copy()
     if eff.level == "law":
@@ -304,9 +306,10 @@ def fit_candidate(model: LoopModel, data: LoopData, name: str, opt: LoopOptions)
     for p in ([d["params"]] if d and d["significant"] else eff.starts(m, data)):
         c = m.copy()
         c.effects[name] = dict(p)
-        e = e_train(c, data, opt.threads)
-        if e < err:
-            best, err = c, e
+        for s in ([c, fit_law(c, data)] if eff.reshapes_law else [c]):
+            e = e_train(s, data, opt.threads)
+            if e < err:
+                best, err = s, e
     if best is None:
         raise ValueError(f"{name}: no start the engine accepts")
     m, ci = _calibrate(best, data, opt)

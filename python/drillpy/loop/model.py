@@ -201,7 +201,12 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
         e = eff.eta(p, model, data, chs, idx, leads)
         if e is not None:
             eta = e
-    state = np.column_stack([chs["v"][idx], chs["a"][idx], chs["T"][idx], om, dom])
+    T0 = chs["T"][idx].copy()
+    for name, p in model.effects.items():
+        dT = CATALOGUE[name].restart_torque(p, model, data, chs, idx)
+        if dT is not None:
+            T0 = T0 + dT
+    state = np.column_stack([chs["v"][idx], chs["a"][idx], T0, om, dom])
     if data.has_top:
         ytop, dytop = ch["top"][idx], ch["top1"][idx]
     else:

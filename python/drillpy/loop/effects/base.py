@@ -12,7 +12,7 @@ An effect is a named change of the declared model with its own parameters. Its m
   carries it: :meth:`Effect.declared` and :meth:`Effect.strip`;
 * how it changes a prediction restarted from the record (only the effects that act through the
   record's inputs or the sensors override these): :meth:`Effect.delay_s`, :meth:`Effect.undo`,
-  :meth:`Effect.top_state`, :meth:`Effect.wob_input`, :meth:`Effect.eta`;
+  :meth:`Effect.top_state`, :meth:`Effect.wob_input`, :meth:`Effect.eta`, :meth:`Effect.restart_torque`;
 * what is physically implausible about a fit: :meth:`Effect.flags`;
 * how the synthetic generator puts it into a record: :meth:`Effect.inject`.
 """
@@ -51,6 +51,10 @@ class Effect:
     reading: str = ""
     needs: tuple = ()
     confounded_with: tuple = ()  #: effects it cannot be told from in some conditions (documented per effect)
+    #: the effect rewrites part of the law (e.g. its static branch): a candidate is started from the
+    #: law refitted on the law residual with it as well as from the current law (which, without the
+    #: effect, may have bent to mimic it)
+    reshapes_law: bool = False
 
     # ------------------------------------------------------------------ parameters and fits
     def free(self, p: dict) -> tuple:
@@ -110,6 +114,13 @@ class Effect:
 
     def eta(self, p: dict, model, data, chs: dict, idx, leads):
         """Forecast of the relative torque fluctuation at the restarts (rows) and leads [s] (columns)."""
+        return None
+
+    def restart_torque(self, p: dict, model, data, chs: dict, idx):
+        """Correction [N m] of the total torque on the bit at the restarts ``idx`` (added to the
+        measured torque on bit of the restart state, after the engine's own T_sf sign(v) and c_v v),
+        or None: for effects whose share of the torque on a bit near rest the measured speed does not
+        determine."""
         return None
 
     def measure(self, p: dict, chans: dict, fs: float) -> dict:

@@ -1,6 +1,8 @@
 """``string_friction``: a Coulomb torque along the string that the bit's load cell does not see."""
 from __future__ import annotations
 
+import numpy as np
+
 from .base import Effect, Param
 
 
@@ -22,6 +24,32 @@ class StringFriction(Effect):
         slip = data.valid & (chs["v"] > data.stick_threshold)
         tref = float(abs(chs["T"][slip].mean()))
         return [{"string_friction_nm": f * tref} for f in (0.02, 0.1, 0.3)]
+
+    def restart_torque(self, p, model, data, chs, idx):
+        """The string friction's share of the torque on a bit near rest (|v| below the stick
+        threshold), from the sign of the measured contact torque rather than of the speed.
+
+        The engine's restart state carries the total torque T + T_sf sign(v). Near rest the measured
+        speed is noise around zero (its sign is a coin toss: +-T_sf, a wrong twist of 2 T_sf / k, i.e.
+        tens of milliseconds of wind-up, for a stuck horizon), while the contact torque is measured
+        well: both frictions oppose the same slip, so a creeping bit's contact torque has the sign
+        of its speed, and a stuck bit's string friction carries what the contact does not, in the
+        model's own split (``Integrator::string_share``: the contact up to the static torque T_s,
+        the string friction the rest up to T_sf). The estimate inverts that split,
+        share = sign(T) T_sf clip((|T| - T_s) / T_sf, 0, 1): none while the contact alone can hold
+        the bit (|T| < T_s), all of T_sf once the contact torque exceeds T_s by T_sf, and across the
+        set-valued plateau (|T| = T_s, where the split is not observable) a ramp through its middle."""
+        tsf = float(p["string_friction_nm"])
+        v, T = chs["v"][idx], chs["T"][idx]
+        if tsf <= 0.0:
+            return None
+        law = model.engine_config()["law"]
+        ts = np.zeros(v.size)
+        if str(law["type"]).startswith("polynomial") and float(law.get("a0", 0.0)) > 0:
+            ts = float(law["gain"]) * float(law["a0"]) * np.asarray(chs["W_eff"][idx], float) / float(law["wob_ref_n"])
+        share = np.sign(T) * tsf * np.clip((np.abs(T) - ts) / tsf, 0.0, 1.0)
+        near = np.abs(v) < data.stick_threshold
+        return np.where(near, share - tsf * np.sign(v), 0.0)
 
     def declared(self, cfg):
         t = float(cfg["operation"].get("string_friction_nm", 0.0))
