@@ -130,8 +130,8 @@ def chapter3(out: Path, o: Options) -> tuple[list, list]:
                         f"mean SS {_seq(sev)}; max SS {_seq(mx)}",
                         "model 3 above model 1 (mean) and above models 1-2 (max)",
                         worse if kind == "target" else None, kind,
-                        "" if kind == "target" else f"conclusions hold with this reading: stable region "
-                        f"{'grows' if grows else 'does not grow'}, severity {'rises' if worse else 'does not rise'}",
+                        "" if kind == "target" else f"with this reading the stable region "
+                        f"{'grows' if grows else 'does not grow'} and the severity {'rises' if worse else 'does not rise'}",
                         f2.name))
     return rows, figs
 
