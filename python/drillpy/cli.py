@@ -413,7 +413,11 @@ def cmd_mc(a) -> int:
     if a.json:
         print(json.dumps(res))
     else:
-        print(f"{res['samples']} samples, eta std {res['eta_std']:.4f}")
+        print(f"{res['samples']} samples, eta std {res['eta_std']:.4f}; protocol: "
+              + (f"Algorithm 1 literally (from rest, {res['duration_s']:g} s, SS after {res['transient_s']:g} s)"
+                 if res["warmup_s"] == 0 else
+                 f"shared {res['warmup_s']:g}-s deterministic warm start, then {res['duration_s']:g} s with eta, SS "
+                 f"after {res['transient_s']:g} s (Algorithm 1 literally: --warmup 0 --duration 300 --transient 200)"))
         for r in res["speeds"]:
             print(f"{r['top_speed_rad_s']:8.3f} rad/s  mean SS = {r['mean_ss']:.3f}  "
                   f"[q05 {r['q05']:.3f}, q95 {r['q95']:.3f}]  P(SS > 0.5) = {r['p_ss_gt_0_5']:.3f}")
