@@ -187,7 +187,10 @@ def test_ctrl_c_stops_a_study_quickly():
     """SIGINT during a long study: the engine stops at the next chunk boundary, exit code 130."""
     p = subprocess.Popen([sys.executable, "-m", "drillpy", "mc", "--preset", "thesis-field",
                           "--samples", "5000", "--threads", "2", "--no-progress", "--json"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         # a shell's background job inherits SIGINT ignored: give the study the
+                         # disposition an interactive user's process has
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     time.sleep(4.0)
     t0 = time.monotonic()
     p.send_signal(signal.SIGINT)
