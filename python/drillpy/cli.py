@@ -228,7 +228,7 @@ def cmd_analyze(a) -> int:
 
 
 def cmd_predict(a) -> int:
-    from .prediction import load_model, predict_record, write_prediction
+    from .prediction import describe, load_model, predict_record, write_prediction
     model = load_model(a.model)
     pred = predict_record(model, a.record, t0=a.t0, t1=a.t1, horizon_s=a.horizon, threads=a.threads)
     if a.out:
@@ -238,7 +238,7 @@ def cmd_predict(a) -> int:
         print(json.dumps({k: s[k] for k in ("short_horizon_error", "long_run")}, allow_nan=False))
     else:
         lr = s["long_run"]
-        print(f"{prediction.describe(model)} at the record's operating point; short-horizon error E = {s['short_horizon_error']:.3f}")
+        print(f"{describe(model)} at the record's operating point; short-horizon error E = {s['short_horizon_error']:.3f}")
         for k in ("ss", "stick_fraction", "cycle_frequency_hz"):
             print(f"  {k}: measured {lr[k]['measured']:.3f}, predicted {lr[k]['predicted']:.3f} "
                   f"({100 * lr[k]['relative_error']:+.1f} %)")
@@ -403,7 +403,7 @@ def cmd_mc(a) -> int:
         first_sample=_int_arg(a.first_sample, "first_sample"), threads=a.threads,
         progress=not a.no_progress)
     res = study.summary()
-    res.update(_robust_speed(study.severity, study.speeds, a.refine, a.seed, lambda sp: mcm.stochastic_study(
+    res.update(_robust_speed(study.severity, study.speeds, a.refine, study.seed, lambda sp: mcm.stochastic_study(
         cfg, sp, study.severity.shape[0], study.seed, psd=_psd_arg(a), eta_dt=a.eta_dt,
         first_sample=study.first_sample, deterministic=False, threads=a.threads, progress=False,
         **{k: study.settings[k + "_s"] for k in ("warmup", "duration", "transient")}).severity))
@@ -445,7 +445,7 @@ def _robust_speed(severity, speeds, refine, seed, evaluate) -> dict:
             out["p05_speed_rad_s"] = p_speed(severity, speeds)
             out["refinement_speeds_rad_s"] = [float(x) for x in r.speeds]
     if severity.shape[0] >= 2:
-        out["p05_speed_bootstrap"] = bootstrap_interval(severity, speeds, seed=int(seed) if str(seed).isdigit() else 0)
+        out["p05_speed_bootstrap"] = bootstrap_interval(severity, speeds, seed=seed)
     return out
 
 

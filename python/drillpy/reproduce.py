@@ -141,7 +141,9 @@ def chapter4(out: Path, o: Options) -> tuple[list, list]:
     """Section 4.2: natural frequencies, Fig. 4.8 with its threshold and the readings of the
     ambiguities, the 3-cycle regime (Fig. 4.6), Fig. 4.9 with its 5 % speed, Fig. 4.7, Conv1."""
     from . import plotting
-    from .simulation import natural_frequencies, refine_threshold, severity_threshold, simulate, sweep_severity
+    from scipy.stats import spearmanr
+
+    from .simulation import natural_frequencies, refine_threshold, simulate, sweep_severity
     rows, figs = [], []
     cfg = load_config(preset="thesis-ch4")
     f = natural_frequencies(cfg, 5)
@@ -153,20 +155,21 @@ def chapter4(out: Path, o: Options) -> tuple[list, list]:
     ss = sweep_severity(cfg, speeds, progress=o.progress, threads=o.threads)
     ref = refine_threshold(cfg, speeds, ss, tol=0.02 if not o.quick else 0.1, threads=o.threads)
     thr = None if ref is None else ref.threshold
-    extra = []
     fig = plotting.severity_curve(out / "fig4_8.png", speeds, ss, thr,
-                                  title="thesis-ch4 (WOB 200 kN, 100 modes): SS vs top speed (Fig. 4.8)", extra=extra)
+                                  title="thesis-ch4 (WOB 200 kN, 100 modes): SS vs top speed (Fig. 4.8)")
     figs.append(str(fig))
     rows.append(Row("4", "top speed below which SS > 0.5 [rad/s] (Fig. 4.8), thesis-ch4", "16",
                     "none" if ref is None else f"{ref.threshold:.2f} +- {ref.precision:.2f}", "+-0.5",
                     ref is not None and abs(ref.threshold - THESIS_THRESHOLD_RAD_S) <= 0.5,
                     note="bisection of the grid's crossing (`drillpy sweep --preset thesis-ch4 --refine 0.02`)",
                     figure=fig.name))
+    rho = float(spearmanr(speeds, ss)[0])
     rows.append(Row("4", "SS decreases with the top speed (Fig. 4.8)", "decreasing over [6, 27] rad/s",
-                    f"SS(6) = {ss[0]:.2f}, SS(27) = {ss[-1]:.3f}; Spearman {_spearman(speeds, ss):.2f}",
-                    "rank correlation < -0.8", _spearman(speeds, ss) < -0.8, figure=fig.name))
+                    f"SS(6) = {ss[0]:.2f}, SS(27) = {ss[-1]:.3f}; Spearman {rho:.2f}",
+                    "rank correlation < -0.8", rho < -0.8, figure=fig.name))
 
     # the readings of the ambiguities, each a full sweep located to 0.1 rad/s
+    extra = []
     readings = [("initial state Eq. (2.3): string turning rigidly at t = 0", cfg, "rigid"),
                 ("bit acceleration lagged in Eq. (3.3)", with_overrides(cfg, acceleration="lagged"), "rest"),
                 ("thesis-field (WOB 245 kN, 20 modes)", load_config(preset="thesis-field"), "rest"),
@@ -208,11 +211,6 @@ def chapter4(out: Path, o: Options) -> tuple[list, list]:
 
     rows_mc, figs_mc = _fig49(out, o, cfg)
     return rows + rows_mc, figs + figs_mc
-
-
-def _spearman(x, y) -> float:
-    rx, ry = np.argsort(np.argsort(x)), np.argsort(np.argsort(y))
-    return float(np.corrcoef(rx, ry)[0, 1])
 
 
 def _cycle_error(stick, slip) -> float:

@@ -16,9 +16,7 @@ from typing import Callable
 import numpy as np
 
 from . import _core
-
-SS_LEVEL = 0.5  #: stick-slip threshold on SS (section 3.3)
-P_LEVEL = 0.05  #: probability level of the robust speed (section 4.2.2)
+from .montecarlo import P_LEVEL, SS_LEVEL
 
 
 def _matrix(severity, speeds) -> tuple[np.ndarray, np.ndarray]:
