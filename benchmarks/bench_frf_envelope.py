@@ -20,7 +20,7 @@ import time
 import numpy as np
 
 import drillpy as d
-from drillpy import frf as F
+from drillpy.uncertainty import frf as F
 
 
 def dense_baseline_db(sm, basis_rows, bit, omega, seed, i):

@@ -21,8 +21,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))
 
-from drillpy.config import load_config  # noqa: E402
-from drillpy.montecarlo import DURATION_S, TRANSIENT_S, WARMUP_S, stochastic_study  # noqa: E402
+from drillpy.model.config import load_config  # noqa: E402
+from drillpy.uncertainty.montecarlo import DURATION_S, TRANSIENT_S, WARMUP_S, stochastic_study  # noqa: E402
 
 
 def cpu_seconds() -> float:

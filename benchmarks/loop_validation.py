@@ -1,11 +1,11 @@
 """Validation of ``drillpy loop`` on records its declared model did not generate.
 
-Every case simulates a *truth* away from the declared model (:func:`drillpy.synthetic.truth_config`:
+Every case simulates a *truth* away from the declared model (:func:`drillpy.records.synthetic.truth_config`:
 damping ratio 0.03-0.08 against 0.05 declared, GJ +-1.5 %, the law's slip branch rescaled, 3 modes of
 40 elements against 1 of 20, a time step 4 x finer than the loop's), switches on the case's effects
 (full size: the catalogue's defaults; half size; two at once; outside the loop's catalogue: the
 loop then searches only the original six effects; larger noise), adds measurement noise, and runs
-the loop from :func:`drillpy.synthetic.declared_config`. One table row per case: truth, answer,
+the loop from :func:`drillpy.records.synthetic.declared_config`. One table row per case: truth, answer,
 E before -> after the first step -> final, the long-run metrics (SS, stick fraction, cycle
 frequency: record, baseline, final) and the unexplained fraction.
 
@@ -35,7 +35,7 @@ import time
 from dataclasses import dataclass
 
 from drillpy.loop import LoopOptions, run_loop
-from drillpy.synthetic import declared_config, synthetic_record
+from drillpy.records.synthetic import declared_config, synthetic_record
 
 #: The loop's catalogue before this validation's additions: the "outside" cases search only these.
 ORIGINAL_SIX = ("bit_hysteresis", "wob_coupling", "top_drive_dynamics", "sensor_lag", "torque_fluctuation",
@@ -140,7 +140,7 @@ def truth_model_errors(case: Case) -> dict:
     """(E_train, E_val) of the case's truth scored by the loop's predictor with one mode at the loop's
     engine step: with the truth's GJ ("truth") and with the declared GJ ("declared_gj")."""
     import copy
-    from drillpy.config import normalize
+    from drillpy.model.config import normalize
     from drillpy.loop.data import prepare
     from drillpy.loop.effects import declared_effects, stripped
     from drillpy.loop.model import LoopModel, evaluate

@@ -20,9 +20,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))
 
-from drillpy.config import load_config  # noqa: E402
-from drillpy.montecarlo import stochastic_study  # noqa: E402
-from drillpy.process import PSD_CONVENTIONS, THESIS_PSD, convert_psd_model  # noqa: E402
+from drillpy.model.config import load_config  # noqa: E402
+from drillpy.uncertainty.montecarlo import stochastic_study  # noqa: E402
+from drillpy.uncertainty.process import PSD_CONVENTIONS, THESIS_PSD, convert_psd_model  # noqa: E402
 
 
 def main() -> int:

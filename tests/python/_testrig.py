@@ -23,7 +23,7 @@ def sample175_path() -> Path:
 
 @functools.lru_cache(maxsize=None)
 def _raw():
-    from drillpy.records import read_mat
+    from drillpy.records.io import read_mat
     return read_mat(SAMPLE175)
 
 
@@ -36,7 +36,7 @@ def sample175_raw():
 
 @functools.lru_cache(maxsize=None)
 def _cleaned():
-    from drillpy.cleaning import clean
+    from drillpy.records.cleaning import clean
     return clean(_raw())
 
 
@@ -48,7 +48,7 @@ def sample175_cleaned():
 
 @functools.lru_cache(maxsize=None)
 def _cycles():
-    from drillpy import signals as sig
+    from drillpy.records import signals as sig
     rec, rep = _cleaned()
     cyc = sig.segment_cycles(rec.bit_speed, rec.dt, rep.stick_threshold_rad_s, valid=rec.valid())
     acc = sig.derivative(rec.bit_speed, rec.dt)

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from _testrig import sample175_path, sample175_raw
-from drillpy.analysis import AnalysisOptions, analyze_record
+from drillpy.reports.analysis import AnalysisOptions, analyze_record
 from drillpy.cli import main
-from drillpy.records import Record, write_csv
+from drillpy.records.io import Record, write_csv
 
 FIGURES = {"time_series.png", "cleaning.png", "cycle.png", "loops.png", "cycle_statistics.png", "laws.png",
            "psd.png", "rig_time_series.png", "rig_loops.png"}

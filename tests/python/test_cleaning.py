@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 
 from _testrig import sample175_cleaned, sample175_raw
-from drillpy.cleaning import CleaningOptions, clean
-from drillpy.records import RPM, Flag, Record
+from drillpy.records.cleaning import CleaningOptions, clean
+from drillpy.records.io import RPM, Flag, Record
 
 
 def test_sample175_artifacts_found_and_repaired():

@@ -4,7 +4,7 @@ import json
 import pytest
 
 import drillpy
-from drillpy.config import thesis_law, with_overrides
+from drillpy.model.config import thesis_law, with_overrides
 
 
 def test_presets_load_normalized():

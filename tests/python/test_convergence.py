@@ -2,7 +2,7 @@
 import numpy as np
 
 import drillpy
-from drillpy.convergence import observed_orders, space_study, time_study
+from drillpy.model.convergence import observed_orders, space_study, time_study
 
 FIELD = drillpy.load_config(preset="thesis-field")
 

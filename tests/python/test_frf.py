@@ -1,4 +1,4 @@
-"""drillpy.frf: Craig-Bampton frequencies, dispersions, FRF envelopes, Conv2 and the `frf` command."""
+"""drillpy.uncertainty.frf: Craig-Bampton frequencies, dispersions, FRF envelopes, Conv2 and the `frf` command."""
 import json
 
 import numpy as np
@@ -7,7 +7,7 @@ from scipy.integrate import trapezoid
 
 import drillpy as d
 from drillpy import _core
-from drillpy import frf as F
+from drillpy.uncertainty import frf as F
 from drillpy.cli import main
 
 CFG = d.load_config(preset="thesis-ch6")

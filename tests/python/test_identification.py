@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 
 from _testrig import sample175_cleaned, sample175_cycles
-from drillpy import identification as ident
-from drillpy import signals as sig
+from drillpy.records import identification as ident
+from drillpy.records import signals as sig
 
 TRUTH = {
     "tucker_wang": [1.0, 0.2, 0.003],
@@ -110,13 +110,13 @@ def test_static_torque_is_identified_from_the_stick_phases_of_a_different_truth(
     finer time step and another damping than any declared model: the break-away torques of the
     unfiltered record are the static torque within 2 %; through the 10 Hz filter the identified
     1.36 a0 is biased low by the filter (documented), with an interval."""
-    from drillpy import rigsim
+    from drillpy.records import rigsim
     law = {"type": "polynomial", "speed_unit": "rpm", "wob_ref_n": 500.0, "a0": 3.1 / 1.36, "a1": 0.0,
            "a2": 2.4 / 1.36, "a3": 0.0, "a4": 2.4 / 1.36, "a5": 0.0, "a6": -2e-5, "a7": 0.0, "ref_speed": 90.0,
            "gain": 1.36}
     cfg = rigsim.rig_config(law, 0.08, duration_s=12.0, top_speed=8.5)
     cfg["simulation"]["dt_s"], cfg["simulation"]["output_stride"] = 5e-5, 20
-    from drillpy.simulation import simulate
+    from drillpy.model.simulation import simulate
     r = simulate(cfg)
     dt = float(r.t[1] - r.t[0])
     v, T = sig.rig_lowpass(r.bit_speed, 1 / dt), sig.rig_lowpass(r.torque_on_bit, 1 / dt)

@@ -20,8 +20,8 @@ from drillpy import loop as L
 from drillpy.loop.effects import torque_fluctuation as TF
 from drillpy.loop.model import law_torque, state_channels
 from drillpy.loop.run import analysis_config
-from drillpy.records import Record, write_csv
-from drillpy.synthetic import declared_config, synthetic_record
+from drillpy.records.io import Record, write_csv
+from drillpy.records.synthetic import declared_config, synthetic_record
 
 LOOP_KEYS = {"metric", "baseline_error", "steps", "final_error", "parameters", "declared", "removed", "final_effects",
              "unexplained_fraction", "discovered_terms", "adequacy", "baseline_long_run"}

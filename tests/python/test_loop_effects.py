@@ -8,7 +8,7 @@ import math
 
 import pytest
 
-from drillpy.config import load_config, normalize
+from drillpy.model.config import load_config, normalize
 from drillpy.loop.effects import CATALOGUE, NAMES, Effect, declared_effects, stripped
 from drillpy.loop.model import LoopModel
 
@@ -86,7 +86,7 @@ def test_the_engine_numerics_the_effects_call():
     import numpy as np
     from drillpy import _core
     from drillpy.loop.model import motor_inertia_floor, simulation
-    from drillpy.signals import rig_lowpass
+    from drillpy.records.signals import rig_lowpass
     fs = 2000.0
     t = np.arange(int(4 * fs)) / fs
     assert np.allclose(_core.lowpass2(np.full(100, 3.0), 10.0, 1 / fs), 3.0)

@@ -12,9 +12,9 @@ import pytest
 
 from drillpy import _core
 from drillpy.cli import main
-from drillpy.config import load_config, with_overrides
-from drillpy.montecarlo import conv1, phase_study, stochastic_study
-from drillpy.process import THESIS_PSD, convert_psd_model, generate, psd_on_grid
+from drillpy.model.config import load_config, with_overrides
+from drillpy.uncertainty.montecarlo import conv1, phase_study, stochastic_study
+from drillpy.uncertainty.process import THESIS_PSD, convert_psd_model, generate, psd_on_grid
 
 SHORT = dict(warmup=20.0, duration=30.0, transient=10.0)  # unit-test durations (cheap)
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from drillpy.process import (PSD_CONVENTIONS, THESIS_PSD, PsdModel, PsdTable, convert_psd_model,
+from drillpy.uncertainty.process import (PSD_CONVENTIONS, THESIS_PSD, PsdModel, PsdTable, convert_psd_model,
                              fit_eta, fit_psd_model, generate, periodogram, process_variance, welch)
 
 
@@ -185,12 +185,12 @@ def test_fit_recovers_a_non_thesis_psd_within_its_intervals():
 
 
 def _eta_exp_window(path, t0, t1):
-    """eta_exp of a window of the record exactly as drillpy.analysis.analyze_record computes it
+    """eta_exp of a window of the record exactly as drillpy.reports.analysis.analyze_record computes it
     (default AnalysisOptions: stick threshold 5 % of the median top speed, mean-of-all-cycles
     reference) and the fit of Eq. (4.4) to its raw periodogram up to 10 Hz."""
-    from drillpy import signals as sig
-    from drillpy.cleaning import CleaningOptions, clean
-    from drillpy.records import read_record
+    from drillpy.records import signals as sig
+    from drillpy.records.cleaning import CleaningOptions, clean
+    from drillpy.records.io import read_record
     raw = read_record(path).select(t0, t1)
     rec, _ = clean(raw, CleaningOptions())
     thr = 0.05 * abs(float(np.nanmedian(rec.top_speed[rec.valid("top_speed")])))
@@ -294,7 +294,7 @@ def test_bad_series_for_estimators():
 
 
 def test_scaled_to_std_keeps_the_shape_and_sets_the_variance():
-    from drillpy.process import THESIS_PSD, scaled_to_std
+    from drillpy.uncertainty.process import THESIS_PSD, scaled_to_std
     m = scaled_to_std(THESIS_PSD, 0.2 / 3)
     assert m.integral() == pytest.approx((0.2 / 3) ** 2, rel=1e-9)
     f = np.array([0.1, 0.27, 1.0, 5.0])

@@ -7,7 +7,7 @@ from scipy.io import savemat
 
 from _testrig import sample175_path, sample175_raw
 from drillpy.cli import main
-from drillpy.records import RPM, Flag, Record, read_csv, read_mat, read_record, write_csv
+from drillpy.records.io import RPM, Flag, Record, read_csv, read_mat, read_record, write_csv
 
 
 def test_sample175_channels_units_and_rate():
@@ -163,7 +163,7 @@ def test_csv_rows_out_of_time_order_are_sorted_not_restamped(tmp_path):
     p.write_text("\n".join(lines) + "\n")
     back = read_record(p)
     assert back.time_s[300] > back.time_s[301]  # read as written ...
-    from drillpy.cleaning import clean
+    from drillpy.records.cleaning import clean
     rec, rep = clean(back)                     # ... and sorted by time, with the values, when cleaned
     np.testing.assert_allclose(rec.bit_speed, r.bit_speed, rtol=1e-15)
     np.testing.assert_allclose(rec.time_s, r.time_s, atol=1e-9)

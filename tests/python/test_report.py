@@ -4,7 +4,7 @@ import json
 import numpy as np
 
 import drillpy
-from drillpy.report import field_report, map_conclusions
+from drillpy.reports.preset import field_report, map_conclusions
 
 
 def test_field_report_writes_figures_and_summary(tmp_path):

@@ -10,7 +10,7 @@ import sys
 import pytest
 
 from _testrig import sample175_path
-from drillpy.reproduce import Options, reproduce
+from drillpy.reports.reproduce import Options, reproduce
 
 QUICK = Options(quick=True, progress=False)
 

@@ -5,12 +5,12 @@ import numpy as np
 import pytest
 
 from _testrig import sample175_cleaned
-from drillpy import rigsim
-from drillpy.analysis import _jsonable
-from drillpy.cleaning import clean
-from drillpy.config import load_config
-from drillpy.records import RPM, Flag
-from drillpy.simulation import natural_frequencies
+from drillpy.records import rigsim
+from drillpy.reports.analysis import _jsonable
+from drillpy.records.cleaning import clean
+from drillpy.model.config import load_config
+from drillpy.records.io import RPM, Flag
+from drillpy.model.simulation import natural_frequencies
 
 
 @pytest.fixture(scope="module")
@@ -81,8 +81,8 @@ def test_motor_command_reproduces_the_reliable_mean_top_speed(window):
 def test_sample175_model_calibrated_on_0_20_s_predicts_20_40_s():
     """Issue 9's target on data the model never saw: SS, stick fraction and cycle frequency of the
     held-out 20-40 s within 15 % (law identified and rig calibrated on 0-20 s only)."""
-    from drillpy import identification as ident
-    from drillpy import signals as sig
+    from drillpy.records import identification as ident
+    from drillpy.records import signals as sig
     rec, _ = sample175_cleaned()
     cal, hold = rec.select(0.0, 20.0), rec.select(20.001, 40.0)
     thr = 0.05 * float(np.median(cal.top_speed[rigsim.reliable_top_speed(cal)]))

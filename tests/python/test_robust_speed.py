@@ -1,9 +1,9 @@
-"""drillpy.robust_speed: the 5 % speed located by bisection on the same samples, and its bootstrap
+"""drillpy.uncertainty.robust_speed: the 5 % speed located by bisection on the same samples, and its bootstrap
 interval, on a study whose exact answer is known."""
 import numpy as np
 import pytest
 
-from drillpy.robust_speed import bootstrap_interval, exceedance, p_speed, refine_p_speed
+from drillpy.uncertainty.robust_speed import bootstrap_interval, exceedance, p_speed, refine_p_speed
 
 
 def _study(n, seed=3):

@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 
 from _testrig import sample175_cleaned, sample175_cycles
-from drillpy import signals as sig
-from drillpy.records import RPM
+from drillpy.records import signals as sig
+from drillpy.records.io import RPM
 
 
 def test_swa_keeps_constants_and_lines_and_skips_nan():

@@ -55,7 +55,7 @@ def test_sweep_threshold_and_figure_4_8_shape():
 
 def test_progress_callback_and_grid_shape():
     calls = []
-    sim = drillpy._core.Simulation(drillpy.config.to_json_text(FIELD))
+    sim = drillpy._core.Simulation(drillpy.model.config.to_json_text(FIELD))
     out = sim.sweep([10.0, 20.0, 30.0], [100e3, 200e3], lambda d, t: calls.append((d, t)), 1)
     assert out.shape == (2, 3)
     assert calls[-1] == (6, 6) and all(a[0] < b[0] for a, b in zip(calls, calls[1:]))
@@ -99,7 +99,7 @@ def test_law_torque_matches_thesis_values():
     rpm = np.pi / 30
     T = drillpy.law_torque(FIELD["law"], [10 * rpm, 200 * rpm])
     np.testing.assert_allclose(T, [12.8e3, 7.8e3], atol=100)
-    T = drillpy.law_torque(drillpy.config.thesis_law("tucker_wang"), 1.0)
+    T = drillpy.law_torque(drillpy.model.config.thesis_law("tucker_wang"), 1.0)
     assert T[0] == pytest.approx(10.3e3, abs=60)
 
 
@@ -126,7 +126,7 @@ def test_bistable_band_rest_versus_steady_start():
 
 
 def test_threshold_located_by_bisection_to_the_stated_precision():
-    from drillpy.simulation import refine_threshold, sweep_severity
+    from drillpy.model.simulation import refine_threshold, sweep_severity
     cfg = drillpy.with_overrides(drillpy.load_config(preset="thesis-field"), modes=5, duration=120.0, transient=60.0)
     speeds = np.arange(18.0, 30.0, 2.0)
     ss = sweep_severity(cfg, speeds, progress=False)
@@ -152,7 +152,7 @@ def test_chapter4_preset_reproduces_the_thesis_threshold_of_16_rad_s():
     """Fig. 4.8: SS > 0.5 below 16 rad/s (deterministic hysteretic model). With the Table 3.1 string
     at WOB = 200 kN and all 100 modes (`thesis-ch4`) the crossing lies between 15.5 and 16.5 rad/s
     (15.98 +- 0.02 by `drillpy sweep --preset thesis-ch4 --refine 0.02`)."""
-    from drillpy.simulation import sweep_severity
+    from drillpy.model.simulation import sweep_severity
     cfg = drillpy.load_config(preset="thesis-ch4")
     assert cfg["operation"]["wob_n"] == 200e3 and cfg["rom"]["modes"] == 100
     ss = sweep_severity(cfg, [15.5, 16.5], progress=False)

@@ -1,4 +1,4 @@
-"""drillpy.structural_mc: SS under SM_CB2 structural uncertainty in the time domain, the eta hook,
+"""drillpy.uncertainty.structural: SS under SM_CB2 structural uncertainty in the time domain, the eta hook,
 and the `robust-ss` command."""
 import json
 
@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 import drillpy as d
-from drillpy import frf as F
+from drillpy.uncertainty import frf as F
 from drillpy.cli import main
-from drillpy.process import THESIS_PSD, generate
-from drillpy.structural_mc import severity_sources, severity_study
+from drillpy.uncertainty.process import THESIS_PSD, generate
+from drillpy.uncertainty.structural import severity_sources, severity_study
 
 CFG = F.with_cb_modes(d.with_overrides(d.load_config(preset="thesis-ch6"), dt=1e-3, duration=30.0,
                                        transient=15.0), [6, 3])

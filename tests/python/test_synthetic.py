@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from drillpy.synthetic import DEFAULTS, EFFECTS, NOISE, declared_config, synthetic_record, truth_config
+from drillpy.records.synthetic import DEFAULTS, EFFECTS, NOISE, declared_config, synthetic_record, truth_config
 
 
 def test_same_seed_same_record_other_seed_other_noise():
@@ -53,7 +53,7 @@ def test_motor_droops_with_the_torque_and_the_ideal_drive_does_not():
 def test_viscous_torque_is_not_in_the_torque_channel():
     """The record's torque is the contact torque: with c_v the bit runs slower, yet the recorded
     torque stays on the law (the viscous drag acts outside the load cell)."""
-    from drillpy.simulation import law_torque
+    from drillpy.model.simulation import law_torque
     rec = synthetic_record({"viscous_damping": {"bit_viscous_nms": 0.03}}, duration_s=4.0, seed=1, noise=0.0,
                            nuisance=False)
     cfg = declared_config()

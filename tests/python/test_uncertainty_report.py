@@ -1,12 +1,12 @@
-"""drillpy.uncertainty_report: the chapter-6 conclusions measured on envelope widths, and the report."""
+"""drillpy.reports.uncertainty: the chapter-6 conclusions measured on envelope widths, and the report."""
 import json
 
 import numpy as np
 import pytest
 
 import drillpy as d
-from drillpy import frf as F
-from drillpy.uncertainty_report import chapter6_report, conclusions, nominal_agreement
+from drillpy.uncertainty import frf as F
+from drillpy.reports.uncertainty import chapter6_report, conclusions, nominal_agreement
 
 CFG = F.with_cb_modes(d.load_config(preset="thesis-ch6"), [10, 6])
 FREQS = np.linspace(0.01, 10.0, 300)

@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 from scipy import signal as sps
 
-from .. import signals
-from ..cleaning import CleaningOptions, clean
-from ..records import Record, read_record
-from ..rigsim import reliable_top_speed
+from drillpy.records import signals
+from drillpy.records.cleaning import CleaningOptions, clean
+from drillpy.records.io import Record, read_record
+from drillpy.records.rigsim import reliable_top_speed
 from .options import LoopOptions
 
 #: Channels the cleaning searches for spikes: the encoders (the load cells' torque and WOB drop

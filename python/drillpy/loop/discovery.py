@@ -16,7 +16,7 @@ a handful of terms, and its one-term-at-a-time path makes an information criteri
 bootstrap cheap and exact.
 
 **Autocorrelation.** Samples of a 500 Hz-1 kHz record are far from independent. tau is the
-integrated autocorrelation time of the residual (:func:`drillpy.identification.autocorrelation_time`,
+integrated autocorrelation time of the residual (:func:`drillpy.records.identification.autocorrelation_time`,
 Geyer's initial positive sequence), the larger of the residual's own and of what a first OMP/BIC
 fit on all samples leaves of it (the noise, whose correlation is what matters, may be slower than
 the residual as a whole), and n_eff = n / tau replaces n in the BIC and in the tests.
@@ -47,7 +47,7 @@ import numpy as np
 from scipy import signal as sps
 from scipy import stats
 
-from ..identification import autocorrelation_time
+from drillpy.records.identification import autocorrelation_time
 
 #: Number of block-bootstrap resamples of the stability check.
 N_BOOTSTRAP = 50

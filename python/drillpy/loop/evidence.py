@@ -8,7 +8,7 @@ import math
 import numpy as np
 from scipy import stats
 
-from .. import identification as ident
+from drillpy.records import identification as ident
 from .data import LoopData
 from .model import Evaluation, channel_errors, score
 from .options import LoopOptions

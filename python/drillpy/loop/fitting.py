@@ -13,8 +13,8 @@ import math
 import numpy as np
 from scipy import optimize
 
-from .. import identification as ident
-from ..records import RPM
+from drillpy.records import identification as ident
+from drillpy.records.io import RPM
 from .data import LoopData
 from .effects import CATALOGUE, declared_effects, stripped
 from .model import LoopModel, law_channels, law_torque, residual_vector

@@ -1,16 +1,16 @@
 """The limit cycle as part of the error: a loop model simulated over the whole record at the
 record's operating point, its stick-slip metrics (SS of Eq. 3.4 from the reliable mean top speed,
-stick fraction, cycle frequency) against the record's (:func:`drillpy.rigsim.compare`)."""
+stick fraction, cycle frequency) against the record's (:func:`drillpy.records.rigsim.compare`)."""
 from __future__ import annotations
 
 import math
 
 import numpy as np
 
-from .. import rigsim
-from ..config import normalize
-from ..records import Record
-from ..simulation import simulate
+from drillpy.records import rigsim
+from drillpy.model.config import normalize
+from drillpy.records.io import Record
+from drillpy.model.simulation import simulate
 from .data import LoopData
 from .effects import CATALOGUE
 from .model import LoopModel

@@ -15,9 +15,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import _core
-from .. import identification as ident
-from ..config import to_json_text
+from drillpy import _core
+from drillpy.records import identification as ident
+from drillpy.model.config import to_json_text
 from .data import LoopData, measured
 from .effects import CATALOGUE
 

@@ -13,12 +13,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..config import normalize
+from drillpy.model.config import normalize
 from .effects import CATALOGUE
 from .data import measured
 from .run import LoopResult, dumps
-from ..plotting import _save, plt
-from ..records import RPM
+from drillpy.figures.simulation import _save, plt
+from drillpy.records.io import RPM
 
 C_MEAS, C_BASE, C_FINAL, C_SIG = "k", "tab:red", "tab:blue", "tab:orange"
 

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..config import normalize
+from drillpy.model.config import normalize
 from .data import LoopData, prepare
 from .discovery import discover, library, residual_structure
 from .effects import CATALOGUE
@@ -342,7 +342,7 @@ def loop_record(record, out_dir, *, preset: str | None = None, config_path: str 
                 config: dict | None = None, options: LoopOptions | None = None, log=print) -> dict:
     """``drillpy loop``: run the loop and write ``loop.json``, ``evidence.json``, ``predictions.csv``,
     ``model.json``, ``report.md`` and the figures to ``out_dir``. Returns the content of loop.json."""
-    from ..config import load_config
+    from drillpy.model.config import load_config
     from .report import write_outputs
     cfg = load_config(preset=preset, path=config_path, config=config)
     res = run_loop(record, cfg, options, log=log)
@@ -355,5 +355,5 @@ def loop_record(record, out_dir, *, preset: str | None = None, config_path: str 
 
 def dumps(o) -> str:
     """JSON text of plain and NumPy values (NaN and inf become null)."""
-    from ..analysis import _jsonable
+    from drillpy.reports.analysis import _jsonable
     return json.dumps(_jsonable(o), indent=2)

@@ -130,7 +130,7 @@ class Effect:
 
     # ------------------------------------------------------------------------ synthetic truth
     def inject(self, truth, p: dict) -> None:
-        """Switch the effect on in a synthetic truth (:class:`drillpy.synthetic.Truth`)."""
+        """Switch the effect on in a synthetic truth (:class:`drillpy.records.synthetic.Truth`)."""
         raise NotImplementedError(self.name)
 
     defaults: dict = {}  #: parameters of the synthetic truth when switched on without values

@@ -51,12 +51,12 @@ class SensorLag(Effect):
         return SQRT2 / w, 1.0 / w ** 2
 
     def measure(self, p, chans, fs):
-        from ... import _core  # the engine's measurement chain (drill/sensor.hpp)
+        from drillpy import _core  # the engine's measurement chain (drill/sensor.hpp)
         return {k: _core.lowpass2(x, p["lowpass_hz"], 1.0 / fs) for k, x in chans.items()}
 
     def inject(self, truth, p):
         # the truth's acquisition filter is an independent implementation (SciPy's bilinear Butterworth)
-        from ...signals import rig_lowpass
+        from drillpy.records.signals import rig_lowpass
         truth.post.append(lambda chans, fs: {k: rig_lowpass(x, fs, cutoff_hz=p["lowpass_hz"])
                                              for k, x in chans.items()})
 

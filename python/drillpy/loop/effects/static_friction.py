@@ -36,7 +36,7 @@ class StaticFriction(Effect):
     def direct(self, model, data):
         """The break-away torque of every stick phase of the calibration part (the largest torque
         from the start of the stick to just after it ends, scaled to the model's WOB:
-        :func:`drillpy.identification.breakaway_torques`), its mean with a Student-t interval over
+        :func:`drillpy.records.identification.breakaway_torques`), its mean with a Student-t interval over
         the stick phases; significant when the interval lies above the law's largest torque over the
         record's speeds by more than 5 % (below that it is the law's own peak).
 
@@ -52,8 +52,8 @@ class StaticFriction(Effect):
         if not str(model.law["type"]).startswith("polynomial"):
             return None
         from scipy import stats
-        from ... import identification as ident
-        from ...signals import segment_cycles
+        from drillpy.records import identification as ident
+        from drillpy.records.signals import segment_cycles
         cal = data.valid & (data.t < data.t_split)
         cyc = segment_cycles(data.ch["v"], data.dt, data.stick_threshold, valid=cal)
         from ..model import state_channels
@@ -76,7 +76,7 @@ class StaticFriction(Effect):
         """Multiples of the law's torque at the stick threshold: a static torque below it changes
         nothing (the law already holds the bit there)."""
         self._check(model.law)
-        from ... import identification as ident
+        from drillpy.records import identification as ident
         t_low = float(ident.law_eval(model.law, np.array([data.stick_threshold]), np.zeros(1),
                                      np.array([model.wob]))[0][0])
         return [{"static_torque_nm": f * t_low} for f in (1.1, 1.4, 1.8, 2.4)]
@@ -97,7 +97,7 @@ class StaticFriction(Effect):
     def _set(law, a0):
         ref = float(law["ref_speed"])
         law["a0"] = float(a0)
-        law["a1"] = (float(law["a2"]) - float(a0)) / (0.01 * ref)  # the tie of drillpy.identification
+        law["a1"] = (float(law["a2"]) - float(a0)) / (0.01 * ref)  # the tie of drillpy.records.identification
 
     def configure(self, cfg, p, model):
         self._check(cfg["law"])

@@ -55,7 +55,7 @@ class TopDriveDynamics(Effect):
         read off the record (least squares over the calibration part), plus a few droops; and the
         kinematic variant (the top at its measured speed)."""
         from .. import model as M
-        from ... import _core
+        from drillpy import _core
         m = model.copy()
         m.effects[self.name] = {"variant": "measured"}
         chs = M.state_channels(m, data)
@@ -111,7 +111,7 @@ class TopDriveDynamics(Effect):
     def inject(self, truth, p):
         cfg = truth.cfg
         cfg["top_drive"] = {"type": "motor", "slope_nms_rad": p["slope_nms_rad"], "inertia_kg_m2": p["inertia_kg_m2"]}
-        from ...simulation import law_torque
+        from drillpy.model.simulation import law_torque
         om0, w0 = float(cfg["operation"]["top_speed_rad_s"]), float(cfg["operation"]["wob_n"])
         t_mean = float(law_torque(cfg["law"], om0, 0.0, w0)[0]) + cfg["operation"].get("bit_viscous_nms", 0.0) * om0
         cfg["operation"]["top_speed_rad_s"] = om0 + t_mean / p["slope_nms_rad"]  # command above the mean by the droop

@@ -34,7 +34,7 @@ class TorqueFluctuation(Effect):
         return forecast(p, level[idx], slope[idx], leads)
 
     def inject(self, truth, p):
-        from ...process import PsdModel
+        from drillpy.uncertainty.process import PsdModel
         f0 = p["f0_hz"]
         psd = PsdModel(f0=f0, A0=0.0, a=-3.13, b=3.13 * math.log(f0))  # Eq. (4.4) shape, continuous at f0
         truth.eta = p["std"] * truth.process(psd, "eta")

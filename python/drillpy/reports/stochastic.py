@@ -5,11 +5,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from . import plotting, plotting_stochastic as figs
-from .montecarlo import ETA_DT_S, StochasticStudy, phase_study, stochastic_run
-from .process import THESIS_PSD, Psd, fit_eta, generate, welch
-from .simulation import simulate
-from .config import with_overrides
+from drillpy.figures import simulation as plotting
+from drillpy.figures import stochastic as figs
+from drillpy.uncertainty.montecarlo import ETA_DT_S, StochasticStudy, phase_study, stochastic_run
+from drillpy.uncertainty.process import THESIS_PSD, Psd, fit_eta, generate, welch
+from drillpy.model.simulation import simulate
+from drillpy.model.config import with_overrides
 
 FIT_RECORD_S = 2000.0  #: length of the generated eta record fitted for Figs. 4.2-4.3 [s]
 

@@ -13,9 +13,9 @@ import copy
 
 import numpy as np
 
-from . import _core
-from .config import normalize, to_json_text, with_overrides
-from .simulation import natural_frequencies, simulate
+from drillpy import _core
+from drillpy.model.config import normalize, to_json_text, with_overrides
+from drillpy.model.simulation import natural_frequencies, simulate
 
 
 def observed_orders(h, err) -> list[float]:

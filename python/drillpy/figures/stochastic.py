@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import gaussian_kde
 
-from .plotting import _save, plt
+from drillpy.figures.simulation import _save, plt
 
 
 def psd_fit(path, f, S_raw, fit_model, *, S_welch=None, f_welch=None, target=None,

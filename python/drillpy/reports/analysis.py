@@ -1,9 +1,9 @@
 """``drillpy analyze``: the full analysis of a measured record, written as a report.
 
-read -> clean (:mod:`drillpy.cleaning`) -> stick-slip cycles, mean cycle, eta_exp and its PSD,
-Table 5.2 statistics (:mod:`drillpy.signals`) -> least-squares identification of the bit-rock
-laws with intervals and a comparison table (:mod:`drillpy.identification`) -> the test rig in
-simulation with the identified law and an effective damping estimate (:mod:`drillpy.rigsim`)
+read -> clean (:mod:`drillpy.records.cleaning`) -> stick-slip cycles, mean cycle, eta_exp and its PSD,
+Table 5.2 statistics (:mod:`drillpy.records.signals`) -> least-squares identification of the bit-rock
+laws with intervals and a comparison table (:mod:`drillpy.records.identification`) -> the test rig in
+simulation with the identified law and an effective damping estimate (:mod:`drillpy.records.rigsim`)
 -> ``report.md``, PNG figures and ``summary.json`` (:func:`analyze_record`).
 """
 from __future__ import annotations
@@ -15,13 +15,14 @@ from pathlib import Path
 
 import numpy as np
 
-from . import record_figures as figs
-from . import identification as ident
-from . import process, rigsim
-from . import signals as sig
-from .cleaning import CleaningOptions, clean
-from .config import load_config
-from .records import RPM, Record, read_record
+from drillpy.figures import records as figs
+from drillpy.records import identification as ident
+from drillpy.uncertainty import process
+from drillpy.records import rigsim
+from drillpy.records import signals as sig
+from drillpy.records.cleaning import CleaningOptions, clean
+from drillpy.model.config import load_config
+from drillpy.records.io import RPM, Record, read_record
 
 
 @dataclass
@@ -38,7 +39,7 @@ class AnalysisOptions:
         Time inside the cycle shown in the one-cycle figure (default: a cycle with a clear stick
         phase and a typical period).
     laws : tuple
-        Laws to identify (:data:`drillpy.identification.LAWS`).
+        Laws to identify (:data:`drillpy.records.identification.LAWS`).
     folds : int
         Folds of the cross-validation over cycles (0: none).
     fit_rate_hz : float
@@ -49,7 +50,7 @@ class AnalysisOptions:
         T_hys of Eq. (4.2): the mean of all cycles (thesis) or the branch mean curves.
     simulate : bool
         Run the rig simulations (needs a top-speed channel): the rig model calibrated on the record
-        (:func:`drillpy.rigsim.calibrate`), written as ``model.json``.
+        (:func:`drillpy.records.rigsim.calibrate`), written as ``model.json``.
     preset : str
         The rig preset simulated.
     calibrate : (float, float), optional
@@ -196,7 +197,7 @@ def analyze_record(record: Record | str | Path, out_dir: str | Path, options: An
                 "thesis_field": process.THESIS_PSD.as_dict(),
                 "convention": "Eq. (4.4) with natural logarithms; one-sided PSD of eta in 1/Hz, f in Hz; fit "
                               "of ln S to the raw periodogram (bias of ln of an exponential ordinate removed)",
-                "fitter": "drillpy.process.fit_psd_model"}
+                "fitter": "drillpy.uncertainty.process.fit_psd_model"}
     log(f"eta_exp: std {S['eta']['std']:.3f} (thesis rig average {sig.THESIS_ETA_STD}); PSD model f0 = "
         f"{psd.model.f0:.3g} Hz (95 % {psd.ci95['f0_hz'][0]:.3g}-{psd.ci95['f0_hz'][1]:.3g}"
         f"{', at the search edge' if psd.f0_ci_at_search_edge else ''}), A0 = {psd.model.A0:.2f}, a = {psd.model.a:.2f}, b = {psd.model.b:.2f} "
@@ -295,9 +296,9 @@ def _metric_row(cmp: rigsim.RigComparison) -> dict:
 
 def _rig_section(rec: Record, thr: float, fits_by: dict, preset: str, log, held: list) -> tuple:
     """The rig model: the identified law that can stick (the non-regularized Eq. 5.1/5.3 with the
-    lower BIC), its damping and top drive calibrated on ``rec`` (:func:`drillpy.rigsim.calibrate`),
+    lower BIC), its damping and top drive calibrated on ``rec`` (:func:`drillpy.records.rigsim.calibrate`),
     every drive's best case simulated for the figures, and the prediction of the held-out pieces."""
-    from .prediction import short_horizon_error
+    from drillpy.records.prediction import short_horizon_error
     fits = fits_by["constant_wob"]
     sticky = [f for f in fits if f.name.startswith("polynomial")] or fits
     base = load_config(preset=preset)

@@ -15,8 +15,8 @@ from typing import Callable
 
 import numpy as np
 
-from . import _core
-from .montecarlo import P_LEVEL, SS_LEVEL
+from drillpy import _core
+from drillpy.uncertainty.montecarlo import P_LEVEL, SS_LEVEL
 
 
 def _matrix(severity, speeds) -> tuple[np.ndarray, np.ndarray]:

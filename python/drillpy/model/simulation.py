@@ -7,9 +7,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _core
-from .config import to_json_text
-from .progress import progress_bar
+from drillpy import _core
+from drillpy.model.config import to_json_text
+from drillpy.progress import progress_bar
 
 
 @dataclass

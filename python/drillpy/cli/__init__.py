@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .config import load_config, with_overrides
+from drillpy.model.config import load_config, with_overrides
 
 
 def parse_grid(text: str, name: str) -> np.ndarray:
@@ -77,7 +77,7 @@ def _config(a) -> dict:
 
 
 def cmd_modes(a) -> int:
-    from .simulation import natural_frequencies
+    from drillpy.model.simulation import natural_frequencies
     f = natural_frequencies(_config(a), a.n)
     if a.json:
         print(json.dumps({"frequencies_hz": [float(x) for x in f]}))
@@ -88,8 +88,8 @@ def cmd_modes(a) -> int:
 
 
 def cmd_simulate(a) -> int:
-    from . import plotting
-    from .simulation import simulate
+    from drillpy.figures import simulation as plotting
+    from drillpy.model.simulation import simulate
     cfg = _config(a)
     r = simulate(cfg, a.top_speed, None if a.wob_kn is None else a.wob_kn * 1e3, start=a.start)
     summary = {"severity": r.severity, "mean_top_speed_rad_s": r.mean_top_speed,
@@ -114,15 +114,15 @@ def cmd_simulate(a) -> int:
 
 
 def cmd_sweep(a) -> int:
-    from . import plotting
-    from .simulation import severity_threshold, sweep_severity
+    from drillpy.figures import simulation as plotting
+    from drillpy.model.simulation import severity_threshold, sweep_severity
     cfg = _config(a)
     speeds = parse_grid(a.speeds, "--speeds")
     ss = sweep_severity(cfg, speeds, progress=not a.no_progress, threads=a.threads, start=a.start)
     thr = severity_threshold(speeds, ss)
     res = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.tolist(), "threshold_rad_s": thr}
     if a.refine is not None and thr is not None:
-        from .simulation import refine_threshold
+        from drillpy.model.simulation import refine_threshold
         r = refine_threshold(cfg, speeds, ss, tol=a.refine, threads=a.threads, start=a.start)
         thr = r.threshold
         res.update(threshold_rad_s=r.threshold, threshold_precision_rad_s=r.precision,
@@ -144,8 +144,8 @@ def cmd_sweep(a) -> int:
 
 
 def cmd_map(a) -> int:
-    from . import plotting
-    from .simulation import stability_map
+    from drillpy.figures import simulation as plotting
+    from drillpy.model.simulation import stability_map
     cfg = _config(a)
     sp = parse_grid(a.speeds_rpm, "--speeds-rpm")
     w = parse_grid(a.wobs_kn, "--wobs-kn")
@@ -162,7 +162,7 @@ def cmd_map(a) -> int:
 
 
 def cmd_report(a) -> int:
-    from .report import field_report, print_field_summary
+    from drillpy.reports.preset import field_report, print_field_summary
     s = field_report(_config(a), a.out, progress=not a.no_progress, threads=a.threads)
     if a.json:
         print(json.dumps({k: v for k, v in s.items() if k != "config"}))
@@ -173,7 +173,7 @@ def cmd_report(a) -> int:
 
 
 def cmd_convergence(a) -> int:
-    from .convergence import convergence_report
+    from drillpy.model.convergence import convergence_report
     r = convergence_report(_config(a))
     if a.json:
         print(json.dumps(r))
@@ -197,11 +197,11 @@ def cmd_convergence(a) -> int:
 
 
 def cmd_analyze(a) -> int:
-    from .samples import Acceptance, SampleOptions, analyze_samples, find_records
+    from drillpy.records.samples import Acceptance, SampleOptions, analyze_samples, find_records
     log = (lambda *_: None) if a.json else print
     items = find_records(a.record)
     if len(items) == 1:  # one record (or one window of it): the single-record analysis
-        from .analysis import AnalysisOptions, _jsonable, analyze_record
+        from drillpy.reports.analysis import AnalysisOptions, _jsonable, analyze_record
         t0, t1 = items[0][2] or (a.t0, a.t1)
         cal = None if a.calibrate is None else tuple(parse_grid(a.calibrate.replace(":", ","), "--calibrate"))
         if cal is not None and len(cal) != 2:
@@ -221,14 +221,14 @@ def cmd_analyze(a) -> int:
     opt = SampleOptions(t0=a.t0, t1=a.t1, folds=0 if a.folds is None else a.folds, acceptance=acc)
     s = analyze_samples([p if w is None else f"{p}@{w[0]!r}:{w[1]!r}" for _, p, w in items], a.out, opt, log=log)
     if a.json:
-        from .analysis import _jsonable
+        from drillpy.reports.analysis import _jsonable
         print(json.dumps(_jsonable({k: s[k] for k in ("n_samples", "laws", "table_5_2", "across_samples",
                                                       "acceptance", "parameters")}), allow_nan=False))
     return 0
 
 
 def cmd_predict(a) -> int:
-    from .prediction import describe, load_model, predict_record, write_prediction
+    from drillpy.records.prediction import describe, load_model, predict_record, write_prediction
     model = load_model(a.model)
     pred = predict_record(model, a.record, t0=a.t0, t1=a.t1, horizon_s=a.horizon, threads=a.threads)
     if a.out:
@@ -260,15 +260,15 @@ def _uncertainty_args(p: argparse.ArgumentParser, samples: int, out: str) -> Non
 def _cb_config(a) -> dict:
     cfg = _config(a)
     if a.cb_modes:
-        from .frf import with_cb_modes
+        from drillpy.uncertainty.frf import with_cb_modes
         cfg = with_cb_modes(cfg, [int(x) for x in parse_grid(a.cb_modes, "--cb-modes")])
     return cfg
 
 
 def cmd_frf(a) -> int:
-    from . import frf_plots
-    from .frf import band_widths, frf_envelope
-    from .uncertainty_report import BANDS_HZ
+    from drillpy.figures import frf as frf_plots
+    from drillpy.uncertainty.frf import band_widths, frf_envelope
+    from drillpy.reports.uncertainty import BANDS_HZ
     cfg = _cb_config(a)
     env = frf_envelope(cfg, a.model, a.delta, a.case, samples=a.samples, seed=a.seed,
                        freq_hz=parse_grid(a.freqs, "--freqs"), probability=a.probability,
@@ -293,7 +293,7 @@ def cmd_frf(a) -> int:
 
 
 def cmd_frf_report(a) -> int:
-    from .uncertainty_report import chapter6_report, print_conclusions
+    from drillpy.reports.uncertainty import chapter6_report, print_conclusions
     s = chapter6_report(_cb_config(a), a.out, samples=a.samples, mode_samples=a.mode_samples, seed=a.seed,
                         progress=not a.no_progress, threads=a.threads)
     if a.json:
@@ -305,9 +305,9 @@ def cmd_frf_report(a) -> int:
 
 
 def cmd_robust_ss(a) -> int:
-    from . import frf_plots
-    from .process import THESIS_PSD
-    from .structural_mc import severity_sources, severity_study
+    from drillpy.figures import frf as frf_plots
+    from drillpy.uncertainty.process import THESIS_PSD
+    from drillpy.uncertainty.structural import severity_sources, severity_study
     cfg = _cb_config(a)
     if a.bit_rock and a.eta_npy:
         raise ValueError("--bit-rock and --eta-npy: give one source of eta")
@@ -359,7 +359,7 @@ def _int_arg(text: str, name: str) -> int:
 
 
 def _psd_arg(a):
-    from .process import PSD_CONVENTIONS, THESIS_PSD, PsdModel, PsdTable, convert_psd_model
+    from drillpy.uncertainty.process import PSD_CONVENTIONS, THESIS_PSD, PsdModel, PsdTable, convert_psd_model
     if a.psd_table:
         p = Path(a.psd_table)
         if not p.is_file():
@@ -382,7 +382,7 @@ def _psd_arg(a):
     else:
         model = convert_psd_model(THESIS_PSD, a.psd_convention)
     if getattr(a, "eta_std", None) is not None:
-        from .process import scaled_to_std
+        from drillpy.uncertainty.process import scaled_to_std
         try:
             model = scaled_to_std(model, a.eta_std)
         except ValueError:
@@ -391,8 +391,8 @@ def _psd_arg(a):
 
 
 def cmd_mc(a) -> int:
-    from . import montecarlo as mcm
-    from .stochastic_report import write_figures
+    from drillpy.uncertainty import montecarlo as mcm
+    from drillpy.reports.stochastic import write_figures
     cfg = _config(a)
     speeds = parse_grid(a.speeds, "--speeds")
     study = mcm.stochastic_study(
@@ -434,8 +434,8 @@ def cmd_mc(a) -> int:
 
 def _robust_speed(severity, speeds, refine, seed, evaluate) -> dict:
     """The 5 % speed refined by bisection (``refine`` [rad/s], same samples) and its 90 % bootstrap
-    interval over the samples (drillpy.robust_speed)."""
-    from .robust_speed import bootstrap_interval, p_speed, refine_p_speed
+    interval over the samples (drillpy.uncertainty.robust_speed)."""
+    from drillpy.uncertainty.robust_speed import bootstrap_interval, p_speed, refine_p_speed
     out = {}
     if refine is not None:
         r = refine_p_speed(severity, speeds, evaluate, tol=refine)
@@ -461,7 +461,7 @@ def _robust_speed_text(res: dict) -> str:
 
 
 def cmd_reproduce(a) -> int:
-    from .reproduce import Options, reproduce
+    from drillpy.reports.reproduce import Options, reproduce
     res = reproduce(a.chapter, a.out, Options(quick=a.quick, threads=a.threads, progress=not a.no_progress,
                                               seed=a.seed), record=a.record)
     if a.json:
@@ -473,8 +473,8 @@ def cmd_reproduce(a) -> int:
 
 
 def cmd_loop(a) -> int:
-    from .loop import LoopOptions, loop_record
-    from .loop.effects import NAMES
+    from drillpy.loop import LoopOptions, loop_record
+    from drillpy.loop.effects import NAMES
     effects = NAMES if a.effects is None else tuple(e.strip() for e in a.effects.split(",") if e.strip())
     opt = LoopOptions(horizon_s=a.horizon, calibration_fraction=a.calibration_fraction, rate_hz=a.rate,
                       min_gain=a.min_gain, alpha=a.alpha, min_delta_bic=a.min_delta_bic, max_steps=a.max_steps,

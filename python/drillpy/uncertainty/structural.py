@@ -4,7 +4,7 @@ bit-rock law, optionally with the stochastic law T_sto = T_hys (1 + eta(t)) (Eq.
 
 The bit-rock uncertainty enters through ``eta_psd``, the one-sided PSD per Hz of eta (Eq. 4.4;
 default calibration ``THESIS_PSD``), generated in the engine by the chapter-4 process generator:
-sample i gets the same eta as sample i of :func:`drillpy.montecarlo.stochastic_study` with the same
+sample i gets the same eta as sample i of :func:`drillpy.uncertainty.montecarlo.stochastic_study` with the same
 seed, and the random matrices of the same sample from other random streams (independent sources).
 Any other eta can be given as an array ``eta`` with one series per sample (sampled every
 ``eta_dt`` seconds from t = 0). Sample i carries realization i of the random matrices and of eta at
@@ -18,11 +18,11 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import trapezoid
 
-from . import _core
-from .frf import stochastic_model
-from .montecarlo import ETA_DT_S
-from .process import psd_on_grid
-from .progress import progress_bar
+from drillpy import _core
+from drillpy.uncertainty.frf import stochastic_model
+from drillpy.uncertainty.montecarlo import ETA_DT_S
+from drillpy.uncertainty.process import psd_on_grid
+from drillpy.progress import progress_bar
 
 
 @dataclass

@@ -26,10 +26,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _core
-from .config import with_overrides
-from .process import THESIS_PSD, Psd, check_count, check_seed, psd_on_grid, _positive
-from .progress import progress_bar
+from drillpy import _core
+from drillpy.model.config import with_overrides
+from drillpy.uncertainty.process import THESIS_PSD, Psd, check_count, check_seed, psd_on_grid, _positive
+from drillpy.progress import progress_bar
 
 WARMUP_S = 100.0     #: deterministic start-up shared by all samples [s]
 DURATION_S = 60.0    #: stochastic part of every run [s]
@@ -210,8 +210,8 @@ def stochastic_run(cfg: dict, top_speed: float, seed: int, *, sample: int = 0,
                    transient: float = 100.0):
     """One stochastic run from rest (Eq. 2.10) with eta of ``sample`` over the whole run
     (Algorithm 1; Figs. 4.5-4.6): returns (SimulationResult, t_eta, eta)."""
-    from .process import generate
-    from .simulation import simulate
+    from drillpy.uncertainty.process import generate
+    from drillpy.model.simulation import simulate
     c = _study_config(cfg, duration, transient)
     t, eta = generate(psd, dt=eta_dt, duration=c["simulation"]["duration_s"], samples=1,
                       seed=seed, first_sample=sample)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .plotting import _save, plt
+from drillpy.figures.simulation import _save, plt
 
 COLORS = ("tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple")
 

@@ -19,8 +19,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import trapezoid
 
-from . import _core
-from .progress import progress_bar
+from drillpy import _core
+from drillpy.progress import progress_bar
 
 MODELS = ("SM_full", "SM_CB1", "SM_CB2")
 POINT_LABELS = ("P_obs,1 (first free DP node)", "P_obs,2 (DP/BHA interface)", "P_obs,3 (bit)")

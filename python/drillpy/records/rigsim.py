@@ -27,10 +27,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize
 
-from .config import load_config, normalize
-from .records import Flag, Record
-from .signals import MeanCycle, derivative, mean_cycle, rig_lowpass, segment_cycles, stick_slip_metrics
-from .simulation import simulate
+from drillpy.model.config import load_config, normalize
+from drillpy.records.io import Flag, Record
+from drillpy.records.signals import MeanCycle, derivative, mean_cycle, rig_lowpass, segment_cycles, stick_slip_metrics
+from drillpy.model.simulation import simulate
 
 #: Metrics compared between simulation and measurement (relative errors enter the mismatch).
 MATCHED = ("ss", "stick_fraction", "cycle_frequency_hz", "bit_speed_p95", "torque_p5", "torque_p95",

@@ -51,9 +51,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize, stats
 
-from . import _core
-from .records import RPM
-from .signals import MeanCycle, var_mse
+from drillpy import _core
+from drillpy.records.io import RPM
+from drillpy.records.signals import MeanCycle, var_mse
 
 METHOD_NOTE = (
     "Least squares through the engine's law evaluation on the slip samples of valid cycles. alpha0 (3.1) "
@@ -135,7 +135,7 @@ class FitData:
         evaluated at the measured WOB, else at the reference). ``every``: keep one sample in
         ``every`` (the rig's channels are low-passed at 10 Hz, so 100 Hz of a 1 kHz record carries
         the same information at a tenth of the cost; the intervals are cluster-robust and do not
-        depend on the sampling rate). ``cycles``: the :class:`drillpy.signals.Cycles` the labels
+        depend on the sampling rate). ``cycles``: the :class:`drillpy.records.signals.Cycles` the labels
         came from; their stick phases give the break-away torques (static torque of Eq. 5.1).
         """
         if int(every) != every or every < 1:

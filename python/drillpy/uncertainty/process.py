@@ -25,7 +25,7 @@ from scipy import signal as _signal
 from scipy.optimize import brentq
 from scipy.special import digamma, polygamma
 
-from . import _core
+from drillpy import _core
 
 
 @dataclass(frozen=True)

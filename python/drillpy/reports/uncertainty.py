@@ -15,9 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import frf_plots
-from .frf import CASE_TITLES, band_widths, cb_frequencies, conv2_vs_modes, default_frequencies, frf_envelope
-from .simulation import natural_frequencies
+from drillpy.figures import frf as frf_plots
+from drillpy.uncertainty.frf import CASE_TITLES, band_widths, cb_frequencies, conv2_vs_modes, default_frequencies, frf_envelope
+from drillpy.model.simulation import natural_frequencies
 
 # Frequency bands [Hz]: below the first resonance (0.31 Hz on thesis-ch6), then low, mid, high.
 BANDS_HZ = {"very low 0.01-0.25 Hz": (0.01, 0.25), "low 0.25-2 Hz": (0.25, 2.0), "mid 2-5 Hz": (2.0, 5.0),

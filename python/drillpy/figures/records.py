@@ -1,14 +1,14 @@
 """Figures of measured records and their analysis (Figs. 3.5, 4.3, 5.5-5.7 and the rig comparison).
 
 Speeds are plotted in RPM, torques in N m, WOB in N, times in s. Every function writes one PNG
-and returns its path (Agg backend via :mod:`drillpy.plotting`).
+and returns its path (Agg backend via :mod:`drillpy.figures.simulation`).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from .plotting import _save, plt
-from .records import RPM, Flag
+from drillpy.figures.simulation import _save, plt
+from drillpy.records.io import RPM, Flag
 
 C_BIT, C_TOP, C_TQ, C_WOB = "tab:blue", "0.25", "tab:purple", "tab:green"
 C_UP, C_LO, C_ALL = "tab:red", "tab:cyan", "k"
@@ -231,7 +231,7 @@ def laws(path, rec, labels, accel, mc, fits, subtitle=""):
 def psd(path, eta, f, p, model, thesis, band):
     """eta_exp(t) over 5 s and its periodogram with the log-binned average, the fitted PSD model
     (Eq. 4.4, ``model``) over the fit ``band`` [Hz] and the thesis's field model (``thesis``)."""
-    from .signals import log_binned
+    from drillpy.records.signals import log_binned
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 7.5))
     t0 = eta.t[0] + 0.5 * (eta.t[-1] - eta.t[0])
     m = (eta.t >= t0) & (eta.t <= t0 + 5)

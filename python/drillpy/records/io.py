@@ -13,7 +13,7 @@ wob            N          ``N``, ``kN``
 ============== ========== ==============================================
 
 Any of the four channels may be absent (``None``); the time is required. Every channel carries a
-per-sample quality bitmask (:class:`Flag`) filled by :mod:`drillpy.cleaning`; readers only
+per-sample quality bitmask (:class:`Flag`) filled by :mod:`drillpy.records.cleaning`; readers only
 record where a value was not a finite number.
 
 CSV format (documented in the README): one header row of ``<quantity>_<unit>`` column names,

@@ -14,7 +14,7 @@ The recorded WOB always fluctuates (``wob_std`` relative: 0.14 by default, the r
 175; band-limited to ``wob_band_hz``), with or
 without the coupling, so that a loop must tell whether the torque follows it. All random numbers
 (the truth's draws, WOB, eta, noise) come from the seed (the engine's counter-based generator,
-:func:`drillpy.process.generate`, for the series): the same seed gives the same record anywhere.
+:func:`drillpy.uncertainty.process.generate`, for the series): the same seed gives the same record anywhere.
 """
 from __future__ import annotations
 
@@ -24,11 +24,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .config import load_config, normalize
-from .loop.effects import CATALOGUE
-from .process import PsdTable, generate, process_variance
-from .records import Record
-from .simulation import simulate
+from drillpy.model.config import load_config, normalize
+from drillpy.loop.effects import CATALOGUE
+from drillpy.uncertainty.process import PsdTable, generate, process_variance
+from drillpy.records.io import Record
+from drillpy.model.simulation import simulate
 
 #: Effects outside the loop's catalogue the generator can inject, with their default parameters:
 #: ``top_speed_ramp``: the ideal drive's speed ramps linearly by ``ramp_fraction`` of its mean over the
@@ -39,7 +39,7 @@ EFFECTS = tuple(CATALOGUE) + tuple(EXTRA)
 DEFAULTS = {**{n: dict(e.defaults) for n, e in CATALOGUE.items()}, **EXTRA}
 #: Standard deviations of the white measurement noise (scaled by ``noise``).
 NOISE = {"bit_speed": 0.05, "top_speed": 0.05, "torque_on_bit": 0.02, "wob": 2.0}
-#: Streams of the generator (sample indices of drillpy.process.generate).
+#: Streams of the generator (sample indices of drillpy.uncertainty.process.generate).
 _STREAMS = {"wob": 0, "eta": 1, "bit_speed": 2, "top_speed": 3, "torque_on_bit": 4, "wob_noise": 5}
 #: Modal damping ratio of the declared model (the preset's 0.25 is an effective value lumping the
 #: dissipation the loop is meant to find, at the stability edge).
@@ -214,4 +214,4 @@ def synthetic_record(effects=(), *, duration_s: float = 12.0, seed: int = 0, fs_
     return Record(time_s=t, **chans, units={"time": "s", "bit_speed": "rad_s", "top_speed": "rad_s",
                                             "torque_on_bit": "Nm", "wob": "N"},
                   provenance={"source": f"synthetic (seed {seed}; effects: {', '.join(eff) or 'none'})",
-                              "format": "drillpy.synthetic", "synthetic": info})
+                              "format": "drillpy.records.synthetic", "synthetic": info})

@@ -13,9 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import plotting
-from .config import with_overrides
-from .simulation import (natural_frequencies, severity_threshold, simulate, stability_map,
+from drillpy.figures import simulation as plotting
+from drillpy.model.config import with_overrides
+from drillpy.model.simulation import (natural_frequencies, severity_threshold, simulate, stability_map,
                          sweep_severity)
 
 THESIS_FREQUENCIES_HZ = [0.13, 0.42, 0.74, 1.07, 1.41]

@@ -10,7 +10,7 @@ import json
 import math
 from pathlib import Path
 
-from . import _core
+from drillpy import _core
 
 
 def preset_names() -> list[str]:

@@ -1,17 +1,17 @@
 """Statistics across samples, section 5.3 of the thesis: ``drillpy analyze REC1 REC2 ... --out DIR``.
 
 Every sample (a record, or a window of one) goes through the single-record pipeline of
-:func:`drillpy.analysis.analyze_record` up to the identification: read
-(:func:`drillpy.records.read_record`) -> clean (:func:`drillpy.cleaning.clean`) -> stick-slip
-cycles, per-cycle statistics and the mean cycle (:mod:`drillpy.signals`) -> the laws fitted to
-that sample alone (:func:`drillpy.identification.fit_laws`). Across samples it gives
+:func:`drillpy.reports.analysis.analyze_record` up to the identification: read
+(:func:`drillpy.records.io.read_record`) -> clean (:func:`drillpy.records.cleaning.clean`) -> stick-slip
+cycles, per-cycle statistics and the mean cycle (:mod:`drillpy.records.signals`) -> the laws fitted to
+that sample alone (:func:`drillpy.records.identification.fit_laws`). Across samples it gives
 
 * **Table 5.2**: per sample the mean, standard deviation (ddof = 1) and CV = std / mean of the
   measured torque on bit, and Var[MSE] of Eq. (5.2) between the sample's mean cycle (Eq. 4.3) and
   the regularized law Eq. (3.1) (``tucker_wang``) and the non-regularized law Eq. (5.1)
-  (``polynomial``) fitted to the sample (:func:`drillpy.identification.mean_cycle_var_mse`);
+  (``polynomial``) fitted to the sample (:func:`drillpy.records.identification.mean_cycle_var_mse`);
 * **Fig. 5.4**: a box plot of the per-cycle stick-slip severity SS (Eq. 3.4 over each cycle,
-  :func:`drillpy.signals.cycle_statistics`), one box per sample. The per-cycle SS uses the
+  :func:`drillpy.records.signals.cycle_statistics`), one box per sample. The per-cycle SS uses the
   reliable top-speed samples only: a cycle whose top speed was excluded by the cleaning or is an
   artifact stretch replaced by the bit speed (a stall, e.g. 28-29.6 s of sample 175) has no SS and
   is counted apart (isolated spikes interpolated by the cleaning are kept);
@@ -53,11 +53,11 @@ from pathlib import Path
 
 import numpy as np
 
-from . import identification as ident
-from . import signals as sig
-from .cleaning import CleaningOptions, clean
-from .records import RPM, Record, read_record
-from .rigsim import reliable_top_speed, stick_threshold
+from drillpy.records import identification as ident
+from drillpy.records import signals as sig
+from drillpy.records.cleaning import CleaningOptions, clean
+from drillpy.records.io import RPM, Record, read_record
+from drillpy.records.rigsim import reliable_top_speed, stick_threshold
 
 #: Laws of Table 5.2: the regularized Eq. (3.1) and the non-regularized Eq. (5.1).
 TABLE_LAWS = {"tucker_wang": "regularized (Eq. 3.1)", "polynomial": "non-regularized (Eq. 5.1)"}
@@ -158,7 +158,7 @@ def thesis_table_5_2() -> list:
 
 @dataclass
 class SampleOptions:
-    """Choices of :func:`analyze_samples` (as :class:`drillpy.analysis.AnalysisOptions`).
+    """Choices of :func:`analyze_samples` (as :class:`drillpy.reports.analysis.AnalysisOptions`).
 
     Attributes
     ----------
@@ -364,7 +364,7 @@ def analyze_samples(records, out_dir: str | Path, options: SampleOptions | None 
             raise ValueError(f"records: {type(r).__name__} is not a path, a Record or a (name, record) pair")
     if len(items) < 2:
         raise ValueError(f"analyze_samples: {len(items)} record(s); the statistics across samples need at least 2 "
-                         "(use drillpy.analysis.analyze_record for one)")
+                         "(use drillpy.reports.analysis.analyze_record for one)")
     for law in opt.acceptance.max_var_mse:
         if law not in opt.laws:
             raise ValueError(f"acceptance threshold for law {law!r}, which is not fitted (laws: {', '.join(opt.laws)})")
@@ -396,7 +396,7 @@ def analyze_samples(records, out_dir: str | Path, options: SampleOptions | None 
                               "acceptance_with_these_thresholds": opt.acceptance.evaluate(thesis_table_5_2())},
          "method": ("per sample: read, clean, cycles (stick at "
                     f"{opt.stick_fraction:g} x median reliable top speed), mean cycle, laws fitted on the slip "
-                    "samples of that sample's valid cycles (drillpy.identification.fit_laws), Var[MSE] Eq. (5.2) "
+                    "samples of that sample's valid cycles (drillpy.records.identification.fit_laws), Var[MSE] Eq. (5.2) "
                     "on its mean cycle; per-cycle SS Eq. (3.4) over cycles with a reliable top speed")}
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -422,7 +422,7 @@ def _spread(x) -> dict:
 
 def boxplot(path, samples: list) -> Path:
     """Fig. 5.4: box plot of the per-cycle SS (Eq. 3.4), one box per sample, SS = 0.5 marked."""
-    from .plotting import _save, plt
+    from drillpy.figures.simulation import _save, plt
     fig, ax = plt.subplots(figsize=(max(5.0, 0.9 * len(samples) + 2.5), 4.2))
     data = [np.asarray(s["cycles"]["ss"], float) for s in samples]
     labels = [f"{s['sample']}\n(n={len(d)})" for s, d in zip(samples, data)]
@@ -499,5 +499,5 @@ def render_samples(S: dict) -> str:
 
 
 def _jsonable(o):
-    from .analysis import _jsonable as j
+    from drillpy.reports.analysis import _jsonable as j
     return j(o)

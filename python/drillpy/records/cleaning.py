@@ -1,7 +1,7 @@
 """Artifact detection and repair for measured records.
 
 :func:`clean` puts a record on a uniform time grid and flags, per channel and per sample
-(:class:`drillpy.records.Flag`):
+(:class:`drillpy.records.io.Flag`):
 
 * rows logged out of time order (e.g. two swapped rows): a row whose stamp lies on the sampling
   grid, on a slot no other row holds and within ``MAX_RESTAMP`` rows of its place in the file is
@@ -37,7 +37,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 from scipy import ndimage
 
-from .records import Flag, Record
+from drillpy.records.io import Flag, Record
 
 KINDS = ("time", "order", "duplicate", "gap", "nonfinite", "spike", "oscillation")
 MAX_RESTAMP = 10  #: anchors re-stamped on each side of a run of bad time stamps, at most

@@ -4,7 +4,7 @@ The model is either a rig model (``drillpy analyze --calibrate``: format ``drill
 a loop model (``drillpy loop``: format ``drillpy.loop_model``, the declared model with its
 calibrated parameters and effects). Two checks, both on the record's own data only through its
 operating point (reliable mean top speed and mean WOB, or its measured top speed for a drive that
-follows it; see :func:`drillpy.rigsim.simulate_model` and :func:`drillpy.loop.longrun.simulate_record`):
+follows it; see :func:`drillpy.records.rigsim.simulate_model` and :func:`drillpy.loop.longrun.simulate_record`):
 
 * **long run**: the model simulated over the whole record, its stick-slip metrics (SS Eq. 3.4,
   stick fraction, cycle frequency, torque percentiles) against the measured ones;
@@ -22,14 +22,15 @@ from pathlib import Path
 
 import numpy as np
 
-from . import loop, rigsim
-from .analysis import _jsonable
-from .cleaning import clean
-from .config import read_json
-from .loop.effects import stripped
-from .loop.longrun import simulate_record
-from .loop.run import analysis_config
-from .records import Record, read_record
+from drillpy import loop
+from drillpy.records import rigsim
+from drillpy.reports.analysis import _jsonable
+from drillpy.records.cleaning import clean
+from drillpy.model.config import read_json
+from drillpy.loop.effects import stripped
+from drillpy.loop.longrun import simulate_record
+from drillpy.loop.run import analysis_config
+from drillpy.records.io import Record, read_record
 
 
 @dataclass
@@ -114,7 +115,7 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
 
 def predict_record(model, record: Record | str | Path, *, t0: float | None = None,
                    t1: float | None = None, horizon_s: float = 0.25, threads: int = 0) -> Prediction:
-    """Apply ``model`` (a :class:`~drillpy.rigsim.RigModel` or a :class:`~drillpy.loop.LoopModel`) to
+    """Apply ``model`` (a :class:`~drillpy.records.rigsim.RigModel` or a :class:`~drillpy.loop.LoopModel`) to
     a record (path or Record, cleaned here) without refitting anything."""
     raw = read_record(record) if isinstance(record, (str, Path)) else record
     for need in ("bit_speed", "torque_on_bit", "top_speed"):
@@ -143,7 +144,7 @@ def load_model(path: str | Path):
 
 def write_prediction(pred: Prediction, out_dir: str | Path) -> list:
     """``summary.json`` and the overlay figure ``overlay.png`` in ``out_dir``; returns the file names."""
-    from . import record_figures as figs
+    from drillpy.figures import records as figs
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     (out / "summary.json").write_text(json.dumps(pred.summary(), indent=2))

@@ -4,7 +4,7 @@ Smoothing and derivatives (sliding-window average, the rig's 10 Hz IIR low-pass,
 acceleration), stick-slip cycle segmentation with per-cycle statistics (period, stick duration,
 SS of Eq. 3.4), the accelerating (upper) and decelerating (lower) branches of each cycle, the mean
 cycle per branch (Fig. 3.5), the experimental fluctuation process eta_exp (Eq. 4.2) on a regular
-grid (Eq. 4.3; its periodogram and the PSD model of Eq. 4.4 are in :mod:`drillpy.process`), and the
+grid (Eq. 4.3; its periodogram and the PSD model of Eq. 4.4 are in :mod:`drillpy.uncertainty.process`), and the
 sample statistics of Table 5.2 (mean, std, CV) and Var[MSE] (Eq. 5.2).
 
 Arrays are SI (rad/s, rad/s^2, N m, s) unless a name says otherwise. Everything is vectorized
@@ -430,7 +430,7 @@ def eta_exp(t, bit_speed, torque, labels, mc: MeanCycle, reference: str = "mean"
 # ------------------------------------------------------------------------------ PSD display
 def log_binned(f, psd, bins_per_decade: float = 20.0):
     """Average a periodogram over log-spaced frequency bins (the averaged S-bar of section 4.1,
-    for display; the PSD-model fit itself is :func:`drillpy.process.fit_psd_model`).
+    for display; the PSD-model fit itself is :func:`drillpy.uncertainty.process.fit_psd_model`).
 
     Returns the geometric-centre frequency of each non-empty bin, the mean PSD in it and the
     number of periodogram ordinates averaged.

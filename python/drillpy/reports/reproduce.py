@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .config import load_config, with_overrides
+from drillpy.model.config import load_config, with_overrides
 
 CHAPTERS = ("3", "4", "5", "6")
 THESIS_FREQUENCIES_HZ = (0.13, 0.42, 0.74, 1.07, 1.41)           # section 4.2.1
@@ -92,9 +92,9 @@ def _seq(xs, nd=2) -> str:
 def chapter3(out: Path, o: Options) -> tuple[list, list]:
     """Figs. 3.11-3.12: stability maps of models 1-3 and the two conclusions of section 3.3, with
     the implicit bit acceleration (default) and the lagged reading."""
-    from . import plotting
-    from .report import MODEL_BETA1, map_conclusions
-    from .simulation import stability_map
+    from drillpy.figures import simulation as plotting
+    from drillpy.reports.preset import MODEL_BETA1, map_conclusions
+    from drillpy.model.simulation import stability_map
     cfg = load_config(preset="thesis-field")
     sp_rpm = np.linspace(50, 160, 23 if not o.quick else 8)
     w_kn = np.linspace(22, 267, 12 if not o.quick else 5)
@@ -140,10 +140,10 @@ def chapter3(out: Path, o: Options) -> tuple[list, list]:
 def chapter4(out: Path, o: Options) -> tuple[list, list]:
     """Section 4.2: natural frequencies, Fig. 4.8 with its threshold and the readings of the
     ambiguities, the 3-cycle regime (Fig. 4.6), Fig. 4.9 with its 5 % speed, Fig. 4.7, Conv1."""
-    from . import plotting
+    from drillpy.figures import simulation as plotting
     from scipy.stats import spearmanr
 
-    from .simulation import natural_frequencies, refine_threshold, simulate, sweep_severity
+    from drillpy.model.simulation import natural_frequencies, refine_threshold, simulate, sweep_severity
     rows, figs = [], []
     cfg = load_config(preset="thesis-ch4")
     f = natural_frequencies(cfg, 5)
@@ -224,10 +224,10 @@ def _cycle_error(stick, slip) -> float:
 def _fig49(out: Path, o: Options, cfg: dict) -> tuple[list, list]:
     """Fig. 4.9 (Algorithm 1 literally, two-sided per-rad/s PSD), its 5 % speed refined with a
     bootstrap interval, the band, Conv1 (Fig. C.1), Fig. 4.7; the drillpy-default reading beside it."""
-    from . import plotting_stochastic as ps
-    from .montecarlo import phase_study, stochastic_study
-    from .process import THESIS_PSD, convert_psd_model, scaled_to_std
-    from .robust_speed import bootstrap_interval, exceedance, p_speed, refine_p_speed
+    from drillpy.figures import stochastic as ps
+    from drillpy.uncertainty.montecarlo import phase_study, stochastic_study
+    from drillpy.uncertainty.process import THESIS_PSD, convert_psd_model, scaled_to_std
+    from drillpy.uncertainty.robust_speed import bootstrap_interval, exceedance, p_speed, refine_p_speed
     rows, figs = [], []
     psd = scaled_to_std(THESIS_PSD, MC_ETA_STD)
     samples = 500 if not o.quick else 24
@@ -327,14 +327,14 @@ SAMPLE175_NAME = Path("shared") / "data" / "testrig" / "sample175_0-40s.mat"
 def default_record() -> Path:
     """Sample 175 beside the working directory (``../shared``, the README's layout) or beside the
     source tree; the first that exists (the first candidate when none does, for the message)."""
-    cands = [Path.cwd().parent / SAMPLE175_NAME, Path(__file__).resolve().parents[3] / SAMPLE175_NAME]
+    cands = [Path.cwd().parent / SAMPLE175_NAME, Path(__file__).resolve().parents[4] / SAMPLE175_NAME]
     return next((c for c in cands if c.is_file()), cands[0])
 
 
 def chapter5(out: Path, o: Options, record: Path | None = None) -> tuple[list, list]:
     """Section 5.3: the test-rig record of sample 175 (the thesis's Figs. 5.5-5.7) and the
     comparison of the regularized (3.1) and non-regularized (5.1) laws by Var[MSE] (Eq. 5.2)."""
-    from .analysis import AnalysisOptions, analyze_record
+    from drillpy.reports.analysis import AnalysisOptions, analyze_record
     rec = Path(record) if record else default_record()
     if not rec.exists():
         return [Row("5", "test-rig sample 175", "Figs. 5.5-5.7", f"record not found: {rec}", "-", None, "reading",
@@ -377,9 +377,9 @@ def chapter5(out: Path, o: Options, record: Path | None = None) -> tuple[list, l
 # --------------------------------------------------------------------------------- chapter 6
 def chapter6(out: Path, o: Options) -> tuple[list, list]:
     """Section 6.6 and appendix C: every conclusion checked over every model and case (the
-    verdicts of :func:`drillpy.uncertainty_report.conclusions`), the narrow DP envelopes near
+    verdicts of :func:`drillpy.reports.uncertainty.conclusions`), the narrow DP envelopes near
     3.7 Hz, Conv2 converged."""
-    from .uncertainty_report import chapter6_report
+    from drillpy.reports.uncertainty import chapter6_report
     cfg = load_config(preset="thesis-ch6")
     d = out / "chapter6"
     S = chapter6_report(cfg, d, samples=2500 if not o.quick else 60, mode_samples=400 if not o.quick else 20,
