@@ -16,6 +16,7 @@ def test_field_report_writes_figures_and_summary(tmp_path):
     back = json.loads((tmp_path / "summary.json").read_text())
     np.testing.assert_allclose(back["frequencies_hz"], [0.13, 0.42, 0.74, 1.07, 1.41], atol=0.005)
     assert 14.0 < back["sweep"]["threshold_rad_s"] < 26.0
+    assert s["sweep"]["threshold_rad_s"] == back["sweep"]["threshold_rad_s"]  # the return is what was written
     m = back["stability_maps"]["severity"]
     assert len(m) == 3 and np.array(m["model 1 (reversible, beta1 = 0)"]).shape == (3, 3)
 

@@ -11,7 +11,9 @@ def _study(n, seed=3):
     above it: P(SS > 0.5) at speed s is the fraction of u_i above s, and the 5 % speed is the
     95 % quantile of the u_i."""
     u = np.random.default_rng(seed).uniform(14.0, 22.0, n)
-    evaluate = lambda sp: np.where(u[:, None] > np.asarray(sp)[None, :], 1.2, 0.1)
+
+    def evaluate(sp):
+        return np.where(u[:, None] > np.asarray(sp)[None, :], 1.2, 0.1)
     return u, evaluate
 
 

@@ -400,13 +400,17 @@ def discover(residual: np.ndarray, terms: dict, *, dt: float, max_terms: int = 4
     for name, x in cols.items():
         xu = x[use]
         if name == "constant":
-            names.append(name); Xs.append(np.ones(n)); scale.append(1.0)
+            names.append(name)
+            Xs.append(np.ones(n))
+            scale.append(1.0)
             continue
         s = float(np.std(xu))
         if not (s > 1e-12 * max(1.0, float(np.max(np.abs(xu))))):
             skipped[name] = "constant values on the samples used (no information)"
             continue
-        names.append(name); Xs.append((xu - xu.mean()) / s); scale.append(s)
+        names.append(name)
+        Xs.append((xu - xu.mean()) / s)
+        scale.append(s)
     X = np.column_stack(Xs) if Xs else np.zeros((n, 0))
     scale = np.asarray(scale)
 

@@ -1,10 +1,11 @@
 """Options of ``drillpy loop`` (:class:`LoopOptions`)."""
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 from .effects import NAMES
+from drillpy import validate
+from drillpy.records.stick import STICK_FRACTION
 
 
 @dataclass
@@ -63,7 +64,7 @@ class LoopOptions:
     min_delta_bic: float = 6.0
     max_steps: int = 6
     effects: tuple = NAMES
-    stick_fraction: float = 0.05
+    stick_fraction: float = STICK_FRACTION
     threads: int = 0
     dt_s: float | None = None
     nfev_per_parameter: int = 60
@@ -72,24 +73,18 @@ class LoopOptions:
     discovery: bool = True
 
     def validate(self) -> None:
-        def pos(name, v, lo=0.0, hi=math.inf, closed=False):
-            ok = isinstance(v, (int, float)) and math.isfinite(v) and (lo <= v if closed else lo < v) and v < hi
-            if not ok:
-                raise ValueError(f"{name} = {v!r}: must be a number in {'[' if closed else '('}{lo:g}, {hi:g})")
-        pos("horizon_s", self.horizon_s)
-        pos("calibration_fraction", self.calibration_fraction, 0.0, 1.0)
-        pos("rate_hz", self.rate_hz)
-        pos("derivative_window_s", self.derivative_window_s)
-        pos("min_gain", self.min_gain, 0.0, 1.0, closed=True)
-        pos("alpha", self.alpha, 0.0, 1.0)
-        pos("min_delta_bic", self.min_delta_bic, -math.inf)
-        pos("stick_fraction", self.stick_fraction, 0.0, 1.0)
+        validate.positive("horizon_s", self.horizon_s, "s")
+        validate.fraction("calibration_fraction", self.calibration_fraction, closed=False)
+        validate.positive("rate_hz", self.rate_hz, "Hz")
+        validate.positive("derivative_window_s", self.derivative_window_s, "s")
+        validate.number("min_gain", self.min_gain, lo=0.0, hi=1.0, hi_closed=False)
+        validate.fraction("alpha", self.alpha, closed=False)
+        validate.number("min_delta_bic", self.min_delta_bic)
+        validate.fraction("stick_fraction", self.stick_fraction, closed=False)
         if self.dt_s is not None:
-            pos("dt_s", self.dt_s)
-        if not isinstance(self.nfev_per_parameter, int) or self.nfev_per_parameter < 1:
-            raise ValueError(f"nfev_per_parameter = {self.nfev_per_parameter!r}: must be a positive integer")
-        if not isinstance(self.max_steps, int) or self.max_steps < 0:
-            raise ValueError(f"max_steps = {self.max_steps!r}: must be a non-negative integer")
+            validate.positive("dt_s", self.dt_s, "s")
+        validate.integer("nfev_per_parameter", self.nfev_per_parameter, 1)
+        validate.integer("max_steps", self.max_steps, 0)
         for e in self.effects:
             if e not in NAMES:
                 raise ValueError(f"effects: unknown effect {e!r} (known: {', '.join(NAMES)})")

@@ -38,6 +38,8 @@ import numpy as np
 from scipy import ndimage
 
 from drillpy.records.io import Flag, Record
+from drillpy import validate
+from drillpy.records.stick import STICK_FRACTION, stick_threshold
 
 KINDS = ("time", "order", "duplicate", "gap", "nonfinite", "spike", "oscillation")
 MAX_RESTAMP = 10  #: anchors re-stamped on each side of a run of bad time stamps, at most
@@ -92,19 +94,14 @@ class CleaningOptions:
     spike_channels: tuple | None = None
 
     def validate(self) -> None:
-        for name in ("max_fill_s", "grid_tolerance", "spike_window_s", "spike_sigmas", "spike_min_fraction",
+        for name in ("max_fill_s", "spike_window_s", "spike_sigmas", "spike_min_fraction",
                      "spike_max_width_s", "spike_pad_s", "stretch_gap_s", "stuck_fraction"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and np.isfinite(v) and v >= 0):
-                raise ValueError(f"cleaning.{name} = {v!r}: must be a finite non-negative number")
-        if not 0 < self.grid_tolerance < 0.5:
-            raise ValueError(f"cleaning.grid_tolerance = {self.grid_tolerance}: must lie in (0, 0.5)")
-        if int(self.stretch_min_spikes) != self.stretch_min_spikes or self.stretch_min_spikes < 2:
-            raise ValueError(f"cleaning.stretch_min_spikes = {self.stretch_min_spikes!r}: "
-                             "must be an integer >= 2")
-        s = self.stick_threshold_rad_s
-        if s is not None and not (np.isfinite(s) and s >= 0):
-            raise ValueError(f"cleaning.stick_threshold_rad_s = {s!r}: must be finite and >= 0")
+            validate.non_negative(f"cleaning.{name}", getattr(self, name))
+        validate.number("cleaning.grid_tolerance", self.grid_tolerance, lo=0.0, hi=0.5,
+                        lo_closed=False, hi_closed=False)
+        validate.integer("cleaning.stretch_min_spikes", self.stretch_min_spikes, 2)
+        if self.stick_threshold_rad_s is not None:
+            validate.non_negative("cleaning.stick_threshold_rad_s", self.stick_threshold_rad_s, "rad/s")
 
 
 @dataclass
@@ -414,9 +411,9 @@ def _stick_threshold(rec: Record, opt: CleaningOptions) -> float:
     if opt.stick_threshold_rad_s is not None:
         return float(opt.stick_threshold_rad_s)
     if rec.top_speed is not None and np.isfinite(rec.top_speed).any():
-        return 0.05 * abs(float(np.nanmedian(rec.top_speed)))
+        return stick_threshold(rec.top_speed)
     if rec.bit_speed is not None and np.isfinite(rec.bit_speed).any():
-        return 0.05 * float(np.nanpercentile(np.abs(rec.bit_speed), 95))
+        return STICK_FRACTION * float(np.nanpercentile(np.abs(rec.bit_speed), 95))
     return float("nan")
 
 

@@ -15,7 +15,6 @@ follows it; see :func:`drillpy.records.rigsim.simulate_model` and :func:`drillpy
 """
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,7 +23,7 @@ import numpy as np
 
 from drillpy import loop
 from drillpy.records import rigsim
-from drillpy.reports.analysis import _jsonable
+from drillpy.jsonio import jsonable, write_json
 from drillpy.records.cleaning import clean
 from drillpy.model.config import read_json
 from drillpy.loop.effects import stripped
@@ -51,7 +50,7 @@ class Prediction:
         def pair(k):
             return {"measured": m[k], "predicted": s[k], "relative_error": rigsim.relative_error(s[k], m[k])}
 
-        return _jsonable({
+        return jsonable({
             "short_horizon_error": self.short_horizon_error,
             "long_run": {"ss": pair("ss"), "stick_fraction": pair("stick_fraction"),
                          "cycle_frequency_hz": pair("cycle_frequency_hz"),
@@ -147,7 +146,7 @@ def write_prediction(pred: Prediction, out_dir: str | Path) -> list:
     from drillpy.figures import records as figs
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "summary.json").write_text(json.dumps(pred.summary(), indent=2))
+    write_json(out / "summary.json", pred.summary())
     fig = figs.prediction_overlay(out / "overlay.png", pred.measured, pred.simulated, pred.stick_threshold,
                                   describe(pred.model))
     return ["summary.json", fig.name]

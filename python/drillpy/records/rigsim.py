@@ -28,6 +28,8 @@ import numpy as np
 from scipy import optimize
 
 from drillpy.model.config import load_config, normalize
+from drillpy.records import stick as _stick
+from drillpy.records.stick import STICK_FRACTION
 from drillpy.records.io import Flag, Record
 from drillpy.records.signals import MeanCycle, derivative, mean_cycle, rig_lowpass, segment_cycles, stick_slip_metrics
 from drillpy.model.simulation import simulate
@@ -71,13 +73,14 @@ def reliable_top_speed(record: Record) -> np.ndarray:
     return record.valid("top_speed") & ~record.flagged("top_speed", Flag.OSCILLATION)
 
 
-def stick_threshold(record: Record, fraction: float = 0.05) -> float:
-    """The bit is stuck at or below ``fraction`` of the median reliable top speed [rad/s]."""
+def stick_threshold(record: Record, fraction: float = STICK_FRACTION) -> float:
+    """The bit is stuck at or below ``fraction`` of the median reliable top speed [rad/s]
+    (:func:`drillpy.records.stick.stick_threshold` over the reliable samples)."""
     ok = reliable_top_speed(record)
     if not ok.any():
         raise ValueError("record: no reliable top-speed sample (the stick threshold is a fraction of the median "
                          "top speed)")
-    return fraction * abs(float(np.median(record.top_speed[ok])))
+    return _stick.stick_threshold(record.top_speed[ok], fraction)
 
 
 def operating_point(record: Record) -> dict:

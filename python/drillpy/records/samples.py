@@ -46,7 +46,6 @@ Var[MSE] is in (N m)^4 of this record's torque; the thesis's thresholds come fro
 """
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -58,6 +57,10 @@ from drillpy.records import signals as sig
 from drillpy.records.cleaning import CleaningOptions, clean
 from drillpy.records.io import RPM, Record, read_record
 from drillpy.records.rigsim import reliable_top_speed, stick_threshold
+from drillpy import validate
+from drillpy.jsonio import write_json
+from drillpy.reports.text import number_text as _f
+from drillpy.records.stick import STICK_FRACTION
 
 #: Laws of Table 5.2: the regularized Eq. (3.1) and the non-regularized Eq. (5.1).
 TABLE_LAWS = {"tucker_wang": "regularized (Eq. 3.1)", "polynomial": "non-regularized (Eq. 5.1)"}
@@ -105,15 +108,11 @@ class Acceptance:
         for law, v in self.max_var_mse.items():
             if law not in ident.LAWS:
                 raise ValueError(f"acceptance.max_var_mse: unknown law {law!r} (use {', '.join(ident.LAWS)})")
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ValueError(f"acceptance.max_var_mse[{law!r}] = {v!r}: must be a positive number")
+            validate.positive(f"acceptance.max_var_mse[{law!r}]", v)
         for name in ("concrete_variation", "min_accepted_fraction"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and 0 <= v <= 1):
-                raise ValueError(f"acceptance.{name} = {v!r}: must lie in [0, 1]")
-        c = self.cv_reference
-        if c is not None and not (isinstance(c, (int, float)) and math.isfinite(c) and c >= 0):
-            raise ValueError(f"acceptance.cv_reference = {c!r}: must be a non-negative number or None")
+            validate.fraction(f"acceptance.{name}", getattr(self, name))
+        if self.cv_reference is not None:
+            validate.non_negative("acceptance.cv_reference", self.cv_reference)
 
     def evaluate(self, rows: list) -> dict:
         """Apply the criterion to Table 5.2 rows (dicts with ``sample``, ``cv`` and ``var_mse``
@@ -179,7 +178,7 @@ class SampleOptions:
     """
     t0: float | None = None
     t1: float | None = None
-    stick_fraction: float = 0.05
+    stick_fraction: float = STICK_FRACTION
     laws: tuple = tuple(TABLE_LAWS)
     folds: int = 0
     fit_rate_hz: float = 100.0
@@ -401,7 +400,7 @@ def analyze_samples(records, out_dir: str | Path, options: SampleOptions | None 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     S["figures"] = [boxplot(out / "fig5_4_boxplot.png", samples).name]
-    (out / "samples.json").write_text(json.dumps(_jsonable(S), indent=2))
+    write_json(out / "samples.json", S)
     (out / "samples.md").write_text(render_samples(S))
     log(f"acceptance: {len(acc['accepted'])} of {len(table)} samples accepted "
         f"({', '.join(acc['accepted']) or 'none'}); validates the rig: {acc['validates']}")
@@ -439,8 +438,6 @@ def boxplot(path, samples: list) -> Path:
     return _save(fig, path)
 
 
-def _f(x, fmt=".4f"):
-    return "n/a" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, fmt)
 
 
 def render_samples(S: dict) -> str:
@@ -498,6 +495,3 @@ def render_samples(S: dict) -> str:
     return "\n".join(L) + "\n"
 
 
-def _jsonable(o):
-    from drillpy.reports.analysis import _jsonable as j
-    return j(o)

@@ -29,6 +29,7 @@ from drillpy.loop.effects import CATALOGUE
 from drillpy.uncertainty.process import PsdTable, generate, process_variance
 from drillpy.records.io import Record
 from drillpy.model.simulation import simulate
+from drillpy import validate
 
 #: Effects outside the loop's catalogue the generator can inject, with their default parameters:
 #: ``top_speed_ramp``: the ideal drive's speed ramps linearly by ``ramp_fraction`` of its mean over the
@@ -114,8 +115,7 @@ def _check_effects(effects) -> dict:
             raise ValueError(f"effects[{name!r}]: unknown parameter(s) {sorted(unknown)} (known: {sorted(p)})")
         p.update(par or {})
         for k, v in p.items():
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
-                raise ValueError(f"effects[{name!r}][{k!r}] = {v!r}: must be a finite non-negative number")
+            validate.non_negative(f"effects[{name!r}][{k!r}]", v)
         out[name] = p
     return out
 
@@ -158,11 +158,9 @@ def synthetic_record(effects=(), *, duration_s: float = 12.0, seed: int = 0, fs_
         draws and the seed.
     """
     eff = _check_effects(effects)
-    if not (isinstance(noise, (int, float)) and noise >= 0 and math.isfinite(noise)):
-        raise ValueError(f"noise = {noise!r}: must be a finite non-negative number")
+    validate.non_negative("noise", noise)
     for name, val in (("duration_s", duration_s), ("fs_hz", fs_hz), ("wob_band_hz", wob_band_hz)):
-        if not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
-            raise ValueError(f"{name} = {val!r}: must be a positive number")
+        validate.positive(name, val)
     draws = {}
     if config is not None:
         cfg = copy.deepcopy(config)

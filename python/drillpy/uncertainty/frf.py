@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import trapezoid
 
-from drillpy import _core
+from drillpy import _core, validate
 from drillpy.progress import progress_bar
 
 MODELS = ("SM_full", "SM_CB1", "SM_CB2")
@@ -151,17 +151,17 @@ def frf_envelope(cfg: dict, model: str = "SM_CB2", delta=None, case: int | None 
     [Hz] (default :func:`default_frequencies`), observation ``nodes`` (default P_obs,1-3).
     Ctrl-C stops the study (KeyboardInterrupt).
     """
-    _check_count(samples, "samples")
-    _check_count(seed, "seed", minimum=0)
+    validate.integer("samples", samples, 1)
+    validate.seed(seed)
     f = default_frequencies() if freq_hz is None else np.asarray(freq_hz, dtype=float)
     sm = stochastic_model(cfg, model, delta, case)
     nd = observation_nodes(cfg) if nodes is None else [int(x) for x in nodes]
     with progress_bar(int(samples) + f.size, f"FRF envelope {model}", progress) as cb:
         r = sm.envelope(np.ascontiguousarray(f), nd, int(samples), int(seed), float(probability), cb, threads)
     labels = list(POINT_LABELS) if nodes is None else [f"node {x}" for x in nd]
-    return FRFEnvelope(freq_hz=r["freq_hz"], nodes=list(r["nodes"]), nominal_db=r["nominal_db"],
-                       mean_db=r["mean_db"], lower_db=r["lower_db"], upper_db=r["upper_db"],
-                       energy=r["energy"], model=model, delta=np.asarray(sm.delta), samples=r["samples"],
+    return FRFEnvelope(freq_hz=r.freq_hz, nodes=list(r.nodes), nominal_db=r.nominal_db,
+                       mean_db=r.mean_db, lower_db=r.lower_db, upper_db=r.upper_db,
+                       energy=r.energy, model=model, delta=np.asarray(sm.delta), samples=r.samples,
                        seed=int(seed), probability=float(probability), labels=labels)
 
 
@@ -202,7 +202,3 @@ def conv2_vs_modes(cfg: dict, substructure: int, modes, model: str = "SM_CB2", d
         out.append(env.conv2()[-1])
     return np.asarray(out)
 
-
-def _check_count(value, name: str, minimum: int = 1) -> None:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise ValueError(f"{name} = {value!r}: must be an integer >= {minimum}")

@@ -26,9 +26,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from drillpy import _core
+from drillpy import _core, validate
 from drillpy.model.config import with_overrides
-from drillpy.uncertainty.process import THESIS_PSD, Psd, check_count, check_seed, psd_on_grid, _positive
+from drillpy.uncertainty.process import THESIS_PSD, Psd, psd_on_grid
 from drillpy.progress import progress_bar
 
 WARMUP_S = 100.0     #: deterministic start-up shared by all samples [s]
@@ -89,7 +89,7 @@ class PhaseStudy:
 
 
 def _study_config(cfg: dict, duration: float, transient: float) -> dict:
-    return with_overrides(cfg, duration=_positive(duration, "duration_s"),
+    return with_overrides(cfg, duration=validate.positive("duration_s", duration),
                           transient=float(transient))
 
 
@@ -125,9 +125,9 @@ def stochastic_study(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = T
     thesis's Eq. 4.4 calibration). Samples ``first_sample .. first_sample + samples - 1`` run.
     """
     sp = _speeds(speeds)
-    n = check_count(samples, "samples", MAX_SAMPLES)
-    first = check_count(first_sample, "first_sample", 2**62, minimum=0)
-    seed = check_seed(seed)
+    n = validate.integer("samples", samples, 1, MAX_SAMPLES)
+    first = validate.integer("first_sample", first_sample, 0, 2**62)
+    seed = validate.seed(seed)
     c = _study_config(cfg, duration, transient)
     mc = _engine(c, psd, eta_dt, seed, warmup)
     with progress_bar(n, "Monte Carlo samples", progress) as cb:
@@ -147,8 +147,8 @@ def stochastic_study(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = T
                 "psd": psd.as_dict() if hasattr(psd, "as_dict") else {"type": "callable"},
                 "psd_convention": "one-sided, per Hz: Var[eta] = integral_0^inf S(f) df"}
     return StochasticStudy(
-        speeds=sp, severity=ss, mean=st["mean"], q05=st["q_low"], q95=st["q_high"],
-        p_exceed=st["p_exceed"], p05_speed=_none_if_nan(st["p_speed"]), deterministic=det,
+        speeds=sp, severity=ss, mean=st.mean, q05=st.q_low, q95=st.q_high,
+        p_exceed=st.p_exceed, p05_speed=_none_if_nan(st.p_speed), deterministic=det,
         deterministic_threshold=det_thr, conv1=conv, seed=seed, first_sample=first,
         eta_std=math.sqrt(mc.eta_variance), settings=settings, config=c)
 
@@ -171,9 +171,9 @@ def phase_study(cfg: dict, speed: float | None = None, *, seed: int, cycles: int
 
     Samples run in batches of ``batch`` in index order, so the result depends only on the seed.
     """
-    seed = check_seed(seed)
-    ncyc = check_count(cycles, "cycles", 10**6)
-    nb = check_count(batch, "batch", 100000)
+    seed = validate.seed(seed)
+    ncyc = validate.integer("cycles", cycles, 1, 10**6)
+    nb = validate.integer("batch", batch, 1, 100000)
     c = _study_config(cfg, duration, transient)
     om = float(c["operation"]["top_speed_rad_s"] if speed is None else speed)
     _speeds([om])
@@ -194,10 +194,10 @@ def phase_study(cfg: dict, speed: float | None = None, *, seed: int, cycles: int
     det = _core.Simulation(json.dumps(with_overrides(c, duration=warmup + duration,
                                                     transient=warmup + transient)))
     d = det.run(top_speed=om, record=False)
-    if d["period_cycles"]:
-        dst, dsl = d["period_stick"], d["period_slip"]
+    if d.period_cycles:
+        dst, dsl = d.period_stick, d.period_slip
     else:  # not periodic within the tolerance: show the last three cycles
-        dst, dsl = d["stick_durations"][-3:], d["slip_durations"][-3:]
+        dst, dsl = d.stick_durations[-3:], d.slip_durations[-3:]
     return PhaseStudy(speed=om, stick=np.concatenate(stick) if stick else np.zeros(0),
                       slip=np.concatenate(slip) if slip else np.zeros(0), samples=first,
                       severity=np.asarray(sev), deterministic_stick=np.asarray(dst),

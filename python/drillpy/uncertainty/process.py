@@ -16,7 +16,6 @@ PSD convention (everywhere in drillpy): ``S(f)`` is **one-sided, per hertz**,
 from __future__ import annotations
 
 import math
-import numbers
 from dataclasses import dataclass
 from typing import Callable, Union
 
@@ -25,7 +24,7 @@ from scipy import signal as _signal
 from scipy.optimize import brentq
 from scipy.special import digamma, polygamma
 
-from drillpy import _core
+from drillpy import _core, validate
 
 
 @dataclass(frozen=True)
@@ -47,7 +46,7 @@ class PsdModel:
     @classmethod
     def continuous(cls, f0: float, a: float, b: float) -> "PsdModel":
         """The model continuous at f0: A0 = a ln f0 + b."""
-        f0 = _positive(f0, "f0_hz")
+        f0 = validate.positive("f0_hz", f0)
         return cls(f0=f0, A0=a * math.log(f0) + b, a=a, b=b)
 
     @property
@@ -84,8 +83,7 @@ def scaled_to_std(model: PsdModel, std: float) -> PsdModel:
     """The shape of ``model`` scaled so that eta has standard deviation ``std`` (A0 and b shifted
     by the same ln c): e.g. the +-20 % the thesis reads in the field torque (section 4.0) taken as
     a two-sigma range gives std = 0.10 with the shape of Eq. (4.4)."""
-    if not (isinstance(std, (int, float)) and math.isfinite(std) and std > 0):
-        raise ValueError(f"std = {std!r}: must be a positive number")
+    validate.positive("std", std)
     k = math.log(std ** 2 / model.integral())
     return PsdModel(f0=model.f0, A0=model.A0 + k, a=model.a, b=model.b + k)
 
@@ -119,7 +117,7 @@ def psd_on_grid(psd: Psd, dt: float, duration: float) -> tuple[np.ndarray, np.nd
     A user callable is called once with the whole grid; its values are checked by the engine
     (negative or non-finite values raise ValueError naming the frequency).
     """
-    f = np.asarray(_core.process_grid(_positive(dt, "eta_dt_s"), _positive(duration, "duration_s")))
+    f = np.asarray(_core.process_grid(validate.positive("eta_dt_s", dt), validate.positive("duration_s", duration)))
     if not callable(psd):
         raise ValueError(f"psd = {psd!r}: must be a PsdModel, a PsdTable or a callable S(f)")
     S = np.ascontiguousarray(np.broadcast_to(np.asarray(psd(f), dtype=float), f.shape))
@@ -141,9 +139,9 @@ def generate(psd: Psd = THESIS_PSD, *, dt: float = 0.05, duration: float = 100.0
     seconds) and ``eta`` of shape (samples, len(t)). Row r is sample ``first_sample + r`` of
     ``seed``, identical to the eta of that Monte Carlo sample.
     """
-    check_seed(seed)
-    n = check_count(samples, "samples", 100000)
-    first = check_count(first_sample, "first_sample", 2**62, minimum=0)
+    validate.seed(seed)
+    n = validate.integer("samples", samples, 1, 100000)
+    first = validate.integer("first_sample", first_sample, 0, 2**62)
     _, S = psd_on_grid(psd, dt, duration)
     eta = _core.generate_process(S, dt, duration, int(seed), first, n)
     return np.arange(eta.shape[1]) * dt, eta
@@ -153,7 +151,7 @@ def periodogram(x, dt: float, detrend: str | bool = "constant") -> tuple[np.ndar
     """Schuster's raw periodogram (no window, no averaging), one-sided density per Hz:
     ``S_k = 2 dt / N |sum_j x_j exp(-2 pi i j k / N)|^2`` (DC and Nyquist not doubled)."""
     x = _series(x, "x")
-    return _signal.periodogram(x, fs=1.0 / _positive(dt, "dt"), window="boxcar", detrend=detrend,
+    return _signal.periodogram(x, fs=1.0 / validate.positive("dt", dt), window="boxcar", detrend=detrend,
                                return_onesided=True, scaling="density")
 
 
@@ -162,8 +160,8 @@ def welch(x, dt: float, segment: int | None = None,
     """Welch's averaged periodogram (Hann window, 50 % overlap), one-sided density per Hz.
     ``segment`` is the number of points per segment (default: N // 8)."""
     x = _series(x, "x")
-    nper = max(16, x.size // 8) if segment is None else check_count(segment, "segment", x.size, minimum=8)
-    return _signal.welch(x, fs=1.0 / _positive(dt, "dt"), window="hann", nperseg=nper,
+    nper = max(16, x.size // 8) if segment is None else validate.integer("segment", segment, 8, x.size)
+    return _signal.welch(x, fs=1.0 / validate.positive("dt", dt), window="hann", nperseg=nper,
                          noverlap=nper // 2, detrend=detrend, return_onesided=True, scaling="density")
 
 
@@ -368,31 +366,6 @@ def fit_eta(eta, dt: float, *, method: str = "schuster", segment: int | None = N
         raise ValueError(f"method = {method!r}: use 'schuster' or 'welch'")
     return fit_psd_model(f, S, averages=k, fmax=fmax), f, S
 
-
-# ---- input checks shared with the Monte Carlo module -------------------------------------------
-
-def check_seed(seed) -> int:
-    """A seed is an integer in [0, 2^64)."""
-    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or not 0 <= int(seed) < 2**64:
-        raise ValueError(f"seed = {seed!r}: must be an integer between 0 and 2^64 - 1")
-    return int(seed)
-
-
-def check_count(value, name: str, maximum: int, minimum: int = 1) -> int:
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) \
-            or not minimum <= int(value) <= maximum:
-        raise ValueError(f"{name} = {value!r}: must be an integer between {minimum} and {maximum}")
-    return int(value)
-
-
-def _positive(value, name: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} = {value!r}: must be a positive number") from None
-    if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"{name} = {value!r}: must be a positive finite number")
-    return v
 
 
 def _series(x, name: str) -> np.ndarray:

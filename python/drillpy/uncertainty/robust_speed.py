@@ -15,7 +15,7 @@ from typing import Callable
 
 import numpy as np
 
-from drillpy import _core
+from drillpy import _core, validate
 from drillpy.uncertainty.montecarlo import P_LEVEL, SS_LEVEL
 
 
@@ -37,7 +37,7 @@ def p_speed(severity, speeds, level: float = SS_LEVEL, prob: float = P_LEVEL) ->
     """Lowest speed from which P(SS > level) <= prob (linear interpolation between grid speeds,
     the engine's ``severity_statistics``); None without a crossing."""
     ss, sp = _matrix(severity, speeds)
-    v = _core.severity_statistics(ss, list(sp), level, prob, 0.05, 0.95)["p_speed"]
+    v = _core.severity_statistics(ss, list(sp), level, prob, 0.05, 0.95).p_speed
     return None if math.isnan(v) else float(v)
 
 
@@ -60,8 +60,7 @@ def refine_p_speed(severity, speeds, evaluate: Callable[[list], np.ndarray], *, 
     ``2 tol``. ``evaluate(speeds)`` returns the SS matrix of the same samples at new speeds.
     Two speeds per round (the bracket is split in three, both run in one call). None without a
     crossing on the grid."""
-    if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
-        raise ValueError(f"tol = {tol!r}: must be a positive number [rad/s]")
+    validate.positive("tol", tol, "rad/s")
     ss, sp = _matrix(severity, speeds)
     p = exceedance(ss, level)
     k = [i for i in range(sp.size - 1) if p[i] > prob >= p[i + 1]]
@@ -93,8 +92,7 @@ def bootstrap_interval(severity, speeds, *, resamples: int = 400, confidence: fl
     replacement): ``{"low", "high", "confidence", "resamples", "no_crossing"}`` where
     ``no_crossing`` counts resamples without a crossing on the grid (left out of the percentiles)."""
     ss, sp = _matrix(severity, speeds)
-    if not 0 < confidence < 1:
-        raise ValueError(f"confidence = {confidence!r}: must be between 0 and 1")
+    validate.fraction("confidence", confidence, closed=False)
     rng = np.random.default_rng(seed)
     n = ss.shape[0]
     above = (ss > level).astype(float)

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import trapezoid
 
-from drillpy import _core
+from drillpy import _core, validate
 from drillpy.uncertainty.frf import stochastic_model
 from drillpy.uncertainty.montecarlo import ETA_DT_S
 from drillpy.uncertainty.process import psd_on_grid
@@ -36,9 +36,9 @@ class SeverityStudy:
 
     def __post_init__(self):
         st = _core.severity_statistics(self.ss, list(self.speeds), 0.5, 0.05, 0.05, 0.95)
-        self.mean, self.q05, self.q95 = (np.asarray(st[k]) for k in ("mean", "q_low", "q_high"))
-        self.p_stick_slip = np.asarray(st["p_exceed"])
-        self.p05_speed = None if math.isnan(st["p_speed"]) else float(st["p_speed"])
+        self.mean, self.q05, self.q95 = st.mean, st.q_low, st.q_high
+        self.p_stick_slip = st.p_exceed
+        self.p05_speed = None if math.isnan(st.p_speed) else float(st.p_speed)
 
     @property
     def band_width(self) -> np.ndarray:
@@ -63,8 +63,7 @@ def severity_study(cfg: dict, speeds, samples: int, *, model: str = "SM_CB2", de
     The law, WOB, time step, duration and transient are the configuration's.
     """
     sp = np.atleast_1d(np.asarray(speeds, dtype=float))
-    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 1:
-        raise ValueError(f"samples = {samples!r}: must be an integer >= 1")
+    validate.integer("samples", samples, 1)
     if eta is not None and eta_psd is not None:
         raise ValueError("give either eta or eta_psd, not both")
     S = None if eta_psd is None else psd_on_grid(eta_psd, eta_dt, cfg["simulation"]["duration_s"])[1]
