@@ -1,17 +1,86 @@
 """Figures of chapter 6 and appendix C: FRF envelopes (Figs. 6.1-6.12), Conv2 (Figs. C.2-C.4),
-Craig-Bampton frequency convergence, and SS bands under structural uncertainty."""
+Craig-Bampton frequency convergence, and SS bands under structural uncertainty.
+
+:func:`chapter6_figures` draws every figure of a :class:`drillpy.reports.uncertainty.Chapter6Study`;
+the ``*_plot`` functions draw one figure each from results already computed, write one PNG and
+return its path. FRFs are in dB re 1 rad/s^2 per N m, frequencies in Hz.
+"""
 from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from drillpy.figures.simulation import _save, plt
 
+if TYPE_CHECKING:
+    from drillpy.reports.uncertainty import Chapter6Study
+
 COLORS = ("tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple")
 
 
-def envelope_figure(path, envelopes: dict, point: int, title: str = ""):
+def chapter6_figures(study: "Chapter6Study", out_dir) -> list:
+    """Every figure of the chapter-6 study, written to ``out_dir``.
+
+    Parameters
+    ----------
+    study : Chapter6Study
+        What :func:`drillpy.reports.uncertainty.chapter6_study` returned.
+    out_dir : str or Path
+        Output folder (created if missing).
+
+    Returns
+    -------
+    list of Path
+        cb_frequency_convergence.png; fig6_1..3_models_point*.png (Figs. 6.1-6.3);
+        fig6_4..12_cases*_point*.png (Figs. 6.4-6.12); figC_2_conv2_samples.png (Fig. C.2);
+        figC_<3+k>_conv2_modes_<substructure>.png (Figs. C.3-C.4).
+    """
+    from drillpy.reports.uncertainty import FIGURE_PAIRS
+    from drillpy.uncertainty.frf import CASE_TITLES
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    labels = study.point_labels
+    paths = [cb_convergence_plot(out / "cb_frequency_convergence.png", study.cb_modes, study.cb_rel_errors)]
+    for p in range(3):
+        paths.append(envelope_plot(out / f"fig6_{p + 1}_models_point{p + 1}.png", study.models, p,
+                                   f"SM_full / SM_CB1 / SM_CB2, delta = 0.1: {labels[p]} (Fig. 6.{p + 1})"))
+    fig_no = 4
+    for group in FIGURE_PAIRS.values():
+        envs = {f"case {c}: {CASE_TITLES[c].split(' (')[0]}": study.cases[c] for c in group}
+        for p in range(3):
+            paths.append(envelope_plot(out / f"fig6_{fig_no}_cases{''.join(map(str, group))}_point{p + 1}.png",
+                                       envs, p,
+                                       f"SM_CB2 cases {', '.join(map(str, group))}: {labels[p]} (Fig. 6.{fig_no})"))
+            fig_no += 1
+    paths.append(conv2_samples_plot(out / "figC_2_conv2_samples.png", study.models["SM_CB2"]))
+    for k, (name, curves) in enumerate(study.conv2_curves.items()):
+        paths.append(conv2_modes_plot(out / f"figC_{3 + k}_conv2_modes_{name}.png", study.conv2_modes, curves,
+                                      name, labels))
+    return paths
+
+
+def envelope_plot(path, envelopes: dict, point: int, title: str = "") -> Path:
     """Statistical envelopes at one observation point, one shaded band per entry of
-    ``envelopes`` (label -> FRFEnvelope), with the sample mean and the nominal model."""
+    ``envelopes``, with the sample mean and the nominal model.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    envelopes : dict
+        Label -> FRFEnvelope (acceleration FRF [dB re 1 rad/s^2 per N m] over frequency [Hz]).
+    point : int
+        Index of the observation point.
+    title : str
+        Figure title (default: the point's label).
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     fig, ax = plt.subplots(figsize=(7.2, 4.2))
     first = next(iter(envelopes.values()))
     ax.plot(first.freq_hz, first.nominal_db[:, point], "k--", lw=0.9, label="mean model (nominal)")
@@ -31,8 +100,24 @@ def envelope_figure(path, envelopes: dict, point: int, title: str = ""):
     return _save(fig, path)
 
 
-def conv2_samples_figure(path, env, title: str = ""):
-    """Conv2(n_s) of Eq. (C.2) versus the number of samples (Fig. C.2), one curve per point."""
+def conv2_samples_plot(path, env, title: str = "") -> Path:
+    """Conv2(n_s) of Eq. (C.2) versus the number of samples (Fig. C.2), one curve per point,
+    relative to its final value.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    env : FRFEnvelope
+        The envelope whose samples' energies give Conv2 [rad/s^1.5 per N m].
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     c = env.conv2()
     n = np.arange(1, c.shape[0] + 1)
     fig, ax = plt.subplots(figsize=(6.4, 4.0))
@@ -46,9 +131,28 @@ def conv2_samples_figure(path, env, title: str = ""):
     return _save(fig, path)
 
 
-def conv2_modes_figure(path, modes, curves: dict, substructure: str, labels):
-    """Conv2 (Eq. C.2) versus the fixed-interface modes of one substructure (Figs. C.3-C.4);
-    ``curves``: scenario -> array (len(modes), n_points); one panel per point."""
+def conv2_modes_plot(path, modes, curves: dict, substructure: str, labels) -> Path:
+    """Conv2 (Eq. C.2) versus the fixed-interface modes of one substructure (Figs. C.3-C.4), one
+    panel per observation point.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    modes : sequence of int
+        Fixed-interface modes of the substructure.
+    curves : dict
+        Scenario -> Conv2 [rad/s^1.5 per N m], shape (len(modes), n_points).
+    substructure : str
+        Name of the substructure.
+    labels : sequence of str
+        Names of the observation points.
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     n_points = len(labels)
     fig, axes = plt.subplots(1, n_points, figsize=(4.2 * n_points, 3.8), squeeze=False)
     for p, ax in enumerate(axes[0]):
@@ -63,8 +167,23 @@ def conv2_modes_figure(path, modes, curves: dict, substructure: str, labels):
     return _save(fig, path)
 
 
-def cb_convergence_figure(path, modes, rel_errors):
-    """Relative error of the Craig-Bampton natural frequencies against the full FE model."""
+def cb_convergence_plot(path, modes, rel_errors) -> Path:
+    """Relative error of the Craig-Bampton natural frequencies against the full FE model.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    modes : sequence of int
+        Fixed-interface modes per substructure.
+    rel_errors : array_like
+        |f_CB / f_FE - 1| [-], shape (len(modes), n_frequencies).
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     fig, ax = plt.subplots(figsize=(6.4, 4.0))
     e = np.asarray(rel_errors)
     for j in range(e.shape[1]):
@@ -77,9 +196,28 @@ def cb_convergence_figure(path, modes, rel_errors):
     return _save(fig, path)
 
 
-def severity_bands_figure(path, speeds, studies: dict, level: float = 0.5, title: str = ""):
+def severity_bands_plot(path, speeds, studies: dict, level: float = 0.5, title: str = "") -> Path:
     """SS versus top speed: sample mean and 5-95 % band of each uncertainty source (top), and the
-    band width q95 - q05 of each source (bottom); ``studies``: label -> SeverityStudy."""
+    band width q95 - q05 of each source (bottom).
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    speeds : array_like
+        Top-drive speeds [rad/s].
+    studies : dict
+        Label -> SeverityStudy (SS [-] per sample and speed; one sample: a single curve).
+    level : float
+        Stability threshold of SS [-].
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     fig, (ax, aw) = plt.subplots(2, 1, figsize=(7.0, 6.4), sharex=True, gridspec_kw={"height_ratios": [3, 2]})
     for (label, st), color in zip(studies.items(), ("k",) + COLORS):
         if st.ss.shape[0] == 1:
@@ -98,3 +236,11 @@ def severity_bands_figure(path, speeds, studies: dict, level: float = 0.5, title
     aw.grid(alpha=0.3)
     aw.legend(fontsize=7)
     return _save(fig, path)
+
+
+# Former names, kept for existing callers.
+envelope_figure = envelope_plot
+conv2_samples_figure = conv2_samples_plot
+conv2_modes_figure = conv2_modes_plot
+cb_convergence_figure = cb_convergence_plot
+severity_bands_figure = severity_bands_plot

@@ -1,17 +1,60 @@
 """Figures of measured records and their analysis (Figs. 3.5, 4.3, 5.5-5.7 and the rig comparison).
 
-Speeds are plotted in RPM, torques in N m, WOB in N, times in s. Every function writes one PNG
-and returns its path (Agg backend via :mod:`drillpy.figures.simulation`).
+Speeds are plotted in RPM, torques in N m, WOB in N, times in s (inputs in SI: rad/s, N m, N, s).
+:func:`analysis_figures` draws every figure of a :class:`drillpy.reports.analysis.RecordAnalysis`;
+each ``*_plot`` function draws one figure from results already computed, writes one PNG and returns
+its path (Agg backend via :mod:`drillpy.figures.simulation`).
 """
 from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from drillpy.figures.simulation import _save, plt
 from drillpy.records.io import RPM, Flag
 
+if TYPE_CHECKING:
+    from drillpy.reports.analysis import RecordAnalysis
+
 C_BIT, C_TOP, C_TQ, C_WOB = "tab:blue", "0.25", "tab:purple", "tab:green"
 C_UP, C_LO, C_ALL = "tab:red", "tab:cyan", "k"
+
+
+def analysis_figures(result: "RecordAnalysis", out_dir) -> list:
+    """Every figure of a record's analysis, written to ``out_dir``.
+
+    Parameters
+    ----------
+    result : RecordAnalysis
+        What :func:`drillpy.reports.analysis.compute_analysis` returned.
+    out_dir : str or Path
+        Output folder (created if missing).
+
+    Returns
+    -------
+    list of Path
+        time_series.png, cleaning.png, cycle.png, loops.png, cycle_statistics.png, laws.png,
+        psd.png and, when the rig was simulated, rig_time_series.png and rig_loops.png.
+    """
+    from drillpy.uncertainty.process import THESIS_PSD
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    r, rec = result, result.record
+    paths = [record_time_series_plot(out / "time_series.png", r.raw, rec, r.cleaning),
+             cleaning_plot(out / "cleaning.png", r.raw, rec, r.cleaning),
+             cycle_plot(out / "cycle.png", rec, r.cycles, r.shown_cycle),
+             loops_plot(out / "loops.png", rec, r.branch, r.mean_cycle, r.mean_cycle_wob),
+             cycle_statistics_plot(out / "cycle_statistics.png", r.cycle_stats, r.stick_threshold_rad_s),
+             laws_plot(out / "laws.png", rec, r.branch, r.accel_rad_s2, r.mean_cycle, r.fits["constant_wob"],
+                       "laws fitted at constant WOB (sample set: slip phases of valid cycles)"),
+             eta_psd_plot(out / "psd.png", r.eta, r.freq_hz, r.periodogram, r.psd_fit.model, THESIS_PSD,
+                          list(r.psd_band_hz))]
+    if r.simulations:
+        paths.append(rig_time_series_plot(out / "rig_time_series.png", rec, r.simulations))
+        paths.append(rig_loops_plot(out / "rig_loops.png", r.simulations))
+    return paths
 
 
 def _artifact_spans(ax, rec, report, alpha=0.25):
@@ -23,9 +66,28 @@ def _artifact_spans(ax, rec, report, alpha=0.25):
             done.add((a.start_s, a.end_s))
 
 
-def time_series(path, raw, rec, report, title=""):
+def record_time_series_plot(path, raw, rec, report, title="") -> Path:
     """Fig. 5.5: bit and top speed, torque on bit and WOB of the whole record; raw top speed in
-    light red where cleaning changed it, artifact spans shaded."""
+    light red where cleaning changed it, artifact spans shaded.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    raw : Record
+        The record as read (speeds [rad/s]).
+    rec : Record
+        The cleaned record (speeds [rad/s], torque [N m], WOB [N]).
+    report : CleaningReport
+        Artifacts found by the cleaning (their spans [s] are shaded).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     n = 1 + (rec.torque_on_bit is not None) + (rec.wob is not None)
     fig, axes = plt.subplots(n, 1, figsize=(11, 2.4 * n + 0.6), sharex=True)
     axes = np.atleast_1d(axes)
@@ -55,8 +117,23 @@ def time_series(path, raw, rec, report, title=""):
     return _save(fig, path)
 
 
-def cleaning(path, raw, rec, report):
-    """Raw versus cleaned top speed around the largest artifact stretch and the first spike."""
+def cleaning_plot(path, raw, rec, report) -> Path:
+    """Raw versus cleaned channel around the largest artifact stretch and the first spike.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    raw, rec : Record
+        The record as read and cleaned (speeds [rad/s]).
+    report : CleaningReport
+        Artifacts found by the cleaning.
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     arts = [a for a in report.artifacts if a.kind in ("oscillation", "spike", "nonfinite", "gap", "time")]
     show = sorted(arts, key=lambda a: -a.samples)[:1] + [a for a in arts if a.kind == "spike"][:1]
     show = list({(a.start_s, a.channel): a for a in show}.values())
@@ -87,10 +164,29 @@ def cleaning(path, raw, rec, report):
     return _save(fig, path)
 
 
-def one_cycle(path, rec, cycles, j, window_s=3.0):
+def cycle_plot(path, rec, cycles, j, window_s=3.0) -> Path:
     """Figs. 5.6-5.7: a window of ``window_s`` around cycle j (bit and top speed, torque, WOB) and
     the cycle itself: bit speed versus time, torque versus bit speed, WOB versus bit speed (red
-    dot: start of the cycle; arrows: direction)."""
+    dot: start of the cycle; arrows: direction).
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    rec : Record
+        The cleaned record (speeds [rad/s], torque [N m], WOB [N]).
+    cycles : Cycles
+        Stick-slip cycles of ``rec``.
+    j : int
+        Index of the cycle shown.
+    window_s : float
+        Length of the window on the left [s].
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     t = rec.time_s
     a, b = cycles.start[j], cycles.end[j]
     tc = 0.5 * (t[a] + t[b])
@@ -152,9 +248,28 @@ def _arrow_path(ax, x, y, color):
                     arrowprops=dict(arrowstyle="->", color="r", lw=1.2))
 
 
-def loops(path, rec, labels, mc, mcw=None):
+def loops_plot(path, rec, labels, mc, mcw=None) -> Path:
     """Torque (and WOB) versus bit speed over all valid cycles with the mean cycle per branch
-    (Fig. 3.5): thin lines, red on the accelerating branch, cyan on the decelerating one."""
+    (Fig. 3.5): thin lines, red on the accelerating branch, cyan on the decelerating one.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    rec : Record
+        The cleaned record (bit speed [rad/s], torque [N m], WOB [N]).
+    labels : ndarray
+        Per sample: +1 accelerating branch, -1 decelerating, 0 neither.
+    mc : MeanCycle
+        Mean cycle of the torque [N m] over bit speed [rad/s].
+    mcw : MeanCycle, optional
+        Mean cycle of the WOB [N] (a second panel).
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     v = rec.bit_speed * RPM
     panels = [("torque on bit [N m]", rec.torque_on_bit, mc)]
     if rec.wob is not None and mcw is not None:
@@ -176,8 +291,24 @@ def loops(path, rec, labels, mc, mcw=None):
     return _save(fig, path)
 
 
-def cycle_statistics(path, cst, stick_threshold):
-    """Per-cycle period, stick duration and SS versus the cycle's start time."""
+def cycle_statistics_plot(path, cst, stick_threshold) -> Path:
+    """Per-cycle period, stick duration and SS versus the cycle's start time.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    cst : dict
+        Per-cycle statistics (:func:`drillpy.records.signals.cycle_statistics`): start_s,
+        period_s, stick_s [s], optionally ss [-].
+    stick_threshold : float
+        Stick threshold [rad/s] (shown in the title in RPM).
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     keys = [("period_s", "period [s]"), ("stick_s", "stick duration [s]")]
     if "ss" in cst:
         keys.append(("ss", "SS of the cycle (Eq. 3.4) [-]"))
@@ -196,9 +327,32 @@ def cycle_statistics(path, cst, stick_threshold):
     return _save(fig, path)
 
 
-def laws(path, rec, labels, accel, mc, fits, subtitle=""):
+def laws_plot(path, rec, labels, accel, mc, fits, subtitle="") -> Path:
     """Fitted laws over the data: slip samples (grey), mean cycle branches, and each law; the
-    hysteretic laws are drawn twice, at the mean acceleration of each branch."""
+    hysteretic laws are drawn twice, at the mean acceleration of each branch.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    rec : Record
+        The cleaned record (bit speed [rad/s], torque [N m]).
+    labels : ndarray
+        Per sample: +1 accelerating branch, -1 decelerating, 0 neither.
+    accel : ndarray
+        Bit acceleration [rad/s^2] (unused: the branches' mean accelerations are drawn).
+    mc : MeanCycle
+        Mean cycle of the torque [N m] over bit speed [rad/s].
+    fits : list of LawFit
+        The fitted laws.
+    subtitle : str
+        Second line of the title.
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     v = rec.bit_speed * RPM
     m = labels != 0
     fig, ax = plt.subplots(figsize=(9, 5.5))
@@ -228,9 +382,28 @@ def laws(path, rec, labels, accel, mc, fits, subtitle=""):
     return _save(fig, path)
 
 
-def psd(path, eta, f, p, model, thesis, band):
+def eta_psd_plot(path, eta, f, p, model, thesis, band) -> Path:
     """eta_exp(t) over 5 s and its periodogram with the log-binned average, the fitted PSD model
-    (Eq. 4.4, ``model``) over the fit ``band`` [Hz] and the thesis's field model (``thesis``)."""
+    (Eq. 4.4) over the fit band and the thesis's field model.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    eta : EtaSeries
+        eta_exp [-] on a uniform time grid [s].
+    f, p : ndarray
+        Periodogram of eta_exp: frequency [Hz], one-sided PSD [1/Hz].
+    model, thesis : PsdModel
+        The fitted model and the thesis's field model (callables: f [Hz] -> PSD [1/Hz]).
+    band : (float, float)
+        Fit band [Hz].
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     from drillpy.records.signals import log_binned
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 7.5))
     t0 = eta.t[0] + 0.5 * (eta.t[-1] - eta.t[0])
@@ -279,9 +452,26 @@ def _case_axes(n, rows_per_case, size):
     return fig, blocks
 
 
-def rig_time_series(path, rec, sims, window_s=2.0):
+def rig_time_series_plot(path, rec, sims, window_s=2.0) -> Path:
     """Measured versus simulated bit speed and torque on bit over a window after the start-up,
-    one block of two panels per simulated case."""
+    one block of two panels per simulated case.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    rec : Record
+        The measured record (speeds [rad/s], torque [N m]).
+    sims : dict
+        Case label -> (simulated Record, RigComparison).
+    window_s : float
+        Length of the window shown [s], starting at 75 % of the record.
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     t = rec.time_s
     t0 = t[0] + 0.75 * (t[-1] - t[0])
     m = (t >= t0) & (t <= t0 + window_s)
@@ -305,8 +495,21 @@ def rig_time_series(path, rec, sims, window_s=2.0):
     return _save(fig, path)
 
 
-def rig_loops(path, sims):
-    """Torque versus bit speed: mean cycle per branch, measured versus simulated, per case."""
+def rig_loops_plot(path, sims) -> Path:
+    """Torque versus bit speed: mean cycle per branch, measured versus simulated, per case.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    sims : dict
+        Case label -> (simulated Record, RigComparison with the mean cycles [N m over rad/s]).
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     fig, blocks = _case_axes(len(sims), 1, (6.2, 4.2))
     for k, ((label, (sim, cmp)), (ax,)) in enumerate(zip(sims.items(), blocks)):
         mm, ms = cmp.mean_cycle_measured, cmp.mean_cycle_simulated
@@ -336,10 +539,29 @@ def _wrap(s, width=48):
     return "\n".join(textwrap.wrap(s, width))
 
 
-def prediction_overlay(path, rec, sim, stick_threshold, label, window_s=3.0):
+def prediction_overlay_plot(path, rec, sim, stick_threshold, label, window_s=3.0) -> Path:
     """A model's prediction of a record it was not calibrated on: bit speed, top speed and torque
     on bit over the whole record (top) and over a window in its middle (bottom), measured and
-    simulated, with the stick threshold."""
+    simulated, with the stick threshold.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    rec, sim : Record
+        Measured and predicted records (speeds [rad/s], torque [N m]).
+    stick_threshold : float
+        Stick threshold [rad/s].
+    label : str
+        What the prediction is (in the title).
+    window_s : float
+        Length of the middle window [s].
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     fig, axes = plt.subplots(3, 1, figsize=(9.0, 7.5))
     t, ts = rec.time_s, sim.time_s
     tm = t[0] + 0.5 * (t[-1] - t[0])
@@ -363,3 +585,16 @@ def prediction_overlay(path, rec, sim, stick_threshold, label, window_s=3.0):
     axes[2].legend(fontsize=7)
     fig.tight_layout()
     return _save(fig, path)
+
+
+# Former names, kept for existing callers.
+time_series = record_time_series_plot
+cleaning = cleaning_plot
+one_cycle = cycle_plot
+loops = loops_plot
+cycle_statistics = cycle_statistics_plot
+laws = laws_plot
+psd = eta_psd_plot
+rig_time_series = rig_time_series_plot
+rig_loops = rig_loops_plot
+prediction_overlay = prediction_overlay_plot

@@ -1,4 +1,8 @@
-"""Matplotlib figures (Agg backend: files only, no screen needed). Axes carry units."""
+"""Figures of deterministic simulations: time series, SS versus top speed, stability maps.
+
+Matplotlib with the Agg backend (files only, no screen needed); axes carry units. Every ``*_plot``
+function draws one figure from results already computed, writes one PNG and returns its path.
+"""
 from __future__ import annotations
 
 from pathlib import Path
@@ -13,6 +17,7 @@ RPM = 30.0 / np.pi  # rad/s -> RPM
 
 
 def _save(fig, path: str | Path) -> Path:
+    """Lay out ``fig``, write it to ``path`` (130 dpi, parent folders created), close it; return the path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
@@ -21,8 +26,31 @@ def _save(fig, path: str | Path) -> Path:
     return path
 
 
-def severity_curve(path, speeds, ss, threshold=None, level=0.5, title="", extra=None):
-    """SS versus top speed (Fig. 4.8). ``extra``: list of (label, speeds, ss) curves."""
+def severity_plot(path, speeds, ss, threshold=None, level=0.5, title="", extra=None) -> Path:
+    """SS versus top speed (Fig. 4.8).
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    speeds : array_like
+        Top-drive speeds [rad/s].
+    ss : array_like
+        Stick-slip severity at each speed [-].
+    threshold : float, optional
+        Speed below which SS exceeds ``level`` [rad/s], drawn as a vertical line.
+    level : float
+        Stability threshold of SS [-].
+    title : str
+        Figure title (default: a generic one).
+    extra : list of (str, array_like, array_like), optional
+        Further curves: label, speeds [rad/s], SS [-].
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     fig, ax = plt.subplots(figsize=(6.4, 4.0))
     ax.plot(speeds, ss, "k.-", label="SS (deterministic)")
     for label, sp, s in extra or []:
@@ -38,8 +66,28 @@ def severity_curve(path, speeds, ss, threshold=None, level=0.5, title="", extra=
     return _save(fig, path)
 
 
-def stability_maps(path, speeds_rpm, wobs_kn, maps: dict, vmax=None):
-    """One panel per model: SS over top speed x WOB (Figs. 3.11-3.12), shared colour scale."""
+def stability_map_plot(path, speeds_rpm, wobs_kn, maps: dict, vmax=None) -> Path:
+    """One panel per model: SS over top speed x WOB (Figs. 3.11-3.12), shared colour scale, the
+    contour SS = 0.5 in white.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    speeds_rpm : array_like
+        Top-drive speeds of the grid [RPM].
+    wobs_kn : array_like
+        Weights on bit of the grid [kN].
+    maps : dict
+        Panel label -> SS [-], shape (len(wobs_kn), len(speeds_rpm)).
+    vmax : float, optional
+        Upper end of the colour scale [-] (default: the largest SS of all maps).
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     n = len(maps)
     vmax = vmax or max(float(np.nanmax(m)) for m in maps.values())
     fig, axes = plt.subplots(1, n, figsize=(4.6 * n, 4.0), squeeze=False)
@@ -53,8 +101,29 @@ def stability_maps(path, speeds_rpm, wobs_kn, maps: dict, vmax=None):
     return _save(fig, path)
 
 
-def time_series(path, t, bit_speed, torque_on_bit, top_speed=None, t_window=None, title=""):
-    """Bit speed and torque on bit versus time (Figs. 4.6, 5.5)."""
+def time_series_plot(path, t, bit_speed, torque_on_bit, top_speed=None, t_window=None, title="") -> Path:
+    """Bit speed and torque on bit versus time (Figs. 4.6, 5.5).
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    t : ndarray
+        Time [s].
+    bit_speed, top_speed : ndarray
+        Bit and top-drive speed [rad/s] (``top_speed`` optional).
+    torque_on_bit : ndarray
+        Torque on bit [N m] (plotted in kN m above 1000 N m).
+    t_window : (float, float), optional
+        Time window shown [s] (default: all).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.0, 5.0), sharex=True)
     sel = slice(None) if t_window is None else (t >= t_window[0]) & (t <= t_window[1])
     a1.plot(t[sel], bit_speed[sel], "b", lw=0.8, label="bit")
@@ -72,3 +141,9 @@ def time_series(path, t, bit_speed, torque_on_bit, top_speed=None, t_window=None
     if title:
         a1.set_title(title)
     return _save(fig, path)
+
+
+# Former names, kept for existing callers.
+severity_curve = severity_plot
+stability_maps = stability_map_plot
+time_series = time_series_plot

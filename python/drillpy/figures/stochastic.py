@@ -1,16 +1,84 @@
-"""Figures of the stochastic analysis (thesis Figs. 4.2-4.9 and C.1). Axes carry units."""
+"""Figures of the stochastic analysis (thesis Figs. 4.2-4.9 and C.1). Axes carry units.
+
+:func:`stochastic_figures` draws every figure of a
+:class:`drillpy.reports.stochastic.StochasticAnalysis`; the ``*_plot`` functions draw one figure
+each from results already computed, write one PNG and return its path.
+"""
 from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.stats import gaussian_kde
 
-from drillpy.figures.simulation import _save, plt
+from drillpy.figures.simulation import _save, plt, time_series_plot
+
+if TYPE_CHECKING:
+    from drillpy.reports.stochastic import StochasticAnalysis
 
 
-def psd_fit(path, f, S_raw, fit_model, *, S_welch=None, f_welch=None, target=None,
-            zoom=(0.03, 3.0), title=""):
+def stochastic_figures(result: "StochasticAnalysis", out_dir) -> list:
+    """Every figure of the chapter-4 analysis, written to ``out_dir``.
+
+    Parameters
+    ----------
+    result : StochasticAnalysis
+        What :func:`drillpy.reports.stochastic.stochastic_analysis` returned.
+    out_dir : str or Path
+        Output folder (created if missing).
+
+    Returns
+    -------
+    list of Path
+        psd_fit.png (Figs. 4.2-4.3), eta_realizations.png (Fig. 4.4), stochastic_response.png
+        (Fig. 4.5), deterministic_vs_stochastic.png (Fig. 4.6), phase_pdfs.png (Fig. 4.7),
+        severity_band.png (Figs. 4.8-4.9) and conv1.png (Fig. C.1).
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    r, psd = result, result.psd
+    sto = r.stochastic
+    return [
+        psd_fit_plot(out / "psd_fit.png", r.freq_hz, r.periodogram, r.psd_fit.model, S_welch=r.welch_psd,
+                     f_welch=r.welch_freq_hz, target=psd if hasattr(psd, "f0") else None,
+                     title=f"PSD of a generated {r.fit_record_s:g}-s eta record (Figs. 4.2-4.3)"),
+        eta_realizations_plot(out / "eta_realizations.png", r.eta_t_s, r.eta, t_max=200.0),
+        time_series_plot(out / "stochastic_response.png", sto.t, sto.bit_speed, sto.torque_on_bit, sto.top_speed,
+                         t_window=r.window_s, title=f"One realization at {r.top_speed_rad_s:g} rad/s (Fig. 4.5)"),
+        deterministic_vs_stochastic_plot(out / "deterministic_vs_stochastic.png", r.deterministic, sto, r.window_s),
+        phase_pdf_plot(out / "phase_pdfs.png", r.phases),
+        severity_band_plot(out / "severity_band.png", r.study),
+        conv1_plot(out / "conv1.png", r.study.conv1)]
+
+
+def psd_fit_plot(path, f, S_raw, fit_model, *, S_welch=None, f_welch=None, target=None,
+                 zoom=(0.03, 3.0), title="") -> Path:
     """Raw (Schuster) periodogram with the fitted Eq. (4.4) model (Figs. 4.2-4.3): full range
-    and a zoom around f0. ``target``: the PSD the series was generated from, if known."""
+    and a zoom around f0.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    f, S_raw : ndarray
+        Frequency [Hz] and raw one-sided periodogram [1/Hz].
+    fit_model : PsdModel
+        The fitted model of Eq. (4.4) (callable: f [Hz] -> PSD [1/Hz]).
+    S_welch, f_welch : ndarray, optional
+        Welch periodogram [1/Hz] and its frequencies [Hz].
+    target : PsdModel, optional
+        The PSD the series was generated from, if known.
+    zoom : (float, float)
+        Frequency range of the right panel [Hz].
+    title : str
+        Title of the left panel.
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     fig, axes = plt.subplots(1, 2, figsize=(11.0, 4.2))
     pos = f > 0
     for ax, lim in zip(axes, (None, zoom)):
@@ -39,8 +107,25 @@ def psd_fit(path, f, S_raw, fit_model, *, S_welch=None, f_welch=None, target=Non
     return _save(fig, path)
 
 
-def eta_realizations(path, t, eta, t_max=None):
-    """Independent realizations of eta(t) (Fig. 4.4)."""
+def eta_realizations_plot(path, t, eta, t_max=None) -> Path:
+    """Independent realizations of eta(t) (Fig. 4.4).
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    t : ndarray
+        Time [s], shape (n,).
+    eta : ndarray
+        Realizations of eta [-], shape (n,) or (k, n).
+    t_max : float, optional
+        Last time shown [s].
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     fig, ax = plt.subplots(figsize=(7.0, 3.6))
     sel = slice(None) if t_max is None else t <= t_max
     for k, e in enumerate(np.atleast_2d(eta)):
@@ -53,8 +138,23 @@ def eta_realizations(path, t, eta, t_max=None):
     return _save(fig, path)
 
 
-def deterministic_vs_stochastic(path, det, sto, t_window):
-    """Bit speed of the deterministic and the stochastic model (Fig. 4.6)."""
+def deterministic_vs_stochastic_plot(path, det, sto, t_window) -> Path:
+    """Bit and top speed of the deterministic and the stochastic model side by side (Fig. 4.6).
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    det, sto : SimulationResult
+        Deterministic and stochastic runs (speeds in rad/s, SS in ``severity``).
+    t_window : (float, float)
+        Time window shown [s].
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     fig, axes = plt.subplots(1, 2, figsize=(11.0, 3.8), sharey=True)
     for ax, r, label in zip(axes, (det, sto), ("deterministic", "stochastic")):
         sel = (r.t >= t_window[0]) & (r.t <= t_window[1])
@@ -68,8 +168,21 @@ def deterministic_vs_stochastic(path, det, sto, t_window):
     return _save(fig, path)
 
 
-def phase_pdfs(path, study):
-    """PDFs of the random stick and slip durations with the deterministic values (Fig. 4.7)."""
+def phase_pdf_plot(path, study) -> Path:
+    """PDFs of the random stick and slip durations with the deterministic values (Fig. 4.7).
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    study : PhaseStudy
+        Stick and slip durations [s] (:func:`drillpy.uncertainty.montecarlo.phase_study`).
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     fig, axes = plt.subplots(1, 2, figsize=(11.0, 3.8))
     for ax, x, d, name in zip(axes, (study.stick, study.slip),
                               (study.deterministic_stick, study.deterministic_slip),
@@ -91,8 +204,25 @@ def phase_pdfs(path, study):
     return _save(fig, path)
 
 
-def severity_band(path, study, level=0.5, prob=0.05):
-    """Mean SS with the 90 % band, the deterministic curve and P(SS > level) (Fig. 4.9)."""
+def severity_band_plot(path, study, level=0.5, prob=0.05) -> Path:
+    """Mean SS with the 90 % band, the deterministic curve and P(SS > level) (Fig. 4.9).
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    study : StochasticStudy
+        SS samples versus top speed [rad/s] (:func:`drillpy.uncertainty.montecarlo.stochastic_study`).
+    level : float
+        Stability threshold of SS [-].
+    prob : float
+        Exceedance probability marked [-].
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.0, 6.4), sharex=True,
                                  gridspec_kw={"height_ratios": [2, 1]})
     sp = study.speeds
@@ -123,8 +253,21 @@ def severity_band(path, study, level=0.5, prob=0.05):
     return _save(fig, path)
 
 
-def conv1_curve(path, conv1):
-    """Convergence function n_s -> Conv1(n_s) of Eq. (C.1) (Fig. C.1)."""
+def conv1_plot(path, conv1) -> Path:
+    """Convergence function n_s -> Conv1(n_s) of Eq. (C.1) (Fig. C.1).
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    conv1 : array_like
+        Conv1 after 1, 2, ... samples [(rad/s)^0.5].
+
+    Returns
+    -------
+    Path
+        The PNG written.
+    """
     fig, ax = plt.subplots(figsize=(6.4, 3.8))
     n = np.arange(1, len(conv1) + 1)
     ax.plot(n, conv1, "k", lw=1.2)
@@ -133,3 +276,12 @@ def conv1_curve(path, conv1):
     ax.set_title("Convergence of the Monte Carlo estimate (Eq. C.1, Fig. C.1)")
     ax.grid(alpha=0.3)
     return _save(fig, path)
+
+
+# Former names, kept for existing callers.
+psd_fit = psd_fit_plot
+eta_realizations = eta_realizations_plot
+deterministic_vs_stochastic = deterministic_vs_stochastic_plot
+phase_pdfs = phase_pdf_plot
+severity_band = severity_band_plot
+conv1_curve = conv1_plot

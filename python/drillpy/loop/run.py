@@ -340,16 +340,38 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
 
 def loop_record(record, out_dir, *, preset: str | None = None, config_path: str | None = None,
                 config: dict | None = None, options: LoopOptions | None = None, log=print) -> dict:
-    """``drillpy loop``: run the loop and write ``loop.json``, ``evidence.json``, ``predictions.csv``,
-    ``model.json``, ``report.md`` and the figures to ``out_dir``. Returns the content of loop.json."""
+    """``drillpy loop``: run the loop and write its figures and files to ``out_dir``.
+
+    :func:`run_loop` (compute: a :class:`LoopResult`) -> :func:`drillpy.figures.loop.loop_figures`
+    (residual_signature.png, overlay.png, loops.png, errors.png) -> :func:`drillpy.loop.report.write_loop`
+    (``loop.json``, ``evidence.json``, ``predictions.csv``, ``model.json``, ``config.json``, ``report.md``).
+
+    Parameters
+    ----------
+    record : Record, str or Path
+        The measured record or its file.
+    out_dir : str or Path
+        Output folder (created if missing).
+    preset, config_path, config : optional
+        The declared model: a preset name, a configuration file or a configuration dict
+        (:func:`drillpy.model.config.load_config`).
+    options : LoopOptions, optional
+        Choices of the loop (horizon [s], analysis rate [Hz], guard thresholds...).
+    log : callable
+        Called with each progress line.
+
+    Returns
+    -------
+    dict
+        The content of ``loop.json``.
+    """
+    from drillpy.figures.loop import loop_figures
     from drillpy.model.config import load_config
-    from .report import write_outputs
+    from .report import write_loop
     cfg = load_config(preset=preset, path=config_path, config=config)
     res = run_loop(record, cfg, options, log=log)
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    js = write_outputs(res, out)
-    log(f"loop.json, predictions.csv, report.md and figures written to {out}")
+    js = write_loop(res, out_dir, loop_figures(res, out_dir))
+    log(f"loop.json, predictions.csv, report.md and figures written to {Path(out_dir)}")
     return js
 
 

@@ -5,12 +5,16 @@ Table 5.2 statistics (:mod:`drillpy.records.signals`) -> least-squares identific
 laws with intervals and a comparison table (:mod:`drillpy.records.identification`) -> the test rig in
 simulation with the identified law and an effective damping estimate (:mod:`drillpy.records.rigsim`)
 -> ``report.md``, PNG figures and ``summary.json`` (:func:`analyze_record`).
+
+Compute, plot and write are apart (as python-control's ``TimeResponseData`` and ``timeplot``):
+:func:`compute_analysis` returns a :class:`RecordAnalysis`, :func:`drillpy.figures.records.analysis_figures`
+draws it and :func:`write_analysis` writes its files; :func:`analyze_record` composes the three.
 """
 from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -20,7 +24,7 @@ from drillpy.records import identification as ident
 from drillpy.uncertainty import process
 from drillpy.records import rigsim
 from drillpy.records import signals as sig
-from drillpy.records.cleaning import CleaningOptions, clean
+from drillpy.records.cleaning import CleaningOptions, CleaningReport, clean
 from drillpy.model.config import load_config
 from drillpy.records.io import RPM, Record, read_record
 
@@ -102,15 +106,111 @@ def choose_cycle(cycles: sig.Cycles, t, at_s: float | None = None) -> int:
     return int(max(cand, key=lambda j: cycles.stick_s[j]))
 
 
-def analyze_record(record: Record | str | Path, out_dir: str | Path, options: AnalysisOptions | None = None,
-                   log=print) -> dict:
-    """Analyse a measured record and write ``report.md``, figures and ``summary.json`` to ``out_dir``.
+@dataclass
+class RecordAnalysis:
+    """The analysis of a measured record computed by :func:`compute_analysis` (nothing drawn or written).
 
-    Returns the summary (the content of ``summary.json``).
+    Speeds in rad/s, torques in N m, WOB in N, times in s, frequencies in Hz.
+
+    Attributes
+    ----------
+    options : AnalysisOptions
+        The choices the analysis ran with.
+    raw : Record
+        The record as read (within ``options.t0``-``options.t1``), before cleaning.
+    record : Record
+        The cleaned record analysed (the calibration part when ``options.calibrate`` is set).
+    cleaning : CleaningReport
+        Artifacts found and repaired by :func:`drillpy.records.cleaning.clean` on ``raw``.
+    stick_threshold_rad_s : float
+        The bit is stuck at or below this speed [rad/s].
+    cycles : Cycles
+        Stick-slip cycles of ``record`` (sample indices, stick durations [s], validity).
+    cycle_stats : dict
+        Per valid cycle (:func:`drillpy.records.signals.cycle_statistics`): start_s, period_s,
+        stick_s, slip_s [s], frequency_hz [Hz], max_speed [rad/s] and, with a top speed, ss [-].
+    branch : ndarray
+        Per sample: +1 accelerating slip branch, -1 decelerating, 0 stick or excluded.
+    accel_rad_s2 : ndarray
+        Bit acceleration (Savitzky-Golay derivative of the bit speed) [rad/s^2].
+    mean_cycle : MeanCycle
+        Torque on bit [N m] of the mean cycle per branch over a bit-speed grid [rad/s].
+    mean_cycle_wob : MeanCycle or None
+        WOB [N] of the mean cycle per branch (None without a WOB channel).
+    eta : EtaSeries
+        eta_exp = T / T_hys - 1 [-] on a uniform grid (Eq. 4.2).
+    freq_hz, periodogram : ndarray
+        Schuster periodogram of eta_exp: frequency [Hz] and one-sided PSD [1/Hz].
+    psd_fit : PsdFit
+        Fit of Eq. (4.4) to the periodogram over ``psd_band_hz``.
+    psd_band_hz : (float, float)
+        Frequencies of the fit band [Hz].
+    fits : dict
+        "constant_wob" (and "measured_wob" when the WOB is measured throughout) -> list of
+        :class:`drillpy.records.identification.LawFit`.
+    shown_cycle : int
+        Index in ``cycles`` of the cycle shown in the one-cycle figure.
+    shown_cycle_s : (float, float)
+        Start and end of that cycle [s].
+    simulations : dict
+        Rig simulations: case label -> (simulated Record, RigComparison); empty when not simulated.
+    model : RigModel or None
+        The rig model calibrated on ``record`` (None when not simulated).
+    summary : dict
+        The numbers of ``summary.json`` but for ``figures`` and ``shown_cycle_s``, which
+        :func:`write_analysis` adds (JSON-ready after :func:`_jsonable`).
+    """
+    options: AnalysisOptions
+    raw: Record
+    record: Record
+    cleaning: CleaningReport
+    stick_threshold_rad_s: float
+    cycles: sig.Cycles
+    cycle_stats: dict
+    branch: np.ndarray
+    accel_rad_s2: np.ndarray
+    mean_cycle: sig.MeanCycle
+    mean_cycle_wob: sig.MeanCycle | None
+    eta: sig.EtaSeries
+    freq_hz: np.ndarray
+    periodogram: np.ndarray
+    psd_fit: process.PsdFit
+    psd_band_hz: tuple
+    fits: dict
+    shown_cycle: int
+    shown_cycle_s: tuple
+    simulations: dict = field(default_factory=dict)
+    model: rigsim.RigModel | None = None
+    summary: dict = field(default_factory=dict)
+
+
+def compute_analysis(record: Record | str | Path, options: AnalysisOptions | None = None,
+                     log=print) -> RecordAnalysis:
+    """Analyse a measured record: cleaning, cycles, statistics, eta_exp and its PSD, identification
+    of the bit-rock laws and the rig simulations (nothing is drawn or written).
+
+    Parameters
+    ----------
+    record : Record, str or Path
+        The record, or a file :func:`drillpy.records.io.read_record` reads; it needs the bit speed
+        [rad/s] and the torque on bit [N m].
+    options : AnalysisOptions, optional
+        Choices of the analysis (default ``AnalysisOptions()``).
+    log : callable
+        Called with each progress line (``print`` by default).
+
+    Returns
+    -------
+    RecordAnalysis
+        Every intermediate result and the summary numbers.
+
+    Raises
+    ------
+    ValueError
+        The record shows no valid stick-slip cycle, ``options.calibrate`` is not T0 < T1, or
+        ``options.cycle_at_s`` is in no valid cycle.
     """
     opt = options or AnalysisOptions()
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     raw = read_record(record) if isinstance(record, (str, Path)) else record
     for need in ("bit_speed", "torque_on_bit"):
         raw.channel(need)  # the analysis needs these two; the error names the missing one
@@ -229,24 +329,82 @@ def analyze_record(record: Record | str | Path, out_dir: str | Path, options: An
         log(f"identification: {S['identification']['wob_versus_hysteresis']['statement']}")
 
     # ---------------------------------------------------------------- rig simulation
-    sims = {}
+    sims, model = {}, None
     if opt.simulate and rec.top_speed is not None and rigsim.reliable_top_speed(rec).sum() >= 10:
         held = _held_out(full, rec, opt.min_holdout_s) if opt.calibrate is not None else []
         S["rig"], sims, model = _rig_section(rec, thr, fits_by, opt.preset, log, held)
-        (out / "model.json").write_text(json.dumps(_jsonable(model.to_dict()), indent=2))
-        log(f"rig model written to {out / 'model.json'} (apply it to any record: drillpy predict)")
     elif opt.simulate:
         S["rig"] = {"skipped": "the record has no top-speed channel with reliable samples to set the rig's speed"}
 
-    # ---------------------------------------------------------------- figures and report
     j = choose_cycle(cyc, rec.time_s, opt.cycle_at_s)
-    S["figures"] = _figures(out, raw, rec, rep, cyc, cst, j, lab, acc, mc, mcw, eta, (f, p), psd, fits_by,
-                            sims, S, thr)
-    S["shown_cycle_s"] = [float(rec.time_s[cyc.start[j]]), float(rec.time_s[cyc.end[j]])]
+    return RecordAnalysis(options=opt, raw=raw, record=rec, cleaning=rep, stick_threshold_rad_s=thr, cycles=cyc,
+                          cycle_stats=cst, branch=lab, accel_rad_s2=acc, mean_cycle=mc, mean_cycle_wob=mcw, eta=eta,
+                          freq_hz=f, periodogram=p, psd_fit=psd, psd_band_hz=(float(band[0]), float(band[-1])),
+                          fits=fits_by, shown_cycle=j,
+                          shown_cycle_s=(float(rec.time_s[cyc.start[j]]), float(rec.time_s[cyc.end[j]])),
+                          simulations=sims, model=model, summary=S)
+
+
+def write_analysis(result: RecordAnalysis, out_dir: str | Path, figures=(), log=print) -> dict:
+    """Write ``summary.json``, ``report.md`` and, when the rig was simulated, ``model.json``.
+
+    Parameters
+    ----------
+    result : RecordAnalysis
+        What :func:`compute_analysis` returned.
+    out_dir : str or Path
+        Output folder (created if missing).
+    figures : sequence of str or Path
+        The figures written beside (:func:`drillpy.figures.records.analysis_figures`); their file
+        names go to the summary's ``figures``.
+    log : callable
+        Called with each progress line.
+
+    Returns
+    -------
+    dict
+        The summary (content of ``summary.json``): ``result.summary`` with ``figures`` (file names)
+        and ``shown_cycle_s`` ([start, end] of the cycle shown [s]).
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    if result.model is not None:
+        (out / "model.json").write_text(json.dumps(_jsonable(result.model.to_dict()), indent=2))
+        log(f"rig model written to {out / 'model.json'} (apply it to any record: drillpy predict)")
+    S = {**result.summary, "figures": [Path(f).name for f in figures],
+         "shown_cycle_s": [float(x) for x in result.shown_cycle_s]}
     (out / "summary.json").write_text(json.dumps(_jsonable(S), indent=2))
     (out / "report.md").write_text(render_report(S))
     log(f"report.md, summary.json and {len(S['figures'])} figures written to {out}")
     return S
+
+
+def analyze_record(record: Record | str | Path, out_dir: str | Path, options: AnalysisOptions | None = None,
+                   log=print) -> dict:
+    """Analyse a measured record and write ``report.md``, figures and ``summary.json`` to ``out_dir``.
+
+    :func:`compute_analysis` -> :func:`drillpy.figures.records.analysis_figures` ->
+    :func:`write_analysis`.
+
+    Parameters
+    ----------
+    record : Record, str or Path
+        The record or its file.
+    out_dir : str or Path
+        Output folder (created if missing).
+    options : AnalysisOptions, optional
+        Choices of the analysis.
+    log : callable
+        Called with each progress line.
+
+    Returns
+    -------
+    dict
+        The summary (the content of ``summary.json``).
+    """
+    result = compute_analysis(record, options, log=log)
+    paths = figs.analysis_figures(result, out_dir)
+    return write_analysis(result, out_dir, paths, log=log)
 
 
 def _wob_effect(fits_by: dict) -> dict:
@@ -365,21 +523,6 @@ def _rig_section(rec: Record, thr: float, fits_by: dict, preset: str, log, held:
             log(f"rig: held-out piece not predicted: {e}")
         out["held_out"].append(row)
     return out, sims, model
-
-
-def _figures(out, raw, rec, rep, cyc, cst, j, lab, acc, mc, mcw, eta, fp, psd, fits_by, sims, S, thr) -> list:
-    paths = [figs.time_series(out / "time_series.png", raw, rec, rep),
-             figs.cleaning(out / "cleaning.png", raw, rec, rep),
-             figs.one_cycle(out / "cycle.png", rec, cyc, j),
-             figs.loops(out / "loops.png", rec, lab, mc, mcw),
-             figs.cycle_statistics(out / "cycle_statistics.png", cst, thr),
-             figs.laws(out / "laws.png", rec, lab, acc, mc, fits_by["constant_wob"],
-                       "laws fitted at constant WOB (sample set: slip phases of valid cycles)"),
-             figs.psd(out / "psd.png", eta, fp[0], fp[1], psd.model, process.THESIS_PSD, S["psd"]["fit"]["f_range_hz"])]
-    if sims:
-        paths.append(figs.rig_time_series(out / "rig_time_series.png", rec, sims))
-        paths.append(figs.rig_loops(out / "rig_loops.png", sims))
-    return [p.name for p in paths]
 
 
 def _nan_list(x) -> list:

@@ -1,22 +1,23 @@
 """The chapter-6 study with figures and the thesis's conclusions checked on measured widths.
 
-:func:`chapter6_report` runs, on a configuration such as ``thesis-ch6``:
+:func:`chapter6_study` computes, on a configuration such as ``thesis-ch6`` (a :class:`Chapter6Study`):
   * Craig-Bampton natural frequencies versus the full FE model as modes per substructure grow;
   * SM_full, SM_CB1 and SM_CB2 at delta = 0.1 (Figs. 6.1-6.3);
   * SM_CB2 case studies 1-7 (Tables 6.1-6.7, Figs. 6.4-6.12);
   * Conv2 (Eq. C.2) versus samples (Fig. C.2) and versus DP and BHA modes (Figs. C.3-C.4);
-and writes the figures and ``summary.json``. :func:`conclusions` turns envelope widths (dB,
+:func:`drillpy.figures.frf.chapter6_figures` draws it, :func:`write_chapter6` writes ``summary.json``
+and :func:`chapter6_report` composes the three. :func:`conclusions` turns envelope widths (dB,
 averaged over frequency bands) into a verdict on each conclusion of section 6.6.
 """
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from drillpy.figures import frf as frf_plots
-from drillpy.uncertainty.frf import CASE_TITLES, band_widths, cb_frequencies, conv2_vs_modes, default_frequencies, frf_envelope
+from drillpy.uncertainty.frf import band_widths, cb_frequencies, conv2_vs_modes, default_frequencies, frf_envelope
 from drillpy.model.simulation import natural_frequencies
 
 # Frequency bands [Hz]: below the first resonance (0.31 Hz on thesis-ch6), then low, mid, high.
@@ -107,12 +108,98 @@ def print_conclusions(rows: list[dict]) -> None:
                 print(f"    {k}: {v}")
 
 
-def chapter6_report(cfg: dict, out_dir, *, samples: int = 2500, mode_samples: int = 400, seed: int = 1,
-                    freq_hz=None, modes=(1, 2, 3, 5, 7, 10, 15, 20, 25), progress: bool = True,
-                    threads: int = 0) -> dict:
-    """Run the chapter-6 study, write figures and summary.json into ``out_dir``, return the summary."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+@dataclass
+class Chapter6Study:
+    """The chapter-6 study computed by :func:`chapter6_study` (nothing drawn or written).
+
+    Attributes
+    ----------
+    preset : str or None
+        Name of the configuration.
+    samples : int
+        Monte Carlo samples per envelope.
+    mode_samples : int
+        Samples per point of Conv2 versus modes.
+    seed : int
+        Seed of every study (sample i from (seed, i)).
+    freq_hz : ndarray
+        Frequency grid of the FRFs [Hz].
+    fe_frequencies_hz : ndarray
+        First 8 natural frequencies of the full FE model [Hz].
+    cb_modes : list of int
+        Fixed-interface modes per substructure of the Craig-Bampton convergence study.
+    cb_rel_errors : list of ndarray
+        Per entry of ``cb_modes``: |f_CB / f_FE - 1| of the first 8 modes [-].
+    nominal_max_abs_db : float
+        Largest difference of the nominal FRFs, modal ROM versus Craig-Bampton [dB].
+    models : dict
+        "SM_full" / "SM_CB1" / "SM_CB2" -> FRFEnvelope at delta = 0.1 (Figs. 6.1-6.3); FRFs in dB
+        re 1 rad/s^2 per N m.
+    cases : dict
+        Case 1..7 -> FRFEnvelope of SM_CB2 (Tables 6.1-6.7, Figs. 6.4-6.12).
+    conv2_modes : list of int
+        Fixed-interface modes of the Conv2-versus-modes study (Figs. C.3-C.4).
+    conv2_curves : dict
+        Substructure name -> scenario -> Conv2 [rad/s^1.5 per N m], shape (len(conv2_modes), n_points).
+    conclusions : list of dict
+        The conclusions of section 6.6 checked on the widths (:func:`conclusions`).
+    summary : dict
+        The content of ``summary.json`` (JSON-ready; widths in dB, frequencies in Hz).
+    """
+    preset: str | None
+    samples: int
+    mode_samples: int
+    seed: int
+    freq_hz: np.ndarray
+    fe_frequencies_hz: np.ndarray
+    cb_modes: list
+    cb_rel_errors: list
+    nominal_max_abs_db: float
+    models: dict
+    cases: dict
+    conv2_modes: list
+    conv2_curves: dict
+    conclusions: list
+    summary: dict = field(default_factory=dict)
+
+    @property
+    def point_labels(self) -> list:
+        """Names of the observation points."""
+        return self.models["SM_CB2"].labels
+
+
+CONV2_SCENARIOS = {"DP and BHA, delta = 0.1": dict(delta=0.1), "BHA only (case 5)": dict(case=5),
+                   "DP only (case 4)": dict(case=4)}
+
+
+def chapter6_study(cfg: dict, *, samples: int = 2500, mode_samples: int = 400, seed: int = 1, freq_hz=None,
+                   modes=(1, 2, 3, 5, 7, 10, 15, 20, 25), progress: bool = True, threads: int = 0) -> Chapter6Study:
+    """Run the chapter-6 study (nothing is drawn or written).
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration with Craig-Bampton substructures (e.g. the ``thesis-ch6`` preset).
+    samples : int
+        Monte Carlo samples per envelope.
+    mode_samples : int
+        Samples per point of Conv2 versus modes.
+    seed : int
+        Seed (sample i from (seed, i)).
+    freq_hz : array_like, optional
+        Frequency grid [Hz] (default :func:`drillpy.uncertainty.frf.default_frequencies`).
+    modes : sequence of int
+        Fixed-interface modes of the Conv2-versus-modes study.
+    progress : bool
+        Show progress bars.
+    threads : int
+        Engine threads (0: all cores).
+
+    Returns
+    -------
+    Chapter6Study
+        Envelopes, convergence studies, conclusions and the summary.
+    """
     f = default_frequencies() if freq_hz is None else np.asarray(freq_hz, dtype=float)
     kw = dict(samples=samples, seed=seed, freq_hz=f, progress=progress, threads=threads)
     summary: dict = {"preset": cfg.get("name"), "samples": samples, "seed": seed,
@@ -122,45 +209,81 @@ def chapter6_report(cfg: dict, out_dir, *, samples: int = 2500, mode_samples: in
     fe = natural_frequencies(cfg, n_fe)
     mode_list = [m for m in (3, 5, 7, 10, 15, 20, 25, 35, 50) if 2 * m + 1 >= n_fe]
     errs = [np.abs(cb_frequencies(cfg, n_fe, [m] * len(cfg["string"]["sections"])) / fe - 1.0) for m in mode_list]
-    frf_plots.cb_convergence_figure(out / "cb_frequency_convergence.png", mode_list, errs)
     summary["cb_convergence"] = {"fe_frequencies_hz": fe.round(5).tolist(), "modes": mode_list,
                                  "max_rel_error_first5": [float(e[:5].max()) for e in errs],
                                  "max_rel_error_first8": [float(e.max()) for e in errs]}
 
-    summary["nominal_modal_rom_vs_cb_max_abs_db"] = nominal_agreement(cfg, f)
+    nominal = nominal_agreement(cfg, f)
+    summary["nominal_modal_rom_vs_cb_max_abs_db"] = nominal
     models = {m: frf_envelope(cfg, m, 0.1, **kw) for m in ("SM_full", "SM_CB1", "SM_CB2")}
-    labels = models["SM_CB2"].labels
-    for p in range(3):
-        frf_plots.envelope_figure(out / f"fig6_{p + 1}_models_point{p + 1}.png", models, p,
-                                  f"SM_full / SM_CB1 / SM_CB2, delta = 0.1: {labels[p]} (Fig. 6.{p + 1})")
     cases = {c: frf_envelope(cfg, "SM_CB2", case=c, **kw) for c in range(1, 8)}
-    fig_no = 4
-    for figs, group in FIGURE_PAIRS.items():
-        for p in range(3):
-            envs = {f"case {c}: {CASE_TITLES[c].split(' (')[0]}": cases[c] for c in group}
-            frf_plots.envelope_figure(out / f"fig6_{fig_no}_cases{''.join(map(str, group))}_point{p + 1}.png", envs, p,
-                                      f"SM_CB2 cases {', '.join(map(str, group))}: {labels[p]} (Fig. 6.{fig_no})")
-            fig_no += 1
     summary["widths_db"] = widths_table({**models, **{f"case {c}": e for c, e in cases.items()}})
-    summary["conclusions"] = conclusions(models, cases)
+    concl = conclusions(models, cases)
+    summary["conclusions"] = concl
 
-    env = models["SM_CB2"]
-    frf_plots.conv2_samples_figure(out / "figC_2_conv2_samples.png", env)
-    c2 = env.conv2()
+    c2 = models["SM_CB2"].conv2()
     summary["conv2_samples"] = {"n": [int(n) for n in (100, 500, 1000, 1500, 2000, samples) if n <= samples],
                                 "relative_to_final": [(c2[n - 1] / c2[-1]).round(4).tolist()
                                                       for n in (100, 500, 1000, 1500, 2000, samples) if n <= samples]}
-    scenarios = {"DP and BHA, delta = 0.1": dict(delta=0.1), "BHA only (case 5)": dict(case=5),
-                 "DP only (case 4)": dict(case=4)}
-    conv_modes = {}
+    curves_by = {}
     for k, name in enumerate(s["name"] for s in cfg["string"]["sections"]):
-        curves = {sc: conv2_vs_modes(cfg, k, modes, "SM_CB2", samples=mode_samples, seed=seed, freq_hz=f,
-                                     progress=progress, threads=threads, **a) for sc, a in scenarios.items()}
-        frf_plots.conv2_modes_figure(out / f"figC_{3 + k}_conv2_modes_{name}.png", list(modes), curves, name, labels)
-        conv_modes[name] = {sc: c.round(6).tolist() for sc, c in curves.items()}
-    summary["conv2_modes"] = {"modes": list(modes), "samples": mode_samples, "curves": conv_modes}
-    (out / "summary.json").write_text(json.dumps(summary, indent=2))
-    return summary
+        curves_by[name] = {sc: conv2_vs_modes(cfg, k, modes, "SM_CB2", samples=mode_samples, seed=seed, freq_hz=f,
+                                              progress=progress, threads=threads, **a)
+                           for sc, a in CONV2_SCENARIOS.items()}
+    summary["conv2_modes"] = {"modes": list(modes), "samples": mode_samples,
+                              "curves": {name: {sc: c.round(6).tolist() for sc, c in curves.items()}
+                                         for name, curves in curves_by.items()}}
+    return Chapter6Study(preset=cfg.get("name"), samples=samples, mode_samples=mode_samples, seed=seed, freq_hz=f,
+                         fe_frequencies_hz=fe, cb_modes=mode_list, cb_rel_errors=errs, nominal_max_abs_db=nominal,
+                         models=models, cases=cases, conv2_modes=list(modes), conv2_curves=curves_by,
+                         conclusions=concl, summary=summary)
+
+
+def write_chapter6(study: Chapter6Study, out_dir) -> dict:
+    """Write ``summary.json`` of the chapter-6 study.
+
+    Parameters
+    ----------
+    study : Chapter6Study
+        What :func:`chapter6_study` returned.
+    out_dir : str or Path
+        Output folder (created if missing).
+
+    Returns
+    -------
+    dict
+        The summary written.
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "summary.json").write_text(json.dumps(study.summary, indent=2))
+    return study.summary
+
+
+def chapter6_report(cfg: dict, out_dir, *, samples: int = 2500, mode_samples: int = 400, seed: int = 1,
+                    freq_hz=None, modes=(1, 2, 3, 5, 7, 10, 15, 20, 25), progress: bool = True,
+                    threads: int = 0) -> dict:
+    """Run the chapter-6 study, write its figures and ``summary.json`` into ``out_dir``.
+
+    :func:`chapter6_study` -> :func:`drillpy.figures.frf.chapter6_figures` -> :func:`write_chapter6`.
+
+    Parameters
+    ----------
+    cfg, samples, mode_samples, seed, freq_hz, modes, progress, threads
+        As for :func:`chapter6_study`.
+    out_dir : str or Path
+        Output folder (created if missing).
+
+    Returns
+    -------
+    dict
+        The summary (content of ``summary.json``).
+    """
+    from drillpy.figures.frf import chapter6_figures
+    study = chapter6_study(cfg, samples=samples, mode_samples=mode_samples, seed=seed, freq_hz=freq_hz,
+                           modes=modes, progress=progress, threads=threads)
+    chapter6_figures(study, out_dir)
+    return write_chapter6(study, out_dir)
 
 
 def nominal_agreement(cfg: dict, f_hz=None) -> float:
