@@ -45,12 +45,40 @@ def jsonable(o):
 
 
 def dumps(o, indent: int | None = 2) -> str:
-    """JSON text of :func:`jsonable` (o); ``indent=None`` for one line."""
+    """JSON text of :func:`jsonable` (o).
+
+    Parameters
+    ----------
+    o : object
+        The result to encode (see :func:`jsonable`).
+    indent : int or None
+        Indentation (default 2); ``None`` for one line.
+
+    Returns
+    -------
+    str
+        Valid JSON (NaN and inf written as ``null``).
+    """
     return json.dumps(jsonable(o), indent=indent, allow_nan=False)
 
 
 def write_json(path, o, indent: int | None = 2) -> Path:
-    """Write :func:`dumps` (o) to ``path``; returns the path."""
+    """Write :func:`dumps` (o) to ``path``.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        File to write (replaced if it exists; its directory must exist).
+    o : object
+        The result to encode (see :func:`jsonable`).
+    indent : int or None
+        Indentation (default 2); ``None`` for one line.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+    """
     p = Path(path)
     p.write_text(dumps(o, indent))
     return p

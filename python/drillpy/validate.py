@@ -65,17 +65,77 @@ def _describe(lo, hi, lo_closed, hi_closed) -> str:
 
 
 def positive(field: str, value, unit: str = "") -> float:
-    """A finite number > 0 (see :func:`number`)."""
+    """A finite number > 0 (see :func:`number`).
+
+    Parameters
+    ----------
+    field : str
+        Name of the option, as the user wrote it.
+    value : object
+        The value given.
+    unit : str
+        Unit named in the message, e.g. ``"rad/s"``.
+
+    Returns
+    -------
+    float
+        The value as a float.
+
+    Raises
+    ------
+    ValueError
+        ``"<field> = <value>: must be a positive number"``.
+    """
     return number(field, value, lo=0.0, lo_closed=False, unit=unit)
 
 
 def non_negative(field: str, value, unit: str = "") -> float:
-    """A finite number >= 0 (see :func:`number`)."""
+    """A finite number >= 0 (see :func:`number`).
+
+    Parameters
+    ----------
+    field : str
+        Name of the option, as the user wrote it.
+    value : object
+        The value given.
+    unit : str
+        Unit named in the message, e.g. ``"s"``.
+
+    Returns
+    -------
+    float
+        The value as a float.
+
+    Raises
+    ------
+    ValueError
+        ``"<field> = <value>: must be a non-negative number"``.
+    """
     return number(field, value, lo=0.0, unit=unit)
 
 
 def fraction(field: str, value, *, closed: bool = True) -> float:
-    """A number in [0, 1] (``closed``) or in (0, 1) (see :func:`number`)."""
+    """A number in [0, 1] (``closed``) or in (0, 1) (see :func:`number`).
+
+    Parameters
+    ----------
+    field : str
+        Name of the option, as the user wrote it.
+    value : object
+        The value given.
+    closed : bool
+        True: 0 and 1 are allowed; False: the open interval (0, 1).
+
+    Returns
+    -------
+    float
+        The value as a float.
+
+    Raises
+    ------
+    ValueError
+        ``"<field> = <value>: must be a number in [0, 1]"`` (or ``(0, 1)``).
+    """
     return number(field, value, lo=0.0, hi=1.0, lo_closed=closed, hi_closed=closed)
 
 
@@ -118,7 +178,25 @@ def integer(field: str, value, minimum: int | None = None, maximum: int | None =
 
 
 def seed(value, field: str = "seed") -> int:
-    """A random seed: an integer in [0, 2^64) (the engine's Philox key)."""
+    """A random seed: an integer in [0, 2^64) (the engine's Philox key).
+
+    Parameters
+    ----------
+    value : object
+        The seed given.
+    field : str
+        Name of the option in the message (default ``"seed"``).
+
+    Returns
+    -------
+    int
+        The seed as a Python int.
+
+    Raises
+    ------
+    ValueError
+        ``"<field> = <value>: must be an integer between 0 and 2^64 - 1"`` (bools refused).
+    """
     ok = isinstance(value, numbers.Integral) and not isinstance(value, bool) and 0 <= int(value) < 2**64
     if not ok:
         raise ValueError(f"{field} = {value!r}: must be an integer between 0 and 2^64 - 1")

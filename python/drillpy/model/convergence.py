@@ -19,12 +19,45 @@ from drillpy.model.simulation import natural_frequencies, simulate
 
 
 def observed_orders(h, err) -> list[float]:
-    """log2 of successive error ratios for a step halved each time (log(e1/e2)/log(h1/h2))."""
+    """Observed orders of convergence: log(e1/e2) / log(h1/h2) for successive refinements
+    (log2 of the error ratio when the step is halved each time).
+
+    Parameters
+    ----------
+    h : array_like
+        Step sizes, coarsest first (element size [-] or time step [s]).
+    err : array_like
+        Errors at those steps (same length, positive).
+
+    Returns
+    -------
+    list of float
+        ``len(h) - 1`` orders, one per refinement.
+    """
     h, err = np.asarray(h, float), np.asarray(err, float)
     return [float(np.log(err[i - 1] / err[i]) / np.log(h[i - 1] / h[i])) for i in range(1, len(h))]
 
 
 def space_study(cfg: dict, elements=(25, 50, 100, 200, 400), n_freq: int = 5) -> dict:
+    """Spatial convergence: FE natural frequencies (Eq. 2.7) against the exact frequencies of the
+    continuous string (transfer matrices) as the number of elements grows.
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration (string, boundary conditions); only the element count is changed.
+    elements : sequence of int
+        Numbers of finite elements to try (doubling, for the observed orders).
+    n_freq : int
+        Number of lowest natural frequencies compared.
+
+    Returns
+    -------
+    dict
+        ``elements``, ``exact_hz`` (the exact frequencies [Hz]), ``max_rel_error`` (largest
+        relative error over the ``n_freq`` frequencies, per element count) and ``orders``
+        (:func:`observed_orders` with h = 1 / elements; about 2 expected).
+    """
     exact = np.asarray(_core.exact_frequencies(to_json_text(cfg), n_freq))
     errs = []
     for n in elements:
@@ -44,7 +77,37 @@ def _with_step(cfg: dict, scheme: str, dt: float, duration: float, sample_every:
 
 def time_study(cfg: dict, top_speed: float, duration: float, rigid_start: bool,
                dts=(2e-3, 1e-3, 5e-4, 2.5e-4), sample_every: float = 0.01) -> dict:
-    """Max |bit speed - reference| over the run for both schemes and each dt."""
+    """Time convergence: max |bit speed - reference| over the run for both schemes and each dt.
+
+    The reference is BDF2 with a step 32 times smaller than the smallest of ``dts``. Every run
+    keeps its whole length (no transient) and is compared on samples every ``sample_every``
+    seconds.
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration (model, law); its scheme, time step and durations are replaced.
+    top_speed : float
+        Top speed [rad/s] (e.g. 30 rad/s for smooth slipping, 16 rad/s for stick-slip on the
+        thesis field model).
+    duration : float
+        Simulated time [s].
+    rigid_start : bool
+        True: start with the whole string turning with the top, untwisted (Eq. 2.3,
+        ``q0 = qdot0 = 0``); False: start from rest (Eq. 2.10, :func:`simulate`'s default).
+    dts : sequence of float
+        Time steps to compare [s], halving.
+    sample_every : float
+        Output sampling interval of the compared bit speed [s] (every round(sample_every / dt)
+        steps, so it should be a multiple of every dt).
+
+    Returns
+    -------
+    dict
+        The settings, ``reference_dt_s``, ``reference_min_bit_speed`` [rad/s] and, for
+        "modified_euler" (appendix A) and "bdf2", ``max_error_rad_s`` per dt and the observed
+        ``orders``.
+    """
     m = cfg["rom"]["modes"]
     start = dict(q0=np.zeros(m), qdot0=np.zeros(m)) if rigid_start else {}
     ref_dt = min(dts) / 32
@@ -62,6 +125,20 @@ def time_study(cfg: dict, top_speed: float, duration: float, rigid_start: bool,
 
 
 def convergence_report(cfg: dict) -> dict:
+    """The convergence studies of docs/numerics.md (``drillpy convergence``).
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration.
+
+    Returns
+    -------
+    dict
+        ``space`` (:func:`space_study`), ``time_slip`` (30 rad/s for 10 s from a rigid start:
+        smooth slipping) and ``time_stick_slip`` (16 rad/s for 20 s: stick-slip), each from
+        :func:`time_study`.
+    """
     return {"space": space_study(cfg),
             "time_slip": time_study(cfg, 30.0, 10.0, rigid_start=True),
             "time_stick_slip": time_study(cfg, 16.0, 20.0, rigid_start=False)}

@@ -31,11 +31,37 @@ CASE_TITLES = {1: "mass uncertainty (Table 6.1)", 2: "damping uncertainty (Table
 
 
 def default_frequencies(n: int = 1000, f_min_hz: float = 0.01, f_max_hz: float = 10.0) -> np.ndarray:
-    """The frequency grid of the envelope studies [Hz]: n points from 0.01 to 10 Hz."""
+    """The frequency grid of the envelope studies [Hz]: n points from 0.01 to 10 Hz by default.
+
+    Parameters
+    ----------
+    n : int
+        Number of frequencies (default 1000).
+    f_min_hz, f_max_hz : float
+        First and last frequency [Hz] (default 0.01 and 10 Hz; the first natural frequency of
+        thesis-ch6 is 0.313 Hz).
+
+    Returns
+    -------
+    numpy.ndarray
+        Evenly spaced frequencies [Hz], shape (n,).
+    """
     return np.linspace(f_min_hz, f_max_hz, int(n))
 
 
 def n_substructures(cfg: dict) -> int:
+    """Number of Craig-Bampton substructures: the sections of the string (DP, BHA, ...).
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration with ``string.sections``.
+
+    Returns
+    -------
+    int
+        ``len(cfg["string"]["sections"])``.
+    """
     return len(cfg["string"]["sections"])
 
 
@@ -45,6 +71,38 @@ def dispersions(cfg: dict, model: str = "SM_CB2", delta=None, case: int | None =
     ``case`` (1-7) takes Tables 6.1-6.7 (SM_CB2 on DP + BHA); otherwise ``delta`` is a scalar
     (every dispersion), a dict ``{"M": x, "D": y, "K": z}``, or an array of shape (3,) for
     SM_full, (substructures, 3) for SM_CB1 or (substructures, 3, 2) for SM_CB2.
+
+    A dispersion delta is that of Soize's SE+ / SE+0 random matrix (Eq. 6.3): the normalized
+    standard deviation of the germ [G_A] about the identity; 0 keeps the matrix deterministic.
+    Each must lie in [0, sqrt((n+1)/(n+5))) with n the dimension of the randomized block (checked
+    by the engine when the model is built).
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration (its sections are the substructures).
+    model : str
+        "SM_full" (Eq. 6.4, one random reduced-order model of the whole string), "SM_CB1"
+        (Eqs. 6.19-6.20, one random matrix per substructure) or "SM_CB2" (Eqs. 6.21-6.23,
+        separate inner and interface random matrices per substructure).
+    delta : float, dict or array_like, optional
+        Dispersions [-] (default 0.1 for every matrix). For SM_CB1 inner and interface must be
+        equal.
+    case : int, optional
+        Case study 1-7 of section 6.6 (Tables 6.1-6.7, dispersion 0.1 where the table randomizes):
+        mass, damping, stiffness, DP, BHA, inner DOFs, interface DOF. Only for SM_CB2 on two
+        substructures, and not together with ``delta``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``delta[k, a, s]`` for substructure k (DP = 0, BHA = 1), matrix a (M, D, K) and side s
+        (inner, interface), shape (substructures, 3, 2) (one substructure for SM_full).
+
+    Raises
+    ------
+    ValueError
+        For an unknown model, a shape that does not fit it, or a case outside its scope.
     """
     if model not in MODELS:
         raise ValueError(f"model = {model!r}: unknown stochastic model (use {', '.join(MODELS)})")
@@ -80,20 +138,65 @@ def dispersions(cfg: dict, model: str = "SM_CB2", delta=None, case: int | None =
 
 
 def with_cb_modes(cfg: dict, modes) -> dict:
-    """A copy of ``cfg`` with ``craig_bampton.modes`` replaced (one count per section)."""
+    """A copy of ``cfg`` with ``craig_bampton.modes`` replaced (one count per section).
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration (not modified).
+    modes : sequence of int
+        Number of fixed-interface normal modes m_k of each substructure (Eq. 6.16).
+
+    Returns
+    -------
+    dict
+        A deep copy with ``craig_bampton = {"modes": [...]}``.
+    """
     c = copy.deepcopy(cfg)
     c["craig_bampton"] = {"modes": [int(m) for m in modes]}
     return c
 
 
 def stochastic_model(cfg: dict, model: str = "SM_CB2", delta=None, case: int | None = None):
-    """The engine's stochastic model (``_core.StochasticModel``) of a configuration."""
+    """The engine's stochastic model (``_core.StochasticModel``) of a configuration.
+
+    The object draws realization i of the random matrices M, D, K from ``(seed, i)`` and runs the
+    FRF envelopes (``envelope``) and the time-domain severity samples (``severity_samples``).
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration (string, Craig-Bampton modes, damping).
+    model : str
+        "SM_full", "SM_CB1" or "SM_CB2" (see :func:`dispersions`).
+    delta : float, dict or array_like, optional
+        Dispersions [-] (see :func:`dispersions`; default 0.1).
+    case : int, optional
+        Case study 1-7 (Tables 6.1-6.7) instead of ``delta``.
+
+    Returns
+    -------
+    _core.StochasticModel
+        The engine object.
+    """
     d = dispersions(cfg, model, delta, case)
     return _core.StochasticModel(json.dumps(cfg), model, d)
 
 
 def observation_nodes(cfg: dict) -> list[int]:
-    """Nodes of P_obs,1 (first free DP node), P_obs,2 (DP/BHA interface), P_obs,3 (bit)."""
+    """FE nodes of the observation points of section 6.6.
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration.
+
+    Returns
+    -------
+    list of int
+        Nodes of P_obs,1 (first free DP node), P_obs,2 (DP/BHA interface), P_obs,3 (bit); on
+        thesis-ch6 nodes 1, 100 and 200.
+    """
     return list(_core.observation_nodes(json.dumps(cfg)))
 
 
@@ -105,6 +208,35 @@ class FRFEnvelope:
     ``lower_db`` / ``upper_db`` (quantiles (1 -+ probability)/2) have shape (n_freq, n_points).
     ``energy[i, p]`` is the integral over the band of |a_i(omega)|^2 d omega for sample i
     (the integrand of Conv2, Eq. C.2).
+
+    Attributes
+    ----------
+    freq_hz : numpy.ndarray
+        Frequencies [Hz], shape (n_freq,).
+    nodes : list of int
+        FE nodes of the observation points.
+    nominal_db : numpy.ndarray
+        FRF of the mean (deterministic) model [dB re 1 rad/s^2 per N m], shape (n_freq, n_points).
+    mean_db : numpy.ndarray
+        Sample mean of the dB response [dB], same shape.
+    lower_db, upper_db : numpy.ndarray
+        Sample quantiles (1 - probability)/2 and (1 + probability)/2 of the dB response [dB]
+        (linear interpolation), same shape.
+    energy : numpy.ndarray
+        integral_B |a_i(omega)|^2 d omega over the grid (omega in rad/s, trapezoid rule) for each
+        sample i and point, [(rad/s^2 / (N m))^2 rad/s], shape (samples, n_points).
+    model : str
+        "SM_full", "SM_CB1" or "SM_CB2".
+    delta : numpy.ndarray
+        Dispersions used, ``delta[k, a, s]`` (:func:`dispersions`).
+    samples : int
+        Number of realizations.
+    seed : int
+        Random seed.
+    probability : float
+        Probability level P of the envelope (default 0.95).
+    labels : list of str
+        One label per observation point (P_obs,1-3 or "node N").
     """
     freq_hz: np.ndarray
     nodes: list
@@ -126,11 +258,18 @@ class FRFEnvelope:
         return self.upper_db - self.lower_db
 
     def conv2(self) -> np.ndarray:
-        """Conv2(n_s) of Eq. (C.2) for n_s = 1..samples: shape (samples, n_points)."""
+        """Conv2(n_s) of Eq. (C.2) for n_s = 1..samples: shape (samples, n_points).
+
+        Conv2(n_s) = sqrt((1/n_s) sum_{i <= n_s} integral_B |a_i(omega)|^2 d omega)
+        [rad/s^2 / (N m) sqrt(rad/s)], one column per observation point.
+        """
         n = np.arange(1, self.energy.shape[0] + 1)[:, None]
         return np.sqrt(np.cumsum(self.energy, axis=0) / n)
 
     def to_json(self) -> dict:
+        """JSON-ready envelope: model, samples, seed, probability, delta, ``freq_hz`` [Hz] and,
+        per observation point, its label, node and the nominal, mean, lower and upper curves [dB]
+        (``energy`` is left out)."""
         return {
             "model": self.model, "samples": self.samples, "seed": self.seed,
             "probability": self.probability, "delta": self.delta.tolist(),
@@ -150,6 +289,39 @@ def frf_envelope(cfg: dict, model: str = "SM_CB2", delta=None, case: int | None 
     ``samples`` realizations of ``model`` (sample i from (seed, i) only), frequencies ``freq_hz``
     [Hz] (default :func:`default_frequencies`), observation ``nodes`` (default P_obs,1-3).
     Ctrl-C stops the study (KeyboardInterrupt).
+
+    The response is the acceleration a = -omega^2 u at each node for a unit harmonic torque at
+    the bit (Eqs. 6.5, 6.15), shown as 20 log10 |a| [dB re 1 rad/s^2 per N m].
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration (e.g. ``load_config(preset="thesis-ch6")``).
+    model : str
+        "SM_full", "SM_CB1" or "SM_CB2" (default).
+    delta : float, dict or array_like, optional
+        Dispersions [-] (:func:`dispersions`; default 0.1).
+    case : int, optional
+        Case study 1-7 (Tables 6.1-6.7) instead of ``delta``.
+    samples : int
+        Number of realizations n_s (default 2500, thesis; Conv2 Eq. C.2 checks it).
+    seed : int
+        Random seed.
+    freq_hz : array_like, optional
+        Frequencies [Hz] (default :func:`default_frequencies`: 1000 points, 0.01-10 Hz).
+    probability : float
+        Probability level P of the envelope (default 0.95).
+    nodes : sequence of int, optional
+        FE nodes to observe (default :func:`observation_nodes`).
+    progress : bool
+        Show a tqdm progress bar.
+    threads : int
+        OpenMP threads (0: the OpenMP default).
+
+    Returns
+    -------
+    FRFEnvelope
+        Nominal, mean and quantile curves and the Conv2 integrand.
     """
     validate.integer("samples", samples, 1)
     validate.seed(seed)
@@ -167,14 +339,44 @@ def frf_envelope(cfg: dict, model: str = "SM_CB2", delta=None, case: int | None 
 
 def cb_frequencies(cfg: dict, n: int, modes=None) -> np.ndarray:
     """First n natural frequencies [Hz] of the assembled Craig-Bampton model (optionally with
-    ``modes`` fixed-interface modes per substructure)."""
+    ``modes`` fixed-interface modes per substructure).
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration.
+    n : int
+        Number of frequencies.
+    modes : sequence of int, optional
+        Fixed-interface modes per substructure (default: the configuration's
+        ``craig_bampton.modes``).
+
+    Returns
+    -------
+    numpy.ndarray
+        The n lowest natural frequencies [Hz].
+    """
     c = cfg if modes is None else with_cb_modes(cfg, modes)
     return np.asarray(_core.cb_frequencies(json.dumps(c), int(n)))
 
 
 def band_widths(env: FRFEnvelope, bands_hz) -> np.ndarray:
     """Mean envelope width [dB] over each band (integral of the width over the band divided by
-    its length, trapezoid rule): shape (n_bands, n_points)."""
+    its length, trapezoid rule): shape (n_bands, n_points).
+
+    Parameters
+    ----------
+    env : FRFEnvelope
+        The envelope.
+    bands_hz : sequence of (float, float)
+        Frequency bands (low, high) [Hz], each holding at least two grid frequencies (e.g.
+        (0.01, 0.25), (0.25, 2), (2, 5), (5, 10)).
+
+    Returns
+    -------
+    numpy.ndarray
+        Mean width upper - lower [dB] per band and observation point.
+    """
     out = []
     for lo, hi in bands_hz:
         sel = (env.freq_hz >= lo) & (env.freq_hz <= hi)
@@ -189,7 +391,41 @@ def conv2_vs_modes(cfg: dict, substructure: int, modes, model: str = "SM_CB2", d
                    case: int | None = None, *, samples: int = 500, seed: int = 1, freq_hz=None,
                    progress: bool = True, threads: int = 0) -> np.ndarray:
     """Conv2 (Eq. C.2) with ``samples`` samples versus the number of fixed-interface modes of one
-    substructure (the others keep the configuration's count): shape (len(modes), n_points)."""
+    substructure (the others keep the configuration's count): shape (len(modes), n_points).
+
+    One :func:`frf_envelope` study per mode count (Figs. C.3-C.4); each value is Conv2 at its
+    last sample.
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration.
+    substructure : int
+        Index of the substructure whose mode count varies (0: DP, 1: BHA).
+    modes : sequence of int
+        Mode counts to try.
+    model : str
+        "SM_full", "SM_CB1" or "SM_CB2" (default).
+    delta : float, dict or array_like, optional
+        Dispersions [-] (:func:`dispersions`; default 0.1).
+    case : int, optional
+        Case study 1-7 instead of ``delta``.
+    samples : int
+        Realizations per study (default 500).
+    seed : int
+        Random seed (the same for every mode count).
+    freq_hz : array_like, optional
+        Frequencies [Hz] (default :func:`default_frequencies`).
+    progress : bool
+        Show a tqdm progress bar per study.
+    threads : int
+        OpenMP threads (0: the OpenMP default).
+
+    Returns
+    -------
+    numpy.ndarray
+        Conv2(samples) [rad/s^2 / (N m) sqrt(rad/s)] per mode count and observation point.
+    """
     base = list(cfg["craig_bampton"]["modes"])
     if not 0 <= substructure < len(base):
         raise ValueError(f"substructure = {substructure}: must be between 0 and {len(base) - 1}")

@@ -42,7 +42,45 @@ MAX_SAMPLES = 10_000_000
 
 @dataclass
 class StochasticStudy:
-    """Result of :func:`stochastic_study` (speeds in rad/s; ``severity`` rows are samples)."""
+    """Result of :func:`stochastic_study`: SS (Eq. 3.4) of every sample at every top speed and
+    its statistics (Fig. 4.9), the deterministic curve (Fig. 4.8) and Conv1 (Eq. C.1, Fig. C.1).
+
+    Attributes
+    ----------
+    speeds : numpy.ndarray
+        Top speeds [rad/s], in the order given, shape (n_speeds,).
+    severity : numpy.ndarray
+        SS_i(speed) [-], shape (samples, n_speeds); row r is sample ``first_sample + r``.
+    mean : numpy.ndarray
+        Mean SS per speed [-].
+    q05, q95 : numpy.ndarray
+        5 % and 95 % sample quantiles of SS per speed [-] (linear interpolation): the 90 % band.
+    p_exceed : numpy.ndarray
+        P(SS > 0.5) per speed (fraction of samples; ``SS_LEVEL``).
+    p05_speed : float or None
+        The robust speed [rad/s]: the lowest speed from which P(SS > 0.5) <= 5 % (where P last
+        crosses 0.05 going up in speed, linear interpolation; thesis 20.5 rad/s); None without
+        a crossing on the grid.
+    deterministic : numpy.ndarray or None
+        SS with eta = 0 and the same durations per speed [-] (None with ``deterministic=False``).
+    deterministic_threshold : float or None
+        Speed [rad/s] where the deterministic SS last crosses 0.5 going up (thesis 16 rad/s);
+        None without a crossing or without the deterministic run.
+    conv1 : numpy.ndarray
+        Conv1(n_s) of Eq. (C.1) for n_s = 1 .. samples [sqrt(rad/s)]; NaN with a single speed.
+    seed : int
+        Random seed of the study.
+    first_sample : int
+        Index of the first sample run.
+    eta_std : float
+        Standard deviation of the generated eta [-] (square root of the process variance on the
+        generator's grid).
+    settings : dict
+        Durations and PSD actually used: ``warmup_s``, ``duration_s``, ``transient_s``, ``dt_s``,
+        ``eta_dt_s`` [s], ``psd`` and ``psd_convention``.
+    config : dict
+        The configuration run (the input one with the study's duration and transient).
+    """
     speeds: np.ndarray
     severity: np.ndarray            #: SS_i(speed), shape (samples, speeds)
     mean: np.ndarray
@@ -60,7 +98,16 @@ class StochasticStudy:
     config: dict = field(repr=False, default_factory=dict)
 
     def summary(self) -> dict:
-        """JSON-ready per-speed statistics (what ``drillpy mc --json`` prints)."""
+        """JSON-ready per-speed statistics (what ``drillpy mc --json`` prints).
+
+        Returns
+        -------
+        dict
+            The preset name, sample count, seed, first sample, :attr:`settings`, ``eta_std``,
+            one row per speed (``top_speed_rad_s``, ``mean_ss``, ``q05``, ``q95``,
+            ``p_ss_gt_0_5`` and, if computed, ``deterministic_ss``), ``p05_speed_rad_s``,
+            ``deterministic_threshold_rad_s`` and ``conv1_final`` (Conv1 at the last sample).
+        """
         rows = [{"top_speed_rad_s": float(s), "mean_ss": float(m), "q05": float(a), "q95": float(b),
                  "p_ss_gt_0_5": float(p)}
                 for s, m, a, b, p in zip(self.speeds, self.mean, self.q05, self.q95, self.p_exceed)]
@@ -76,7 +123,27 @@ class StochasticStudy:
 
 @dataclass
 class PhaseStudy:
-    """Result of :func:`phase_study`: stick and slip durations [s] pooled over samples."""
+    """Result of :func:`phase_study`: stick and slip durations [s] pooled over samples (Fig. 4.7).
+
+    Attributes
+    ----------
+    speed : float
+        The top speed [rad/s].
+    stick, slip : numpy.ndarray
+        Durations [s] of every stick and every slip phase after the transient, pooled over the
+        samples in index order.
+    samples : int
+        Number of samples run (a multiple of the batch size).
+    severity : numpy.ndarray
+        SS (Eq. 3.4) of each sample at ``speed`` [-], shape (samples,).
+    deterministic_stick, deterministic_slip : numpy.ndarray
+        Stick and slip durations [s] of one period of the deterministic (eta = 0) cycle, or of its
+        last three cycles if it is not periodic within the tolerance.
+    deterministic_period_cycles : int
+        Number of stick-slip cycles in the deterministic period (0: no period found).
+    seed : int
+        Random seed of the study.
+    """
     speed: float
     stick: np.ndarray
     slip: np.ndarray
@@ -123,6 +190,53 @@ def stochastic_study(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = T
     time step and scheme are used; ``warmup``, ``duration`` and ``transient`` [s] replace its
     durations (module docstring). ``psd`` is the one-sided PSD per Hz of eta (default: the
     thesis's Eq. 4.4 calibration). Samples ``first_sample .. first_sample + samples - 1`` run.
+
+    Sample i uses realization i of eta for every speed (common random numbers) and depends only
+    on ``(seed, i)``. Each run starts from the deterministic state after ``warmup`` seconds from
+    rest (Eq. 2.10) at that speed, then runs ``duration`` seconds with T_sto = T_hys (1 + eta)
+    (Eq. 4.1); SS is measured after the first ``transient`` seconds.
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration (e.g. ``load_config(preset="thesis-field")``).
+    speeds : array_like
+        Top speeds [rad/s], positive and finite (e.g. the thesis's grid 6 .. 27 rad/s).
+    samples : int
+        Number of Monte Carlo samples n_s, 1 to ``MAX_SAMPLES`` (thesis: 500, chosen by Conv1).
+    seed : int
+        Random seed, an integer in [0, 2^64).
+    psd : PsdModel, PsdTable or callable
+        One-sided PSD of eta per Hz [1/Hz] (default ``THESIS_PSD``, Eq. 4.4).
+    eta_dt : float
+        Sampling step of eta [s] (default ``ETA_DT_S`` = 0.05 s); the integrator interpolates it
+        linearly.
+    warmup : float
+        Deterministic start-up shared by all samples [s] (default ``WARMUP_S`` = 100 s; 0 runs
+        Algorithm 1 literally from rest).
+    duration : float
+        Stochastic part of every run [s] (default ``DURATION_S`` = 60 s).
+    transient : float
+        Start of the stochastic part discarded before SS is measured [s] (default
+        ``TRANSIENT_S`` = 20 s).
+    first_sample : int
+        Index of the first sample (to split a study into chunks with identical rows).
+    deterministic : bool
+        Also run eta = 0 with the same durations (the deterministic curve and threshold).
+    threads : int
+        OpenMP threads (0: the OpenMP default).
+    progress : bool
+        Show a tqdm progress bar on stderr (when it is a terminal).
+
+    Returns
+    -------
+    StochasticStudy
+        SS of every sample and speed with its statistics and Conv1.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        When the study is stopped with Ctrl-C.
     """
     sp = _speeds(speeds)
     n = validate.integer("samples", samples, 1, MAX_SAMPLES)
@@ -154,7 +268,23 @@ def stochastic_study(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = T
 
 
 def conv1(severity, speeds) -> np.ndarray:
-    """Conv1(n_s) of Eq. (C.1) for an SS matrix (rows: samples, columns: speeds [rad/s])."""
+    """Conv1(n_s) of Eq. (C.1) for an SS matrix.
+
+    Conv1(n_s) = sqrt((1/n_s) sum_{i <= n_s} integral_B SS_i(Omega)^2 dOmega), the integral over
+    the speed grid B by the trapezoidal rule (speeds sorted by the engine).
+
+    Parameters
+    ----------
+    severity : array_like
+        SS [-], shape (samples, n_speeds): row i is the SS curve of sample i.
+    speeds : array_like
+        Top speeds [rad/s] of the columns, at least two, positive and finite.
+
+    Returns
+    -------
+    numpy.ndarray
+        Conv1(n_s) for n_s = 1 .. samples [sqrt(rad/s)].
+    """
     ss = np.asarray(severity, dtype=float)
     if ss.ndim != 2:
         raise ValueError(f"severity: must be a 2-D array (samples x speeds), got shape {ss.shape}")
@@ -170,6 +300,41 @@ def phase_study(cfg: dict, speed: float | None = None, *, seed: int, cycles: int
     with the deterministic periodic values from the same configuration (section 4.2.1).
 
     Samples run in batches of ``batch`` in index order, so the result depends only on the seed.
+    If the first 64 batches hold no stick phase (no stick-slip at this speed) the study stops
+    with empty durations. The deterministic reference is one run of ``warmup + duration`` seconds
+    from rest with eta = 0, of which ``warmup + transient`` seconds are discarded.
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration (model, time step, scheme, metrics thresholds).
+    speed : float, optional
+        Top speed [rad/s] (default: the configuration's ``operation.top_speed_rad_s``).
+    seed : int
+        Random seed, an integer in [0, 2^64).
+    cycles : int
+        Minimum number of stick phases to collect (thesis: 750).
+    psd : PsdModel, PsdTable or callable
+        One-sided PSD of eta per Hz [1/Hz] (default ``THESIS_PSD``, Eq. 4.4).
+    eta_dt : float
+        Sampling step of eta [s].
+    warmup : float
+        Deterministic start-up before the stochastic part [s].
+    duration : float
+        Stochastic part of every run [s] (default 200 s).
+    transient : float
+        Start of the stochastic part discarded [s].
+    batch : int
+        Samples per engine call.
+    threads : int
+        OpenMP threads (0: the OpenMP default).
+    progress : bool
+        Show a tqdm progress bar (stick phases collected).
+
+    Returns
+    -------
+    PhaseStudy
+        Pooled stick and slip durations with the deterministic values.
     """
     seed = validate.seed(seed)
     ncyc = validate.integer("cycles", cycles, 1, 10**6)
@@ -209,7 +374,38 @@ def stochastic_run(cfg: dict, top_speed: float, seed: int, *, sample: int = 0,
                    psd: Psd = THESIS_PSD, eta_dt: float = ETA_DT_S, duration: float = 200.0,
                    transient: float = 100.0):
     """One stochastic run from rest (Eq. 2.10) with eta of ``sample`` over the whole run
-    (Algorithm 1; Figs. 4.5-4.6): returns (SimulationResult, t_eta, eta)."""
+    (Algorithm 1; Figs. 4.5-4.6).
+
+    There is no warm-up: eta acts from t = 0 and the configuration's other settings are kept.
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration.
+    top_speed : float
+        Top speed [rad/s].
+    seed : int
+        Random seed, an integer in [0, 2^64).
+    sample : int
+        Index of the realization of eta (the same eta as Monte Carlo sample ``sample``).
+    psd : PsdModel, PsdTable or callable
+        One-sided PSD of eta per Hz [1/Hz] (default ``THESIS_PSD``, Eq. 4.4).
+    eta_dt : float
+        Sampling step of eta [s].
+    duration : float
+        Simulated time [s] (default 200 s).
+    transient : float
+        Time discarded before the metrics (SS) are measured [s] (default 100 s).
+
+    Returns
+    -------
+    result : SimulationResult
+        The simulation (:func:`drillpy.model.simulation.simulate`).
+    t_eta : numpy.ndarray
+        Times of the eta samples [s].
+    eta : numpy.ndarray
+        The realization of eta used [-].
+    """
     from drillpy.uncertainty.process import generate
     from drillpy.model.simulation import simulate
     c = _study_config(cfg, duration, transient)

@@ -29,7 +29,25 @@ from drillpy import _core, validate
 
 @dataclass(frozen=True)
 class PsdModel:
-    """Eq. (4.4): ln S = A0 for f < f0, ln S = a ln f + b for f >= f0 (S one-sided, 1/Hz)."""
+    """The PSD model of Eq. (4.4) with the natural logarithm (S one-sided, per Hz).
+
+    ``ln S(f) = A0`` for ``f < f0`` and ``ln S(f) = a ln f + b`` for ``f >= f0``. Calling the
+    model, ``model(f)``, returns S [1/Hz] at the frequencies ``f`` [Hz] (a numpy array). The
+    defaults are the thesis's calibration on field data (section 4.1, :data:`THESIS_PSD`), which
+    in drillpy's convention integrates to Var[eta] = 2.0e-4 (standard deviation 0.014).
+
+    Attributes
+    ----------
+    f0 : float
+        Corner frequency [Hz] between the flat part and the power law (thesis: 0.27 Hz).
+    A0 : float
+        ln S [ln(1/Hz)] of the flat part below ``f0`` (thesis: -7.6).
+    a : float
+        Slope of ln S versus ln f above ``f0`` [-] (thesis: -3.13); the variance is finite only
+        for ``a < -1``.
+    b : float
+        Intercept of the power law, ln S at f = 1 Hz [ln(1/Hz)] (thesis: -11.67).
+    """
     f0: float = 0.27
     A0: float = -7.6
     a: float = -3.13
@@ -40,12 +58,39 @@ class PsdModel:
         return _core.psd_model_values(f, self.f0, self.A0, self.a, self.b)
 
     def integral(self, fmax: float = math.inf) -> float:
-        """integral_0^fmax S df: the variance of eta for fmax = inf (needs a < -1)."""
+        """Integral of S from 0 to ``fmax`` (closed form, in the engine).
+
+        Parameters
+        ----------
+        fmax : float
+            Upper frequency limit [Hz]; ``inf`` (default) integrates over the whole axis.
+
+        Returns
+        -------
+        float
+            integral_0^fmax S(f) df [-]: for ``fmax = inf`` the variance Var[eta] of the torque
+            fluctuation (finite only for ``a < -1``).
+        """
         return _core.psd_model_integral(self.f0, self.A0, self.a, self.b, float(fmax))
 
     @classmethod
     def continuous(cls, f0: float, a: float, b: float) -> "PsdModel":
-        """The model continuous at f0: A0 = a ln f0 + b."""
+        """The model of Eq. (4.4) continuous at f0, i.e. with A0 = a ln f0 + b.
+
+        Parameters
+        ----------
+        f0 : float
+            Corner frequency [Hz], > 0.
+        a : float
+            Slope of ln S versus ln f above ``f0`` [-].
+        b : float
+            Intercept of the power law, ln S at f = 1 Hz [ln(1/Hz)].
+
+        Returns
+        -------
+        PsdModel
+            The model with ``A0 = a ln f0 + b`` (``continuity_jump`` = 1).
+        """
         f0 = validate.positive("f0_hz", f0)
         return cls(f0=f0, A0=a * math.log(f0) + b, a=a, b=b)
 
@@ -56,10 +101,11 @@ class PsdModel:
         return math.exp(self.a * math.log(self.f0) + self.b - self.A0)
 
     def as_dict(self) -> dict:
+        """JSON-ready description: ``{"type": "model_4_4", "f0_hz", "A0", "a", "b"}``."""
         return {"type": "model_4_4", "f0_hz": self.f0, "A0": self.A0, "a": self.a, "b": self.b}
 
 
-THESIS_PSD = PsdModel()
+THESIS_PSD = PsdModel()  #: the thesis's calibration of Eq. (4.4): f0 = 0.27 Hz, A0 = -7.6, a = -3.13, b = -11.67
 
 #: Conventions in which PSD model parameters may be given, with the factor that converts such a
 #: density, evaluated at f in Hz, to drillpy's one-sided density per Hz.
@@ -72,6 +118,24 @@ def convert_psd_model(model: PsdModel, convention: str) -> PsdModel:
     and return the equivalent drillpy model (one-sided per Hz): S -> c S, i.e. A0 and b grow by
     ln c. "two-sided-rad-s" (a density over omega in (-inf, inf), as in Soize's texts) gives
     c = 4 pi, so the thesis parameters would mean a standard deviation of 0.050 instead of 0.014.
+
+    Parameters
+    ----------
+    model : PsdModel
+        Parameters f0 [Hz], A0, a, b of Eq. (4.4) as given in ``convention``.
+    convention : str
+        The convention the parameters were given in: "one-sided-hz" (drillpy's own, c = 1),
+        "two-sided-hz" (c = 2), "one-sided-rad-s" (c = 2 pi) or "two-sided-rad-s" (c = 4 pi).
+
+    Returns
+    -------
+    PsdModel
+        The same density as a one-sided PSD per Hz (f0 and a unchanged).
+
+    Raises
+    ------
+    ValueError
+        For an unknown ``convention``.
     """
     if convention not in PSD_CONVENTIONS:
         raise ValueError(f"psd convention = {convention!r}: use one of {sorted(PSD_CONVENTIONS)}")
@@ -82,7 +146,20 @@ def convert_psd_model(model: PsdModel, convention: str) -> PsdModel:
 def scaled_to_std(model: PsdModel, std: float) -> PsdModel:
     """The shape of ``model`` scaled so that eta has standard deviation ``std`` (A0 and b shifted
     by the same ln c): e.g. the +-20 % the thesis reads in the field torque (section 4.0) taken as
-    a two-sigma range gives std = 0.10 with the shape of Eq. (4.4)."""
+    a two-sigma range gives std = 0.10 with the shape of Eq. (4.4).
+
+    Parameters
+    ----------
+    model : PsdModel
+        The PSD shape to keep (f0 and a unchanged); its variance must be finite (a < -1).
+    std : float
+        Target standard deviation of eta [-] (relative torque fluctuation, e.g. 0.0667), > 0.
+
+    Returns
+    -------
+    PsdModel
+        The model with ``integral() == std**2``.
+    """
     validate.positive("std", std)
     k = math.log(std ** 2 / model.integral())
     return PsdModel(f0=model.f0, A0=model.A0 + k, a=model.a, b=model.b + k)
@@ -91,7 +168,25 @@ def scaled_to_std(model: PsdModel, std: float) -> PsdModel:
 @dataclass(frozen=True)
 class PsdTable:
     """A tabulated one-sided PSD [1/Hz] at increasing frequencies [Hz]: linear between points,
-    held at the first value below the first frequency, zero above the last one."""
+    held at the first value below the first frequency, zero above the last one.
+
+    Calling the table, ``table(f)``, returns S [1/Hz] at the frequencies ``f`` [Hz]. The engine
+    validates the table on construction and names the bad entry (ValueError).
+
+    Parameters
+    ----------
+    f_hz : array_like
+        Frequencies [Hz]: at least 2, finite, non-negative, strictly increasing.
+    S : array_like
+        One-sided PSD [1/Hz] at ``f_hz`` (same length): finite, non-negative.
+
+    Attributes
+    ----------
+    f_hz : tuple of float
+        The table's frequencies [Hz].
+    S : tuple of float
+        The table's PSD values [1/Hz].
+    """
     f_hz: tuple
     S: tuple
 
@@ -105,6 +200,7 @@ class PsdTable:
         return _core.psd_table_values(np.asarray(self.f_hz), np.asarray(self.S), f)
 
     def as_dict(self) -> dict:
+        """JSON-ready description: ``{"type": "table", "f_hz": [...], "S": [...]}``."""
         return {"type": "table", "f_hz": list(self.f_hz), "S": list(self.S)}
 
 
@@ -116,6 +212,24 @@ def psd_on_grid(psd: Psd, dt: float, duration: float) -> tuple[np.ndarray, np.nd
 
     A user callable is called once with the whole grid; its values are checked by the engine
     (negative or non-finite values raise ValueError naming the frequency).
+
+    Parameters
+    ----------
+    psd : PsdModel, PsdTable or callable
+        One-sided PSD of eta per Hz, ``S(f)`` [1/Hz] with ``f`` [Hz] (a callable takes and
+        returns numpy arrays).
+    dt : float
+        Sampling step of eta [s] (> 0); the grid reaches the Nyquist frequency 1/(2 dt) [Hz].
+    duration : float
+        Time the process must cover [s] (> 0); the grid step is df = 1/(n dt) [Hz] with n the
+        smallest power of two >= 4 such that n dt >= ``duration`` (at most 2^26 points).
+
+    Returns
+    -------
+    f : numpy.ndarray
+        Frequencies k df, k = 0 .. n/2 [Hz].
+    S : numpy.ndarray
+        The PSD on ``f`` [1/Hz].
     """
     f = np.asarray(_core.process_grid(validate.positive("eta_dt_s", dt), validate.positive("duration_s", duration)))
     if not callable(psd):
@@ -126,7 +240,26 @@ def psd_on_grid(psd: Psd, dt: float, duration: float) -> tuple[np.ndarray, np.nd
 
 
 def process_variance(psd: Psd = THESIS_PSD, dt: float = 0.05, duration: float = 100.0) -> float:
-    """Exact variance of the generated process: the trapezoidal sum of S over [0, 1/(2 dt)]."""
+    """Exact variance of the generated process: the trapezoidal sum of S over [0, 1/(2 dt)].
+
+    This is Var[eta] of every realization of :func:`generate` with the same arguments (it
+    differs from ``psd.integral()`` by the discretization and the part of S above the Nyquist
+    frequency).
+
+    Parameters
+    ----------
+    psd : PsdModel, PsdTable or callable
+        One-sided PSD of eta per Hz [1/Hz] (default: the thesis's Eq. (4.4) calibration).
+    dt : float
+        Sampling step of eta [s].
+    duration : float
+        Time the process covers [s]; sets the frequency step (:func:`psd_on_grid`).
+
+    Returns
+    -------
+    float
+        Var[eta] [-].
+    """
     _, S = psd_on_grid(psd, dt, duration)
     return _core.process_variance(S, dt, duration)
 
@@ -138,6 +271,33 @@ def generate(psd: Psd = THESIS_PSD, *, dt: float = 0.05, duration: float = 100.0
     Returns ``(t, eta)`` with ``t = j dt`` over one period of the FFT grid (at least ``duration``
     seconds) and ``eta`` of shape (samples, len(t)). Row r is sample ``first_sample + r`` of
     ``seed``, identical to the eta of that Monte Carlo sample.
+
+    Spectral representation (docs/stochastic.md): on n = 2^k points, eta_j is a sum of cosines
+    and sines at k df with Gaussian amplitudes of variance S(k df) df, evaluated by one inverse
+    real FFT in the engine. The process is exactly Gaussian and circularly stationary; its
+    variance is :func:`process_variance`.
+
+    Parameters
+    ----------
+    psd : PsdModel, PsdTable or callable
+        One-sided PSD of eta per Hz [1/Hz] (default: the thesis's Eq. (4.4) calibration).
+    dt : float
+        Sampling step [s] (default 0.05 s, the Monte Carlo's ``ETA_DT_S``).
+    duration : float
+        Minimum length of each realization [s].
+    samples : int
+        Number of realizations (rows), 1 to 100000.
+    seed : int
+        Random seed, an integer in [0, 2^64).
+    first_sample : int
+        Index of the first realization; row r is sample ``first_sample + r``.
+
+    Returns
+    -------
+    t : numpy.ndarray
+        Times j dt [s], shape (n,).
+    eta : numpy.ndarray
+        Realizations of eta [-], shape (samples, n).
     """
     validate.seed(seed)
     n = validate.integer("samples", samples, 1, 100000)
@@ -149,7 +309,28 @@ def generate(psd: Psd = THESIS_PSD, *, dt: float = 0.05, duration: float = 100.0
 
 def periodogram(x, dt: float, detrend: str | bool = "constant") -> tuple[np.ndarray, np.ndarray]:
     """Schuster's raw periodogram (no window, no averaging), one-sided density per Hz:
-    ``S_k = 2 dt / N |sum_j x_j exp(-2 pi i j k / N)|^2`` (DC and Nyquist not doubled)."""
+    ``S_k = 2 dt / N |sum_j x_j exp(-2 pi i j k / N)|^2`` (DC and Nyquist not doubled).
+
+    Computed by ``scipy.signal.periodogram`` (boxcar window). Its ordinates scatter as
+    S chi^2_2 / 2 around the true PSD, which :func:`fit_psd_model` accounts for.
+
+    Parameters
+    ----------
+    x : array_like
+        The series, 1-D, at least 8 finite values (e.g. eta).
+    dt : float
+        Sampling step [s].
+    detrend : str or bool
+        Passed to scipy: "constant" (default) removes the mean, "linear" a straight line,
+        False nothing.
+
+    Returns
+    -------
+    f : numpy.ndarray
+        Frequencies k / (N dt) [Hz], k = 0 .. N/2.
+    S : numpy.ndarray
+        One-sided PSD estimate [1/Hz for a dimensionless x].
+    """
     x = _series(x, "x")
     return _signal.periodogram(x, fs=1.0 / validate.positive("dt", dt), window="boxcar", detrend=detrend,
                                return_onesided=True, scaling="density")
@@ -158,7 +339,30 @@ def periodogram(x, dt: float, detrend: str | bool = "constant") -> tuple[np.ndar
 def welch(x, dt: float, segment: int | None = None,
           detrend: str | bool = "constant") -> tuple[np.ndarray, np.ndarray]:
     """Welch's averaged periodogram (Hann window, 50 % overlap), one-sided density per Hz.
-    ``segment`` is the number of points per segment (default: N // 8)."""
+    ``segment`` is the number of points per segment (default: N // 8).
+
+    Computed by ``scipy.signal.welch``. Averaging K segments narrows the scatter of the ordinates
+    (about S chi^2_2K / 2K) at the cost of frequency resolution 1/(segment dt).
+
+    Parameters
+    ----------
+    x : array_like
+        The series, 1-D, at least 8 finite values (e.g. eta).
+    dt : float
+        Sampling step [s].
+    segment : int, optional
+        Points per segment, 8 to N (default: max(16, N // 8)).
+    detrend : str or bool
+        Passed to scipy: "constant" (default) removes each segment's mean, "linear" a straight
+        line, False nothing.
+
+    Returns
+    -------
+    f : numpy.ndarray
+        Frequencies [Hz].
+    S : numpy.ndarray
+        One-sided PSD estimate [1/Hz for a dimensionless x].
+    """
     x = _series(x, "x")
     nper = max(16, x.size // 8) if segment is None else validate.integer("segment", segment, 8, x.size)
     return _signal.welch(x, fs=1.0 / validate.positive("dt", dt), window="hann", nperseg=nper,
@@ -176,6 +380,32 @@ class PsdFit:
     residual variance if that is larger (``log_variance_source``). ``f0_search_hz`` is the range
     f0 was searched in; ``f0_ci_at_search_edge`` says the f0 interval reaches an end of it (f0 is
     then not determined by the data on that side). ``continuity_jump`` = S(f0+)/S(f0-) is 1.0.
+
+    Attributes
+    ----------
+    model : PsdModel
+        The fitted model (continuous at f0: A0 = a ln f0 + b).
+    rms_log_residual : float
+        Root mean square of ln(S_estimate) + bias correction - ln(S_model) over the fitted
+        points; about pi/sqrt(6) = 1.28 for a raw periodogram of a process that follows the model.
+    points : int
+        Number of PSD ordinates fitted (f > 0, S > 0, within ``fmin``/``fmax``).
+    se : dict
+        Standard errors: "f0_hz" [Hz], "ln_f0", "A0", "a", "b".
+    ci95 : dict
+        95 % intervals ``(low, high)`` of "f0_hz" [Hz] (profile likelihood), "A0", "a" and "b"
+        (Wald).
+    log_variance : float
+        Variance sigma^2 of one ln S ordinate used for ``se`` and ``ci95``.
+    log_variance_source : str
+        Where ``log_variance`` comes from: the chi-square value psi'(K) or the residuals.
+    f0_search_hz : tuple of float
+        (lowest, highest) f0 searched [Hz]: the 3rd and the 3rd-last fitted frequency.
+    f0_ci_at_search_edge : bool
+        True if the f0 interval reaches an end of ``f0_search_hz`` (f0 not bounded by the data on
+        that side).
+    f0_ci_connected : bool
+        False if the 95 % profile set of f0 has gaps (``ci95["f0_hz"]`` is then its hull).
     """
     model: PsdModel
     rms_log_residual: float  #: rms of ln(S_estimate) + bias - ln(S_model) over the fitted points
@@ -190,9 +420,13 @@ class PsdFit:
 
     @property
     def continuity_jump(self) -> float:
+        """S(f0+) / S(f0-) of the fitted model: 1.0 (the fit is continuous at f0)."""
         return self.model.continuity_jump
 
     def as_dict(self) -> dict:
+        """JSON-ready fit: the model's parameters, the constraint, ``continuity_jump``,
+        ``rms_log``, ``points``, ``se``, ``ci95`` (lists), the interval method per parameter,
+        ``log_variance`` and its source, and the f0 search range and flags."""
         return {**self.model.as_dict(), "constrained": "continuous at f0 (A0 = a ln f0 + b)",
                 "continuity_jump": self.continuity_jump, "rms_log": self.rms_log_residual,
                 "points": self.points, "se": dict(self.se or {}),
@@ -234,6 +468,29 @@ def fit_psd_model(f, S, *, averages: float = 1.0, fmin: float | None = None,
     {f0 : SSE(f0) - SSE_min <= 3.84 sigma^2} (on a 4000-point log grid plus the ordinates, edges
     refined; its hull if it has gaps). A0, a, b: Wald intervals +-1.96 se from
     sigma^2 (J^T J)^-1 with J the Jacobian in (ln f0, A0, a), b = A0 - a ln f0 by the delta method.
+
+    Parameters
+    ----------
+    f : array_like
+        Frequencies of the PSD estimate [Hz].
+    S : array_like
+        One-sided PSD estimate [1/Hz] at ``f`` (same length, finite, non-negative).
+    averages : float
+        Number K of averaged periodograms behind each ordinate, >= 1 (1 for the raw periodogram,
+        the number of segments for Welch); sets the bias and the chi-square variance of ln S.
+    fmin, fmax : float, optional
+        Fit only the ordinates with ``fmin <= f <= fmax`` [Hz] (default: all).
+
+    Returns
+    -------
+    PsdFit
+        The fitted model with standard errors and 95 % intervals.
+
+    Raises
+    ------
+    ValueError
+        If ``f`` and ``S`` differ in length, are not finite, ``S`` is negative, ``averages < 1``,
+        or fewer than 8 positive ordinates remain.
     """
     f = np.asarray(f, dtype=float).ravel()
     S = np.asarray(S, dtype=float).ravel()
@@ -352,8 +609,32 @@ def fit_eta(eta, dt: float, *, method: str = "schuster", segment: int | None = N
             fmax: float | None = None) -> tuple[PsdFit, np.ndarray, np.ndarray]:
     """Estimate the PSD of an eta series (``method`` = "schuster" or "welch") and fit Eq. (4.4).
 
-    Returns (fit, f, S_estimate). For Welch the number of averages is the number of segments
-    (the overlap is ignored, a slight underestimate of the bias correction's K)."""
+    For Welch the number of averages is the number of segments (the overlap is ignored, a slight
+    underestimate of the bias correction's K).
+
+    Parameters
+    ----------
+    eta : array_like
+        The torque fluctuation series [-] (e.g. eta_exp of Eq. 4.2 or a generated realization),
+        1-D, at least 8 finite values, sampled every ``dt``.
+    dt : float
+        Sampling step [s].
+    method : str
+        "schuster" (default): raw :func:`periodogram`; "welch": :func:`welch`.
+    segment : int, optional
+        Points per Welch segment (default: max(16, N // 8)); ignored by "schuster".
+    fmax : float, optional
+        Highest frequency fitted [Hz] (default: all up to the Nyquist frequency).
+
+    Returns
+    -------
+    fit : PsdFit
+        The fit of Eq. (4.4) continuous at f0 (:func:`fit_psd_model`).
+    f : numpy.ndarray
+        Frequencies of the estimate [Hz].
+    S_estimate : numpy.ndarray
+        The PSD estimate [1/Hz].
+    """
     x = _series(eta, "eta")
     if method == "schuster":
         f, S = periodogram(x, dt)

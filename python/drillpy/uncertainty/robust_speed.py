@@ -29,13 +29,46 @@ def _matrix(severity, speeds) -> tuple[np.ndarray, np.ndarray]:
 
 
 def exceedance(severity, level: float = SS_LEVEL) -> np.ndarray:
-    """P(SS > level) per speed (column)."""
+    """P(SS > level) per speed (column): the fraction of samples above ``level``.
+
+    Parameters
+    ----------
+    severity : array_like
+        SS (Eq. 3.4) [-], shape (samples, n_speeds).
+    level : float
+        Stick-slip threshold on SS [-] (default ``SS_LEVEL`` = 0.5, section 3.3).
+
+    Returns
+    -------
+    numpy.ndarray
+        P(SS > level) per column, shape (n_speeds,).
+    """
     return np.mean(np.asarray(severity, dtype=float) > level, axis=0)
 
 
 def p_speed(severity, speeds, level: float = SS_LEVEL, prob: float = P_LEVEL) -> float | None:
     """Lowest speed from which P(SS > level) <= prob (linear interpolation between grid speeds,
-    the engine's ``severity_statistics``); None without a crossing."""
+    the engine's ``severity_statistics``); None without a crossing.
+
+    The crossing is where P last falls to ``prob`` going up in speed (section 4.2.2; 20.5 rad/s
+    in the thesis).
+
+    Parameters
+    ----------
+    severity : array_like
+        SS [-], shape (samples, n_speeds).
+    speeds : array_like
+        Top speeds [rad/s] of the columns (any order; sorted here).
+    level : float
+        Stick-slip threshold on SS [-] (default 0.5).
+    prob : float
+        Probability level (default ``P_LEVEL`` = 0.05).
+
+    Returns
+    -------
+    float or None
+        The robust speed [rad/s], or None without a crossing on the grid.
+    """
     ss, sp = _matrix(severity, speeds)
     v = _core.severity_statistics(ss, list(sp), level, prob, 0.05, 0.95).p_speed
     return None if math.isnan(v) else float(v)
@@ -45,7 +78,24 @@ def p_speed(severity, speeds, level: float = SS_LEVEL, prob: float = P_LEVEL) ->
 class RefinedSpeed:
     """The crossing of P(SS > level) = prob located by bisection: P > prob at ``below`` and
     P <= prob at ``above`` [rad/s]; ``speed`` is their midpoint, ``precision`` half their distance.
-    ``speeds``/``severity`` hold the grid with every refinement speed added (same samples)."""
+    ``speeds``/``severity`` hold the grid with every refinement speed added (same samples).
+
+    Attributes
+    ----------
+    speed : float
+        Estimate of the robust speed [rad/s]: the midpoint of the final bracket.
+    precision : float
+        Half the width of the final bracket [rad/s] (the bisection's precision, not the Monte
+        Carlo uncertainty; see :func:`bootstrap_interval`).
+    below : float
+        Lower end of the bracket [rad/s], where P(SS > level) > prob.
+    above : float
+        Upper end of the bracket [rad/s], where P(SS > level) <= prob.
+    speeds : numpy.ndarray
+        The original grid plus every refinement speed [rad/s], sorted.
+    severity : numpy.ndarray
+        SS [-] of the same samples at ``speeds``, shape (samples, len(speeds)).
+    """
     speed: float
     precision: float
     below: float
@@ -59,7 +109,36 @@ def refine_p_speed(severity, speeds, evaluate: Callable[[list], np.ndarray], *, 
     """Bisect the highest bracket where P(SS > level) falls to ``prob`` until it is within
     ``2 tol``. ``evaluate(speeds)`` returns the SS matrix of the same samples at new speeds.
     Two speeds per round (the bracket is split in three, both run in one call). None without a
-    crossing on the grid."""
+    crossing on the grid.
+
+    Parameters
+    ----------
+    severity : array_like
+        SS [-] of the study, shape (samples, n_speeds).
+    speeds : array_like
+        Top speeds [rad/s] of the columns.
+    evaluate : callable
+        ``evaluate(list_of_speeds)`` returns SS of the **same samples** (same seed and sample
+        indices) at the given speeds [rad/s], shape (samples, 2).
+    tol : float
+        Target half-width of the bracket [rad/s], > 0.
+    level : float
+        Stick-slip threshold on SS [-] (default 0.5).
+    prob : float
+        Probability level (default 0.05).
+    max_rounds : int
+        Maximum number of bisection rounds (each one engine call with two speeds).
+
+    Returns
+    -------
+    RefinedSpeed or None
+        The final bracket and the extended grid, or None without a crossing.
+
+    Raises
+    ------
+    ValueError
+        If ``evaluate`` returns an array of the wrong shape.
+    """
     validate.positive("tol", tol, "rad/s")
     ss, sp = _matrix(severity, speeds)
     p = exceedance(ss, level)
@@ -90,7 +169,35 @@ def bootstrap_interval(severity, speeds, *, resamples: int = 400, confidence: fl
                        level: float = SS_LEVEL, prob: float = P_LEVEL) -> dict:
     """Percentile bootstrap of the robust speed over the samples (rows resampled with
     replacement): ``{"low", "high", "confidence", "resamples", "no_crossing"}`` where
-    ``no_crossing`` counts resamples without a crossing on the grid (left out of the percentiles)."""
+    ``no_crossing`` counts resamples without a crossing on the grid (left out of the percentiles).
+
+    Each resample draws the samples with replacement, recomputes P(SS > level) per speed and the
+    speed where it falls to ``prob``; the interval is the (1 -+ confidence)/2 quantiles of those
+    speeds. It measures the uncertainty the finite number of samples leaves on the robust speed.
+
+    Parameters
+    ----------
+    severity : array_like
+        SS [-], shape (samples, n_speeds).
+    speeds : array_like
+        Top speeds [rad/s] of the columns.
+    resamples : int
+        Number of bootstrap resamples.
+    confidence : float
+        Confidence level of the interval, in (0, 1) (default 0.9).
+    seed : int
+        Seed of numpy's random generator for the resampling.
+    level : float
+        Stick-slip threshold on SS [-] (default 0.5).
+    prob : float
+        Probability level (default 0.05).
+
+    Returns
+    -------
+    dict
+        ``low``, ``high`` [rad/s] (NaN if no resample crosses), ``confidence``, ``resamples``
+        and ``no_crossing``.
+    """
     ss, sp = _matrix(severity, speeds)
     validate.fraction("confidence", confidence, closed=False)
     rng = np.random.default_rng(seed)

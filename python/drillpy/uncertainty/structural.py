@@ -29,7 +29,27 @@ from drillpy.progress import progress_bar
 class SeverityStudy:
     """SS (Eq. 3.4) for ``samples x speeds`` and its statistics per top speed (the chapter-4
     engine statistics: mean, 5 % and 95 % quantiles, P(SS > 0.5), and the speed from which
-    P(SS > 0.5) <= 5 %)."""
+    P(SS > 0.5) <= 5 %).
+
+    The statistics are computed on construction from ``speeds`` and ``ss``.
+
+    Attributes
+    ----------
+    speeds : numpy.ndarray
+        Top speeds [rad/s], shape (n_speeds,).
+    ss : numpy.ndarray
+        SS [-], shape (samples, n_speeds); row i is realization i (the same at every speed).
+    label : str
+        Name of the uncertainty source (legend, JSON).
+    mean : numpy.ndarray
+        Mean SS per speed [-] (computed).
+    q05, q95 : numpy.ndarray
+        5 % and 95 % sample quantiles of SS per speed [-] (computed).
+    p_stick_slip : numpy.ndarray
+        P(SS > 0.5) per speed (computed).
+    p05_speed : float or None
+        Lowest speed from which P(SS > 0.5) <= 5 % [rad/s] (computed; None without a crossing).
+    """
     speeds: np.ndarray
     ss: np.ndarray
     label: str = ""
@@ -42,10 +62,14 @@ class SeverityStudy:
 
     @property
     def band_width(self) -> np.ndarray:
-        """Width of the 90 % band (q95 - q05) per speed."""
+        """Width of the 90 % band (q95 - q05) of SS per speed [-]."""
         return self.q95 - self.q05
 
     def to_json(self) -> dict:
+        """JSON-ready summary: label, top speeds [rad/s], sample count, mean, q05, q95 and
+        P(SS > 0.5) per speed (rounded to 4 decimals), ``p05_speed_rad_s`` and
+        ``band_width_integral``, the integral of q95 - q05 over the speeds [rad/s] (trapezoid
+        rule; 0 for a single speed)."""
         return {"label": self.label, "top_speeds_rad_s": self.speeds.tolist(), "samples": int(self.ss.shape[0]),
                 "mean_ss": self.mean.round(4).tolist(), "q05_ss": self.q05.round(4).tolist(),
                 "q95_ss": self.q95.round(4).tolist(), "p_ss_above_0_5": self.p_stick_slip.round(4).tolist(),
@@ -61,6 +85,51 @@ def severity_study(cfg: dict, speeds, samples: int, *, model: str = "SM_CB2", de
     ``structural=False`` keeps the mean structure. ``eta_psd`` (a PSD, e.g. ``THESIS_PSD``) or
     ``eta`` (array (samples, n) sampled every ``eta_dt`` s) adds the bit-rock uncertainty (Eq. 4.1).
     The law, WOB, time step, duration and transient are the configuration's.
+
+    Every run starts from the string at rest (Eq. 2.10; random samples keep the mean model's
+    initial generalized velocity); realization i of the matrices and of eta is the same at every
+    top speed (common random numbers). ``samples x speeds`` runs in all, in parallel.
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration (e.g. ``load_config(preset="thesis-ch6")``), with Craig-Bampton modes for
+        SM_CB1 / SM_CB2.
+    speeds : array_like
+        Top speeds [rad/s].
+    samples : int
+        Number of realizations, >= 1.
+    model : str
+        Structural stochastic model: "SM_full", "SM_CB1" or "SM_CB2" (default).
+    delta : float, dict or array_like
+        Dispersions of the random matrices [-] (:func:`drillpy.uncertainty.frf.dispersions`;
+        default 0.1).
+    case : int, optional
+        Case study 1-7 (Tables 6.1-6.7) instead of ``delta``.
+    structural : bool
+        False: every sample uses the mean structure (bit-rock uncertainty alone).
+    eta : array_like, optional
+        Torque fluctuation series [-], one row per sample, shape (samples, n), sampled every
+        ``eta_dt`` seconds from t = 0. Not together with ``eta_psd``.
+    eta_psd : PsdModel, PsdTable or callable, optional
+        One-sided PSD of eta per Hz [1/Hz] (e.g. ``THESIS_PSD``, Eq. 4.4): eta generated in the
+        engine, sample i the same as in :func:`~drillpy.uncertainty.montecarlo.stochastic_study`
+        with the same seed.
+    eta_dt : float
+        Sampling step of eta [s] (default 0.05 s).
+    seed : int
+        Random seed.
+    label : str
+        Name of the study (progress bar, legend, JSON).
+    progress : bool
+        Show a tqdm progress bar.
+    threads : int
+        OpenMP threads (0: the OpenMP default).
+
+    Returns
+    -------
+    SeverityStudy
+        SS per sample and speed with its statistics.
     """
     sp = np.atleast_1d(np.asarray(speeds, dtype=float))
     validate.integer("samples", samples, 1)
@@ -79,8 +148,35 @@ def severity_sources(cfg: dict, speeds, samples: int, *, delta=0.1, eta_psd=None
                      seed: int = 1, progress: bool = True, threads: int = 0) -> dict:
     """How much each source widens the SS band: the deterministic string, structural uncertainty
     (SM_CB2 with ``delta``), and, when ``eta_psd`` is given, the stochastic bit-rock law alone
-    (mean structure) and both together (same eta and same matrices per sample). Returns
-    label -> SeverityStudy."""
+    (mean structure) and both together (same eta and same matrices per sample).
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration (e.g. ``load_config(preset="thesis-ch6")``).
+    speeds : array_like
+        Top speeds [rad/s].
+    samples : int
+        Realizations per random study (the deterministic one runs one sample).
+    delta : float, dict or array_like
+        SM_CB2 dispersions [-] (default 0.1).
+    eta_psd : PsdModel, PsdTable or callable, optional
+        One-sided PSD of eta per Hz [1/Hz]; without it only the first two studies run.
+    eta_dt : float
+        Sampling step of eta [s].
+    seed : int
+        Random seed (shared by all studies).
+    progress : bool
+        Show tqdm progress bars.
+    threads : int
+        OpenMP threads (0: the OpenMP default).
+
+    Returns
+    -------
+    dict
+        Label -> :class:`SeverityStudy`: "deterministic", "structure (SM_CB2)" and, with
+        ``eta_psd``, "bit-rock (eta)" and "structure + bit-rock".
+    """
     kw = dict(seed=seed, progress=progress, threads=threads)
     out = {"deterministic": severity_study(cfg, speeds, 1, delta=0.0, structural=False, label="deterministic", **kw),
            "structure (SM_CB2)": severity_study(cfg, speeds, samples, delta=delta, label="structure (SM_CB2)", **kw)}
