@@ -94,6 +94,15 @@ class CleaningOptions:
     spike_channels: tuple | None = None
 
     def validate(self) -> None:
+        """Check the thresholds (called by :func:`clean`).
+
+        Raises
+        ------
+        ValueError
+            If a duration, factor or fraction is negative, ``grid_tolerance`` is not strictly
+            between 0 and 0.5, ``stretch_min_spikes`` is below 2 or ``stick_threshold_rad_s`` is
+            negative.
+        """
         for name in ("max_fill_s", "spike_window_s", "spike_sigmas", "spike_min_fraction",
                      "spike_max_width_s", "spike_pad_s", "stretch_gap_s", "stuck_fraction"):
             validate.non_negative(f"cleaning.{name}", getattr(self, name))
@@ -106,7 +115,24 @@ class CleaningOptions:
 
 @dataclass
 class Artifact:
-    """One detected artifact: a contiguous run of samples of one channel."""
+    """One detected artifact: a contiguous run of samples of one channel.
+
+    Attributes
+    ----------
+    kind : str
+        One of :data:`KINDS`: ``time`` (bad time stamps re-stamped), ``order`` (rows sorted into
+        time order), ``duplicate`` (exact duplicate rows removed), ``gap`` (samples inserted on the
+        time grid), ``nonfinite`` (NaN/empty/inf values), ``spike`` (isolated encoder spike) or
+        ``oscillation`` (artifact stretch, a cluster of spikes).
+    channel : str
+        Channel name, or ``"time"`` for the time-grid artifacts.
+    start_s, end_s : float
+        Time of the first and of the last affected sample [s].
+    samples : int
+        Number of affected samples.
+    repair : str
+        How it was repaired, or ``"none: flagged UNRELIABLE (excluded; <why>)"``.
+    """
     kind: str        #: one of KINDS
     channel: str     #: channel name, or "time"
     start_s: float   #: time of the first affected sample [s]
@@ -116,12 +142,31 @@ class Artifact:
 
     @property
     def repaired(self) -> bool:
+        """True unless the samples were left as measured and flagged UNRELIABLE."""
         return not self.repair.startswith("none")
 
 
 @dataclass
 class CleaningReport:
-    """What :func:`clean` found and did."""
+    """What :func:`clean` found and did.
+
+    Attributes
+    ----------
+    artifacts : list of Artifact
+        Every artifact found, sorted by start time and channel.
+    n_input : int
+        Number of samples (rows) of the record as read.
+    n_output : int
+        Number of samples on the uniform time grid after cleaning (inserted gap samples count,
+        removed duplicates do not).
+    dt_s : float
+        Sampling interval of the grid [s]: median of the increasing time steps.
+    stick_threshold_rad_s : float
+        Bit speed at or below which the bit counted as stuck for the top-speed repair [rad/s].
+    notes : list of str
+        Explanations of the less obvious repairs (rows sorted into time order, artifact
+        stretches replaced by the bit speed and the evidence for it).
+    """
     artifacts: list = field(default_factory=list)
     n_input: int = 0
     n_output: int = 0
@@ -148,6 +193,15 @@ class CleaningReport:
         return out
 
     def summary(self) -> dict:
+        """The report as a JSON-ready dict (stored in ``provenance["cleaning"]``).
+
+        Returns
+        -------
+        dict
+            ``n_input_samples``, ``n_output_samples``, ``dt_s``, ``stick_threshold_rad_s``,
+            ``counts`` (:meth:`counts`), ``by_channel`` (:meth:`by_channel`), ``notes`` and
+            ``artifacts`` (one dict per :class:`Artifact`).
+        """
         return {"n_input_samples": self.n_input, "n_output_samples": self.n_output,
                 "dt_s": self.dt_s, "stick_threshold_rad_s": self.stick_threshold_rad_s,
                 "counts": self.counts(), "by_channel": self.by_channel(), "notes": list(self.notes),
@@ -169,8 +223,10 @@ def clean(record: Record, options: CleaningOptions | None = None) -> tuple[Recor
     Parameters
     ----------
     record : Record
-        As read (any time stamps, NaNs allowed).
+        As read (any time stamps, NaNs allowed). Its arrays are not modified.
     options : CleaningOptions, optional
+        Thresholds; default :class:`CleaningOptions` (the values tuned on the rig's 1 kHz
+        records).
 
     Returns
     -------
@@ -178,6 +234,7 @@ def clean(record: Record, options: CleaningOptions | None = None) -> tuple[Recor
         On a uniform time grid, with per-sample flags; ``provenance["cleaning"]`` holds the report
         summary.
     report : CleaningReport
+        Every artifact found, how it was repaired or excluded, and the counts.
 
     Raises
     ------
@@ -423,8 +480,25 @@ def spike_regions(x: np.ndarray, dt: float, opt: CleaningOptions | None = None) 
 
     A core sample deviates by more than max(spike_sigmas x robust sigma, spike_min_fraction x
     1-99 % range) from the median over spike_window_s; each core is grown to the neighbouring
-    samples deviating by more than a quarter of that threshold. NaNs are ignored (interpolated
-    for the median only).
+    samples deviating by more than a quarter of that threshold, then padded by ``spike_pad_s`` on
+    each side (the rig's 10 Hz filter smears a spike). NaNs are ignored (interpolated for the
+    median only). Only detects: :func:`clean` decides what is a spike and what an artifact stretch.
+
+    Parameters
+    ----------
+    x : ndarray
+        One channel on a uniform time grid (SI units; the thresholds are relative, so any unit).
+    dt : float
+        Sampling interval [s].
+    opt : CleaningOptions, optional
+        Uses ``spike_window_s``, ``spike_sigmas``, ``spike_min_fraction`` and ``spike_pad_s``;
+        default :class:`CleaningOptions`.
+
+    Returns
+    -------
+    list of ndarray
+        Index arrays of the runs, in time order; empty when fewer than 3 samples are finite or
+        nothing deviates.
     """
     opt = opt or CleaningOptions()
     x = np.asarray(x, float)

@@ -70,7 +70,30 @@ EQUATIONS = {"tucker_wang": "3.1", "hysteretic_reversible": "3.2 (H = 0)", "hyst
 
 
 def law_eval(law: dict, speed, accel, wob) -> tuple:
-    """Torque [N m] and its derivatives dT/dv [N m s/rad], dT/da [N m s^2/rad] from the engine."""
+    """Torque [N m] and its derivatives dT/dv [N m s/rad], dT/da [N m s^2/rad] from the engine.
+
+    The law is evaluated by ``_core.law_torque`` (the C++ ``BitRockLaw``), the same code the
+    simulations use; nothing is re-implemented in Python.
+
+    Parameters
+    ----------
+    law : dict
+        Engine law (``type``, ``speed_unit``, ``wob_ref_n`` and the parameters of Eqs. 3.1, 3.2-3.3,
+        5.1 or 5.3), e.g. :attr:`LawFit.law`. Validated by the engine.
+    speed : array_like
+        Bit speed [rad/s] (SI, whatever the law's ``speed_unit``).
+    accel : float or array_like
+        Bit acceleration [rad/s^2], broadcast to the shape of ``speed`` (only the hysteretic laws
+        use it).
+    wob : float or array_like
+        Weight on bit [N], broadcast to the shape of ``speed``; the torque scales with
+        W / ``wob_ref_n``.
+
+    Returns
+    -------
+    tuple of ndarray
+        ``(T, dT_dv, dT_da)``, each of the length of ``speed``.
+    """
     v = np.ascontiguousarray(speed, dtype=float)
     a = np.ascontiguousarray(np.broadcast_to(np.asarray(accel, float), v.shape))
     w = np.ascontiguousarray(np.broadcast_to(np.asarray(wob, float), v.shape))
@@ -122,6 +145,22 @@ class FitData:
         return self.speed.size
 
     def subset(self, mask) -> "FitData":
+        """The samples selected by ``mask`` (references and break-away torques unchanged).
+
+        Parameters
+        ----------
+        mask : array_like of bool
+            One entry per sample; used for the cross-validation folds.
+
+        Returns
+        -------
+        FitData
+
+        Raises
+        ------
+        ValueError
+            If fewer than 20 samples are selected.
+        """
         m = np.asarray(mask, bool)
         return FitData(self.speed[m], self.accel[m], self.torque[m], self.wob[m], self.group[m],
                        self.wob_ref, self.speed_ref, self.breakaway)
@@ -131,12 +170,45 @@ class FitData:
                     wob_ref: float | None = None, every: int = 1, cycles=None) -> "FitData":
         """Slip samples (``labels != 0``) of valid cycles (``cycle_id >= 0``), every ``every``-th.
 
-        ``wob``: measured WOB [N] (its mean is the reference WOB; with ``use_wob`` the law is
-        evaluated at the measured WOB, else at the reference). ``every``: keep one sample in
-        ``every`` (the rig's channels are low-passed at 10 Hz, so 100 Hz of a 1 kHz record carries
-        the same information at a tenth of the cost; the intervals are cluster-robust and do not
-        depend on the sampling rate). ``cycles``: the :class:`drillpy.records.signals.Cycles` the labels
-        came from; their stick phases give the break-away torques (static torque of Eq. 5.1).
+        Parameters
+        ----------
+        speed : array_like
+            Bit speed of every sample of the record [rad/s].
+        accel : array_like
+            Bit acceleration [rad/s^2] (:func:`drillpy.records.signals.derivative`).
+        torque : array_like
+            Measured torque on bit [N m].
+        labels : array_like of int
+            Branch of each sample (:meth:`drillpy.records.signals.Cycles.branch_labels`): +1 upper,
+            -1 lower, 0 stuck or outside a valid cycle.
+        cycle_id : array_like of int
+            Valid cycle of each sample, -1 outside (:meth:`drillpy.records.signals.Cycles.cycle_id`);
+            the clusters of the covariance.
+        wob : array_like, optional
+            Measured WOB [N]; its mean over the kept samples is the reference WOB. None: no WOB
+            channel, reference 1 N (or ``wob_ref``) and no scaling.
+        use_wob : bool
+            Evaluate the law at the measured WOB (T scales with W / W_ref); False (default): at
+            the reference WOB.
+        wob_ref : float, optional
+            Reference WOB [N] instead of the mean measured WOB.
+        every : int
+            Keep one sample in ``every`` (the rig's channels are low-passed at 10 Hz, so 100 Hz of
+            a 1 kHz record carries the same information at a tenth of the cost; the intervals are
+            cluster-robust and do not depend on the sampling rate).
+        cycles : Cycles, optional
+            The :class:`drillpy.records.signals.Cycles` the labels came from; their stick phases
+            give the break-away torques (static torque of Eq. 5.1), kept when there are at least 2.
+
+        Returns
+        -------
+        FitData
+            ``speed_ref`` is the mean bit speed of the kept samples.
+
+        Raises
+        ------
+        ValueError
+            If ``every`` is not a positive integer, or fewer than 20 samples are kept.
         """
         if int(every) != every or every < 1:
             raise ValueError(f"every = {every!r}: must be a positive integer")
@@ -165,10 +237,34 @@ def breakaway_torques(cycles, torque, wob=None, wob_ref: float = 1.0, *, min_sti
 
     The bit of a valid cycle sticks from ``cycles.stick[j]`` to ``cycles.end[j]``; while stuck the
     torque on it is the string's, rising until it reaches the static torque and the bit breaks
-    away. The break-away torque is the largest torque from the start of the stick phase to
-    ``lag_s`` after its end (the rig's 10 Hz filter delays the peak by a few 10 ms). Stick phases
-    shorter than ``min_stick_s`` are skipped (the bit barely stopped). With ``wob`` the value is
-    scaled to ``wob_ref`` by W_ref / W at the break-away instant (the law scales with W / W_ref).
+    away (points 1-2 of the cycle of Fig. 5.6). The break-away torque is the largest torque from
+    the start of the stick phase to ``lag_s`` after its end (the rig's 10 Hz filter delays the
+    peak by a few 10 ms). Stick phases shorter than ``min_stick_s`` are skipped (the bit barely
+    stopped), and so are those with a non-finite torque. With ``wob`` the value is scaled to
+    ``wob_ref`` by W_ref / W at the break-away instant (the law scales with W / W_ref).
+
+    The filter also flattens the peak: on a simulated truth the filtered break-away torques
+    understate the static torque by about 9 % (docs/records.md, section 1).
+
+    Parameters
+    ----------
+    cycles : Cycles
+        Cycles of the record (:func:`drillpy.records.signals.segment_cycles`).
+    torque : array_like
+        Measured torque on bit of the record [N m].
+    wob : array_like, optional
+        Measured WOB [N]; None: no scaling.
+    wob_ref : float
+        Reference WOB the values are scaled to [N] (used with ``wob`` only).
+    min_stick_s : float
+        Shortest stick phase used [s].
+    lag_s : float
+        How far past the end of the stick phase the peak is searched [s].
+
+    Returns
+    -------
+    ndarray
+        One break-away torque per stick phase used [N m], in cycle order (possibly empty).
     """
     tq = np.asarray(torque, float)
     lag = int(round(lag_s / cycles.dt))
@@ -249,12 +345,60 @@ PARAM_UNITS = {  # for reports; speed unit RPM
 
 @dataclass
 class LawFit:
-    """A fitted law with its uncertainty and goodness of fit.
+    """A fitted law with its uncertainty and goodness of fit (made by :func:`fit_law`).
 
     ``law`` is the engine's JSON law (dict) ready for a configuration; ``values``/``stderr``/
     ``ci_low``/``ci_high`` follow ``names``; ``fixed`` lists the parameters held fixed.
     RMSE [N m] and R^2 are on the fitted samples; ``cv_rmse`` is out of sample; ``var_mse``
     is Eq. (5.2) on the mean cycle [(N m)^4].
+
+    Attributes
+    ----------
+    name : str
+        Law name, one of :data:`LAWS` (equation number in :data:`EQUATIONS`).
+    law : dict
+        The fitted engine law, ready for ``config["law"]`` or :func:`law_eval`.
+    names : tuple of str
+        Names of the identified parameters (``a0`` first when identified from the stick phases).
+    values, stderr : ndarray
+        Estimates and cluster-robust standard errors, in the units of :data:`PARAM_UNITS` for the
+        speed unit of the fit.
+    ci_low, ci_high : ndarray
+        Bounds of the confidence interval (Student's t over the cycles); NaN for a parameter at a
+        bound.
+    fixed : dict
+        Parameters held fixed or tied, with their values (alpha0, b1, gain 1.36, a1..a3, ...).
+    n : int
+        Number of fitted (slip) samples.
+    n_clusters : int
+        Number of stick-slip cycles among them (G of the covariance).
+    rss : float
+        Residual sum of squares [(N m)^2].
+    rmse : float
+        Root-mean-square residual on the fitted samples [N m].
+    r2 : float
+        Coefficient of determination on the fitted samples [-].
+    tau : float
+        Integrated autocorrelation time of the residuals [samples] (:func:`autocorrelation_time`).
+    cv_rmse : float
+        Cross-validated RMSE [N m] (:func:`cross_validated_rmse`); NaN until :func:`fit_laws`
+        sets it.
+    var_mse : float
+        Var[MSE] of Eq. (5.2) on the mean cycle [(N m)^4]; NaN until set.
+    aic, bic : float
+        Information criteria with n_eff independent residuals (set by :func:`fit_laws`; lower is
+        better).
+    n_eff : float
+        Effective number of independent residuals, n / tau (tau the largest over the compared
+        laws).
+    at_bound : tuple of str
+        Parameters that ended on a bound of the fit (flagged, no interval).
+    message : str
+        Termination message of :func:`scipy.optimize.least_squares`.
+    residual : ndarray
+        Torque residuals, model minus measured [N m], one per fitted sample.
+    static_cycles : int
+        Number of stick phases a0 was identified from (Eqs. 5.1, 5.3; 0: not identified).
     """
     name: str
     law: dict
@@ -297,11 +441,38 @@ class LawFit:
         return len(self.names) - (1 if self.static_cycles else 0)
 
     def predict(self, speed, accel=0.0, wob=None) -> np.ndarray:
-        """Torque [N m] of the fitted law (engine) at SI speed and acceleration."""
+        """Torque [N m] of the fitted law (engine) at SI speed and acceleration.
+
+        Parameters
+        ----------
+        speed : array_like
+            Bit speed [rad/s].
+        accel : float or array_like
+            Bit acceleration [rad/s^2] (used by the hysteretic laws; 0: the reversible curve).
+        wob : float or array_like, optional
+            Weight on bit [N]; default the law's reference WOB ``wob_ref_n``.
+
+        Returns
+        -------
+        ndarray
+            Torque on bit [N m], one value per speed.
+        """
         w = self.law["wob_ref_n"] if wob is None else wob
         return law_eval(self.law, speed, accel, w)[0]
 
     def as_dict(self) -> dict:
+        """The fit as a JSON-ready dict (the ``fits`` of ``summary.json``).
+
+        Returns
+        -------
+        dict
+            ``law``, ``equation``, ``engine_law``, ``parameters`` (per name: ``value``,
+            ``stderr`` (None at a bound), ``ci95`` (None without an interval), ``unit``,
+            ``at_bound``, ``source``: stick phases or slip samples), ``fixed``, ``fixed_rule``,
+            ``static_torque_nm``, ``static_torque_cycles``, ``k``, ``n``, ``n_clusters``,
+            ``n_eff``, ``rmse_nm``, ``r2``, ``cv_rmse_nm``, ``var_mse``, ``aic``, ``bic``,
+            ``residual_autocorrelation_time_samples``, ``at_bound`` and ``message``.
+        """
         def ci(lo, hi):
             return None if not (np.isfinite(lo) and np.isfinite(hi)) else [float(lo), float(hi)]
         return {"law": self.name, "equation": EQUATIONS[self.name], "engine_law": self.law,
@@ -362,7 +533,20 @@ def _cluster_cov(J: np.ndarray, r: np.ndarray, groups: np.ndarray) -> np.ndarray
 
 def autocorrelation_time(r: np.ndarray) -> float:
     """Integrated autocorrelation time tau = 1 + 2 sum rho_k [samples], summed over the initial
-    positive sequence of the autocorrelation (Geyer)."""
+    positive sequence of the autocorrelation (Geyer).
+
+    n / tau is the number of effectively independent residuals used by the AIC and BIC.
+
+    Parameters
+    ----------
+    r : ndarray
+        A series, e.g. the torque residuals of a fit in sample order (its mean is removed).
+
+    Returns
+    -------
+    float
+        tau [samples]; 1 for white noise.
+    """
     x = np.asarray(r, float) - np.mean(r)
     n = x.size
     f = np.fft.rfft(x, 2 * n)
@@ -382,6 +566,8 @@ def fit_law(name: str, data: FitData, *, speed_unit: str = "rpm", fixed: dict | 
     name : str
         One of :data:`LAWS`.
     data : FitData
+        The slip samples to fit (:meth:`FitData.from_arrays`); its break-away torques, when
+        present, give a0 of Eqs. (5.1) and (5.3).
     speed_unit : {"rpm", "rad_s"}
         Unit the law's parameters refer to (the bit speed and acceleration enter the formulas in it).
     fixed : dict, optional
@@ -392,6 +578,17 @@ def fit_law(name: str, data: FitData, *, speed_unit: str = "rpm", fixed: dict | 
         Fitted values of other laws used to start this one (``{"tucker_wang": values, ...}``).
     confidence : float
         Level of the intervals.
+
+    Returns
+    -------
+    LawFit
+        With ``cv_rmse``, ``var_mse``, ``aic``, ``bic`` and ``n_eff`` still NaN (set by
+        :func:`fit_laws`).
+
+    Raises
+    ------
+    ValueError
+        For an unknown law or speed unit.
     """
     if name not in FAMILIES:
         raise ValueError(f"law = {name!r}: unknown (use {', '.join(LAWS)})")
@@ -475,7 +672,27 @@ def _jac(fun, p, lb, ub) -> np.ndarray:
 
 
 def cross_validated_rmse(name: str, data: FitData, folds: int = 5, start=None, **kw) -> float:
-    """Out-of-sample RMSE [N m]: fit on all but one block of contiguous cycles, predict it."""
+    """Out-of-sample RMSE [N m]: fit on all but one block of contiguous cycles, predict it.
+
+    Parameters
+    ----------
+    name : str
+        Law, one of :data:`LAWS`.
+    data : FitData
+        The samples; the cycles (``data.group``) are split into ``folds`` contiguous blocks.
+    folds : int
+        Number of blocks (K of K-fold cross-validation).
+    start : array_like, optional
+        Starting values of the free parameters for every fold (e.g. the full fit's).
+    **kw
+        Passed to :func:`fit_law` (``speed_unit``, ``fixed``, ``prior``, ``confidence``).
+
+    Returns
+    -------
+    float
+        sqrt(sum of squared prediction errors / number of samples) over all folds [N m]; NaN when
+        there are fewer cycles than folds.
+    """
     g = np.unique(data.group)
     if g.size < folds:
         return float("nan")
@@ -499,6 +716,21 @@ def mean_cycle_var_mse(fit: LawFit, mc: MeanCycle, stick_threshold: float | None
     breaking away, the measured torque is the string's (anything up to the static torque), and a
     regularized law is zero by construction, so that one bin would dominate Eq. (5.2) for every
     law alike and the statistic could not rank them.
+
+    Parameters
+    ----------
+    fit : LawFit
+        The fitted law.
+    mc : MeanCycle
+        Mean cycle of the record (:func:`drillpy.records.signals.mean_cycle`); its upper and
+        lower curves together are the windowed experimental torque of Eq. (4.3).
+    stick_threshold : float, optional
+        Bins at or below this speed are left out [rad/s]; None keeps every bin.
+
+    Returns
+    -------
+    float
+        Var[MSE] [(N m)^4].
     """
     ref, mod = [], []
     keep = np.ones(mc.speed.size, bool) if stick_threshold is None else mc.speed > stick_threshold
@@ -513,7 +745,33 @@ def fit_laws(data: FitData, names=LAWS, *, mc: MeanCycle | None = None, folds: i
              speed_unit: str = "rpm", stick_threshold: float | None = None) -> list:
     """Fit several laws, with cross-validated RMSE, Var[MSE] on the mean cycle (bins above
     ``stick_threshold`` [rad/s], :func:`mean_cycle_var_mse`) and AIC/BIC on a common effective
-    sample size (see the module docstring)."""
+    sample size (see the module docstring).
+
+    The laws are fitted in the order given, and a law fitted earlier gives the starting values of
+    a later one: Eq. (3.2) starts from Eq. (3.1) (b4 = 1, b5 = 2), Eq. (3.2-3.3) from Eq. (3.2)
+    with H = 0 (the order of :data:`LAWS`).
+
+    Parameters
+    ----------
+    data : FitData
+        The slip samples (:meth:`FitData.from_arrays`).
+    names : iterable of str
+        Laws to fit, from :data:`LAWS` (default: all five).
+    mc : MeanCycle, optional
+        Mean cycle of the same record; None: no Var[MSE].
+    folds : int
+        Cross-validation folds over cycles; 0: no cross-validation (``cv_rmse`` stays NaN).
+    speed_unit : {"rpm", "rad_s"}
+        Unit the law parameters refer to.
+    stick_threshold : float, optional
+        Mean-cycle bins at or below this bit speed are left out of Var[MSE] [rad/s].
+
+    Returns
+    -------
+    list of LawFit
+        In the order of ``names``, with ``cv_rmse``, ``var_mse``, ``n_eff``, ``aic`` and ``bic``
+        set.
+    """
     fits, prior = [], {}
     for nm in names:
         f = fit_law(nm, data, speed_unit=speed_unit, prior=prior)
@@ -533,7 +791,19 @@ def fit_laws(data: FitData, names=LAWS, *, mc: MeanCycle | None = None, folds: i
 
 
 def evidence_label(delta_bic: float) -> str:
-    """Kass and Raftery (1995) scale for a BIC difference."""
+    """Kass and Raftery (1995) scale for a BIC difference.
+
+    Parameters
+    ----------
+    delta_bic : float
+        BIC of the competing law minus that of the preferred law (>= 0).
+
+    Returns
+    -------
+    str
+        ``"very strong"`` (> 10), ``"strong"`` (> 6), ``"positive"`` (> 2) or
+        ``"not worth more than a bare mention"``.
+    """
     if delta_bic > 10:
         return "very strong"
     if delta_bic > 6:
@@ -544,7 +814,22 @@ def evidence_label(delta_bic: float) -> str:
 
 
 def compare_laws(fits: list) -> dict:
-    """Comparison table (rows sorted by BIC) and which law the data prefer, how strongly."""
+    """Comparison table (rows sorted by BIC) and which law the data prefer, how strongly.
+
+    Parameters
+    ----------
+    fits : list of LawFit
+        Output of :func:`fit_laws` (AIC and BIC set); at least one.
+
+    Returns
+    -------
+    dict
+        ``table`` (per law, best BIC first: ``law``, ``equation``, ``k``, ``rmse_nm``,
+        ``cv_rmse_nm``, ``r2``, ``var_mse``, ``aic``, ``bic``, ``delta_bic``, ``akaike_weight``),
+        ``preferred`` (lowest BIC) and ``n_eff``; with two laws or more also ``runner_up``,
+        ``delta_bic``, ``evidence`` (:func:`evidence_label`) and a one-sentence ``statement``,
+        plus ``best_cv`` (lowest cross-validated RMSE) when cross-validation was run.
+    """
     rows = sorted(fits, key=lambda f: f.bic)
     best = rows[0]
     table = [{"law": f.name, "equation": EQUATIONS[f.name], "k": f.k, "rmse_nm": f.rmse,

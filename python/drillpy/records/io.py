@@ -157,10 +157,29 @@ class Record:
 
     @property
     def duration_s(self) -> float:
+        """Time span of the record [s]: last minus first finite time stamp."""
         return float(np.nanmax(self.time_s) - np.nanmin(self.time_s))
 
     def channel(self, name: str) -> np.ndarray:
-        """The SI array of a channel; ValueError naming the channel if it is absent."""
+        """The SI array of one channel (the stored array itself, not a copy).
+
+        Parameters
+        ----------
+        name : str
+            One of :data:`CHANNELS`: ``bit_speed`` [rad/s], ``top_speed`` [rad/s],
+            ``torque_on_bit`` [N m] or ``wob`` [N].
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            The channel in SI units, NaN where nothing finite was measured.
+
+        Raises
+        ------
+        ValueError
+            If ``name`` is not a channel name, or the channel is absent from this record (the
+            message names the source and the channels it has).
+        """
         if name not in CHANNELS:
             raise ValueError(f"channel = {name!r}: unknown (known: {', '.join(CHANNELS)})")
         x = getattr(self, name)
@@ -170,8 +189,22 @@ class Record:
         return x
 
     def valid(self, *names: str) -> np.ndarray:
-        """Samples where all the named channels (all present ones by default) and the time are
-        finite and not flagged UNRELIABLE."""
+        """Mask of the samples usable for analysis.
+
+        A sample is valid when its time stamp and the value of every named channel are finite
+        and none of them carries :attr:`Flag.UNRELIABLE`. Repaired samples (interpolated gaps and
+        spikes, an artifact stretch of the top speed replaced by the bit speed) count as valid:
+        use :meth:`flagged` to tell them apart.
+
+        Parameters
+        ----------
+        *names : str
+            Channels to check (see :meth:`channel`); none given: every channel present.
+
+        Returns
+        -------
+        ndarray of bool, shape (n,)
+        """
         names = names or self.channels
         ok = np.isfinite(self.time_s) & ((self.flags["time"] & Flag.UNRELIABLE) == 0)
         for name in names:
@@ -180,11 +213,40 @@ class Record:
         return ok
 
     def flagged(self, name: str, flag: Flag) -> np.ndarray:
-        """Boolean mask of the samples of channel ``name`` carrying ``flag``."""
+        """Mask of the samples of one channel that carry a quality flag.
+
+        Parameters
+        ----------
+        name : str
+            Channel name, or ``"time"`` for the flags of the time stamps.
+        flag : Flag
+            The bit(s) to test; with a combination (``Flag.SPIKE | Flag.OSCILLATION``) a sample
+            carrying any of them is marked.
+
+        Returns
+        -------
+        ndarray of bool, shape (n,)
+        """
         return (self.flags[name] & int(flag)) != 0
 
     def select(self, t0: float | None = None, t1: float | None = None) -> "Record":
-        """The samples with t0 <= t <= t1 (a copy)."""
+        """The samples inside a time window, both ends included (a copy).
+
+        Parameters
+        ----------
+        t0, t1 : float or None
+            Window start and end [s], in the record's own time axis; None leaves that side open.
+
+        Returns
+        -------
+        Record
+            The samples with ``t0 <= t <= t1``, flags, units and provenance carried over.
+
+        Raises
+        ------
+        ValueError
+            If no sample lies in the window (the message gives the span of the record).
+        """
         t = self.time_s
         m = np.ones(t.size, bool)
         if t0 is not None:
@@ -197,13 +259,44 @@ class Record:
         return self.take(np.flatnonzero(m))
 
     def take(self, index) -> "Record":
-        """A new record made of the samples at ``index`` (flags and provenance follow)."""
+        """A new record made of the samples at ``index``.
+
+        Parameters
+        ----------
+        index : array_like of int or bool
+            Sample indices (or a boolean mask) applied to the time, every channel and every flag
+            array; units and provenance are copied.
+
+        Returns
+        -------
+        Record
+        """
         kw = {c: (None if getattr(self, c) is None else getattr(self, c)[index]) for c in CHANNELS}
         return replace(self, time_s=self.time_s[index], flags={k: v[index] for k, v in self.flags.items()},
                        provenance=dict(self.provenance), units=dict(self.units), **kw)
 
     def in_unit(self, name: str, unit: str) -> np.ndarray:
-        """A channel converted from SI to ``unit`` (e.g. ``in_unit("bit_speed", "rpm")``)."""
+        """A channel converted from SI to another unit, e.g. ``in_unit("bit_speed", "rpm")``.
+
+        Parameters
+        ----------
+        name : str
+            A channel name (see :meth:`channel`) or ``"time"``.
+        unit : str
+            Target unit, one of :data:`UNIT_FACTORS` for that quantity: ``s``/``ms`` for the time,
+            ``rad_s``/``rpm`` for the speeds, ``Nm``/``kNm`` for the torque, ``N``/``kN`` for the
+            WOB.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            A new array in ``unit``; the record is unchanged.
+
+        Raises
+        ------
+        ValueError
+            If the unit is not known for that quantity or the channel is absent.
+        """
         q = "time" if name == "time" else name
         x = self.time_s if name == "time" else self.channel(name)
         return x / _factor(q, unit, where=f"{name} unit")
@@ -227,13 +320,28 @@ def _require_time_and_data(path: Path, found, time_hint: str, data_hint: str, li
 
 # ---------------------------------------------------------------------------------- MATLAB
 def read_mat(path: str | Path, variables: dict | None = None) -> Record:
-    """Read a test-rig MATLAB (v5/v7) file.
+    """Read a test-rig MATLAB (v5/v7) file (the format of the thesis's rig records, chapter 5).
 
     By default the variables are found by the rig's naming (sample 175):
     ``Time_Sample_<n>_complete`` [s], ``Bit_Speed_...`` [RPM], ``Top_Speed_...`` [RPM],
-    ``Bit_Torque_...`` [N m], ``WOB_...`` [N]. ``variables`` maps quantities to
-    ``(variable_name, unit)`` to read files named otherwise, e.g.
-    ``{"time": ("t", "s"), "bit_speed": ("wbit", "rad_s")}``.
+    ``Bit_Torque_...`` [N m], ``WOB_...`` [N]. Speeds are converted to rad/s; absent channels
+    stay ``None``.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.mat`` file. MATLAB v7.3 (HDF5) files are not supported.
+    variables : dict, optional
+        Quantity -> ``(variable_name, unit)`` for files named otherwise, e.g.
+        ``{"time": ("t", "s"), "bit_speed": ("wbit", "rad_s")}``; quantities are ``time`` and the
+        :data:`CHANNELS`, units those of :data:`UNIT_FACTORS`. When given, only these variables
+        are read.
+
+    Returns
+    -------
+    Record
+        SI channels; ``units`` holds each quantity's unit in the file and ``provenance`` the
+        source path, ``format = "matlab"`` and the variable read for each quantity.
 
     Raises
     ------
@@ -308,7 +416,24 @@ _MISSING = {"", "nan", "NaN", "NAN", "NA", "na"}
 
 
 def parse_column(name: str) -> tuple[str, str]:
-    """Split a CSV column name into (quantity, unit), e.g. ``bit_speed_rpm`` -> ("bit_speed", "rpm")."""
+    """Split a CSV column name into (quantity, unit), e.g. ``bit_speed_rpm`` -> ("bit_speed", "rpm").
+
+    Parameters
+    ----------
+    name : str
+        A header cell ``<quantity>_<unit>``, quantity ``time`` or one of :data:`CHANNELS`, unit one
+        of :data:`UNIT_FACTORS` for it (surrounding blanks are ignored).
+
+    Returns
+    -------
+    tuple of str
+        ``(quantity, unit)``.
+
+    Raises
+    ------
+    ValueError
+        If the quantity or the unit is unknown.
+    """
     m = _COLUMN.match(name.strip())
     if not m:
         raise ValueError(f"CSV column {name!r}: unknown quantity (columns are <quantity>_<unit> with "
@@ -320,6 +445,18 @@ def parse_column(name: str) -> tuple[str, str]:
 
 def read_csv(path: str | Path) -> Record:
     """Read a record from the drillpy CSV format (see the module docstring and the README).
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file (UTF-8, a byte-order mark is accepted). ``#`` lines before the header are kept
+        as ``provenance["comments"]``; empty or ``nan`` cells become NaN (flagged NONFINITE).
+
+    Returns
+    -------
+    Record
+        SI channels; ``units`` holds each column's unit in the file and ``provenance`` the source
+        path, ``format = "csv"`` and the header.
 
     Raises
     ------
@@ -389,11 +526,28 @@ def read_csv(path: str | Path) -> Record:
 
 def write_csv(record: Record, path: str | Path, speed_unit: str = "rad_s",
               comments: list[str] | None = None) -> Path:
-    """Write ``record`` in the drillpy CSV format.
+    """Write ``record`` in the drillpy CSV format (readable by :func:`read_csv`).
 
-    Speeds are written in ``speed_unit`` (``rad_s`` or ``rpm``), the rest in SI
-    (``time_s``, ``torque_on_bit_Nm``, ``wob_N``). Missing values are written as empty cells;
-    the provenance goes into ``#`` comment lines above the header.
+    Speeds are written in ``speed_unit``, the rest in SI (``time_s``, ``torque_on_bit_Nm``,
+    ``wob_N``), at full double precision. Non-finite values are written as empty cells. The
+    ``comments`` and then the record's source (``# source: ...``) go into ``#`` lines above the
+    header. Flags are not written: a record read back has only NONFINITE flags.
+
+    Parameters
+    ----------
+    record : Record
+        The record to write (absent channels are left out of the header).
+    path : str or Path
+        Output file; its folder is created if needed, an existing file is overwritten.
+    speed_unit : str
+        ``rad_s`` (default) or ``rpm`` for ``bit_speed`` and ``top_speed``.
+    comments : list of str, optional
+        Lines written as ``# <line>`` before the header.
+
+    Returns
+    -------
+    Path
+        The file written.
     """
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
@@ -414,7 +568,25 @@ def write_csv(record: Record, path: str | Path, speed_unit: str = "rad_s",
 
 
 def read_record(path: str | Path) -> Record:
-    """Read a record by its extension: ``.mat`` (rig MATLAB file) or ``.csv``/``.txt`` (drillpy CSV)."""
+    """Read a record by its extension: ``.mat`` (rig MATLAB file) or ``.csv``/``.txt`` (drillpy CSV).
+
+    Parameters
+    ----------
+    path : str or Path
+        The record file; the suffix (case-insensitive) selects :func:`read_mat` (default variable
+        names) or :func:`read_csv`.
+
+    Returns
+    -------
+    Record
+        As read: SI units, NONFINITE flags only; pass it to
+        :func:`drillpy.records.cleaning.clean` before analysis.
+
+    Raises
+    ------
+    ValueError
+        For another suffix, and for every error of the reader.
+    """
     p = Path(path)
     suffix = p.suffix.lower()
     if suffix == ".mat":

@@ -35,7 +35,27 @@ from drillpy.records.io import Record, read_record
 @dataclass
 class Prediction:
     """What :func:`predict_record` returns: the model, the measured and simulated records, their
-    comparison, the short-horizon error and the stick threshold used [rad/s]."""
+    comparison, the short-horizon error and the stick threshold used [rad/s].
+
+    Attributes
+    ----------
+    model : RigModel or LoopModel
+        The model applied (unchanged: nothing is refitted).
+    measured : Record
+        The record as cleaned (and windowed) for the prediction.
+    simulated : Record
+        The long-run simulation on the record's time grid, through the rig's 10 Hz filter for a
+        rig model; ``provenance`` holds the motor command and the operating point.
+    comparison : RigComparison
+        Long-run stick-slip metrics, measured against predicted
+        (:func:`drillpy.records.rigsim.compare`).
+    short_horizon_error : float
+        E of docs/loop.md over every horizon of the record [-]: 0 is perfect, 1 is as far off as
+        the record's own spread.
+    stick_threshold : float
+        Bit speed at or below which the bit counted as stuck [rad/s], 5 % of the median reliable
+        top speed of the predicted record itself.
+    """
     model: "rigsim.RigModel | loop.LoopModel"
     measured: Record
     simulated: Record
@@ -66,7 +86,19 @@ class Prediction:
 
 
 def describe(model) -> str:
-    """One line naming a model's kind and its parts."""
+    """One line naming a model's kind and its parts.
+
+    Parameters
+    ----------
+    model : RigModel or LoopModel
+        A model from :func:`load_model`.
+
+    Returns
+    -------
+    str
+        ``"rig model: <drive> drive, damping ratio <z>"`` or
+        ``"loop model: effects <names>, damping ratios <ratios>"``.
+    """
     if isinstance(model, loop.LoopModel):
         return f"loop model: effects {', '.join(model.effects) or 'none'}, damping ratios {model.damping_ratios}"
     return f"rig model: {model.drive} drive, damping ratio {model.damping_ratio:.3g}"
@@ -94,7 +126,33 @@ def _loop_prediction(model: "loop.LoopModel", rec: Record, thr: float, horizon_s
 
 def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, horizon_s: float = 0.25,
                         threads: int = 0) -> float:
-    """E of docs/loop.md over every horizon of ``record`` (restarted from the measured state)."""
+    """E of docs/loop.md over every horizon of ``record`` (restarted from the measured state).
+
+    The rig model is expressed as a loop model (the motor drive as the ``motor`` variant of
+    ``top_drive_dynamics``, the measured drive as its ``measured`` variant) at the record's
+    operating point, restarted from the measured bit speed, acceleration, torque and top speed
+    at the start of every horizon and integrated over it; E = sqrt(mean of the per-horizon
+    normalized squared errors), 0 perfect, 1 as far off as the record's own spread.
+
+    Parameters
+    ----------
+    model : RigModel
+        The rig model.
+    record : Record
+        The cleaned record, with bit speed, torque on bit and top speed.
+    command : float
+        Top-drive speed or motor command Omega_c [rad/s] of the long run
+        (``provenance["command_rad_s"]`` of :func:`drillpy.records.rigsim.simulate_model`).
+    horizon_s : float
+        Length of each horizon [s].
+    threads : int
+        Engine threads (0: the OpenMP default).
+
+    Returns
+    -------
+    float
+        E [-].
+    """
     op = rigsim.operating_point(record)
     wob = op.get("wob_n", model.law["wob_ref_n"])
     opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads)
@@ -115,7 +173,36 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
 def predict_record(model, record: Record | str | Path, *, t0: float | None = None,
                    t1: float | None = None, horizon_s: float = 0.25, threads: int = 0) -> Prediction:
     """Apply ``model`` (a :class:`~drillpy.records.rigsim.RigModel` or a :class:`~drillpy.loop.LoopModel`) to
-    a record (path or Record, cleaned here) without refitting anything."""
+    a record (path or Record, cleaned here) without refitting anything.
+
+    The model runs at the record's own operating point (reliable mean top speed and mean WOB,
+    or the measured top speed for a drive that follows it); the stick threshold is 5 % of the
+    record's median reliable top speed. ``drillpy predict`` calls this.
+
+    Parameters
+    ----------
+    model : RigModel or LoopModel
+        From :func:`load_model` (``model.json`` of ``drillpy analyze --calibrate`` or
+        ``drillpy loop``).
+    record : Record, str or Path
+        The record or its file, with bit speed, torque on bit and top speed.
+    t0, t1 : float, optional
+        Window of the record to predict [s], both ends included; None: open on that side.
+    horizon_s : float
+        Horizon of the short-horizon error E [s].
+    threads : int
+        Engine threads (0: the OpenMP default).
+
+    Returns
+    -------
+    Prediction
+
+    Raises
+    ------
+    ValueError
+        If a needed channel is missing, the window is empty, or the record cannot be cleaned or
+        has no reliable top speed.
+    """
     raw = read_record(record) if isinstance(record, (str, Path)) else record
     for need in ("bit_speed", "torque_on_bit", "top_speed"):
         raw.channel(need)
@@ -134,7 +221,23 @@ def predict_record(model, record: Record | str | Path, *, t0: float | None = Non
 
 def load_model(path: str | Path):
     """A model from ``model.json``: a rig model (``drillpy analyze --calibrate``) or a loop model
-    (``drillpy loop``)."""
+    (``drillpy loop``).
+
+    Parameters
+    ----------
+    path : str or Path
+        The JSON file; ``format = "drillpy.loop_model"`` gives a loop model, anything else is
+        read as a rig model (``drillpy.rig_model``).
+
+    Returns
+    -------
+    RigModel or LoopModel
+
+    Raises
+    ------
+    ValueError
+        If the file cannot be read or is not a model.
+    """
     d = read_json(path, "model")
     if isinstance(d, dict) and d.get("format") == "drillpy.loop_model":
         return loop.LoopModel.from_dict(d)
@@ -142,7 +245,20 @@ def load_model(path: str | Path):
 
 
 def write_prediction(pred: Prediction, out_dir: str | Path) -> list:
-    """``summary.json`` and the overlay figure ``overlay.png`` in ``out_dir``; returns the file names."""
+    """``summary.json`` and the overlay figure ``overlay.png`` in ``out_dir``; returns the file names.
+
+    Parameters
+    ----------
+    pred : Prediction
+        From :func:`predict_record`.
+    out_dir : str or Path
+        Output folder (created if needed; existing files are overwritten).
+
+    Returns
+    -------
+    list of str
+        The names of the files written, relative to ``out_dir``.
+    """
     from drillpy.figures import records as figs
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

@@ -45,9 +45,31 @@ def rig_config(law: dict | None = None, damping_ratio: float | None = None, *, p
                wob: float | None = None, motor: tuple | None = None) -> dict:
     """The rig preset with another law, modal damping ratio and/or top drive (normalized by the engine).
 
-    ``wob`` defaults to the law's reference WOB, so the law is used at the WOB it was fitted at.
-    ``motor``: (c_m [N m s/rad], J_m [kg m^2]) of an open-loop motor top drive; ``top_speed`` is
-    then its command Omega_c.
+    Parameters
+    ----------
+    law : dict, optional
+        Engine bit-rock law (e.g. :attr:`drillpy.records.identification.LawFit.law`); default the
+        preset's.
+    damping_ratio : float, optional
+        Modal damping ratio of the (single) mode [-]; default the preset's damping.
+    preset : str
+        Engine preset the geometry and numerics come from (``thesis-rig``: Table 5.1).
+    duration_s : float, optional
+        Simulated duration [s]; the transient is cut to at most half of it.
+    top_speed : float, optional
+        Top-drive speed [rad/s] (``operation.top_speed_rad_s``), the command Omega_c for a motor.
+    wob : float, optional
+        Weight on bit [N]; default the law's reference WOB, so the law is used at the WOB it was
+        fitted at.
+    motor : tuple of float, optional
+        (c_m [N m s/rad], J_m [kg m^2]) of an open-loop motor top drive,
+        J_m Omega' = c_m (Omega_c - Omega) - T_top; None: an ideal top drive (any top drive of the
+        preset is removed).
+
+    Returns
+    -------
+    dict
+        The normalized engine configuration.
     """
     cfg = copy.deepcopy(load_config(preset=preset))
     if law is not None:
@@ -69,13 +91,45 @@ def rig_config(law: dict | None = None, damping_ratio: float | None = None, *, p
 def reliable_top_speed(record: Record) -> np.ndarray:
     """Samples whose top speed is a measurement: not excluded, and not part of an artifact stretch
     (Flag.OSCILLATION: the encoder oscillating while the bit sticks, replaced by the bit speed by
-    the cleaning). Isolated spikes, interpolated over a few ms, count as measured."""
+    the cleaning). Isolated spikes, interpolated over a few ms, count as measured.
+
+    On sample 175 this leaves out the stretch at 28-29.6 s: the mean top speed over 0-40 s is
+    83.8 rpm over the reliable samples against 81.1 rpm over all valid ones (docs/records.md).
+
+    Parameters
+    ----------
+    record : Record
+        A cleaned record (:func:`drillpy.records.cleaning.clean`) with a top-speed channel.
+
+    Returns
+    -------
+    ndarray of bool
+        One entry per sample.
+    """
     return record.valid("top_speed") & ~record.flagged("top_speed", Flag.OSCILLATION)
 
 
 def stick_threshold(record: Record, fraction: float = STICK_FRACTION) -> float:
     """The bit is stuck at or below ``fraction`` of the median reliable top speed [rad/s]
-    (:func:`drillpy.records.stick.stick_threshold` over the reliable samples)."""
+    (:func:`drillpy.records.stick.stick_threshold` over the reliable samples).
+
+    Parameters
+    ----------
+    record : Record
+        A cleaned record with a top-speed channel.
+    fraction : float
+        Fraction of the median reliable top speed (5 % by default, the engine's rule).
+
+    Returns
+    -------
+    float
+        The stick threshold [rad/s].
+
+    Raises
+    ------
+    ValueError
+        If no top-speed sample is reliable (:func:`reliable_top_speed`).
+    """
     ok = reliable_top_speed(record)
     if not ok.any():
         raise ValueError("record: no reliable top-speed sample (the stick threshold is a fraction of the median "
@@ -85,7 +139,24 @@ def stick_threshold(record: Record, fraction: float = STICK_FRACTION) -> float:
 
 def operating_point(record: Record) -> dict:
     """The record's operating point: mean top speed over its reliable samples [rad/s] (repaired
-    stretches, e.g. the bit speed pasted over an encoder artifact, would bias it) and mean WOB [N]."""
+    stretches, e.g. the bit speed pasted over an encoder artifact, would bias it) and mean WOB [N].
+
+    Parameters
+    ----------
+    record : Record
+        A cleaned record with a top-speed channel.
+
+    Returns
+    -------
+    dict
+        ``top_speed_rad_s``, ``reliable_top_samples`` (samples it is the mean of), ``samples``
+        (length of the record) and, when the record has valid WOB samples, ``wob_n``.
+
+    Raises
+    ------
+    ValueError
+        With fewer than 10 reliable top-speed samples.
+    """
     ok = reliable_top_speed(record)
     if ok.sum() < 10:
         raise ValueError("operating_point: the record has fewer than 10 reliable top-speed samples")
@@ -102,6 +173,28 @@ class RigModel:
 
     ``drive`` is one of :data:`DRIVES`; ``motor_slope_nms_rad`` (c_m) and ``motor_inertia_kg_m2``
     (J_m) are used by the ``motor`` drive. ``calibration`` records how it was obtained.
+
+    Attributes
+    ----------
+    law : dict
+        Engine bit-rock law (its ``wob_ref_n`` is the WOB it was identified at [N]).
+    damping_ratio : float
+        Effective modal damping ratio of the rig's torsional mode [-], positive. It lumps every
+        dissipation the one-mode model lacks (motor give, platform, axial-torsional coupling):
+        0.69 for the measured drive on sample 175 (docs/records.md, section 4).
+    drive : str
+        ``constant`` (the record's reliable mean top speed), ``measured`` (the top follows the
+        measured top speed) or ``motor`` (open-loop motor, J_m Omega' = c_m (Omega_c - Omega) -
+        T_top).
+    motor_slope_nms_rad : float or None
+        Motor slope c_m [N m s/rad]: the torque the motor gives per rad/s below its command.
+    motor_inertia_kg_m2 : float or None
+        Inertia J_m of the motor top drive [kg m^2].
+    preset : str
+        Engine preset of the geometry (``thesis-rig``, Table 5.1).
+    calibration : dict
+        How the model was obtained (:func:`calibrate`): calibration window, operating point,
+        motor command, mismatch, matched metrics, stick threshold, per-drive results.
     """
     law: dict
     damping_ratio: float
@@ -124,15 +217,47 @@ class RigModel:
 
     @property
     def motor(self) -> tuple | None:
+        """(c_m [N m s/rad], J_m [kg m^2]) for the motor drive, None for the others."""
         return (self.motor_slope_nms_rad, self.motor_inertia_kg_m2) if self.drive == "motor" else None
 
     def config(self, top_speed: float, wob: float | None = None, duration_s: float | None = None) -> dict:
-        """Engine configuration at a top speed [rad/s] (the motor's command for the motor drive)."""
+        """Engine configuration of the model at an operating point.
+
+        Parameters
+        ----------
+        top_speed : float
+            Top-drive speed [rad/s] (the motor's command Omega_c for the motor drive). The
+            measured drive's series is passed to the simulation separately.
+        wob : float, optional
+            Weight on bit [N]; default the law's reference WOB.
+        duration_s : float, optional
+            Simulated duration [s]; default the preset's.
+
+        Returns
+        -------
+        dict
+            Normalized engine configuration (:func:`rig_config`).
+        """
         return rig_config(self.law, self.damping_ratio, preset=self.preset, duration_s=duration_s,
                           top_speed=top_speed, wob=wob, motor=self.motor)
 
     def to_dict(self, top_speed: float | None = None, wob: float | None = None) -> dict:
-        """``model.json``: the engine configuration (at the calibration's operating point) and the drive."""
+        """``model.json``: the engine configuration (at the calibration's operating point) and the drive.
+
+        Parameters
+        ----------
+        top_speed : float, optional
+            Top speed or motor command in the configuration [rad/s]; default the calibration's
+            motor command, else its operating point.
+        wob : float, optional
+            Weight on bit [N]; default the calibration's operating point.
+
+        Returns
+        -------
+        dict
+            ``format = "drillpy.rig_model"``, ``version``, ``drive``, ``config`` and
+            ``calibration``; read back by :meth:`from_dict`.
+        """
         op = self.calibration.get("operating_point", {})
         om = top_speed if top_speed is not None else self.calibration.get("command_rad_s", op.get("top_speed_rad_s"))
         return {"format": "drillpy.rig_model", "version": 1, "drive": self.drive,
@@ -141,6 +266,27 @@ class RigModel:
 
     @classmethod
     def from_dict(cls, d: dict) -> "RigModel":
+        """The model of a ``model.json`` written by :meth:`to_dict` (``drillpy analyze --calibrate``).
+
+        Only the law, the modal damping ratio, the drive and the motor parameters are taken from
+        the configuration (and ``calibration`` is kept); the geometry is the ``thesis-rig``
+        preset's.
+
+        Parameters
+        ----------
+        d : dict
+            The parsed JSON.
+
+        Returns
+        -------
+        RigModel
+
+        Raises
+        ------
+        ValueError
+            If ``d`` is not a rig model, its damping is not modal, or its configuration lacks the
+            law or the damping.
+        """
         if not isinstance(d, dict) or d.get("format") != "drillpy.rig_model":
             raise ValueError("model: not a drillpy rig model (format must be 'drillpy.rig_model'; written by "
                              "drillpy analyze as model.json)")
@@ -182,9 +328,34 @@ def simulate_model(model: RigModel, record: Record, *, filtered: bool = True, sk
     The constant drive turns at the record's reliable mean top speed; the measured drive follows
     the record's top-speed channel (which must then be complete); the motor's command is found
     (bracketing and bisection) so that the simulated mean top speed after ``skip_s`` equals the record's
-    reliable mean. The WOB is the record's mean WOB (the law scales with W / W_ref).
-    Returns the simulation as a Record on the record's time grid (filtered by the rig's 10 Hz
-    low-pass unless ``filtered`` is False), provenance holding the engine configuration.
+    reliable mean. The WOB is the record's mean WOB (the law scales with W / W_ref). Nothing of
+    the record but its operating point (and the measured drive's top speed) enters: this is how a
+    model predicts data it was not calibrated on.
+
+    Parameters
+    ----------
+    model : RigModel
+        The model to run.
+    record : Record
+        A cleaned record (:func:`drillpy.records.cleaning.clean`) with a top-speed channel.
+    filtered : bool
+        Pass the simulated channels through the rig's 10 Hz acquisition filter
+        (:func:`drillpy.records.signals.rig_lowpass`), as the measured ones were.
+    skip_s : float
+        Start-up left out of the mean top speed when the motor command is searched [s].
+
+    Returns
+    -------
+    Record
+        The simulation on the record's time grid (bit and top speed [rad/s], torque on bit
+        [N m], constant WOB [N]); ``provenance`` holds the drive, ``command_rad_s``, the
+        ``operating_point`` and the engine ``config``.
+
+    Raises
+    ------
+    ValueError
+        For the measured drive when the record's top speed has excluded samples, and when the
+        operating point cannot be taken (:func:`operating_point`).
     """
     op = operating_point(record)
     wob = op.get("wob_n", model.law["wob_ref_n"])
@@ -232,7 +403,31 @@ def simulate_rig(record: Record, law: dict | None = None, damping_ratio: float |
                  preset: str = "thesis-rig") -> Record:
     """Simulate the rig with ``law`` (default: the preset's) and ``damping_ratio`` (default: the
     preset's) over the span of a cleaned ``record`` (see :func:`simulate_model`); ``motor`` is
-    (c_m, J_m) for ``drive="motor"``."""
+    (c_m, J_m) for ``drive="motor"``.
+
+    Parameters
+    ----------
+    record : Record
+        A cleaned record; its operating point (and top speed, for the measured drive) drives the
+        simulation.
+    law : dict, optional
+        Engine bit-rock law; default the preset's.
+    damping_ratio : float, optional
+        Modal damping ratio [-]; default the preset's first ratio.
+    drive : str
+        One of :data:`DRIVES` (default ``measured``).
+    motor : tuple of float, optional
+        (c_m [N m s/rad], J_m [kg m^2]); required for ``drive="motor"``.
+    filtered : bool
+        Apply the rig's 10 Hz acquisition filter to the simulated channels.
+    preset : str
+        Engine preset of the rig.
+
+    Returns
+    -------
+    Record
+        As :func:`simulate_model`.
+    """
     if drive not in DRIVES:
         raise ValueError(f"drive = {drive!r}: use {', '.join(DRIVES)}")
     if drive == "motor" and motor is None:
@@ -246,7 +441,24 @@ def simulate_rig(record: Record, law: dict | None = None, damping_ratio: float |
 
 @dataclass
 class RigComparison:
-    """Measured versus simulated stick-slip metrics and torque-speed loops."""
+    """Measured versus simulated stick-slip metrics and torque-speed loops (made by :func:`compare`).
+
+    Attributes
+    ----------
+    measured, simulated : dict
+        :func:`drillpy.records.signals.stick_slip_metrics` of each record after the start-up, with
+        ``top_speed_std`` [rad/s], and ``mean_top_speed`` [rad/s] and ``ss`` taken over the
+        reliable top-speed samples.
+    mismatch : float
+        Root mean square of the relative errors of the metrics in :data:`MATCHED`
+        (:func:`relative_error`) [-]; 0 is a perfect match.
+    mean_cycle_measured, mean_cycle_simulated : MeanCycle or None
+        Mean torque-speed cycle per branch of each record on a common speed grid; None when
+        there is no stick-slip cycle.
+    loop_rms_nm : float
+        RMS difference of the upper and lower branch curves on the common speeds [N m]; NaN
+        without both loops.
+    """
     measured: dict
     simulated: dict
     mismatch: float
@@ -255,6 +467,15 @@ class RigComparison:
     loop_rms_nm: float  #: rms difference of the branch mean curves on the common speeds [N m]
 
     def rows(self) -> list:
+        """Table rows ``(metric, measured, simulated)`` for reports.
+
+        Returns
+        -------
+        list of tuple
+            For ``ss``, ``cycle_frequency_hz``, ``median_period_s``, ``stick_fraction``,
+            ``bit_speed_p95`` [rad/s], ``torque_p5``, ``torque_p95``, ``torque_min`` and
+            ``torque_max`` [N m].
+        """
         keys = ("ss", "cycle_frequency_hz", "median_period_s", "stick_fraction", "bit_speed_p95",
                 "torque_p5", "torque_p95", "torque_min", "torque_max")
         return [(k, self.measured[k], self.simulated[k]) for k in keys]
@@ -279,7 +500,24 @@ def compare(measured: Record, simulated: Record, stick_threshold: float, t_start
     reliable top-speed samples of the measurement (:func:`reliable_top_speed`). When the
     simulation is driven by the measured top speed, the samples where that signal is not a
     measurement (an artifact stretch the cleaning filled with the bit speed) are left out of both:
-    there the drive would impose the measured stall instead of predicting it."""
+    there the drive would impose the measured stall instead of predicting it.
+
+    Parameters
+    ----------
+    measured : Record
+        The cleaned measurement.
+    simulated : Record
+        Its simulation (:func:`simulate_model`), on the same time grid.
+    stick_threshold : float
+        Bit speed at or below which the bit counts as stuck [rad/s] (:func:`stick_threshold`),
+        the same for both records.
+    t_start : float
+        Start-up discarded from both, counted from the simulation's first sample [s].
+
+    Returns
+    -------
+    RigComparison
+    """
     t0 = simulated.time_s[0] + t_start
     skip = np.zeros(len(measured), bool)
     if simulated.provenance.get("drive") == "measured" and measured.top_speed is not None:
@@ -315,7 +553,20 @@ def compare(measured: Record, simulated: Record, stick_threshold: float, t_start
 
 def relative_error(simulated: float, measured: float) -> float:
     """(simulated - measured) / |measured|; a missing simulated value (no cycle, so no period or
-    frequency) counts as 100 %, and a zero measured value as the simulated value itself."""
+    frequency) counts as 100 %, and a zero measured value as the simulated value itself.
+
+    Parameters
+    ----------
+    simulated : float
+        Metric of the simulation.
+    measured : float
+        The same metric measured (a non-finite value also gives 1.0).
+
+    Returns
+    -------
+    float
+        Signed relative error [-].
+    """
     if not np.isfinite(simulated) or not np.isfinite(measured):
         return 1.0
     return (simulated - measured) / abs(measured) if measured != 0 else float(simulated)
@@ -324,12 +575,32 @@ def relative_error(simulated: float, measured: float) -> float:
 @dataclass
 class Calibration:
     """What :func:`calibrate` found: the chosen model, its comparison on the calibration part and,
-    per drive, the best model with its mismatch and the points scanned."""
+    per drive, the best model with its mismatch and the points scanned.
+
+    Attributes
+    ----------
+    model : RigModel
+        The drive and parameters with the smallest mismatch, ``calibration`` filled in.
+    comparison : RigComparison
+        The chosen model against the calibration record.
+    per_drive : dict
+        Drive -> ``damping_ratio``, ``mismatch`` and ``scan`` (the (ratio, mismatch) pairs
+        tried) for the constant and measured drives; ``damping_ratio``, ``motor_slope_nms_rad``,
+        ``motor_inertia_kg_m2``, ``mismatch`` and ``evaluations`` for the motor.
+    """
     model: RigModel
     comparison: RigComparison
     per_drive: dict
 
     def summary(self) -> dict:
+        """The calibration as a JSON-ready dict.
+
+        Returns
+        -------
+        dict
+            ``drive``, ``damping_ratio``, ``motor_slope_nms_rad``, ``motor_inertia_kg_m2``,
+            ``mismatch``, the ``measured`` and ``simulated`` metrics, and ``per_drive``.
+        """
         return {"drive": self.model.drive, "damping_ratio": self.model.damping_ratio,
                 "motor_slope_nms_rad": self.model.motor_slope_nms_rad,
                 "motor_inertia_kg_m2": self.model.motor_inertia_kg_m2,
@@ -349,6 +620,32 @@ def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVE
     refined once around the best; for the motor, damping x slope c_m x inertia J_m on a 4 x 5 x 3
     log grid, then a Nelder-Mead polish in the logarithms from the best grid point. The motor's
     command always reproduces the record's reliable mean top speed (:func:`simulate_model`).
+    A parameter set whose simulation fails (unstable, diverged) counts as an infinite mismatch.
+
+    Parameters
+    ----------
+    record : Record
+        The cleaned calibration part of a record, with top speed, bit speed and torque.
+    law : dict
+        Engine bit-rock law, identified on the same data (Eq. 5.1 or 5.3).
+    stick_threshold : float
+        Bit speed at or below which the bit counts as stuck [rad/s] (:func:`stick_threshold`).
+    drives : iterable of str
+        Drives tried, from :data:`DRIVES`. ``measured`` is dropped when the record's top speed
+        has excluded samples (no complete drive signal).
+    preset : str
+        Engine preset of the rig.
+    log : callable, optional
+        Called with one progress line (str) per drive.
+
+    Returns
+    -------
+    Calibration
+
+    Raises
+    ------
+    ValueError
+        For an unknown drive, or when the operating point cannot be taken.
     """
     drives = tuple(drives)
     for d in drives:
@@ -412,7 +709,19 @@ def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVE
 class Selection:
     """What :func:`select_model` found: per candidate (law name, drive) the mismatch of the model
     calibrated on the first half of the calibration part when it predicts the second half, the
-    chosen pair, and the chosen pair recalibrated on the whole part."""
+    chosen pair, and the chosen pair recalibrated on the whole part.
+
+    Attributes
+    ----------
+    scores : dict
+        ``"<law>, <drive>"`` -> ``calibration_half_mismatch`` (on the first half) and
+        ``prediction_half_mismatch`` (predicting the second half; inf when the simulation
+        failed).
+    law_name : str
+        The chosen law's name (a key of the ``laws`` given).
+    calibration : Calibration
+        The chosen law and drive recalibrated on the whole part.
+    """
     scores: dict
     law_name: str
     calibration: Calibration
@@ -427,6 +736,30 @@ def select_model(record: Record, laws: dict, stick_threshold: float, *, drives=D
     half at its operating point, and the (law, drive) with the smallest mismatch there is chosen and
     recalibrated on the whole record. A calibration-only choice prefers the most flexible
     description (the motor's three parameters fit one part and extrapolate poorly: docs/records.md).
+
+    Parameters
+    ----------
+    record : Record
+        The cleaned calibration part, split at its midpoint in time.
+    laws : dict
+        Candidate name -> engine law (e.g. ``polynomial`` and ``polynomial_hysteretic``).
+    stick_threshold : float
+        Bit speed at or below which the bit counts as stuck [rad/s].
+    drives : iterable of str
+        Drives tried for every law, from :data:`DRIVES`.
+    preset : str
+        Engine preset of the rig.
+    log : callable, optional
+        Called with one progress line (str) per candidate and per drive of the final calibration.
+
+    Returns
+    -------
+    Selection
+
+    Raises
+    ------
+    ValueError
+        If ``laws`` is empty.
     """
     if not laws:
         raise ValueError("select_model: no candidate law")

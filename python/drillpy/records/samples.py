@@ -103,6 +103,14 @@ class Acceptance:
     require_cv: bool = False
 
     def validate(self) -> None:
+        """Check the criterion (called by :meth:`evaluate` and :func:`analyze_samples`).
+
+        Raises
+        ------
+        ValueError
+            If ``max_var_mse`` is empty, names an unknown law or holds a non-positive threshold,
+            a fraction lies outside [0, 1], or ``cv_reference`` is negative.
+        """
         if not self.max_var_mse:
             raise ValueError("acceptance.max_var_mse: give at least one law's threshold")
         for law, v in self.max_var_mse.items():
@@ -115,8 +123,25 @@ class Acceptance:
             validate.non_negative("acceptance.cv_reference", self.cv_reference)
 
     def evaluate(self, rows: list) -> dict:
-        """Apply the criterion to Table 5.2 rows (dicts with ``sample``, ``cv`` and ``var_mse``
-        law -> value); returns the per-sample verdicts and the overall one."""
+        """Apply the criterion to Table 5.2 rows; returns the per-sample verdicts and the overall one.
+
+        Parameters
+        ----------
+        rows : list of dict
+            One per sample, with ``sample`` (name), ``cv`` (std / mean of the torque on bit) and
+            ``var_mse`` (law -> Var[MSE] of Eq. 5.2 [(N m)^4]); a law missing from a row fails its
+            threshold.
+
+        Returns
+        -------
+        dict
+            ``per_sample`` (``sample``, ``passes`` per law, ``cv_within_variation_limit``,
+            ``accepted``), ``accepted`` and ``rejected`` (sample names), ``accepted_fraction``,
+            ``validates`` (more than ``min_accepted_fraction`` accepted), the thresholds used
+            (``max_var_mse``, ``cv_reference`` and its source, ``concrete_variation``,
+            ``variation_limit``), ``cv_average`` of the rows, ``require_cv``,
+            ``min_accepted_fraction`` and the ``rule`` in words.
+        """
         self.validate()
         cvs = np.array([r["cv"] for r in rows], float)
         cv_avg = float(np.nanmean(cvs)) if np.isfinite(cvs).any() else float("nan")
@@ -187,7 +212,23 @@ class SampleOptions:
 
 
 def parse_window(text: str) -> tuple:
-    """'T0:T1' [s] -> (t0, t1) with t0 < t1."""
+    """'T0:T1' [s] -> (t0, t1) with t0 < t1.
+
+    Parameters
+    ----------
+    text : str
+        The window, e.g. ``"0:10"`` (the part after ``@`` in ``sample.mat@0:10``).
+
+    Returns
+    -------
+    tuple of float
+        ``(t0, t1)`` [s].
+
+    Raises
+    ------
+    ValueError
+        If the text is not two numbers separated by ``:``, or they are not finite with T0 < T1.
+    """
     try:
         a, b = (float(x) for x in text.split(":"))
     except ValueError:
@@ -202,7 +243,24 @@ def find_records(paths) -> list:
 
     A file is one sample; a folder gives its .mat/.csv files (sorted by name); ``FILE@T0:T1`` is
     the window T0 <= t < T1 [s] of a file (so ``rec.mat@0:10 rec.mat@10:20`` share no sample).
-    Raises ValueError for a missing path, a bad window or a folder without records."""
+    A path that exists as written is never split at ``@``.
+
+    Parameters
+    ----------
+    paths : iterable of str or Path
+        Files, folders or ``FILE@T0:T1`` windows (the command-line arguments).
+
+    Returns
+    -------
+    list of tuple
+        ``(name, path, window)``: the file stem (``stem@T0-T1s`` for a window), the
+        :class:`~pathlib.Path`, and ``(t0, t1)`` [s] or None.
+
+    Raises
+    ------
+    ValueError
+        For a missing path, a bad window, a window on a folder or a folder without records.
+    """
     out = []
     for a in paths:
         a = str(a)
@@ -237,8 +295,44 @@ def _unique(names) -> list:
 
 def analyze_sample(record: Record | str | Path, name: str, options: SampleOptions | None = None,
                    window: tuple | None = None) -> dict:
-    """The per-sample part: Table 5.2 row, per-cycle SS and the fitted laws of one record
-    (``window``: (t0, t1), the samples t0 <= t < t1 [s]; else ``options.t0``/``t1``, inclusive)."""
+    """The per-sample part: Table 5.2 row, per-cycle SS and the fitted laws of one record.
+
+    Read (if a path), window, clean, segment the stick-slip cycles (stick threshold:
+    ``options.stick_fraction`` of the median reliable top speed, or the cleaning's threshold
+    without a reliable top speed), mean cycle, fit ``options.laws`` on the slip samples at
+    ``options.fit_rate_hz`` and compute Var[MSE] (Eq. 5.2) on the mean cycle above the stick
+    threshold.
+
+    Parameters
+    ----------
+    record : Record, str or Path
+        The record or its file; it needs bit speed and torque on bit.
+    name : str
+        Sample name used in the tables and messages.
+    options : SampleOptions, optional
+        Default :class:`SampleOptions`.
+    window : tuple of float, optional
+        ``(t0, t1)`` [s]: the samples t0 <= t < t1; None: ``options.t0``/``t1``, both inclusive
+        (or the whole record).
+
+    Returns
+    -------
+    dict
+        ``sample``, ``source``, ``window_s``, ``n_samples``, ``sample_rate_hz``, ``cleaning``,
+        ``stick_threshold_rpm``, ``torque`` (:func:`drillpy.records.signals.sample_statistics` of
+        the torque on bit [N m]) with its ``mean``/``std``/``cv`` repeated at top level, ``var_mse``
+        (law -> [(N m)^4]), ``cycles`` (counts, median period [s], per-cycle ``ss`` over cycles
+        with a reliable top speed, their median and mean), ``mean_top_speed_rpm``,
+        ``mean_bit_speed_rpm``, ``stick_fraction`` and ``fits`` (per law: ``equation``,
+        ``parameters``, ``ci95``, ``fixed``, ``at_bound``, ``rmse_nm``, ``r2``, ``n``, ``n_cycles``,
+        ``engine_law``).
+
+    Raises
+    ------
+    ValueError
+        If a needed channel is missing, the window holds no sample, or no valid stick-slip cycle
+        is found (and for the errors of reading, cleaning and fitting).
+    """
     opt = options or SampleOptions()
     raw = read_record(record) if isinstance(record, (str, Path)) else record
     src = raw.provenance.get("source", name)
@@ -312,7 +406,21 @@ def analyze_sample(record: Record | str | Path, name: str, options: SampleOption
 
 def parameter_spread(samples: list) -> dict:
     """Per law and parameter: the value in each sample and the mean, std (ddof = 1) and CV across
-    samples; parameters at a bound in some sample and fixed parameters are named."""
+    samples; parameters at a bound in some sample and fixed parameters are named.
+
+    Parameters
+    ----------
+    samples : list of dict
+        :func:`analyze_sample` results, all with the same laws (the first sample's laws and
+        parameter names are used).
+
+    Returns
+    -------
+    dict
+        Law -> ``equation``, ``fixed`` (the first sample's fixed parameters) and ``parameters``
+        (name -> ``unit``, ``values`` per sample, ``mean``, ``std``, ``cv`` = std / |mean| and
+        ``at_bound_in``: the samples where it ended on a bound). Empty for no sample.
+    """
     out = {}
     laws = [law for law in samples[0]["fits"]] if samples else []
     for law in laws:
@@ -340,7 +448,10 @@ def analyze_samples(records, out_dir: str | Path, options: SampleOptions | None 
         :func:`find_records`), :class:`Record` objects, or ``(name, record)`` pairs; at least two
         samples.
     out_dir : path
+        Folder the three files are written to (created if needed).
     options : SampleOptions, optional
+        Window, stick fraction, laws, folds, fit rate, speed unit and acceptance criterion;
+        default :class:`SampleOptions` (the thesis's Table 5.2 laws and thresholds).
     log : callable
         Progress lines (``print`` by default).
 
@@ -348,6 +459,12 @@ def analyze_samples(records, out_dir: str | Path, options: SampleOptions | None 
     -------
     dict
         The content of ``samples.json``.
+
+    Raises
+    ------
+    ValueError
+        With fewer than two samples, an acceptance threshold for a law that is not fitted, an
+        invalid criterion, or a sample that cannot be analysed (the message names it).
     """
     opt = options or SampleOptions()
     opt.acceptance.validate()
@@ -420,7 +537,23 @@ def _spread(x) -> dict:
 
 
 def boxplot(path, samples: list) -> Path:
-    """Fig. 5.4: box plot of the per-cycle SS (Eq. 3.4), one box per sample, SS = 0.5 marked."""
+    """Fig. 5.4: box plot of the per-cycle SS (Eq. 3.4), one box per sample, SS = 0.5 marked.
+
+    SS below 0.5 is the thesis's stable region (section 3.3). A sample without a cycle with SS
+    keeps its label and gets no box.
+
+    Parameters
+    ----------
+    path : str or Path
+        Image file to write (``fig5_4_boxplot.png`` in :func:`analyze_samples`).
+    samples : list of dict
+        :func:`analyze_sample` results (``sample`` and ``cycles["ss"]`` are used).
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
     from drillpy.figures.simulation import _save, plt
     fig, ax = plt.subplots(figsize=(max(5.0, 0.9 * len(samples) + 2.5), 4.2))
     data = [np.asarray(s["cycles"]["ss"], float) for s in samples]
@@ -441,7 +574,22 @@ def boxplot(path, samples: list) -> Path:
 
 
 def render_samples(S: dict) -> str:
-    """The Markdown tables of an :func:`analyze_samples` summary."""
+    """The Markdown tables of an :func:`analyze_samples` summary (``samples.md``).
+
+    Table 5.2 with the acceptance verdicts, the criterion and its per-sample table, the Fig. 5.4
+    box plot link, the law parameters per sample with their mean, std and CV, and the thesis's
+    own Table 5.2 under the same criterion.
+
+    Parameters
+    ----------
+    S : dict
+        The summary returned by :func:`analyze_samples` (the content of ``samples.json``).
+
+    Returns
+    -------
+    str
+        Markdown text ending with a newline.
+    """
     laws = list(S["laws"])
     acc = S["acceptance"]
     verdict = {p["sample"]: p for p in acc["per_sample"]}

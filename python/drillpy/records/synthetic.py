@@ -49,7 +49,21 @@ DAMPING_RATIO = 0.05
 
 def declared_config(preset: str = "thesis-rig", damping_ratio: float = DAMPING_RATIO) -> dict:
     """The declared model of the synthetic records: the preset with a reversible law (beta1 = 0),
-    modal damping ``damping_ratio``, an ideal top drive, ideal sensors and no extra damping."""
+    modal damping ``damping_ratio``, an ideal top drive, ideal sensors and no extra damping.
+
+    Parameters
+    ----------
+    preset : str
+        Engine preset (``thesis-rig``: Table 5.1, one mode at 2.89 Hz).
+    damping_ratio : float
+        Modal damping ratio of the first mode [-] (:data:`DAMPING_RATIO`, 0.05, by default).
+
+    Returns
+    -------
+    dict
+        Normalized engine configuration: the preset's law with ``beta1 = 0`` (if it has one), no
+        bit viscous torque (``bit_viscous_nms = 0``), no ``top_drive`` and no ``sensors`` section.
+    """
     cfg = copy.deepcopy(load_config(preset=preset))
     cfg["damping"] = {"type": "modal", "ratios": [float(damping_ratio)]}
     if "beta1" in cfg["law"]:
@@ -61,7 +75,32 @@ def declared_config(preset: str = "thesis-rig", damping_ratio: float = DAMPING_R
 
 
 def truth_config(seed: int, *, modes: int = 3, elements: int = 40, dt_factor: int = 4) -> tuple:
-    """A truth away from :func:`declared_config`, drawn from ``seed``: (config, the draws)."""
+    """A truth away from :func:`declared_config`, drawn from ``seed``: (config, the draws).
+
+    Drawn uniformly: the modal damping ratio in [0.03, 0.08] (every mode), Young's modulus (so
+    GJ) times a factor in [0.985, 1.015], the slip branch a4..a7 of the Eq. (5.1) law times a
+    factor in [0.92, 1.08] and a5 (the slope) times a further factor in [0.9, 1.1]. The same seed
+    gives the same truth.
+
+    Parameters
+    ----------
+    seed : int
+        Seed of the draws.
+    modes : int
+        Modes of the reduced-order model (the declared model has 1).
+    elements : int
+        Finite elements per string section.
+    dt_factor : int
+        The engine time step is the declared one divided by this.
+
+    Returns
+    -------
+    config : dict
+        Normalized engine configuration of the truth.
+    draws : dict
+        ``damping_ratio``, ``gj_factor``, ``law_scale``, ``law_slope_factor``, ``modes``,
+        ``elements`` and ``dt_s`` [s].
+    """
     rng = np.random.default_rng([seed, 7919])
     cfg = copy.deepcopy(declared_config())
     z = float(rng.uniform(0.03, 0.08))
@@ -86,7 +125,31 @@ def truth_config(seed: int, *, modes: int = 3, elements: int = 40, dt_factor: in
 class Truth:
     """What the effects' ``inject`` change: the truth's configuration, its input series on the grid
     ``sdt`` (the recorded WOB ``wob``, the law's WOB ``wob_law``, the relative torque fluctuation
-    ``eta``, the top-speed series ``top``) and functions applied to the recorded channels (``post``)."""
+    ``eta``, the top-speed series ``top``) and functions applied to the recorded channels (``post``).
+
+    Attributes
+    ----------
+    cfg : dict
+        Engine configuration of the truth (effects may edit it).
+    wob : ndarray
+        Recorded WOB [N] on the grid ``sdt``, from the start of the simulation (settling
+        included) to one second past its end.
+    sdt : float
+        Step of the input series [s] (1 ms).
+    seed : int
+        Seed of every random series.
+    wob_law : ndarray or None
+        WOB the law sees [N] (the ``wob_coupling`` effect); None: the configured constant WOB.
+    eta : ndarray or None
+        Relative torque fluctuation eta(t) [-] of Eq. (4.1), T = T_law (1 + eta) (the
+        ``torque_fluctuation`` effect); None: none.
+    top : ndarray or None
+        Top-speed series [rad/s] imposed on the top drive (e.g. ``top_speed_ramp``); None: the
+        configured top drive.
+    post : list of callable
+        ``f(chans, fs_hz) -> chans`` applied in order to the recorded channels (dict of SI
+        arrays) before the noise is added, e.g. the low-pass acquisition filter of ``sensor_lag``.
+    """
     cfg: dict
     wob: np.ndarray
     sdt: float
@@ -97,7 +160,23 @@ class Truth:
     post: list = field(default_factory=list)
 
     def process(self, psd, stream: str) -> np.ndarray:
-        """A realization of unit variance of a Gaussian process with one-sided PSD ``psd``."""
+        """A realization of unit variance of a Gaussian process with one-sided PSD ``psd``.
+
+        Parameters
+        ----------
+        psd : PsdModel, PsdTable or callable
+            One-sided PSD S(f) [1/Hz] (:mod:`drillpy.uncertainty.process`); only its shape
+            matters, the realization is scaled to unit variance.
+        stream : str
+            Which of the seed's independent streams to use: ``"wob"``, ``"eta"``,
+            ``"bit_speed"``, ``"top_speed"``, ``"torque_on_bit"`` or ``"wob_noise"`` (an effect
+            uses the one named after what it drives).
+
+        Returns
+        -------
+        ndarray
+            One value per sample of :attr:`wob`, on the grid ``sdt``.
+        """
         return _unit_process(psd, self.sdt, self.wob.size * self.sdt, self.seed, _STREAMS[stream])[: self.wob.size]
 
 
@@ -143,6 +222,9 @@ def synthetic_record(effects=(), *, duration_s: float = 12.0, seed: int = 0, fs_
         Sampling rate of the record [Hz] (the engine's step must divide 1 / fs_hz).
     noise : float
         Multiplier of the noise standard deviations :data:`NOISE` (0: noise free).
+    settle_s : float
+        Simulated time dropped at the start [s]: the truth starts at rest and settles into its
+        stick-slip before the record begins (the record's time starts at 0).
     wob_std, wob_band_hz : float
         Relative standard deviation of the recorded WOB and its band [Hz].
     nuisance : bool
