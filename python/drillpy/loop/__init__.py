@@ -27,10 +27,13 @@ Starting from a declared model (a preset or a JSON configuration), :func:`run_lo
 
 **Metric** (the number ``loop.json`` reports): the normalized short-horizon prediction error
 
-    E = sqrt( 1/2 [ mean (v_pred - v)^2 / s_v^2 + mean (T_pred - T)^2 / s_T^2 ] )
+    E = sqrt( 1/3 [ mean (v_pred - v)^2 / s_v^2 + mean (T_pred - T)^2 / s_T^2 + mean (top_pred - top)^2 / s_v^2 ] )
 
-over all samples of the horizons of a part (v bit speed, T torque on bit as recorded; s_v, s_T their
-standard deviations over the calibration part, fixed for the whole loop); every ``horizon_s`` the
+over all samples of the horizons of a part (v bit speed [rad/s], T torque on bit [N m], top top
+speed [rad/s], as recorded; s_v, s_T the standard deviations of bit speed and torque over the
+calibration part, fixed for the whole loop; the top-speed term counts zero where the recorded top
+speed is not a measurement, and without a top-speed channel the sum has two terms, over 2:
+:func:`.model.score`); every ``horizon_s`` the
 model restarts from the state that reproduces the measured bit speed, acceleration, torque on bit
 and top speed (``Integrator::state_from_bit``) and the engine integrates the horizon
 (``drill/horizons.hpp``). E = 0 is a perfect prediction; E = 1 is as far off, on average, as the

@@ -32,6 +32,68 @@ class LoopData:
     ``top``..``top3``; ``W``, ``W1``, ``W2``); ``v_meas`` and ``T_meas`` are the recorded values the
     predictions are compared with. Horizon h starts at sample ``starts[h]`` and predicts the next
     ``L`` samples; ``is_test[h]`` marks the validation horizons.
+
+    Every per-sample array below has one value per sample of the analysis grid ``t``.
+
+    Attributes
+    ----------
+    source : str
+        Where the record came from (its file, or ``"record"``).
+    t : numpy.ndarray
+        Time of each analysis sample [s] (the record's own time stamps, decimated).
+    dt : float
+        Analysis sampling interval [s] (the record's interval times ``decimation``).
+    ch : dict
+        Savitzky-Golay estimates (order 4, ``derivative_window_s``) on the analysis grid: ``v`` bit
+        speed [rad/s] and ``v1``..``v3`` its derivatives [rad/s^2, rad/s^3, rad/s^4]; ``T`` torque on
+        bit [N m] and ``T1``, ``T2`` [N m/s, N m/s^2]; ``top`` top speed [rad/s] and ``top1``..``top3``
+        (with a top-speed channel); ``W`` WOB [N] and ``W1``, ``W2`` (with a WOB channel).
+        Excluded samples are interpolated over before filtering.
+    v_meas : numpy.ndarray
+        Recorded bit speed [rad/s] (cleaned, excluded samples interpolated): what E compares with.
+    T_meas : numpy.ndarray
+        Recorded torque on bit [N m], the same way.
+    valid : numpy.ndarray
+        Boolean: the sample and every sample within a filter half-width of it survived the cleaning.
+    has_top : bool
+        The record has a top-speed channel.
+    has_wob : bool
+        The record has a WOB channel.
+    stick_threshold : float
+        Bit speed [rad/s] at or below which the bit counts as stuck: ``stick_fraction`` times the
+        median recorded top speed (the declared top speed without a top-speed channel).
+    t_split : float
+        End of the calibration part [s]: t[0] + ``calibration_fraction`` (t[-1] - t[0]).
+    starts : numpy.ndarray
+        Restart sample of every horizon kept (int); horizon h predicts samples starts[h] + 1 ..
+        starts[h] + L.
+    is_test : numpy.ndarray
+        Boolean per horizon: True for the validation part, False for the calibration part.
+    L : int
+        Samples per horizon, round(``horizon_s`` / dt).
+    sigma_v : float
+        Standard deviation of the recorded bit speed over the calibration part's valid samples
+        [rad/s] (sd_v of the metric E, fixed for the whole loop).
+    sigma_T : float
+        Standard deviation of the recorded torque on bit over the calibration part [N m] (sd_T).
+    top_meas : numpy.ndarray or None
+        Recorded top speed [rad/s] (None without a top-speed channel).
+    top_ok : numpy.ndarray or None
+        Boolean: the top-speed sample is a measurement and valid
+        (:func:`drillpy.records.rigsim.reliable_top_speed`); the top-speed term of E uses only these.
+    law_train : numpy.ndarray
+        Sample indices of the law residual on the calibration part: slip samples (bit speed above
+        the stick threshold), valid, thinned to about 100 Hz.
+    law_test : numpy.ndarray
+        The same on the validation part.
+    cleaning : list of str
+        The cleaning's summary lines (:meth:`drillpy.records.cleaning.CleaningReport.lines`).
+    decimation : int
+        Decimation factor from the record's rate to the analysis rate.
+    record_rate_hz : float
+        The record's own sampling rate [Hz].
+    record : Record or None
+        The cleaned record at its own rate (the long-run check).
     """
     source: str
     t: np.ndarray
@@ -64,6 +126,13 @@ class LoopData:
         return self.starts[:, None] + 1 + np.arange(self.L)[None, :]
 
     def channels(self) -> tuple:
+        """The optional channels the record has, as named in an effect's ``needs``.
+
+        Returns
+        -------
+        tuple of str
+            A subset of ``("top_speed", "wob")``.
+        """
         return tuple(c for c, ok in (("top_speed", self.has_top), ("wob", self.has_wob)) if ok)
 
 
@@ -73,7 +142,38 @@ def _savgol_set(x: np.ndarray, dt: float, window_s: float, orders) -> list:
 
 
 def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopData:
-    """Clean a record, estimate derivatives, decimate, cut horizons and split them."""
+    """Clean a record, estimate derivatives, decimate, cut horizons and split them.
+
+    The record is cleaned (:func:`drillpy.records.cleaning.clean`, spikes searched in the encoder
+    channels only), its channels and their derivatives estimated by Savitzky-Golay filters at the
+    record's rate and decimated by the integer factor that brings it to at most ``opt.rate_hz``.
+    Horizons of ``opt.horizon_s`` are cut from :data:`FIRST_START_S` on; a horizon that holds an
+    excluded sample or straddles ``t_split`` is dropped.
+
+    Parameters
+    ----------
+    record : Record, str or Path
+        The measured record, or its file (:func:`drillpy.records.io.read_record`). It must have
+        bit speed and torque on bit; top speed and WOB are optional.
+    cfg : dict
+        The declared configuration (normalized); its ``operation.top_speed_rad_s`` [rad/s] sets the
+        stick threshold when the record has no top-speed channel.
+    opt : LoopOptions
+        ``horizon_s``, ``calibration_fraction``, ``rate_hz``, ``derivative_window_s`` and
+        ``stick_fraction`` are used.
+
+    Returns
+    -------
+    LoopData
+        The record on the analysis grid with its horizons and split.
+
+    Raises
+    ------
+    ValueError
+        Fewer than 10 valid samples; a horizon shorter than two samples; fewer than 4 calibration
+        or 4 validation horizons; a constant bit speed or torque over the calibration part; fewer
+        than 20 slip samples in the calibration part for the law fit.
+    """
     raw = read_record(record) if isinstance(record, (str, Path)) else record
     for need in ("bit_speed", "torque_on_bit"):
         raw.channel(need)
@@ -148,6 +248,21 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopDat
 
 
 def measured(data: LoopData, horizons=None) -> tuple:
+    """The recorded bit speed and torque on bit over the samples of horizons.
+
+    Parameters
+    ----------
+    data : LoopData
+        The record on the analysis grid.
+    horizons : array_like of int, optional
+        Horizon indices (default: every horizon).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        (bit speed [rad/s], torque on bit [N m]), each of shape (horizons, L): row h holds the
+        samples that horizon predicts (:attr:`LoopData.horizon_samples`).
+    """
     h = np.arange(data.starts.size) if horizons is None else np.asarray(horizons)
     s = data.horizon_samples[h]
     return data.v_meas[s], data.T_meas[s]

@@ -128,7 +128,21 @@ def _check_finite_count(name: str, x: np.ndarray) -> np.ndarray:
 
 
 def smooth_sign(x: np.ndarray, eps: float | None = None) -> np.ndarray:
-    """Smooth sign x / sqrt(x^2 + eps^2); ``eps`` defaults to 5 % of the mean |x| (NaN ignored)."""
+    """Smooth sign x / sqrt(x^2 + eps^2); ``eps`` defaults to 5 % of the mean |x| (NaN ignored).
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Values (e.g. bit speed [rad/s]).
+    eps : float, optional
+        Regularization, in the unit of ``x`` (default :data:`SIGN_EPS_FRACTION` x mean |x|); when
+        it is not positive the plain sign is returned.
+
+    Returns
+    -------
+    numpy.ndarray
+        Values in (-1, 1), same shape as ``x``.
+    """
     x = np.asarray(x, float)
     if eps is None:
         eps = SIGN_EPS_FRACTION * float(np.nanmean(np.abs(x)))

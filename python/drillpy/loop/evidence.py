@@ -24,7 +24,34 @@ def _autocorrelation_time(x: np.ndarray) -> float:
 def evidence(before: Evaluation, after: Evaluation, data: LoopData, n_candidates: int, opt: LoopOptions) -> dict:
     """The evidence for ``after`` against ``before`` (the null candidate of the round, or the model
     with an effect removed): signature, validation improvement and its significance, information
-    criterion, and the guard's decision."""
+    criterion, and the guard's decision.
+
+    The guard (docs/loop.md, "The evidence"): validation gain 1 - E_val(after) / E_val(before) of
+    at least ``min_gain``; a one-sided t-test of the per-horizon log error ratios over the
+    validation horizons at the effective number n / tau, p below ``alpha`` / ``n_candidates``;
+    dBIC = n_eff ln(E_cal(before)^2 / E_cal(after)^2) - dk ln(n_eff) above ``min_delta_bic``.
+
+    Parameters
+    ----------
+    before : Evaluation
+        The reference (the null candidate, or the model with the effect).
+    after : Evaluation
+        The model questioned (the candidate, or the model without the effect).
+    data : LoopData
+        The record on the analysis grid.
+    n_candidates : int
+        Number of candidates in the round (Bonferroni correction of ``alpha``).
+    opt : LoopOptions
+        ``min_gain``, ``alpha`` and ``min_delta_bic`` are used.
+
+    Returns
+    -------
+    dict
+        ``explained_fraction`` (share of the calibration residual the prediction change explains),
+        the errors before and after on both parts, ``relative_gain``, ``t_statistic``, ``p_value``,
+        ``level``, ``validation_horizons``, ``effective_horizons``, ``delta_bic``, ``n_eff``,
+        ``added_parameters``, the law residual RMSEs [N m], ``accepted`` and ``reasons`` (why not).
+    """
     te, tr = data.is_test, ~data.is_test
     gain = 1.0 - after.E_test / before.E_test
     d = np.log(before.e_h[te] / after.e_h[te])
@@ -61,7 +88,18 @@ def evidence(before: Evaluation, after: Evaluation, data: LoopData, n_candidates
 
 def trivial_predictors(data: LoopData) -> dict:
     """E (validation part) of two predictors that know no physics: the calibration part's mean of
-    each channel, and the value at the restart held over the horizon."""
+    each channel, and the value at the restart held over the horizon.
+
+    Parameters
+    ----------
+    data : LoopData
+        The record on the analysis grid.
+
+    Returns
+    -------
+    dict
+        ``mean`` and ``hold_last``: their E on the validation part [-].
+    """
     tr = data.valid & (data.t < data.t_split)
     L = data.L
     n = data.starts.size
@@ -76,7 +114,21 @@ def trivial_predictors(data: LoopData) -> dict:
 
 def adequacy(base: Evaluation, data: LoopData) -> dict:
     """The declared model against the trivial predictors: adequate when its validation error is
-    below both."""
+    below both.
+
+    Parameters
+    ----------
+    base : Evaluation
+        The calibrated declared model.
+    data : LoopData
+        The record on the analysis grid.
+
+    Returns
+    -------
+    dict
+        ``baseline_error``, ``mean_predictor_error``, ``hold_last_predictor_error`` (E, validation
+        part), ``adequate`` and ``skill`` = 1 - E / (the better trivial predictor's E).
+    """
     triv = trivial_predictors(data)
     best = min(triv.values())
     return {"baseline_error": base.E_test, "mean_predictor_error": triv["mean"],
@@ -98,7 +150,25 @@ def law_evidence(effect, null_model, data: LoopData, opt: LoopOptions) -> tuple:
     effective sample size n / tau, p < ``alpha``), measured on the record's channels (a measurement
     chain in the model is not undone for this test: that differentiates the noise twice). A
     stiffness or damping mismatch leaves that residual unchanged, however much a law term improves
-    the predictions by mimicking it. Returns (RMSE before, after [N m], reasons)."""
+    the predictions by mimicking it. Returns (RMSE before, after [N m], reasons).
+
+    Parameters
+    ----------
+    effect : Effect
+        The candidate effect (only ``"law"`` effects are tested).
+    null_model : LoopModel
+        The round's null candidate (its effects, without the measurement chains).
+    data : LoopData
+        The record on the analysis grid.
+    opt : LoopOptions
+        ``alpha`` is used.
+
+    Returns
+    -------
+    tuple
+        (law residual RMSE without and with the effect [N m], list of str reasons; empty: the
+        evidence holds); (None, None, []) for an effect that is not law-level.
+    """
     if effect.level != "law":
         return None, None, []
     from .effects import CATALOGUE

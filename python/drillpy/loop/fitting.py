@@ -60,7 +60,21 @@ def _law_family(law: dict, hysteresis: bool, a_scale: float) -> tuple:
 
 
 def law_fit_residual(model: LoopModel, data: LoopData) -> np.ndarray:
-    """The law residual [N m] on the calibration part's slip samples after :func:`fit_law`."""
+    """The law residual [N m] on the calibration part's slip samples after :func:`fit_law`.
+
+    Parameters
+    ----------
+    model : LoopModel
+        The current model.
+    data : LoopData
+        The record on the analysis grid.
+
+    Returns
+    -------
+    numpy.ndarray
+        T - T_law(v, a, W_eff) [N m] at ``data.law_train`` (channels with the model's measurement
+        chain undone, :func:`drillpy.loop.model.law_channels`).
+    """
     m = fit_law(model, data)
     chs = law_channels(m, data)
     idx = data.law_train
@@ -90,7 +104,25 @@ def _inside(bound: np.ndarray, sign: int) -> np.ndarray:
 def fit_law(model: LoopModel, data: LoopData) -> LoopModel:
     """Least squares on the law residual of the calibration part's slip samples: the law's free
     parameters, with the hysteresis term when ``bit_hysteresis`` is in the model and the coupling
-    gain k when ``wob_coupling`` is."""
+    gain k when ``wob_coupling`` is.
+
+    The law family follows the declared law (polynomial Eq. 5.1/5.3, hysteretic Eq. 3.2, or
+    Tucker-Wang Eq. 3.1), its bounds those of :data:`drillpy.records.identification.FAMILIES`
+    (beta2 at most :data:`BETA2_SPREAD` / sd(a)); trust-region least squares, tolerances 1e-10.
+
+    Parameters
+    ----------
+    model : LoopModel
+        The current model.
+    data : LoopData
+        The record on the analysis grid.
+
+    Returns
+    -------
+    LoopModel
+        A copy with the fitted law, ``n_law`` and, when present, the ``bit_hysteresis`` and
+        ``wob_coupling`` parameters updated.
+    """
     m = model.copy()
     chs = law_channels(m, data)
     idx = data.law_train
@@ -182,7 +214,22 @@ def _unpack(model: LoopModel, x, where) -> LoopModel:
 
 
 def e_train(model: LoopModel, data: LoopData, threads: int) -> float:
-    """E on the calibration horizons (inf when the engine refuses the model)."""
+    """E on the calibration horizons (inf when the engine refuses the model).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model to score.
+    data : LoopData
+        The record on the analysis grid.
+    threads : int
+        Engine threads (0: OpenMP default).
+
+    Returns
+    -------
+    float
+        E_train [-], or inf when the prediction fails or is not finite.
+    """
     try:
         r = residual_vector(model, data, threads)
     except (ValueError, RuntimeError):
@@ -197,7 +244,32 @@ def fit_dynamic(model: LoopModel, data: LoopData, names, opt: LoopOptions) -> tu
     ``names`` (the others held), from the model's values, with ``opt.nfev_per_parameter``
     evaluations per parameter. Returns the model and the 95 % intervals of the effects' parameters
     ({effect: {parameter: {"value", "ci95", "at_bound"}}}; the intervals from the Jacobian at the
-    optimum, the residual variance inflated by its autocorrelation time)."""
+    optimum, the residual variance inflated by its autocorrelation time).
+
+    Parameters ``"log"``-scaled (and the damping ratios, bounds :data:`DAMPING_BOUNDS`) are fitted
+    in ln; a trial the engine refuses scores a residual of 10 everywhere. Trust region, relative
+    step 1e-3, tolerances 1e-6.
+
+    Parameters
+    ----------
+    model : LoopModel
+        The current model.
+    data : LoopData
+        The record on the analysis grid.
+    names : list of str
+        What to fit: :data:`LAW` (the law's free parameters, with the ``wob_coupling`` gain),
+        :data:`DAMPING` (the modal damping ratios) and effect names (their
+        :meth:`~drillpy.loop.effects.base.Effect.free` parameters).
+    opt : LoopOptions
+        ``nfev_per_parameter`` and ``threads`` are used.
+
+    Returns
+    -------
+    tuple
+        (fitted LoopModel, intervals dict); an unchanged copy and {} when nothing is free.
+        ``ci95`` is None for a parameter at its bound (``at_bound`` True) or without a finite
+        standard error.
+    """
     x0, lo, hi, where = _pack(model, data, names)
     if x0.size == 0:
         return model.copy(), {}
@@ -248,7 +320,23 @@ def _calibrate(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
 
 
 def eta_std(model: LoopModel, data: LoopData) -> float:
-    """Standard deviation of T / T_law - 1 over the calibration part's slip samples."""
+    """Standard deviation of T / T_law - 1 over the calibration part's slip samples.
+
+    Samples where |T_law| is below 10 % of its median are left out. The ``std`` of
+    ``torque_fluctuation`` (eta of Eq. 4.1).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The current model.
+    data : LoopData
+        The record on the analysis grid.
+
+    Returns
+    -------
+    float
+        The standard deviation of eta [-].
+    """
     chs = law_channels(model, data)
     idx = data.law_train
     Tl = law_torque(model, chs, idx)
@@ -264,7 +352,22 @@ def _finish(model: LoopModel, data: LoopData) -> LoopModel:
 
 def refit(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
     """Calibrate every parameter of a model from a fresh law fit and from its own values; the
-    calibration (never the validation) error decides. Returns (model, intervals)."""
+    calibration (never the validation) error decides. Returns (model, intervals).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The current model.
+    data : LoopData
+        The record on the analysis grid.
+    opt : LoopOptions
+        The loop's options (the optimizer's budget, threads).
+
+    Returns
+    -------
+    tuple
+        (LoopModel, intervals as :func:`fit_dynamic`).
+    """
     a = _calibrate(fit_law(model, data), data, opt)
     b = _calibrate(model, data, opt)
     best = a if e_train(a[0], data, opt.threads) < e_train(b[0], data, opt.threads) else b
@@ -273,7 +376,22 @@ def refit(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
 
 def null_candidate(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
     """The control of a round: the current model recalibrated, no effect added, same procedure and
-    budget as every candidate."""
+    budget as every candidate.
+
+    Parameters
+    ----------
+    model : LoopModel
+        The current model.
+    data : LoopData
+        The record on the analysis grid.
+    opt : LoopOptions
+        The loop's options (the optimizer's budget, threads).
+
+    Returns
+    -------
+    tuple
+        (LoopModel, intervals as :func:`fit_dynamic`).
+    """
     m, ci = _calibrate(model, data, opt)
     return _finish(m, data), ci
 
@@ -281,7 +399,22 @@ def null_candidate(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
 def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:
     """The declared model calibrated on the calibration part: its catalogue effects taken out of
     the configuration into the model, the law, the damping ratios, the effects' parameters, and
-    the operating point (top speed and WOB: the calibration part's means). Returns (model, intervals)."""
+    the operating point (top speed and WOB: the calibration part's means). Returns (model, intervals).
+
+    Parameters
+    ----------
+    cfg : dict
+        The declared engine configuration (normalized, at the loop's engine step).
+    data : LoopData
+        The record on the analysis grid.
+    opt : LoopOptions
+        The loop's options (the optimizer's budget, threads).
+
+    Returns
+    -------
+    tuple
+        (LoopModel, intervals as :func:`fit_dynamic`).
+    """
     tr = data.valid & (data.t < data.t_split)
     om = float(np.mean(data.ch["top"][tr])) if data.has_top else float(cfg["operation"]["top_speed_rad_s"])
     w0 = float(np.mean(data.ch["W"][tr])) if data.has_wob else float(cfg["operation"]["wob_n"])
@@ -294,7 +427,32 @@ def fit_candidate(model: LoopModel, data: LoopData, name: str, opt: LoopOptions)
     """The model with effect ``name`` added, started from the current values and the effect's best
     start (an effect that reshapes the law also from the law refitted on the law residual with it:
     the calibration error of the starts decides), calibrated like the null candidate. Returns
-    (model, intervals)."""
+    (model, intervals).
+
+    A law-level effect is started from its defaults and fitted with the law on the law residual
+    first. An effect whose direct measurement is significant starts from the measured values only.
+
+    Parameters
+    ----------
+    model : LoopModel
+        The current model.
+    data : LoopData
+        The record on the analysis grid.
+    name : str
+        The catalogue name of the effect to add.
+    opt : LoopOptions
+        The loop's options (the optimizer's budget, threads).
+
+    Returns
+    -------
+    tuple
+        (LoopModel, intervals as :func:`fit_dynamic`).
+
+    Raises
+    ------
+    ValueError
+        No start the engine accepts.
+    """
     eff = CATALOGUE[name]
     m = model.copy()
     if eff.level == "law":
@@ -319,7 +477,29 @@ def fit_candidate(model: LoopModel, data: LoopData, name: str, opt: LoopOptions)
 def parameter_evidence(model: LoopModel, name: str, ci: dict, data: LoopData) -> tuple:
     """(parameters with intervals, reasons against crediting the effect): each fitted parameter
     must be inside its bounds and its interval must exclude the no-effect value; the effect's own
-    plausibility checks must pass."""
+    plausibility checks must pass.
+
+    A parameter at a bound that is not ``binding`` (a shape parameter) is only flagged; the
+    no-effect value is widened by the parameter's ``margin``. A directly measured parameter takes
+    the direct measurement's interval.
+
+    Parameters
+    ----------
+    model : LoopModel
+        The fitted candidate (with the effect).
+    name : str
+        The effect's catalogue name.
+    ci : dict
+        Intervals from :func:`fit_dynamic` ({effect: {parameter: {"value", "ci95", "at_bound"}}}).
+    data : LoopData
+        The record (for the effect's :meth:`~drillpy.loop.effects.base.Effect.flags`).
+
+    Returns
+    -------
+    tuple
+        ({parameter: {"value", "ci95", "at_bound", "unit", ...}}, list of str reasons; empty: the
+        parameters are significant and physical).
+    """
     eff = CATALOGUE[name]
     p = model.effects.get(name, {})
     rows, reasons = {}, []

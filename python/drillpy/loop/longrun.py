@@ -25,7 +25,25 @@ SETTLE_S = 2.0
 def simulate_record(model: LoopModel, data: LoopData) -> Record:
     """The model over the record's span at its operating point: the model's top drive (ideal at
     the calibrated top speed, the motor, or the measured top speed), the measured WOB when the law
-    takes it, after the model's measurement chain, on the record's time grid."""
+    takes it, after the model's measurement chain, on the record's time grid.
+
+    The simulation starts :data:`SETTLE_S` before the record's span (drive series held at their
+    first value) at an engine step that divides the record's interval; the torque on bit is the
+    contact torque (the viscous torque outside the sensor removed).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model to simulate.
+    data : LoopData
+        The record; its cleaned record at its own rate (``data.record``) is used.
+
+    Returns
+    -------
+    Record
+        Simulated bit speed, top speed [rad/s] and torque on bit [N m] on the record's time grid,
+        the WOB at W_0 [N].
+    """
     rec = data.record
     t, dt = rec.time_s, rec.dt
     cfg = model.engine_config()
@@ -74,13 +92,43 @@ def _filled(rec: Record, name: str) -> np.ndarray:
 
 def stick_slips(m: dict) -> bool:
     """Whether metrics describe a stick-slip cycle: the bit sticks (stick fraction at least
-    :data:`STICK_FRACTION`; a large SS without sticking is a torsional oscillation, not stick-slip)."""
+    :data:`STICK_FRACTION`; a large SS without sticking is a torsional oscillation, not stick-slip).
+
+    Parameters
+    ----------
+    m : dict
+        Stick-slip metrics with a ``stick_fraction`` entry [-] (None or missing counts as 0).
+
+    Returns
+    -------
+    bool
+        True when it stick-slips.
+    """
     return bool((m.get("stick_fraction") or 0.0) >= STICK_FRACTION)
 
 
 def long_run(model: LoopModel, data: LoopData) -> dict:
     """{"measured": {...}, "model": {...}, "relative_error": {...}, "stick_slips": {...}} for SS,
-    stick fraction and cycle frequency [Hz]; a model the engine refuses gets ``"error"``."""
+    stick fraction and cycle frequency [Hz]; a model the engine refuses gets ``"error"``.
+
+    SS is the stick-slip severity of Eq. (3.4), (max - min bit speed) / (2 mean top speed), from
+    the reliable mean top speed; the metrics of the record and of :func:`simulate_record` are
+    computed alike (:func:`drillpy.records.rigsim.compare`, the record's stick threshold).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model to simulate.
+    data : LoopData
+        The record.
+
+    Returns
+    -------
+    dict
+        ``measured`` and ``model``: {``ss`` [-], ``stick_fraction`` [-], ``cycle_frequency_hz``
+        [Hz]} (None where undefined); ``relative_error`` per metric (model vs. measured);
+        ``stick_slips``: {``measured``, ``model``} booleans; or {``"error"``: message}.
+    """
     try:
         sim = simulate_record(model, data)
     except (ValueError, RuntimeError) as err:
@@ -99,7 +147,20 @@ def long_run(model: LoopModel, data: LoopData) -> dict:
 
 def destroys_cycle(before: dict, after: dict) -> bool:
     """A correction destroys the measured stick-slip cycle when the record and the model before it
-    stick-slip and the model after it does not."""
+    stick-slip and the model after it does not.
+
+    Parameters
+    ----------
+    before : dict
+        :func:`long_run` of the model before the correction.
+    after : dict
+        :func:`long_run` of the corrected model (an ``"error"`` counts as destroyed).
+
+    Returns
+    -------
+    bool
+        True when the correction is to be rejected.
+    """
     if "error" in after:
         return True
     if "error" in before:

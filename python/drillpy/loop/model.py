@@ -25,7 +25,34 @@ from .effects import CATALOGUE
 @dataclass
 class LoopModel:
     """A calibrated model: the declared configuration without the catalogue's effects, its
-    calibrated law, modal damping ratios and operating point, and its effects (SI parameters)."""
+    calibrated law, modal damping ratios and operating point, and its effects (SI parameters).
+
+    Attributes
+    ----------
+    cfg : dict
+        The declared engine configuration with every catalogue effect stripped
+        (:func:`drillpy.loop.effects.stripped`): string geometry, reduced-order model, damping
+        (the calibrated modal ratios in ``cfg["damping"]["ratios"]``), law family, operation and
+        simulation settings at the loop's engine step.
+    law : dict
+        The calibrated bit-rock law (engine ``law`` section: ``type``, ``speed_unit`` and its
+        coefficients, in the law's own speed unit), with the hysteresis term when
+        ``bit_hysteresis`` is an effect.
+    top_speed : float
+        Constant top speed of the ideal drive [rad/s]: the calibration part's mean recorded top
+        speed (the declared one without a top-speed channel).
+    wob : float
+        WOB W_0 at which the law is evaluated [N]: the calibration part's mean recorded WOB (the
+        declared one without a WOB channel).
+    effects : dict
+        Effect name -> parameter dict (name -> value in the parameter's unit), declared or added.
+    n_law : int
+        Free parameters of the law (the hysteresis term and the WOB gain counted with their
+        effects).
+    damping_held : bool
+        True: the modal damping ratios are set by the limit cycle, not fitted
+        (``run._hold_damping``); they then do not count in :attr:`k`.
+    """
     cfg: dict
     law: dict
     top_speed: float  #: constant top speed of the ideal drive [rad/s]
@@ -35,6 +62,7 @@ class LoopModel:
     damping_held: bool = False  #: the damping ratios are set by the limit cycle, not fitted (run._hold_damping)
 
     def copy(self) -> "LoopModel":
+        """A deep copy (configuration, law and effects' parameter dicts included)."""
         return copy.deepcopy(self)
 
     @property
@@ -72,6 +100,24 @@ class LoopModel:
 
     @classmethod
     def from_dict(cls, d: dict) -> "LoopModel":
+        """Read a model back from the dict of ``model.json`` (:meth:`to_dict`).
+
+        Parameters
+        ----------
+        d : dict
+            ``{"format": "drillpy.loop_model", "base_config", "law", "top_speed_rad_s" [rad/s],
+            "wob_n" [N], "effects", "n_law" (optional), "damping_held" (optional), ...}``.
+
+        Returns
+        -------
+        LoopModel
+            The model; its engine configuration is rebuilt from ``base_config`` and the effects.
+
+        Raises
+        ------
+        ValueError
+            Not a loop model, an effect outside the catalogue, or a missing key.
+        """
         if not isinstance(d, dict) or d.get("format") != "drillpy.loop_model":
             raise ValueError("model: not a drillpy loop model (format must be 'drillpy.loop_model')")
         try:
@@ -89,7 +135,20 @@ _SIMS: dict = {}
 
 
 def simulation(cfg: dict) -> "_core.Simulation":
-    """The engine's Simulation of a configuration (cached by its JSON text)."""
+    """The engine's Simulation of a configuration (cached by its JSON text).
+
+    The cache holds at most 65 simulations; it is emptied when full.
+
+    Parameters
+    ----------
+    cfg : dict
+        A complete engine configuration (e.g. :meth:`LoopModel.engine_config`).
+
+    Returns
+    -------
+    drillpy._core.Simulation
+        The engine's model of the configuration (shared between callers: do not modify it).
+    """
     text = to_json_text(cfg)
     sim = _SIMS.get(text)
     if sim is None:
@@ -101,7 +160,20 @@ def simulation(cfg: dict) -> "_core.Simulation":
 
 def motor_inertia_floor(model: LoopModel) -> float:
     """Smallest motor inertia [kg m^2] for which the engine's modified-Euler bound with the motor
-    (Eq. A.7, ``Simulation.motor_stability_bound``) admits the engine step: bisection in ln J."""
+    (Eq. A.7, ``Simulation.motor_stability_bound``) admits the engine step: bisection in ln J.
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model (its string, law, operating point and engine step ``simulation.dt_s`` [s]); its
+        own top drive, if any, is ignored.
+
+    Returns
+    -------
+    float
+        The inertia J_m [kg m^2] between 1e-12 and 10 (60 bisections in ln J) at which the bound
+        meets the step; 1e-12 when even that admits it.
+    """
     dt = model.cfg["simulation"]["dt_s"]
     c = model.engine_config()
     c.pop("top_drive", None)
@@ -116,7 +188,19 @@ def motor_inertia_floor(model: LoopModel) -> float:
 
 
 def sensor_delay(model: LoopModel) -> float:
-    """Delay of the recorded channels behind the model's state [s] (its sensors; 0 without)."""
+    """Delay of the recorded channels behind the model's state [s] (its sensors; 0 without).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model; the delays of its effects (:meth:`~drillpy.loop.effects.base.Effect.delay_s`)
+        add.
+
+    Returns
+    -------
+    float
+        The delay tau [s] (sqrt(2) / omega_c for a second-order Butterworth sensor).
+    """
     return sum(CATALOGUE[n].delay_s(p) for n, p in model.effects.items())
 
 
@@ -133,7 +217,23 @@ def state_channels(model: LoopModel, data: LoopData) -> dict:
     ``a``, torque ``T``, top speed ``top`` and its rate ``dtop``, WOB ``W`` and the law's WOB input
     ``W_eff``. With sensors the recorded channels lag the model's by about the filter's group delay
     tau: the model at time t is read off the record at t + tau (causal for a restart placed tau
-    before the horizon: :func:`predict`)."""
+    before the horizon: :func:`predict`).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model (its sensors' delay and the law's WOB input).
+    data : LoopData
+        The record on the analysis grid.
+
+    Returns
+    -------
+    dict
+        Arrays on the analysis grid: ``v`` [rad/s], ``a`` [rad/s^2], ``T`` [N m]; with a top-speed
+        channel ``top`` [rad/s] and ``dtop`` [rad/s^2]; with a WOB channel ``W`` [N]; always
+        ``W_eff`` [N] (the constant W_0 unless an effect such as ``wob_coupling`` maps the recorded
+        WOB).
+    """
     ch, t = data.ch, data.t
     tau = sensor_delay(model)
 
@@ -152,7 +252,22 @@ def state_channels(model: LoopModel, data: LoopData) -> dict:
 
 def law_channels(model: LoopModel, data: LoopData) -> dict:
     """The channels for the law residual (simultaneous v, a, T, W): a second-order measurement chain
-    is undone, x = y + c1 y' + c2 y'' (c1 = sqrt(2)/omega_c, c2 = 1/omega_c^2)."""
+    is undone, x = y + c1 y' + c2 y'' (c1 = sqrt(2)/omega_c, c2 = 1/omega_c^2).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model (the measurement chains of its effects,
+        :meth:`~drillpy.loop.effects.base.Effect.undo`, and the law's WOB input).
+    data : LoopData
+        The record on the analysis grid (the Savitzky-Golay derivatives ``ch``).
+
+    Returns
+    -------
+    dict
+        Arrays on the analysis grid: ``v`` [rad/s], ``a`` [rad/s^2], ``T`` [N m], ``W`` [N] (with a
+        WOB channel) and ``W_eff`` [N], the law's WOB input.
+    """
     ch = data.ch
     c1 = c2 = 0.0
     for name, p in model.effects.items():
@@ -171,7 +286,23 @@ def law_channels(model: LoopModel, data: LoopData) -> dict:
 
 
 def law_torque(model: LoopModel, chs: dict, index=None) -> np.ndarray:
-    """The model's law T_law(v, a, W_eff) [N m] at the state channels (engine evaluation)."""
+    """The model's law T_law(v, a, W_eff) [N m] at the state channels (engine evaluation).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model (its calibrated ``law``).
+    chs : dict
+        Channels with ``v`` [rad/s], ``a`` [rad/s^2] and ``W_eff`` [N]
+        (:func:`state_channels` or :func:`law_channels`).
+    index : array_like of int or slice, optional
+        Samples to evaluate (default: all).
+
+    Returns
+    -------
+    numpy.ndarray
+        The law's torque on bit [N m] at those samples.
+    """
     sl = slice(None) if index is None else index
     return ident.law_eval(model.law, chs["v"][sl], chs["a"][sl], chs["W_eff"][sl])[0]
 
@@ -182,7 +313,33 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
 
     Each horizon restarts D = ceil(tau / dt) samples before its first sample (tau: the sensors'
     delay, 0 without them) from the state read off the record (:func:`state_channels`), with the
-    sensors' filters started from the recorded values and rates at the restart."""
+    sensors' filters started from the recorded values and rates at the restart.
+
+    The effects act through their prediction hooks: the top boundary
+    (:meth:`~drillpy.loop.effects.base.Effect.top_state`; otherwise the ideal drive at
+    ``model.top_speed``), the law's WOB series (``wob_input``), the torque fluctuation's forecast
+    (``eta``) and the restart torque's correction (``restart_torque``). The horizons are integrated
+    in parallel by the engine (``_core.predict_horizons``).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model to predict with.
+    data : LoopData
+        The record on the analysis grid.
+    horizons : array_like of int, optional
+        Horizon indices (default: every horizon).
+    threads : int
+        Engine threads (0: OpenMP default).
+    top : bool
+        Also return the predicted top speed.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        (bit speed [rad/s], torque on bit [N m]) or, with ``top``, (bit speed, torque on bit, top
+        speed [rad/s]), each of shape (horizons, L), aligned with :func:`drillpy.loop.data.measured`.
+    """
     h = np.arange(data.starts.size) if horizons is None else np.asarray(horizons)
     D = int(math.ceil(sensor_delay(model) / data.dt - 1e-9))
     idx = data.starts[h] - D
@@ -223,7 +380,32 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
 
 @dataclass
 class Evaluation:
-    """A model with its predictions of every horizon and its errors."""
+    """A model with its predictions of every horizon and its errors.
+
+    Attributes
+    ----------
+    model : LoopModel
+        The model evaluated.
+    v : numpy.ndarray
+        Predicted bit speed, horizons x L [rad/s].
+    T : numpy.ndarray
+        Predicted torque on bit, horizons x L [N m].
+    top : numpy.ndarray or None
+        Predicted top speed, horizons x L [rad/s] (records with a top-speed channel; else None).
+    e_h : numpy.ndarray
+        Per-horizon normalized mean squared error [-] (:func:`score`).
+    E_train : float
+        Error E on the calibration horizons [-].
+    E_test : float
+        Error E on the validation horizons [-] (``baseline_error``, ``error_after``... of
+        ``loop.json``).
+    law_rmse_train : float
+        Law residual RMSE on the calibration part's slip samples [N m] (NaN without any).
+    law_rmse_test : float
+        Law residual RMSE on the validation part's slip samples [N m].
+    channel_rmse : dict
+        Validation RMSE per channel: ``bit_speed_rad_s`` [rad/s], ``torque_on_bit_nm`` [N m].
+    """
     model: LoopModel
     v: np.ndarray          #: predicted bit speed, horizons x L [rad/s]
     T: np.ndarray          #: predicted torque on bit [N m]
@@ -240,7 +422,27 @@ def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=N
     """Normalized residuals per channel of predictions (horizons x L): bit speed over sd_v, torque
     over sd_T and, with a top-speed channel, top speed over sd_v (the bit speed's spread: a top that
     turns steadily adds nothing; a drive that gives way is an error of the same scale as the bit's),
-    zero where the recorded top speed is not a measurement."""
+    zero where the recorded top speed is not a measurement.
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Predicted bit speed [rad/s], horizons x L.
+    T : numpy.ndarray
+        Predicted torque on bit [N m], horizons x L.
+    top : numpy.ndarray or None
+        Predicted top speed [rad/s], horizons x L (read only when the record has a top speed).
+    data : LoopData
+        The record (its recorded channels and sd_v [rad/s], sd_T [N m]).
+    horizons : array_like of int, optional
+        The horizons the rows are (default: every horizon).
+
+    Returns
+    -------
+    list of numpy.ndarray
+        (prediction - record) / spread [-], one array (horizons x L) per channel: bit speed, torque
+        and, with a top-speed channel, top speed.
+    """
     h = np.arange(data.starts.size) if horizons is None else np.asarray(horizons)
     Yv, YT = measured(data, h)
     out = [(v - Yv) / data.sigma_v, (T - YT) / data.sigma_T]
@@ -252,7 +454,25 @@ def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=N
 
 def score(v: np.ndarray, T: np.ndarray, data: LoopData, top=None) -> tuple:
     """Per-horizon normalized mean squared errors and (E_train, E_test) of predictions (horizons x L):
-    E^2 is the mean over the channels of :func:`channel_errors` squared."""
+    E^2 is the mean over the channels of :func:`channel_errors` squared.
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Predicted bit speed [rad/s] of every horizon, horizons x L.
+    T : numpy.ndarray
+        Predicted torque on bit [N m], horizons x L.
+    data : LoopData
+        The record (its split ``is_test`` and spreads).
+    top : numpy.ndarray, optional
+        Predicted top speed [rad/s], horizons x L (needed when the record has a top speed).
+
+    Returns
+    -------
+    tuple
+        (e_h [-] per horizon, E_train [-] over the calibration horizons, E_test [-] over the
+        validation horizons), E = sqrt(mean e_h).
+    """
     parts = channel_errors(v, T, top, data)
     e_h = sum(np.mean(r ** 2, axis=1) for r in parts) / len(parts)
     te = data.is_test
@@ -260,6 +480,23 @@ def score(v: np.ndarray, T: np.ndarray, data: LoopData, top=None) -> tuple:
 
 
 def evaluate(model: LoopModel, data: LoopData, threads: int = 0) -> Evaluation:
+    """Predict every horizon and score the predictions: E on both parts, the law residual RMSE and
+    the validation RMSE per channel.
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model to evaluate.
+    data : LoopData
+        The record on the analysis grid.
+    threads : int
+        Engine threads (0: OpenMP default).
+
+    Returns
+    -------
+    Evaluation
+        The model with its predictions and errors.
+    """
     v, T, top = predict(model, data, threads=threads, top=True)
     Yv, YT = measured(data)
     e_h, e_tr, e_te = score(v, T, data, top)
@@ -276,7 +513,25 @@ def evaluate(model: LoopModel, data: LoopData, threads: int = 0) -> Evaluation:
 
 def residual_vector(model: LoopModel, data: LoopData, threads: int) -> np.ndarray:
     """Normalized residuals of the calibration horizons (every channel of :func:`channel_errors`);
-    their sum of squares is E_train^2."""
+    their sum of squares is E_train^2.
+
+    The vector the calibration's least squares minimizes (:func:`drillpy.loop.fitting.fit_dynamic`).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model to predict with.
+    data : LoopData
+        The record on the analysis grid.
+    threads : int
+        Engine threads (0: OpenMP default).
+
+    Returns
+    -------
+    numpy.ndarray
+        The residuals [-] of every channel and sample of the calibration horizons, divided by
+        sqrt(channels x samples).
+    """
     h = np.flatnonzero(~data.is_test)
     v, T, top = predict(model, data, h, threads, top=True)
     parts = channel_errors(v, T, top, data, h)
@@ -288,7 +543,20 @@ def bit_equation(model: LoopModel) -> dict:
     inertia, J a = k phi + c (Omega - v) - T - T_extra (phi the twist, Omega the top speed):
     k = 1 / sum(L_i / (G_i J_p,i)) of the sections in series, J = the lumped bit inertia plus a third
     of the string's (the rig's first mode), c = 2 zeta sqrt(k J) with the first modal damping ratio,
-    T_extra the model's torques outside the torque sensor (viscous c_v v, string friction)."""
+    T_extra the model's torques outside the torque sensor (viscous c_v v, string friction).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model (its engine configuration: sections, lumped inertias at the bit, damping ratios,
+        operation).
+
+    Returns
+    -------
+    dict
+        ``k_nm_rad`` k [N m/rad], ``J_kg_m2`` J [kg m^2], ``c_nms_rad`` c [N m s/rad] (0 with
+        Rayleigh damping), ``viscous_nms_rad`` c_v [N m s/rad], ``string_friction_nm`` T_sf [N m].
+    """
     cfg = model.engine_config()
     flex, j_string = 0.0, 0.0
     for s in cfg["string"]["sections"]:
@@ -313,7 +581,27 @@ def equation_residual(model: LoopModel, data: LoopData, highpass_s: float = 2.0)
     offset and a slow drift from an encoder scale mismatch are unknown; a constant term of the
     library takes the mean). Samples where the top speed is not a measurement, and those within
     ``highpass_s`` after one (the integral carries the error), are left out (NaN). None without a
-    top-speed channel."""
+    top-speed channel.
+
+    The residual is J a - k phi - c (top - v) + T + T_extra, its mean over the samples kept removed;
+    the string friction enters with a smooth sign v / sqrt(v^2 + eps^2), eps 5 % of mean |v|.
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model (:func:`bit_equation`).
+    data : LoopData
+        The record on the analysis grid (top speed needed).
+    highpass_s : float
+        Window of the moving average removed from the twist [s].
+
+    Returns
+    -------
+    tuple or None
+        (residual [N m] per sample, NaN where left out; channels dict ``v`` [rad/s], ``a``
+        [rad/s^2], ``T`` [N m], ``twist`` [rad], ``top`` [rad/s], ``dtop`` [rad/s^2] and ``W`` [N]
+        with a WOB channel; the coefficients of :func:`bit_equation`), or None.
+    """
     if not data.has_top:
         return None
     from scipy.ndimage import uniform_filter1d

@@ -73,6 +73,15 @@ class LoopOptions:
     discovery: bool = True
 
     def validate(self) -> None:
+        """Check every option (ranges, types, known effect names).
+
+        Raises
+        ------
+        ValueError
+            On the first option out of its range (e.g. ``horizon_s`` <= 0 s, ``calibration_fraction``
+            outside (0, 1), ``min_gain`` outside [0, 1), ``nfev_per_parameter`` < 1) or an unknown
+            effect in ``effects``.
+        """
         validate.positive("horizon_s", self.horizon_s, "s")
         validate.fraction("calibration_fraction", self.calibration_fraction, closed=False)
         validate.positive("rate_hz", self.rate_hz, "Hz")

@@ -31,7 +31,20 @@ def write_predictions(path, res: LoopResult) -> Path:
     speed, torque on bit and top speed, whether the recorded top speed is a measurement (1; 0: an
     artifact the cleaning filled, left out of E), the baseline's and the final model's predictions
     of the three, whether the sample is in the validation part (1) or the calibration part (0), and
-    the index of the horizon that predicts it."""
+    the index of the horizon that predicts it.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file to write.
+    res : LoopResult
+        A finished loop run.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
     d = res.data
     n = d.t.size
     keys = ("bv", "bT", "btop", "fv", "fT", "ftop", "val", "hor")
@@ -66,6 +79,22 @@ def write_predictions(path, res: LoopResult) -> Path:
 
 
 def evidence_json(res: LoopResult) -> dict:
+    """The content of ``evidence.json``: everything behind the loop's decisions.
+
+    Parameters
+    ----------
+    res : LoopResult
+        A finished loop run.
+
+    Returns
+    -------
+    dict
+        ``metric``; ``record`` (source, samples, rates [Hz], span, calibration and validation
+        parts [s], cleaning, stick threshold [rad/s], sd of bit speed [rad/s] and torque [N m],
+        horizon [s] and counts); ``options``; ``engine_dt_s`` [s]; ``baseline`` and ``final``
+        (errors, validation RMSE, law residual RMSE [N m], parameters, k); ``adequacy``,
+        ``declared``, ``baseline_long_run``, ``steps``, ``rounds``, ``discovery``, ``notes``.
+    """
     d = res.data
 
     def ev_summary(e):
@@ -91,7 +120,22 @@ def evidence_json(res: LoopResult) -> dict:
 
 
 def model_config(res: LoopResult) -> dict:
-    """The final model as an engine configuration (drillpy simulate / drillsim can run it)."""
+    """The final model as an engine configuration (drillpy simulate / drillsim can run it).
+
+    The effects that act through the record's inputs (the WOB coupling, the torque fluctuation, the
+    kinematic top drive) are not in it: a configuration cannot carry a recorded series.
+
+    Parameters
+    ----------
+    res : LoopResult
+        A finished loop run.
+
+    Returns
+    -------
+    dict
+        The normalized configuration, named ``<name>-loop``, its description naming the record and
+        the effects (``config.json``).
+    """
     c = res.final.model.engine_config()
     c["name"] = f"{c.get('name', 'model')}-loop"
     c["description"] = ("calibrated by drillpy loop on " + Path(res.data.source).name + "; effects: "
@@ -128,7 +172,21 @@ def _lr(x: dict | None) -> str:
 
 
 def reading(name: str, p: dict) -> str:
-    """Physical reading of an effect found, with its fitted parameters."""
+    """Physical reading of an effect found, with its fitted parameters.
+
+    Parameters
+    ----------
+    name : str
+        The effect's catalogue name.
+    p : dict
+        Its parameter values (name -> value in the parameter's unit; see :func:`values`).
+
+    Returns
+    -------
+    str
+        One sentence on the values (e.g. a motor's droop in RPM per N m, a filter's group delay in
+        ms) followed by the effect's reading on the rig.
+    """
     e = CATALOGUE[name]
     if name == "top_drive_dynamics":
         if p.get("variant") == "motor":
@@ -156,11 +214,39 @@ def reading(name: str, p: dict) -> str:
 
 
 def values(params: dict) -> dict:
-    """Parameter values from a step's evidence (entries with intervals) or a model's effects."""
+    """Parameter values from a step's evidence (entries with intervals) or a model's effects.
+
+    Parameters
+    ----------
+    params : dict
+        Parameter name -> value, or -> ``{"value", "ci95", ...}``
+        (:func:`drillpy.loop.fitting.parameter_evidence`).
+
+    Returns
+    -------
+    dict
+        Parameter name -> value.
+    """
     return {k: (v["value"] if isinstance(v, dict) and "value" in v else v) for k, v in params.items()}
 
 
 def render_report(res: LoopResult, files: dict) -> str:
+    """The text of ``report.md``: data, metrics, baseline, steps, physical readings, the discovery
+    step, the evidence of every round, the final parameters, figures and notes.
+
+    Parameters
+    ----------
+    res : LoopResult
+        A finished loop run.
+    files : dict
+        Figure key (``signature``, ``overlay``, ``loops``, ``errors``) -> file name relative to the
+        report; the figures absent are not linked.
+
+    Returns
+    -------
+    str
+        Markdown text.
+    """
     d, b, f = res.data, res.baseline, res.final
     o = res.options
     L = [f"# drillpy loop: `{Path(d.source).name}`", "",

@@ -25,6 +25,42 @@ from .options import LoopOptions
 
 @dataclass
 class LoopResult:
+    """Everything a loop run computed (:func:`run_loop`): the data, the baseline and final
+    evaluations, every step and round with its evidence; :mod:`drillpy.loop.report` writes it.
+
+    Attributes
+    ----------
+    data : LoopData
+        The record on the analysis grid, its horizons and split.
+    baseline : Evaluation
+        The calibrated declared model (damping held by the limit cycle when needed).
+    final : Evaluation
+        The model after the last step (the baseline when nothing was added or removed).
+    steps : list of dict
+        Every step in order: ``action`` (``"add"``/``"remove"``), ``effect``, ``error_before``,
+        ``error_after`` (E, validation part [-]), ``evidence``, ``long_run`` (measured / before /
+        after), and the Evaluations ``before``, ``candidate``, ``after``.
+    rounds : list of list
+        Every round's candidates: ``{"effect": name, **evidence}``.
+    options : LoopOptions
+        The options of the run.
+    config : dict
+        Declared configuration (normalized, modified Euler, engine step dividing the analysis
+        interval).
+    notes : list of str
+        Remarks for the report (modes kept, damping held, inadequate baseline...).
+    declared : list of str
+        Effects of the declared model.
+    adequacy : dict
+        The baseline against trivial predictors (:func:`drillpy.loop.evidence.adequacy`).
+    baseline_long_run : dict
+        The baseline's long run (:func:`drillpy.loop.longrun.long_run`; {} when switched off).
+    discovery : dict
+        The discovery step's output (:func:`drillpy.loop.discovery.discover` with ``structure``,
+        ``equation``, ``balanced`` and possibly ``warning``; ``skipped`` without a top speed).
+    last_round : dict
+        Candidate name -> Evaluation of the last round (for the signature figure).
+    """
     data: LoopData
     baseline: Evaluation
     final: Evaluation
@@ -40,6 +76,9 @@ class LoopResult:
     last_round: dict = field(default_factory=dict)      #: candidate -> Evaluation of the last round
 
     def metric(self) -> str:
+        """The definition of the error E of this run, in words and numbers (``loop.json`` ->
+        ``metric``): the formula with its two or three channels, the validation part's start [s],
+        sd(v) [rad/s] and sd(T) [N m], and the restart interval [s]."""
         d = self.data
         top = (" + (top_pred - top)^2 / sd(v)^2" if d.has_top else "")
         n = 3 if d.has_top else 2
@@ -52,13 +91,25 @@ class LoopResult:
 
     @property
     def removed(self) -> list:
+        """Effects removed by a backward step, in order."""
         return [s["effect"] for s in self.steps if s["action"] == "remove"]
 
     @property
     def unexplained_fraction(self) -> float | None:
+        """Fraction of the final model's equation residual the discovery step leaves unexplained
+        [-] (None when the step did not run)."""
         return self.discovery.get("unexplained_fraction")
 
     def loop_json(self) -> dict:
+        """The content of ``loop.json`` (docs/loop.md): metric, baseline error and adequacy,
+        declared and removed effects, long runs, steps, final error and effects, unexplained
+        fraction, discovered terms and the final model's parameters.
+
+        Returns
+        -------
+        dict
+            JSON-ready apart from NumPy scalars and non-finite numbers (:func:`dumps` handles them).
+        """
         keys = ("action", "effect", "error_before", "error_after", "evidence", "long_run")
         return {"metric": self.metric(), "baseline_error": self.baseline.E_test, "adequacy": self.adequacy,
                 "declared": self.declared, "removed": self.removed, "baseline_long_run": self.baseline_long_run,
@@ -70,7 +121,25 @@ class LoopResult:
 
 def analysis_config(cfg: dict, dt: float, dt_engine: float | None = None) -> dict:
     """The declared configuration with an engine step (``dt_engine`` or its own) that divides the
-    analysis interval ``dt``."""
+    analysis interval ``dt``.
+
+    The step is ``dt`` / k with k the smallest integer for which it is at most the requested step;
+    the duration is at least two analysis intervals and the transient at most half the duration.
+
+    Parameters
+    ----------
+    cfg : dict
+        Engine configuration (normalized); not modified.
+    dt : float
+        Analysis sampling interval [s].
+    dt_engine : float, optional
+        Requested engine step [s] (default: ``cfg["simulation"]["dt_s"]``).
+
+    Returns
+    -------
+    dict
+        A normalized copy with the new ``simulation.dt_s`` [s].
+    """
     c = copy.deepcopy(cfg)
     k = max(1, math.ceil(dt / (dt_engine or c["simulation"]["dt_s"]) - 1e-9))
     c["simulation"]["dt_s"] = dt / k
@@ -232,7 +301,34 @@ def _discovery(model: LoopModel, data: LoopData, log) -> dict:
 
 
 def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -> LoopResult:
-    """Run the loop on a record (path or :class:`Record`) from the declared configuration ``cfg``."""
+    """Run the loop on a record (path or :class:`Record`) from the declared configuration ``cfg``.
+
+    Calibrate the declared model, check it against trivial predictors, question its declared
+    effects, add the catalogue's effects one at a time against a null candidate (with the long-run
+    check), and regress what is left (docs/loop.md). The loop integrates with the modified Euler
+    scheme at an engine step dividing the analysis interval.
+
+    Parameters
+    ----------
+    record : Record, str or Path
+        The measured record or its file (bit speed and torque on bit; top speed and WOB optional).
+    cfg : dict
+        The declared configuration (normalized here).
+    options : LoopOptions, optional
+        The loop's options (default :class:`LoopOptions`); validated.
+    log : callable
+        Called with each progress line (default :func:`print`).
+
+    Returns
+    -------
+    LoopResult
+        Everything the run computed.
+
+    Raises
+    ------
+    ValueError
+        Invalid options, or a record the loop cannot use (:func:`drillpy.loop.data.prepare`).
+    """
     opt = options or LoopOptions()
     opt.validate()
     cfg = normalize(cfg)
@@ -376,6 +472,17 @@ def loop_record(record, out_dir, *, preset: str | None = None, config_path: str 
 
 
 def dumps(o) -> str:
-    """JSON text of plain and NumPy values (NaN and inf become null)."""
+    """JSON text of plain and NumPy values (NaN and inf become null).
+
+    Parameters
+    ----------
+    o : object
+        Dicts, lists, tuples, numbers, strings, NumPy arrays and scalars, nested.
+
+    Returns
+    -------
+    str
+        Indented JSON text (2 spaces).
+    """
     from drillpy.reports.analysis import _jsonable
     return json.dumps(_jsonable(o), indent=2)

@@ -34,7 +34,23 @@ CATALOGUE: dict = {n: importlib.import_module(f".{n}", __name__).EFFECT for n in
 
 
 def declared_effects(cfg: dict) -> dict:
-    """The catalogue's effects a declared configuration already has, with their parameters."""
+    """The catalogue's effects a declared configuration already has, with their parameters.
+
+    Each effect's :meth:`~drillpy.loop.effects.base.Effect.declared` reads it off the
+    configuration (e.g. beta1 > 0, a motor top drive, sensors, ``bit_viscous_nms``,
+    ``string_friction_nm``, a polynomial law's a0 > 0); these become the calibrated model's
+    declared effects, started from their declared values.
+
+    Parameters
+    ----------
+    cfg : dict
+        The declared engine configuration (normalized).
+
+    Returns
+    -------
+    dict
+        Effect name -> parameter dict (name -> value in the parameter's unit), in catalogue order.
+    """
     out = {}
     for name, eff in CATALOGUE.items():
         p = eff.declared(cfg)
@@ -44,7 +60,21 @@ def declared_effects(cfg: dict) -> dict:
 
 
 def stripped(cfg: dict) -> dict:
-    """A copy of a configuration with every catalogue effect removed (its no-effect value)."""
+    """A copy of a configuration with every catalogue effect removed (its no-effect value).
+
+    The base of a :class:`drillpy.loop.model.LoopModel`: string geometry, reduced-order model,
+    law family and operation without any effect of the catalogue.
+
+    Parameters
+    ----------
+    cfg : dict
+        An engine configuration (normalized); not modified.
+
+    Returns
+    -------
+    dict
+        A deep copy with each effect's :meth:`~drillpy.loop.effects.base.Effect.strip` applied.
+    """
     c = copy.deepcopy(cfg)
     for eff in CATALOGUE.values():
         eff.strip(c)

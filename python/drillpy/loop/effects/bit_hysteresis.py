@@ -5,6 +5,12 @@ from .base import Effect, Param
 
 
 class BitHysteresis(Effect):
+    """The hysteretic term H = beta1 tanh(beta2 a) sign(v) of the bit-rock law (Eqs. 3.2-3.3; 5.3
+    for the polynomial law): a law-level effect, fitted with the law on the law residual.
+
+    Parameters ``beta1`` [-] (amplitude of H, 0-1, absent at 0) and ``beta2`` [s per speed unit of
+    the law] (acceleration scale; bounded at 100 / sd(a) by :mod:`drillpy.loop.fitting`).
+    """
     name = "bit_hysteresis"
     level = "law"
     params = (Param("beta1", "-", "amplitude of H (Eq. 3.3)", 0.0, 1.0, null=0.0),
@@ -20,20 +26,64 @@ class BitHysteresis(Effect):
     defaults = {"beta1": 0.2, "beta2": 0.005}
 
     def count(self, p):
+        """Two: beta1 and beta2 (fitted with the law, not by :meth:`free`); see
+        :meth:`Effect.count`.
+
+        Parameters
+        ----------
+        p : dict
+            ``{"beta1", "beta2"}`` (not read).
+        """
         return 2
 
     def declared(self, cfg):
+        """``{"beta1", "beta2"}`` of the law when its beta1 > 0, else None; see
+        :meth:`Effect.declared`.
+
+        Parameters
+        ----------
+        cfg : dict
+            The declared engine configuration (its ``law``).
+        """
         law = cfg["law"]
         return {"beta1": float(law["beta1"]), "beta2": float(law["beta2"])} if float(law.get("beta1", 0)) > 0 else None
 
     def strip(self, cfg):
+        """Set the law's beta1 to 0 (H = 0: the reversible law) when the law has one; see
+        :meth:`Effect.strip`.
+
+        Parameters
+        ----------
+        cfg : dict
+            Engine configuration (its ``law``), modified in place.
+        """
         if "beta1" in cfg["law"]:
             cfg["law"]["beta1"] = 0.0
 
     def configure(self, cfg, p, model):
+        """Write beta1 and beta2 into the law; see :meth:`Effect.configure`.
+
+        Parameters
+        ----------
+        cfg : dict
+            Engine configuration (its ``law``), modified in place.
+        p : dict
+            ``{"beta1": [-], "beta2": [s per speed unit of the law]}``.
+        model : LoopModel or None
+            Not used.
+        """
         cfg["law"]["beta1"], cfg["law"]["beta2"] = float(p["beta1"]), float(p["beta2"])
 
     def inject(self, truth, p):
+        """Give the truth's law the hysteretic term; see :meth:`Effect.inject`.
+
+        Parameters
+        ----------
+        truth : drillpy.records.synthetic.Truth
+            The synthetic truth; its law must have a hysteresis term (``beta1``), else ValueError.
+        p : dict
+            ``{"beta1", "beta2"}`` (defaults 0.2 and 0.005).
+        """
         if "beta1" not in truth.cfg["law"]:
             raise ValueError(f"bit_hysteresis: the law {truth.cfg['law']['type']!r} has no hysteresis term")
         self.configure(truth.cfg, p, None)

@@ -12,6 +12,14 @@ def _a0(law: dict, torque: float, wob: float) -> float:
 
 
 class StaticFriction(Effect):
+    """A break-away (static) torque T_s at the bit: the non-regularized law of Eq. (5.1) with
+    a0 > 0 (polynomial laws only), a1 re-tied so that the law falls linearly from T_s to the slip
+    branch.
+
+    Parameter ``static_torque_nm`` T_s [N m] (0-20, absent at 0), the static torque gain
+    a0 W / W_ref of Eq. (5.1). Measured directly from the calibration part's stick phases
+    (:meth:`direct`); when that measurement is significant it is held, not fitted.
+    """
     name = "static_friction"
     params = (Param("static_torque_nm", "N m", "T_s: torque the string must exceed to break the stuck bit away "
                     "(gain a0 W / W_ref of Eq. 5.1)", 0.0, 20.0, null=0.0),)
@@ -31,6 +39,14 @@ class StaticFriction(Effect):
             raise ValueError(f"static_friction: the law {law['type']!r} has no static torque (Eq. 5.1 needed)")
 
     def free(self, p):
+        """None when T_s was measured from the stick phases (``p["source"] == "stick phases"``: it
+        is held at the measured value), else T_s; see :meth:`Effect.free`.
+
+        Parameters
+        ----------
+        p : dict
+            ``{"static_torque_nm": T_s [N m]}``, possibly with ``"source"``.
+        """
         return () if p.get("source") == "stick phases" else self.params
 
     def direct(self, model, data):
@@ -48,7 +64,24 @@ class StaticFriction(Effect):
         and, by Jensen's inequality, into a bias E[W_0 / W] - 1 ~ sd(W / W_0)^2, +2 % at the rig's
         14 %: on the validation's full-size case 4.651 N m [4.459, 4.843] against 4.481 [4.477, 4.485]
         as measured, the truth's being 4.5; the short-horizon fit cannot correct it, T_s being held
-        at the measured value.)"""
+        at the measured value.)
+
+        See :meth:`Effect.direct`.
+
+        Parameters
+        ----------
+        model : LoopModel
+            The current model (its law, WOB W_0 [N] and law WOB input W_eff).
+        data : LoopData
+            The record on the analysis grid; only its calibration part is used.
+
+        Returns
+        -------
+        dict or None
+            ``params`` ``{"static_torque_nm": mean break-away torque [N m], "source": "stick
+            phases"}``, its 95 % interval, ``significant`` and ``detail``; None for a law that is
+            not polynomial or with fewer than 3 stick phases.
+        """
         if not str(model.law["type"]).startswith("polynomial"):
             return None
         from scipy import stats
@@ -74,7 +107,16 @@ class StaticFriction(Effect):
 
     def starts(self, model, data):
         """Multiples of the law's torque at the stick threshold: a static torque below it changes
-        nothing (the law already holds the bit there)."""
+        nothing (the law already holds the bit there): 1.1, 1.4, 1.8 and 2.4 times it. See
+        :meth:`Effect.starts`.
+
+        Parameters
+        ----------
+        model : LoopModel
+            The current model; its law must be polynomial (Eq. 5.1), else ValueError.
+        data : LoopData
+            The record (its stick threshold [rad/s]).
+        """
         self._check(model.law)
         from drillpy.records import identification as ident
         t_low = float(ident.law_eval(model.law, np.array([data.stick_threshold]), np.zeros(1),
@@ -82,6 +124,14 @@ class StaticFriction(Effect):
         return [{"static_torque_nm": f * t_low} for f in (1.1, 1.4, 1.8, 2.4)]
 
     def declared(self, cfg):
+        """T_s = gain a0 W / W_ref of a polynomial law with a0 > 0, else None; see
+        :meth:`Effect.declared`.
+
+        Parameters
+        ----------
+        cfg : dict
+            The declared engine configuration (its ``law`` and ``operation.wob_n`` W [N]).
+        """
         law = cfg["law"]
         if str(law["type"]).startswith("polynomial") and float(law.get("a0", 0.0)) > 0:
             return {"static_torque_nm": float(law["gain"]) * float(law["a0"]) * float(cfg["operation"]["wob_n"])
@@ -89,6 +139,14 @@ class StaticFriction(Effect):
         return None
 
     def strip(self, cfg):
+        """Set a polynomial law's a0 to 0 (a1 re-tied): the regularized, reversible law; other laws
+        are left as they are. See :meth:`Effect.strip`.
+
+        Parameters
+        ----------
+        cfg : dict
+            Engine configuration (its ``law``), modified in place.
+        """
         law = cfg["law"]
         if str(law["type"]).startswith("polynomial"):
             self._set(law, 0.0)
@@ -100,10 +158,32 @@ class StaticFriction(Effect):
         law["a1"] = (float(law["a2"]) - float(a0)) / (0.01 * ref)  # the tie of drillpy.records.identification
 
     def configure(self, cfg, p, model):
+        """Set the polynomial law's a0 so that its static torque gain a0 W / W_ref is T_s at the
+        configuration's WOB (``operation.wob_n``), a1 re-tied; see :meth:`Effect.configure`.
+
+        Parameters
+        ----------
+        cfg : dict
+            Engine configuration (a polynomial ``law``, else ValueError), modified in place.
+        p : dict
+            ``{"static_torque_nm": T_s [N m]}``.
+        model : LoopModel or None
+            Not used.
+        """
         self._check(cfg["law"])
         self._set(cfg["law"], _a0(cfg["law"], p["static_torque_nm"], cfg["operation"]["wob_n"]))
 
     def inject(self, truth, p):
+        """Give the truth's (polynomial) law the static torque (:meth:`configure`); see
+        :meth:`Effect.inject`.
+
+        Parameters
+        ----------
+        truth : drillpy.records.synthetic.Truth
+            The synthetic truth (its configuration).
+        p : dict
+            ``{"static_torque_nm": T_s [N m]}`` (default 4.5).
+        """
         self.configure(truth.cfg, p, None)
 
 

@@ -7,6 +7,13 @@ from .base import Effect, Param
 
 
 class StringFriction(Effect):
+    """A Coulomb torque T_sf sign(v) on the bit outside the torque sensor, set-valued at rest
+    (``operation.string_friction_nm``, an engine extension: it adds to the static capacity of the
+    stick condition).
+
+    Parameter ``string_friction_nm`` T_sf [N m] (0-10, absent at 0). Near rest the restart state
+    takes its share from the measured contact torque (:meth:`restart_torque`).
+    """
     name = "string_friction"
     params = (Param("string_friction_nm", "N m", "T_sf: Coulomb torque opposing the rotation, lumped at the bit",
                     0.0, 10.0, null=0.0),)
@@ -19,6 +26,16 @@ class StringFriction(Effect):
     defaults = {"string_friction_nm": 0.3}
 
     def starts(self, model, data):
+        """2 %, 10 % and 30 % of the mean |torque on bit| over the slip samples; see
+        :meth:`Effect.starts`.
+
+        Parameters
+        ----------
+        model : LoopModel
+            The current model (its state channels).
+        data : LoopData
+            The record on the analysis grid.
+        """
         from ..model import state_channels
         chs = state_channels(model, data)
         slip = data.valid & (chs["v"] > data.stick_threshold)
@@ -38,7 +55,29 @@ class StringFriction(Effect):
         the string friction the rest up to T_sf). The estimate inverts that split,
         share = sign(T) T_sf clip((|T| - T_s) / T_sf, 0, 1): none while the contact alone can hold
         the bit (|T| < T_s), all of T_sf once the contact torque exceeds T_s by T_sf, and across the
-        set-valued plateau (|T| = T_s, where the split is not observable) a ramp through its middle."""
+        set-valued plateau (|T| = T_s, where the split is not observable) a ramp through its middle.
+
+        See :meth:`Effect.restart_torque`.
+
+        Parameters
+        ----------
+        p : dict
+            ``{"string_friction_nm": T_sf [N m]}``.
+        model : LoopModel
+            The model (T_s of a polynomial law with a0 > 0 at the law's WOB input W_eff; 0 otherwise).
+        data : LoopData
+            The record (its stick threshold [rad/s]).
+        chs : dict
+            State channels (``v`` [rad/s], ``T`` [N m], ``W_eff`` [N]).
+        idx : array_like of int
+            Restart sample indices.
+
+        Returns
+        -------
+        numpy.ndarray or None
+            share - T_sf sign(v) [N m] at the restarts near rest (replacing the engine's
+            T_sf sign(v) by the share), 0 elsewhere; None when T_sf <= 0.
+        """
         tsf = float(p["string_friction_nm"])
         v, T = chs["v"][idx], chs["T"][idx]
         if tsf <= 0.0:
@@ -52,16 +91,51 @@ class StringFriction(Effect):
         return np.where(near, share - tsf * np.sign(v), 0.0)
 
     def declared(self, cfg):
+        """``{"string_friction_nm"}`` of the operation when > 0, else None; see
+        :meth:`Effect.declared`.
+
+        Parameters
+        ----------
+        cfg : dict
+            The declared engine configuration.
+        """
         t = float(cfg["operation"].get("string_friction_nm", 0.0))
         return {"string_friction_nm": t} if t > 0 else None
 
     def strip(self, cfg):
+        """Remove ``operation.string_friction_nm``; see :meth:`Effect.strip`.
+
+        Parameters
+        ----------
+        cfg : dict
+            Engine configuration, modified in place.
+        """
         cfg["operation"].pop("string_friction_nm", None)
 
     def configure(self, cfg, p, model):
+        """Set ``operation.string_friction_nm`` to T_sf; see :meth:`Effect.configure`.
+
+        Parameters
+        ----------
+        cfg : dict
+            Engine configuration, modified in place.
+        p : dict
+            ``{"string_friction_nm": T_sf [N m]}``.
+        model : LoopModel or None
+            Not used.
+        """
         cfg["operation"]["string_friction_nm"] = float(p["string_friction_nm"])
 
     def inject(self, truth, p):
+        """Configure the truth with T_sf (:meth:`configure`); see :meth:`Effect.inject`.
+
+        Parameters
+        ----------
+        truth : drillpy.records.synthetic.Truth
+            The synthetic truth (its configuration).
+        p : dict
+            ``{"string_friction_nm": T_sf [N m]}`` (default 0.3).
+        """
         self.configure(truth.cfg, p, None)
 
 

@@ -14,6 +14,17 @@ STEADY_TOP = 0.01
 
 
 class TopDriveDynamics(Effect):
+    """The top does not turn at the constant speed the ideal drive assumes. Two variants
+    (``p["variant"]``):
+
+    * ``"motor"``: an open-loop motor J_m Omega' = c_m (Omega_c - Omega) - T_top
+      (``drill/topdrive.hpp``), parameters ``droop_rad_s_per_nm`` 1/c_m [rad/s per N m],
+      ``inertia_kg_m2`` J_m [kg m^2] (bounded below by the modified-Euler stability bound of
+      Eq. A.7 at the engine step, times :data:`RESOLVED`) and ``command_rad_s`` Omega_c [rad/s];
+    * ``"measured"``: the kinematic drive, the top follows its measured speed (no parameter).
+
+    Needs a top-speed channel; flagged when the recorded top speed is steady (:data:`STEADY_TOP`).
+    """
     name = "top_drive_dynamics"
     params = (Param("droop_rad_s_per_nm", "rad/s per N m", "1/c_m: speed lost per N m of top torque", 1e-3, 1e3, "log"),
               Param("inertia_kg_m2", "kg m^2", "J_m: motor and drive-train inertia (lower bound: 4 x the inertia at "
@@ -29,12 +40,38 @@ class TopDriveDynamics(Effect):
     defaults = {"slope_nms_rad": 0.25, "inertia_kg_m2": 0.02}
 
     def free(self, p):
+        """All three parameters for the motor variant, none for the kinematic one; see
+        :meth:`Effect.free`.
+
+        Parameters
+        ----------
+        p : dict
+            The effect's values; ``p["variant"]`` is ``"motor"`` or ``"measured"``.
+        """
         return self.params if p.get("variant") == "motor" else ()
 
     def count(self, p):
+        """3 for the motor variant, 0 for the kinematic one; see :meth:`Effect.count`.
+
+        Parameters
+        ----------
+        p : dict
+            The effect's values (``p["variant"]``).
+        """
         return 3 if p.get("variant") == "motor" else 0
 
     def flags(self, p, data):
+        """Flag a recorded top speed whose standard deviation is below :data:`STEADY_TOP` (1 %) of
+        its mean over the valid, measured samples: the top already turns at the constant the model
+        assumes; see :meth:`Effect.flags`.
+
+        Parameters
+        ----------
+        p : dict
+            The fitted values (not read).
+        data : LoopData
+            The record (its top-speed channel [rad/s] and ``top_ok`` mask).
+        """
         ok = data.valid & data.top_ok
         top = data.ch["top"][ok]
         rel = float(np.std(top) / abs(np.mean(top))) if top.size else 0.0
@@ -44,6 +81,17 @@ class TopDriveDynamics(Effect):
         return []
 
     def bounds(self, q, model):
+        """The motor inertia's lower bound raised to :data:`RESOLVED` times
+        :func:`drillpy.loop.model.motor_inertia_floor` (Eq. A.7 at the engine step); the other
+        parameters keep their own; see :meth:`Effect.bounds`.
+
+        Parameters
+        ----------
+        q : Param
+            One of the effect's parameters.
+        model : LoopModel
+            The model (its engine step and string).
+        """
         if q.name == "inertia_kg_m2":  # the modified-Euler bound with the motor (Eq. A.7)
             from ..model import motor_inertia_floor
             return max(q.lower, RESOLVED * motor_inertia_floor(model)), q.upper
@@ -53,7 +101,25 @@ class TopDriveDynamics(Effect):
         """Motor starts: the motor equation J_m Omega' + c_m Omega - c_m Omega_c = -T_top is linear in
         (J_m, c_m, c_m Omega_c) given the top speed, its rate and the string's top torque of the states
         read off the record (least squares over the calibration part), plus a few droops; and the
-        kinematic variant (the top at its measured speed)."""
+        kinematic variant (the top at its measured speed).
+
+        The droop starts are 1 and 4 rad/s per N m and the quasi-static fit Omega = Omega_c -
+        T_top / c_m, with motor time constants J_m / c_m of 0.01-0.05 s; every motor inertia is at
+        least 1.5 x :data:`RESOLVED` x the stability floor. See :meth:`Effect.starts`.
+
+        Parameters
+        ----------
+        model : LoopModel
+            The current model, without the effect.
+        data : LoopData
+            The record (top speed needed); only its calibration part is used.
+
+        Returns
+        -------
+        list of dict
+            ``{"variant": "measured"}`` first, then ``{"variant": "motor", "droop_rad_s_per_nm",
+            "inertia_kg_m2", "command_rad_s"}`` sets.
+        """
         from .. import model as M
         from drillpy import _core
         m = model.copy()
@@ -87,6 +153,15 @@ class TopDriveDynamics(Effect):
         return starts
 
     def declared(self, cfg):
+        """The motor variant when ``cfg["top_drive"]`` is a motor (droop 1 / ``slope_nms_rad``,
+        its ``inertia_kg_m2``, the command ``operation.top_speed_rad_s``), else None; see
+        :meth:`Effect.declared`.
+
+        Parameters
+        ----------
+        cfg : dict
+            The declared engine configuration.
+        """
         td = cfg.get("top_drive", {"type": "ideal"})
         if td.get("type") != "motor":
             return None
@@ -94,21 +169,72 @@ class TopDriveDynamics(Effect):
                 "inertia_kg_m2": float(td["inertia_kg_m2"]), "command_rad_s": float(cfg["operation"]["top_speed_rad_s"])}
 
     def strip(self, cfg):
+        """Remove ``top_drive`` (the ideal drive at ``operation.top_speed_rad_s``); see
+        :meth:`Effect.strip`.
+
+        Parameters
+        ----------
+        cfg : dict
+            Engine configuration, modified in place.
+        """
         cfg.pop("top_drive", None)
 
     def configure(self, cfg, p, model):
+        """Motor variant: a ``"motor"`` top drive (slope c_m = 1 / droop [N m s/rad], inertia J_m
+        [kg m^2]) commanded at Omega_c (``operation.top_speed_rad_s`` [rad/s]); the kinematic
+        variant leaves the configuration as is (its top speed is a series, :meth:`top_state`). See
+        :meth:`Effect.configure`.
+
+        Parameters
+        ----------
+        cfg : dict
+            Engine configuration, modified in place.
+        p : dict
+            ``{"variant", "droop_rad_s_per_nm", "inertia_kg_m2", "command_rad_s"}``.
+        model : LoopModel or None
+            Not used.
+        """
         if p.get("variant") == "motor":
             cfg["top_drive"] = {"type": "motor", "slope_nms_rad": 1.0 / p["droop_rad_s_per_nm"],
                                 "inertia_kg_m2": p["inertia_kg_m2"]}
             cfg["operation"]["top_speed_rad_s"] = float(p["command_rad_s"])
 
     def top_state(self, p, model, chs, idx):
+        """The measured top speed [rad/s] at the restarts; motor variant: its rate left NaN (the
+        engine takes it from the motor equation, not the noisy record) and no series; kinematic
+        variant: the measured rate [rad/s^2] and the measured top speed as the driving series. See
+        :meth:`Effect.top_state`.
+
+        Parameters
+        ----------
+        p : dict
+            The effect's values (``p["variant"]``).
+        model : LoopModel
+            Not used.
+        chs : dict
+            State channels (``top`` [rad/s], ``dtop`` [rad/s^2]).
+        idx : array_like of int
+            Restart sample indices.
+        """
         om, dom = chs["top"][idx], chs["dtop"][idx]
         if p.get("variant") == "motor":  # its rate from the motor equation, not the noisy record
             return om, np.full(len(idx), np.nan), None
         return om, dom, chs["top"]
 
     def inject(self, truth, p):
+        """Give the truth a motor top drive, its command raised above the declared top speed by the
+        droop at the steady torque on the bit there (the law at zero acceleration plus the viscous
+        torque): the loaded top turns near the declared speed; see
+        :meth:`Effect.inject`.
+
+        Parameters
+        ----------
+        truth : drillpy.records.synthetic.Truth
+            The synthetic truth (its configuration is modified).
+        p : dict
+            ``{"slope_nms_rad": c_m [N m s/rad], "inertia_kg_m2": J_m [kg m^2]}`` (defaults 0.25 and
+            0.02).
+        """
         cfg = truth.cfg
         cfg["top_drive"] = {"type": "motor", "slope_nms_rad": p["slope_nms_rad"], "inertia_kg_m2": p["inertia_kg_m2"]}
         from drillpy.model.simulation import law_torque

@@ -10,6 +10,14 @@ from .base import Effect, Param
 
 
 class TorqueFluctuation(Effect):
+    """A slowly varying bit-rock contact, T = T_law (1 + eta(t)) (Eq. 4.1), eta a coloured process
+    whose state is estimated from the record's past (:func:`estimate`) and whose conditional mean
+    is forecast over each horizon (:func:`forecast`).
+
+    Parameters ``tau_s`` tau [s] (correlation time of eta, 0.01-1000 s), ``memory_s`` m [s] (memory
+    of the estimate, 0.002-100 s), both fitted in ln, and ``std`` [-] (standard deviation of
+    eta = T / T_law - 1 on the calibration part's slip samples; reported, not fitted).
+    """
     name = "torque_fluctuation"
     params = (Param("tau_s", "s", "correlation time of eta", 0.01, 1e3, "log"),
               Param("memory_s", "s", "memory of the estimate of eta from the past", 0.002, 100.0, "log"),
@@ -24,16 +32,61 @@ class TorqueFluctuation(Effect):
     defaults = {"std": 0.15, "f0_hz": 0.25}
 
     def count(self, p):
+        """Two: tau and the memory (``std`` is not fitted); see :meth:`Effect.count`.
+
+        Parameters
+        ----------
+        p : dict
+            ``{"tau_s", "memory_s", "std"}`` (not read).
+        """
         return 2
 
     def starts(self, model, data):
+        """tau 0.1, 1 and 10 s by memory 0.03 and 0.3 s; see :meth:`Effect.starts`.
+
+        Parameters
+        ----------
+        model : LoopModel
+            Not used.
+        data : LoopData
+            Not used.
+        """
         return [{"tau_s": tau, "memory_s": mem} for tau in (0.1, 1.0, 10.0) for mem in (0.03, 0.3)]
 
     def eta(self, p, model, data, chs, idx, leads):
+        """The conditional mean of eta over each horizon (:func:`forecast`) from its state at the
+        restart estimated from the record's past (:func:`estimate`); see :meth:`Effect.eta`.
+
+        Parameters
+        ----------
+        p : dict
+            ``{"tau_s": tau [s], "memory_s": m [s], ...}``.
+        model : LoopModel
+            The model (its law T_law).
+        data : LoopData
+            The record on the analysis grid.
+        chs : dict
+            State channels (``v`` [rad/s], ``T`` [N m], ...).
+        idx : array_like of int
+            Restart sample indices.
+        leads : numpy.ndarray
+            Times after the restart [s].
+        """
         level, slope = estimate(p, model, data, chs)
         return forecast(p, level[idx], slope[idx], leads)
 
     def inject(self, truth, p):
+        """Set the truth's eta to a Gaussian process of standard deviation ``std`` whose PSD has the
+        shape of Eq. (4.4) (flat below f0, falling as f^-3.13 above, continuous at f0); see
+        :meth:`Effect.inject`.
+
+        Parameters
+        ----------
+        truth : drillpy.records.synthetic.Truth
+            The synthetic truth (its ``eta`` series).
+        p : dict
+            ``{"std": [-], "f0_hz": f0 [Hz]}`` (defaults 0.15 and 0.25 Hz).
+        """
         from drillpy.uncertainty.process import PsdModel
         f0 = p["f0_hz"]
         psd = PsdModel(f0=f0, A0=0.0, a=-3.13, b=3.13 * math.log(f0))  # Eq. (4.4) shape, continuous at f0
@@ -44,7 +97,29 @@ def estimate(p: dict, model, data, chs: dict) -> tuple:
     """Per sample, the state (eta, eta') of the fluctuation estimated from the record's past: the
     straight line fitted by least squares to eta_obs = T / T_law - 1 over the slip samples up to and
     including that sample, with weights exp(-age / m) (m: ``memory_s``). The weighted sums are
-    recursive: filters with the kernels lambda^n, n lambda^n, n^2 lambda^n (lambda = exp(-dt / m))."""
+    recursive: filters with the kernels lambda^n, n lambda^n, n^2 lambda^n (lambda = exp(-dt / m)).
+
+    Samples where the law's torque is below 10 % of its median magnitude over the slip samples
+    (T / T_law is ill-conditioned there) do not enter the fit.
+
+    Parameters
+    ----------
+    p : dict
+        The effect's values; ``p["memory_s"]`` m [s] is read.
+    model : LoopModel
+        The model (its law T_law(v, a, W_eff)).
+    data : LoopData
+        The record on the analysis grid (``dt`` [s], ``valid``, ``stick_threshold`` [rad/s]).
+    chs : dict
+        State channels (:func:`drillpy.loop.model.state_channels`).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        (eta [-], eta' [1/s]) per sample of the analysis grid: the fitted line's value and slope at
+        that sample (where the line is not determined: eta' 0 and eta the weighted mean, or 0
+        before the first usable sample).
+    """
     from ..model import law_torque
     Tl = law_torque(model, chs)
     slip = data.valid & (chs["v"] > data.stick_threshold)
@@ -69,7 +144,24 @@ def forecast(p: dict, level: np.ndarray, slope: np.ndarray, lead: np.ndarray) ->
     """Conditional mean of eta at the leads [s] (columns) from (eta, eta') at the restarts (rows):
     eta is modelled as white noise through a critically damped second-order low-pass of time
     constant tau (PSD falling as f^-4 above 1/(2 pi tau), the steep coloured shape of Eq. 4.4), whose
-    free response is exp(-s/tau) [eta (1 + s/tau) + s eta']."""
+    free response is exp(-s/tau) [eta (1 + s/tau) + s eta'].
+
+    Parameters
+    ----------
+    p : dict
+        The effect's values; ``p["tau_s"]`` tau [s] is read.
+    level : numpy.ndarray
+        eta [-] at each restart.
+    slope : numpy.ndarray
+        eta' [1/s] at each restart.
+    lead : numpy.ndarray
+        Times after the restart s [s].
+
+    Returns
+    -------
+    numpy.ndarray
+        eta [-], shape (restarts, leads).
+    """
     tau = p["tau_s"]
     s = np.asarray(lead)[None, :]
     return np.exp(-s / tau) * (level[:, None] * (1.0 + s / tau) + s * slope[:, None])

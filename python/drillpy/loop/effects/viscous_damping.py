@@ -5,6 +5,13 @@ from .base import Effect, Param
 
 
 class ViscousDamping(Effect):
+    """An extra viscous torque c_v v on the bit, outside the torque sensor
+    (``operation.bit_viscous_nms``).
+
+    Parameter ``bit_viscous_nms`` c_v [N m s/rad] (0-10, absent at 0). Confounded with the string
+    damping at a constant top speed (see :attr:`confounded_with`); not a candidate while the
+    damping ratios are held by the limit cycle.
+    """
     name = "viscous_damping"
     params = (Param("bit_viscous_nms", "N m s/rad", "c_v: viscous torque per unit bit speed", 0.0, 10.0, null=0.0),)
     change = "an extra torque c_v v on the bit, outside the torque sensor (operation.bit_viscous_nms)"
@@ -22,6 +29,16 @@ class ViscousDamping(Effect):
     defaults = {"bit_viscous_nms": 0.03}
 
     def starts(self, model, data):
+        """1 %, 5 % and 20 % of c_ref = |mean T| / mean v over the slip samples (the viscous
+        coefficient that would carry the whole mean torque); see :meth:`Effect.starts`.
+
+        Parameters
+        ----------
+        model : LoopModel
+            The current model (its state channels).
+        data : LoopData
+            The record on the analysis grid.
+        """
         from ..model import state_channels
         chs = state_channels(model, data)
         slip = data.valid & (chs["v"] > data.stick_threshold)
@@ -29,16 +46,50 @@ class ViscousDamping(Effect):
         return [{"bit_viscous_nms": f * cref} for f in (0.01, 0.05, 0.2)]
 
     def declared(self, cfg):
+        """``{"bit_viscous_nms"}`` of the operation when > 0, else None; see :meth:`Effect.declared`.
+
+        Parameters
+        ----------
+        cfg : dict
+            The declared engine configuration.
+        """
         cv = float(cfg["operation"].get("bit_viscous_nms", 0.0))
         return {"bit_viscous_nms": cv} if cv > 0 else None
 
     def strip(self, cfg):
+        """Set ``operation.bit_viscous_nms`` to 0; see :meth:`Effect.strip`.
+
+        Parameters
+        ----------
+        cfg : dict
+            Engine configuration, modified in place.
+        """
         cfg["operation"]["bit_viscous_nms"] = 0.0
 
     def configure(self, cfg, p, model):
+        """Set ``operation.bit_viscous_nms`` to c_v; see :meth:`Effect.configure`.
+
+        Parameters
+        ----------
+        cfg : dict
+            Engine configuration, modified in place.
+        p : dict
+            ``{"bit_viscous_nms": c_v [N m s/rad]}``.
+        model : LoopModel or None
+            Not used.
+        """
         cfg["operation"]["bit_viscous_nms"] = float(p["bit_viscous_nms"])
 
     def inject(self, truth, p):
+        """Configure the truth with c_v (:meth:`configure`); see :meth:`Effect.inject`.
+
+        Parameters
+        ----------
+        truth : drillpy.records.synthetic.Truth
+            The synthetic truth (its configuration).
+        p : dict
+            ``{"bit_viscous_nms": c_v [N m s/rad]}`` (default 0.03).
+        """
         self.configure(truth.cfg, p, None)
 
 
