@@ -269,8 +269,12 @@ def render_report(res: LoopResult, files: dict) -> str:
           "speed, bit acceleration, torque on bit and top speed (exact for one mode) and is integrated by the engine "
           "over the horizon, driven by the inputs it takes from the record; residual = measured - predicted bit speed "
           "and torque on bit.",
-          f"- **Error E** (loop.json `metric`): E = sqrt( 1/2 [ mean (v_pred - v)^2 / sd_v^2 + mean (T_pred - T)^2 / "
-          f"sd_T^2 ] ) over all samples of the part's horizons; sd_v = {d.sigma_v:.4g} rad/s "
+          ("- **Error E** (loop.json `metric`): E = sqrt( 1/3 [ mean (v_pred - v)^2 / sd_v^2 + mean (T_pred - T)^2 / "
+           "sd_T^2 + mean (top_pred - top)^2 / sd_v^2 ] ) (the top-speed term counts zero where the recorded top "
+           "speed is not a measurement)" if d.has_top else
+           "- **Error E** (loop.json `metric`): E = sqrt( 1/2 [ mean (v_pred - v)^2 / sd_v^2 + mean (T_pred - T)^2 / "
+           "sd_T^2 ] )") +
+          f" over all samples of the part's horizons; sd_v = {d.sigma_v:.4g} rad/s "
           f"({d.sigma_v * RPM:.3g} RPM), sd_T = {d.sigma_T:.4g} N m (calibration part, fixed). E = 1: as far off as "
           "the channels' own spread.",
           f"- **Guard** (an effect is added only if all hold): validation gain >= {100 * o.min_gain:g} %; one-sided "
