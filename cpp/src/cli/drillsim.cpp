@@ -20,6 +20,7 @@
 #include "drill/config.hpp"
 #include "drill/metrics.hpp"
 #include "drill/presets.hpp"
+#include "drill/run_summary.hpp"
 #include "drill/simulation.hpp"
 
 namespace fs = std::filesystem;
@@ -119,14 +120,7 @@ int run(int argc, char** argv) {
   if (job == "run") {
     const RunReport r = sim.run(sim.inputs());
     write_series(out, format, r.series);
-    summary["severity"] = nan_to_null(r.severity);
-    summary["mean_top_speed_rad_s"] = r.mean_top_speed;
-    summary["stick_fraction"] = nan_to_null(r.stick_fraction);
-    summary["stick_durations_s"] = r.stick;
-    summary["slip_durations_s"] = r.slip;
-    summary["period_cycles"] = r.periodic.period_cycles;
-    summary["period_stick_s"] = r.periodic.stick;
-    summary["period_slip_s"] = r.periodic.slip;
+    summary.update(run_summary<json>(r));
     std::cout << "SS = " << r.severity << ", stick fraction = " << r.stick_fraction << ", periodic over "
               << r.periodic.period_cycles << " cycle(s)\n";
   } else {

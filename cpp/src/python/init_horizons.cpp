@@ -4,6 +4,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <iterator>
+
 #include "drill/horizons.hpp"
 #include "drill/sensor.hpp"
 #include "glue.hpp"
@@ -13,18 +15,94 @@ using namespace drill;
 
 namespace {
 
-using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using drillpy_glue::Array;
 
 std::vector<double> as_vector(const py::object& x, const std::string& field) {
   if (x.is_none()) return {};
-  auto a = py::cast<py::array_t<double, py::array::c_style | py::array::forcecast>>(x);
+  auto a = py::cast<Array>(x);
   require(a.ndim() == 1, field, a.ndim(), "must be a 1-D array");
   return std::vector<double>(a.data(), a.data() + a.size());
+}
+
+/// Field name, member and docstring of the double fields of HorizonStart, in declaration order.
+struct StartField {
+  const char* name;
+  double HorizonStart::*member;
+  const char* doc;
+};
+const StartField start_fields[] = {
+    {"bit_speed", &HorizonStart::bit_speed, "Bit speed of the model state [rad/s] (sensor effects removed)."},
+    {"bit_accel", &HorizonStart::bit_accel, "Bit acceleration of the model state [rad/s^2]."},
+    {"torque", &HorizonStart::torque, "Torque on bit of the model state [N m]."},
+    {"top_speed", &HorizonStart::top_speed, "Top speed of the model state [rad/s]."},
+    {"top_accel", &HorizonStart::top_accel, "Top acceleration of the model state [rad/s^2]."},
+    {"y_bit_speed", &HorizonStart::y_bit_speed, "Recorded (filtered) bit speed [rad/s]: sensor filter state."},
+    {"dy_bit_speed", &HorizonStart::dy_bit_speed, "Rate of the recorded bit speed [rad/s^2]."},
+    {"y_torque", &HorizonStart::y_torque, "Recorded (filtered) torque on bit [N m]: sensor filter state."},
+    {"dy_torque", &HorizonStart::dy_torque, "Rate of the recorded torque [N m/s]."},
+    {"y_top_speed", &HorizonStart::y_top_speed, "Recorded (filtered) top speed [rad/s]: sensor filter state."},
+    {"dy_top_speed", &HorizonStart::dy_top_speed, "Rate of the recorded top speed [rad/s^2]."},
+};
+
+void bind_horizons(py::module_& m) {
+  py::class_<HorizonStart> hs(m, "HorizonStart",
+                              "Where one prediction horizon starts (drill/horizons.hpp): the model's state read off "
+                              "the record and the recorded channels that start the sensor filters.");
+  hs.def(py::init([](long index, double v, double a, double T, double om, double dom, double yv, double dyv,
+                     double yT, double dyT, double ytop, double dytop) {
+           return HorizonStart{index, v, a, T, om, dom, yv, dyv, yT, dyT, ytop, dytop};
+         }),
+         py::kw_only(), py::arg("index"), py::arg("bit_speed"), py::arg("bit_accel"), py::arg("torque"),
+         py::arg("top_speed"), py::arg("top_accel"), py::arg("y_bit_speed"), py::arg("dy_bit_speed"),
+         py::arg("y_torque"), py::arg("dy_torque"), py::arg("y_top_speed"), py::arg("dy_top_speed"));
+  hs.def_readonly("index", &HorizonStart::index, "Sample of the input grid at which the horizon starts.");
+  for (const StartField& f : start_fields) hs.def_readonly(f.name, f.member, f.doc);
+  hs.def_static(
+      "from_arrays",
+      [](const std::vector<long>& index, const Eigen::VectorXd& v, const Eigen::VectorXd& a, const Eigen::VectorXd& T,
+         const Eigen::VectorXd& om, const Eigen::VectorXd& dom, const Eigen::VectorXd& yv, const Eigen::VectorXd& dyv,
+         const Eigen::VectorXd& yT, const Eigen::VectorXd& dyT, const Eigen::VectorXd& ytop,
+         const Eigen::VectorXd& dytop) {
+        const Eigen::Index n = static_cast<Eigen::Index>(index.size());
+        const Eigen::VectorXd* cols[] = {&v, &a, &T, &om, &dom, &yv, &dyv, &yT, &dyT, &ytop, &dytop};
+        for (std::size_t k = 0; k < std::size(cols); ++k)
+          require(cols[k]->size() == n, start_fields[k].name, cols[k]->size(),
+                  "must have one entry per horizon (" + show(n) + ")");
+        std::vector<HorizonStart> starts(index.size());
+        for (Eigen::Index h = 0; h < n; ++h) {
+          HorizonStart& s = starts[static_cast<std::size_t>(h)];
+          s.index = index[static_cast<std::size_t>(h)];
+          for (std::size_t k = 0; k < std::size(cols); ++k) s.*(start_fields[k].member) = (*cols[k])(h);
+        }
+        return starts;
+      },
+      py::kw_only(), py::arg("index"), py::arg("bit_speed"), py::arg("bit_accel"), py::arg("torque"),
+      py::arg("top_speed"), py::arg("top_accel"), py::arg("y_bit_speed"), py::arg("dy_bit_speed"),
+      py::arg("y_torque"), py::arg("dy_torque"), py::arg("y_top_speed"), py::arg("dy_top_speed"),
+      "One HorizonStart per horizon from arrays with one entry per horizon (units of the fields).");
+  hs.def("__repr__", [](const HorizonStart& s) {
+    return "<drillpy._core.HorizonStart index=" + std::to_string(s.index) + ">";
+  });
+
+  py::class_<HorizonResult>(m, "HorizonResult",
+                            "Predictions after the configured sensors (predict_horizons): row h, column j is the "
+                            "value (j + 1) dt after the start of horizon h.")
+      .def_readonly("bit_speed", &HorizonResult::bit_speed, "Bit speed [rad/s], horizons x samples.")
+      .def_readonly("torque", &HorizonResult::torque, "Contact torque on bit [N m], horizons x samples.")
+      .def_readonly("top_speed", &HorizonResult::top_speed, "Top speed [rad/s], horizons x samples.")
+      .def(
+          "to_dict",
+          [](const HorizonResult& r) {
+            return py::dict(py::arg("bit_speed") = r.bit_speed, py::arg("torque") = r.torque,
+                            py::arg("top_speed") = r.top_speed);
+          },
+          "Every field in a dict keyed by the field names.");
 }
 
 }  // namespace
 
 void init_horizons(py::module_& m) {
+  bind_horizons(m);
   m.def(
       "lowpass2",
       [](const Eigen::VectorXd& x, double cutoff_hz, double dt) {
@@ -42,22 +120,8 @@ void init_horizons(py::module_& m) {
       "sampled every dt [s], started at rest on its first value.");
   m.def(
       "predict_horizons",
-      [](const Simulation& sim, const std::vector<long>& index, const RowMatrix& state, const RowMatrix& sensor,
-         double dt, int samples, py::object top_speed, py::object wob, py::object eta, py::object progress,
-         int threads) {
-        const std::size_t n = index.size();
-        require(state.rows() == static_cast<Eigen::Index>(n) && state.cols() == 5, "state shape",
-                show(state.rows()) + " x " + show(state.cols()),
-                "must be horizons x 5 (bit speed, bit acceleration, torque, top speed, top acceleration)");
-        require(sensor.rows() == static_cast<Eigen::Index>(n) && sensor.cols() == 6, "sensor shape",
-                show(sensor.rows()) + " x " + show(sensor.cols()),
-                "must be horizons x 6 (bit speed, its rate, torque, its rate, top speed, its rate as recorded)");
-        std::vector<HorizonStart> starts(n);
-        for (std::size_t h = 0; h < n; ++h) {
-          const Eigen::Index i = static_cast<Eigen::Index>(h);
-          starts[h] = {index[h],         state(i, 0),  state(i, 1),  state(i, 2),  state(i, 3),  state(i, 4),
-                       sensor(i, 0),     sensor(i, 1), sensor(i, 2), sensor(i, 3), sensor(i, 4), sensor(i, 5)};
-        }
+      [](const Simulation& sim, const std::vector<HorizonStart>& starts, double dt, int samples, py::object top_speed,
+         py::object wob, py::object eta, py::object progress, int threads) {
         HorizonInputs hin;
         hin.dt = dt;
         hin.samples = samples;
@@ -69,15 +133,14 @@ void init_horizons(py::module_& m) {
           py::gil_scoped_release nogil;
           r = predict_horizons(sim, starts, hin, drillpy_glue::progress_callback(progress), threads);
         }
-        return py::dict(py::arg("bit_speed") = r.bit_speed, py::arg("torque") = r.torque,
-                        py::arg("top_speed") = r.top_speed);
+        return r;
       },
-      py::arg("simulation"), py::arg("index"), py::arg("state"), py::arg("sensor"), py::arg("dt"), py::arg("samples"),
-      py::arg("top_speed") = py::none(), py::arg("wob") = py::none(), py::arg("eta") = py::none(),
-      py::arg("progress") = py::none(), py::arg("threads") = 0,
-      "Short-horizon predictions restarted from measured states (drill/horizons.hpp): rows are horizons, "
-      "columns the samples dt, 2 dt, ... after each start; bit speed [rad/s], contact torque [N m], top speed "
-      "[rad/s], after the configured sensors.");
+      py::arg("simulation"), py::arg("starts"), py::arg("dt"), py::arg("samples"), py::arg("top_speed") = py::none(),
+      py::arg("wob") = py::none(), py::arg("eta") = py::none(), py::arg("progress") = py::none(),
+      py::arg("threads") = 0,
+      "Short-horizon predictions restarted from measured states (drill/horizons.hpp), one per HorizonStart, "
+      "samples dt [s] apart; top_speed [rad/s] and wob [N] are input series on the record's grid (default: the "
+      "operating point), eta horizons x (samples + 1) the bit-rock fluctuation of Eq. (4.1).");
   m.def(
       "top_torque_from_bit",
       [](const Simulation& sim, const Eigen::VectorXd& v, const Eigen::VectorXd& a, const Eigen::VectorXd& T,

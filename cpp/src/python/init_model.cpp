@@ -9,48 +9,65 @@
 #include "drill/modal.hpp"
 #include "drill/parallel.hpp"
 #include "drill/presets.hpp"
+#include "glue.hpp"
 
 namespace py = pybind11;
 using namespace drill;
+using drillpy_glue::Array;
 
 void init_model(py::module_& m) {
+  py::class_<Config>(m, "Config",
+                     "A validated engine configuration (the JSON schema drillsim reads), parsed once. Pass it to "
+                     "Simulation, StochasticModel, MonteCarlo and the model functions; JSON text is converted "
+                     "implicitly.")
+      .def(py::init([](const std::string& text) { return parse_config_text(text); }), py::arg("json"),
+           "Parse and validate a JSON configuration (ValueError naming the field when invalid).")
+      .def("to_json", [](const Config& c) { return to_json(c).dump(); },
+           "JSON text of the configuration with every default made explicit.")
+      .def("to_dict", [](const Config& c) { return drillpy_glue::to_python_dict(to_json(c)); },
+           "The configuration as a dict with every default made explicit (the normalized form).")
+      .def_readonly("name", &Config::name, "Name of the configuration (config.name).")
+      .def_readonly("modes", &Config::modes, "Number of retained modes of the reduced model (rom.modes).")
+      .def_readonly("top_speed_rad_s", &Config::top_speed, "Top speed of the operating point [rad/s].")
+      .def_readonly("wob_n", &Config::wob, "Weight on bit of the operating point [N].")
+      .def_property_readonly("dt_s", [](const Config& c) { return c.sim.dt; }, "Integration time step [s].")
+      .def_property_readonly("duration_s", [](const Config& c) { return c.sim.duration; },
+                             "Simulated duration [s].")
+      .def_readonly("transient_s", &Config::transient, "Transient discarded before the metrics [s].")
+      .def("__repr__", [](const Config& c) { return "<drillpy._core.Config " + c.name + ">"; });
+  py::implicitly_convertible<py::str, Config>();
+
   m.def("preset_names", &preset_names, "Names of the built-in presets.");
   m.def("preset_json", [](const std::string& name) { return preset_json(name).dump(); },
         "JSON text of a built-in preset.");
-  m.def("normalize_config", [](const std::string& text) { return to_json(parse_config_text(text)).dump(); },
-        "Parse and validate a JSON configuration; return it with every default made explicit.");
+  m.def("normalize_config", [](const Config& c) { return to_json(c).dump(); }, py::arg("config"),
+        "Validated configuration as JSON text with every default made explicit.");
   m.def(
       "with_total_elements",
-      [](const std::string& text, int n) {
-        Config c = parse_config_text(text);
+      [](Config c, int n) {
         c.set_total_elements(n);
         c.validate();
-        return to_json(c).dump();
+        return c;
       },
       py::arg("config"), py::arg("elements"),
       "Re-mesh with n elements split in proportion to the section lengths (largest remainder).");
   m.def(
-      "natural_frequencies",
-      [](const std::string& text, int n) { return natural_frequencies_hz(parse_config_text(text).string, n); },
+      "natural_frequencies", [](const Config& c, int n) { return natural_frequencies_hz(c.string, n); },
       py::arg("config"), py::arg("n"), "First n natural frequencies [Hz] of the clamped string (Eq. 2.7).");
   m.def(
-      "exact_frequencies",
-      [](const std::string& text, int n) { return exact_frequencies_hz(parse_config_text(text).string, n); },
+      "exact_frequencies", [](const Config& c, int n) { return exact_frequencies_hz(c.string, n); },
       py::arg("config"), py::arg("n"),
       "First n exact natural frequencies [Hz] of the continuous string (transfer matrices).");
   m.def(
       "fe_matrices",
-      [](const std::string& text) {
-        const Config c = parse_config_text(text);
+      [](const Config& c) {
         const FEMatrices fe = assemble(c.string);
         return py::dict(py::arg("M") = fe.M, py::arg("K") = fe.K, py::arg("x") = fe.x);
       },
       py::arg("config"), "Unconstrained global mass and stiffness matrices and node depths.");
   m.def(
       "law_torque",
-      [](const std::string& law_json, py::array_t<double, py::array::c_style | py::array::forcecast> v,
-         py::array_t<double, py::array::c_style | py::array::forcecast> a,
-         py::array_t<double, py::array::c_style | py::array::forcecast> wob) {
+      [](const std::string& law_json, const Array& v, const Array& a, const Array& wob) {
         json j;
         try {
           j = json::parse(law_json);

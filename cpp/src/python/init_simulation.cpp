@@ -6,6 +6,7 @@
 
 #include "drill/config.hpp"
 #include "drill/metrics.hpp"
+#include "drill/run_summary.hpp"
 #include "drill/simulation.hpp"
 #include "glue.hpp"
 
@@ -14,16 +15,23 @@ using namespace drill;
 
 namespace {
 
-py::array_t<double> as_array(const std::vector<double>& v) { return py::array_t<double>(v.size(), v.data()); }
+using drillpy_glue::Array;
+using drillpy_glue::as_array;
 
 Signal to_signal(const py::object& series, double dt, double t0, double constant, const std::string& field) {
   if (series.is_none()) return Signal::constant(constant);
-  auto a = py::cast<py::array_t<double, py::array::c_style | py::array::forcecast>>(series);
+  auto a = py::cast<Array>(series);
   require(a.ndim() == 1, field, a.ndim(), "must be a 1-D array");
   require(a.size() >= 1, field, a.size(), "must not be empty");
   Signal s = Signal::sampled(std::vector<double>(a.data(), a.data() + a.size()), t0, dt);
   s.validate(field);
   return s;
+}
+
+/// A read-only 1-D float64 property of RunReport.
+template <class Get>
+void vector_field(py::class_<RunReport>& c, const char* name, Get get, const char* doc) {
+  c.def_property_readonly(name, [get](const RunReport& r) { return as_array(get(r)); }, doc);
 }
 
 py::dict report_to_dict(const RunReport& r) {
@@ -50,13 +58,65 @@ py::dict report_to_dict(const RunReport& r) {
   return d;
 }
 
+void bind_run_report(py::module_& m) {
+  py::class_<RunReport> c(m, "RunReport",
+                          "Time series (SI, absolute frame) and metrics of one run (Simulation.run). The series are "
+                          "sampled every simulation.output_stride steps and are empty with record=False.");
+  vector_field(c, "t", [](const RunReport& r) -> const auto& { return r.series.t; }, "Sample times [s].");
+  vector_field(c, "bit_speed", [](const RunReport& r) -> const auto& { return r.series.bit_speed; },
+               "Bit speed [rad/s].");
+  vector_field(c, "bit_accel", [](const RunReport& r) -> const auto& { return r.series.bit_accel; },
+               "Bit acceleration [rad/s^2].");
+  vector_field(c, "bit_angle", [](const RunReport& r) -> const auto& { return r.series.bit_angle; },
+               "Bit angle [rad].");
+  vector_field(c, "torque_on_bit", [](const RunReport& r) -> const auto& { return r.series.torque_on_bit; },
+               "Torque on bit of the bit-rock law [N m] (Eqs. 3.1-3.3; string friction left out).");
+  vector_field(c, "top_torque", [](const RunReport& r) -> const auto& { return r.series.top_torque; },
+               "Elastic torque at the top of the string [N m].");
+  vector_field(c, "top_speed", [](const RunReport& r) -> const auto& { return r.series.top_speed; },
+               "Top speed [rad/s] (the motor's with a motor top drive).");
+  c.def_readonly("severity", &RunReport::severity,
+                 "Stick-slip severity SS over t >= transient, Eq. (3.4), dimensionless (NaN when undefined).");
+  c.def_readonly("mean_top_speed", &RunReport::mean_top_speed, "Mean top speed over t >= transient [rad/s].");
+  c.def_readonly("stick_fraction", &RunReport::stick_fraction,
+                 "Fraction of t >= transient spent in stick, dimensionless (NaN when undefined).");
+  vector_field(c, "stick_durations", [](const RunReport& r) -> const auto& { return r.stick; },
+               "Durations of the complete stick phases after the transient [s].");
+  vector_field(c, "slip_durations", [](const RunReport& r) -> const auto& { return r.slip; },
+               "Durations of the complete slip phases after the transient [s].");
+  c.def_readonly("slip_first", &RunReport::slip_first,
+                 "True when the first complete phase after the transient is a slip phase.");
+  c.def_property_readonly("period_cycles", [](const RunReport& r) { return r.periodic.period_cycles; },
+                          "Stick-slip cycles after which the phase durations repeat (0: no periodic regime).");
+  vector_field(c, "period_stick", [](const RunReport& r) -> const auto& { return r.periodic.stick; },
+               "Stick durations of the last period [s].");
+  vector_field(c, "period_slip", [](const RunReport& r) -> const auto& { return r.periodic.slip; },
+               "Slip durations of the last period [s].");
+  c.def_property_readonly("period_mismatch", [](const RunReport& r) { return r.periodic.mismatch; },
+                          "Largest difference between durations one period apart [s].");
+  c.def_property_readonly("final_q", [](const RunReport& r) { return r.final_state.q; },
+                          "Reduced coordinates q at the end of the run (Eq. 2.8; modal amplitudes of the rotation "
+                          "relative to the top [rad]).");
+  c.def_property_readonly("final_qdot", [](const RunReport& r) { return r.final_state.qdot; },
+                          "Their time derivative q' at the end of the run [1/s].");
+  c.def("to_dict", &report_to_dict,
+        "Every field in a dict keyed by the field names (t, bit_speed, ..., final_q, final_qdot).");
+  c.def(
+      "summary", [](const RunReport& r) { return drillpy_glue::to_python_dict(run_summary(r)); },
+      "The run's summary (drill/run_summary.hpp, the summary.json of drillsim and drillpy simulate "
+      "without config and job): severity, mean_top_speed_rad_s, stick_fraction, stick_durations_s, "
+      "slip_durations_s, period_cycles, period_stick_s, period_slip_s; undefined values are None.");
+}
+
 }  // namespace
 
 void init_simulation(py::module_& m) {
+  bind_run_report(m);
   py::class_<Simulation>(m, "Simulation", "A configured reduced-order simulation (appendix B).")
-      .def(py::init([](const std::string& text) { return Simulation(parse_config_text(text)); }), py::arg("config"))
-      .def_property_readonly("config", [](const Simulation& s) { return to_json(s.config()).dump(); })
-      .def_property_readonly("frequencies_hz", [](const Simulation& s) { return Eigen::VectorXd(s.rom().omega / (2 * M_PI)); })
+      .def(py::init<const Config&>(), py::arg("config"))
+      .def_property_readonly("config", [](const Simulation& s) { return s.config(); }, "The configuration (a copy).")
+      .def_property_readonly("frequencies_hz", [](const Simulation& s) { return Eigen::VectorXd(s.rom().omega / (2 * M_PI)); },
+                             "Natural frequencies of the retained modes [Hz].")
       .def_property_readonly("stability_bound", [](const Simulation& s) { return s.integrator().stability_bound(); },
                              "Modified-Euler bound pi / (5 omega_max) [s] (Eq. A.7).")
       .def(
@@ -106,7 +166,7 @@ void init_simulation(py::module_& m) {
               py::gil_scoped_release nogil;
               r = s.run(in, record, has_start ? &start : nullptr);
             }
-            return report_to_dict(r);
+            return r;
           },
           py::arg("top_speed") = py::none(), py::arg("wob") = py::none(), py::arg("top_speed_series") = py::none(),
           py::arg("wob_series") = py::none(), py::arg("eta_series") = py::none(), py::arg("series_dt") = 1e-3,

@@ -17,10 +17,9 @@ using namespace drill;
 
 namespace {
 
-using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
-std::vector<double> to_vector(const Array& a) { return std::vector<double>(a.data(), a.data() + a.size()); }
-py::array_t<double> as_array(const std::vector<double>& v) { return py::array_t<double>(v.size(), v.data()); }
+using drillpy_glue::Array;
+using drillpy_glue::as_array;
+using drillpy_glue::to_vector;
 
 PsdModel make_model(double f0, double A0, double a, double b) {
   PsdModel m{f0, A0, a, b};
@@ -36,9 +35,33 @@ py::array_t<double> map_values(const Array& f, const std::function<double(double
   return out;
 }
 
+py::dict statistics_to_dict(const SeverityStatistics& st) {
+  return py::dict(py::arg("mean") = as_array(st.mean), py::arg("q_low") = as_array(st.q_low),
+                  py::arg("q_high") = as_array(st.q_high), py::arg("p_exceed") = as_array(st.p_exceed),
+                  py::arg("p_speed") = st.p_speed);
+}
+
+void bind_severity_statistics(py::module_& m) {
+  py::class_<SeverityStatistics>(m, "SeverityStatistics",
+                                 "Statistics per top speed of SS samples (severity_statistics, section 4.2.2); "
+                                 "arrays have one entry per speed.")
+      .def_property_readonly("mean", [](const SeverityStatistics& s) { return as_array(s.mean); },
+                             "Sample mean of the stick-slip severity SS, Eq. (3.4), dimensionless.")
+      .def_property_readonly("q_low", [](const SeverityStatistics& s) { return as_array(s.q_low); },
+                             "Lower quantile (q_low) of SS, dimensionless.")
+      .def_property_readonly("q_high", [](const SeverityStatistics& s) { return as_array(s.q_high); },
+                             "Upper quantile (q_high) of SS, dimensionless.")
+      .def_property_readonly("p_exceed", [](const SeverityStatistics& s) { return as_array(s.p_exceed); },
+                             "Probability P(SS > level), dimensionless.")
+      .def_readonly("p_speed", &SeverityStatistics::p_speed,
+                    "Lowest top speed from which P(SS > level) <= prob [rad/s] (NaN: no crossing).")
+      .def("to_dict", &statistics_to_dict, "Every field in a dict keyed by the field names.");
+}
+
 }  // namespace
 
 void init_stochastic(py::module_& m) {
+  bind_severity_statistics(m);
   m.def(
       "psd_model_values",
       [](const Array& f, double f0, double A0, double a, double b) {
@@ -88,8 +111,7 @@ void init_stochastic(py::module_& m) {
       "Carlo samples with that seed.");
 
   py::class_<MonteCarlo>(m, "MonteCarlo", "Monte Carlo of the stochastic drill-string model (Algorithm 1).")
-      .def(py::init([](const std::string& config, const Array& S, double eta_dt, std::uint64_t seed, double warmup) {
-             Config c = parse_config_text(config);
+      .def(py::init([](Config c, const Array& S, double eta_dt, std::uint64_t seed, double warmup) {
              GaussianProcess proc(to_vector(S), eta_dt, c.sim.duration);
              return MonteCarlo(std::move(c), std::move(proc), seed, warmup);
            }),
@@ -140,10 +162,7 @@ void init_stochastic(py::module_& m) {
       "severity_statistics",
       [](const Eigen::MatrixXd& ss, const std::vector<double>& speeds, double level, double prob, double q_low,
          double q_high) {
-        const SeverityStatistics st = severity_statistics(ss, speeds, level, prob, q_low, q_high);
-        return py::dict(py::arg("mean") = as_array(st.mean), py::arg("q_low") = as_array(st.q_low),
-                        py::arg("q_high") = as_array(st.q_high), py::arg("p_exceed") = as_array(st.p_exceed),
-                        py::arg("p_speed") = st.p_speed);
+        return severity_statistics(ss, speeds, level, prob, q_low, q_high);
       },
       py::arg("severity"), py::arg("speeds"), py::arg("level") = 0.5, py::arg("prob") = 0.05,
       py::arg("q_low") = 0.05, py::arg("q_high") = 0.95,

@@ -18,7 +18,7 @@ using namespace drill;
 
 namespace {
 
-using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using drillpy_glue::Array;
 
 /// (ns, 3, 2) array -> one Dispersions per substructure.
 std::vector<Dispersions> to_dispersions(const Array& a) {
@@ -45,13 +45,37 @@ py::dict matrices(const Eigen::MatrixXd& M, const Eigen::MatrixXd& D, const Eige
   return py::dict(py::arg("M") = M, py::arg("D") = D, py::arg("K") = K);
 }
 
+py::dict envelope_to_dict(const FrfEnvelope& e) {
+  return py::dict(py::arg("freq_hz") = e.freq_hz, py::arg("nodes") = e.nodes, py::arg("nominal_db") = e.nominal_db,
+                  py::arg("mean_db") = e.mean_db, py::arg("lower_db") = e.lower_db, py::arg("upper_db") = e.upper_db,
+                  py::arg("energy") = e.energy, py::arg("samples") = e.samples);
+}
+
+void bind_frf_envelope(py::module_& m) {
+  py::class_<FrfEnvelope>(m, "FrfEnvelope",
+                          "Monte Carlo envelope of the acceleration FRF for a unit torque at the bit (section 6.6, "
+                          "StochasticModel.envelope). Matrices are n_freq x n_nodes unless stated.")
+      .def_readonly("freq_hz", &FrfEnvelope::freq_hz, "Frequencies [Hz].")
+      .def_readonly("nodes", &FrfEnvelope::nodes, "Observed FE nodes (1 = first free node).")
+      .def_readonly("nominal_db", &FrfEnvelope::nominal_db,
+                    "Acceleration FRF of the mean (deterministic) model [dB re 1 rad/s^2 per N m].")
+      .def_readonly("mean_db", &FrfEnvelope::mean_db, "Sample mean of the dB response [dB].")
+      .def_readonly("lower_db", &FrfEnvelope::lower_db, "Quantile (1 - P)/2 of the dB response [dB].")
+      .def_readonly("upper_db", &FrfEnvelope::upper_db, "Quantile (1 + P)/2 of the dB response [dB].")
+      .def_readonly("energy", &FrfEnvelope::energy,
+                    "n_samples x n_nodes: int_B |a_i(omega)|^2 d omega over the band (Eq. C.2) [(rad/s^2 / N m)^2 rad/s].")
+      .def_readonly("samples", &FrfEnvelope::samples, "Number of realizations (0 when cancelled).")
+      .def("to_dict", &envelope_to_dict, "Every field in a dict keyed by the field names.");
+}
+
 }  // namespace
 
 void init_uncertainty(py::module_& m) {
+  bind_frf_envelope(m);
   m.def(
       "craig_bampton",
-      [](const std::string& text) {
-        const CraigBampton cb(parse_config_text(text));
+      [](const Config& c) {
+        const CraigBampton cb(c);
         py::list subs;
         for (const Substructure& s : cb.substructures())
           subs.append(py::dict(py::arg("name") = s.name, py::arg("modes") = s.modes,
@@ -65,7 +89,7 @@ void init_uncertainty(py::module_& m) {
       "Craig-Bampton model of the configuration (Eqs. 6.8-6.18): assembled M, D, K, recovery Psi and "
       "the reduced blocks of each substructure.");
   m.def(
-      "cb_frequencies", [](const std::string& text, int n) { return CraigBampton(parse_config_text(text)).frequencies_hz(n); },
+      "cb_frequencies", [](const Config& c, int n) { return CraigBampton(c).frequencies_hz(n); },
       py::arg("config"), py::arg("n"), "First n natural frequencies [Hz] of the assembled Craig-Bampton model.");
   m.def(
       "thesis_case_dispersions",
@@ -86,8 +110,8 @@ void init_uncertainty(py::module_& m) {
       "Eqs. 6.24-6.25) with dispersion delta (Eq. 6.3).");
 
   py::class_<StochasticModel>(m, "StochasticModel", "SM_full, SM_CB1 or SM_CB2 on a configuration (chapter 6).")
-      .def(py::init([](const std::string& text, const std::string& kind, const Array& delta) {
-             return StochasticModel(parse_config_text(text), parse_stochastic_kind(kind), to_dispersions(delta));
+      .def(py::init([](const Config& c, const std::string& kind, const Array& delta) {
+             return StochasticModel(c, parse_stochastic_kind(kind), to_dispersions(delta));
            }),
            py::arg("config"), py::arg("model"), py::arg("delta"))
       .def_property_readonly("model", [](const StochasticModel& s) { return to_string(s.kind()); })
@@ -117,10 +141,7 @@ void init_uncertainty(py::module_& m) {
               py::gil_scoped_release nogil;
               e = frf_envelope(s, nodes, freq_hz, o, drillpy_glue::progress_callback(progress));
             }
-            return py::dict(py::arg("freq_hz") = e.freq_hz, py::arg("nodes") = e.nodes,
-                            py::arg("nominal_db") = e.nominal_db, py::arg("mean_db") = e.mean_db,
-                            py::arg("lower_db") = e.lower_db, py::arg("upper_db") = e.upper_db,
-                            py::arg("energy") = e.energy, py::arg("samples") = e.samples);
+            return e;
           },
           py::arg("freq_hz"), py::arg("nodes"), py::arg("samples") = 2500, py::arg("seed") = 1,
           py::arg("probability") = 0.95, py::arg("progress") = py::none(), py::arg("threads") = 0,
@@ -179,6 +200,6 @@ void init_uncertainty(py::module_& m) {
           py::arg("progress") = py::none(), py::arg("threads") = 0,
           "SS (Eq. 3.4) for samples x top speeds with random structure; bit-rock uncertainty (Eq. 4.1) from eta "
           "rows sampled every eta_dt, or from a PSD on the generator grid of (eta_dt, duration) (Eq. 4.4).");
-  m.def("observation_nodes", [](const std::string& text) { return thesis_observation_nodes(parse_config_text(text).string); },
+  m.def("observation_nodes", [](const Config& c) { return thesis_observation_nodes(c.string); },
         py::arg("config"), "P_obs,1 (first free node), P_obs,2 (first interface), P_obs,3 (bit) of section 6.6.");
 }

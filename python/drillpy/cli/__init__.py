@@ -92,11 +92,7 @@ def cmd_simulate(a) -> int:
     from drillpy.model.simulation import simulate
     cfg = _config(a)
     r = simulate(cfg, a.top_speed, None if a.wob_kn is None else a.wob_kn * 1e3, start=a.start)
-    summary = {"severity": r.severity, "mean_top_speed_rad_s": r.mean_top_speed,
-               "stick_fraction": r.stick_fraction,
-               "stick_durations_s": r.stick_durations.tolist(),
-               "slip_durations_s": r.slip_durations.tolist(), "period_cycles": r.period_cycles,
-               "period_stick_s": r.period_stick.tolist(), "period_slip_s": r.period_slip.tolist()}
+    summary = r.summary()  # drill/run_summary.hpp: the keys drillsim writes
     if a.out:
         out = Path(a.out)
         out.mkdir(parents=True, exist_ok=True)

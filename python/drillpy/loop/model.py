@@ -17,7 +17,7 @@ import numpy as np
 
 from drillpy import _core
 from drillpy.records import identification as ident
-from drillpy.model.config import to_json_text
+from drillpy.model.config import engine_config
 from .data import LoopData, measured
 from .effects import CATALOGUE
 
@@ -131,13 +131,9 @@ class LoopModel:
             raise ValueError(f"model: lacks {e}") from None
 
 
-_SIMS: dict = {}
-
-
 def simulation(cfg: dict) -> "_core.Simulation":
-    """The engine's Simulation of a configuration (cached by its JSON text).
-
-    The cache holds at most 65 simulations; it is emptied when full.
+    """The engine's Simulation of a configuration (built in about a millisecond for the rig's
+    model, negligible beside the predictions it serves).
 
     Parameters
     ----------
@@ -147,15 +143,9 @@ def simulation(cfg: dict) -> "_core.Simulation":
     Returns
     -------
     drillpy._core.Simulation
-        The engine's model of the configuration (shared between callers: do not modify it).
+        The engine's model of the configuration.
     """
-    text = to_json_text(cfg)
-    sim = _SIMS.get(text)
-    if sim is None:
-        if len(_SIMS) > 64:
-            _SIMS.clear()
-        sim = _SIMS[text] = _core.Simulation(text)
-    return sim
+    return _core.Simulation(engine_config(cfg))
 
 
 def motor_inertia_floor(model: LoopModel) -> float:
@@ -363,19 +353,21 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
         dT = CATALOGUE[name].restart_torque(p, model, data, chs, idx)
         if dT is not None:
             T0 = T0 + dT
-    state = np.column_stack([chs["v"][idx], chs["a"][idx], T0, om, dom])
     if data.has_top:
         ytop, dytop = ch["top"][idx], ch["top1"][idx]
     else:
         ytop, dytop = om, dom
-    sensor = np.column_stack([ch["v"][idx], ch["v1"][idx], ch["T"][idx], ch["T1"][idx], ytop, dytop])
+    starts = _core.HorizonStart.from_arrays(
+        index=idx.tolist(), bit_speed=chs["v"][idx], bit_accel=chs["a"][idx], torque=T0, top_speed=om, top_accel=dom,
+        y_bit_speed=ch["v"][idx], dy_bit_speed=ch["v1"][idx], y_torque=ch["T"][idx], dy_torque=ch["T1"][idx],
+        y_top_speed=ytop, dy_top_speed=dytop)
     wob_series = chs["W_eff"] if any(CATALOGUE[n].wob_input(p, model, chs.get("W")) is not None
                                      for n, p in model.effects.items()) else None
-    r = _core.predict_horizons(sim, idx.tolist(), np.ascontiguousarray(state), np.ascontiguousarray(sensor),
-                               data.dt, data.L + D, top_speed=top_series, wob=wob_series, eta=eta, threads=threads)
+    r = _core.predict_horizons(sim, starts, data.dt, data.L + D, top_speed=top_series, wob=wob_series, eta=eta,
+                               threads=threads)
     if top:
-        return r["bit_speed"][:, D:], r["torque"][:, D:], r["top_speed"][:, D:]
-    return r["bit_speed"][:, D:], r["torque"][:, D:]
+        return r.bit_speed[:, D:], r.torque[:, D:], r.top_speed[:, D:]
+    return r.bit_speed[:, D:], r.torque[:, D:]
 
 
 @dataclass

@@ -2,6 +2,8 @@
 
 A configuration is a plain ``dict``; :func:`load_config` returns it normalized (every default
 made explicit) so that what a run used can always be written back next to its results.
+:func:`engine_config` parses it once into the engine's ``_core.Config``, which ``Simulation``,
+``StochasticModel``, ``MonteCarlo`` and the functions of :mod:`drillpy.model.simulation` take as is.
 """
 from __future__ import annotations
 
@@ -34,12 +36,38 @@ def to_json_text(config: dict) -> str:
     return json.dumps(config, allow_nan=False)
 
 
+def engine_config(config) -> "_core.Config":
+    """The engine's parsed and validated configuration (``_core.Config``) of a dict.
+
+    Build it once and reuse it: it crosses into the engine once, and ``Simulation``,
+    ``StochasticModel``, ``MonteCarlo`` and :func:`drillpy.model.simulation.simulate` take it as is.
+
+    Parameters
+    ----------
+    config : dict or _core.Config
+        A configuration (the JSON schema shared with drillsim); a ``_core.Config`` is returned as is.
+
+    Returns
+    -------
+    _core.Config
+        The validated configuration, every default explicit (``to_dict()`` gives the normalized dict).
+
+    Raises
+    ------
+    ValueError
+        Naming the field and the value when the configuration is invalid.
+    """
+    if isinstance(config, _core.Config):
+        return config
+    return _core.Config(to_json_text(config))
+
+
 def normalize(config: dict) -> dict:
     """Validate a configuration in the engine and return it with all defaults explicit.
 
     Raises ValueError naming the field and the value when the configuration is invalid.
     """
-    return json.loads(_core.normalize_config(to_json_text(config)))
+    return engine_config(config).to_dict()
 
 
 def read_json(path, field: str):
@@ -60,7 +88,7 @@ def load_config(preset: str | None = None, path: str | Path | None = None,
     if sum(given) != 1:
         raise ValueError("load_config: give exactly one of preset, path or config")
     if preset is not None:
-        return json.loads(_core.normalize_config(_core.preset_json(preset)))
+        return _core.Config(_core.preset_json(preset)).to_dict()
     if path is not None:
         return normalize(read_json(path, "config"))
     return normalize(copy.deepcopy(config))
@@ -96,7 +124,7 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
     c = copy.deepcopy(cfg)
     if elements is not None:
         _check_int(elements, "elements", minimum=1)
-        c = json.loads(_core.with_total_elements(to_json_text(c), int(elements)))
+        c = _core.with_total_elements(engine_config(c), int(elements)).to_dict()
     if modes is not None:
         _check_int(modes, "modes", minimum=1)
         c["rom"]["modes"] = int(modes)

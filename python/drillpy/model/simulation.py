@@ -1,24 +1,26 @@
 """Single runs, SS sweeps and stability maps through the C++ engine (appendix B)."""
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from drillpy import _core
-from drillpy.model.config import to_json_text
+from drillpy.model.config import engine_config, to_json_text
 from drillpy.progress import progress_bar
 
 
 @dataclass
 class SimulationResult:
-    """Time series (SI, absolute frame) and metrics of one run.
+    """Time series (SI, absolute frame) and metrics of one run (the fields of the engine's
+    ``_core.RunReport``, whose docstrings give their units).
 
     ``severity`` is SS of Eq. (3.4) over t >= transient; ``stick_durations`` and
     ``slip_durations`` are complete phases after the transient; ``period_cycles`` is the number
     of stick-slip cycles after which the phase durations repeat (0 when no periodic regime).
+    ``report`` is the engine's ``_core.RunReport`` the fields come from; :meth:`summary` is the
+    run's summary.json content (drill/run_summary.hpp, shared with drillsim).
     """
     t: np.ndarray
     bit_speed: np.ndarray
@@ -39,13 +41,27 @@ class SimulationResult:
     final_q: np.ndarray
     final_qdot: np.ndarray
     config: dict = field(repr=False, default_factory=dict)
+    report: "_core.RunReport | None" = field(repr=False, default=None, compare=False)
+
+    def summary(self) -> dict:
+        """The run's summary (keys and units of drill/run_summary.hpp, the summary.json of
+        ``drillsim --job run`` and ``drillpy simulate`` without ``config`` and ``job``)."""
+        if self.report is None:
+            raise ValueError("summary: this result holds no engine report")
+        return self.report.summary()
 
 
-def _engine(cfg: dict) -> "_core.Simulation":
-    return _core.Simulation(to_json_text(cfg))
+#: the fields of SimulationResult that come from the engine's RunReport (RunReport.to_dict keys)
+_REPORT_FIELDS = ("t", "bit_speed", "bit_accel", "bit_angle", "torque_on_bit", "top_torque", "top_speed",
+                  "severity", "mean_top_speed", "stick_fraction", "stick_durations", "slip_durations",
+                  "slip_first", "period_cycles", "period_stick", "period_slip", "final_q", "final_qdot")
 
 
-def simulate(cfg: dict, top_speed: float | None = None, wob: float | None = None, *,
+def _engine(cfg) -> "_core.Simulation":
+    return _core.Simulation(engine_config(cfg))
+
+
+def simulate(cfg: "dict | _core.Config", top_speed: float | None = None, wob: float | None = None, *,
              top_speed_series=None, wob_series=None, eta_series=None, series_dt: float = 1e-3,
              series_t0: float = 0.0, bit_viscous: float | None = None,
              string_friction: float | None = None, record: bool = True,
@@ -62,34 +78,28 @@ def simulate(cfg: dict, top_speed: float | None = None, wob: float | None = None
     initial speed of a motor top drive, which otherwise starts at its command).
     ``bit_viscous`` [N m s/rad] and ``string_friction`` [N m] override ``operation.bit_viscous_nms``
     and ``operation.string_friction_nm``; ``torque_on_bit`` leaves the string friction out.
+    ``cfg`` is a dict or a ``_core.Config`` (:func:`drillpy.model.config.engine_config`).
     """
     sim = _engine(cfg)
     _check_start(start)
     if start == "steady" and q0 is None:
-        om0 = cfg["operation"]["top_speed_rad_s"] if top_speed is None else top_speed
+        om0 = sim.config.top_speed_rad_s if top_speed is None else top_speed
         if top_speed_series is not None:
             om0 = float(np.asarray(top_speed_series, dtype=float)[0])
-        w0 = cfg["operation"]["wob_n"] if wob is None else wob
+        w0 = sim.config.wob_n if wob is None else wob
         if wob_series is not None:
             w0 = float(np.asarray(wob_series, dtype=float)[0])
         q0, qdot0, top_speed0 = sim.steady_state(om0, w0, with_top_speed=True)
     if start == "rigid" and q0 is None:
         q0 = qdot0 = np.zeros(sim.reduced_matrices()["M"].shape[0])
-    d = sim.run(top_speed=top_speed, wob=wob, top_speed_series=_opt(top_speed_series),
+    r = sim.run(top_speed=top_speed, wob=wob, top_speed_series=_opt(top_speed_series),
                 wob_series=_opt(wob_series), eta_series=_opt(eta_series), series_dt=series_dt,
                 series_t0=series_t0, bit_viscous=bit_viscous, string_friction=string_friction,
                 record=record,
                 q0=_opt(q0), qdot0=_opt(qdot0),
                 top_speed0=None if top_speed0 is None else float(top_speed0))
-    return SimulationResult(
-        t=d["t"], bit_speed=d["bit_speed"], bit_accel=d["bit_accel"], bit_angle=d["bit_angle"],
-        torque_on_bit=d["torque_on_bit"], top_torque=d["top_torque"], top_speed=d["top_speed"],
-        severity=d["severity"], mean_top_speed=d["mean_top_speed"],
-        stick_fraction=d["stick_fraction"], stick_durations=d["stick_durations"],
-        slip_durations=d["slip_durations"], slip_first=d["slip_first"],
-        period_cycles=d["period_cycles"], period_stick=d["period_stick"],
-        period_slip=d["period_slip"], final_q=d["final_q"], final_qdot=d["final_qdot"],
-        config=json.loads(sim.config))
+    return SimulationResult(**{k: getattr(r, k) for k in _REPORT_FIELDS},
+                            config=sim.config.to_dict(), report=r)
 
 
 #: initial states of a run (``Simulation::start_state`` in simulation.hpp)
@@ -115,7 +125,7 @@ def _grid(values, name: str) -> np.ndarray:
     return a
 
 
-def sweep_severity(cfg: dict, speeds, wobs=None, *, progress: bool = True,
+def sweep_severity(cfg: "dict | _core.Config", speeds, wobs=None, *, progress: bool = True,
                    threads: int = 0, start: str = "rest") -> np.ndarray:
     """SS (Eq. 3.4) for each top speed [rad/s] (and WOB [N]), computed in parallel.
 
@@ -192,7 +202,7 @@ def severity_threshold(speeds, severities, level: float = 0.5) -> float | None:
 
 def natural_frequencies(cfg: dict, n: int) -> np.ndarray:
     """First n natural frequencies [Hz] of the clamped string (Eq. 2.7)."""
-    return np.asarray(_core.natural_frequencies(to_json_text(cfg), int(n)))
+    return np.asarray(_core.natural_frequencies(engine_config(cfg), int(n)))
 
 
 def law_torque(law: dict, speed, acceleration=0.0, wob=None) -> np.ndarray:
