@@ -99,3 +99,19 @@ def test_predict_applies_a_model_file_without_refitting(tmp_path):
     (tmp_path / "bad.json").write_text(json.dumps({"config": {}}))
     r = run_cli("predict", str(tmp_path / "bad.json"), rec, "--json")
     assert r.returncode == 2 and "drillpy rig model" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+def test_every_command_is_registered_in_order_with_its_handler():
+    from drillpy.cli import COMMANDS, build_parser
+    sub = next(a for a in build_parser()._actions if a.dest == "command")
+    assert tuple(sub.choices) == COMMANDS
+    for name, p in sub.choices.items():
+        assert p.get_default("func").__name__ == "cmd_" + name.replace("-", "_")
+
+
+def test_mc_counts_are_ints_and_a_bad_one_is_a_one_line_error(capsys):
+    from drillpy.cli import build_parser, main
+    a = build_parser().parse_args(["mc", "--preset", "thesis-field", "--samples", "12", "--seed", "3"])
+    assert (a.samples, a.seed, a.first_sample) == (12, 3, 0)
+    assert main(["mc", "--preset", "thesis-field", "--first-sample", "x", "--no-progress"]) == 2
+    assert capsys.readouterr().err == "drillpy: error: first_sample = 'x': must be an integer\n"

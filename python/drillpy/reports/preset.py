@@ -135,3 +135,65 @@ def print_field_summary(s: dict) -> None:
                   f"{m['mean_ss_low_speed_high_wob']:.2f}")
         print(f"hysteresis enlarges stable region: {c['hysteresis_enlarges_stable_region']}; "
               f"raises SS at low speed/high WOB: {c['hysteresis_raises_ss_low_speed_high_wob']}")
+
+
+def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, summary: dict, cfg: dict) -> Path:
+    """Write the outputs of an SS sweep (``drillpy sweep --out``).
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Folder created if missing; receives ``severity_vs_top_speed.png`` and ``sweep.json``.
+    speeds : array_like
+        Top-drive speeds [rad/s].
+    severity : array_like
+        SS (Eq. 3.4) at each speed [-].
+    threshold : float or None
+        Speed below which SS > 0.5 [rad/s], drawn on the figure; None without a crossing.
+    summary : dict
+        JSON summary of the sweep, written with the configuration under ``"config"``.
+    cfg : dict
+        Configuration the sweep ran with.
+
+    Returns
+    -------
+    Path
+        The output folder.
+    """
+    from drillpy.figures import simulation as plotting
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    plotting.severity_curve(out / "severity_vs_top_speed.png", speeds, severity, threshold)
+    (out / "sweep.json").write_text(json.dumps({**summary, "config": cfg}, indent=2))
+    return out
+
+
+def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict, cfg: dict) -> Path:
+    """Write the outputs of a stability map (``drillpy map --out``).
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Folder created if missing; receives ``stability_map.png`` and ``map.json``.
+    speeds_rpm : array_like
+        Top-drive speeds [RPM].
+    wobs_kn : array_like
+        Weights on bit [kN].
+    severity : ndarray
+        SS [-] over speed x WOB, as returned by :func:`drillpy.model.simulation.stability_map`.
+    summary : dict
+        JSON summary of the map, written with the configuration under ``"config"``.
+    cfg : dict
+        Configuration the map ran with (its law type labels the panel).
+
+    Returns
+    -------
+    Path
+        The output folder.
+    """
+    from drillpy.figures import simulation as plotting
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    plotting.stability_maps(out / "stability_map.png", speeds_rpm, wobs_kn, {cfg["law"]["type"]: severity})
+    (out / "map.json").write_text(json.dumps({**summary, "config": cfg}, indent=2))
+    return out

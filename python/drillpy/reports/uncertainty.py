@@ -293,3 +293,165 @@ def nominal_agreement(cfg: dict, f_hz=None) -> float:
     a = frf_envelope(cfg, "SM_full", 0.0, samples=1, freq_hz=f, progress=False)
     b = frf_envelope(cfg, "SM_CB2", 0.0, samples=1, freq_hz=f, progress=False)
     return float(np.abs(a.nominal_db - b.nominal_db).max())
+
+
+def write_envelope(out_dir, env, title: str, summary: dict, cfg: dict) -> Path:
+    """Write the outputs of one FRF envelope (``drillpy frf --out``).
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Folder created if missing; receives ``frf_point<k>.png`` per observation point and
+        ``envelope.json``.
+    env : drillpy.uncertainty.frf.FrfEnvelope
+        The envelope (:func:`drillpy.uncertainty.frf.frf_envelope`).
+    title : str
+        Legend label and title prefix of the figures.
+    summary : dict
+        JSON summary of the envelope, written with the configuration under ``"config"``.
+    cfg : dict
+        Configuration the envelope ran with.
+
+    Returns
+    -------
+    Path
+        The output folder.
+    """
+    from drillpy.figures import frf as frf_plots
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    for p, label in enumerate(env.labels):
+        frf_plots.envelope_figure(out / f"frf_point{p + 1}.png", {title: env}, p, f"{title}: {label}")
+    (out / "envelope.json").write_text(json.dumps({**summary, "config": cfg}))
+    return out
+
+
+def robust_speed_summary(severity, speeds, refine: float | None, seed: int, evaluate) -> dict:
+    """The 5 % speed of a Monte Carlo SS matrix, refined and with its bootstrap interval.
+
+    Parameters
+    ----------
+    severity : ndarray
+        SS [-], one row per sample, one column per speed.
+    speeds : array_like
+        Top-drive speeds [rad/s] of the columns.
+    refine : float or None
+        Bisection tolerance [rad/s] of :func:`drillpy.uncertainty.robust_speed.refine_p_speed`
+        (same samples at new speeds); None: no refinement.
+    seed : int
+        Seed of the bootstrap resampling.
+    evaluate : callable
+        ``evaluate(speeds)`` returns the SS matrix of the same samples at new speeds [rad/s].
+
+    Returns
+    -------
+    dict
+        ``p05_speed_bracket_rad_s``, ``p05_speed_rad_s`` and ``refinement_speeds_rad_s`` when refined
+        to a crossing; ``p05_speed_bootstrap`` (90 % interval over the samples) with two or more samples.
+    """
+    from drillpy.uncertainty.robust_speed import bootstrap_interval, p_speed, refine_p_speed
+    out = {}
+    if refine is not None:
+        r = refine_p_speed(severity, speeds, evaluate, tol=refine)
+        if r is not None:
+            severity, speeds = r.severity, r.speeds
+            out["p05_speed_bracket_rad_s"] = [r.below, r.above]
+            out["p05_speed_rad_s"] = p_speed(severity, speeds)
+            out["refinement_speeds_rad_s"] = [float(x) for x in r.speeds]
+    if severity.shape[0] >= 2:
+        out["p05_speed_bootstrap"] = bootstrap_interval(severity, speeds, seed=seed)
+    return out
+
+
+def robust_severity(cfg: dict, speeds, samples: int, *, delta: float = 0.1, eta_psd=None, eta=None,
+                    eta_dt: float = 0.05, refine: float | None = None, seed: int = 1, progress: bool = True,
+                    threads: int = 0) -> tuple[dict, dict]:
+    """SS versus top speed per source of uncertainty with the robust speed of each (``drillpy robust-ss``).
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration (Craig-Bampton modes set, e.g. ``thesis-ch6``).
+    speeds : array_like
+        Top-drive speeds [rad/s].
+    samples : int
+        Monte Carlo samples per source.
+    delta : float
+        Dispersion of every SM_CB2 random matrix [-].
+    eta_psd : PsdModel or PsdTable, optional
+        One-sided PSD per Hz of eta (Eq. 4.4): adds the stochastic bit-rock law generated in the engine.
+    eta : ndarray, optional
+        eta(t) of Eq. (4.1), one row per sample, sampled every ``eta_dt``: adds the bit-rock law from
+        given series (not with ``eta_psd``).
+    eta_dt : float
+        Sampling step of eta [s].
+    refine : float, optional
+        Locate each 5 % speed by bisection to this tolerance [rad/s].
+    seed : int
+        Seed of the samples and of the bootstrap.
+    progress : bool
+        Show a progress bar.
+    threads : int
+        OpenMP threads (0: default).
+
+    Returns
+    -------
+    studies : dict
+        label -> :class:`drillpy.uncertainty.structural.SeverityStudy`.
+    summary : dict
+        label -> the study's JSON with the :func:`robust_speed_summary` entries.
+    """
+    from drillpy.uncertainty.structural import severity_sources, severity_study
+    kw = dict(seed=seed, progress=progress, threads=threads)
+    studies = severity_sources(cfg, speeds, samples, delta=delta, eta_psd=eta_psd, eta_dt=eta_dt, **kw)
+    if eta is not None:
+        studies["bit-rock (eta)"] = severity_study(cfg, speeds, samples, delta=0.0, structural=False, eta=eta,
+                                                   eta_dt=eta_dt, label="bit-rock (eta)", **kw)
+        studies["structure + bit-rock"] = severity_study(cfg, speeds, samples, delta=delta, eta=eta,
+                                                         eta_dt=eta_dt, label="structure + bit-rock", **kw)
+    res = {label: st.to_json() for label, st in studies.items()}
+    for label, st in studies.items():
+        if st.ss.shape[0] < 2:
+            continue
+        kw_st = dict(delta=delta, seed=seed, progress=False, threads=threads, eta_dt=eta_dt, label=label,
+                     structural=label != "bit-rock (eta)")
+        if "bit-rock" in label:
+            if eta_psd is not None:
+                kw_st["eta_psd"] = eta_psd
+            else:
+                kw_st["eta"] = eta
+            if label == "bit-rock (eta)":
+                kw_st["delta"] = 0.0
+        n = st.ss.shape[0]
+        res[label].update(robust_speed_summary(st.ss, st.speeds, refine, seed,
+                                               lambda sp, kw_st=kw_st, n=n: severity_study(cfg, sp, n, **kw_st).ss))
+    return studies, res
+
+
+def write_robust_severity(out_dir, speeds, studies: dict, summary: dict, cfg: dict) -> Path:
+    """Write the outputs of :func:`robust_severity` (``drillpy robust-ss --out``).
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Folder created if missing; receives ``severity_bands.png`` and ``robust_ss.json``.
+    speeds : array_like
+        Top-drive speeds [rad/s].
+    studies : dict
+        label -> SeverityStudy.
+    summary : dict
+        label -> JSON of the study, written with the configuration under ``"config"``.
+    cfg : dict
+        Configuration the studies ran with.
+
+    Returns
+    -------
+    Path
+        The output folder.
+    """
+    from drillpy.figures import frf as frf_plots
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    frf_plots.severity_bands_figure(out / "severity_bands.png", speeds, studies)
+    (out / "robust_ss.json").write_text(json.dumps({**summary, "config": cfg}, indent=2))
+    return out

@@ -1,0 +1,339 @@
+"""``drillpy`` commands on the deterministic model: report, modes, simulate, sweep, map, convergence.
+
+Each ``add_*`` function registers one subcommand's arguments; the ``cmd_*`` handler below it turns
+them into one library call and prints the result (text, or one JSON line with ``--json``).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+
+from drillpy.cli import add_model_args, model_config, parse_grid
+
+
+def add_report(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy report``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``drillpy`` subparsers.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    s = sub.add_parser("report", help="main job: deterministic analysis with figures")
+    add_model_args(s)
+    s.add_argument("--out", default="results", help="output folder")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_report)
+    return s
+
+
+def cmd_report(a: argparse.Namespace) -> int:
+    """Run the main job (:func:`drillpy.reports.preset.field_report`) into ``--out``.
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        Arguments of ``drillpy report``.
+
+    Returns
+    -------
+    int
+        Exit status 0; prints the summary (without its configuration) as JSON or as text.
+    """
+    from drillpy.reports.preset import field_report, print_field_summary
+    s = field_report(model_config(a), a.out, progress=not a.no_progress, threads=a.threads)
+    if a.json:
+        print(json.dumps({k: v for k, v in s.items() if k != "config"}))
+    else:
+        print_field_summary(s)
+        print(f"figures and summary.json written to {a.out}")
+    return 0
+
+
+def add_modes(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy modes``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``drillpy`` subparsers.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    s = sub.add_parser("modes", help="natural frequencies (Eq. 2.7)")
+    add_model_args(s)
+    s.add_argument("-n", type=int, default=5, help="number of frequencies")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_modes)
+    return s
+
+
+def cmd_modes(a: argparse.Namespace) -> int:
+    """Print the first ``-n`` natural frequencies [Hz] (Eq. 2.7).
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        Arguments of ``drillpy modes``.
+
+    Returns
+    -------
+    int
+        Exit status 0; prints ``{"frequencies_hz": [...]}`` or one line per mode.
+    """
+    from drillpy.model.simulation import natural_frequencies
+    f = natural_frequencies(model_config(a), a.n)
+    if a.json:
+        print(json.dumps({"frequencies_hz": [float(x) for x in f]}))
+    else:
+        for k, x in enumerate(f, 1):
+            print(f"mode {k}: {x:.4f} Hz")
+    return 0
+
+
+def add_simulate(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy simulate``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``drillpy`` subparsers.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    s = sub.add_parser("simulate", help="one run: time series and stick-slip metrics")
+    add_model_args(s)
+    s.add_argument("--top-speed", type=float, help="top-drive speed [rad/s]")
+    s.add_argument("--wob-kn", type=float, help="weight on bit [kN]")
+    s.add_argument("--out", help="folder for series.csv, summary.json and a figure")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_simulate)
+    return s
+
+
+def cmd_simulate(a: argparse.Namespace) -> int:
+    """Run one simulation at ``--top-speed`` [rad/s] and ``--wob-kn`` [kN]; print its stick-slip metrics.
+
+    With ``--out`` writes ``series.csv`` (time series, SI units), ``time_series.png`` and
+    ``summary.json`` (the summary with the configuration).
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        Arguments of ``drillpy simulate``.
+
+    Returns
+    -------
+    int
+        Exit status 0; prints the summary as JSON or SS, stick fraction and periodic cycles as text.
+    """
+    # The run-summary writing below is being unified with the other run outputs (one schema) in
+    # the library; it stays here, unchanged, until then.
+    from drillpy.figures import simulation as plotting
+    from drillpy.model.simulation import simulate
+    cfg = model_config(a)
+    r = simulate(cfg, a.top_speed, None if a.wob_kn is None else a.wob_kn * 1e3, start=a.start)
+    summary = r.summary()  # drill/run_summary.hpp: the keys drillsim writes
+    if a.out:
+        out = Path(a.out)
+        out.mkdir(parents=True, exist_ok=True)
+        cols = np.column_stack([r.t, r.bit_speed, r.bit_accel, r.bit_angle, r.torque_on_bit,
+                                r.top_torque, r.top_speed])
+        np.savetxt(out / "series.csv", cols, delimiter=",", comments="",
+                   header="time_s,bit_speed_rad_s,bit_accel_rad_s2,bit_angle_rad,torque_on_bit_Nm,"
+                          "top_torque_Nm,top_speed_rad_s")
+        plotting.time_series(out / "time_series.png", r.t, r.bit_speed, r.torque_on_bit, r.top_speed)
+        (out / "summary.json").write_text(json.dumps({**summary, "config": r.config}, indent=2))
+    print(json.dumps(summary) if a.json else
+          f"SS = {r.severity:.3f}, stick fraction = {r.stick_fraction:.3f}, "
+          f"periodic over {r.period_cycles} cycle(s)")
+    return 0
+
+
+def add_sweep(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy sweep``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``drillpy`` subparsers.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    s = sub.add_parser("sweep", help="SS versus top speed (Fig. 4.8)")
+    add_model_args(s)
+    s.add_argument("--speeds", default="6:27:22", help="top speeds [rad/s], start:stop:num or list")
+    s.add_argument("--out", help="folder for the figure and sweep.json")
+    s.add_argument("--refine", type=float, metavar="TOL", help="locate the threshold by bisection to TOL [rad/s]")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_sweep)
+    return s
+
+
+def cmd_sweep(a: argparse.Namespace) -> int:
+    """SS versus top speed [rad/s] and the speed below which SS > 0.5 (optionally by bisection).
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        Arguments of ``drillpy sweep``.
+
+    Returns
+    -------
+    int
+        Exit status 0; prints the sweep as JSON or one line per speed and the threshold; with
+        ``--out`` :func:`drillpy.reports.preset.write_sweep` writes the figure and ``sweep.json``.
+    """
+    from drillpy.model.simulation import severity_threshold, sweep_severity
+    from drillpy.reports.preset import write_sweep
+    cfg = model_config(a)
+    speeds = parse_grid(a.speeds, "--speeds")
+    ss = sweep_severity(cfg, speeds, progress=not a.no_progress, threads=a.threads, start=a.start)
+    thr = severity_threshold(speeds, ss)
+    res = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.tolist(), "threshold_rad_s": thr}
+    if a.refine is not None and thr is not None:
+        from drillpy.model.simulation import refine_threshold
+        r = refine_threshold(cfg, speeds, ss, tol=a.refine, threads=a.threads, start=a.start)
+        thr = r.threshold
+        res.update(threshold_rad_s=r.threshold, threshold_precision_rad_s=r.precision,
+                   threshold_bracket_rad_s=[r.below, r.above], refinement_runs=[list(e) for e in r.evaluations])
+    if a.out:
+        write_sweep(a.out, speeds, ss, thr, res, cfg)
+    if a.json:
+        print(json.dumps(res))
+    else:
+        for s, v in zip(speeds, ss):
+            print(f"{s:8.3f} rad/s  SS = {v:.3f}")
+        print("SS > 0.5 below", "no crossing in range" if thr is None else
+              f"{thr:.3f} +- {res['threshold_precision_rad_s']:.3f} rad/s (bisection)" if "threshold_precision_rad_s" in res
+              else f"{thr:.2f} rad/s (linear interpolation on the grid)")
+    return 0
+
+
+def add_map(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy map``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``drillpy`` subparsers.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    s = sub.add_parser("map", help="stability map over top speed x WOB (Figs. 3.11-3.12)")
+    add_model_args(s)
+    s.add_argument("--speeds-rpm", default="50:160:23", help="top speeds [RPM]")
+    s.add_argument("--wobs-kn", default="22:267:12", help="weights on bit [kN]")
+    s.add_argument("--out", help="folder for the figure and map.json")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_map)
+    return s
+
+
+def cmd_map(a: argparse.Namespace) -> int:
+    """SS over top speed [RPM] x weight on bit [kN] (Figs. 3.11-3.12).
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        Arguments of ``drillpy map``.
+
+    Returns
+    -------
+    int
+        Exit status 0; prints the map as JSON or its stable fraction (SS < 0.5); with ``--out``
+        :func:`drillpy.reports.preset.write_map` writes the figure and ``map.json``.
+    """
+    from drillpy.model.simulation import stability_map
+    from drillpy.reports.preset import write_map
+    cfg = model_config(a)
+    sp = parse_grid(a.speeds_rpm, "--speeds-rpm")
+    w = parse_grid(a.wobs_kn, "--wobs-kn")
+    m = stability_map(cfg, sp * np.pi / 30.0, w * 1e3, progress=not a.no_progress, threads=a.threads,
+                      start=a.start)
+    res = {"top_speeds_rpm": sp.tolist(), "wobs_kn": w.tolist(), "severity": m.tolist()}
+    if a.out:
+        write_map(a.out, sp, w, m, res, cfg)
+    print(json.dumps(res) if a.json else f"stable fraction (SS < 0.5): {np.mean(m < 0.5):.3f}")
+    return 0
+
+
+def add_convergence(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy convergence``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``drillpy`` subparsers.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    s = sub.add_parser("convergence", help="FE and time-step convergence studies (docs/numerics.md)")
+    add_model_args(s)
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_convergence)
+    return s
+
+
+def cmd_convergence(a: argparse.Namespace) -> int:
+    """FE (frequencies) and time-step (bit speed [rad/s]) convergence orders (docs/numerics.md).
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        Arguments of ``drillpy convergence``.
+
+    Returns
+    -------
+    int
+        Exit status 0; prints :func:`drillpy.model.convergence.convergence_report` as JSON or tables.
+    """
+    from drillpy.model.convergence import convergence_report
+    r = convergence_report(model_config(a))
+    if a.json:
+        print(json.dumps(r))
+        return 0
+    sp = r["space"]
+    print("FE frequencies vs exact (max relative error over the first 5):")
+    for n, e in zip(sp["elements"], sp["max_rel_error"]):
+        print(f"  {n:5d} elements  {e:.3e}")
+    print("  observed orders:", ", ".join(f"{o:.2f}" for o in sp["orders"]))
+    for key, title in (("time_slip", "slip regime"), ("time_stick_slip", "stick-slip regime")):
+        t = r[key]
+        print(f"time integration, {title} ({t['top_speed_rad_s']} rad/s, {t['duration_s']} s; "
+              f"max |bit speed error| vs BDF2 at dt = {t['reference_dt_s']:.2e} s):")
+        print("  dt [s]      modified_euler   bdf2")
+        for i, dt in enumerate(t["dt_s"]):
+            print(f"  {dt:.2e}   {t['modified_euler']['max_error_rad_s'][i]:.3e}        "
+                  f"{t['bdf2']['max_error_rad_s'][i]:.3e}")
+        print("  orders: modified_euler", ", ".join(f"{o:.2f}" for o in t["modified_euler"]["orders"]),
+              "| bdf2", ", ".join(f"{o:.2f}" for o in t["bdf2"]["orders"]))
+    return 0
+
+
+#: subcommand -> function registering it (``drillpy.cli.build_parser`` orders them)
+SUBCOMMANDS = {"report": add_report, "modes": add_modes, "simulate": add_simulate, "sweep": add_sweep,
+               "map": add_map, "convergence": add_convergence}

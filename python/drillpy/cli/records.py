@@ -1,0 +1,232 @@
+"""``drillpy`` commands on measured records: analyze, predict, loop.
+
+Each ``add_*`` function registers one subcommand's arguments; the ``cmd_*`` handler below it turns
+them into one library call (which writes the output folder) and prints the result.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+
+from drillpy.cli import parse_grid
+
+
+def add_analyze(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy analyze``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``drillpy`` subparsers.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    s = sub.add_parser("analyze", help="measured record(s) (.mat or .csv): one record: cleaning, cycles, "
+                                       "identification, rig simulation (report.md + figures + summary.json); two or "
+                                       "more: statistics across samples, thesis section 5.3 (samples.md, "
+                                       "samples.json, fig5_4_boxplot.png)")
+    s.add_argument("record", nargs="+",
+                   help="rig MATLAB file or drillpy CSV (see README: CSV format), a folder of them, or FILE@T0:T1 "
+                        "(the window T0 <= t < T1 [s] of a file as one sample)")
+    s.add_argument("--out", required=True, help="output folder")
+    s.add_argument("--t0", type=float, help="start of the analysed window [s] (every record)")
+    s.add_argument("--t1", type=float, help="end of the analysed window [s] (every record)")
+    s.add_argument("--cycle-at", type=float, help="time [s] inside the cycle shown in cycle.png (one record)")
+    s.add_argument("--folds", type=int, help="cross-validation folds over cycles (0: none; default 5 for one record, "
+                                             "0 across samples)")
+    s.add_argument("--psd-fmax", type=float, default=10.0, help="upper end of the PSD-model fit band [Hz] (one record)")
+    s.add_argument("--no-sim", action="store_true", help="skip the rig simulations (one record)")
+    s.add_argument("--calibrate", metavar="T0:T1", help="fit and calibrate on this part [s] only and predict the rest "
+                                                        "of the record (one record)")
+    g = s.add_argument_group("acceptance criterion across samples (thesis section 5.3.3)")
+    g.add_argument("--max-var-mse-regularized", type=float, default=47.93,
+                   help="largest acceptable Var[MSE] (Eq. 5.2) of the regularized law Eq. (3.1)")
+    g.add_argument("--max-var-mse-non-regularized", type=float, default=0.26,
+                   help="largest acceptable Var[MSE] of the non-regularized law Eq. (5.1)")
+    g.add_argument("--cv-reference", type=float, default=0.329,
+                   help="CV average the variation limit starts from (thesis Table 5.2: 0.329)")
+    g.add_argument("--concrete-variation", type=float, default=0.10,
+                   help="variation of the concrete resistance added to it (thesis: 0.10)")
+    g.add_argument("--require-cv", action="store_true",
+                   help="also reject samples whose CV exceeds the variation limit (the thesis does not)")
+    s.add_argument("--json", action="store_true",
+                   help="print the main numbers and the identification results (one record) or the tables across "
+                        "samples as JSON")
+    s.set_defaults(func=cmd_analyze)
+    return s
+
+
+def cmd_analyze(a: argparse.Namespace) -> int:
+    """Analyse one record (:func:`drillpy.reports.analysis.analyze_record`) or several samples
+    (:func:`drillpy.records.samples.analyze_samples`, thesis section 5.3) into ``--out``.
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        Arguments of ``drillpy analyze``; ``--t0``/``--t1``/``--calibrate`` in s, ``--psd-fmax`` in Hz.
+
+    Returns
+    -------
+    int
+        Exit status 0; the library logs its progress (text) or the main results are printed as JSON.
+    """
+    from drillpy.records.samples import Acceptance, SampleOptions, analyze_samples, find_records
+    log = (lambda *_: None) if a.json else print
+    items = find_records(a.record)
+    if len(items) == 1:  # one record (or one window of it): the single-record analysis
+        from drillpy.reports.analysis import AnalysisOptions, _jsonable, analyze_record
+        t0, t1 = items[0][2] or (a.t0, a.t1)
+        cal = None if a.calibrate is None else tuple(parse_grid(a.calibrate.replace(":", ","), "--calibrate"))
+        if cal is not None and len(cal) != 2:
+            raise ValueError(f"--calibrate = {a.calibrate!r}: use T0:T1 [s]")
+        opt = AnalysisOptions(t0=t0, t1=t1, cycle_at_s=a.cycle_at, folds=5 if a.folds is None else a.folds,
+                              psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim, calibrate=cal)
+        s = analyze_record(items[0][1], a.out, opt, log=log)
+        if a.json:
+            keys = ("cleaning", "cycles", "severity", "torque_statistics", "psd", "identification", "rig")
+            print(json.dumps(_jsonable({k: s[k] for k in keys if k in s}), default=str, allow_nan=False))
+        return 0
+    # two or more samples (files, a folder, FILE@T0:T1 windows): section 5.3 across samples
+    acc = Acceptance(max_var_mse={"tucker_wang": a.max_var_mse_regularized,
+                                  "polynomial": a.max_var_mse_non_regularized},
+                     cv_reference=a.cv_reference, concrete_variation=a.concrete_variation,
+                     require_cv=a.require_cv)
+    opt = SampleOptions(t0=a.t0, t1=a.t1, folds=0 if a.folds is None else a.folds, acceptance=acc)
+    s = analyze_samples([p if w is None else f"{p}@{w[0]!r}:{w[1]!r}" for _, p, w in items], a.out, opt, log=log)
+    if a.json:
+        from drillpy.reports.analysis import _jsonable
+        print(json.dumps(_jsonable({k: s[k] for k in ("n_samples", "laws", "table_5_2", "across_samples",
+                                                      "acceptance", "parameters")}), allow_nan=False))
+    return 0
+
+
+def add_predict(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy predict``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``drillpy`` subparsers.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    s = sub.add_parser("predict", help="apply a calibrated rig model (model.json of analyze) to a record, no refitting")
+    s.add_argument("model", help="model.json written by drillpy analyze")
+    s.add_argument("record", help="rig MATLAB file or drillpy CSV")
+    s.add_argument("--out", help="folder for summary.json and overlay.png")
+    s.add_argument("--t0", type=float, help="start of the predicted window [s]")
+    s.add_argument("--t1", type=float, help="end of the predicted window [s]")
+    s.add_argument("--horizon", type=float, default=0.25, help="short-horizon length [s] (docs/loop.md)")
+    s.add_argument("--threads", type=int, default=0, help="OpenMP threads (0: default)")
+    s.add_argument("--json", action="store_true", help="print the short-horizon error and the long-run metrics")
+    s.set_defaults(func=cmd_predict)
+    return s
+
+
+def cmd_predict(a: argparse.Namespace) -> int:
+    """Apply a calibrated rig model to a record without refitting (:mod:`drillpy.records.prediction`).
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        Arguments of ``drillpy predict``; ``--t0``/``--t1``/``--horizon`` in s.
+
+    Returns
+    -------
+    int
+        Exit status 0; prints the short-horizon error E [-] and the long-run metrics measured versus
+        predicted (SS, stick fraction, cycle frequency [Hz], torque p5-p95 [N m]) as JSON or text.
+    """
+    from drillpy.records.prediction import describe, load_model, predict_record, write_prediction
+    model = load_model(a.model)
+    pred = predict_record(model, a.record, t0=a.t0, t1=a.t1, horizon_s=a.horizon, threads=a.threads)
+    if a.out:
+        write_prediction(pred, a.out)
+    s = pred.summary()
+    if a.json:
+        print(json.dumps({k: s[k] for k in ("short_horizon_error", "long_run")}, allow_nan=False))
+    else:
+        lr = s["long_run"]
+        print(f"{describe(model)} at the record's operating point; short-horizon error E = {s['short_horizon_error']:.3f}")
+        for k in ("ss", "stick_fraction", "cycle_frequency_hz"):
+            print(f"  {k}: measured {lr[k]['measured']:.3f}, predicted {lr[k]['predicted']:.3f} "
+                  f"({100 * lr[k]['relative_error']:+.1f} %)")
+        tq = lr["torque_p05_p95_nm"]
+        print(f"  torque p5-p95 [N m]: measured {tq['measured'][0]:.2f}-{tq['measured'][1]:.2f}, predicted "
+              f"{tq['predicted'][0]:.2f}-{tq['predicted'][1]:.2f}")
+    return 0
+
+
+def add_loop(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy loop``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``drillpy`` subparsers.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    s = sub.add_parser("loop", help="measured record versus a declared model: residuals, the missing effects the "
+                                    "evidence supports, the corrected model, errors before and after")
+    s.add_argument("record", help="rig MATLAB file or drillpy CSV (see README: CSV format)")
+    src = s.add_mutually_exclusive_group(required=True)
+    src.add_argument("--preset", help="declared model: a built-in configuration (e.g. thesis-rig)")
+    src.add_argument("--config", help="declared model: a JSON configuration file")
+    s.add_argument("--out", required=True, help="output folder (loop.json, predictions.csv, report.md, figures)")
+    s.add_argument("--horizon", type=float, default=0.25, help="prediction horizon between restarts [s]")
+    s.add_argument("--calibration-fraction", type=float, default=0.5,
+                   help="fraction of the record (from its start) used to calibrate; the rest validates")
+    s.add_argument("--rate", type=float, default=1000.0, help="analysis sampling rate, at most [Hz]")
+    s.add_argument("--min-gain", type=float, default=0.05, help="minimum relative validation improvement")
+    s.add_argument("--alpha", type=float, default=0.05, help="family-wise level of the test per round")
+    s.add_argument("--min-delta-bic", type=float, default=6.0, help="minimum BIC improvement (calibration part)")
+    s.add_argument("--max-steps", type=int, default=6, help="at most this many effects are added")
+    s.add_argument("--effects", help="comma-separated candidate effects (default: the whole catalogue)")
+    s.add_argument("--dt", type=float, help="engine time step of the predictions [s] (default: the model's)")
+    s.add_argument("--threads", type=int, default=0, help="OpenMP threads (0: default)")
+    s.add_argument("--json", action="store_true", help="print the errors and the effects found as JSON")
+    s.set_defaults(func=cmd_loop)
+    return s
+
+
+def cmd_loop(a: argparse.Namespace) -> int:
+    """Measured record versus a declared model: the missing effects and the corrected model
+    (:func:`drillpy.loop.loop_record`, which writes ``--out``).
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        Arguments of ``drillpy loop``; ``--horizon``/``--dt`` in s, ``--rate`` in Hz.
+
+    Returns
+    -------
+    int
+        Exit status 0; the loop logs its steps (text) or the errors and effects are printed as JSON.
+    """
+    from drillpy.loop import LoopOptions, loop_record
+    from drillpy.loop.effects import NAMES
+    effects = NAMES if a.effects is None else tuple(e.strip() for e in a.effects.split(",") if e.strip())
+    opt = LoopOptions(horizon_s=a.horizon, calibration_fraction=a.calibration_fraction, rate_hz=a.rate,
+                      min_gain=a.min_gain, alpha=a.alpha, min_delta_bic=a.min_delta_bic, max_steps=a.max_steps,
+                      effects=effects, threads=a.threads, dt_s=a.dt)
+    js = loop_record(a.record, a.out, preset=a.preset, config_path=a.config, options=opt,
+                     log=(lambda *_: None) if a.json else print)
+    if a.json:
+        print(json.dumps({k: js[k] for k in ("metric", "baseline_error", "final_error", "declared", "removed",
+                                             "final_effects", "unexplained_fraction")} |
+                         {"added": [s["effect"] for s in js["steps"] if s["action"] == "add"]}))
+    return 0
+
+
+#: subcommand -> function registering it (``drillpy.cli.build_parser`` orders them)
+SUBCOMMANDS = {"analyze": add_analyze, "predict": add_predict, "loop": add_loop}
