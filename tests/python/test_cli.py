@@ -81,11 +81,11 @@ def test_drillsim_errors(drillsim, args, needle):
 def test_predict_applies_a_model_file_without_refitting(tmp_path):
     from _testrig import sample175_path
     from drillpy.records import rigsim
-    from drillpy.reports.analysis import _jsonable
+    from drillpy.jsonio import jsonable
     from drillpy.model.config import load_config
     rec = str(sample175_path())
     model = rigsim.RigModel(load_config(preset="thesis-rig")["law"], 0.3, "constant")
-    (tmp_path / "model.json").write_text(json.dumps(_jsonable(model.to_dict(top_speed=8.0, wob=560.0))))
+    (tmp_path / "model.json").write_text(json.dumps(jsonable(model.to_dict(top_speed=8.0, wob=560.0))))
     r = run_cli("predict", str(tmp_path / "model.json"), rec, "--t0", "30", "--t1", "36", "--out",
                 str(tmp_path / "p"), "--json")
     assert r.returncode == 0, r.stderr

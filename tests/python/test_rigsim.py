@@ -6,7 +6,7 @@ import pytest
 
 from _testrig import sample175_cleaned
 from drillpy.records import rigsim
-from drillpy.reports.analysis import _jsonable
+from drillpy.jsonio import jsonable
 from drillpy.records.cleaning import clean
 from drillpy.model.config import load_config
 from drillpy.records.io import RPM, Flag
@@ -64,7 +64,7 @@ def test_calibration_keeps_each_drives_scan_minimum(window):
         assert b["mismatch"] == min(m for _, m in b["scan"])
     assert cal.model.drive == min(cal.per_drive, key=lambda d: cal.per_drive[d]["mismatch"])
     assert cal.comparison.mismatch == pytest.approx(cal.per_drive[cal.model.drive]["mismatch"], rel=1e-9)
-    back = rigsim.RigModel.from_dict(json.loads(json.dumps(_jsonable(cal.model.to_dict()))))
+    back = rigsim.RigModel.from_dict(json.loads(json.dumps(jsonable(cal.model.to_dict()))))
     assert (back.drive, back.damping_ratio, back.law) == (cal.model.drive, cal.model.damping_ratio, cal.model.law)
 
 

@@ -156,7 +156,7 @@ def cmd_simulate(a: argparse.Namespace) -> int:
         np.savetxt(out / "series.csv", cols, delimiter=",", comments="",
                    header="time_s,bit_speed_rad_s,bit_accel_rad_s2,bit_angle_rad,torque_on_bit_Nm,"
                           "top_torque_Nm,top_speed_rad_s")
-        plotting.time_series(out / "time_series.png", r.t, r.bit_speed, r.torque_on_bit, r.top_speed)
+        plotting.time_series_plot(out / "time_series.png", r.t, r.bit_speed, r.torque_on_bit, r.top_speed)
         (out / "summary.json").write_text(json.dumps({**summary, "config": r.config}, indent=2))
     print(json.dumps(summary) if a.json else
           f"SS = {r.severity:.3f}, stick fraction = {r.stick_fraction:.3f}, "

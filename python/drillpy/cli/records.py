@@ -77,7 +77,8 @@ def cmd_analyze(a: argparse.Namespace) -> int:
     log = (lambda *_: None) if a.json else print
     items = find_records(a.record)
     if len(items) == 1:  # one record (or one window of it): the single-record analysis
-        from drillpy.reports.analysis import AnalysisOptions, _jsonable, analyze_record
+        from drillpy.jsonio import jsonable
+        from drillpy.reports.analysis import AnalysisOptions, analyze_record
         t0, t1 = items[0][2] or (a.t0, a.t1)
         cal = None if a.calibrate is None else tuple(parse_grid(a.calibrate.replace(":", ","), "--calibrate"))
         if cal is not None and len(cal) != 2:
@@ -87,7 +88,7 @@ def cmd_analyze(a: argparse.Namespace) -> int:
         s = analyze_record(items[0][1], a.out, opt, log=log)
         if a.json:
             keys = ("cleaning", "cycles", "severity", "torque_statistics", "psd", "identification", "rig")
-            print(json.dumps(_jsonable({k: s[k] for k in keys if k in s}), default=str, allow_nan=False))
+            print(json.dumps(jsonable({k: s[k] for k in keys if k in s}), default=str, allow_nan=False))
         return 0
     # two or more samples (files, a folder, FILE@T0:T1 windows): section 5.3 across samples
     acc = Acceptance(max_var_mse={"tucker_wang": a.max_var_mse_regularized,
@@ -97,8 +98,8 @@ def cmd_analyze(a: argparse.Namespace) -> int:
     opt = SampleOptions(t0=a.t0, t1=a.t1, folds=0 if a.folds is None else a.folds, acceptance=acc)
     s = analyze_samples([p if w is None else f"{p}@{w[0]!r}:{w[1]!r}" for _, p, w in items], a.out, opt, log=log)
     if a.json:
-        from drillpy.reports.analysis import _jsonable
-        print(json.dumps(_jsonable({k: s[k] for k in ("n_samples", "laws", "table_5_2", "across_samples",
+        from drillpy.jsonio import jsonable
+        print(json.dumps(jsonable({k: s[k] for k in ("n_samples", "laws", "table_5_2", "across_samples",
                                                       "acceptance", "parameters")}), allow_nan=False))
     return 0
 

@@ -237,10 +237,3 @@ def severity_bands_plot(path, speeds, studies: dict, level: float = 0.5, title: 
     aw.legend(fontsize=7)
     return _save(fig, path)
 
-
-# Former names, kept for existing callers.
-envelope_figure = envelope_plot
-conv2_samples_figure = conv2_samples_plot
-conv2_modes_figure = conv2_modes_plot
-cb_convergence_figure = cb_convergence_plot
-severity_bands_figure = severity_bands_plot

@@ -586,15 +586,3 @@ def prediction_overlay_plot(path, rec, sim, stick_threshold, label, window_s=3.0
     fig.tight_layout()
     return _save(fig, path)
 
-
-# Former names, kept for existing callers.
-time_series = record_time_series_plot
-cleaning = cleaning_plot
-one_cycle = cycle_plot
-loops = loops_plot
-cycle_statistics = cycle_statistics_plot
-laws = laws_plot
-psd = eta_psd_plot
-rig_time_series = rig_time_series_plot
-rig_loops = rig_loops_plot
-prediction_overlay = prediction_overlay_plot

@@ -142,8 +142,3 @@ def time_series_plot(path, t, bit_speed, torque_on_bit, top_speed=None, t_window
         a1.set_title(title)
     return _save(fig, path)
 
-
-# Former names, kept for existing callers.
-severity_curve = severity_plot
-stability_maps = stability_map_plot
-time_series = time_series_plot

@@ -277,11 +277,3 @@ def conv1_plot(path, conv1) -> Path:
     ax.grid(alpha=0.3)
     return _save(fig, path)
 
-
-# Former names, kept for existing callers.
-psd_fit = psd_fit_plot
-eta_realizations = eta_realizations_plot
-deterministic_vs_stochastic = deterministic_vs_stochastic_plot
-phase_pdfs = phase_pdf_plot
-severity_band = severity_band_plot
-conv1_curve = conv1_plot

@@ -14,14 +14,9 @@ from drillpy.model.config import normalize
 from .effects import CATALOGUE
 from .run import LoopResult, dumps
 from drillpy.figures import loop as _loop_figures
-from drillpy.figures.loop import C_BASE, C_FINAL, C_MEAS, C_SIG  # noqa: F401 (former home)
+from drillpy.reports.text import number_text as _f
 from drillpy.records.io import RPM
 
-# Former names of the figures (now in drillpy.figures.loop), kept for existing callers.
-signature_figure = _loop_figures.signature_plot
-overlay_figure = _loop_figures.overlay_plot
-loops_figure = _loop_figures.loops_plot
-errors_figure = _loop_figures.errors_plot
 
 
 # ---------------------------------------------------------------------------------- files
@@ -144,8 +139,6 @@ def model_config(res: LoopResult) -> dict:
 
 
 # ---------------------------------------------------------------------------------- report
-def _f(x, fmt=".4f"):
-    return "n/a" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, fmt)
 
 
 def _damping(d: dict) -> str:

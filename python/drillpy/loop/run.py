@@ -5,13 +5,13 @@ of terms (docs/loop.md)."""
 from __future__ import annotations
 
 import copy
-import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from drillpy import jsonio
 from drillpy.model.config import normalize
 from .data import LoopData, prepare
 from .discovery import discover, library, residual_structure
@@ -484,5 +484,4 @@ def dumps(o) -> str:
     str
         Indented JSON text (2 spaces).
     """
-    from drillpy.reports.analysis import _jsonable
-    return json.dumps(_jsonable(o), indent=2)
+    return jsonio.dumps(o)

@@ -263,6 +263,6 @@ def write_prediction(pred: Prediction, out_dir: str | Path) -> list:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     write_json(out / "summary.json", pred.summary())
-    fig = figs.prediction_overlay(out / "overlay.png", pred.measured, pred.simulated, pred.stick_threshold,
+    fig = figs.prediction_overlay_plot(out / "overlay.png", pred.measured, pred.simulated, pred.stick_threshold,
                                   describe(pred.model))
     return ["summary.json", fig.name]

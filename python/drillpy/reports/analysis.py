@@ -12,7 +12,6 @@ draws it and :func:`write_analysis` writes its files; :func:`analyze_record` com
 """
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,6 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from drillpy.figures import records as figs
+from drillpy.jsonio import dumps
+from drillpy.reports.text import number_text
 from drillpy.records import identification as ident
 from drillpy.uncertainty import process
 from drillpy.records import rigsim
@@ -158,7 +159,7 @@ class RecordAnalysis:
         The rig model calibrated on ``record`` (None when not simulated).
     summary : dict
         The numbers of ``summary.json`` but for ``figures`` and ``shown_cycle_s``, which
-        :func:`write_analysis` adds (JSON-ready after :func:`_jsonable`).
+        :func:`write_analysis` adds (JSON-ready after :func:`drillpy.jsonio.jsonable`).
     """
     options: AnalysisOptions
     raw: Record
@@ -369,11 +370,11 @@ def write_analysis(result: RecordAnalysis, out_dir: str | Path, figures=(), log=
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     if result.model is not None:
-        (out / "model.json").write_text(json.dumps(_jsonable(result.model.to_dict()), indent=2))
+        (out / "model.json").write_text(dumps(result.model.to_dict()))
         log(f"rig model written to {out / 'model.json'} (apply it to any record: drillpy predict)")
     S = {**result.summary, "figures": [Path(f).name for f in figures],
          "shown_cycle_s": [float(x) for x in result.shown_cycle_s]}
-    (out / "summary.json").write_text(json.dumps(_jsonable(S), indent=2))
+    (out / "summary.json").write_text(dumps(S))
     (out / "report.md").write_text(render_report(S))
     log(f"report.md, summary.json and {len(S['figures'])} figures written to {out}")
     return S
@@ -529,25 +530,9 @@ def _nan_list(x) -> list:
     return [None if not np.isfinite(v) else float(v) for v in np.asarray(x, float)]
 
 
-def _jsonable(o):
-    if isinstance(o, dict):
-        return {str(k): _jsonable(v) for k, v in o.items()}
-    if isinstance(o, (list, tuple)):
-        return [_jsonable(v) for v in o]
-    if isinstance(o, np.ndarray):
-        return _jsonable(o.tolist())
-    if isinstance(o, (np.integer,)):
-        return int(o)
-    if isinstance(o, (float, np.floating)):
-        return None if not math.isfinite(float(o)) else float(o)
-    if isinstance(o, (np.bool_,)):
-        return bool(o)
-    return o
-
-
 # ------------------------------------------------------------------------------ report
-def _f(x, fmt=".3f"):
-    return "n/a" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, fmt)
+def _f(x, spec=".3f"):
+    return number_text(x, spec)
 
 
 def render_report(S: dict) -> str:

@@ -25,11 +25,36 @@ MODEL_BETA1 = {"model 1 (reversible, beta1 = 0)": 0.0, "model 2 (beta1 = 0.14)":
 
 
 def map_conclusions(speeds_rpm: np.ndarray, wobs_kn: np.ndarray, maps: dict) -> dict:
-    """Quantify the two conclusions of section 3.3 on the maps.
+    """Quantify the two conclusions of section 3.3 on the stability maps of Figs. 3.11-3.12.
 
-    Quadrants split the grid at the median speed and WOB. 'stable_fraction_high_speed_low_wob'
-    is the fraction of cells with SS < 0.5 in the high-speed / low-WOB quadrant;
-    'mean_ss_low_speed_high_wob' is the mean SS in the low-speed / high-WOB quadrant.
+    The thesis reads from the maps that hysteresis in the bit-rock law (models 2 and 3,
+    beta1 = 0.14 and 0.56) enlarges the stable region, and that where the string is unstable
+    (low top speed, high WOB) hysteresis makes the stick-slip more severe. A cell is stable when
+    its SS (Eq. 3.4) is below 0.5. Quadrants split the grid at the median speed and the median
+    WOB (a cell on the median belongs to the high-speed and the low-WOB side).
+
+    Parameters
+    ----------
+    speeds_rpm : ndarray
+        Top-drive speeds of the map's columns [RPM], shape (n_speeds,).
+    wobs_kn : ndarray
+        Weights on bit of the map's rows [kN], shape (n_wobs,).
+    maps : dict
+        Model label -> SS map [-] of shape (n_wobs, n_speeds), as returned by
+        :func:`drillpy.model.simulation.stability_map`. The first entry is taken as the
+        reversible reference (model 1) and the last as the most hysteretic model (model 3),
+        as in :data:`MODEL_BETA1`.
+
+    Returns
+    -------
+    dict
+        Per model label a dict with ``stable_fraction_all`` (fraction of all cells with
+        SS < 0.5), ``stable_fraction_high_speed_low_wob`` (the same in the high-speed / low-WOB
+        quadrant), ``mean_ss_low_speed_high_wob`` (mean SS in the low-speed / high-WOB
+        quadrant) and ``max_ss`` (largest SS of the map); and two verdicts comparing the last
+        model with the first: ``hysteresis_enlarges_stable_region`` (True when either stable
+        fraction grows) and ``hysteresis_raises_ss_low_speed_high_wob`` (True when the mean SS
+        of the low-speed / high-WOB quadrant rises).
     """
     hs = speeds_rpm >= np.median(speeds_rpm)
     lw = wobs_kn <= np.median(wobs_kn)
@@ -65,6 +90,55 @@ def _run_summary(run, top_speed: float) -> dict:
 
 def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=None,
                  map_wobs_kn=None, progress: bool = True, threads: int = 0) -> dict:
+    """Run the main job on a preset (``drillpy report``) and write its figures and summary.
+
+    Computes, in order: the first five natural frequencies of the clamped string (Eq. 2.7),
+    compared with the thesis's (0.13, 0.42, 0.74, 1.07, 1.41) Hz of section 4.2.1; SS (Eq. 3.4)
+    versus the top-drive speed with the speed below which SS > 0.5 (Fig. 4.8; thesis 16 rad/s);
+    one run at the configuration's operating top speed with the preset's own settings and one
+    converged reference at that speed (all free modes, BDF2, at least 400 s with the first half
+    discarded) with their stick/slip phases and periodic regime (Fig. 4.6, section 4.2.1); and,
+    when the bit-rock law is hysteretic, the stability maps of models 1-3 (beta1 = 0, 0.14,
+    0.56; Figs. 3.11-3.12) with :func:`map_conclusions`.
+
+    Figures written into ``out_dir``: ``severity_vs_top_speed.png``, ``time_series.png`` (last
+    60 s of the reference run) and, for a hysteretic law, ``stability_maps.png``; the summary
+    goes to ``summary.json``.
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration (e.g. the ``thesis-field`` preset as loaded by
+        :func:`drillpy.model.config.load_config`); its ``operation.top_speed_rad_s`` sets the
+        speed of the single runs.
+    out_dir : str or Path
+        Output folder, created if missing.
+    speeds : array_like, optional
+        Top-drive speeds of the SS sweep [rad/s] (default 6, 7, ..., 27 rad/s, the range
+        B = [6, 27] rad/s of Fig. 4.8).
+    map_speeds_rpm : array_like, optional
+        Top-drive speeds of the stability maps [RPM] (default 23 points from 50 to 160 RPM).
+    map_wobs_kn : array_like, optional
+        Weights on bit of the stability maps [kN] (default 12 points from 22 to 267 kN).
+    progress : bool
+        Show progress bars during the sweeps.
+    threads : int
+        Engine threads (0: all cores).
+
+    Returns
+    -------
+    dict
+        The summary written to ``summary.json``: ``preset`` (name), ``config``,
+        ``frequencies_hz`` and ``thesis_frequencies_hz`` [Hz]; ``sweep`` with
+        ``top_speeds_rad_s`` [rad/s], ``severity`` [-], ``threshold_rad_s`` (None without a
+        crossing) and ``thesis_threshold_rad_s`` [rad/s]; ``run`` and ``reference_run`` with
+        ``top_speed_rad_s``, ``severity``, ``stick_fraction``, ``stick_durations_s`` and
+        ``slip_durations_s`` [s], ``period_cycles`` (stick-slip cycles per period, 0 when not
+        periodic), ``period_stick_s`` and ``period_slip_s`` [s] (``reference_run`` also has
+        ``modes``, ``scheme`` and ``duration_s``); for a hysteretic law ``stability_maps`` with
+        ``top_speeds_rpm``, ``wobs_kn``, ``severity`` (label -> map) and ``conclusions``
+        (:func:`map_conclusions`).
+    """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     summary: dict = {"preset": cfg.get("name"), "config": cfg}
@@ -78,7 +152,7 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
     thr = severity_threshold(speeds, ss)
     summary["sweep"] = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.round(4).tolist(),
                         "threshold_rad_s": thr, "thesis_threshold_rad_s": THESIS_THRESHOLD_RAD_S}
-    plotting.severity_curve(out / "severity_vs_top_speed.png", speeds, ss, thr,
+    plotting.severity_plot(out / "severity_vs_top_speed.png", speeds, ss, thr,
                             title=f"{cfg.get('name')}: SS vs top speed (Fig. 4.8)")
 
     op_speed = cfg["operation"]["top_speed_rad_s"]
@@ -91,7 +165,7 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
     summary["reference_run"] = {**_run_summary(ref, op_speed), "modes": n_free, "scheme": "bdf2",
                                 "duration_s": duration}
     t_end = ref.t[-1]
-    plotting.time_series(out / "time_series.png", ref.t, ref.bit_speed, ref.torque_on_bit,
+    plotting.time_series_plot(out / "time_series.png", ref.t, ref.bit_speed, ref.torque_on_bit,
                          ref.top_speed, t_window=(max(0.0, t_end - 60.0), t_end),
                          title=f"{cfg.get('name')}: {op_speed:g} rad/s at the top, all modes, BDF2 "
                                "(last 60 s)")
@@ -104,7 +178,7 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
             c = with_overrides(cfg, beta1=beta1)
             maps[label] = stability_map(c, sp_rpm * np.pi / 30.0, w_kn * 1e3, progress=progress,
                                         threads=threads)
-        plotting.stability_maps(out / "stability_maps.png", sp_rpm, w_kn, maps)
+        plotting.stability_map_plot(out / "stability_maps.png", sp_rpm, w_kn, maps)
         summary["stability_maps"] = {
             "top_speeds_rpm": sp_rpm.tolist(), "wobs_kn": w_kn.tolist(),
             "severity": {k: v.round(4).tolist() for k, v in maps.items()},
@@ -115,6 +189,19 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
 
 
 def print_field_summary(s: dict) -> None:
+    """Print a field-report summary beside the thesis's numbers, one finding per line.
+
+    Prints the natural frequencies [Hz], the SS > 0.5 threshold [rad/s] of Fig. 4.8, SS, stick
+    fraction and periodic regime of the preset run and of the converged reference (with the
+    thesis's 3-cycle stick (1.34, 2.53, 2.48) s and slip (5.4, 6.28, 6.41) s of section 4.2.1)
+    and, when present, the stable fractions and the two section-3.3 verdicts of the stability
+    maps.
+
+    Parameters
+    ----------
+    s : dict
+        The summary returned by :func:`field_report` (or read back from its ``summary.json``).
+    """
     print(f"natural frequencies [Hz]: {s['frequencies_hz']}  (thesis {s['thesis_frequencies_hz']})")
     sw = s["sweep"]
     thr = "none in range" if sw["threshold_rad_s"] is None else f"{sw['threshold_rad_s']:.2f} rad/s"
@@ -163,7 +250,7 @@ def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, 
     from drillpy.figures import simulation as plotting
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    plotting.severity_curve(out / "severity_vs_top_speed.png", speeds, severity, threshold)
+    plotting.severity_plot(out / "severity_vs_top_speed.png", speeds, severity, threshold)
     (out / "sweep.json").write_text(json.dumps({**summary, "config": cfg}, indent=2))
     return out
 
@@ -194,6 +281,6 @@ def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict,
     from drillpy.figures import simulation as plotting
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    plotting.stability_maps(out / "stability_map.png", speeds_rpm, wobs_kn, {cfg["law"]["type"]: severity})
+    plotting.stability_map_plot(out / "stability_map.png", speeds_rpm, wobs_kn, {cfg["law"]["type"]: severity})
     (out / "map.json").write_text(json.dumps({**summary, "config": cfg}, indent=2))
     return out

@@ -321,7 +321,7 @@ def write_envelope(out_dir, env, title: str, summary: dict, cfg: dict) -> Path:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     for p, label in enumerate(env.labels):
-        frf_plots.envelope_figure(out / f"frf_point{p + 1}.png", {title: env}, p, f"{title}: {label}")
+        frf_plots.envelope_plot(out / f"frf_point{p + 1}.png", {title: env}, p, f"{title}: {label}")
     (out / "envelope.json").write_text(json.dumps({**summary, "config": cfg}))
     return out
 
@@ -452,6 +452,6 @@ def write_robust_severity(out_dir, speeds, studies: dict, summary: dict, cfg: di
     from drillpy.figures import frf as frf_plots
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    frf_plots.severity_bands_figure(out / "severity_bands.png", speeds, studies)
+    frf_plots.severity_bands_plot(out / "severity_bands.png", speeds, studies)
     (out / "robust_ss.json").write_text(json.dumps({**summary, "config": cfg}, indent=2))
     return out
