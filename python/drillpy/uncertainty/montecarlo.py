@@ -367,7 +367,7 @@ def phase_study(cfg: dict, speed: float | None = None, *, seed: int, cycles: int
                       slip=np.concatenate(slip) if slip else np.zeros(0), samples=first,
                       severity=np.asarray(sev), deterministic_stick=np.asarray(dst),
                       deterministic_slip=np.asarray(dsl),
-                      deterministic_period_cycles=int(d["period_cycles"]), seed=seed)
+                      deterministic_period_cycles=int(d.period_cycles), seed=seed)
 
 
 def stochastic_run(cfg: dict, top_speed: float, seed: int, *, sample: int = 0,
