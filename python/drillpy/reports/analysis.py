@@ -90,7 +90,32 @@ def _stats(x) -> dict:
 
 def choose_cycle(cycles: sig.Cycles, t, at_s: float | None = None) -> int:
     """Index of the cycle to show: the valid one containing ``at_s``, else among valid cycles with
-    a stick phase and a period within 1.5 x the median, the one with the longest stick."""
+    a stick phase and a period within 1.5 x the median, the one with the longest stick.
+
+    The shown cycle is the one-cycle figure of the report (bit speed versus time, torque and WOB
+    versus bit speed, as the thesis's Fig. 5.7). Without a candidate with a stick phase and a
+    typical period, the valid cycle whose period is closest to the median is taken.
+
+    Parameters
+    ----------
+    cycles : drillpy.records.signals.Cycles
+        Stick-slip cycles of the record (:func:`drillpy.records.signals.segment_cycles`).
+    t : ndarray
+        Time of the record's samples [s], indexed by ``cycles.start`` / ``cycles.end``.
+    at_s : float, optional
+        A time [s] inside the cycle to show (e.g. 35.5 s for the thesis's 35.3-35.67 s cycle of
+        sample 175); None: choose by the rule above.
+
+    Returns
+    -------
+    int
+        Index into ``cycles`` of the cycle to show.
+
+    Raises
+    ------
+    ValueError
+        No valid cycle, or no valid cycle contains ``at_s``.
+    """
     valid = np.flatnonzero(cycles.valid)
     if valid.size == 0:
         raise ValueError("no valid stick-slip cycle in the record")
@@ -536,7 +561,32 @@ def _f(x, spec=".3f"):
 
 
 def render_report(S: dict) -> str:
-    """The Markdown report of a summary."""
+    """The Markdown report of a summary (``report.md`` of ``drillpy analyze``).
+
+    Sections: the record (source, samples, rate, window, channels and units in the file);
+    cleaning (artifact counts and list); stick-slip cycles (stick threshold [RPM], per-cycle
+    period [s], frequency [Hz], stick and slip [s], largest bit speed [RPM] and SS (Eq. 3.4),
+    whole-window SS and stick fraction, the shown cycle as Figs. 5.6-5.7, the loops as Fig. 3.5);
+    sample statistics of the torque on bit [N m] and WOB [N] (Table 5.2); the identification of
+    the bit-rock laws (RMSE [N m], cross-validated RMSE, R^2, Var[MSE] of Eq. 5.2, AIC, BIC,
+    Akaike weights, parameters with 95 % intervals) at constant and, when measured, scaled WOB;
+    eta_exp and the fit of the PSD model of Eq. (4.4) against the thesis's field values
+    (Eqs. 4.2-4.4); and, when simulated, the test rig in simulation (model selection,
+    calibrated damping ratio and top drive, measured versus simulated metrics, held-out
+    predictions). Figures are linked by the file names
+    :func:`drillpy.figures.records.analysis_figures` writes.
+
+    Parameters
+    ----------
+    S : dict
+        The summary of :func:`write_analysis` (``RecordAnalysis.summary`` with ``figures`` and
+        ``shown_cycle_s``), as in ``summary.json``.
+
+    Returns
+    -------
+    str
+        The Markdown text, ending with a newline.
+    """
     r, c, sv = S["record"], S["cycles"], S["severity"]
     L = [f"# Stick-slip analysis of `{Path(str(r['source'])).name}`", "",
          f"Source `{r['source']}` ({r['format']}), {r['n_samples']} samples at {r['sample_rate_hz']:.0f} Hz, "

@@ -42,7 +42,37 @@ WARM_START = {"warmup": 100.0, "duration": 60.0, "transient": 20.0}   # drillpy'
 
 @dataclass
 class Row:
-    """One line of the table. ``passed`` is None for rows of kind ``reading`` (reported, not a target)."""
+    """One line of the reproduction table (``table.md``, ``reproduce.json``'s ``rows``).
+
+    ``passed`` is None for rows of kind ``reading`` (reported, not a target); docs/validation.md
+    lists the rows of a full run and the evidence behind each default.
+
+    Attributes
+    ----------
+    chapter : str
+        Thesis chapter the row belongs to: ``"3"``, ``"4"``, ``"5"`` or ``"6"``.
+    quantity : str
+        What is compared, with its unit in brackets and the thesis figure, equation or section
+        it comes from (e.g. "top speed below which SS > 0.5 [rad/s] (Fig. 4.8), thesis-ch4").
+    thesis : str
+        The thesis's value or conclusion, as text.
+    drillpy : str
+        What drillpy computes for the same quantity, as text.
+    tolerance : str
+        The pass criterion (e.g. "+-0.5", "rank correlation < -0.8"), or "reported" for a
+        reading.
+    passed : bool or None
+        Whether the criterion holds; None for a reading (coerced to bool otherwise).
+    kind : str
+        ``"target"`` (the thesis's number or conclusion, counted in the pass tally) or
+        ``"reading"`` (what another reading of an ambiguity of the thesis gives, not counted).
+    note : str
+        Evidence and setting shown in the table's last column (protocol, bracket, bootstrap
+        interval, ...); empty when there is nothing to add.
+    figure : str
+        File name of the figure the row refers to, relative to the output folder (empty when
+        none).
+    """
     chapter: str
     quantity: str
     thesis: str
@@ -60,6 +90,20 @@ class Row:
 
 @dataclass
 class Options:
+    """Settings of :func:`reproduce` shared by every chapter.
+
+    Attributes
+    ----------
+    quick : bool
+        Run reduced studies (coarser grids, fewer samples, shorter runs, fewer readings) for the
+        tests; the numbers are not the thesis's targets and the table says so.
+    threads : int
+        Engine threads (0: all cores).
+    progress : bool
+        Show progress bars during the sweeps and Monte Carlo studies.
+    seed : int
+        Seed of every Monte Carlo study and bootstrap (chapters 4 and 6).
+    """
     quick: bool = False
     threads: int = 0
     progress: bool = True
@@ -68,11 +112,32 @@ class Options:
 
 @dataclass
 class Result:
+    """What :func:`reproduce` ran: the table rows, the figures and the wall time per chapter.
+
+    Attributes
+    ----------
+    rows : list of Row
+        The table's rows in chapter order.
+    figures : list of str
+        Paths of the figures written.
+    seconds : dict
+        Chapter (``"3"``...``"6"``) -> wall time of its studies [s].
+    """
     rows: list = field(default_factory=list)
     figures: list = field(default_factory=list)
     seconds: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
+        """The result as JSON-ready data (the content of ``reproduce.json`` but for ``quick``
+        and ``seed``).
+
+        Returns
+        -------
+        dict
+            ``rows`` (each :class:`Row` as a dict), ``figures`` (paths), ``seconds`` (chapter ->
+            wall time [s]), ``targets`` (number of rows of kind ``target``) and ``passed`` (how
+            many of them pass).
+        """
         targets = [r for r in self.rows if r.kind == "target"]
         return {"rows": [asdict(r) for r in self.rows], "figures": self.figures, "seconds": self.seconds,
                 "targets": len(targets), "passed": sum(bool(r.passed) for r in targets)}
@@ -91,7 +156,31 @@ def _seq(xs, nd=2) -> str:
 # --------------------------------------------------------------------------------- chapter 3
 def chapter3(out: Path, o: Options) -> tuple[list, list]:
     """Figs. 3.11-3.12: stability maps of models 1-3 and the two conclusions of section 3.3, with
-    the implicit bit acceleration (default) and the lagged reading."""
+    the implicit bit acceleration (default) and the lagged reading.
+
+    Runs the ``thesis-field`` preset over 23 top speeds from 50 to 160 RPM and 12 WOBs from 22 to
+    267 kN (quick: 8 x 5, 10 modes, 120-s runs) for beta1 = 0, 0.14 and 0.56, once with the bit
+    acceleration of Eq. (3.3) implicit (rows of kind ``target``) and once lagged (rows of kind
+    ``reading``). The verdicts come from :func:`drillpy.reports.preset.map_conclusions`: the stable
+    fraction (SS < 0.5) grows with hysteresis (model 3 above model 1, model 2 not below it), and
+    model 3's mean SS in the low-speed / high-WOB quadrant exceeds model 1's while its largest SS
+    on the map exceeds those of models 1 and 2.
+
+    Parameters
+    ----------
+    out : Path
+        Output folder; receives ``fig3_11.png``, ``fig3_12.png`` and their ``_lagged`` variants.
+    o : Options
+        Quick mode, threads and progress.
+
+    Returns
+    -------
+    rows : list of Row
+        Two rows per reading of the acceleration (stable fraction; severity at low speed and high
+        WOB).
+    figures : list of str
+        Paths of the four figures.
+    """
     from drillpy.figures import simulation as plotting
     from drillpy.reports.preset import MODEL_BETA1, map_conclusions
     from drillpy.model.simulation import stability_map
@@ -139,7 +228,35 @@ def chapter3(out: Path, o: Options) -> tuple[list, list]:
 # --------------------------------------------------------------------------------- chapter 4
 def chapter4(out: Path, o: Options) -> tuple[list, list]:
     """Section 4.2: natural frequencies, Fig. 4.8 with its threshold and the readings of the
-    ambiguities, the 3-cycle regime (Fig. 4.6), Fig. 4.9 with its 5 % speed, Fig. 4.7, Conv1."""
+    ambiguities, the 3-cycle regime (Fig. 4.6), Fig. 4.9 with its 5 % speed, Fig. 4.7, Conv1.
+
+    On the ``thesis-ch4`` preset (WOB 200 kN, 100 modes): the first five natural frequencies
+    against (0.13, 0.42, 0.74, 1.07, 1.41) Hz within 0.005 Hz; SS (Eq. 3.4) over 6-27 rad/s with
+    the speed below which SS > 0.5 located by bisection (thesis 16 rad/s, +-0.5) and its
+    decrease with speed (Spearman rank correlation < -0.8); the same threshold under the readings of the ambiguities (rigid initial
+    state of Eq. 2.3, lagged acceleration in Eq. 3.3, ``thesis-field`` with 20 and 100 modes;
+    quick: the first only); the periodic regime at 14 rad/s (3 cycles, stick (1.34, 2.53,
+    2.48) s, slip (5.4, 6.28, 6.41) s, each within 0.3 s) and, as a reading, ``thesis-field``
+    with 100 modes at 16 rad/s; then the Monte Carlo rows of Figs. 4.9, C.1 and 4.7 (5 % speed
+    20.5 rad/s, shift over the deterministic threshold 4.5 rad/s, band width, Conv1, stick/slip
+    modes) and, outside quick mode, their readings of the eta level, PSD convention and
+    protocol.
+
+    Parameters
+    ----------
+    out : Path
+        Output folder; receives ``fig4_8.png``, ``fig4_8_readings.png``, ``fig4_6.png``,
+        ``fig4_9.png``, ``figC_1.png`` and ``fig4_7.png``.
+    o : Options
+        Quick mode, threads, progress and the Monte Carlo seed.
+
+    Returns
+    -------
+    rows : list of Row
+        The chapter-4 rows, targets and readings.
+    figures : list of str
+        Paths of the figures written.
+    """
     from drillpy.figures import simulation as plotting
     from scipy.stats import spearmanr
 
@@ -326,14 +443,49 @@ SAMPLE175_NAME = Path("shared") / "data" / "testrig" / "sample175_0-40s.mat"
 
 def default_record() -> Path:
     """Sample 175 beside the working directory (``../shared``, the README's layout) or beside the
-    source tree; the first that exists (the first candidate when none does, for the message)."""
+    source tree; the first that exists (the first candidate when none does, for the message).
+
+    Returns
+    -------
+    Path
+        ``shared/data/testrig/sample175_0-40s.mat`` under the working directory's parent, or
+        under the parent of the repository holding this package; not checked to exist when
+        neither candidate does.
+    """
     cands = [Path.cwd().parent / SAMPLE175_NAME, Path(__file__).resolve().parents[4] / SAMPLE175_NAME]
     return next((c for c in cands if c.is_file()), cands[0])
 
 
 def chapter5(out: Path, o: Options, record: Path | None = None) -> tuple[list, list]:
     """Section 5.3: the test-rig record of sample 175 (the thesis's Figs. 5.5-5.7) and the
-    comparison of the regularized (3.1) and non-regularized (5.1) laws by Var[MSE] (Eq. 5.2)."""
+    comparison of the regularized (3.1) and non-regularized (5.1) laws by Var[MSE] (Eq. 5.2).
+
+    Analyses the record with :func:`drillpy.reports.analysis.analyze_record` (no rig simulation,
+    5 cross-validation folds, quick: 2; the cycle shown taken around 35.5 s) into
+    ``out/sample175`` and checks: mean top-drive speed 78 RPM (+-5), largest bit speed "almost
+    200" RPM (170-210), stick-slip throughout (SS > 0.5 and at least one valid cycle per second),
+    the Fig. 5.7 cycle 35.3-35.67 s (each end within 0.05 s) and Eq. (5.1) fitting with a lower
+    Var[MSE] than Eq. (3.1); the standard deviation of eta_exp (section 5.3.2, thesis 0.4674 over
+    210 samples) is a reading. Without the record a single ``reading`` row names the missing
+    file.
+
+    Parameters
+    ----------
+    out : Path
+        Output folder; receives ``sample175/`` (the analysis report) and copies of its figures as
+        ``fig5_5.png``, ``fig5_7.png`` and ``fig5_laws_sample175.png``.
+    o : Options
+        Quick mode (fewer cross-validation folds).
+    record : Path, optional
+        The sample-175 ``.mat`` file (default :func:`default_record`).
+
+    Returns
+    -------
+    rows : list of Row
+        The chapter-5 rows.
+    figures : list of str
+        Paths of the figures copied into ``out``.
+    """
     from drillpy.reports.analysis import AnalysisOptions, analyze_record
     rec = Path(record) if record else default_record()
     if not rec.exists():
@@ -378,7 +530,28 @@ def chapter5(out: Path, o: Options, record: Path | None = None) -> tuple[list, l
 def chapter6(out: Path, o: Options) -> tuple[list, list]:
     """Section 6.6 and appendix C: every conclusion checked over every model and case (the
     verdicts of :func:`drillpy.reports.uncertainty.conclusions`), the narrow DP envelopes near
-    3.7 Hz, Conv2 converged."""
+    3.7 Hz, Conv2 converged.
+
+    Runs :func:`drillpy.reports.uncertainty.chapter6_report` on the ``thesis-ch6`` preset with
+    2500 samples per envelope and 400 per point of Conv2 versus modes (1-25 modes; quick: 60 and
+    20 samples, modes 2, 5, 10). Each conclusion becomes a row whose thesis value is "holds";
+    Conv2 versus samples (Fig. C.2, Eq. C.2) passes when its last two checkpoints are within 1 %
+    of the final value.
+
+    Parameters
+    ----------
+    out : Path
+        Output folder; the study's figures and ``summary.json`` go to ``out/chapter6``.
+    o : Options
+        Quick mode, threads, progress and the Monte Carlo seed.
+
+    Returns
+    -------
+    rows : list of Row
+        One row per conclusion of section 6.6 and the Conv2 row.
+    figures : list of str
+        Paths of the PNG figures in ``out/chapter6``, sorted.
+    """
     from drillpy.reports.uncertainty import chapter6_report
     cfg = load_config(preset="thesis-ch6")
     d = out / "chapter6"
@@ -410,7 +583,31 @@ RUNNERS = {"3": chapter3, "4": chapter4, "5": chapter5, "6": chapter6}
 
 def reproduce(chapters, out_dir, options: Options | None = None, record=None) -> Result:
     """Run the chapters (``"3"``...``"6"`` or ``"all"``), write the figures, ``table.md`` and
-    ``reproduce.json`` into ``out_dir`` and return the result."""
+    ``reproduce.json`` into ``out_dir`` and return the result (``drillpy reproduce``).
+
+    Parameters
+    ----------
+    chapters : str, int or sequence
+        ``"all"`` (or ``["all"]``) for chapters 3-6, or one chapter or a list of them (``3`` or
+        ``"3"``, ...), run in the order given.
+    out_dir : str or Path
+        Output folder, created if missing.
+    options : Options, optional
+        Quick mode, threads, progress and seed (default ``Options()``: the thesis's settings).
+    record : str or Path, optional
+        The sample-175 record for chapter 5 (default :func:`default_record`).
+
+    Returns
+    -------
+    Result
+        The rows, figures and wall time [s] per chapter. ``reproduce.json`` holds
+        :meth:`Result.as_dict` with ``quick`` and ``seed``.
+
+    Raises
+    ------
+    ValueError
+        A chapter other than 3, 4, 5, 6 or all.
+    """
     o = options or Options()
     want = list(CHAPTERS) if chapters in ("all", ["all"]) else [str(c) for c in np.atleast_1d(chapters)]
     for c in want:
@@ -431,6 +628,24 @@ def reproduce(chapters, out_dir, options: Options | None = None, record=None) ->
 
 
 def render_table(res: Result, o: Options) -> str:
+    """The Markdown table of ``table.md``: ch. | quantity | thesis | drillpy | tolerance | pass |
+    evidence, setting.
+
+    The pass column reads "yes", "**NO**" or "reading"; the line after the table counts the
+    targets that pass, flags quick mode and gives the wall time per chapter [s].
+
+    Parameters
+    ----------
+    res : Result
+        What :func:`reproduce` collected.
+    o : Options
+        The options it ran with (only ``quick`` is used, for the footnote).
+
+    Returns
+    -------
+    str
+        The Markdown text, ending with a newline.
+    """
     d = res.as_dict()
     L = ["| ch. | quantity | thesis | drillpy | tolerance | pass | evidence, setting |", "|---|---|---|---|---|---|---|"]
     for r in res.rows:
