@@ -12,7 +12,7 @@ import json
 import math
 from pathlib import Path
 
-from drillpy import _core
+from drillpy import _core, validate
 
 
 def preset_names() -> list[str]:
@@ -21,8 +21,25 @@ def preset_names() -> list[str]:
 
 
 def to_json_text(config: dict) -> str:
-    """JSON text for the engine; non-finite numbers (which JSON cannot carry) are refused here
-    with the path of the field, e.g. ``string.sections[0].length_m = nan``."""
+    """JSON text of a configuration for the engine.
+
+    Non-finite numbers, which JSON cannot carry, are refused here with the path of the field.
+
+    Parameters
+    ----------
+    config : dict
+        A configuration (the JSON schema shared with drillsim, docs/presets.md).
+
+    Returns
+    -------
+    str
+        Compact JSON text.
+
+    Raises
+    ------
+    ValueError
+        ``"string.sections[0].length_m = nan: must be a finite number"`` for a NaN or inf anywhere.
+    """
     def walk(x, path):
         if isinstance(x, dict):
             for k, v in x.items():
@@ -65,13 +82,44 @@ def engine_config(config) -> "_core.Config":
 def normalize(config: dict) -> dict:
     """Validate a configuration in the engine and return it with all defaults explicit.
 
-    Raises ValueError naming the field and the value when the configuration is invalid.
+    Parameters
+    ----------
+    config : dict
+        A configuration, possibly partial (missing fields take the engine's defaults).
+
+    Returns
+    -------
+    dict
+        The normalized configuration: what a run with it uses, every field explicit.
+
+    Raises
+    ------
+    ValueError
+        Naming the field and the value when the configuration is invalid.
     """
     return engine_config(config).to_dict()
 
 
 def read_json(path, field: str):
-    """The JSON content of a file; ValueError naming ``field`` and the path when it is missing or malformed."""
+    """The JSON content of a file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    field : str
+        What the file is, for the message (e.g. ``"config"``, ``"model"``).
+
+    Returns
+    -------
+    object
+        The parsed JSON.
+
+    Raises
+    ------
+    ValueError
+        ``"<field> = '<path>': no such file"`` or ``"...: malformed JSON: ..."``.
+    """
     p = Path(path)
     if not p.is_file():
         raise ValueError(f"{field} = {str(p)!r}: no such file")
@@ -83,7 +131,30 @@ def read_json(path, field: str):
 
 def load_config(preset: str | None = None, path: str | Path | None = None,
                 config: dict | None = None) -> dict:
-    """Load exactly one of a preset name, a JSON file or a dict, validated and normalized."""
+    """A configuration from exactly one of a preset name, a JSON file or a dict, validated and
+    normalized.
+
+    Parameters
+    ----------
+    preset : str, optional
+        A built-in preset (:func:`preset_names`: ``thesis-field`` the chapter-2/3 field string of
+        Table 3.1, ``thesis-ch4`` its chapter-4 reading, ``thesis-rig`` the test rig of chapter 5,
+        ``thesis-ch6`` the chapter-6 string).
+    path : str or Path, optional
+        A JSON configuration file.
+    config : dict, optional
+        A configuration dict (copied, never modified).
+
+    Returns
+    -------
+    dict
+        The normalized configuration (:func:`normalize`).
+
+    Raises
+    ------
+    ValueError
+        When not exactly one source is given, or the configuration is invalid (naming the field).
+    """
     given = [x is not None for x in (preset, path, config)]
     if sum(given) != 1:
         raise ValueError("load_config: give exactly one of preset, path or config")
@@ -95,8 +166,28 @@ def load_config(preset: str | None = None, path: str | Path | None = None,
 
 
 def thesis_law(name: str, beta1: float | None = None) -> dict:
-    """The thesis's parameter sets: ``tucker_wang`` (section 3.1, rad/s) or ``hysteretic``
-    (section 3.2, RPM; beta1 = 0, 0.14, 0.56 for models 1-3). See docs/units.md for the units."""
+    """A bit-rock law with the thesis's parameters.
+
+    Parameters
+    ----------
+    name : str
+        ``tucker_wang``: the reversible law of section 3.1 (Eq. 3.1, speeds in rad/s);
+        ``hysteretic``: the law of section 3.2 (Eqs. 3.2-3.3, speeds in RPM), the ``thesis-field``
+        preset's.
+    beta1 : float, optional
+        Hysteresis amplitude of Eq. (3.3) [dimensionless] for ``hysteretic``: 0, 0.14 and 0.56
+        are the thesis's models 1-3.
+
+    Returns
+    -------
+    dict
+        The ``law`` section of a configuration (units in docs/units.md).
+
+    Raises
+    ------
+    ValueError
+        For an unknown name.
+    """
     if name == "tucker_wang":
         return {"type": "tucker_wang", "speed_unit": "rad_s", "wob_ref_n": 245e3, "c0": 4700.0,
                 "alpha0": 1.67e4, "alpha1": 5.30, "alpha2": 3.45}
@@ -114,19 +205,54 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
                    acceleration: str | None = None, dt: float | None = None, duration: float | None = None,
                    transient: float | None = None, top_speed: float | None = None,
                    wob: float | None = None) -> dict:
-    """Return a normalized copy of ``cfg`` with command-line style overrides applied.
+    """A normalized copy of ``cfg`` with command-line style overrides applied.
 
-    ``elements`` re-meshes the string with that many elements split in proportion to the
-    section lengths (100 on Table 3.1 gives 91 DP + 9 BHA); ``law`` selects a thesis parameter
-    set; ``beta1`` sets the hysteresis amplitude of Eq. (3.3); ``acceleration`` the bit
-    acceleration of Eq. (3.3) (``implicit`` or ``lagged``, integrator.hpp).
+    Parameters
+    ----------
+    cfg : dict
+        The configuration (not modified).
+    elements : int, optional
+        Re-mesh the string with this many finite elements, split in proportion to the section
+        lengths (100 on Table 3.1 gives 91 DP + 9 BHA).
+    modes : int, optional
+        Modes kept by the reduced-order model (``rom.modes``, Eq. 2.9).
+    law : str, optional
+        A thesis parameter set (:func:`thesis_law`).
+    beta1 : float, optional
+        Hysteresis amplitude of Eq. (3.3) [dimensionless]; refused for a law without hysteresis.
+    speed_unit : str, optional
+        Speed unit of the law's parameters (``rad_s`` or ``rpm``).
+    scheme : str, optional
+        Time integrator (``modified_euler`` or ``bdf2``).
+    acceleration : str, optional
+        Bit acceleration in Eq. (3.3): ``implicit`` or ``lagged`` (``drill/integrator.hpp``).
+    dt : float, optional
+        Time step [s].
+    duration : float, optional
+        Simulated time [s]; the transient becomes half of it when it would not fit.
+    transient : float, optional
+        Initial time left out of the metrics [s].
+    top_speed : float, optional
+        Top-drive speed [rad/s].
+    wob : float, optional
+        Weight on bit [N].
+
+    Returns
+    -------
+    dict
+        The normalized configuration.
+
+    Raises
+    ------
+    ValueError
+        Naming the field and the value for an invalid override.
     """
     c = copy.deepcopy(cfg)
     if elements is not None:
-        _check_int(elements, "elements", minimum=1)
+        validate.integer("elements", elements, 1)
         c = _core.with_total_elements(engine_config(c), int(elements)).to_dict()
     if modes is not None:
-        _check_int(modes, "modes", minimum=1)
+        validate.integer("modes", modes, 1)
         c["rom"]["modes"] = int(modes)
     if law is not None:
         c["law"] = thesis_law(law)
@@ -149,9 +275,3 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
     if wob is not None:
         op["wob_n"] = float(wob)
     return normalize(c)
-
-
-def _check_int(value, field: str, minimum: int) -> None:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
-            or int(value) != value or value < minimum:
-        raise ValueError(f"{field} = {value!r}: must be an integer >= {minimum}")

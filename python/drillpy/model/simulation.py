@@ -6,21 +6,49 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from drillpy import _core
+from drillpy import _core, validate
 from drillpy.model.config import engine_config, to_json_text
 from drillpy.progress import progress_bar
 
 
 @dataclass
 class SimulationResult:
-    """Time series (SI, absolute frame) and metrics of one run (the fields of the engine's
-    ``_core.RunReport``, whose docstrings give their units).
+    """Time series (SI, absolute frame) and metrics of one run: the fields of the engine's
+    ``_core.RunReport``; :meth:`summary` is the run's summary.json content
+    (``drill/run_summary.hpp``, shared with drillsim).
 
-    ``severity`` is SS of Eq. (3.4) over t >= transient; ``stick_durations`` and
-    ``slip_durations`` are complete phases after the transient; ``period_cycles`` is the number
-    of stick-slip cycles after which the phase durations repeat (0 when no periodic regime).
-    ``report`` is the engine's ``_core.RunReport`` the fields come from; :meth:`summary` is the
-    run's summary.json content (drill/run_summary.hpp, shared with drillsim).
+    Attributes
+    ----------
+    t : ndarray
+        Recorded times [s].
+    bit_speed, bit_accel, bit_angle : ndarray
+        Bit speed [rad/s], acceleration [rad/s^2] and angle [rad].
+    torque_on_bit : ndarray
+        Torque of the bit-rock law on the bit [N m] (the string friction left out).
+    top_torque : ndarray
+        Torque the top drive applies [N m].
+    top_speed : ndarray
+        Top-drive speed [rad/s].
+    severity : float
+        Stick-slip severity SS, Eq. (3.4), over t >= transient [dimensionless]; NaN when undefined.
+    mean_top_speed : float
+        Mean top speed over t >= transient [rad/s].
+    stick_fraction : float
+        Fraction of the time after the transient with the bit stuck.
+    stick_durations, slip_durations : ndarray
+        Durations of the complete stick and slip phases after the transient [s].
+    slip_first : bool
+        Whether the first complete phase is a slip phase.
+    period_cycles : int
+        Stick-slip cycles after which the phase durations repeat (0: no periodic regime found).
+    period_stick, period_slip : ndarray
+        Stick and slip durations of one period [s].
+    final_q, final_qdot : ndarray
+        Reduced state (modal coordinates and their rates) at the end of the run.
+    config : dict
+        The normalized configuration the run used.
+    report : _core.RunReport or None
+        The engine's report the fields come from.
     """
     t: np.ndarray
     bit_speed: np.ndarray
@@ -44,8 +72,14 @@ class SimulationResult:
     report: "_core.RunReport | None" = field(repr=False, default=None, compare=False)
 
     def summary(self) -> dict:
-        """The run's summary (keys and units of drill/run_summary.hpp, the summary.json of
-        ``drillsim --job run`` and ``drillpy simulate`` without ``config`` and ``job``)."""
+        """The run's summary (keys and units of ``drill/run_summary.hpp``, the summary.json of
+        ``drillsim --job run`` and ``drillpy simulate`` without ``config`` and ``job``).
+
+        Returns
+        -------
+        dict
+            Severity, stick fraction, phase statistics and period of the run (NaN as None).
+        """
         if self.report is None:
             raise ValueError("summary: this result holds no engine report")
         return self.report.summary()
@@ -67,18 +101,51 @@ def simulate(cfg: "dict | _core.Config", top_speed: float | None = None, wob: fl
              string_friction: float | None = None, record: bool = True,
              q0=None, qdot0=None, top_speed0: float | None = None,
              start: str = "rest") -> SimulationResult:
-    """Run one simulation of ``cfg``.
+    """Run one simulation (the reduced-order model of Eq. 2.9 driven at the top, the bit-rock
+    law of the configuration at the bit).
 
-    top_speed [rad/s] and wob [N] default to the configuration's operation point. Series inputs
-    (top speed [rad/s], WOB [N], torque fluctuation eta of Eq. 4.1) are sampled every
-    ``series_dt`` seconds from ``series_t0`` and interpolated linearly. ``start="rest"`` starts
-    from Eq. (2.10) (bit at rest, string untwisted), ``start="rigid"`` from Eq. (2.3) (the whole
-    string turning with the top, untwisted), ``start="steady"`` from steady drilling at the
-    initial top speed; ``q0``/``qdot0`` give any reduced state instead (with ``top_speed0`` the
-    initial speed of a motor top drive, which otherwise starts at its command).
-    ``bit_viscous`` [N m s/rad] and ``string_friction`` [N m] override ``operation.bit_viscous_nms``
-    and ``operation.string_friction_nm``; ``torque_on_bit`` leaves the string friction out.
-    ``cfg`` is a dict or a ``_core.Config`` (:func:`drillpy.model.config.engine_config`).
+    Parameters
+    ----------
+    cfg : dict or _core.Config
+        The configuration (:func:`drillpy.model.config.engine_config`).
+    top_speed : float, optional
+        Top-drive speed [rad/s]; default the configuration's ``operation.top_speed_rad_s``.
+    wob : float, optional
+        Weight on bit [N]; default ``operation.wob_n``.
+    top_speed_series, wob_series : array_like, optional
+        Top speed [rad/s] and WOB [N] as time series, sampled every ``series_dt`` from
+        ``series_t0`` and interpolated linearly (they replace the constants).
+    eta_series : array_like, optional
+        Torque fluctuation eta(t) of the stochastic law, Eq. (4.1) [dimensionless], on the same grid.
+    series_dt : float
+        Sampling interval of the series [s].
+    series_t0 : float
+        Time of the series' first sample [s].
+    bit_viscous : float, optional
+        Viscous torque at the bit [N m s/rad]; overrides ``operation.bit_viscous_nms``.
+    string_friction : float, optional
+        Coulomb torque along the string [N m]; overrides ``operation.string_friction_nm``
+        (``torque_on_bit`` leaves it out).
+    record : bool
+        Keep the time series (False: metrics only, less memory).
+    q0, qdot0 : array_like, optional
+        Initial reduced state (modal coordinates and rates); overrides ``start``.
+    top_speed0 : float, optional
+        Initial speed of a motor top drive [rad/s] (otherwise it starts at its command).
+    start : str
+        ``"rest"``: Eq. (2.10), bit at rest and string untwisted (Algorithm 1's initialization);
+        ``"rigid"``: Eq. (2.3), the whole string turning with the top; ``"steady"``: steady
+        drilling at the initial top speed and WOB.
+
+    Returns
+    -------
+    SimulationResult
+        Time series and metrics of the run.
+
+    Raises
+    ------
+    ValueError
+        Naming the field and the value for an invalid configuration, input or start mode.
     """
     sim = _engine(cfg)
     _check_start(start)
@@ -127,12 +194,33 @@ def _grid(values, name: str) -> np.ndarray:
 
 def sweep_severity(cfg: "dict | _core.Config", speeds, wobs=None, *, progress: bool = True,
                    threads: int = 0, start: str = "rest") -> np.ndarray:
-    """SS (Eq. 3.4) for each top speed [rad/s] (and WOB [N]), computed in parallel.
+    """The stick-slip severity SS (Eq. 3.4) at each top speed (and WOB), runs in parallel.
 
-    Every run starts from Eq. (2.10) (``start="rest"``), Eq. (2.3) (``start="rigid"``) or from
-    steady drilling (``start="steady"``); between the thresholds the string is bistable.
-    Returns shape (len(speeds),) without ``wobs``, else (len(wobs), len(speeds)).
-    Ctrl-C stops the sweep (KeyboardInterrupt); the bar goes to stderr.
+    Parameters
+    ----------
+    cfg : dict or _core.Config
+        The configuration.
+    speeds : array_like
+        Top-drive speeds [rad/s].
+    wobs : array_like, optional
+        Weights on bit [N]; default the configuration's.
+    progress : bool
+        Show a progress bar on stderr.
+    threads : int
+        OpenMP threads (0: the default).
+    start : str
+        Initial state of every run: ``"rest"`` (Eq. 2.10), ``"rigid"`` (Eq. 2.3) or ``"steady"``;
+        between the thresholds the string is bistable, so the start decides.
+
+    Returns
+    -------
+    ndarray
+        SS, shape (len(speeds),) without ``wobs``, else (len(wobs), len(speeds)).
+
+    Raises
+    ------
+    KeyboardInterrupt
+        On Ctrl-C (the engine stops at its next chunk).
     """
     _check_start(start)
     sp = _grid(speeds, "speeds")
@@ -146,32 +234,89 @@ def sweep_severity(cfg: "dict | _core.Config", speeds, wobs=None, *, progress: b
 
 def stability_map(cfg: dict, speeds_rad_s, wobs_n, *, progress: bool = True,
                   threads: int = 0, start: str = "rest") -> np.ndarray:
-    """SS over a WOB x top-speed grid (Figs. 3.11-3.12): shape (len(wobs_n), len(speeds_rad_s))."""
+    """SS (Eq. 3.4) over a WOB x top-speed grid: the stability maps of Figs. 3.11-3.12.
+
+    Parameters
+    ----------
+    cfg : dict or _core.Config
+        The configuration.
+    speeds_rad_s : array_like
+        Top-drive speeds [rad/s].
+    wobs_n : array_like
+        Weights on bit [N].
+    progress : bool
+        Show a progress bar on stderr.
+    threads : int
+        OpenMP threads (0: the default).
+    start : str
+        Initial state of every run (see :func:`sweep_severity`).
+
+    Returns
+    -------
+    ndarray
+        SS, shape (len(wobs_n), len(speeds_rad_s)).
+    """
     return sweep_severity(cfg, speeds_rad_s, wobs_n, progress=progress, threads=threads, start=start)
 
 
 @dataclass
 class RefinedThreshold:
-    """A stick-slip threshold located by bisection: SS > ``level`` at ``below`` [rad/s] and SS <=
-    ``level`` at ``above``; ``threshold`` is their midpoint, ``precision`` half their distance."""
+    """A stick-slip threshold located by bisection.
+
+    Attributes
+    ----------
+    threshold : float
+        Midpoint of the final bracket [rad/s].
+    precision : float
+        Half the final bracket's width [rad/s].
+    below : float
+        Top speed with SS > level [rad/s].
+    above : float
+        Top speed with SS <= level [rad/s].
+    evaluations : list
+        (top speed [rad/s], SS) of every run the refinement made.
+    """
     threshold: float
     precision: float
     below: float
     above: float
-    evaluations: list  #: (top speed [rad/s], SS) of every run the refinement made
+    evaluations: list
 
 
 def refine_threshold(cfg: dict, speeds, severities, *, level: float = 0.5, tol: float = 0.05, threads: int = 0,
                      start: str = "rest", max_rounds: int = 12) -> RefinedThreshold | None:
-    """Locate the top speed below which SS > ``level`` to ``tol`` [rad/s] (issue: a linear
+    """The top speed below which SS > ``level``, located to ``tol`` by new runs (a linear
     interpolation on a coarse grid is less precise than it reads, and SS jumps at the threshold).
 
-    Starts from the highest grid bracket where SS crosses ``level`` from above and splits it in three
-    per round (two runs in parallel), keeping the upper crossing; None without a crossing.
+    Starts from the highest grid bracket where SS crosses ``level`` from above and splits it in
+    three per round (two runs in parallel), keeping the upper crossing.
+
+    Parameters
+    ----------
+    cfg : dict or _core.Config
+        The configuration.
+    speeds : array_like
+        The grid's top speeds [rad/s].
+    severities : array_like
+        SS at those speeds (e.g. from :func:`sweep_severity` with the same ``start``).
+    level : float
+        The SS level (0.5: the thesis's stick-slip threshold).
+    tol : float
+        Half-width of the final bracket [rad/s].
+    threads : int
+        OpenMP threads (0: the default).
+    start : str
+        Initial state of every run (see :func:`sweep_severity`).
+    max_rounds : int
+        At most this many rounds of two runs.
+
+    Returns
+    -------
+    RefinedThreshold or None
+        None when SS does not cross ``level`` from above on the grid.
     """
     sp, ss = np.asarray(speeds, float), np.asarray(severities, float)
-    if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
-        raise ValueError(f"tol = {tol!r}: must be a positive number [rad/s]")
+    validate.positive("tol", tol, "rad/s")
     order = np.argsort(sp)
     sp, ss = sp[order], ss[order]
     k = [i for i in range(sp.size - 1) if ss[i] > level >= ss[i + 1]]
@@ -195,18 +340,63 @@ def refine_threshold(cfg: dict, speeds, severities, *, level: float = 0.5, tol: 
 
 
 def severity_threshold(speeds, severities, level: float = 0.5) -> float | None:
-    """Top speed below which SS > level (linear interpolation; None if no crossing)."""
+    """The top speed below which SS > ``level``, by linear interpolation on the grid.
+
+    Parameters
+    ----------
+    speeds : array_like
+        Top speeds [rad/s].
+    severities : array_like
+        SS at those speeds.
+    level : float
+        The SS level (0.5: the thesis's threshold).
+
+    Returns
+    -------
+    float or None
+        The crossing [rad/s]; None without one.
+    """
     v = _core.severity_threshold(list(map(float, speeds)), list(map(float, severities)), level)
     return None if math.isnan(v) else v
 
 
 def natural_frequencies(cfg: dict, n: int) -> np.ndarray:
-    """First n natural frequencies [Hz] of the clamped string (Eq. 2.7)."""
+    """The first natural frequencies of the string clamped at the top, free at the bit (Eq. 2.7).
+
+    Parameters
+    ----------
+    cfg : dict or _core.Config
+        The configuration (its finite-element mesh).
+    n : int
+        How many frequencies.
+
+    Returns
+    -------
+    ndarray
+        Frequencies [Hz], ascending.
+    """
     return np.asarray(_core.natural_frequencies(engine_config(cfg), int(n)))
 
 
 def law_torque(law: dict, speed, acceleration=0.0, wob=None) -> np.ndarray:
-    """Torque on bit [N m] of a law (dict as in the config) at SI speed and acceleration."""
+    """The torque on bit of a bit-rock law (Eqs. 3.1-3.3, 5.1-5.3).
+
+    Parameters
+    ----------
+    law : dict
+        The ``law`` section of a configuration (docs/units.md).
+    speed : array_like
+        Bit speed [rad/s].
+    acceleration : float or array_like
+        Bit acceleration [rad/s^2] (the hysteretic laws' branch, Eq. 3.3).
+    wob : float or array_like, optional
+        Weight on bit [N]; default the law's ``wob_ref_n``.
+
+    Returns
+    -------
+    ndarray
+        Torque on bit [N m].
+    """
     v = np.atleast_1d(np.asarray(speed, dtype=float))
     a = np.broadcast_to(np.asarray(acceleration, dtype=float), v.shape)
     w = np.broadcast_to(np.asarray(law["wob_ref_n"] if wob is None else wob, dtype=float), v.shape)
