@@ -40,4 +40,4 @@ def drillsim() -> str:
 def run_cli(*args: str, check: bool = False) -> subprocess.CompletedProcess:
     """Run `python -m drillpy ARGS` in a subprocess with the current environment."""
     return subprocess.run([sys.executable, "-m", "drillpy", *args], capture_output=True, text=True,
-                          check=check, env={**os.environ, "PYTHONWARNINGS": "ignore"})
+                          check=check, env={**os.environ, "PYTHONWARNINGS": "error"})
