@@ -2,10 +2,12 @@
 command: statistics against numpy oracles, thread-count and chunk invariance, eta of sample i,
 Conv1, stick/slip phases, Ctrl-C, bad input."""
 import json
+import os
 import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -183,6 +185,12 @@ def test_cli_mc_psd_table(tmp_path, capsys):
     assert "psd.table.S[2] = -0.0001" in capsys.readouterr().err
 
 
+def _cpu_seconds(pid: int) -> float:
+    """User + system CPU time of a process and its threads [s] (Linux /proc)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
 def test_ctrl_c_stops_a_study_quickly():
     """SIGINT during a long study: the engine stops at the next chunk boundary, exit code 130."""
     p = subprocess.Popen([sys.executable, "-m", "drillpy", "mc", "--preset", "thesis-field",
@@ -191,7 +199,11 @@ def test_ctrl_c_stops_a_study_quickly():
                          # a shell's background job inherits SIGINT ignored: give the study the
                          # disposition an interactive user's process has
                          preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
-    time.sleep(4.0)
+    # wait until the study runs: CPU time past what the imports take (wall time would not do on a
+    # loaded machine, and no bar is drawn without a terminal)
+    deadline = time.monotonic() + 300.0
+    while _cpu_seconds(p.pid) < 4.0 and p.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.1)
     t0 = time.monotonic()
     p.send_signal(signal.SIGINT)
     out, err = p.communicate(timeout=60)
