@@ -2,33 +2,66 @@
 
 The numerics run in the C++ engine (``drillpy._core``); this package adds configuration
 handling, progress bars, figures, reports and the ``drillpy`` command.
+
+The names below are imported on first use (PEP 562), so that ``import drillpy`` and
+``drillpy --help`` do not load SciPy and Matplotlib: ``drillpy.simulate`` is
+:func:`drillpy.model.simulation.simulate`, and so on.
 """
+from __future__ import annotations
+
+import importlib
+
 from . import _core
-from drillpy.model.config import load_config, preset_names, with_overrides
-from drillpy.model.simulation import (SimulationResult, natural_frequencies, simulate, stability_map,
-                         sweep_severity, severity_threshold, law_torque)
-from drillpy.uncertainty.frf import FRFEnvelope, cb_frequencies, dispersions, frf_envelope, stochastic_model
-from drillpy.uncertainty.structural import SeverityStudy, severity_sources, severity_study
-from drillpy.uncertainty.process import (PsdModel, PsdTable, THESIS_PSD, generate, periodogram, welch, fit_psd_model,
-                      fit_eta)
-from drillpy.uncertainty.montecarlo import StochasticStudy, PhaseStudy, stochastic_study, phase_study, conv1
 
-__all__ = [
-    "load_config", "preset_names", "with_overrides", "SimulationResult", "natural_frequencies",
-    "simulate", "stability_map", "sweep_severity", "severity_threshold", "law_torque", "_core",
-    "FRFEnvelope", "cb_frequencies", "dispersions", "frf_envelope", "stochastic_model",
-    "SeverityStudy", "severity_sources", "severity_study",
-    "PsdModel", "PsdTable", "THESIS_PSD", "generate", "periodogram", "welch", "fit_psd_model",
-    "fit_eta", "StochasticStudy", "PhaseStudy", "stochastic_study", "phase_study", "conv1",
-]
-# measured records (issue 5); analysis, identification and rigsim are imported on demand
-from drillpy.records.io import Record, read_record, write_csv  # noqa: E402
-from drillpy.records.cleaning import clean  # noqa: E402
-
-__all__ += ["Record", "read_record", "write_csv", "clean"]
-# drillpy loop: residual -> missing effect -> corrected model (issue 6)
-from .loop import LoopOptions, run_loop, loop_record  # noqa: E402
-from drillpy.records.synthetic import synthetic_record  # noqa: E402
-
-__all__ += ["LoopOptions", "run_loop", "loop_record", "synthetic_record"]
 __version__ = "0.1.0"
+
+#: public name -> the module that defines it
+_EXPORTS = {
+    **dict.fromkeys(("load_config", "preset_names", "with_overrides"), "drillpy.model.config"),
+    **dict.fromkeys(("SimulationResult", "natural_frequencies", "simulate", "stability_map", "sweep_severity",
+                     "severity_threshold", "law_torque"), "drillpy.model.simulation"),
+    **dict.fromkeys(("FRFEnvelope", "cb_frequencies", "dispersions", "frf_envelope", "stochastic_model"),
+                    "drillpy.uncertainty.frf"),
+    **dict.fromkeys(("SeverityStudy", "severity_sources", "severity_study"), "drillpy.uncertainty.structural"),
+    **dict.fromkeys(("PsdModel", "PsdTable", "THESIS_PSD", "generate", "periodogram", "welch", "fit_psd_model",
+                     "fit_eta"), "drillpy.uncertainty.process"),
+    **dict.fromkeys(("StochasticStudy", "PhaseStudy", "stochastic_study", "phase_study", "conv1"),
+                    "drillpy.uncertainty.montecarlo"),
+    **dict.fromkeys(("Record", "read_record", "write_csv"), "drillpy.records.io"),
+    "clean": "drillpy.records.cleaning",
+    **dict.fromkeys(("LoopOptions", "run_loop", "loop_record"), "drillpy.loop"),
+    "synthetic_record": "drillpy.records.synthetic",
+}
+
+__all__ = ["_core", "__version__", *_EXPORTS]
+
+
+def __getattr__(name: str):
+    """Import a public name's module on first use (PEP 562).
+
+    Parameters
+    ----------
+    name : str
+        The attribute asked for.
+
+    Returns
+    -------
+    object
+        The public function, class or constant.
+
+    Raises
+    ------
+    AttributeError
+        For a name drillpy does not export.
+    """
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'drillpy' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list:
+    """Every public name, imported or not yet."""
+    return sorted(set(globals()) | set(_EXPORTS))
