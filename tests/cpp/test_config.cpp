@@ -8,7 +8,7 @@
 using namespace drill;
 
 namespace {
-std::string error_of(const std::string& text) {
+std::string parse_error_of(const std::string& text) {
   try {
     parse_config_text(text);
   } catch (const std::invalid_argument& e) {
@@ -48,30 +48,30 @@ TEST(Config, TotalElementsSplitInProportionToLength) {
 }
 
 TEST(Config, ErrorsNameTheFieldAndTheValue) {
-  EXPECT_NE(error_of("{\"string\": ").find("malformed JSON"), std::string::npos);
-  EXPECT_NE(error_of("[1, 2]").find("must be a JSON object"), std::string::npos);
-  EXPECT_NE(error_of("{}").find("config.string: missing"), std::string::npos);
+  EXPECT_NE(parse_error_of("{\"string\": ").find("malformed JSON"), std::string::npos);
+  EXPECT_NE(parse_error_of("[1, 2]").find("must be a JSON object"), std::string::npos);
+  EXPECT_NE(parse_error_of("{}").find("config.string: missing"), std::string::npos);
   json j = preset_json("thesis-field");
   j.erase("law");
-  EXPECT_NE(error_of(j.dump()).find("config.law: missing"), std::string::npos);
-  EXPECT_NE(error_of(with("/string/sections/0/length_m", -5.0)).find("string.sections[0].length_m = -5"), std::string::npos);
-  EXPECT_NE(error_of(with("/string/sections/1/inner_radius_m", 0.1)).find("string.sections[1].inner_radius_m = 0.1"),
+  EXPECT_NE(parse_error_of(j.dump()).find("config.law: missing"), std::string::npos);
+  EXPECT_NE(parse_error_of(with("/string/sections/0/length_m", -5.0)).find("string.sections[0].length_m = -5"), std::string::npos);
+  EXPECT_NE(parse_error_of(with("/string/sections/1/inner_radius_m", 0.1)).find("string.sections[1].inner_radius_m = 0.1"),
             std::string::npos);
-  EXPECT_NE(error_of(with("/string/sections/0/elements", 0)).find("string.sections[0].elements = 0"), std::string::npos);
-  EXPECT_NE(error_of(with("/string/sections/0/elements", 2.5)).find("must be an integer"), std::string::npos);
-  EXPECT_NE(error_of(with("/string/sections/0/density_kg_m3", "heavy")).find("density_kg_m3 = \"heavy\""),
+  EXPECT_NE(parse_error_of(with("/string/sections/0/elements", 0)).find("string.sections[0].elements = 0"), std::string::npos);
+  EXPECT_NE(parse_error_of(with("/string/sections/0/elements", 2.5)).find("must be an integer"), std::string::npos);
+  EXPECT_NE(parse_error_of(with("/string/sections/0/density_kg_m3", "heavy")).find("density_kg_m3 = \"heavy\""),
             std::string::npos);
-  EXPECT_NE(error_of(with("/rom/modes", 500)).find("rom.modes = 500"), std::string::npos);
-  EXPECT_NE(error_of(with("/law/type", "magic")).find("law.type = \"magic\""), std::string::npos);
-  EXPECT_NE(error_of(with("/simulation/scheme", "rk45")).find("simulation.scheme = \"rk45\""), std::string::npos);
-  EXPECT_NE(error_of(with("/simulation/transient_s", 500.0)).find("simulation.transient_s = 500"), std::string::npos);
-  EXPECT_NE(error_of(with("/operation/colour", 3)).find("operation.colour = 3: unknown key"), std::string::npos);
-  EXPECT_NE(error_of(with("/damping", json{{"type", "rayleigh"}, {"pairs", {1, 2}}})).find("damping.pairs"),
+  EXPECT_NE(parse_error_of(with("/rom/modes", 500)).find("rom.modes = 500"), std::string::npos);
+  EXPECT_NE(parse_error_of(with("/law/type", "magic")).find("law.type = \"magic\""), std::string::npos);
+  EXPECT_NE(parse_error_of(with("/simulation/scheme", "rk45")).find("simulation.scheme = \"rk45\""), std::string::npos);
+  EXPECT_NE(parse_error_of(with("/simulation/transient_s", 500.0)).find("simulation.transient_s = 500"), std::string::npos);
+  EXPECT_NE(parse_error_of(with("/operation/colour", 3)).find("operation.colour = 3: unknown key"), std::string::npos);
+  EXPECT_NE(parse_error_of(with("/damping", json{{"type", "rayleigh"}, {"pairs", {1, 2}}})).find("damping.pairs"),
             std::string::npos);
   // JSON has no NaN or infinity literal; a huge number overflows to infinity in the parser
-  EXPECT_NE(error_of(with("/string/sections/0/youngs_modulus_pa", 1e308 * 10)).find("youngs_modulus_pa"),
+  EXPECT_NE(parse_error_of(with("/string/sections/0/youngs_modulus_pa", 1e308 * 10)).find("youngs_modulus_pa"),
             std::string::npos);
-  EXPECT_NE(error_of(with("/operation/top_speed_rad_s", nullptr)).find("operation.top_speed_rad_s = null"),
+  EXPECT_NE(parse_error_of(with("/operation/top_speed_rad_s", nullptr)).find("operation.top_speed_rad_s = null"),
             std::string::npos);
 }
 
@@ -98,15 +98,15 @@ TEST(Config, StringFrictionRoundTripsAndDefaultsToZero) {
 }
 
 TEST(Config, NegativeOrNonFiniteStringFrictionIsRefused) {
-  EXPECT_NE(error_of(with("/operation/string_friction_nm", -0.5))
+  EXPECT_NE(parse_error_of(with("/operation/string_friction_nm", -0.5))
                 .find("operation.string_friction_nm = -0.5: must not be negative"),
             std::string::npos)
-      << error_of(with("/operation/string_friction_nm", -0.5));
+      << parse_error_of(with("/operation/string_friction_nm", -0.5));
   // JSON has no NaN or infinity literal (an infinite value is written as null); a Config set in
   // code is validated with the same message
-  EXPECT_NE(error_of(with("/operation/string_friction_nm", 1e308 * 10)).find("operation.string_friction_nm = null"),
+  EXPECT_NE(parse_error_of(with("/operation/string_friction_nm", 1e308 * 10)).find("operation.string_friction_nm = null"),
             std::string::npos);
-  EXPECT_NE(error_of(with("/operation/string_friction_nm", "big")).find("operation.string_friction_nm = \"big\""),
+  EXPECT_NE(parse_error_of(with("/operation/string_friction_nm", "big")).find("operation.string_friction_nm = \"big\""),
             std::string::npos);
   Config c = preset("thesis-field");
   for (double bad : {std::nan(""), HUGE_VAL}) {

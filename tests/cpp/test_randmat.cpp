@@ -7,6 +7,7 @@
 #include <string>
 
 #include "drill/randmat.hpp"
+#include "min_eig.hpp"
 
 using namespace drill;
 
@@ -19,8 +20,6 @@ Eigen::MatrixXd spd(int n, unsigned seed) {
     for (int j = 0; j < n; ++j) B(i, j) = rs.normal();
   return B * B.transpose() + n * Eigen::MatrixXd::Identity(n, n);
 }
-
-double min_eig(const Eigen::MatrixXd& A) { return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(A).eigenvalues()(0); }
 
 }  // namespace
 

@@ -7,12 +7,13 @@
 
 #include "drill/presets.hpp"
 #include "drill/stochastic_model.hpp"
+#include "min_eig.hpp"
 
 using namespace drill;
 
 namespace {
 
-Config ch6(int m1 = 10, int m2 = 6) {
+Config ch6_16_modes(int m1 = 10, int m2 = 6) {
   Config c = preset("thesis-ch6");
   c.cb_modes = {m1, m2};
   c.modes = 16;
@@ -21,13 +22,11 @@ Config ch6(int m1 = 10, int m2 = 6) {
 
 std::vector<Dispersions> all(int ns, double d) { return std::vector<Dispersions>(ns, Dispersions::Constant(d)); }
 
-double min_eig(const Eigen::MatrixXd& A) { return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(A).eigenvalues()(0); }
-
 }  // namespace
 
 TEST(StochasticModel, ZeroDispersionGivesTheMeanModel) {
   for (StochasticKind k : {StochasticKind::full, StochasticKind::cb1, StochasticKind::cb2}) {
-    const StochasticModel sm(ch6(), k, all(k == StochasticKind::full ? 1 : 2, 0.0));
+    const StochasticModel sm(ch6_16_modes(), k, all(k == StochasticKind::full ? 1 : 2, 0.0));
     Eigen::MatrixXd M, D, K;
     sm.sample_matrices(3, 17, M, D, K);
     EXPECT_LT((M - sm.mean().M).norm(), 1e-12 * M.norm()) << to_string(k);
@@ -38,7 +37,7 @@ TEST(StochasticModel, ZeroDispersionGivesTheMeanModel) {
 
 TEST(StochasticModel, SamplesArePositiveDefiniteAndReproducible) {
   for (StochasticKind k : {StochasticKind::full, StochasticKind::cb1, StochasticKind::cb2}) {
-    const StochasticModel sm(ch6(), k, all(k == StochasticKind::full ? 1 : 2, 0.3));
+    const StochasticModel sm(ch6_16_modes(), k, all(k == StochasticKind::full ? 1 : 2, 0.3));
     for (int i = 0; i < 20; ++i) {
       Eigen::MatrixXd M, D, K, M2, D2, K2;
       sm.sample_matrices(5, i, M, D, K);
@@ -54,7 +53,7 @@ TEST(StochasticModel, SamplesArePositiveDefiniteAndReproducible) {
 }
 
 TEST(StochasticModel, FloatingBhaStiffnessUsesSePlusZero) {
-  const StochasticModel sm(ch6(10, 6), StochasticKind::cb2, all(2, 0.1));
+  const StochasticModel sm(ch6_16_modes(10, 6), StochasticKind::cb2, all(2, 0.1));
   EXPECT_FALSE(sm.ensemble(0, 2).semidefinite());  // DP, clamped top
   EXPECT_TRUE(sm.ensemble(1, 2).semidefinite());   // BHA floats
   EXPECT_EQ(sm.ensemble(1, 2).rank(), 6);
@@ -68,7 +67,7 @@ TEST(StochasticModel, FloatingBhaStiffnessUsesSePlusZero) {
 TEST(StochasticModel, Cb2SeparatesInnerAndInterfaceBlocks) {
   // Eq. (6.22): with only interface dispersions, every inner-inner block keeps its mean value;
   // with only inner dispersions, the interface-interface block keeps its mean value.
-  const Config c = ch6(10, 6);
+  const Config c = ch6_16_modes(10, 6);
   const StochasticModel iface(c, StochasticKind::cb2, thesis_case_dispersions(7));
   const StochasticModel inner(c, StochasticKind::cb2, thesis_case_dispersions(6));
   const CraigBampton& cb = *iface.craig_bampton();
@@ -87,7 +86,7 @@ TEST(StochasticModel, Cb2SeparatesInnerAndInterfaceBlocks) {
 }
 
 TEST(StochasticModel, DpOnlyCaseLeavesTheBhaInnerBlockUnchanged) {
-  const StochasticModel sm(ch6(10, 6), StochasticKind::cb2, thesis_case_dispersions(4));
+  const StochasticModel sm(ch6_16_modes(10, 6), StochasticKind::cb2, thesis_case_dispersions(4));
   const CraigBampton& cb = *sm.craig_bampton();
   const int o = cb.inner_offset(1), m = cb.substructures()[1].modes;
   Eigen::MatrixXd M, D, K;
@@ -99,7 +98,7 @@ TEST(StochasticModel, DpOnlyCaseLeavesTheBhaInnerBlockUnchanged) {
 
 TEST(StochasticModel, SampleMeanOfCb1AndFullTendsToTheMean) {
   for (StochasticKind k : {StochasticKind::full, StochasticKind::cb1}) {
-    const StochasticModel sm(ch6(6, 4), k, all(k == StochasticKind::full ? 1 : 2, 0.3));
+    const StochasticModel sm(ch6_16_modes(6, 4), k, all(k == StochasticKind::full ? 1 : 2, 0.3));
     Eigen::MatrixXd sM = Eigen::MatrixXd::Zero(sm.size(), sm.size()), sK = sM, M, D, K;
     const int N = 4000;
     for (int i = 0; i < N; ++i) {
@@ -113,7 +112,7 @@ TEST(StochasticModel, SampleMeanOfCb1AndFullTendsToTheMean) {
 }
 
 TEST(StochasticModel, RefusesBadDispersionsAndCases) {
-  const Config c = ch6(10, 6);
+  const Config c = ch6_16_modes(10, 6);
   std::vector<Dispersions> d = all(2, 0.1);
   d[1](2, 1) = 0.9;  // delta_K,interface,BHA above sqrt(7/11) = 0.80 (rank 6 of the floating BHA)
   try {
