@@ -13,13 +13,13 @@ wall time.
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import time
 
 import numpy as np
 
 import drillpy as d
+from drillpy.model.config import engine_config
 from drillpy.uncertainty import frf as F
 
 
@@ -54,7 +54,7 @@ def main() -> None:
     print(f"speed-up 1 -> 2 threads: {res[1][0] / res[2][0]:.2f} (identical envelopes)")
 
     sm = F.stochastic_model(cfg, "SM_CB2", 0.1)
-    cb = d._core.craig_bampton(json.dumps(cfg))
+    cb = d._core.craig_bampton(engine_config(cfg))
     nodes = F.observation_nodes(cfg)
     rows = cb["psi"][[n - 1 for n in nodes]]
     bit = cb["psi"][-1]

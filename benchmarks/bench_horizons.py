@@ -12,18 +12,18 @@ restart states, sensors and inputs handled without Python).
 """
 from __future__ import annotations
 
-import json
 import time
 
 import numpy as np
 
 import drillpy
 from drillpy import _core
+from drillpy.model.config import engine_config
 
 
 def main() -> None:
     cfg = drillpy.load_config(preset="thesis-rig")
-    sim = _core.Simulation(json.dumps(cfg))
+    sim = _core.Simulation(engine_config(cfg))
     n, L, dt = 80, 250, 1e-3
     ref = drillpy.simulate(drillpy.with_overrides(cfg, duration=25.0, transient=1.0))
     stride = int(round(dt / cfg["simulation"]["dt_s"]))
@@ -40,7 +40,7 @@ def main() -> None:
             _core.predict_horizons(sim, idx.tolist(), state, sensor, dt, L, threads=threads)
             batch[threads].append(time.perf_counter() - t)
     short = drillpy.with_overrides(cfg, duration=L * dt, transient=0.5 * L * dt)
-    one = _core.Simulation(json.dumps(short))
+    one = _core.Simulation(engine_config(short))
     loop = []
     for _ in range(2):
         t = time.perf_counter()

@@ -8,13 +8,13 @@ evaluated in Python.
 """
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
 import scipy.linalg
 
 import drillpy
+from drillpy.model.config import engine_config
 
 
 def hysteretic_parts(law: dict, v: float, wob: float):
@@ -54,7 +54,7 @@ def run_modified_euler(cfg: dict, top_speed: float, duration: float | None = Non
     """Bit speed at every step of a constant-top-speed run from Eq. (2.10)."""
     if cfg["law"]["type"] != "hysteretic":
         raise ValueError("the NumPy reference implements the hysteretic law only")
-    sim = drillpy._core.Simulation(json.dumps(cfg))
+    sim = drillpy._core.Simulation(engine_config(cfg))
     r = sim.reduced_matrices()
     w2, V = scipy.linalg.eigh(r["K"], r["M"])
     d = np.diag(V.T @ r["D"] @ V).copy()

@@ -9,7 +9,7 @@ import typing
 __all__: list[str] = ['Config', 'FrfEnvelope', 'HorizonResult', 'HorizonStart', 'MonteCarlo', 'RunReport', 'SeverityStatistics', 'Simulation', 'StochasticModel', 'cb_frequencies', 'conv1', 'craig_bampton', 'exact_frequencies', 'fe_matrices', 'generate_process', 'law_torque', 'lowpass2', 'max_dispersion', 'max_threads', 'natural_frequencies', 'normalize_config', 'observation_nodes', 'predict_horizons', 'preset_json', 'preset_names', 'process_grid', 'process_variance', 'psd_model_integral', 'psd_model_values', 'psd_table_values', 'random_matrix', 'severity_statistics', 'severity_threshold', 'state_from_bit', 'thesis_case_dispersions', 'top_torque_from_bit', 'with_total_elements']
 class Config:
     """
-    A validated engine configuration (the JSON schema drillsim reads), parsed once. Pass it to Simulation, StochasticModel, MonteCarlo and the model functions; JSON text is converted implicitly.
+    A validated engine configuration (the JSON schema drillsim reads), parsed once. Pass it to Simulation, StochasticModel, MonteCarlo and the model functions (built from a dict by drillpy.model.config.engine_config).
     """
     def __init__(self, json: str) -> None:
         """

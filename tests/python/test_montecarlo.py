@@ -14,7 +14,7 @@ import pytest
 
 from drillpy import _core
 from drillpy.cli import main
-from drillpy.model.config import load_config, with_overrides
+from drillpy.model.config import engine_config, load_config, with_overrides
 from drillpy.uncertainty.montecarlo import conv1, phase_study, stochastic_study
 from drillpy.uncertainty.process import THESIS_PSD, convert_psd_model, generate, psd_on_grid
 
@@ -79,7 +79,7 @@ def test_identical_for_one_and_two_threads_and_chunks(cfg, study):
 def test_sample_i_uses_the_generated_realization_i(cfg):
     c = with_overrides(cfg, duration=30.0, transient=10.0)
     _, S = psd_on_grid(THESIS_PSD, 0.05, 30.0)
-    mc = _core.MonteCarlo(json.dumps(c), S, 0.05, 11, 0.0)
+    mc = _core.MonteCarlo(engine_config(c), S, 0.05, 11, 0.0)
     _, eta = generate(THESIS_PSD, dt=0.05, duration=30.0, samples=3, seed=11, first_sample=4)
     for r in range(3):
         np.testing.assert_array_equal(mc.eta(4 + r), eta[r])

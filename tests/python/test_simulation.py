@@ -55,7 +55,7 @@ def test_sweep_threshold_and_figure_4_8_shape():
 
 def test_progress_callback_and_grid_shape():
     calls = []
-    sim = drillpy._core.Simulation(drillpy.model.config.to_json_text(FIELD))
+    sim = drillpy._core.Simulation(drillpy.model.config.engine_config(FIELD))
     out = sim.sweep([10.0, 20.0, 30.0], [100e3, 200e3], lambda d, t: calls.append((d, t)), 1)
     assert out.shape == (2, 3)
     assert calls[-1] == (6, 6) and all(a[0] < b[0] for a, b in zip(calls, calls[1:]))

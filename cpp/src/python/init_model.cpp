@@ -18,8 +18,8 @@ using drillpy_glue::Array;
 void init_model(py::module_& m) {
   py::class_<Config>(m, "Config",
                      "A validated engine configuration (the JSON schema drillsim reads), parsed once. Pass it to "
-                     "Simulation, StochasticModel, MonteCarlo and the model functions; JSON text is converted "
-                     "implicitly.")
+                     "Simulation, StochasticModel, MonteCarlo and the model functions (built from a dict by "
+                     "drillpy.model.config.engine_config).")
       .def(py::init([](const std::string& text) { return parse_config_text(text); }), py::arg("json"),
            "Parse and validate a JSON configuration (ValueError naming the field when invalid).")
       .def("to_json", [](const Config& c) { return to_json(c).dump(); },
@@ -35,7 +35,6 @@ void init_model(py::module_& m) {
                              "Simulated duration [s].")
       .def_readonly("transient_s", &Config::transient, "Transient discarded before the metrics [s].")
       .def("__repr__", [](const Config& c) { return "<drillpy._core.Config " + c.name + ">"; });
-  py::implicitly_convertible<py::str, Config>();
 
   m.def("preset_names", &preset_names, "Names of the built-in presets.");
   m.def("preset_json", [](const std::string& name) { return preset_json(name).dump(); },

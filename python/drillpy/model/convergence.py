@@ -14,7 +14,7 @@ import copy
 import numpy as np
 
 from drillpy import _core
-from drillpy.model.config import normalize, to_json_text, with_overrides
+from drillpy.model.config import engine_config, normalize, with_overrides
 from drillpy.model.simulation import natural_frequencies, simulate
 
 
@@ -58,7 +58,7 @@ def space_study(cfg: dict, elements=(25, 50, 100, 200, 400), n_freq: int = 5) ->
         relative error over the ``n_freq`` frequencies, per element count) and ``orders``
         (:func:`observed_orders` with h = 1 / elements; about 2 expected).
     """
-    exact = np.asarray(_core.exact_frequencies(to_json_text(cfg), n_freq))
+    exact = np.asarray(_core.exact_frequencies(engine_config(cfg), n_freq))
     errs = []
     for n in elements:
         f = natural_frequencies(with_overrides(cfg, elements=n), n_freq)

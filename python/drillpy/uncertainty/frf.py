@@ -13,13 +13,13 @@ inner column only.
 from __future__ import annotations
 
 import copy
-import json
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.integrate import trapezoid
 
 from drillpy import _core, validate
+from drillpy.model.config import engine_config
 from drillpy.progress import progress_bar
 
 MODELS = ("SM_full", "SM_CB1", "SM_CB2")
@@ -180,7 +180,7 @@ def stochastic_model(cfg: dict, model: str = "SM_CB2", delta=None, case: int | N
         The engine object.
     """
     d = dispersions(cfg, model, delta, case)
-    return _core.StochasticModel(json.dumps(cfg), model, d)
+    return _core.StochasticModel(engine_config(cfg), model, d)
 
 
 def observation_nodes(cfg: dict) -> list[int]:
@@ -197,7 +197,7 @@ def observation_nodes(cfg: dict) -> list[int]:
         Nodes of P_obs,1 (first free DP node), P_obs,2 (DP/BHA interface), P_obs,3 (bit); on
         thesis-ch6 nodes 1, 100 and 200.
     """
-    return list(_core.observation_nodes(json.dumps(cfg)))
+    return list(_core.observation_nodes(engine_config(cfg)))
 
 
 @dataclass
@@ -357,7 +357,7 @@ def cb_frequencies(cfg: dict, n: int, modes=None) -> np.ndarray:
         The n lowest natural frequencies [Hz].
     """
     c = cfg if modes is None else with_cb_modes(cfg, modes)
-    return np.asarray(_core.cb_frequencies(json.dumps(c), int(n)))
+    return np.asarray(_core.cb_frequencies(engine_config(c), int(n)))
 
 
 def band_widths(env: FRFEnvelope, bands_hz) -> np.ndarray:

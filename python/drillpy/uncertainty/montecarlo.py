@@ -20,14 +20,13 @@ change the statistics materially are in docs/stochastic.md.
 """
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from drillpy import _core, validate
-from drillpy.model.config import with_overrides
+from drillpy.model.config import engine_config, with_overrides
 from drillpy.uncertainty.process import THESIS_PSD, Psd, psd_on_grid
 from drillpy.progress import progress_bar
 
@@ -163,7 +162,7 @@ def _study_config(cfg: dict, duration: float, transient: float) -> dict:
 def _engine(cfg: dict, psd: Psd, eta_dt: float, seed: int, warmup: float):
     sim = cfg["simulation"]
     _, S = psd_on_grid(psd, eta_dt, sim["duration_s"])
-    return _core.MonteCarlo(json.dumps(cfg), S, float(eta_dt), seed, float(warmup))
+    return _core.MonteCarlo(engine_config(cfg), S, float(eta_dt), seed, float(warmup))
 
 
 def _speeds(speeds) -> np.ndarray:
@@ -356,7 +355,7 @@ def phase_study(cfg: dict, speed: float | None = None, *, seed: int, cycles: int
                 cb(min(ncyc, sum(len(s) for s in stick)), ncyc)
             if first >= 64 * nb and not any(len(s) for s in stick):
                 break  # no stick-slip at this speed
-    det = _core.Simulation(json.dumps(with_overrides(c, duration=warmup + duration,
+    det = _core.Simulation(engine_config(with_overrides(c, duration=warmup + duration,
                                                     transient=warmup + transient)))
     d = det.run(top_speed=om, record=False)
     if d.period_cycles:
