@@ -19,7 +19,7 @@ __version__ = "0.1.0"
 _EXPORTS = {
     **dict.fromkeys(("load_config", "preset_names", "with_overrides"), "drillpy.model.config"),
     **dict.fromkeys(("SimulationResult", "natural_frequencies", "simulate", "stability_map", "sweep_severity",
-                     "severity_threshold", "law_torque"), "drillpy.model.simulation"),
+                     "severity_threshold", "severity_crossings", "law_torque"), "drillpy.model.simulation"),
     **dict.fromkeys(("FRFEnvelope", "cb_frequencies", "dispersions", "frf_envelope", "stochastic_model"),
                     "drillpy.uncertainty.frf"),
     **dict.fromkeys(("SeverityStudy", "severity_sources", "severity_study"), "drillpy.uncertainty.structural"),

@@ -145,6 +145,7 @@ def cmd_simulate(a: argparse.Namespace) -> int:
     # the library; it stays here, unchanged, until then.
     from drillpy.figures import simulation as plotting
     from drillpy.model.simulation import simulate
+    from drillpy.provenance import header, provenance
     cfg = model_config(a)
     r = simulate(cfg, a.top_speed, None if a.wob_kn is None else a.wob_kn * 1e3, start=a.start)
     summary = r.summary()  # drill/run_summary.hpp: the keys drillsim writes
@@ -153,11 +154,12 @@ def cmd_simulate(a: argparse.Namespace) -> int:
         out.mkdir(parents=True, exist_ok=True)
         cols = np.column_stack([r.t, r.bit_speed, r.bit_accel, r.bit_angle, r.torque_on_bit,
                                 r.top_torque, r.top_speed])
+        prov = provenance(start=a.start)
         np.savetxt(out / "series.csv", cols, delimiter=",", comments="",
-                   header="time_s,bit_speed_rad_s,bit_accel_rad_s2,bit_angle_rad,torque_on_bit_Nm,"
+                   header=header(prov) + "\ntime_s,bit_speed_rad_s,bit_accel_rad_s2,bit_angle_rad,torque_on_bit_Nm,"
                           "top_torque_Nm,top_speed_rad_s")
         plotting.time_series_plot(out / "time_series.png", r.t, r.bit_speed, r.torque_on_bit, r.top_speed)
-        (out / "summary.json").write_text(json.dumps({**summary, "config": r.config}, indent=2))
+        (out / "summary.json").write_text(json.dumps({**summary, "config": r.config, "provenance": prov}, indent=2))
     print(json.dumps(summary) if a.json else
           f"SS = {r.severity:.3f}, stick fraction = {r.stick_fraction:.3f}, "
           f"periodic over {r.period_cycles} cycle(s)")
@@ -188,7 +190,9 @@ def add_sweep(sub) -> argparse.ArgumentParser:
 
 
 def cmd_sweep(a: argparse.Namespace) -> int:
-    """SS versus top speed [rad/s] and the speed below which SS > 0.5 (optionally by bisection).
+    """SS versus top speed [rad/s], the speed below which SS > 0.5 (optionally by bisection) and
+    every crossing of SS through 0.5 with its direction (``crossings``: ``"falling"``, stick-slip
+    below the speed; ``"rising"``, stick-slip above it).
 
     Parameters
     ----------
@@ -201,13 +205,15 @@ def cmd_sweep(a: argparse.Namespace) -> int:
         Exit status 0; prints the sweep as JSON or one line per speed and the threshold; with
         ``--out`` :func:`drillpy.reports.preset.write_sweep` writes the figure and ``sweep.json``.
     """
-    from drillpy.model.simulation import severity_threshold, sweep_severity
+    from drillpy.model.simulation import severity_crossings, severity_threshold, sweep_severity
     from drillpy.reports.preset import write_sweep
     cfg = model_config(a)
     speeds = parse_grid(a.speeds, "--speeds")
     ss = sweep_severity(cfg, speeds, progress=not a.no_progress, threads=a.threads, start=a.start)
     thr = severity_threshold(speeds, ss)
-    res = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.tolist(), "threshold_rad_s": thr}
+    crossings = severity_crossings(speeds, ss)
+    res = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.tolist(), "threshold_rad_s": thr,
+           "crossings": crossings}
     if a.refine is not None and thr is not None:
         from drillpy.model.simulation import refine_threshold
         r = refine_threshold(cfg, speeds, ss, tol=a.refine, threads=a.threads, start=a.start)
@@ -215,15 +221,21 @@ def cmd_sweep(a: argparse.Namespace) -> int:
         res.update(threshold_rad_s=r.threshold, threshold_precision_rad_s=r.precision,
                    threshold_bracket_rad_s=[r.below, r.above], refinement_runs=[list(e) for e in r.evaluations])
     if a.out:
-        write_sweep(a.out, speeds, ss, thr, res, cfg)
+        write_sweep(a.out, speeds, ss, thr, res, cfg, start=a.start)
     if a.json:
         print(json.dumps(res))
     else:
         for s, v in zip(speeds, ss):
             print(f"{s:8.3f} rad/s  SS = {v:.3f}")
-        print("SS > 0.5 below", "no crossing in range" if thr is None else
-              f"{thr:.3f} +- {res['threshold_precision_rad_s']:.3f} rad/s (bisection)" if "threshold_precision_rad_s" in res
-              else f"{thr:.2f} rad/s (linear interpolation on the grid)")
+        if thr is not None:
+            print("SS > 0.5 below",
+                  f"{thr:.3f} +- {res['threshold_precision_rad_s']:.3f} rad/s (bisection)"
+                  if "threshold_precision_rad_s" in res else f"{thr:.2f} rad/s (linear interpolation on the grid)")
+        for c in crossings:
+            print(f"SS crosses 0.5 {c['direction']} at {c['speed_rad_s']:.2f} rad/s: stick-slip "
+                  f"{'below' if c['direction'] == 'falling' else 'above'} it (linear interpolation on the grid)")
+        if not crossings:
+            print("SS does not cross 0.5 in range (SS", "> 0.5" if ss.min() > 0.5 else "<= 0.5", "throughout)")
     return 0
 
 
@@ -273,7 +285,7 @@ def cmd_map(a: argparse.Namespace) -> int:
                       start=a.start)
     res = {"top_speeds_rpm": sp.tolist(), "wobs_kn": w.tolist(), "severity": m.tolist()}
     if a.out:
-        write_map(a.out, sp, w, m, res, cfg)
+        write_map(a.out, sp, w, m, res, cfg, start=a.start)
     print(json.dumps(res) if a.json else f"stable fraction (SS < 0.5): {np.mean(m < 0.5):.3f}")
     return 0
 

@@ -360,6 +360,51 @@ def severity_threshold(speeds, severities, level: float = 0.5) -> float | None:
     return None if math.isnan(v) else v
 
 
+def severity_crossings(speeds, severities, level: float = 0.5) -> list[dict]:
+    """Every crossing of the SS curve through ``level``, with its direction, by linear
+    interpolation on the grid (increasing speed).
+
+    A ``"falling"`` crossing (SS > ``level`` just below it, <= ``level`` just above) is the
+    thesis's case: stick-slip below the speed; the last one is :func:`severity_threshold`. A
+    ``"rising"`` crossing (SS <= ``level`` below, > ``level`` above) bounds stick-slip from below:
+    stick-slip above the speed.
+
+    Parameters
+    ----------
+    speeds : array_like
+        Top speeds [rad/s] (any order; sorted here).
+    severities : array_like
+        SS at those speeds.
+    level : float
+        The SS level (0.5: the thesis's threshold).
+
+    Returns
+    -------
+    list of dict
+        ``{"speed_rad_s": float, "direction": "falling" | "rising"}`` in increasing speed; empty
+        when SS stays on one side of ``level`` over the grid.
+
+    Raises
+    ------
+    ValueError
+        If ``severities`` has not one value per speed.
+    """
+    sp, ss = np.asarray(speeds, float).ravel(), np.asarray(severities, float).ravel()
+    if sp.size != ss.size:
+        raise ValueError(f"severities has {ss.size} values for {sp.size} speeds: one per speed needed")
+    order = np.argsort(sp, kind="stable")
+    sp, ss = sp[order], ss[order]
+    out = []
+    for i in range(sp.size - 1):
+        a, b = ss[i], ss[i + 1]
+        if (a > level) == (b > level):
+            continue
+        f = (a - level) / (a - b)
+        out.append({"speed_rad_s": float(sp[i] + f * (sp[i + 1] - sp[i])),
+                    "direction": "falling" if a > level else "rising"})
+    return out
+
+
 def natural_frequencies(cfg: dict, n: int) -> np.ndarray:
     """The first natural frequencies of the string clamped at the top, free at the bit (Eq. 2.7).
 

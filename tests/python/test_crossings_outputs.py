@@ -1,0 +1,57 @@
+"""Issue 13 item 5: SS crossings in either direction, CSV precision, analyze's output folder, progress bars."""
+import json
+
+import numpy as np
+import pytest
+
+from conftest import run_cli
+
+
+def test_crossings_of_a_curve_rising_with_speed():
+    from drillpy.model.simulation import severity_crossings, severity_threshold
+    sp = np.linspace(2.0, 12.0, 11)
+    ss = np.clip(0.1 * (sp - 1.8), 0.0, None)  # 0.5 at 6.8 rad/s, rising
+    c = severity_crossings(sp, ss)
+    assert len(c) == 1 and c[0]["direction"] == "rising"
+    assert c[0]["speed_rad_s"] == pytest.approx(6.8)
+    assert severity_threshold(sp, ss) is None   # the falling threshold keeps its meaning
+    assert severity_crossings(sp[::-1], ss[::-1]) == c  # order of the grid does not matter
+
+
+def test_crossings_of_a_falling_and_a_two_sided_curve():
+    from drillpy.model.simulation import severity_crossings, severity_threshold
+    sp = np.arange(6.0, 27.0)
+    fall = np.where(sp < 16.0, 1.2, 0.1)
+    c = severity_crossings(sp, fall)
+    assert [x["direction"] for x in c] == ["falling"]
+    assert c[0]["speed_rad_s"] == pytest.approx(severity_threshold(sp, fall))
+    band = np.where((sp > 10.0) & (sp < 20.0), 0.9, 0.2)  # stick-slip in a band
+    c = severity_crossings(sp, band)
+    assert [x["direction"] for x in c] == ["rising", "falling"]
+    assert c[1]["speed_rad_s"] == pytest.approx(severity_threshold(sp, band))
+    assert severity_crossings(sp, np.zeros(sp.size)) == [] and severity_crossings(sp, np.ones(sp.size)) == []
+    with pytest.raises(ValueError, match="one per speed"):
+        severity_crossings(sp, band[:-1])
+
+
+def test_sweep_reports_a_rising_crossing(monkeypatch, capsys, tmp_path):
+    import drillpy.model.simulation as sim
+    from drillpy.cli import main
+    monkeypatch.setattr(sim, "sweep_severity", lambda cfg, speeds, **kw: np.clip(0.1 * (np.asarray(speeds) - 1.8), 0, None))
+    assert main(["sweep", "--preset", "thesis-field", "--speeds", "2:12:11", "--no-progress", "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["threshold_rad_s"] is None
+    assert len(d["crossings"]) == 1 and d["crossings"][0]["direction"] == "rising"
+    assert d["crossings"][0]["speed_rad_s"] == pytest.approx(6.8)
+    assert main(["sweep", "--preset", "thesis-field", "--speeds", "2:12:11", "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "rising at 6.80 rad/s: stick-slip above it" in out and "no crossing" not in out
+
+
+def test_sweep_json_crossings_on_the_preset():
+    r = run_cli("sweep", "--preset", "thesis-field", "--law", "hysteretic", "--beta1", "0.14",
+                "--speeds", "6:27:22", "--json", "--no-progress")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    falling = [c for c in d["crossings"] if c["direction"] == "falling"]
+    assert falling and falling[-1]["speed_rad_s"] == pytest.approx(d["threshold_rad_s"])
