@@ -55,3 +55,24 @@ def test_sweep_json_crossings_on_the_preset():
     d = json.loads(r.stdout)
     falling = [c for c in d["crossings"] if c["direction"] == "falling"]
     assert falling and falling[-1]["speed_rad_s"] == pytest.approx(d["threshold_rad_s"])
+
+
+def test_time_format_follows_the_step():
+    from drillpy.cli.model import _time_format
+    assert _time_format(np.arange(0, 1, 1e-3)) == "%.3f"
+    assert _time_format(np.arange(0, 1, 2.5e-4)) == "%.5f"
+    assert _time_format(np.arange(0, 10, 0.5)) == "%.1f"
+    assert _time_format([0.0]) == "%.9f"
+
+
+def test_simulate_writes_series_csv_at_the_data_precision(tmp_path):
+    r = run_cli("simulate", "--preset", "thesis-rig", "--out", str(tmp_path / "run"), "--no-progress")
+    assert r.returncode == 0, r.stderr
+    lines = [ln for ln in (tmp_path / "run" / "series.csv").read_text().splitlines() if not ln.startswith("#")]
+    assert lines[0].startswith("time_s,bit_speed_rad_s")
+    rows = [ln.split(",") for ln in lines[1:]]
+    assert all(len(x.split(".")[1]) == 3 for x in (row[0] for row in rows[:50]))   # 1 ms step
+    digits = max(len(v.lstrip("-").split("e")[0].replace(".", "").lstrip("0")) for row in rows for v in row[1:])
+    assert digits <= 7
+    data = np.genfromtxt(lines, delimiter=",", names=True)
+    assert data["time_s"][-1] == pytest.approx(40.0) and np.all(np.isfinite(data["bit_speed_rad_s"]))

@@ -129,7 +129,9 @@ def cmd_simulate(a: argparse.Namespace) -> int:
     """Run one simulation at ``--top-speed`` [rad/s] and ``--wob-kn`` [kN]; print its stick-slip metrics.
 
     With ``--out`` writes ``series.csv`` (time series, SI units), ``time_series.png`` and
-    ``summary.json`` (the summary with the configuration).
+    ``summary.json`` (the summary with the configuration). ``series.csv`` holds the data's
+    precision, not the float64's: the time in fixed point to the recording step's resolution
+    (see :func:`_time_format`), the other columns at 7 significant digits (``%.7g``).
 
     Parameters
     ----------
@@ -155,7 +157,7 @@ def cmd_simulate(a: argparse.Namespace) -> int:
         cols = np.column_stack([r.t, r.bit_speed, r.bit_accel, r.bit_angle, r.torque_on_bit,
                                 r.top_torque, r.top_speed])
         prov = provenance(start=a.start)
-        np.savetxt(out / "series.csv", cols, delimiter=",", comments="",
+        np.savetxt(out / "series.csv", cols, delimiter=",", comments="", fmt=[_time_format(r.t)] + ["%.7g"] * 6,
                    header=header(prov) + "\ntime_s,bit_speed_rad_s,bit_accel_rad_s2,bit_angle_rad,torque_on_bit_Nm,"
                           "top_torque_Nm,top_speed_rad_s")
         plotting.time_series_plot(out / "time_series.png", r.t, r.bit_speed, r.torque_on_bit, r.top_speed)
@@ -164,6 +166,30 @@ def cmd_simulate(a: argparse.Namespace) -> int:
           f"SS = {r.severity:.3f}, stick fraction = {r.stick_fraction:.3f}, "
           f"periodic over {r.period_cycles} cycle(s)")
     return 0
+
+
+def _time_format(t) -> str:
+    """The ``printf`` format writing times ``t`` [s] to their step's resolution: fixed point with
+    the fewest decimals (at most 9) that hold the step, e.g. ``"%.3f"`` for a 1 ms step.
+
+    Parameters
+    ----------
+    t : array_like
+        Recorded times [s], evenly spaced (the median step is used).
+
+    Returns
+    -------
+    str
+        A format such as ``"%.4f"``; ``"%.9f"`` for fewer than two times or a step finer than 1 ns.
+    """
+    t = np.asarray(t, float)
+    if t.size < 2:
+        return "%.9f"
+    step = float(np.median(np.diff(t)))
+    for d in range(10):
+        if step > 0 and abs(round(step, d) - step) <= 1e-6 * step:
+            return f"%.{d}f"
+    return "%.9f"
 
 
 def add_sweep(sub) -> argparse.ArgumentParser:
