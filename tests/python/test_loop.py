@@ -24,7 +24,7 @@ from drillpy.records.io import Record, write_csv
 from drillpy.records.synthetic import declared_config, synthetic_record
 
 LOOP_KEYS = {"metric", "baseline_error", "steps", "final_error", "parameters", "declared", "removed", "final_effects",
-             "unexplained_fraction", "discovered_terms", "adequacy", "baseline_long_run"}
+             "unexplained_fraction", "discovered_terms", "adequacy", "baseline_long_run", "provenance"}
 STEP_KEYS = {"action", "effect", "error_before", "error_after", "evidence", "long_run"}
 
 
@@ -103,7 +103,7 @@ def two_effect_run(tmp_path_factory):
 
 def _predictions(path):
     with open(path) as fh:
-        rows = list(csv.reader(fh))
+        rows = list(csv.reader(line for line in fh if not line.startswith("#")))  # the provenance line
     head = rows[0]
     data = np.array([[float(x) if x else np.nan for x in r] for r in rows[1:]])
     return head, data

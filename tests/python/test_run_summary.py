@@ -13,6 +13,7 @@ def test_drillsim_and_drillpy_write_the_same_run_summary(drillsim, tmp_path):
     assert r.returncode == 0, r.stderr
     cpp = json.loads((tmp_path / "drillsim" / "summary.json").read_text())
     py = json.loads((tmp_path / "drillpy" / "summary.json").read_text())
+    assert py.pop("provenance")["drillpy_version"]  # drillpy's own: version, command line, time
     assert cpp.pop("job") == "run"
     assert list(py) == ["severity", "mean_top_speed_rad_s", "stick_fraction", "stick_durations_s",
                         "slip_durations_s", "period_cycles", "period_stick_s", "period_slip_s", "config"]

@@ -173,6 +173,8 @@ def build_parser() -> argparse.ArgumentParser:
     assert set(registry) == set(COMMANDS), sorted(set(registry) ^ set(COMMANDS))
     p = argparse.ArgumentParser(prog="drillpy", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    from drillpy import __version__
+    p.add_argument("--version", action="version", version=f"drillpy {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
     for name in COMMANDS:
         registry[name](sub)
@@ -193,10 +195,13 @@ def main(argv: list[str] | None = None) -> int:
         Exit status: 0 on success, 2 after a one-line ``drillpy: error: ...`` on stderr (bad input,
         failed run, unreadable file), 130 when interrupted. argparse's own usage errors exit with 2.
     """
+    from drillpy.provenance import running_command
     parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
     try:
         args = parser.parse_args(argv)
-        return args.func(args)
+        with running_command(argv):  # the command line recorded in every output
+            return args.func(args)
     except (OptionError, ValueError, RuntimeError, OSError) as e:
         print(f"drillpy: error: {e}", file=sys.stderr)
         return 2

@@ -156,7 +156,7 @@ def cmd_simulate(a: argparse.Namespace) -> int:
         out.mkdir(parents=True, exist_ok=True)
         cols = np.column_stack([r.t, r.bit_speed, r.bit_accel, r.bit_angle, r.torque_on_bit,
                                 r.top_torque, r.top_speed])
-        prov = provenance(start=a.start)
+        prov = provenance(start=r.config.get("simulation", {}).get("start", a.start) or "rest")  # the start used
         np.savetxt(out / "series.csv", cols, delimiter=",", comments="", fmt=[_time_format(r.t)] + ["%.7g"] * 6,
                    header=header(prov) + "\ntime_s,bit_speed_rad_s,bit_accel_rad_s2,bit_angle_rad,torque_on_bit_Nm,"
                           "top_torque_Nm,top_speed_rad_s")

@@ -105,7 +105,8 @@ def cmd_frf(a: argparse.Namespace) -> int:
     bands = {b: r for b, r in BANDS_HZ.items() if np.sum((env.freq_hz >= r[0]) & (env.freq_hz <= r[1])) >= 2}
     if a.out:
         title = a.model + (f" case {a.case}" if a.case else f" delta {a.delta if a.delta is not None else 0.1}")
-        write_envelope(a.out, env, title, res, cfg)
+        write_envelope(a.out, env, title, res, cfg, seed=a.seed, samples=a.samples, model=a.model, delta=a.delta,
+                       case=a.case)
     if a.json:
         print(json.dumps(res))
     else:
@@ -213,7 +214,8 @@ def cmd_robust_ss(a: argparse.Namespace) -> int:
                                    eta=np.load(a.eta_npy) if a.eta_npy else None, eta_dt=a.eta_dt,
                                    refine=a.refine, seed=a.seed, progress=not a.no_progress, threads=a.threads)
     if a.out:
-        write_robust_severity(a.out, speeds, studies, res, cfg)
+        write_robust_severity(a.out, speeds, studies, res, cfg, seed=a.seed, delta=a.delta, samples=a.samples,
+                              bit_rock=a.bit_rock or None, eta_npy=a.eta_npy)
     if a.json:
         print(json.dumps(res))
     else:

@@ -17,11 +17,13 @@ RPM = 30.0 / np.pi  # rad/s -> RPM
 
 
 def _save(fig, path: str | Path) -> Path:
-    """Lay out ``fig``, write it to ``path`` (130 dpi, parent folders created), close it; return the path."""
+    """Lay out ``fig``, write it to ``path`` (130 dpi, parent folders created, the drillpy version as
+    the image's ``Software`` metadata), close it; return the path."""
+    from drillpy import __version__
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
-    fig.savefig(path, dpi=130)
+    fig.savefig(path, dpi=130, metadata={"Software": f"drillpy {__version__}"})
     plt.close(fig)
     return path
 

@@ -16,12 +16,14 @@ from .run import LoopResult, dumps
 from drillpy.figures import loop as _loop_figures
 from drillpy.reports.text import number_text as _f
 from drillpy.records.io import RPM
+from drillpy.provenance import header, provenance, with_markdown_footer
 
 
 
 # ---------------------------------------------------------------------------------- files
-def write_predictions(path, res: LoopResult) -> Path:
-    """predictions.csv: every sample of the analysis grid (header row first, numbers only; empty
+def write_predictions(path, res: LoopResult, prov: dict | None = None) -> Path:
+    """predictions.csv: every sample of the analysis grid (a ``#`` provenance line, the header row,
+    then numbers only; empty
     cells where no horizon covers a sample or the record has no top speed): time, the recorded bit
     speed, torque on bit and top speed, whether the recorded top speed is a measurement (1; 0: an
     artifact the cleaning filled, left out of E), the baseline's and the final model's predictions
@@ -34,6 +36,8 @@ def write_predictions(path, res: LoopResult) -> Path:
         The CSV file to write.
     res : LoopResult
         A finished loop run.
+    prov : dict, optional
+        The :func:`drillpy.provenance.provenance` of the first line (default: a new one).
 
     Returns
     -------
@@ -62,6 +66,7 @@ def write_predictions(path, res: LoopResult) -> Path:
         return "" if not np.isfinite(x) else str(int(x))
 
     with open(path, "w", newline="") as fh:
+        fh.write(header(prov) + "\r\n")  # csv.writer's line ending
         w = csv.writer(fh)
         w.writerow(["time_s", "bit_speed_rad_s", "torque_on_bit_Nm", "top_speed_rad_s", "top_speed_measured",
                     "baseline_bit_speed_rad_s", "baseline_torque_on_bit_Nm", "baseline_top_speed_rad_s",
@@ -378,12 +383,14 @@ def write_loop(res: LoopResult, out, files: dict | None = None) -> dict:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     js = res.loop_json()
-    (out / "loop.json").write_text(dumps(js))
-    (out / "evidence.json").write_text(dumps(evidence_json(res)))
+    prov = provenance()
+    (out / "loop.json").write_text(dumps({**js, "provenance": prov}))
+    (out / "evidence.json").write_text(dumps({**evidence_json(res), "provenance": prov}))
     (out / "model.json").write_text(dumps(res.final.model.to_dict()))
     (out / "config.json").write_text(dumps(model_config(res)))
-    write_predictions(out / "predictions.csv", res)
-    (out / "report.md").write_text(render_report(res, {k: Path(v).name for k, v in (files or {}).items()}))
+    write_predictions(out / "predictions.csv", res, prov)
+    report = render_report(res, {k: Path(v).name for k, v in (files or {}).items()})
+    (out / "report.md").write_text(with_markdown_footer(report, prov))
     return js
 
 

@@ -24,6 +24,7 @@ import numpy as np
 from drillpy import loop
 from drillpy.records import rigsim
 from drillpy.jsonio import jsonable, write_json
+from drillpy.provenance import provenance
 from drillpy.records.cleaning import clean
 from drillpy.model.config import read_json
 from drillpy.loop.effects import stripped
@@ -262,7 +263,7 @@ def write_prediction(pred: Prediction, out_dir: str | Path) -> list:
     from drillpy.figures import records as figs
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    write_json(out / "summary.json", pred.summary())
+    write_json(out / "summary.json", {**pred.summary(), "provenance": provenance()})
     fig = figs.prediction_overlay_plot(out / "overlay.png", pred.measured, pred.simulated, pred.stick_threshold,
                                   describe(pred.model))
     return ["summary.json", fig.name]

@@ -59,6 +59,7 @@ from drillpy.records.io import RPM, Record, read_record
 from drillpy.records.rigsim import reliable_top_speed, stick_threshold
 from drillpy import validate
 from drillpy.jsonio import write_json
+from drillpy.provenance import provenance, with_markdown_footer
 from drillpy.reports.text import number_text as _f
 from drillpy.records.stick import STICK_FRACTION
 
@@ -517,8 +518,9 @@ def analyze_samples(records, out_dir: str | Path, options: SampleOptions | None 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     S["figures"] = [boxplot(out / "fig5_4_boxplot.png", samples).name]
-    write_json(out / "samples.json", S)
-    (out / "samples.md").write_text(render_samples(S))
+    prov = provenance()
+    write_json(out / "samples.json", {**S, "provenance": prov})
+    (out / "samples.md").write_text(with_markdown_footer(render_samples(S), prov))
     log(f"acceptance: {len(acc['accepted'])} of {len(table)} samples accepted "
         f"({', '.join(acc['accepted']) or 'none'}); validates the rig: {acc['validates']}")
     log(f"samples.json, samples.md and fig5_4_boxplot.png written to {out}")

@@ -20,6 +20,7 @@ import numpy as np
 
 from drillpy.figures import records as figs
 from drillpy.jsonio import dumps
+from drillpy.provenance import provenance, with_markdown_footer
 from drillpy.reports.text import number_text
 from drillpy.records import identification as ident
 from drillpy.uncertainty import process
@@ -399,8 +400,9 @@ def write_analysis(result: RecordAnalysis, out_dir: str | Path, figures=(), log=
         log(f"rig model written to {out / 'model.json'} (apply it to any record: drillpy predict)")
     S = {**result.summary, "figures": [Path(f).name for f in figures],
          "shown_cycle_s": [float(x) for x in result.shown_cycle_s]}
-    (out / "summary.json").write_text(dumps(S))
-    (out / "report.md").write_text(render_report(S))
+    prov = provenance()
+    (out / "summary.json").write_text(dumps({**S, "provenance": prov}))
+    (out / "report.md").write_text(with_markdown_footer(render_report(S), prov))
     log(f"report.md, summary.json and {len(S['figures'])} figures written to {out}")
     return S
 

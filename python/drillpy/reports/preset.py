@@ -15,6 +15,7 @@ import numpy as np
 
 from drillpy.figures import simulation as plotting
 from drillpy.model.config import with_overrides
+from drillpy.provenance import provenance
 from drillpy.model.simulation import (natural_frequencies, severity_threshold, simulate, stability_map,
                          sweep_severity)
 
@@ -184,7 +185,7 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
             "severity": {k: v.round(4).tolist() for k, v in maps.items()},
             "conclusions": map_conclusions(sp_rpm, w_kn, maps),
         }
-    (out / "summary.json").write_text(json.dumps(summary, indent=2))
+    (out / "summary.json").write_text(json.dumps({**summary, "provenance": provenance()}, indent=2))
     return summary
 
 
@@ -224,7 +225,8 @@ def print_field_summary(s: dict) -> None:
               f"raises SS at low speed/high WOB: {c['hysteresis_raises_ss_low_speed_high_wob']}")
 
 
-def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, summary: dict, cfg: dict) -> Path:
+def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, summary: dict, cfg: dict,
+                start: str | None = None) -> Path:
     """Write the outputs of an SS sweep (``drillpy sweep --out``).
 
     Parameters
@@ -241,6 +243,9 @@ def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, 
         JSON summary of the sweep, written with the configuration under ``"config"``.
     cfg : dict
         Configuration the sweep ran with.
+    start : str, optional
+        Initial state of the runs (``rest``, ``rigid``, ``steady``), recorded in the provenance
+        (default: the configuration's ``simulation.start``, else ``rest``).
 
     Returns
     -------
@@ -251,11 +256,14 @@ def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     plotting.severity_plot(out / "severity_vs_top_speed.png", speeds, severity, threshold)
-    (out / "sweep.json").write_text(json.dumps({**summary, "config": cfg}, indent=2))
+    start = start or cfg.get("simulation", {}).get("start", "rest")  # the start used
+    (out / "sweep.json").write_text(json.dumps({**summary, "config": cfg, "provenance": provenance(start=start)},
+                                               indent=2))
     return out
 
 
-def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict, cfg: dict) -> Path:
+def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict, cfg: dict,
+              start: str | None = None) -> Path:
     """Write the outputs of a stability map (``drillpy map --out``).
 
     Parameters
@@ -272,6 +280,9 @@ def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict,
         JSON summary of the map, written with the configuration under ``"config"``.
     cfg : dict
         Configuration the map ran with (its law type labels the panel).
+    start : str, optional
+        Initial state of the runs (``rest``, ``rigid``, ``steady``), recorded in the provenance
+        (default: the configuration's ``simulation.start``, else ``rest``).
 
     Returns
     -------
@@ -282,5 +293,7 @@ def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict,
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     plotting.stability_map_plot(out / "stability_map.png", speeds_rpm, wobs_kn, {cfg["law"]["type"]: severity})
-    (out / "map.json").write_text(json.dumps({**summary, "config": cfg}, indent=2))
+    start = start or cfg.get("simulation", {}).get("start", "rest")  # the start used
+    (out / "map.json").write_text(json.dumps({**summary, "config": cfg, "provenance": provenance(start=start)},
+                                             indent=2))
     return out

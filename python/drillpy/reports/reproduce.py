@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from drillpy.model.config import load_config, with_overrides
+from drillpy.provenance import provenance, with_markdown_footer
 
 CHAPTERS = ("3", "4", "5", "6")
 THESIS_FREQUENCIES_HZ = (0.13, 0.42, 0.74, 1.07, 1.41)           # section 4.2.1
@@ -622,8 +623,10 @@ def reproduce(chapters, out_dir, options: Options | None = None, record=None) ->
         res.rows += rows
         res.figures += figs
         res.seconds[c] = round(time.perf_counter() - t0, 1)
-    (out / "table.md").write_text(render_table(res, o))
-    (out / "reproduce.json").write_text(json.dumps({**res.as_dict(), "quick": o.quick, "seed": o.seed}, indent=2))
+    prov = provenance(seed=o.seed, quick=o.quick)
+    (out / "table.md").write_text(with_markdown_footer(render_table(res, o), prov))
+    (out / "reproduce.json").write_text(json.dumps({**res.as_dict(), "quick": o.quick, "seed": o.seed,
+                                                    "provenance": prov}, indent=2))
     return res
 
 

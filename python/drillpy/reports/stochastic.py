@@ -18,6 +18,7 @@ from drillpy.uncertainty.montecarlo import ETA_DT_S, PhaseStudy, StochasticStudy
 from drillpy.uncertainty.process import THESIS_PSD, Psd, PsdFit, fit_eta, generate, welch
 from drillpy.model.simulation import SimulationResult, simulate
 from drillpy.model.config import with_overrides
+from drillpy.provenance import provenance
 
 FIT_RECORD_S = 2000.0  #: length of the generated eta record fitted for Figs. 4.2-4.3 [s]
 RESPONSE_WINDOW_S = 60.0  #: last part of the runs shown in Figs. 4.5-4.6 [s]
@@ -142,7 +143,7 @@ def stochastic_analysis(study: StochasticStudy, cfg: dict, *, psd: Psd = THESIS_
 
 
 def write_stochastic(result: StochasticAnalysis, out_dir) -> dict:
-    """Write ``mc.json``: the study's summary, the figures' numbers and the configuration.
+    """Write ``mc.json``: the study's summary, the figures' numbers, the configuration and the provenance.
 
     Parameters
     ----------
@@ -159,7 +160,8 @@ def write_stochastic(result: StochasticAnalysis, out_dir) -> dict:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     js = {**result.study.summary(), "figures": result.info, "config": result.study.config}
-    (out / "mc.json").write_text(json.dumps(js, indent=2))
+    prov = provenance(seed=result.study.seed, samples=int(result.study.severity.shape[0]))
+    (out / "mc.json").write_text(json.dumps({**js, "provenance": prov}, indent=2))
     return js
 
 

@@ -19,6 +19,7 @@ import numpy as np
 
 from drillpy.uncertainty.frf import band_widths, cb_frequencies, conv2_vs_modes, default_frequencies, frf_envelope
 from drillpy.model.simulation import natural_frequencies
+from drillpy.provenance import provenance
 
 # Frequency bands [Hz]: below the first resonance (0.31 Hz on thesis-ch6), then low, mid, high.
 BANDS_HZ = {"very low 0.01-0.25 Hz": (0.01, 0.25), "low 0.25-2 Hz": (0.25, 2.0), "mid 2-5 Hz": (2.0, 5.0),
@@ -291,7 +292,7 @@ def chapter6_study(cfg: dict, *, samples: int = 2500, mode_samples: int = 400, s
                          conclusions=concl, summary=summary)
 
 
-def write_chapter6(study: Chapter6Study, out_dir) -> dict:
+def write_chapter6(study: Chapter6Study, out_dir, **options) -> dict:
     """Write ``summary.json`` of the chapter-6 study.
 
     Parameters
@@ -300,15 +301,17 @@ def write_chapter6(study: Chapter6Study, out_dir) -> dict:
         What :func:`chapter6_study` returned.
     out_dir : str or Path
         Output folder (created if missing).
+    **options
+        Settings of the study recorded in the file's ``provenance`` (seed, samples...).
 
     Returns
     -------
     dict
-        The summary written.
+        The summary written (without the ``provenance``).
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "summary.json").write_text(json.dumps(study.summary, indent=2))
+    (out / "summary.json").write_text(json.dumps({**study.summary, "provenance": provenance(**options)}, indent=2))
     return study.summary
 
 
@@ -335,7 +338,7 @@ def chapter6_report(cfg: dict, out_dir, *, samples: int = 2500, mode_samples: in
     study = chapter6_study(cfg, samples=samples, mode_samples=mode_samples, seed=seed, freq_hz=freq_hz,
                            modes=modes, progress=progress, threads=threads)
     chapter6_figures(study, out_dir)
-    return write_chapter6(study, out_dir)
+    return write_chapter6(study, out_dir, seed=seed, samples=samples, mode_samples=mode_samples)
 
 
 def nominal_agreement(cfg: dict, f_hz=None) -> float:
@@ -364,7 +367,7 @@ def nominal_agreement(cfg: dict, f_hz=None) -> float:
     return float(np.abs(a.nominal_db - b.nominal_db).max())
 
 
-def write_envelope(out_dir, env, title: str, summary: dict, cfg: dict) -> Path:
+def write_envelope(out_dir, env, title: str, summary: dict, cfg: dict, **options) -> Path:
     """Write the outputs of one FRF envelope (``drillpy frf --out``).
 
     Parameters
@@ -380,6 +383,8 @@ def write_envelope(out_dir, env, title: str, summary: dict, cfg: dict) -> Path:
         JSON summary of the envelope, written with the configuration under ``"config"``.
     cfg : dict
         Configuration the envelope ran with.
+    **options
+        Settings recorded in the file's ``provenance`` (seed, samples, model, delta...).
 
     Returns
     -------
@@ -391,7 +396,7 @@ def write_envelope(out_dir, env, title: str, summary: dict, cfg: dict) -> Path:
     out.mkdir(parents=True, exist_ok=True)
     for p, label in enumerate(env.labels):
         frf_plots.envelope_plot(out / f"frf_point{p + 1}.png", {title: env}, p, f"{title}: {label}")
-    (out / "envelope.json").write_text(json.dumps({**summary, "config": cfg}))
+    (out / "envelope.json").write_text(json.dumps({**summary, "config": cfg, "provenance": provenance(**options)}))
     return out
 
 
@@ -497,7 +502,7 @@ def robust_severity(cfg: dict, speeds, samples: int, *, delta: float = 0.1, eta_
     return studies, res
 
 
-def write_robust_severity(out_dir, speeds, studies: dict, summary: dict, cfg: dict) -> Path:
+def write_robust_severity(out_dir, speeds, studies: dict, summary: dict, cfg: dict, **options) -> Path:
     """Write the outputs of :func:`robust_severity` (``drillpy robust-ss --out``).
 
     Parameters
@@ -512,6 +517,8 @@ def write_robust_severity(out_dir, speeds, studies: dict, summary: dict, cfg: di
         label -> JSON of the study, written with the configuration under ``"config"``.
     cfg : dict
         Configuration the studies ran with.
+    **options
+        Settings recorded in the file's ``provenance`` (seed, delta, samples...).
 
     Returns
     -------
@@ -522,5 +529,6 @@ def write_robust_severity(out_dir, speeds, studies: dict, summary: dict, cfg: di
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     frf_plots.severity_bands_plot(out / "severity_bands.png", speeds, studies)
-    (out / "robust_ss.json").write_text(json.dumps({**summary, "config": cfg}, indent=2))
+    (out / "robust_ss.json").write_text(json.dumps({**summary, "config": cfg, "provenance": provenance(**options)},
+                                                   indent=2))
     return out
