@@ -76,3 +76,55 @@ def test_simulate_writes_series_csv_at_the_data_precision(tmp_path):
     assert digits <= 7
     data = np.genfromtxt(lines, delimiter=",", names=True)
     assert data["time_s"][-1] == pytest.approx(40.0) and np.all(np.isfinite(data["bit_speed_rad_s"]))
+
+
+def test_failed_analyze_leaves_no_new_folder(tmp_path):
+    r = run_cli("analyze", str(tmp_path / "nope.mat"), "--out", str(tmp_path / "out"), "--no-progress")
+    assert r.returncode == 2 and "nope.mat" in r.stderr
+    r = run_cli("analyze", str(tmp_path / "nope.mat"), "--out", str(tmp_path / "out2"), "--folds", "x")
+    assert r.returncode == 2
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+def _failing_analysis(out_dir, *args, **kw):
+    from pathlib import Path
+    Path(out_dir, "figs").mkdir(parents=True, exist_ok=True)
+    (Path(out_dir) / "figs" / "half.png").write_text("")
+    raise ValueError("failed after the folder was made")
+
+
+def test_analyze_removes_the_folder_it_made_when_it_fails(tmp_path, monkeypatch, capsys):
+    import drillpy.reports.analysis as analysis
+    from drillpy.cli import main
+    rec = tmp_path / "r.csv"
+    rec.write_text("")
+    monkeypatch.setattr(analysis, "analyze_record", lambda record, out_dir, *a, **k: _failing_analysis(out_dir))
+    assert main(["analyze", str(rec), "--out", str(tmp_path / "new" / "deeper"), "--no-progress"]) == 2
+    assert "failed after the folder was made" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv"]       # new/ and new/deeper/ removed
+    (tmp_path / "old").mkdir()
+    (tmp_path / "old" / "keep.txt").write_text("mine")
+    assert main(["analyze", str(rec), "--out", str(tmp_path / "old"), "--no-progress"]) == 2
+    assert (tmp_path / "old" / "keep.txt").read_text() == "mine"          # a folder that existed stays
+    assert main(["analyze", str(rec), "--out", str(tmp_path / "old" / "sub"), "--no-progress"]) == 2
+    assert sorted(p.name for p in (tmp_path / "old").iterdir()) == ["figs", "keep.txt"]
+
+
+def test_log_progress_echoes_lines_and_moves_through_the_stages(capsys):
+    from drillpy.progress import log_progress
+    with log_progress((("record:", "cycles"), ("cycles:", "fits")), "analyze", total=2) as log:
+        log("record: 10 samples")
+        log("  artifacts: none")
+        log("cycles: 3 valid")
+    assert capsys.readouterr().out == "record: 10 samples\n  artifacts: none\ncycles: 3 valid\n"
+    with log_progress((("  candidate ", "candidates"),), "loop", enabled=False, echo=None, count=True) as log:
+        log("  candidate friction")
+    assert capsys.readouterr().out == ""
+
+
+def test_analyze_and_loop_have_a_no_progress_flag():
+    from drillpy.cli import build_parser
+    p = build_parser()
+    assert p.parse_args(["analyze", "r.mat", "--out", "o", "--no-progress"]).no_progress
+    assert p.parse_args(["loop", "r.mat", "--preset", "thesis-rig", "--out", "o", "--no-progress"]).no_progress
+    assert not p.parse_args(["analyze", "r.mat", "--out", "o"]).no_progress

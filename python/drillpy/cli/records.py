@@ -6,7 +6,11 @@ them into one library call (which writes the output folder) and prints the resul
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import os
+import shutil
+from pathlib import Path
 
 from drillpy.cli import parse_grid
 
@@ -55,6 +59,7 @@ def add_analyze(sub) -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true",
                    help="print the main numbers and the identification results (one record) or the tables across "
                         "samples as JSON")
+    s.add_argument("--no-progress", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_analyze)
     return s
 
@@ -72,10 +77,75 @@ def cmd_analyze(a: argparse.Namespace) -> int:
     -------
     int
         Exit status 0; the library logs its progress (text) or the main results are printed as JSON.
+        A progress bar over the stages (:data:`ANALYZE_STAGES`; one step per sample across
+        samples) shows on stderr when it is a terminal, unless ``--no-progress``. When the command
+        fails, the output folder is removed if this run created it (a folder that existed before
+        is left as it is).
     """
-    from drillpy.records.samples import Acceptance, SampleOptions, analyze_samples, find_records
-    log = (lambda *_: None) if a.json else print
+    from drillpy.progress import log_progress
+    from drillpy.records.samples import find_records
     items = find_records(a.record)
+    one = len(items) == 1
+    with _removed_on_failure(a.out), log_progress(
+            ANALYZE_STAGES if one else ((r"\S.*: torque mean", "samples"),), "analyze",
+            total=len(ANALYZE_STAGES) if one else len(items), enabled=not a.no_progress,
+            echo=None if a.json else print, count=not one) as log:
+        return _analyze(a, items, log)
+
+
+#: ``drillpy analyze`` (one record): (start of the log line that ends a stage, the stage that follows)
+ANALYZE_STAGES = (("record:", "cycles"), ("cycles:", "eta and PSD"), ("eta_exp:", "law fits"),
+                  ("identification", "rig simulations"), ("rig: calibrated model", "figures"),
+                  ("report.md", "done"))
+
+
+def _removed_on_failure(out):
+    """Context manager: if its block raises, remove the first folder of ``out`` that did not exist
+    on entry (with what this run wrote in it); a folder that existed before is never removed.
+
+    Parameters
+    ----------
+    out : str or Path
+        The output folder.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        The guard.
+    """
+    p, first_new = Path(os.path.abspath(out)), None
+    while not p.exists() and p != p.parent:
+        first_new, p = p, p.parent
+
+    @contextlib.contextmanager
+    def guard():
+        try:
+            yield
+        except BaseException:
+            if first_new is not None and first_new.is_dir():
+                shutil.rmtree(first_new, ignore_errors=True)
+            raise
+    return guard()
+
+
+def _analyze(a: argparse.Namespace, items: list, log) -> int:
+    """The body of :func:`cmd_analyze` for the records ``items`` (:func:`drillpy.records.samples.find_records`).
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        Arguments of ``drillpy analyze``.
+    items : list
+        The records found.
+    log : callable
+        Called with each progress line.
+
+    Returns
+    -------
+    int
+        Exit status 0.
+    """
+    from drillpy.records.samples import Acceptance, SampleOptions, analyze_samples
     if len(items) == 1:  # one record (or one window of it): the single-record analysis
         from drillpy.jsonio import jsonable
         from drillpy.reports.analysis import AnalysisOptions, analyze_record
@@ -196,6 +266,7 @@ def add_loop(sub) -> argparse.ArgumentParser:
     s.add_argument("--dt", type=float, help="engine time step of the predictions [s] (default: the model's)")
     s.add_argument("--threads", type=int, default=0, help="OpenMP threads (0: default)")
     s.add_argument("--json", action="store_true", help="print the errors and the effects found as JSON")
+    s.add_argument("--no-progress", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_loop)
     return s
 
@@ -213,6 +284,7 @@ def cmd_loop(a: argparse.Namespace) -> int:
     -------
     int
         Exit status 0; the loop logs its steps (text) or the errors and effects are printed as JSON.
+        A progress bar counts the candidate fits (stderr, when a terminal; off with ``--no-progress``).
     """
     from drillpy.loop import LoopOptions, loop_record
     from drillpy.loop.effects import NAMES
@@ -220,8 +292,10 @@ def cmd_loop(a: argparse.Namespace) -> int:
     opt = LoopOptions(horizon_s=a.horizon, calibration_fraction=a.calibration_fraction, rate_hz=a.rate,
                       min_gain=a.min_gain, alpha=a.alpha, min_delta_bic=a.min_delta_bic, max_steps=a.max_steps,
                       effects=effects, threads=a.threads, dt_s=a.dt)
-    js = loop_record(a.record, a.out, preset=a.preset, config_path=a.config, options=opt,
-                     log=(lambda *_: None) if a.json else print)
+    from drillpy.progress import log_progress
+    with log_progress(((r"  null candidate", "candidates"), (r"  candidate ", "candidates"), (r"  remove ", "backward")),
+                      "loop", enabled=not a.no_progress, echo=None if a.json else print, count=True) as log:
+        js = loop_record(a.record, a.out, preset=a.preset, config_path=a.config, options=opt, log=log)
     if a.json:
         print(json.dumps({k: js[k] for k in ("metric", "baseline_error", "final_error", "declared", "removed",
                                              "final_effects", "unexplained_fraction")} |
