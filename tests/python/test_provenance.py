@@ -23,6 +23,8 @@ COMMANDS = {
     "robust-ss": (["robust-ss", "--preset", "thesis-ch6", "--cb-modes", "6,3", "--dt", "1e-3", "--duration", "20",
                    "--transient", "10", "--samples", "2", "--speeds", "8,20", "--seed", "7", "--delta", "0.2"],
                   ["robust_ss.json"], {"seed": 7, "delta": 0.2, "samples": 2}),
+    "mc": (["mc", "--preset", "thesis-field", "--modes", "10", "--samples", "2", "--speeds", "8,20", "--seed", "3",
+            "--warmup", "20", "--duration", "30", "--transient", "10"], ["mc.json"], {"seed": 3, "samples": 2}),
 }
 
 
@@ -54,6 +56,27 @@ def test_every_json_a_command_writes_has_provenance(name, tmp_path):
         first, columns = (out / "series.csv").read_text().splitlines()[:2]
         assert first.startswith(f"# drillpy {drillpy.__version__}, drillpy simulate ")
         assert columns.startswith("time_s,")
+
+
+def test_analyze_and_predict_outputs_have_provenance(tmp_path):
+    from _testrig import sample175_path
+    from drillpy.jsonio import jsonable
+    from drillpy.model.config import load_config
+    from drillpy.records import rigsim
+    rec = str(sample175_path())
+    argv = ["analyze", f"{rec}@0:5", f"{rec}@5:10"]
+    r = run_cli(*argv, "--out", str(tmp_path / "s"))
+    assert r.returncode == 0, r.stderr
+    check(json.loads((tmp_path / "s" / "samples.json").read_text())["provenance"], argv)
+    last = (tmp_path / "s" / "samples.md").read_text().splitlines()[-1]
+    assert last.startswith(f"*drillpy {drillpy.__version__}, `drillpy analyze ")
+
+    model = rigsim.RigModel(load_config(preset="thesis-rig")["law"], 0.3, "constant")
+    (tmp_path / "model.json").write_text(json.dumps(jsonable(model.to_dict(top_speed=8.0, wob=560.0))))
+    argv = ["predict", str(tmp_path / "model.json"), rec, "--t0", "30", "--t1", "36"]
+    r = run_cli(*argv, "--out", str(tmp_path / "p"))
+    assert r.returncode == 0, r.stderr
+    check(json.loads((tmp_path / "p" / "summary.json").read_text())["provenance"], argv)
 
 
 def test_version():
