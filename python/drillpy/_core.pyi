@@ -46,6 +46,11 @@ class Config:
         Name of the configuration (config.name).
         """
     @property
+    def start(self) -> str:
+        """
+        Initial state of runs and sweeps (simulation.start): rest, rigid or steady.
+        """
+    @property
     def top_speed_rad_s(self) -> float:
         """
         Top speed of the operating point [rad/s].
@@ -189,9 +194,9 @@ class Simulation:
         """
         Reduced state (q, q') of steady drilling at a top speed (and the top's speed, which a motor top drive lowers below its command, with with_top_speed).
         """
-    def sweep(self, speeds: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], wobs: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] = [], progress: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, start: str = 'rest') -> numpy.typing.NDArray[numpy.float64]:
+    def sweep(self, speeds: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], wobs: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] = [], progress: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, start: str | None = None) -> numpy.typing.NDArray[numpy.float64]:
         """
-        SS (Eq. 3.4) on a WOB x top-speed grid, in parallel; start: rest (Eq. 2.10), rigid (Eq. 2.3) or steady.
+        SS (Eq. 3.4) on a WOB x top-speed grid, in parallel; start: rest (Eq. 2.10), rigid (Eq. 2.3) or steady (default: the configuration's simulation.start).
         """
     @property
     def config(self) -> Config:

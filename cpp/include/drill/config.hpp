@@ -26,16 +26,20 @@
 //                                                   used when a model is compared with a record),
 //   "simulation": {"scheme": "modified_euler", "acceleration": "implicit" | "lagged" (Eq. 3.3's bit
 //                  acceleration, integrator.hpp), "dt_s": 5.12e-4, "duration_s": 200,
-//                  "transient_s": 100, "output_stride": 20},
+//                  "transient_s": 100, "output_stride": 20,
+//                  "start": "rest" | "rigid" | "steady" (initial state, Simulation::start_state)},
 //   "metrics": {"stick_threshold_fraction": 0.05, "stick_debounce_s": 0.02, "slip_level_fraction": 0.25},
 //   "sweep": {"top_speeds_rad_s": [...], "wobs_n": [...]},
 //   "craig_bampton": {"modes": [25, 25]}
 // }
-// Unknown keys are refused (they are usually typos); missing optional blocks take the defaults
-// written above. Errors name the JSON path and the offending value.
+// Unknown and duplicate keys are refused (they are usually typos); missing optional blocks take the
+// defaults written above. Integers are range-checked (never wrapped). Errors name the JSON path and
+// the offending value.
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <climits>
+#include <cstdint>
 #include <set>
 #include <string>
 #include <vector>
@@ -50,6 +54,25 @@
 namespace drill {
 
 using json = nlohmann::json;
+
+/// How a run starts (the thesis is ambiguous, docs/validation.md):
+///  * rest   Eq. (2.10) and Algorithm 1: string untwisted, at rest in the ground frame while the
+///           top turns at Omega (q = 0, q' = -Omega M~^-1 Phi^T M 1);
+///  * rigid  Eq. (2.3) read at t = 0: the whole string already turning rigidly with the top
+///           (q = 0, q' = 0), untwisted, so the bit meets the rock at full speed;
+///  * steady steady drilling, slightly disturbed (Simulation::steady_state).
+enum class StartMode { rest, rigid, steady };
+
+inline StartMode parse_start(const std::string& s, const std::string& field = "start") {
+  if (s == "rest") return StartMode::rest;
+  if (s == "rigid") return StartMode::rigid;
+  if (s == "steady") return StartMode::steady;
+  throw std::invalid_argument(field + " = \"" + s + "\": unknown initial state (use rest, rigid or steady)");
+}
+
+inline std::string to_string(StartMode m) {
+  return m == StartMode::rest ? "rest" : m == StartMode::rigid ? "rigid" : "steady";
+}
 
 struct MetricsSpec {
   double stick_threshold_fraction = 0.05;  ///< stick when bit speed <= fraction x top speed
@@ -72,6 +95,7 @@ struct Config {
   SimOptions sim;
   double transient = 100.0;   ///< [s] discarded before metrics
   long output_stride = 20;
+  StartMode start = StartMode::rest;  ///< initial state of Simulation runs and sweeps (simulation.start)
   MetricsSpec metrics;
   std::vector<double> sweep_speeds, sweep_wobs;
   std::vector<int> cb_modes;  ///< fixed-interface modes per substructure (Craig-Bampton)
@@ -95,9 +119,9 @@ struct Config {
     require(transient < sim.duration, "simulation.transient_s", transient,
             "must be shorter than simulation.duration_s = " + show(sim.duration));
     require(output_stride >= 1, "simulation.output_stride", output_stride, "must be at least 1");
-    require_non_negative(metrics.stick_threshold_fraction, "metrics.stick_threshold_fraction");
+    require_fraction(metrics.stick_threshold_fraction, "metrics.stick_threshold_fraction");
     require_non_negative(metrics.stick_debounce_s, "metrics.stick_debounce_s");
-    require_non_negative(metrics.slip_level_fraction, "metrics.slip_level_fraction");
+    require_fraction(metrics.slip_level_fraction, "metrics.slip_level_fraction");
     for (std::size_t k = 0; k < sweep_speeds.size(); ++k)
       require_finite(sweep_speeds[k], "sweep.top_speeds_rad_s[" + std::to_string(k) + "]");
     for (std::size_t k = 0; k < sweep_wobs.size(); ++k)
@@ -105,6 +129,12 @@ struct Config {
     for (std::size_t k = 0; k < cb_modes.size(); ++k)
       require(cb_modes[k] >= 1, "craig_bampton.modes[" + std::to_string(k) + "]", cb_modes[k],
               "must be at least 1");
+  }
+
+  /// A fraction of the top speed: strictly between 0 and 1.
+  static void require_fraction(double value, const std::string& field) {
+    require(std::isfinite(value), field, value, "must be a finite number");
+    require(value > 0.0 && value < 1.0, field, value, "must be between 0 and 1 (exclusive)");
   }
 
   /// Distribute n elements over the sections in proportion to their lengths (largest
@@ -160,14 +190,32 @@ inline double get_number(const json& j, const std::string& key, const std::strin
   return j.contains(key) ? get_number(j, key, where) : dflt;
 }
 
+/// An int-ranged JSON integer (a float such as 2.5 or 1e12 is refused, never truncated or wrapped).
+inline int checked_int(const json& v, const std::string& field) {
+  if (!v.is_number_integer()) throw std::invalid_argument(field + " = " + v.dump() + ": must be an integer");
+  const bool in_range = v.is_number_unsigned() ? v.get<std::uint64_t>() <= static_cast<std::uint64_t>(INT_MAX)
+                                               : v.get<std::int64_t>() >= INT_MIN && v.get<std::int64_t>() <= INT_MAX;
+  if (!in_range)
+    throw std::invalid_argument(field + " = " + v.dump() + ": out of range (integers are " + std::to_string(INT_MIN) +
+                                " to " + std::to_string(INT_MAX) + ")");
+  return static_cast<int>(v.get<std::int64_t>());
+}
+
 inline int get_int(const json& j, const std::string& key, const std::string& where, int dflt, bool required = false) {
   if (!j.contains(key)) {
     if (required) throw std::invalid_argument(where + "." + key + ": missing (required integer)");
     return dflt;
   }
+  return checked_int(j.at(key), where + "." + key);
+}
+
+inline std::vector<int> get_ints(const json& j, const std::string& key, const std::string& where) {
+  std::vector<int> out;
+  if (!j.contains(key)) return out;
   const json& v = j.at(key);
-  if (!v.is_number_integer()) throw std::invalid_argument(where + "." + key + " = " + v.dump() + ": must be an integer");
-  return v.get<int>();
+  if (!v.is_array()) throw std::invalid_argument(where + "." + key + " = " + v.dump() + ": must be an array of integers");
+  for (std::size_t k = 0; k < v.size(); ++k) out.push_back(checked_int(v[k], where + "." + key + "[" + std::to_string(k) + "]"));
+  return out;
 }
 
 inline std::string get_string(const json& j, const std::string& key, const std::string& where,
@@ -358,7 +406,8 @@ inline Config parse_config(const json& j) {
   }
   if (j.contains("simulation")) {
     const json& s = j.at("simulation");
-    check_keys(s, "simulation", {"scheme", "acceleration", "dt_s", "duration_s", "transient_s", "output_stride"});
+    check_keys(s, "simulation",
+               {"scheme", "acceleration", "dt_s", "duration_s", "transient_s", "output_stride", "start"});
     c.sim.scheme = parse_scheme(get_string(s, "scheme", "simulation", to_string(c.sim.scheme)));
     c.sim.acceleration =
         parse_acceleration(get_string(s, "acceleration", "simulation", to_string(c.sim.acceleration)));
@@ -366,6 +415,7 @@ inline Config parse_config(const json& j) {
     c.sim.duration = get_number(s, "duration_s", "simulation", c.sim.duration);
     c.transient = get_number(s, "transient_s", "simulation", std::min(c.transient, 0.5 * c.sim.duration));
     c.output_stride = get_int(s, "output_stride", "simulation", static_cast<int>(c.output_stride));
+    c.start = parse_start(get_string(s, "start", "simulation", to_string(c.start)), "simulation.start");
   }
   if (j.contains("metrics")) {
     const json& m = j.at("metrics");
@@ -382,22 +432,62 @@ inline Config parse_config(const json& j) {
   }
   if (j.contains("craig_bampton")) {
     check_keys(j.at("craig_bampton"), "craig_bampton", {"modes"});
-    for (double v : get_numbers(j.at("craig_bampton"), "modes", "craig_bampton")) c.cb_modes.push_back(static_cast<int>(v));
+    c.cb_modes = get_ints(j.at("craig_bampton"), "modes", "craig_bampton");
   }
   c.validate();
   return c;
 }
 
-/// Parse JSON text; syntax errors become std::invalid_argument naming the position.
-inline Config parse_config_text(const std::string& text) {
-  json j;
+/// Parse JSON text, refusing a key repeated in an object (plain parsing keeps the last one
+/// silently): std::invalid_argument("<path>.<key>: duplicate key ..."). Syntax errors become
+/// std::invalid_argument naming the position.
+inline json parse_json_text(const std::string& text, const std::string& what = "config") {
+  struct Frame {
+    std::string path;
+    bool array;
+    std::set<std::string> keys;
+  };
+  std::vector<Frame> stack;
+  std::string last_key;
+  auto child_path = [&]() -> std::string {
+    if (stack.empty()) return "";
+    const Frame& f = stack.back();
+    if (f.array) return f.path + "[]";
+    return f.path.empty() ? last_key : f.path + "." + last_key;
+  };
+  const json::parser_callback_t cb = [&](int, json::parse_event_t ev, json& parsed) {
+    switch (ev) {
+      case json::parse_event_t::object_start:
+      case json::parse_event_t::array_start:
+        stack.push_back({child_path(), ev == json::parse_event_t::array_start, {}});
+        break;
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        if (!stack.empty()) stack.pop_back();
+        break;
+      case json::parse_event_t::key: {
+        const std::string key = parsed.get<std::string>();
+        Frame& f = stack.back();
+        const std::string field = f.path.empty() ? key : f.path + "." + key;
+        if (!f.keys.insert(key).second)
+          throw std::invalid_argument(field + ": duplicate key \"" + key + "\" in a JSON object of the " + what);
+        last_key = key;
+        break;
+      }
+      case json::parse_event_t::value:
+        break;
+    }
+    return true;
+  };
   try {
-    j = json::parse(text);
+    return json::parse(text, cb);
   } catch (const json::parse_error& e) {
-    throw std::invalid_argument(std::string("config: malformed JSON: ") + e.what());
+    throw std::invalid_argument(what + ": malformed JSON: " + e.what());
   }
-  return parse_config(j);
 }
+
+/// Parse JSON text (parse_json_text) into a validated configuration.
+inline Config parse_config_text(const std::string& text) { return parse_config(parse_json_text(text)); }
 
 /// The configuration written back as JSON (all defaults made explicit).
 inline json to_json(const Config& c) {
@@ -424,7 +514,7 @@ inline json to_json(const Config& c) {
            {"string_friction_nm", c.string_friction}}},
          {"simulation",
           {{"scheme", to_string(c.sim.scheme)}, {"acceleration", to_string(c.sim.acceleration)}, {"dt_s", c.sim.dt}, {"duration_s", c.sim.duration},
-           {"transient_s", c.transient}, {"output_stride", c.output_stride}}},
+           {"transient_s", c.transient}, {"output_stride", c.output_stride}, {"start", to_string(c.start)}}},
          {"metrics",
           {{"stick_threshold_fraction", c.metrics.stick_threshold_fraction},
            {"stick_debounce_s", c.metrics.stick_debounce_s},

@@ -12,6 +12,8 @@
 #include <functional>
 #include <vector>
 
+#include "drill/errors.hpp"
+
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -30,10 +32,11 @@ inline int max_threads() {
 using ProgressFn = std::function<bool(std::size_t done, std::size_t total)>;
 
 /// Run job(i) for i in [0, n). Returns false when cancelled by the progress callback.
-/// threads <= 0 uses the OpenMP default.
+/// threads = 0 uses the OpenMP default; a negative count is refused.
 template <class Job>
 bool parallel_for(std::size_t n, Job&& job, const ProgressFn& progress = nullptr, int threads = 0,
                   std::size_t chunk = 0) {
+  require(threads >= 0, "threads", threads, "must not be negative (0: the OpenMP default)");
   const int nt = threads > 0 ? threads : max_threads();
   if (chunk == 0) chunk = std::max<std::size_t>(static_cast<std::size_t>(nt), std::min<std::size_t>(n, 4 * nt));
   std::vector<std::exception_ptr> errors(n);

@@ -27,20 +27,7 @@ struct RunReport {
   ModelState final_state;
 };
 
-/// How a run starts (the thesis is ambiguous, docs/validation.md):
-///  * rest   Eq. (2.10) and Algorithm 1: string untwisted, at rest in the ground frame while the
-///           top turns at Omega (q = 0, q' = -Omega M~^-1 Phi^T M 1);
-///  * rigid  Eq. (2.3) read at t = 0: the whole string already turning rigidly with the top
-///           (q = 0, q' = 0), untwisted, so the bit meets the rock at full speed;
-///  * steady steady drilling, slightly disturbed (Simulation::steady_state).
-enum class StartMode { rest, rigid, steady };
-
-inline StartMode parse_start(const std::string& s) {
-  if (s == "rest") return StartMode::rest;
-  if (s == "rigid") return StartMode::rigid;
-  if (s == "steady") return StartMode::steady;
-  throw std::invalid_argument("start = \"" + s + "\": unknown initial state (use rest, rigid or steady)");
-}
+// StartMode and parse_start: config.hpp (simulation.start).
 
 class Simulation {
  public:
@@ -104,8 +91,21 @@ class Simulation {
     return std::nullopt;
   }
 
-  /// One run with metrics; `record` keeps every output_stride-th step of the series.
+  /// The configured start (simulation.start) of a run with these inputs: the state at their
+  /// initial top speed and WOB (their first samples when sampled); nothing for `rest`.
+  std::optional<ModelState> start_state(const Inputs& in) const {
+    auto first = [](const Signal& s) { return s.is_constant() ? s.value : s.samples.front(); };
+    return start_state(cfg_.start, first(in.top_speed), first(in.wob));
+  }
+
+  /// One run with metrics; `record` keeps every output_stride-th step of the series. Without an
+  /// explicit `start` the run starts as simulation.start says.
   RunReport run(const Inputs& in, bool record = true, const ModelState* start = nullptr) const {
+    std::optional<ModelState> s0;
+    if (!start) {
+      s0 = start_state(in);
+      if (s0) start = &*s0;
+    }
     RunReport r;
     r.series = Recorder(record ? cfg_.output_stride : 0, record ? cfg_.sim.steps() : 0);
     SeverityObserver sev(cfg_.transient);
@@ -132,10 +132,11 @@ class Simulation {
 
   /// SS on a grid: result[w * speeds.size() + s] for wobs[w], speeds[s]. An empty `wobs` means
   /// the configured WOB. Returns an empty vector if cancelled.
-  /// Every run starts as `start` says (Eq. 2.10 by default).
+  /// Every run starts as `start` says (default: simulation.start of the configuration).
   std::vector<double> sweep_severity(const std::vector<double>& speeds, const std::vector<double>& wobs,
                                      const ProgressFn& progress = nullptr, int threads = 0,
-                                     StartMode start = StartMode::rest) const {
+                                     std::optional<StartMode> start_mode = std::nullopt) const {
+    const StartMode start = start_mode.value_or(cfg_.start);
     require(!speeds.empty(), "sweep.top_speeds_rad_s", speeds.size(), "is empty");
     const std::vector<double> w = wobs.empty() ? std::vector<double>{cfg_.wob} : wobs;
     for (std::size_t k = 0; k < speeds.size(); ++k) {

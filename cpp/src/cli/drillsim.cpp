@@ -2,12 +2,14 @@
 //
 //   drillsim (--config FILE | --preset NAME) [--job run|sweep] [--out DIR] [--format csv|npy]
 //            [--threads N]
+//   drillsim --version
 //
 // job run:   one simulation at the configured operation point; writes the time series
 //            (series.csv or one .npy per channel) and summary.json (SS, stick/slip, periodicity).
 // job sweep: SS over sweep.top_speeds_rad_s x sweep.wobs_n; writes severity.csv/.npy and
 //            summary.json (with threshold_rad_s for a single WOB).
 // Any error prints one line "drillsim: error: ..." and exits with status 2.
+#include <climits>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -23,6 +25,10 @@
 #include "drill/run_summary.hpp"
 #include "drill/simulation.hpp"
 
+#ifndef DRILLPY_VERSION
+#define DRILLPY_VERSION "unknown"
+#endif
+
 namespace fs = std::filesystem;
 using namespace drill;
 
@@ -30,7 +36,7 @@ namespace {
 
 void usage() {
   std::cerr << "usage: drillsim (--config FILE | --preset NAME) [--job run|sweep] [--out DIR] "
-               "[--format csv|npy] [--threads N]\n";
+               "[--format csv|npy] [--threads N]\n       drillsim --version\n";
 }
 
 /// Write a 1-D or 2-D float64 array in NPY format version 1.0 (C order).
@@ -79,6 +85,21 @@ void write_series(const fs::path& dir, const std::string& format, const Recorder
 
 json nan_to_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
+/// --threads N: a non-negative integer (0: the OpenMP default), the whole argument.
+int parse_threads(const std::string& text) {
+  std::size_t used = 0;
+  long n = 0;
+  try {
+    n = std::stol(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || n > INT_MAX || n < INT_MIN)
+    throw std::invalid_argument("--threads = \"" + text + "\": must be an integer");
+  require(n >= 0, "--threads", n, "must not be negative (0: the OpenMP default)");
+  return static_cast<int>(n);
+}
+
 int run(int argc, char** argv) {
   std::string config_path, preset_name, job = "run", out = "drillsim-out", format = "csv";
   int threads = 0;
@@ -93,8 +114,11 @@ int run(int argc, char** argv) {
     else if (a == "--job") job = value(a);
     else if (a == "--out") out = value(a);
     else if (a == "--format") format = value(a);
-    else if (a == "--threads") threads = std::stoi(value(a));
-    else if (a == "-h" || a == "--help") {
+    else if (a == "--threads") threads = parse_threads(value(a));
+    else if (a == "--version") {
+      std::cout << "drillsim " << DRILLPY_VERSION << "\n";
+      return 0;
+    } else if (a == "-h" || a == "--help") {
       usage();
       return 0;
     } else

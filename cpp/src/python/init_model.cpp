@@ -34,6 +34,8 @@ void init_model(py::module_& m) {
       .def_property_readonly("duration_s", [](const Config& c) { return c.sim.duration; },
                              "Simulated duration [s].")
       .def_readonly("transient_s", &Config::transient, "Transient discarded before the metrics [s].")
+      .def_property_readonly("start", [](const Config& c) { return to_string(c.start); },
+                             "Initial state of runs and sweeps (simulation.start): rest, rigid or steady.")
       .def("__repr__", [](const Config& c) { return "<drillpy._core.Config " + c.name + ">"; });
 
   m.def("preset_names", &preset_names, "Names of the built-in presets.");

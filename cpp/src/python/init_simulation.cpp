@@ -178,8 +178,9 @@ void init_simulation(py::module_& m) {
       .def(
           "sweep",
           [](const Simulation& s, const std::vector<double>& speeds, const std::vector<double>& wobs,
-             py::object progress, int threads, const std::string& start) {
-            const StartMode mode = parse_start(start);
+             py::object progress, int threads, std::optional<std::string> start) {
+            std::optional<StartMode> mode;
+            if (start) mode = parse_start(*start);
             std::vector<double> out;
             {
               py::gil_scoped_release nogil;
@@ -191,8 +192,9 @@ void init_simulation(py::module_& m) {
             return a;
           },
           py::arg("speeds"), py::arg("wobs") = std::vector<double>{}, py::arg("progress") = py::none(),
-          py::arg("threads") = 0, py::arg("start") = "rest",
-          "SS (Eq. 3.4) on a WOB x top-speed grid, in parallel; start: rest (Eq. 2.10), rigid (Eq. 2.3) or steady.")
+          py::arg("threads") = 0, py::arg("start") = py::none(),
+          "SS (Eq. 3.4) on a WOB x top-speed grid, in parallel; start: rest (Eq. 2.10), rigid (Eq. 2.3) or steady "
+          "(default: the configuration's simulation.start).")
       .def(
           "steady_state",
           [](const Simulation& s, double top_speed, double wob, bool with_top_speed) -> py::tuple {

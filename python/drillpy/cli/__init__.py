@@ -104,6 +104,33 @@ def integer(name: str) -> Callable[[str], int]:
     return convert
 
 
+def threads_option(text: str) -> int:
+    """The ``type=`` function of ``--threads``: a non-negative integer (0: the OpenMP default).
+
+    Parameters
+    ----------
+    text : str
+        The option's value.
+
+    Returns
+    -------
+    int
+        The thread count.
+
+    Raises
+    ------
+    OptionError
+        ``"threads = '<text>': must be a non-negative integer (0: the OpenMP default)"``.
+    """
+    try:
+        n = int(text)
+    except ValueError:
+        n = -1
+    if n < 0:
+        raise OptionError(f"threads = {text!r}: must be a non-negative integer (0: the OpenMP default)")
+    return n
+
+
 def add_model_args(p: argparse.ArgumentParser) -> None:
     """Add the options every simulation command shares: the model source and its overrides.
 
@@ -129,10 +156,11 @@ def add_model_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--dt", type=float, help="time step [s]")
     p.add_argument("--duration", type=float, help="simulated time [s]")
     p.add_argument("--transient", type=float, help="time discarded before metrics [s]")
-    p.add_argument("--threads", type=int, default=0, help="OpenMP threads (0: default)")
-    p.add_argument("--start", choices=["rest", "rigid", "steady"], default="rest",
+    p.add_argument("--threads", type=threads_option, default=0, help="OpenMP threads (0: default)")
+    p.add_argument("--start", choices=["rest", "rigid", "steady"],
                    help="initial state: bit at rest (Eq. 2.10), string turning rigidly with the top "
-                        "(Eq. 2.3) or steady drilling")
+                        "(Eq. 2.3) or steady drilling (default: the configuration's simulation.start, "
+                        "rest unless set); saved in the configuration")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
@@ -147,12 +175,13 @@ def model_config(a: argparse.Namespace) -> dict:
     Returns
     -------
     dict
-        The preset or JSON file with the given overrides applied (validated by the library).
+        The preset or JSON file with the given overrides applied (validated by the library),
+        ``--start`` included (``simulation.start``).
     """
     base = load_config(preset=a.preset) if a.preset else load_config(path=a.config)
     return with_overrides(base, elements=a.elements, modes=a.modes, law=a.law, beta1=a.beta1,
                           speed_unit=a.speed_unit, scheme=a.scheme, acceleration=a.acceleration, dt=a.dt,
-                          duration=a.duration, transient=a.transient)
+                          duration=a.duration, transient=a.transient, start=a.start)
 
 
 # Order of the subcommands in ``drillpy --help`` (unchanged from the single-module CLI).

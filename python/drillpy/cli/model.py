@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from drillpy.cli import add_model_args, model_config, parse_grid
+from drillpy.model.config import with_overrides
 
 
 def add_report(sub) -> argparse.ArgumentParser:
@@ -129,7 +130,7 @@ def cmd_simulate(a: argparse.Namespace) -> int:
     """Run one simulation at ``--top-speed`` [rad/s] and ``--wob-kn`` [kN]; print its stick-slip metrics.
 
     With ``--out`` writes ``series.csv`` (time series, SI units), ``time_series.png`` and
-    ``summary.json`` (the summary with the configuration). ``series.csv`` holds the data's
+    ``summary.json`` (the summary with the effective configuration). ``series.csv`` holds the data's
     precision, not the float64's: the time in fixed point to the recording step's resolution
     (see :func:`_time_format`), the other columns at 7 significant digits (``%.7g``).
 
@@ -148,8 +149,9 @@ def cmd_simulate(a: argparse.Namespace) -> int:
     from drillpy.figures import simulation as plotting
     from drillpy.model.simulation import simulate
     from drillpy.provenance import header, provenance
-    cfg = model_config(a)
-    r = simulate(cfg, a.top_speed, None if a.wob_kn is None else a.wob_kn * 1e3, start=a.start)
+    # the effective configuration (overrides, operating point and start) is the one saved
+    cfg = with_overrides(model_config(a), top_speed=a.top_speed, wob=None if a.wob_kn is None else a.wob_kn * 1e3)
+    r = simulate(cfg)
     summary = r.summary()  # drill/run_summary.hpp: the keys drillsim writes
     if a.out:
         out = Path(a.out)

@@ -12,7 +12,7 @@ import os
 import shutil
 from pathlib import Path
 
-from drillpy.cli import parse_grid
+from drillpy.cli import parse_grid, threads_option
 
 
 def add_analyze(sub) -> argparse.ArgumentParser:
@@ -194,7 +194,7 @@ def add_predict(sub) -> argparse.ArgumentParser:
     s.add_argument("--t0", type=float, help="start of the predicted window [s]")
     s.add_argument("--t1", type=float, help="end of the predicted window [s]")
     s.add_argument("--horizon", type=float, default=0.25, help="short-horizon length [s] (docs/loop.md)")
-    s.add_argument("--threads", type=int, default=0, help="OpenMP threads (0: default)")
+    s.add_argument("--threads", type=threads_option, default=0, help="OpenMP threads (0: default)")
     s.add_argument("--json", action="store_true", help="print the short-horizon error and the long-run metrics")
     s.set_defaults(func=cmd_predict)
     return s
@@ -264,7 +264,7 @@ def add_loop(sub) -> argparse.ArgumentParser:
     s.add_argument("--max-steps", type=int, default=6, help="at most this many effects are added")
     s.add_argument("--effects", help="comma-separated candidate effects (default: the whole catalogue)")
     s.add_argument("--dt", type=float, help="engine time step of the predictions [s] (default: the model's)")
-    s.add_argument("--threads", type=int, default=0, help="OpenMP threads (0: default)")
+    s.add_argument("--threads", type=threads_option, default=0, help="OpenMP threads (0: default)")
     s.add_argument("--json", action="store_true", help="print the errors and the effects found as JSON")
     s.add_argument("--no-progress", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_loop)

@@ -5,6 +5,8 @@ import argparse
 import json
 from pathlib import Path
 
+from drillpy.cli import threads_option
+
 
 def add_reproduce(sub) -> argparse.ArgumentParser:
     """Register ``drillpy reproduce``.
@@ -26,7 +28,7 @@ def add_reproduce(sub) -> argparse.ArgumentParser:
     s.add_argument("--quick", action="store_true", help="reduced studies (tests): not the thesis's settings")
     s.add_argument("--record", help="test-rig record of sample 175 for chapter 5 (default: ../shared/data/testrig)")
     s.add_argument("--seed", type=int, default=1, help="seed of the Monte Carlo studies")
-    s.add_argument("--threads", type=int, default=0, help="OpenMP threads (0: default)")
+    s.add_argument("--threads", type=threads_option, default=0, help="OpenMP threads (0: default)")
     s.add_argument("--no-progress", action="store_true", help="no progress bar")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_reproduce)

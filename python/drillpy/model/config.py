@@ -118,13 +118,22 @@ def read_json(path, field: str):
     Raises
     ------
     ValueError
-        ``"<field> = '<path>': no such file"`` or ``"...: malformed JSON: ..."``.
+        ``"<field> = '<path>': no such file"``, ``"...: malformed JSON: ..."`` or
+        ``"...: duplicate key 'k' in a JSON object"`` (plain JSON parsing would keep the last value silently).
     """
     p = Path(path)
     if not p.is_file():
         raise ValueError(f"{field} = {str(p)!r}: no such file")
+
+    def unique(pairs):
+        out = {}
+        for k, v in pairs:
+            if k in out:
+                raise ValueError(f"{field} = {str(p)!r}: duplicate key {k!r} in a JSON object")
+            out[k] = v
+        return out
     try:
-        return json.loads(p.read_text())
+        return json.loads(p.read_text(), object_pairs_hook=unique)
     except json.JSONDecodeError as e:
         raise ValueError(f"{field} = {str(p)!r}: malformed JSON: {e}") from None
 
@@ -204,7 +213,7 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
                    speed_unit: str | None = None, scheme: str | None = None,
                    acceleration: str | None = None, dt: float | None = None, duration: float | None = None,
                    transient: float | None = None, top_speed: float | None = None,
-                   wob: float | None = None) -> dict:
+                   wob: float | None = None, start: str | None = None) -> dict:
     """A normalized copy of ``cfg`` with command-line style overrides applied.
 
     Parameters
@@ -236,6 +245,9 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
         Top-drive speed [rad/s].
     wob : float, optional
         Weight on bit [N].
+    start : str, optional
+        Initial state of runs and sweeps (``simulation.start``): ``"rest"`` (Eq. 2.10), ``"rigid"``
+        (Eq. 2.3) or ``"steady"``.
 
     Returns
     -------
@@ -264,7 +276,7 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
         c["law"]["speed_unit"] = speed_unit
     sim = c.setdefault("simulation", {})
     for key, val in (("scheme", scheme), ("acceleration", acceleration), ("dt_s", dt), ("duration_s", duration),
-                     ("transient_s", transient)):
+                     ("transient_s", transient), ("start", start)):
         if val is not None:
             sim[key] = val
     if duration is not None and transient is None and sim.get("transient_s", 0) >= duration:

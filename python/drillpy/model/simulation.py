@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from drillpy import _core, validate
-from drillpy.model.config import engine_config, to_json_text
+from drillpy.model.config import engine_config, to_json_text, with_overrides
 from drillpy.progress import progress_bar
 
 
@@ -100,7 +100,7 @@ def simulate(cfg: "dict | _core.Config", top_speed: float | None = None, wob: fl
              series_t0: float = 0.0, bit_viscous: float | None = None,
              string_friction: float | None = None, record: bool = True,
              q0=None, qdot0=None, top_speed0: float | None = None,
-             start: str = "rest") -> SimulationResult:
+             start: str | None = None) -> SimulationResult:
     """Run one simulation (the reduced-order model of Eq. 2.9 driven at the top, the bit-rock
     law of the configuration at the bit).
 
@@ -132,10 +132,11 @@ def simulate(cfg: "dict | _core.Config", top_speed: float | None = None, wob: fl
         Initial reduced state (modal coordinates and rates); overrides ``start``.
     top_speed0 : float, optional
         Initial speed of a motor top drive [rad/s] (otherwise it starts at its command).
-    start : str
+    start : str, optional
         ``"rest"``: Eq. (2.10), bit at rest and string untwisted (Algorithm 1's initialization);
         ``"rigid"``: Eq. (2.3), the whole string turning with the top; ``"steady"``: steady
-        drilling at the initial top speed and WOB.
+        drilling at the initial top speed and WOB. Default: the configuration's
+        ``simulation.start``; given, it is also set there in the result's ``config``.
 
     Returns
     -------
@@ -147,8 +148,11 @@ def simulate(cfg: "dict | _core.Config", top_speed: float | None = None, wob: fl
     ValueError
         Naming the field and the value for an invalid configuration, input or start mode.
     """
+    if start is not None:
+        _check_start(start)
+        cfg = _with_start(cfg, start)
     sim = _engine(cfg)
-    _check_start(start)
+    start = sim.config.start
     if start == "steady" and q0 is None:
         om0 = sim.config.top_speed_rad_s if top_speed is None else top_speed
         if top_speed_series is not None:
@@ -173,10 +177,18 @@ def simulate(cfg: "dict | _core.Config", top_speed: float | None = None, wob: fl
 START_MODES = ("rest", "rigid", "steady")
 
 
-def _check_start(start: str) -> None:
-    if start not in START_MODES:
+def _check_start(start: str | None) -> None:
+    if start is not None and start not in START_MODES:
         raise ValueError(f"start = {start!r}: use 'rest' (Eq. 2.10), 'rigid' (Eq. 2.3) or 'steady' "
                          "(steady drilling)")
+
+
+def _with_start(cfg, start: str):
+    """``cfg`` (dict or ``_core.Config``) starting as ``start`` says (``simulation.start``)."""
+    c = engine_config(cfg)
+    if c.start == start:
+        return c
+    return engine_config(with_overrides(c.to_dict(), start=start))
 
 
 def _opt(x):
@@ -193,7 +205,7 @@ def _grid(values, name: str) -> np.ndarray:
 
 
 def sweep_severity(cfg: "dict | _core.Config", speeds, wobs=None, *, progress: bool = True,
-                   threads: int = 0, start: str = "rest") -> np.ndarray:
+                   threads: int = 0, start: str | None = None) -> np.ndarray:
     """The stick-slip severity SS (Eq. 3.4) at each top speed (and WOB), runs in parallel.
 
     Parameters
@@ -208,9 +220,10 @@ def sweep_severity(cfg: "dict | _core.Config", speeds, wobs=None, *, progress: b
         Show a progress bar on stderr.
     threads : int
         OpenMP threads (0: the default).
-    start : str
+    start : str, optional
         Initial state of every run: ``"rest"`` (Eq. 2.10), ``"rigid"`` (Eq. 2.3) or ``"steady"``;
-        between the thresholds the string is bistable, so the start decides.
+        between the thresholds the string is bistable, so the start decides. Default: the
+        configuration's ``simulation.start``.
 
     Returns
     -------
@@ -233,7 +246,7 @@ def sweep_severity(cfg: "dict | _core.Config", speeds, wobs=None, *, progress: b
 
 
 def stability_map(cfg: dict, speeds_rad_s, wobs_n, *, progress: bool = True,
-                  threads: int = 0, start: str = "rest") -> np.ndarray:
+                  threads: int = 0, start: str | None = None) -> np.ndarray:
     """SS (Eq. 3.4) over a WOB x top-speed grid: the stability maps of Figs. 3.11-3.12.
 
     Parameters
@@ -248,8 +261,8 @@ def stability_map(cfg: dict, speeds_rad_s, wobs_n, *, progress: bool = True,
         Show a progress bar on stderr.
     threads : int
         OpenMP threads (0: the default).
-    start : str
-        Initial state of every run (see :func:`sweep_severity`).
+    start : str, optional
+        Initial state of every run (see :func:`sweep_severity`; default the configuration's).
 
     Returns
     -------
@@ -284,7 +297,7 @@ class RefinedThreshold:
 
 
 def refine_threshold(cfg: dict, speeds, severities, *, level: float = 0.5, tol: float = 0.05, threads: int = 0,
-                     start: str = "rest", max_rounds: int = 12) -> RefinedThreshold | None:
+                     start: str | None = None, max_rounds: int = 12) -> RefinedThreshold | None:
     """The top speed below which SS > ``level``, located to ``tol`` by new runs (a linear
     interpolation on a coarse grid is less precise than it reads, and SS jumps at the threshold).
 
@@ -305,8 +318,8 @@ def refine_threshold(cfg: dict, speeds, severities, *, level: float = 0.5, tol: 
         Half-width of the final bracket [rad/s].
     threads : int
         OpenMP threads (0: the default).
-    start : str
-        Initial state of every run (see :func:`sweep_severity`).
+    start : str, optional
+        Initial state of every run (see :func:`sweep_severity`; default the configuration's).
     max_rounds : int
         At most this many rounds of two runs.
 
