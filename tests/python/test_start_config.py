@@ -126,3 +126,13 @@ def test_drillsim_version(drillsim):
     cmake = (Path(__file__).resolve().parents[2] / "CMakeLists.txt").read_text()
     version = cmake.split("project(drillpy VERSION ", 1)[1].split()[0]
     assert r.stdout == f"drillsim {version}\n"
+
+
+@pytest.mark.parametrize("kw, message", [
+    ({"elements": 4294967316}, "elements = 4294967316"),
+    ({"modes": 4294967297}, "modes = 4294967297"),
+    ({"elements": 2.5}, "elements = 2.5"),
+])
+def test_count_overrides_are_range_checked(kw, message):
+    with pytest.raises(ValueError, match=message):
+        with_overrides(load_config(preset="thesis-rig"), **kw)

@@ -208,6 +208,10 @@ def thesis_law(name: str, beta1: float | None = None) -> dict:
     raise ValueError(f"law = {name!r}: no thesis parameter set (use tucker_wang or hysteretic)")
 
 
+#: Largest count the engine takes (a C int): larger ones are refused, never wrapped.
+_INT_MAX = 2**31 - 1
+
+
 def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None = None,
                    law: str | None = None, beta1: float | None = None,
                    speed_unit: str | None = None, scheme: str | None = None,
@@ -261,10 +265,10 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
     """
     c = copy.deepcopy(cfg)
     if elements is not None:
-        validate.integer("elements", elements, 1)
+        validate.integer("elements", elements, 1, _INT_MAX)
         c = _core.with_total_elements(engine_config(c), int(elements)).to_dict()
     if modes is not None:
-        validate.integer("modes", modes, 1)
+        validate.integer("modes", modes, 1, _INT_MAX)
         c["rom"]["modes"] = int(modes)
     if law is not None:
         c["law"] = thesis_law(law)
