@@ -121,3 +121,76 @@ TEST(Config, NegativeOrNonFiniteStringFrictionIsRefused) {
     }
   }
 }
+
+namespace {
+// The preset as compact JSON text with `from` replaced once by `to` (for what a json value cannot
+// hold: repeated keys, number literals as written).
+std::string field_text_with(const std::string& from, const std::string& to) {
+  std::string t = preset_json("thesis-field").dump();
+  const std::size_t at = t.find(from);
+  if (at == std::string::npos) return "pattern not found: " + from;
+  return t.replace(at, from.size(), to);
+}
+bool mentions(const std::string& message, const std::string& part) { return message.find(part) != std::string::npos; }
+}  // namespace
+
+TEST(Config, IntegersOutOfRangeOrNotWholeAreRefusedNotWrapped) {
+  std::string e = parse_error_of(with("/string/sections/0/elements", 4294967316LL));
+  EXPECT_TRUE(mentions(e, "string.sections[0].elements = 4294967316")) << e;
+  EXPECT_TRUE(mentions(e, "out of range")) << e;
+  e = parse_error_of(with("/rom/modes", 4294967297LL));
+  EXPECT_TRUE(mentions(e, "rom.modes = 4294967297")) << e;
+  e = parse_error_of(with("/rom/modes", -4294967296LL));
+  EXPECT_TRUE(mentions(e, "rom.modes = -4294967296")) << e;
+  e = parse_error_of(field_text_with("\"modes\":20}", "\"modes\":1e12}"));
+  EXPECT_TRUE(mentions(e, "rom.modes = 1000000000000")) << e;
+  EXPECT_TRUE(mentions(e, "must be an integer")) << e;
+  e = parse_error_of(with("/rom/modes", 2.5));
+  EXPECT_TRUE(mentions(e, "rom.modes = 2.5: must be an integer")) << e;
+  e = parse_error_of(with("/simulation/output_stride", 4294967316LL));
+  EXPECT_TRUE(mentions(e, "simulation.output_stride = 4294967316")) << e;
+  e = parse_error_of(with("/string/lumped_inertias", json::array({{{"node", 4294967295LL}, {"inertia_kg_m2", 1.0}}})));
+  EXPECT_TRUE(mentions(e, "string.lumped_inertias[0].node = 4294967295")) << e;
+  e = parse_error_of(with("/craig_bampton", {{"modes", {25, 2.5}}}));
+  EXPECT_TRUE(mentions(e, "craig_bampton.modes[1] = 2.5: must be an integer")) << e;
+  e = parse_error_of(with("/craig_bampton", {{"modes", {25, 4294967321LL}}}));
+  EXPECT_TRUE(mentions(e, "craig_bampton.modes[1] = 4294967321")) << e;
+  // in range: still accepted
+  EXPECT_EQ(parse_config_text(with("/rom/modes", 12)).modes, 12);
+}
+
+TEST(Config, DuplicateKeysAreRefusedNamingTheKey) {
+  std::string e = parse_error_of(field_text_with("\"modes\":20}", "\"modes\":20,\"modes\":12}"));
+  EXPECT_TRUE(mentions(e, "rom.modes: duplicate key \"modes\"")) << e;
+  e = parse_error_of(field_text_with("\"name\":", "\"name\":\"x\",\"name\":"));
+  EXPECT_TRUE(mentions(e, "name: duplicate key \"name\"")) << e;
+  e = parse_error_of(field_text_with("\"elements\":", "\"elements\":4,\"elements\":"));
+  EXPECT_TRUE(mentions(e, "string.sections[].elements: duplicate key \"elements\"")) << e;
+  // the same key in different objects is fine
+  EXPECT_NO_THROW(parse_config_text(preset_json("thesis-field").dump()));
+}
+
+TEST(Config, MetricFractionsMustLieStrictlyBetweenZeroAndOne) {
+  std::string e = parse_error_of(with("/metrics", {{"stick_threshold_fraction", 5}}));
+  EXPECT_TRUE(mentions(e, "metrics.stick_threshold_fraction = 5: must be between 0 and 1")) << e;
+  e = parse_error_of(with("/metrics", {{"stick_threshold_fraction", 0.0}}));
+  EXPECT_TRUE(mentions(e, "metrics.stick_threshold_fraction = 0:")) << e;
+  e = parse_error_of(with("/metrics", {{"slip_level_fraction", 1.0}}));
+  EXPECT_TRUE(mentions(e, "metrics.slip_level_fraction = 1: must be between 0 and 1")) << e;
+  e = parse_error_of(with("/metrics", {{"slip_level_fraction", -0.25}}));
+  EXPECT_TRUE(mentions(e, "metrics.slip_level_fraction = -0.25:")) << e;
+  EXPECT_NO_THROW(parse_config_text(with("/metrics", {{"stick_threshold_fraction", 0.1}, {"slip_level_fraction", 0.5}})));
+}
+
+TEST(Config, StartModeIsParsedValidatedAndSerialized) {
+  EXPECT_EQ(preset("thesis-field").start, StartMode::rest);
+  EXPECT_EQ(to_json(preset("thesis-field"))["simulation"]["start"], "rest");
+  const Config c = parse_config_text(with("/simulation/start", "steady"));
+  EXPECT_EQ(c.start, StartMode::steady);
+  EXPECT_EQ(to_json(c)["simulation"]["start"], "steady");
+  EXPECT_EQ(parse_config(to_json(c)).start, StartMode::steady);
+  EXPECT_EQ(parse_config_text(with("/simulation/start", "rigid")).start, StartMode::rigid);
+  const std::string e = parse_error_of(with("/simulation/start", "spinning"));
+  EXPECT_TRUE(mentions(e, "simulation.start = \"spinning\"")) << e;
+  EXPECT_TRUE(mentions(parse_error_of(with("/simulation/start", 1)), "simulation.start = 1")) << e;
+}

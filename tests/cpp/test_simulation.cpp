@@ -106,3 +106,38 @@ TEST(Simulation, StartModesSetTheInitialBitSpeed) {
   EXPECT_GT(sim.start_state(StartMode::steady, 15.0, 245e3)->q.norm(), 0.0);
   EXPECT_THROW(parse_start("spinning"), std::invalid_argument);
 }
+
+TEST(Simulation, RunsAndSweepsStartAsTheConfigurationSays) {
+  Config c = preset("thesis-field");
+  c.modes = 6;
+  c.sim.duration = 4.0;
+  c.transient = 2.0;
+  Config steady = c;
+  steady.start = StartMode::steady;
+  const Simulation rest_sim(c), steady_sim(steady);
+  const std::vector<double> speeds{8.0, 14.0};
+  // sweeps: the configured start unless one is given
+  EXPECT_EQ(steady_sim.sweep_severity(speeds, {}), rest_sim.sweep_severity(speeds, {}, nullptr, 0, StartMode::steady));
+  EXPECT_EQ(steady_sim.sweep_severity(speeds, {}, nullptr, 0, StartMode::rest), rest_sim.sweep_severity(speeds, {}));
+  // runs: the configured start unless an initial state is given
+  const Inputs in = rest_sim.inputs(14.0, 245e3);
+  const std::optional<ModelState> s0 = rest_sim.start_state(StartMode::steady, 14.0, 245e3);
+  EXPECT_EQ(steady_sim.run(in, false).severity, rest_sim.run(in, false, &*s0).severity);
+  EXPECT_EQ(steady_sim.run(in, false).stick_fraction, rest_sim.run(in, false, &*s0).stick_fraction);
+}
+
+TEST(Simulation, NegativeThreadCountIsRefused) {
+  Config c = preset("thesis-field");
+  c.modes = 4;
+  c.sim.duration = 1.0;
+  c.transient = 0.5;
+  const Simulation sim(c);
+  std::string e = "no error";
+  try {
+    sim.sweep_severity({10.0}, {}, nullptr, -4);
+  } catch (const std::invalid_argument& x) {
+    e = x.what();
+  }
+  EXPECT_NE(e.find("threads = -4"), std::string::npos) << e;
+  EXPECT_THROW(parallel_for(3, [](std::size_t) {}, nullptr, -1), std::invalid_argument);
+}
