@@ -15,7 +15,12 @@ python=${PYTHON:-python3}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
-PYTHONPATH="$root/python${PYTHONPATH:+:$PYTHONPATH}" PYTHONWARNINGS=ignore \
+# The development build puts the module next to the sources; an installed package has it in
+# site-packages (then the sources, which lack it, must not shadow it).
+if compgen -G "$root/python/drillpy/_core*.so" >/dev/null; then
+  export PYTHONPATH="$root/python${PYTHONPATH:+:$PYTHONPATH}"
+fi
+PYTHONWARNINGS=ignore \
   "$python" -m pybind11_stubgen drillpy._core --exit-code -o "$tmp" >"$tmp/log" 2>&1 ||
   { cat "$tmp/log" >&2; exit 1; }
 cp "$tmp/drillpy/_core.pyi" "$out"

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import pytest
 
+import drillpy
+
 REPO = Path(__file__).resolve().parents[2]
 
 
@@ -15,7 +17,9 @@ def test_core_stubs_are_current(tmp_path):
         pytest.skip("pybind11-stubgen is not importable (pip install pybind11-stubgen): cannot regenerate the stubs")
     out = tmp_path / "_core.pyi"
     r = subprocess.run(["bash", str(REPO / "scripts" / "generate-stubs.sh"), str(out)], capture_output=True,
-                       text=True, env={**os.environ, "PYTHON": sys.executable})
+                       text=True, env={**os.environ, "PYTHON": sys.executable,
+                                       # the drillpy these tests import: the installed one in CI
+                                       "PYTHONPATH": str(Path(drillpy.__file__).resolve().parents[1])})
     assert r.returncode == 0, r.stderr
     checked_in = (REPO / "python" / "drillpy" / "_core.pyi").read_text()
     assert out.read_text() == checked_in, \
