@@ -48,6 +48,7 @@ from scipy import signal as sps
 from scipy import stats
 
 from drillpy.records.identification import autocorrelation_time
+from drillpy import validate
 
 #: Number of block-bootstrap resamples of the stability check.
 N_BOOTSTRAP = 50
@@ -106,16 +107,6 @@ def _array(name: str, x, n: int | None = None) -> np.ndarray:
     if n is not None and a.size != n:
         raise ValueError(f"{name}: length {a.size} does not match the other arrays' length {n}")
     return a
-
-
-def _check_dt(dt) -> float:
-    try:
-        d = float(dt)
-    except (TypeError, ValueError):
-        raise ValueError(f"dt = {dt!r}: must be a positive number [s]") from None
-    if not (math.isfinite(d) and d > 0.0):
-        raise ValueError(f"dt = {dt!r}: must be a positive finite number [s]")
-    return d
 
 
 def _check_finite_count(name: str, x: np.ndarray) -> np.ndarray:
@@ -219,7 +210,7 @@ def library(channels: dict, wob_ref: float | None = None, *, dt: float | None = 
     for key in REQUIRED_CHANNELS:
         _check_finite_count(f"channels[{key!r}]", ch[key])
     if dt is not None:
-        dt = _check_dt(dt)
+        dt = validate.positive("dt", dt, "s")
 
     skipped: dict[str, str] = {}
     terms: list[Term] = []
@@ -251,12 +242,7 @@ def library(channels: dict, wob_ref: float | None = None, *, dt: float | None = 
         if wob_ref is None:
             wref = float(np.nanmean(W))
         else:
-            try:
-                wref = float(wob_ref)
-            except (TypeError, ValueError):
-                raise ValueError(f"wob_ref = {wob_ref!r}: must be a positive number [N]") from None
-            if not (math.isfinite(wref) and wref > 0.0):
-                raise ValueError(f"wob_ref = {wob_ref!r}: must be a positive finite number [N]")
+            wref = validate.positive("wob_ref", wob_ref, "N")
         add("W", W - wref, "m", "WOB coupling: torque per newton of weight-on-bit variation (an effective radius)")
         if wref != 0.0 and math.isfinite(wref):
             add("T_W", T * (W / wref - 1.0), "1",
@@ -375,7 +361,7 @@ def discover(residual: np.ndarray, terms: dict, *, dt: float, max_terms: int = 4
         Length mismatch, ``dt <= 0``, fewer than 50 finite samples, no term, bad ``max_terms`` or
         ``alpha``.
     """
-    dt = _check_dt(dt)
+    dt = validate.positive("dt", dt, "s")
     r = _array("residual", residual)
     if not isinstance(terms, dict) or not terms:
         raise ValueError(f"terms = {terms!r:.60}: a non-empty dict of Term is needed")
@@ -559,7 +545,7 @@ def residual_structure(residual: np.ndarray, channels: dict, dt: float) -> dict:
         rho_x(k)) (Bartlett), the sum over the lags where either autocorrelation is still in its
         initial positive run; ``n``.
     """
-    dt = _check_dt(dt)
+    dt = validate.positive("dt", dt, "s")
     r = _array("residual", residual)
     if not isinstance(channels, dict):
         raise ValueError(f"channels = {type(channels).__name__}: a dict of 1-D arrays is needed")
