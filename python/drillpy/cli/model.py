@@ -1,6 +1,6 @@
 """``drillpy`` commands on the deterministic model: report, modes, simulate, sweep, map, convergence.
 
-Each ``add_*`` function registers one subcommand's arguments; the ``cmd_*`` handler below it turns
+Each ``_add_*`` function registers one subcommand's arguments; the ``cmd_*`` handler below it turns
 them into one library call and prints the result (text, or one JSON line with ``--json``).
 """
 from __future__ import annotations
@@ -15,19 +15,8 @@ from drillpy.cli import add_model_args, model_config, parse_grid
 from drillpy.model.config import with_overrides
 
 
-def add_report(sub) -> argparse.ArgumentParser:
-    """Register ``drillpy report``.
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The ``drillpy`` subparsers.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The subcommand's parser.
-    """
+def _add_report(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy report`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("report", help="main job: deterministic analysis with figures")
     add_model_args(s)
     s.add_argument("--out", default="results", help="output folder")
@@ -59,19 +48,8 @@ def cmd_report(a: argparse.Namespace) -> int:
     return 0
 
 
-def add_modes(sub) -> argparse.ArgumentParser:
-    """Register ``drillpy modes``.
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The ``drillpy`` subparsers.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The subcommand's parser.
-    """
+def _add_modes(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy modes`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("modes", help="natural frequencies (Eq. 2.7)")
     add_model_args(s)
     s.add_argument("-n", type=int, default=5, help="number of frequencies")
@@ -103,19 +81,8 @@ def cmd_modes(a: argparse.Namespace) -> int:
     return 0
 
 
-def add_simulate(sub) -> argparse.ArgumentParser:
-    """Register ``drillpy simulate``.
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The ``drillpy`` subparsers.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The subcommand's parser.
-    """
+def _add_simulate(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy simulate`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("simulate", help="one run: time series and stick-slip metrics")
     add_model_args(s)
     s.add_argument("--top-speed", type=float, help="top-drive speed [rad/s]")
@@ -194,19 +161,8 @@ def _time_format(t) -> str:
     return "%.9f"
 
 
-def add_sweep(sub) -> argparse.ArgumentParser:
-    """Register ``drillpy sweep``.
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The ``drillpy`` subparsers.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The subcommand's parser.
-    """
+def _add_sweep(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy sweep`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("sweep", help="SS versus top speed (Fig. 4.8)")
     add_model_args(s)
     s.add_argument("--speeds", default="6:27:22", help="top speeds [rad/s], start:stop:num or list")
@@ -267,19 +223,8 @@ def cmd_sweep(a: argparse.Namespace) -> int:
     return 0
 
 
-def add_map(sub) -> argparse.ArgumentParser:
-    """Register ``drillpy map``.
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The ``drillpy`` subparsers.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The subcommand's parser.
-    """
+def _add_map(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy map`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("map", help="stability map over top speed x WOB (Figs. 3.11-3.12)")
     add_model_args(s)
     s.add_argument("--speeds-rpm", default="50:160:23", help="top speeds [RPM]")
@@ -318,19 +263,8 @@ def cmd_map(a: argparse.Namespace) -> int:
     return 0
 
 
-def add_convergence(sub) -> argparse.ArgumentParser:
-    """Register ``drillpy convergence``.
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The ``drillpy`` subparsers.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The subcommand's parser.
-    """
+def _add_convergence(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy convergence`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("convergence", help="FE and time-step convergence studies (docs/numerics.md)")
     add_model_args(s)
     s.add_argument("--json", action="store_true")
@@ -375,5 +309,5 @@ def cmd_convergence(a: argparse.Namespace) -> int:
 
 
 #: subcommand -> function registering it (``drillpy.cli.build_parser`` orders them)
-SUBCOMMANDS = {"report": add_report, "modes": add_modes, "simulate": add_simulate, "sweep": add_sweep,
-               "map": add_map, "convergence": add_convergence}
+SUBCOMMANDS = {"report": _add_report, "modes": _add_modes, "simulate": _add_simulate, "sweep": _add_sweep,
+               "map": _add_map, "convergence": _add_convergence}

@@ -1,6 +1,6 @@
 """``drillpy`` commands on measured records: analyze, predict, loop.
 
-Each ``add_*`` function registers one subcommand's arguments; the ``cmd_*`` handler below it turns
+Each ``_add_*`` function registers one subcommand's arguments; the ``cmd_*`` handler below it turns
 them into one library call (which writes the output folder) and prints the result.
 """
 from __future__ import annotations
@@ -15,19 +15,8 @@ from pathlib import Path
 from drillpy.cli import parse_grid, threads_option
 
 
-def add_analyze(sub) -> argparse.ArgumentParser:
-    """Register ``drillpy analyze``.
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The ``drillpy`` subparsers.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The subcommand's parser.
-    """
+def _add_analyze(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy analyze`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("analyze", help="measured record(s) (.mat or .csv): one record: cleaning, cycles, "
                                        "identification, rig simulation (report.md + figures + summary.json); two or "
                                        "more: statistics across samples, thesis section 5.3 (samples.md, "
@@ -174,19 +163,8 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
     return 0
 
 
-def add_predict(sub) -> argparse.ArgumentParser:
-    """Register ``drillpy predict``.
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The ``drillpy`` subparsers.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The subcommand's parser.
-    """
+def _add_predict(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy predict`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("predict", help="apply a calibrated rig model (model.json of analyze) to a record, no refitting")
     s.add_argument("model", help="model.json written by drillpy analyze")
     s.add_argument("record", help="rig MATLAB file or drillpy CSV")
@@ -234,19 +212,8 @@ def cmd_predict(a: argparse.Namespace) -> int:
     return 0
 
 
-def add_loop(sub) -> argparse.ArgumentParser:
-    """Register ``drillpy loop``.
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The ``drillpy`` subparsers.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The subcommand's parser.
-    """
+def _add_loop(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy loop`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("loop", help="measured record versus a declared model: residuals, the missing effects the "
                                     "evidence supports, the corrected model, errors before and after")
     s.add_argument("record", help="rig MATLAB file or drillpy CSV (see README: CSV format)")
@@ -304,4 +271,4 @@ def cmd_loop(a: argparse.Namespace) -> int:
 
 
 #: subcommand -> function registering it (``drillpy.cli.build_parser`` orders them)
-SUBCOMMANDS = {"analyze": add_analyze, "predict": add_predict, "loop": add_loop}
+SUBCOMMANDS = {"analyze": _add_analyze, "predict": _add_predict, "loop": _add_loop}

@@ -8,19 +8,8 @@ from pathlib import Path
 from drillpy.cli import threads_option
 
 
-def add_reproduce(sub) -> argparse.ArgumentParser:
-    """Register ``drillpy reproduce``.
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The ``drillpy`` subparsers.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The subcommand's parser.
-    """
+def _add_reproduce(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy reproduce`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("reproduce", help="the thesis's studies chapter by chapter: figures under the thesis's "
                                          "numbers and a table quantity | thesis | drillpy | tolerance | pass")
     s.add_argument("--chapter", default="all", choices=["3", "4", "5", "6", "all"])
@@ -60,4 +49,4 @@ def cmd_reproduce(a: argparse.Namespace) -> int:
 
 
 #: subcommand -> function registering it (``drillpy.cli.build_parser`` orders them)
-SUBCOMMANDS = {"reproduce": add_reproduce}
+SUBCOMMANDS = {"reproduce": _add_reproduce}

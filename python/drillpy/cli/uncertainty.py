@@ -1,7 +1,7 @@
 """``drillpy`` commands under uncertainty: frf, frf-report, robust-ss (structural, chapter 6 and
 beyond) and mc (stochastic bit-rock law, chapter 4).
 
-Each ``add_*`` function registers one subcommand's arguments; the ``cmd_*`` handler below it turns
+Each ``_add_*`` function registers one subcommand's arguments; the ``cmd_*`` handler below it turns
 them into library calls and prints the result (text, or one JSON line with ``--json``).
 """
 from __future__ import annotations
@@ -56,19 +56,8 @@ def cb_config(a: argparse.Namespace) -> dict:
     return cfg
 
 
-def add_frf(sub) -> argparse.ArgumentParser:
-    """Register ``drillpy frf``.
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The ``drillpy`` subparsers.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The subcommand's parser.
-    """
+def _add_frf(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy frf`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("frf", help="acceleration FRF envelopes under structural uncertainty (chapter 6)")
     add_uncertainty_args(s, samples=2500, out="folder for the figures and envelope.json")
     s.add_argument("--model", choices=["SM_full", "SM_CB1", "SM_CB2"], default="SM_CB2", help="stochastic model")
@@ -117,19 +106,8 @@ def cmd_frf(a: argparse.Namespace) -> int:
     return 0
 
 
-def add_frf_report(sub) -> argparse.ArgumentParser:
-    """Register ``drillpy frf-report``.
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The ``drillpy`` subparsers.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The subcommand's parser.
-    """
+def _add_frf_report(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy frf-report`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("frf-report", help="chapter 6 and appendix C: envelopes, case studies, Conv2, conclusions")
     add_uncertainty_args(s, samples=2500, out="output folder (default results-ch6)")
     s.add_argument("--mode-samples", type=int, default=400, help="samples per point of Conv2 versus modes")
@@ -161,19 +139,8 @@ def cmd_frf_report(a: argparse.Namespace) -> int:
     return 0
 
 
-def add_robust_ss(sub) -> argparse.ArgumentParser:
-    """Register ``drillpy robust-ss``.
-
-    Parameters
-    ----------
-    sub : argparse._SubParsersAction
-        The ``drillpy`` subparsers.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        The subcommand's parser.
-    """
+def _add_robust_ss(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy robust-ss`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("robust-ss", help="SS versus top speed with SM_CB2 structural uncertainty (time domain)")
     add_uncertainty_args(s, samples=40, out="folder for the figure and robust_ss.json")
     s.add_argument("--delta", type=float, default=0.1, help="dispersion of every SM_CB2 matrix")
@@ -398,4 +365,4 @@ def _robust_speed_text(res: dict) -> str:
 
 
 #: subcommand -> function registering it (``drillpy.cli.build_parser`` orders them)
-SUBCOMMANDS = {"frf": add_frf, "frf-report": add_frf_report, "robust-ss": add_robust_ss, "mc": add_mc}
+SUBCOMMANDS = {"frf": _add_frf, "frf-report": _add_frf_report, "robust-ss": _add_robust_ss, "mc": add_mc}
