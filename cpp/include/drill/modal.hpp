@@ -29,6 +29,13 @@ inline ModalBasis solve_modes(const Eigen::MatrixXd& K, const Eigen::MatrixXd& M
   return b;
 }
 
+/// A damping ratio zeta in [0, 1]: 1 is critical damping; above it a "mode" no longer vibrates
+/// and a ratio such as 5 is almost always a percentage typed as a fraction (0.05).
+inline void require_damping_ratio(double zeta, const std::string& field) {
+  require_non_negative(zeta, field);
+  require(zeta <= 1.0, field, zeta, "must be at most 1 (critical damping; 5 % is written 0.05)");
+}
+
 /// Rayleigh coefficients (a, b) with D = a M + b K giving ratio z1 at f1 and z2 at f2 [Hz]:
 /// zeta(omega) = a / (2 omega) + b omega / 2.
 struct Rayleigh {
@@ -36,8 +43,8 @@ struct Rayleigh {
   static Rayleigh from_pairs(double f1, double z1, double f2, double z2) {
     require_positive(f1, "damping.pairs[0].frequency_hz");
     require_positive(f2, "damping.pairs[1].frequency_hz");
-    require_non_negative(z1, "damping.pairs[0].ratio");
-    require_non_negative(z2, "damping.pairs[1].ratio");
+    require_damping_ratio(z1, "damping.pairs[0].ratio");
+    require_damping_ratio(z2, "damping.pairs[1].ratio");
     require(f1 != f2, "damping.pairs[1].frequency_hz", f2, "must differ from the first frequency");
     const double w1 = 2.0 * M_PI * f1, w2 = 2.0 * M_PI * f2;
     const double den = w2 * w2 - w1 * w1;
@@ -57,7 +64,7 @@ struct DampingSpec {
     if (kind == Kind::modal) {
       require(!ratios.empty(), "damping.ratios", ratios.size(), "needs at least one ratio");
       for (std::size_t j = 0; j < ratios.size(); ++j)
-        require_non_negative(ratios[j], "damping.ratios[" + std::to_string(j) + "]");
+        require_damping_ratio(ratios[j], "damping.ratios[" + std::to_string(j) + "]");
     } else {
       Rayleigh::from_pairs(f1, z1, f2, z2);
     }

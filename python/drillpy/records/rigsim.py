@@ -681,6 +681,7 @@ def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVE
                           "evaluations": len(scan) + int(res.nfev)}
         else:
             grid = np.geomspace(0.01, 1.5, 14)
+            grid = grid[grid <= 1.0]  # the engine refuses a damping ratio above critical
             scan = [(float(z), mismatch(drive, z)) for z in grid]
             k = int(np.argmin([m for _, m in scan]))
             for z in np.geomspace(grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)], 7)[1:-1]:
