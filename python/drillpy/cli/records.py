@@ -146,7 +146,7 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
                               psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim, calibrate=cal)
         s = analyze_record(items[0][1], a.out, opt, log=log)
         if a.json:
-            keys = ("cleaning", "cycles", "severity", "torque_statistics", "psd", "identification", "rig")
+            keys = ("warnings", "cleaning", "cycles", "severity", "torque_statistics", "psd", "identification", "rig")
             print(json.dumps(jsonable({k: s[k] for k in keys if k in s}), default=str, allow_nan=False))
         return 0
     # two or more samples (files, a folder, FILE@T0:T1 windows): section 5.3 across samples
@@ -265,7 +265,7 @@ def cmd_loop(a: argparse.Namespace) -> int:
         js = loop_record(a.record, a.out, preset=a.preset, config_path=a.config, options=opt, log=log)
     if a.json:
         print(json.dumps({k: js[k] for k in ("metric", "baseline_error", "final_error", "declared", "removed",
-                                             "final_effects", "unexplained_fraction")} |
+                                             "final_effects", "unexplained_fraction", "warnings")} |
                          {"added": [s["effect"] for s in js["steps"] if s["action"] == "add"]}))
     return 0
 

@@ -16,6 +16,7 @@ from .run import LoopResult, dumps
 from drillpy.figures import loop as _loop_figures
 from drillpy.reports.text import number_text as _f
 from drillpy.records.io import RPM
+from drillpy.records.plausibility import markdown
 from drillpy.provenance import header, provenance, with_markdown_footer
 
 
@@ -229,8 +230,9 @@ def values(params: dict) -> dict:
 
 
 def render_report(res: LoopResult, files: dict) -> str:
-    """The text of ``report.md``: data, metrics, baseline, steps, physical readings, the discovery
-    step, the evidence of every round, the final parameters, figures and notes.
+    """The text of ``report.md``: plausibility warnings ("none" when none), data, metrics, baseline,
+    steps, physical readings, the discovery step, the evidence of every round, the final parameters,
+    figures and notes.
 
     Parameters
     ----------
@@ -251,7 +253,7 @@ def render_report(res: LoopResult, files: dict) -> str:
          f"Declared model `{res.config.get('name')}` ({res.config['rom']['modes']} mode(s), law "
          f"`{res.config['law']['type']}`, {_damping(res.config['damping'])}), calibrated on the record, then "
          f"extended by the effects of the catalogue the evidence supports.", "",
-         "## Data", "",
+         *markdown(res.warnings), "## Data", "",
          f"- {d.t.size} samples at {1 / d.dt:g} Hz (record {d.record_rate_hz:g} Hz, decimated by {d.decimation}), "
          f"{d.t[0]:.3f}-{d.t[-1]:.3f} s; cleaning: {'; '.join(d.cleaning)}.",
          f"- **calibration part** t < {d.t_split:.3f} s ({int((~d.is_test).sum())} horizons), **validation part** "

@@ -13,6 +13,8 @@ import numpy as np
 
 from drillpy import jsonio
 from drillpy.model.config import normalize
+from drillpy.records.io import read_record
+from drillpy.records.plausibility import check_record, emit
 from .data import LoopData, prepare
 from .discovery import discover, library, residual_structure
 from .effects import CATALOGUE
@@ -60,6 +62,8 @@ class LoopResult:
         ``equation``, ``balanced`` and possibly ``warning``; ``skipped`` without a top speed).
     last_round : dict
         Candidate name -> Evaluation of the last round (for the signature figure).
+    warnings : list of PlausibilityWarning
+        The record checked against the declared model (:func:`drillpy.records.plausibility.check_record`).
     """
     data: LoopData
     baseline: Evaluation
@@ -74,6 +78,7 @@ class LoopResult:
     baseline_long_run: dict = field(default_factory=dict)
     discovery: dict = field(default_factory=dict)       #: the discovery step's output
     last_round: dict = field(default_factory=dict)      #: candidate -> Evaluation of the last round
+    warnings: list = field(default_factory=list)        #: plausibility warnings of the record
 
     def metric(self) -> str:
         """The definition of the error E of this run, in words and numbers (``loop.json`` ->
@@ -103,7 +108,7 @@ class LoopResult:
     def loop_json(self) -> dict:
         """The content of ``loop.json`` (docs/loop.md): metric, baseline error and adequacy,
         declared and removed effects, long runs, steps, final error and effects, unexplained
-        fraction, discovered terms and the final model's parameters.
+        fraction, discovered terms, the final model's parameters and the plausibility ``warnings``.
 
         Returns
         -------
@@ -116,7 +121,8 @@ class LoopResult:
                 "steps": [{k: s[k] for k in keys} for s in self.steps],
                 "final_error": self.final.E_test, "final_effects": list(self.final.model.effects),
                 "unexplained_fraction": self.unexplained_fraction,
-                "discovered_terms": self.discovery.get("terms", []), "parameters": self.final.model.parameters()}
+                "discovered_terms": self.discovery.get("terms", []), "parameters": self.final.model.parameters(),
+                "warnings": [w.as_dict() for w in self.warnings]}
 
 
 def analysis_config(cfg: dict, dt: float, dt_engine: float | None = None) -> dict:
@@ -332,7 +338,10 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
     opt = options or LoopOptions()
     opt.validate()
     cfg = normalize(cfg)
-    data = prepare(record, cfg, opt)
+    raw = read_record(record) if isinstance(record, (str, Path)) else record
+    data = prepare(raw, cfg, opt)
+    warns = check_record(raw, cfg)
+    emit(warns)
     notes = []
     if cfg["rom"]["modes"] > 1:
         notes.append(f"the model keeps {cfg['rom']['modes']} modes: the restart state puts the first mode in "
@@ -431,7 +440,7 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
                 cur, cur_lr, rem = _backward(cur, cur_lr, data, opt, (name,), log)
                 steps += rem
     disc = _discovery(cur.model, data, log) if opt.discovery else {}
-    return LoopResult(data, base, cur, steps, rounds, opt, cfg, notes, declared, adeq, base_lr, disc, last)
+    return LoopResult(data, base, cur, steps, rounds, opt, cfg, notes, declared, adeq, base_lr, disc, last, warns)
 
 
 def loop_record(record, out_dir, *, preset: str | None = None, config_path: str | None = None,

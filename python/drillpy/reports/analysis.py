@@ -23,6 +23,7 @@ from drillpy.jsonio import dumps
 from drillpy.provenance import provenance, with_markdown_footer
 from drillpy.reports.text import number_text
 from drillpy.records import identification as ident
+from drillpy.records import plausibility
 from drillpy.uncertainty import process
 from drillpy.records import rigsim
 from drillpy.records import signals as sig
@@ -263,6 +264,9 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
                           "sample_rate_hz": rec.sample_rate_hz,
                           "window_s": [float(rec.time_s[0]), float(rec.time_s[-1])]},
                "cleaning": rep.summary()}
+    warns = plausibility.check_record(rec, load_config(preset=opt.preset))  # the declared model: the rig preset
+    plausibility.emit(warns)
+    S["warnings"] = [w.as_dict() for w in warns]
     log(f"record: {len(rec)} samples at {rec.sample_rate_hz:.0f} Hz over {rec.duration_s:.2f} s; "
         f"channels {', '.join(rec.channels)}")
     for line in rep.lines():
@@ -566,9 +570,10 @@ def render_report(S: dict) -> str:
     """The Markdown report of a summary (``report.md`` of ``drillpy analyze``).
 
     Sections: the record (source, samples, rate, window, channels and units in the file);
-    cleaning (artifact counts and list); stick-slip cycles (stick threshold [RPM], per-cycle
-    period [s], frequency [Hz], stick and slip [s], largest bit speed [RPM] and SS (Eq. 3.4),
-    whole-window SS and stick fraction, the shown cycle as Figs. 5.6-5.7, the loops as Fig. 3.5);
+    the plausibility warnings (:mod:`drillpy.records.plausibility`; "none" when none); cleaning
+    (artifact counts and list); stick-slip cycles (stick threshold [RPM], per-cycle period [s],
+    frequency [Hz], stick and slip [s], largest bit speed [RPM] and SS (Eq. 3.4), whole-window SS
+    and stick fraction, the shown cycle as Figs. 5.6-5.7, the loops as Fig. 3.5);
     sample statistics of the torque on bit [N m] and WOB [N] (Table 5.2); the identification of
     the bit-rock laws (RMSE [N m], cross-validated RMSE, R^2, Var[MSE] of Eq. 5.2, AIC, BIC,
     Akaike weights, parameters with 95 % intervals) at constant and, when measured, scaled WOB;
@@ -594,6 +599,7 @@ def render_report(S: dict) -> str:
          f"Source `{r['source']}` ({r['format']}), {r['n_samples']} samples at {r['sample_rate_hz']:.0f} Hz, "
          f"{r['window_s'][0]:.3f}-{r['window_s'][1]:.3f} s; channels {', '.join(r['channels'])} "
          f"(units in the file: {', '.join(f'{k} {u}' for k, u in r['units_in_file'].items())}).", "",
+         *plausibility.markdown(S.get("warnings", [])),
          "![time series](time_series.png)", "", "## Cleaning", "",
          "| artifact | events | samples | repaired | excluded |", "|---|---:|---:|---:|---:|"]
     for k, v in S["cleaning"]["counts"].items():
