@@ -12,6 +12,7 @@
   drillpy frf-report --preset thesis-ch6 --out DIR          chapter 6 and appendix C figures
   drillpy robust-ss --preset thesis-ch6 --samples 40 --speeds 6:27:8 --out DIR
   drillpy mc       --preset thesis-field --samples 500 --speeds 6:27:22 --seed 1 --json
+  drillpy mc-merge CHUNK_DIR1 CHUNK_DIR2 ... --out DIR   chunks run with mc --first-sample --out
   drillpy loop     RECORD --preset thesis-rig --out DIR      residual -> missing effect -> corrected model
   drillpy predict  MODEL.json RECORD --out DIR --json       a calibrated rig model on a record it never saw
 
@@ -21,7 +22,7 @@ Every error prints one line ``drillpy: error: ...`` and exits with status 2.
 # options, grids, typed option values); each command group lives in its own module, which registers
 # its subcommands' arguments next to their handlers:
 #   cli/model.py        report, modes, simulate, sweep, map, convergence
-#   cli/uncertainty.py  frf, frf-report, robust-ss, mc
+#   cli/uncertainty.py  frf, frf-report, robust-ss, mc, mc-merge
 #   cli/records.py      analyze, predict, loop
 #   cli/reproduce.py    reproduce
 # A handler parses its arguments, calls the library and prints; files are written by the library.
@@ -186,7 +187,7 @@ def model_config(a: argparse.Namespace) -> dict:
 
 # Order of the subcommands in ``drillpy --help`` (unchanged from the single-module CLI).
 COMMANDS = ("report", "modes", "simulate", "sweep", "map", "convergence", "analyze", "predict", "frf",
-            "frf-report", "robust-ss", "reproduce", "mc", "loop")
+            "frf-report", "robust-ss", "reproduce", "mc", "mc-merge", "loop")
 
 
 def build_parser() -> argparse.ArgumentParser:

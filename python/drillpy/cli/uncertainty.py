@@ -237,10 +237,58 @@ def add_mc(sub) -> argparse.ArgumentParser:
                         "thesis's +-20 %% field fluctuation read as +-3 sigma; docs/stochastic.md)")
     s.add_argument("--refine", type=float, metavar="TOL",
                    help="locate the 5 %% speed by bisection to TOL [rad/s] (same samples at new speeds)")
-    s.add_argument("--out", help="folder for the figures and mc.json")
+    s.add_argument("--out", help="folder for the figures, mc.json and mc_samples.json (every sample's SS)")
+    s.add_argument("--no-figures", action="store_true",
+                   help="with --out, write mc.json and mc_samples.json only (chunks of a study to merge)")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_mc)
     return s
+
+
+def _add_mc_merge(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy mc-merge`` (:func:`drillpy.reports.stochastic.merge_outputs`)."""
+    s = sub.add_parser("mc-merge", help="merge chunks of one Monte Carlo study run with --first-sample")
+    s.add_argument("chunks", nargs="+", help="output folders of drillpy mc --out (or their mc_samples.json)")
+    s.add_argument("--out", help="folder for the merged mc.json, mc_samples.json and Figs. 4.9 and C.1")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_mc_merge)
+    return s
+
+
+def cmd_mc_merge(a: argparse.Namespace) -> int:
+    """Merge chunks of one Monte Carlo study (``drillpy mc-merge``).
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        ``chunks`` (folders or ``mc_samples.json`` files), ``--out``, ``--json``.
+
+    Returns
+    -------
+    int
+        Exit status 0; prints the merged summary (as ``drillpy mc`` does) and writes it with ``--out``.
+    """
+    from drillpy.jsonio import dumps
+    from drillpy.reports.stochastic import merge_outputs
+    from drillpy.reports.uncertainty import robust_speed_summary
+    study = merge_outputs(a.chunks, a.out)
+    res = study.summary()
+    res.update(robust_speed_summary(study.severity, study.speeds, None, study.seed, None))
+    if a.json:
+        print(dumps(res, indent=None))
+    else:
+        n = study.severity.shape[0]
+        print(f"{len(a.chunks)} chunks merged: samples {study.first_sample}-{study.first_sample + n - 1}, "
+              f"seed {study.seed}")
+        for r in res["speeds"]:
+            print(f"{r['top_speed_rad_s']:8.3f} rad/s  mean SS = {r['mean_ss']:.3f}  "
+                  f"[q05 {r['q05']:.3f}, q95 {r['q95']:.3f}]  P(SS > 0.5) = {r['p_ss_gt_0_5']:.3f}")
+        p05 = res["p05_speed_rad_s"]
+        print("P(SS > 0.5) <= 5 % from", "no crossing in range" if p05 is None else f"{p05:.2f} rad/s",
+              _robust_speed_text(res))
+        if a.out:
+            print(f"mc.json, mc_samples.json and figures written to {a.out}")
+    return 0
 
 
 def psd_option(a: argparse.Namespace):
@@ -309,7 +357,9 @@ def cmd_mc(a: argparse.Namespace) -> int:
         which P(SS > 0.5) <= 5 %; with ``--out`` :func:`drillpy.reports.stochastic.write_figures` writes
         the figures and ``mc.json``.
     """
-    from drillpy.reports.stochastic import write_figures
+    from drillpy.jsonio import dumps
+    from drillpy.provenance import provenance
+    from drillpy.reports.stochastic import write_figures, write_samples
     from drillpy.reports.uncertainty import robust_speed_summary
     from drillpy.uncertainty import montecarlo as mcm
     cfg = model_config(a)
@@ -327,7 +377,11 @@ def cmd_mc(a: argparse.Namespace) -> int:
         cfg, sp, study.severity.shape[0], study.seed, psd=psd, eta_dt=a.eta_dt,
         first_sample=study.first_sample, deterministic=False, threads=a.threads, progress=False,
         **{k: study.settings[k + "_s"] for k in ("warmup", "duration", "transient")}).severity))
-    if a.out:
+    if a.out and a.no_figures:
+        write_samples(study, a.out)
+        Path(a.out, "mc.json").write_text(dumps({**res, "config": study.config, "provenance": provenance(
+            seed=study.seed, samples=int(study.severity.shape[0]), first_sample=study.first_sample)}))
+    elif a.out:
         res["figures"] = write_figures(study, cfg, a.out, psd=psd, eta_dt=a.eta_dt,
                                        threads=a.threads, progress=not a.no_progress)
     if a.json:
@@ -365,4 +419,5 @@ def _robust_speed_text(res: dict) -> str:
 
 
 #: subcommand -> function registering it (``drillpy.cli.build_parser`` orders them)
-SUBCOMMANDS = {"frf": _add_frf, "frf-report": _add_frf_report, "robust-ss": _add_robust_ss, "mc": add_mc}
+SUBCOMMANDS = {"frf": _add_frf, "frf-report": _add_frf_report, "robust-ss": _add_robust_ss, "mc": add_mc,
+               "mc-merge": _add_mc_merge}

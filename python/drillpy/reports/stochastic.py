@@ -5,6 +5,10 @@ Compute, plot and write are apart (as python-control's ``TimeResponseData`` and 
 :func:`stochastic_analysis` runs what the figures show and returns a :class:`StochasticAnalysis`;
 :func:`drillpy.figures.stochastic.stochastic_figures` draws it; :func:`write_stochastic` writes
 ``mc.json``. :func:`write_figures` composes the three.
+
+Every study written with ``--out`` also leaves ``mc_samples.json`` (:func:`write_samples`): the SS
+of every sample, exact, so chunks run apart (``--first-sample``) merge into the study run at once
+(:func:`merge_outputs`, ``drillpy mc-merge``).
 """
 from __future__ import annotations
 
@@ -14,10 +18,12 @@ from pathlib import Path
 
 import numpy as np
 
-from drillpy.uncertainty.montecarlo import ETA_DT_S, PhaseStudy, StochasticStudy, phase_study, stochastic_run
+from drillpy.uncertainty.montecarlo import (ETA_DT_S, PhaseStudy, StochasticStudy, merge_studies, phase_study,
+                                            stochastic_run)
 from drillpy.uncertainty.process import THESIS_PSD, Psd, PsdFit, fit_eta, generate, welch
 from drillpy.model.simulation import SimulationResult, simulate
 from drillpy.model.config import with_overrides
+from drillpy.jsonio import dumps
 from drillpy.provenance import provenance
 
 FIT_RECORD_S = 2000.0  #: length of the generated eta record fitted for Figs. 4.2-4.3 [s]
@@ -162,7 +168,100 @@ def write_stochastic(result: StochasticAnalysis, out_dir) -> dict:
     js = {**result.study.summary(), "figures": result.info, "config": result.study.config}
     prov = provenance(seed=result.study.seed, samples=int(result.study.severity.shape[0]))
     (out / "mc.json").write_text(json.dumps({**js, "provenance": prov}, indent=2))
+    write_samples(result.study, out)
     return js
+
+
+SAMPLES_FILE = "mc_samples.json"  #: per-sample SS of a study, in its output folder
+
+
+def write_samples(study: StochasticStudy, out_dir) -> Path:
+    """Write ``mc_samples.json``: the SS of every sample at every speed and what rebuilds the study.
+
+    Parameters
+    ----------
+    study : StochasticStudy
+        A finished study (or chunk of one).
+    out_dir : str or Path
+        Output folder (created if missing).
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    prov = provenance(seed=study.seed, samples=int(study.severity.shape[0]), first_sample=study.first_sample)
+    path = out / SAMPLES_FILE
+    path.write_text(dumps({**study.samples_dict(), "provenance": prov}, indent=None))
+    return path
+
+
+def read_samples(path) -> StochasticStudy:
+    """Read a study written by :func:`write_samples` (a folder or the file itself).
+
+    Parameters
+    ----------
+    path : str or Path
+        ``mc_samples.json`` or the folder holding it.
+
+    Returns
+    -------
+    StochasticStudy
+        The study, bit-identical to the one written.
+
+    Raises
+    ------
+    ValueError
+        One line naming the file: missing, not JSON, or not a samples file.
+    """
+    p = Path(path)
+    if p.is_dir():
+        p = p / SAMPLES_FILE
+    if not p.is_file():
+        raise ValueError(f"chunk = {str(path)!r}: no {SAMPLES_FILE} there (written by drillpy mc --out)")
+    try:
+        d = json.loads(p.read_text())
+    except (UnicodeDecodeError, json.JSONDecodeError) as e:
+        raise ValueError(f"chunk = {str(p)!r}: not a JSON samples file ({e})") from None
+    if not isinstance(d, dict):
+        raise ValueError(f"chunk = {str(p)!r}: not a samples file (a JSON object is expected)")
+    try:
+        return StochasticStudy.from_samples_dict(d)
+    except ValueError as e:
+        raise ValueError(f"chunk = {str(p)!r}: {e}") from None
+
+
+def merge_outputs(chunks, out_dir=None) -> StochasticStudy:
+    """Merge chunks of one study (``drillpy mc-merge``) and write the merged outputs.
+
+    Parameters
+    ----------
+    chunks : sequence of str or Path
+        Output folders (or ``mc_samples.json`` files) of ``drillpy mc --out`` runs of the same
+        study with different ``--first-sample``.
+    out_dir : str or Path, optional
+        Folder for the merged ``mc.json`` (summary, configuration, provenance with the chunks),
+        ``mc_samples.json``, severity_band.png (Fig. 4.9) and conv1.png (Fig. C.1).
+
+    Returns
+    -------
+    StochasticStudy
+        The merged study (:func:`drillpy.uncertainty.montecarlo.merge_studies`).
+    """
+    study = merge_studies([read_samples(c) for c in chunks])
+    if out_dir is not None:
+        from drillpy.figures.stochastic import conv1_plot, severity_band_plot
+        out = Path(out_dir)
+        out.mkdir(parents=True, exist_ok=True)
+        prov = provenance(seed=study.seed, samples=int(study.severity.shape[0]),
+                          chunks=[str(c) for c in chunks])
+        (out / "mc.json").write_text(dumps({**study.summary(), "config": study.config, "provenance": prov}))
+        write_samples(study, out)
+        severity_band_plot(out / "severity_band.png", study)
+        conv1_plot(out / "conv1.png", study.conv1)
+    return study
 
 
 def write_figures(study: StochasticStudy, cfg: dict, out_dir, *, psd: Psd = THESIS_PSD,

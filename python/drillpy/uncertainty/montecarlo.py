@@ -6,6 +6,8 @@ and returns arrays:
 * :func:`stochastic_study` -- SS (Eq. 3.4) of ``samples`` realizations of eta at every top speed,
   with the mean, the 5 %-95 % band, P(SS > 0.5), the lowest speed from which P(SS > 0.5) <= 5 %
   (Fig. 4.9), the deterministic curve (Fig. 4.8) and Conv1(n_s) (Eq. C.1, Fig. C.1).
+* :func:`merge_studies` -- one study from chunks run apart (``drillpy mc-merge``), bit-identical
+  to the study run at once (:func:`study_from_samples` computes the statistics for both).
 * :func:`phase_study` -- stick and slip durations over many cycles at one top speed (Fig. 4.7),
   next to the deterministic periodic values (section 4.2.1).
 
@@ -118,6 +120,53 @@ class StochasticStudy:
                 "eta_std": self.eta_std, "speeds": rows, "p05_speed_rad_s": self.p05_speed,
                 "deterministic_threshold_rad_s": self.deterministic_threshold,
                 "conv1_final": float(self.conv1[-1])}
+
+    def samples_dict(self) -> dict:
+        """Everything needed to rebuild the study exactly (``mc_samples.json``; see :meth:`from_samples_dict`).
+
+        Returns
+        -------
+        dict
+            ``speeds_rad_s``, ``severity`` (one list per sample), ``deterministic_ss``, ``seed``,
+            ``first_sample``, ``eta_std``, ``settings`` and ``config``; floats written by ``json``
+            round-trip exactly.
+        """
+        return {"speeds_rad_s": self.speeds.tolist(), "first_sample": self.first_sample, "seed": self.seed,
+                "eta_std": self.eta_std, "settings": self.settings, "config": self.config,
+                "deterministic_ss": None if self.deterministic is None else self.deterministic.tolist(),
+                "severity": self.severity.tolist()}
+
+    @classmethod
+    def from_samples_dict(cls, d: dict) -> "StochasticStudy":
+        """Rebuild a study from :meth:`samples_dict`, recomputing its statistics.
+
+        Parameters
+        ----------
+        d : dict
+            What :meth:`samples_dict` returned (or ``mc_samples.json`` read back).
+
+        Returns
+        -------
+        StochasticStudy
+            The study, bit-identical to the one written.
+
+        Raises
+        ------
+        ValueError
+            Naming a missing key or a severity table whose shape does not match the speeds.
+        """
+        keys = ("speeds_rad_s", "first_sample", "seed", "eta_std", "settings", "config", "deterministic_ss",
+                "severity")
+        missing = [k for k in keys if k not in d]
+        if missing:
+            raise ValueError(f"{missing[0]}: missing from the samples file (keys: {', '.join(keys)})")
+        sp = np.asarray(d["speeds_rad_s"], dtype=float)
+        ss = np.asarray(d["severity"], dtype=float)
+        if ss.ndim != 2 or ss.shape[1] != sp.size or ss.shape[0] == 0:
+            raise ValueError(f"severity: shape {ss.shape} does not match {sp.size} speeds (samples x speeds)")
+        return study_from_samples(sp, ss, deterministic=d["deterministic_ss"], seed=d["seed"],
+                                  first_sample=d["first_sample"], eta_std=d["eta_std"], settings=d["settings"],
+                                  config=d["config"])
 
 
 @dataclass
@@ -247,23 +296,113 @@ def stochastic_study(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = T
         ss = mc.severity(list(sp), first, n, cb, int(threads))
     if ss.size == 0:  # cancelled by the callback without an exception
         raise KeyboardInterrupt
-    st = _core.severity_statistics(ss, list(sp), SS_LEVEL, P_LEVEL, 0.05, 0.95)
-    det = det_thr = None
+    det = None
     if deterministic:
         zero = _engine(c, lambda f: np.zeros_like(f), eta_dt, seed, warmup)
         det = zero.severity(list(sp), 0, 1, None, int(threads))[0]
-        det_thr = _none_if_nan(_core.severity_threshold(list(sp), list(det), SS_LEVEL))
-    conv = np.asarray(_core.conv1(ss, list(sp))) if sp.size >= 2 else np.full(n, np.nan)
     settings = {"warmup_s": float(warmup), "duration_s": c["simulation"]["duration_s"],
                 "transient_s": c["simulation"]["transient_s"], "dt_s": c["simulation"]["dt_s"],
                 "eta_dt_s": float(eta_dt),
                 "psd": psd.as_dict() if hasattr(psd, "as_dict") else {"type": "callable"},
                 "psd_convention": "one-sided, per Hz: Var[eta] = integral_0^inf S(f) df"}
+    return study_from_samples(sp, ss, deterministic=det, seed=seed, first_sample=first,
+                              eta_std=math.sqrt(mc.eta_variance), settings=settings, config=c)
+
+
+def study_from_samples(speeds, severity, *, deterministic, seed: int, first_sample: int, eta_std: float,
+                       settings: dict, config: dict) -> StochasticStudy:
+    """The statistics of a study (Fig. 4.9, Eq. C.1) computed from its per-sample SS.
+
+    :func:`stochastic_study` and :func:`merge_studies` both end here, so a study run in chunks and
+    merged has exactly the numbers of the same study run at once.
+
+    Parameters
+    ----------
+    speeds : array_like
+        Top speeds [rad/s], shape (n_speeds,).
+    severity : array_like
+        SS (Eq. 3.4) of samples ``first_sample ..`` [-], shape (samples, n_speeds).
+    deterministic : array_like or None
+        SS with eta = 0 per speed [-], or None.
+    seed : int
+        Random seed of the study.
+    first_sample : int
+        Index of the first sample (row 0 of ``severity``).
+    eta_std : float
+        Standard deviation of eta [-].
+    settings : dict
+        Durations and PSD of the runs (:attr:`StochasticStudy.settings`).
+    config : dict
+        The configuration run.
+
+    Returns
+    -------
+    StochasticStudy
+        The study with its mean, band, P(SS > 0.5), 5 % speed, deterministic threshold and Conv1.
+    """
+    sp = np.asarray(speeds, dtype=float)
+    ss = np.asarray(severity, dtype=float)
+    st = _core.severity_statistics(ss, list(sp), SS_LEVEL, P_LEVEL, 0.05, 0.95)
+    det = det_thr = None
+    if deterministic is not None:
+        det = np.asarray(deterministic, dtype=float)
+        det_thr = _none_if_nan(_core.severity_threshold(list(sp), list(det), SS_LEVEL))
+    conv = np.asarray(_core.conv1(ss, list(sp))) if sp.size >= 2 else np.full(ss.shape[0], np.nan)
     return StochasticStudy(
         speeds=sp, severity=ss, mean=st.mean, q05=st.q_low, q95=st.q_high,
         p_exceed=st.p_exceed, p05_speed=_none_if_nan(st.p_speed), deterministic=det,
-        deterministic_threshold=det_thr, conv1=conv, seed=seed, first_sample=first,
-        eta_std=math.sqrt(mc.eta_variance), settings=settings, config=c)
+        deterministic_threshold=det_thr, conv1=conv, seed=int(seed), first_sample=int(first_sample),
+        eta_std=float(eta_std), settings=dict(settings), config=config)
+
+
+def merge_studies(studies) -> StochasticStudy:
+    """One study from chunks of the same study run apart (``drillpy mc --first-sample``).
+
+    The chunks must share the configuration, the speeds, the seed, the settings and the
+    deterministic curve, and their sample ranges must tile ``first .. first + n - 1`` without gap
+    or overlap (in any order). Sample i depends only on (seed, i), so the merged study is
+    bit-identical to the same samples run at once.
+
+    Parameters
+    ----------
+    studies : sequence of StochasticStudy
+        The chunks (at least one).
+
+    Returns
+    -------
+    StochasticStudy
+        The merged study, its statistics recomputed from all samples.
+
+    Raises
+    ------
+    ValueError
+        Naming the first field in which two chunks differ, or the gap or overlap of their samples.
+    """
+    chunks = sorted(studies, key=lambda s: s.first_sample)
+    if not chunks:
+        raise ValueError("studies: nothing to merge (give at least one chunk)")
+    ref = chunks[0]
+    for s in chunks[1:]:
+        for name, a, b in (("speeds", ref.speeds, s.speeds), ("deterministic", ref.deterministic, s.deterministic)):
+            same = (a is None and b is None) or (a is not None and b is not None and np.array_equal(a, b))
+            if not same:
+                raise ValueError(f"{name}: chunk starting at sample {s.first_sample} differs from the chunk "
+                                 f"starting at {ref.first_sample}: {b!r} vs {a!r}")
+        for name in ("seed", "eta_std", "settings", "config"):
+            if getattr(s, name) != getattr(ref, name):
+                raise ValueError(f"{name}: chunk starting at sample {s.first_sample} differs from the chunk "
+                                 f"starting at {ref.first_sample} (not the same study)")
+    end = ref.first_sample
+    for s in chunks:
+        if s.first_sample != end:
+            what = "overlap" if s.first_sample < end else "gap"
+            raise ValueError(f"first_sample = {s.first_sample}: samples {min(end, s.first_sample)}-"
+                             f"{max(end, s.first_sample) - 1} {what} between chunks (expected a chunk starting "
+                             f"at {end})")
+        end += s.severity.shape[0]
+    return study_from_samples(ref.speeds, np.vstack([s.severity for s in chunks]), deterministic=ref.deterministic,
+                              seed=ref.seed, first_sample=ref.first_sample, eta_std=ref.eta_std,
+                              settings=ref.settings, config=ref.config)
 
 
 def conv1(severity, speeds) -> np.ndarray:
