@@ -339,9 +339,9 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
     opt.validate()
     cfg = normalize(cfg)
     raw = read_record(record) if isinstance(record, (str, Path)) else record
-    data = prepare(raw, cfg, opt)
-    warns = check_record(raw, cfg)
+    warns = check_record(raw, cfg)  # before prepare: a record it refuses (a time unit off) is explained
     emit(warns)
+    data = prepare(raw, cfg, opt)
     notes = []
     if cfg["rom"]["modes"] > 1:
         notes.append(f"the model keeps {cfg['rom']['modes']} modes: the restart state puts the first mode in "
