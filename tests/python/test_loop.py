@@ -23,7 +23,7 @@ from drillpy.loop.run import analysis_config
 from drillpy.records.io import Record, write_csv
 from drillpy.records.synthetic import declared_config, synthetic_record
 
-LOOP_KEYS = {"metric", "baseline_error", "steps", "final_error", "parameters", "declared", "removed", "final_effects",
+LOOP_KEYS = {"metric", "warnings", "baseline_error", "steps", "final_error", "parameters", "declared", "removed", "final_effects",
              "unexplained_fraction", "discovered_terms", "adequacy", "baseline_long_run", "provenance"}
 STEP_KEYS = {"action", "effect", "error_before", "error_after", "evidence", "long_run"}
 
