@@ -59,8 +59,9 @@ def test_time_in_ms_labelled_s_gives_the_time_unit_warning(rig):
 def test_speeds_multiplied_by_60_give_the_speed_warnings(rig):
     """Both speeds 60 times too large: top speed ~930 rad/s, bit speed ~1200 rad/s."""
     ws = pl.check_record(_scaled(top_speed=60.0, bit_speed=60.0), rig)
-    assert _codes(ws) == ["top_speed", "bit_speed"]
-    top, bit = ws
+    assert _codes(ws) == ["top_speed", "operating_point", "bit_speed"]
+    top, op, bit = ws
+    assert op.value == pytest.approx(60 * 8.47, rel=0.05) and op.plausible[1] == pytest.approx(4 * 8.47, rel=1e-3)
     assert top.channel == "top_speed" and top.value > pl.MAX_TOP_SPEED_RAD_S and top.unit == "rad/s"
     assert top.plausible == (0.0, pl.MAX_TOP_SPEED_RAD_S)
     assert top.message.startswith(f"top_speed: 99.5th percentile of |top speed| {top.value:.4g} rad/s")
@@ -88,7 +89,8 @@ def test_a_stick_slip_period_far_from_the_first_mode_gives_the_period_warning(ri
     ({"time_s": 1e-3}, ["time_unit", "duration"]),           # s labelled ms: 1 MHz, 40 ms
     ({"bit_speed": 30 / np.pi}, ["bit_speed"]),              # the bit speed alone in RPM: 22 x the top speed
     ({"torque_on_bit": 1e3}, ["torque"]),                    # kN m labelled N m: beyond the bar's yield
-], ids=["s-as-ms", "bit-rpm", "torque-kNm"])
+    ({"top_speed": 30 / np.pi, "bit_speed": 30 / np.pi}, ["operating_point"]),  # RPM labelled rad/s: 81 rad/s
+], ids=["s-as-ms", "bit-rpm", "torque-kNm", "rpm-as-rad-s"])
 def test_other_unit_errors(rig, factors, codes):
     ws = pl.check_record(_scaled(**factors), rig)
     assert _codes(ws) == codes
@@ -139,6 +141,16 @@ def test_analyze_of_the_real_record_reports_none(tmp_path):
     assert "drillpy: warning" not in p.stderr
     assert json.loads((out / "summary.json").read_text())["warnings"] == []
     assert "## Warnings\n\nnone\n" in (out / "report.md").read_text()
+
+
+def test_analyze_with_simulations_refuses_a_record_slower_than_the_first_mode(tmp_path, ms_csv):
+    """The rig calibration would simulate 10 000 s per run at 1 Hz: one error, after the warnings."""
+    p = run_cli("analyze", str(ms_csv), "--out", str(tmp_path / "a"), "--folds", "0", "--no-progress")
+    assert p.returncode == 2
+    err = p.stderr.splitlines()
+    assert err[0].startswith("drillpy: warning: time: sampling rate 1 Hz")
+    assert err[-1].startswith("drillpy: error: time: sampling rate 1 Hz") and "--no-sim" in err[-1]
+    assert not (tmp_path / "a").exists()
 
 
 def test_loop_prints_the_warnings_before_it_refuses_the_record(tmp_path, ms_csv):

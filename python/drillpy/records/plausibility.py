@@ -15,6 +15,8 @@ and period of the declared string (:func:`drillpy.model.simulation.natural_frequ
 * ``top_speed``, ``bit_speed``: 99.5th percentile of |speed| above :data:`MAX_TOP_SPEED_RAD_S` or
   :data:`MAX_BIT_SPEED_RAD_S`, or a bit speed above :data:`MAX_BIT_TO_TOP_RATIO` times the median
   top speed;
+* ``operating_point``: the median top speed more than :data:`OPERATING_POINT_FACTOR` times above or
+  below the declared operating point (``operation.top_speed_rad_s``): RPM labelled rad/s is 9.5 times;
 * ``torque``: 99.5th percentile of |torque on bit| above the torque that twists the strongest
   section of the declared string to a surface shear strain of :data:`MAX_SHEAR_STRAIN`;
 * ``period``: median stick-slip cycle period outside :data:`PERIOD_RATIO_RANGE` times T1.
@@ -63,6 +65,11 @@ MAX_SHEAR_STRAIN = 0.01
 #: cycle is faster than the first mode can swing; above 10 the bit would stay stuck for 9 natural
 #: periods in every cycle. A time unit off by 1000, or a model of another string, falls outside.
 PERIOD_RATIO_RANGE = (0.3, 10.0)
+#: A record's median top speed against the declared operating point: a factor above which the
+#: record is not of that operation. A unit mix-up gives 9.55 (RPM labelled rad/s) or 60; the
+#: thesis's field study spans 6-27 rad/s (a factor 4.5 end to end) around its 16 rad/s, so 4 in
+#: either direction from the declared point keeps any speed of a sweep around it.
+OPERATING_POINT_FACTOR = 4.0
 #: Percentile of |channel| compared with the speed and torque bounds (isolated spikes stay below).
 PERCENTILE = 99.5
 
@@ -74,7 +81,8 @@ class PlausibilityWarning:
     Attributes
     ----------
     code : str
-        ``time_unit``, ``duration``, ``top_speed``, ``bit_speed``, ``torque`` or ``period``.
+        ``time_unit``, ``duration``, ``top_speed``, ``operating_point``, ``bit_speed``, ``torque`` or
+        ``period``.
     channel : str
         The channel it concerns: ``time``, ``bit_speed``, ``top_speed`` or ``torque_on_bit``.
     message : str
@@ -205,6 +213,17 @@ def _channel_checks(rec: Record, cfg: dict, name: str) -> list:
             "top_speed", "top_speed", f"top_speed: {p.format('top speed')} {_g(top)} rad/s ({_g(top * 30 / math.pi)} "
             f"RPM) is above {_g(MAX_TOP_SPEED_RAD_S)} rad/s, beyond any top drive or downhole motor; a speed unit "
             "error (RPM labelled rad/s)?", top, (0.0, MAX_TOP_SPEED_RAD_S), "rad/s"))
+    declared = float(cfg.get("operation", {}).get("top_speed_rad_s", 0.0))
+    if rec.top_speed is not None and rec.valid("top_speed").any() and declared > 0.0:
+        med = float(np.median(np.abs(rec.top_speed[rec.valid("top_speed")])))
+        ratio = med / declared
+        if not 1.0 / OPERATING_POINT_FACTOR <= ratio <= OPERATING_POINT_FACTOR:
+            out.append(PlausibilityWarning(
+                "operating_point", "top_speed", f"top_speed: the median top speed {_g(med)} rad/s ({_g(med * 30 / math.pi)} "
+                f"RPM) is {_g(ratio)} times the declared operating point {_g(declared)} rad/s of {name} (plausible "
+                f"1/{OPERATING_POINT_FACTOR:g}-{OPERATING_POINT_FACTOR:g} times): a speed unit error (RPM labelled "
+                "rad/s is 9.55 times), or a model of another operation?", med,
+                (declared / OPERATING_POINT_FACTOR, declared * OPERATING_POINT_FACTOR), "rad/s"))
     bit = _percentile(rec, "bit_speed")
     if bit is not None:
         hi, why = MAX_BIT_SPEED_RAD_S, "beyond any drilling bit"

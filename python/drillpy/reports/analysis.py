@@ -266,6 +266,10 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
                "cleaning": rep.summary()}
     warns = plausibility.check_record(rec, load_config(preset=opt.preset))  # the declared model: the rig preset
     plausibility.emit(warns)
+    for w in warns:  # the rig model cannot be fitted to samples slower than its first mode (hours of runs)
+        if opt.simulate and w.code == "time_unit" and w.value < w.plausible[0]:
+            raise ValueError(f"{w.message}: the rig simulations are not run on such a record (--no-sim analyses "
+                             "it without them)")
     S["warnings"] = [w.as_dict() for w in warns]
     log(f"record: {len(rec)} samples at {rec.sample_rate_hz:.0f} Hz over {rec.duration_s:.2f} s; "
         f"channels {', '.join(rec.channels)}")
