@@ -204,3 +204,18 @@ def test_start_modes_and_the_lagged_acceleration_are_explicit_options():
     assert drillpy.simulate(lag, 18.0, record=False).config["simulation"]["acceleration"] == "lagged"
     with pytest.raises(ValueError, match="simulation.acceleration"):
         drillpy.simulate(drillpy.with_overrides(lag, scheme="bdf2"), 18.0, record=False)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"top_speed": "16"}, "top_speed = '16': must be a finite number [rad/s]"),
+    ({"wob": [1.0]}, "wob = [1.0]: must be a finite number [N]"),
+    ({"top_speed": True}, "top_speed = True"),
+])
+def test_operating_point_of_the_wrong_type_is_one_clear_error(kwargs, message):
+    """Was a raw pybind11 cast error ("Unable to cast Python instance of type str"; issue 13)."""
+    cfg = drillpy.load_config(preset="thesis-rig")
+    with pytest.raises(ValueError) as e:
+        drillpy.simulate(cfg, **kwargs)
+    assert str(e.value).startswith(message)
+    with pytest.raises(ValueError, match=r"^speeds = \['a'\]: must be a non-empty 1-D list of numbers"):
+        drillpy.sweep_severity(cfg, ["a"])

@@ -148,6 +148,10 @@ def simulate(cfg: "dict | _core.Config", top_speed: float | None = None, wob: fl
     ValueError
         Naming the field and the value for an invalid configuration, input or start mode.
     """
+    for name, unit, v in (("top_speed", "rad/s", top_speed), ("wob", "N", wob), ("bit_viscous", "N m s/rad", bit_viscous),
+                          ("string_friction", "N m", string_friction), ("top_speed0", "rad/s", top_speed0)):
+        if v is not None:  # the type only: the ranges are the configuration's (C++) checks
+            validate.number(name, v, unit=unit)
     if start is not None:
         _check_start(start)
         cfg = _with_start(cfg, start)
@@ -196,7 +200,10 @@ def _opt(x):
 
 
 def _grid(values, name: str) -> np.ndarray:
-    a = np.atleast_1d(np.asarray(values, dtype=float))
+    try:
+        a = np.atleast_1d(np.asarray(values, dtype=float))
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} = {values!r}: must be a non-empty 1-D list of numbers") from None
     if a.ndim != 1 or a.size == 0:
         raise ValueError(f"{name} = {values!r}: must be a non-empty 1-D list of numbers")
     if not np.all(np.isfinite(a)):
