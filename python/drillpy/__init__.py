@@ -31,6 +31,7 @@ _EXPORTS = {
     "clean": "drillpy.records.cleaning",
     **dict.fromkeys(("LoopOptions", "run_loop", "loop_record"), "drillpy.loop"),
     "synthetic_record": "drillpy.records.synthetic",
+    **dict.fromkeys(("Study", "run_study", "open_study"), "drillpy.study"),
 }
 
 __all__ = ["_core", "__version__", *_EXPORTS]

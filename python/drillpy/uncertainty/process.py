@@ -207,6 +207,32 @@ class PsdTable:
 Psd = Union[PsdModel, PsdTable, Callable[[np.ndarray], np.ndarray]]
 
 
+def psd_from_dict(d: dict) -> "PsdModel | PsdTable":
+    """The PSD described by ``as_dict()`` of :class:`PsdModel` or :class:`PsdTable` (a stored study).
+
+    Parameters
+    ----------
+    d : dict
+        ``{"type": "model_4_4", "f0_hz", "A0", "a", "b"}`` or ``{"type": "table", "f_hz", "S"}``.
+
+    Returns
+    -------
+    PsdModel or PsdTable
+        The same PSD (the same values on any grid).
+
+    Raises
+    ------
+    ValueError
+        For any other description (a user callable cannot be stored).
+    """
+    kind = d.get("type") if isinstance(d, dict) else None
+    if kind == "model_4_4":
+        return PsdModel(d["f0_hz"], d["A0"], d["a"], d["b"])
+    if kind == "table":
+        return PsdTable(d["f_hz"], d["S"])
+    raise ValueError(f"psd = {d!r}: not a stored PSD (a model_4_4 or a table; a Python callable cannot be stored)")
+
+
 def psd_on_grid(psd: Psd, dt: float, duration: float) -> tuple[np.ndarray, np.ndarray]:
     """The generator's frequency grid [Hz] for (dt, duration) and the PSD values on it.
 

@@ -1,0 +1,180 @@
+"""Run a study on a backend: today's OpenMP path in this process, or Dask distributed.
+
+* ``local`` (default): the blocks run one after another in this process, each on all the engine's
+  OpenMP threads; no dependency beyond the engine (and xarray/zarr when the study is stored).
+* ``dask``: the blocks are submitted to a Dask ``distributed`` cluster: ``local:N`` starts a
+  ``LocalCluster`` of N single-threaded worker processes (its dashboard address is printed),
+  ``tcp://HOST:PORT`` joins a running scheduler whose workers have drillpy installed; from Python,
+  ``run_study(study, client=client)``. Each worker builds the engine once and keeps it.
+
+Results stream to the store block by block as they complete (the driver is the only writer), so no
+process holds more than a block; the numbers do not depend on the backend, the number of workers,
+the chunk size or the order of completion (:mod:`drillpy.study.definition`).
+"""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from drillpy import validate
+from drillpy.progress import progress_bar
+from drillpy.study import store as st
+from drillpy.study.definition import DEFAULT_CHUNK, Study, compute_block, deterministic_curve
+
+
+def _blocks(done: np.ndarray, chunk: int) -> list:
+    """(lo, hi) of every store chunk with a task not done."""
+    return [(lo, min(lo + chunk, done.size)) for lo in range(0, done.size, chunk) if not done[lo:lo + chunk].all()]
+
+
+def parse_scheduler(text: str | None):
+    """``--scheduler``: None or ``local`` -> None (OpenMP in this process); ``local:N`` -> N workers;
+    ``tcp://...`` (or any address with ``://``) -> the address.
+
+    Parameters
+    ----------
+    text : str or None
+        The option's value.
+
+    Returns
+    -------
+    None, int or str
+        The backend.
+
+    Raises
+    ------
+    ValueError
+        ``scheduler = '<text>': use local, local:N or tcp://HOST:PORT``.
+    """
+    if text is None or text == "local":
+        return None
+    if text.startswith("local:"):
+        try:
+            n = int(text[6:])
+        except ValueError:
+            n = 0
+        if n >= 1:
+            return n
+    elif "://" in text:
+        return text
+    raise ValueError(f"scheduler = {text!r}: use local, local:N (N >= 1 Dask workers) or tcp://HOST:PORT")
+
+
+def _client(scheduler, log):
+    """A Dask client for ``local:N`` (a new LocalCluster) or an address; None for the local backend."""
+    if scheduler is None:
+        return None, None
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise ValueError(f"scheduler = {scheduler!r}: needs Dask (pip install 'drillpy[distributed]')") from None
+    if isinstance(scheduler, int):
+        cluster = LocalCluster(n_workers=scheduler, threads_per_worker=1, processes=True, dashboard_address=":0")
+        log(f"Dask LocalCluster: {scheduler} workers, dashboard {cluster.dashboard_link}")
+        return Client(cluster), cluster
+    return Client(scheduler), None
+
+
+def run_study(study: Study, out=None, *, client=None, scheduler=None, chunk: int | None = None, threads: int = 0,
+              progress: bool = True, log=None):
+    """Compute a study (the missing part of it when ``out`` holds it already) and return it labelled.
+
+    Parameters
+    ----------
+    study : Study
+        What to compute.
+    out : str or Path, optional
+        Folder of the Zarr store (``out/study.zarr``); without it the study runs in memory.
+    client : dask.distributed.Client, optional
+        Run the blocks on this cluster.
+    scheduler : str, optional
+        ``--scheduler``: ``local`` (default), ``local:N`` or ``tcp://HOST:PORT`` (:func:`parse_scheduler`);
+        ignored when ``client`` is given.
+    chunk : int, optional
+        Tasks per block along the task dimension (default ``DEFAULT_CHUNK[kind]``; an existing store
+        keeps its own).
+    threads : int
+        Engine threads per block on the local backend (0: all cores); Dask workers use one each.
+    progress : bool
+        One progress bar over the study's tasks.
+    log : callable, optional
+        Receives status lines (default: stderr).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``severity`` with named dimensions and units, ``done``, the study's attributes (and for mc
+        ``deterministic_severity`` and ``eta_std``).
+
+    Raises
+    ------
+    ValueError
+        For a bad chunk or scheduler, or a store holding another study.
+    KeyboardInterrupt
+        On Ctrl-C; the store keeps every block finished before it.
+    """
+    log = log or (lambda m: print(m, file=sys.stderr))
+    chunk = validate.integer("chunk", DEFAULT_CHUNK[study.kind] if chunk is None else chunk, 1, 2**31 - 1)
+    sched = None if client is not None else parse_scheduler(scheduler)
+    init = {}
+    path = None if out is None else Path(out) / st.STORE_NAME
+    if study.kind == "mc" and (path is None or not path.exists()):
+        init = {"deterministic_severity": deterministic_curve(study, threads), "eta_std": _eta_std(study)}
+    if path is None:
+        done, results = np.zeros(study.task_size, dtype=bool), {}
+    else:
+        Path(out).mkdir(parents=True, exist_ok=True)
+        done, chunk = st.prepare(study, path, chunk, init)
+        results = None
+    blocks = _blocks(done, chunk)
+    own = None
+    if client is None and sched is not None and blocks:
+        client, own = _client(sched, log)
+    try:
+        with progress_bar(int(sum(hi - lo for lo, hi in blocks)), f"{study.kind} study", progress) as cb:
+            finished = 0
+            for lo, values in _compute(study, blocks, client, threads):
+                if results is None:
+                    st.write_block(study, path, lo, values)
+                else:
+                    results[lo] = values
+                finished += values.shape[0]
+                if cb is not None:
+                    cb(finished, 0)
+    finally:
+        if own is not None:
+            client.close()
+            own.close()
+    if path is not None:
+        return st.open_study(path)
+    ds = st._empty(study, 0, study.task_size, chunk, {k: v for k, v in init.items() if np.isscalar(v)})
+    for lo, values in results.items():
+        ds["severity"][{study.task_dim: slice(lo, lo + values.shape[0])}] = values
+    ds["done"][:] = True
+    for k, v in init.items():
+        if not np.isscalar(v):
+            ds[k] = ("top_speed", np.asarray(v, dtype=float), {"units": "1"})
+    return ds
+
+
+def _compute(study: Study, blocks: list, client, threads: int):
+    """Yield (lo, values) per block as blocks complete."""
+    if client is None:
+        for lo, hi in blocks:
+            yield lo, compute_block(study, lo, hi, threads)
+        return
+    from dask.distributed import as_completed
+    futures = {client.submit(compute_block, study, lo, hi, 1, pure=False): lo for lo, hi in blocks}
+    try:
+        for fut in as_completed(futures):
+            yield futures[fut], np.asarray(fut.result())
+    finally:
+        for fut in futures:
+            fut.cancel()
+
+
+def _eta_std(study: Study) -> float:
+    from drillpy.study.definition import _engine
+    return float(np.sqrt(_engine(study.key()).eta_variance))

@@ -1,0 +1,126 @@
+"""Studies on a backend and in a Zarr store (issue 14): the same bits whatever the backend, the
+workers, the chunk size, the order of completion, an interruption or an extension."""
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import drillpy
+from drillpy.model.config import load_config, with_overrides
+from drillpy.study import Study, open_study, run_study
+from drillpy.study import definition, run as study_run
+from drillpy.uncertainty.montecarlo import stochastic_study
+from drillpy.uncertainty.process import THESIS_PSD
+
+SPEEDS = (12.0, 18.0, 24.0)
+SHORT = dict(warmup=20.0, duration=30.0, transient=10.0)
+
+
+@pytest.fixture(scope="module")
+def cfg():
+    return with_overrides(load_config(preset="thesis-field"), modes=8)
+
+
+def _mc(cfg, samples, seed=4):
+    c = with_overrides(cfg, duration=SHORT["duration"], transient=SHORT["transient"])
+    return Study("mc", c, SPEEDS, samples=samples, seed=seed,
+                 options={"psd": THESIS_PSD.as_dict(), "eta_dt_s": 0.05, "warmup_s": SHORT["warmup"]})
+
+
+@pytest.fixture(scope="module")
+def reference(cfg):
+    """The study run at once by the Monte Carlo module (OpenMP, one call)."""
+    return stochastic_study(cfg, SPEEDS, 13, 4, threads=2, progress=False, **SHORT)
+
+
+@pytest.mark.parametrize("chunk", [1, 7, 64])
+def test_mc_study_is_bit_identical_for_any_chunk_and_labelled(cfg, reference, chunk, tmp_path):
+    ds = run_study(_mc(cfg, 13), tmp_path, chunk=chunk, progress=False)
+    np.testing.assert_array_equal(ds["severity"].values, reference.severity)
+    np.testing.assert_array_equal(ds["deterministic_severity"].values, reference.deterministic)
+    assert ds["severity"].dims == ("sample", "top_speed") and ds["top_speed"].attrs["units"] == "rad/s"
+    assert ds.attrs["eta_std"] == reference.eta_std and ds.attrs["chunk"] == chunk
+    assert json.loads(ds.attrs["study"])["seed"] == 4 and "drillpy_version" in json.loads(ds.attrs["provenance"])
+    lazily = xr.open_zarr(tmp_path / "study.zarr", consolidated=False)  # what a user opens
+    np.testing.assert_array_equal(lazily["severity"].values, reference.severity)
+
+
+def test_interrupted_store_resumes_with_only_the_missing_blocks(cfg, reference, tmp_path, monkeypatch):
+    study = _mc(cfg, 13)
+    calls = []
+    real = study_run.compute_block
+
+    def stop_at_third(s, lo, hi, threads=0):
+        calls.append(lo)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        return real(s, lo, hi, threads)
+
+    monkeypatch.setattr(study_run, "compute_block", stop_at_third)
+    with pytest.raises(KeyboardInterrupt):
+        run_study(study, tmp_path, chunk=4, progress=False)
+    ds = open_study(tmp_path)
+    assert ds["done"].values.tolist() == [True] * 8 + [False] * 5  # two blocks written, flagged, nothing else
+    assert np.isnan(ds["severity"].values[8:]).all()
+    calls.clear()
+    monkeypatch.setattr(study_run, "compute_block", lambda s, lo, hi, threads=0: (calls.append(lo), real(s, lo, hi,
+                                                                                                          threads))[1])
+    ds = run_study(study, tmp_path, chunk=99, progress=False)  # the store keeps its chunk of 4
+    assert calls == [8, 12]
+    np.testing.assert_array_equal(ds["severity"].values, reference.severity)
+    calls.clear()
+    run_study(study, tmp_path, progress=False)
+    assert calls == []  # finished: nothing to do
+
+
+def test_a_finished_study_extends_and_refuses_another_study(cfg, reference, tmp_path):
+    run_study(_mc(cfg, 6), tmp_path, chunk=4, progress=False)
+    first = open_study(tmp_path)["severity"].values.copy()
+    ds = run_study(_mc(cfg, 13), tmp_path, progress=False)
+    np.testing.assert_array_equal(ds["severity"].values[:6], first)
+    np.testing.assert_array_equal(ds["severity"].values, reference.severity)
+    with pytest.raises(ValueError, match=r"holds another study \(seed differs\)"):
+        run_study(_mc(cfg, 13, seed=5), tmp_path, progress=False)
+    with pytest.raises(ValueError, match=r"samples = 6: the store .* already holds 13 samples"):
+        run_study(_mc(cfg, 6), tmp_path, progress=False)
+
+
+def test_sweep_and_map_studies_equal_the_engine_sweep(cfg):
+    c = with_overrides(cfg, duration=40.0, transient=20.0)
+    speeds, wobs = (8.0, 12.0, 16.0, 20.0, 24.0), (150e3, 245e3)
+    ss = drillpy.sweep_severity(c, list(speeds), progress=False)
+    for chunk in (1, 2, 5):
+        ds = run_study(Study("sweep", c, speeds), chunk=chunk, progress=False)
+        np.testing.assert_array_equal(ds["severity"].values, ss)
+    grid = drillpy.stability_map(c, list(speeds), list(wobs), progress=False)
+    ds = run_study(Study("map", c, speeds, wobs=wobs), chunk=1, progress=False)
+    assert ds["severity"].dims == ("wob", "top_speed") and ds["wob"].attrs["units"] == "N"
+    np.testing.assert_array_equal(ds["severity"].values, grid)
+
+
+def test_dask_local_cluster_gives_the_same_bits(cfg, reference, tmp_path):
+    pytest.importorskip("dask.distributed")
+    lines = []
+    ds = run_study(_mc(cfg, 13), tmp_path, scheduler="local:2", chunk=3, progress=False, log=lines.append)
+    np.testing.assert_array_equal(ds["severity"].values, reference.severity)
+    assert lines and "dashboard http" in lines[0]
+
+
+@pytest.mark.parametrize("text, message", [
+    ("local:0", "scheduler = 'local:0'"), ("cluster", "use local, local:N"), ("local:x", "local:x")])
+def test_bad_scheduler_is_one_clear_error(text, message):
+    with pytest.raises(ValueError, match=message):
+        study_run.parse_scheduler(text)
+
+
+def test_bad_study_definitions_name_the_field(cfg):
+    with pytest.raises(ValueError, match=r"^kind = 'grid'"):
+        Study("grid", cfg, SPEEDS)
+    with pytest.raises(ValueError, match=r"^top_speeds = \[-1.0\]"):
+        Study("sweep", cfg, (-1.0,))
+    with pytest.raises(ValueError, match=r"^samples = 0"):
+        _mc(cfg, 0)
+    with pytest.raises(ValueError, match=r"^chunk = 0"):
+        run_study(Study("sweep", cfg, SPEEDS), chunk=0, progress=False)
+    assert definition.TASK_DIM == {"sweep": "top_speed", "map": "wob", "mc": "sample"}
