@@ -1,7 +1,9 @@
-// JSON configuration: presets, round trip, remeshing, and errors that name the field and value.
+// JSON configuration: presets, round trip, remeshing, errors that name the field and value, and the
+// JSON Schema written from the parser's table of keys.
 #include <gtest/gtest.h>
 
 #include "drill/config.hpp"
+#include "drill/config_schema.hpp"
 #include "drill/presets.hpp"
 #include "drill/simulation.hpp"
 
@@ -193,4 +195,79 @@ TEST(Config, StartModeIsParsedValidatedAndSerialized) {
   const std::string e = parse_error_of(with("/simulation/start", "spinning"));
   EXPECT_TRUE(mentions(e, "simulation.start = \"spinning\"")) << e;
   EXPECT_TRUE(mentions(parse_error_of(with("/simulation/start", 1)), "simulation.start = 1")) << e;
+}
+
+namespace {
+std::set<std::string> property_names(const json& properties) {
+  std::set<std::string> names;
+  for (auto it = properties.begin(); it != properties.end(); ++it) names.insert(it.key());
+  return names;
+}
+// The JSON pointer of a block in a configuration: "string.sections" is each item of that array.
+std::string block_pointer(const std::string& name) {
+  if (name == "config") return "";
+  const std::size_t dot = name.find('.');
+  return dot == std::string::npos ? "/" + name : "/" + name.substr(0, dot) + "/" + name.substr(dot + 1) + "/0";
+}
+}  // namespace
+
+TEST(Config, SchemaPropertiesAreTheKeysTheParserAccepts) {
+  const json s = config_schema();
+  EXPECT_EQ(s["$schema"], "https://json-schema.org/draft/2020-12/schema");
+  EXPECT_EQ(property_names(s["properties"]), schema::keys("config"));
+  for (const schema::Block& b : schema::blocks()) {
+    std::vector<std::string> types{""};  // a block without variants
+    if (b.name != "config") {
+      const json& d = s["$defs"][b.name];
+      if (b.variants.empty()) {
+        EXPECT_EQ(property_names(d["properties"]), schema::keys(b.name)) << b.name;
+      } else {
+        types.clear();
+        ASSERT_EQ(d["allOf"].size(), b.variants.size()) << b.name;
+        for (const json& c : d["allOf"]) {
+          types.push_back(c["if"]["properties"]["type"]["const"]);
+          EXPECT_EQ(property_names(c["then"]["properties"]), schema::keys(b.name, types.back()))
+              << b.name << " " << types.back();
+        }
+      }
+    }
+    // the parser itself: in each block (and variant) it takes every key the schema names (a null value
+    // is refused for another reason) and refuses any other
+    for (const std::string& type : types) {
+      const std::string at = block_pointer(b.name);
+      json base = preset_json("thesis-field");
+      if (!at.empty()) base[json::json_pointer(at)] = type.empty() ? json::object() : json{{"type", type}};
+      for (const std::string& key : schema::keys(b.name, type)) {
+        json j = base;
+        j[json::json_pointer(at)][key] = nullptr;
+        const std::string e = parse_error_of(j.dump());
+        EXPECT_FALSE(mentions(e, "unknown key")) << b.name << " " << type << " " << key << ": " << e;
+      }
+      json j = base;
+      j[json::json_pointer(at)]["not_a_key"] = nullptr;
+      EXPECT_TRUE(mentions(parse_error_of(j.dump()), "not_a_key = null: unknown key")) << b.name << " " << type;
+    }
+  }
+}
+
+TEST(Config, SchemaDefaultsAreWhatTheParserTakes) {
+  const json field = preset_json("thesis-field");
+  const json minimal{{"string", field["string"]}, {"law", field["law"]}};  // no simulation block either
+  const json c = to_json(parse_config(minimal));
+  for (const schema::Field& f : schema::block("config").fields) {
+    if (!c.contains(f.key)) continue;  // sensors, sweep...: written only when not the default
+    if (!f.dflt.is_null()) EXPECT_EQ(c[f.key], f.dflt) << f.key;
+    if (f.type != schema::Field::Type::object || !schema::block(f.block).variants.empty()) continue;
+    for (const schema::Field& g : schema::block(f.block).fields)
+      if (!g.dflt.is_null()) EXPECT_EQ(c[f.key][g.key], g.dflt) << f.key << "." << g.key;
+  }
+  EXPECT_EQ(c["simulation"]["transient_s"], 50.0);  // half the default duration
+}
+
+TEST(Config, SchemaKeyIsAcceptedAndIgnored) {
+  json j = preset_json("thesis-field");
+  j["$schema"] = "../python/drillpy/model/config.schema.json";
+  EXPECT_EQ(to_json(parse_config(j)), to_json(preset("thesis-field")));
+  j["$schema"] = 3;
+  EXPECT_TRUE(mentions(parse_error_of(j.dump()), "config.$schema = 3: must be a string"));
 }

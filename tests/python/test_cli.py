@@ -68,14 +68,57 @@ def test_drillsim_run_and_sweep(drillsim, tmp_path):
 
 
 @pytest.mark.parametrize("args, needle", [
-    (["--preset", "nope"], 'preset = "nope"'),
-    (["--preset", "thesis-field", "--format", "xls"], '--format = "xls"'),
-    (["--config", "/nonexistent.json"], "cannot open file"),
+    (["--preset", "nope"], "--preset: nope not in {thesis-field,"),
+    (["--preset", "thesis-field", "--format", "xls"], "--format: xls not in {csv,npy}"),
+    (["--preset", "thesis-field", "--job", "xyz"], "--job: xyz not in {run,sweep}"),
+    (["--preset", "thesis-field", "--threads", "abc"], "--threads = abc: must be an integer >= 0"),
+    (["--preset", "thesis-field", "--threads", "-4"], "--threads = -4: must be an integer >= 0"),
+    (["--preset", "thesis-field", "--threads", "1e12"], "--threads = 1e12: must be an integer >= 0"),
+    (["--preset", "thesis-field", "--threads"], "--threads"),
+    (["--config", "/nonexistent.json"], "--config: File does not exist: /nonexistent.json"),
+    (["--job", "sweep"], "give --config FILE or --preset NAME"),
+    (["--preset", "thesis-field", "--config", "/etc/hostname"], "--config excludes --preset"),
+    (["--presett", "thesis-field"], "not expected: thesis-field --presett"),
+    (["--preset", "thesis-field", "--bogus"], "not expected: --bogus"),
 ])
-def test_drillsim_errors(drillsim, args, needle):
-    r = subprocess.run([drillsim, *args], capture_output=True, text=True)
+def test_drillsim_errors(drillsim, args, needle, tmp_path):
+    r = subprocess.run([drillsim, *args, "--out", str(tmp_path / "out")], capture_output=True, text=True)
     assert r.returncode == 2
-    assert r.stderr.count("\n") == 1 and r.stderr.startswith("drillsim: error:") and needle in r.stderr
+    assert r.stderr.count("\n") == 1 and r.stderr.startswith("drillsim: error:") and needle in r.stderr, r.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_drillsim_help_version_and_config_errors(drillsim, tmp_path):
+    r = subprocess.run([drillsim, "--help"], capture_output=True, text=True)
+    assert r.returncode == 0 and r.stdout.startswith("drillsim: ") and "--threads N" in r.stdout and not r.stderr
+    r = subprocess.run([drillsim, "--version"], capture_output=True, text=True)
+    assert r.returncode == 0 and r.stdout.startswith("drillsim ")
+    (tmp_path / "c.json").write_text('{"string": {}}')
+    r = subprocess.run([drillsim, "--config", str(tmp_path / "c.json"), "--out", str(tmp_path / "o")],
+                       capture_output=True, text=True)
+    assert r.returncode == 2 and r.stderr == "drillsim: error: string.sections: missing or not an array\n"
+
+
+def test_drillsim_progress_changes_no_number(drillsim, tmp_path):
+    cfg = json.loads(subprocess.run([drillsim, "--preset", "thesis-rig", "--out", str(tmp_path / "a")],
+                                    capture_output=True, text=True).returncode == 0 and
+                     (tmp_path / "a" / "summary.json").read_text())["config"]
+    cfg["sweep"] = {"top_speeds_rad_s": [4.0, 8.0, 12.0], "wobs_n": []}
+    (tmp_path / "c.json").write_text(json.dumps(cfg))
+    for job, needle in (("run", "run: 40.0/40.0 s simulated, "), ("sweep", "sweep: 3/3 points, ")):
+        out = {}
+        for flag in ("--progress", "--no-progress", "--quiet"):
+            d = tmp_path / f"{job}{flag}"
+            r = subprocess.run([drillsim, "--config", str(tmp_path / "c.json"), "--job", job, "--out", str(d), flag],
+                               capture_output=True, text=True)
+            assert r.returncode == 0, r.stderr
+            assert (needle in r.stderr) == (flag == "--progress"), r.stderr
+            out[flag] = json.loads((d / "summary.json").read_text())
+        assert out["--progress"] == out["--no-progress"] == out["--quiet"]
+    # not a terminal: no report by default
+    r = subprocess.run([drillsim, "--config", str(tmp_path / "c.json"), "--out", str(tmp_path / "d")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0 and r.stderr == ""
 
 
 def test_predict_applies_a_model_file_without_refitting(tmp_path):

@@ -32,14 +32,17 @@
 //   "sweep": {"top_speeds_rad_s": [...], "wobs_n": [...]},
 //   "craig_bampton": {"modes": [25, 25]}
 // }
-// Unknown and duplicate keys are refused (they are usually typos); missing optional blocks take the
-// defaults written above. Integers are range-checked (never wrapped). Errors name the JSON path and
-// the offending value.
+// plus "description" (free text) and "$schema" (the JSON Schema an editor checks the file with), both
+// ignored. Unknown and duplicate keys are refused (they are usually typos); missing optional blocks
+// take the defaults written above. Integers are range-checked (never wrapped). Errors name the JSON
+// path and the offending value. The keys of every block, with their types, units, bounds and
+// defaults, are one table (schema::blocks() below); config_schema.hpp writes it as a JSON Schema.
 #pragma once
 
 #include <nlohmann/json.hpp>
 #include <climits>
 #include <cstdint>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -170,6 +173,285 @@ struct Config {
   }
 };
 
+/// The keys of every block of the configuration: one table from which parse_config takes the keys
+/// it accepts and config_schema() (config_schema.hpp) writes the JSON Schema for editors, with each
+/// key's JSON type, meaning and unit, the bounds the validators enforce and the default.
+namespace schema {
+
+/// A bound of a number (the validator's): its value and whether the value itself is refused.
+struct Bound {
+  double value;
+  bool exclusive;
+};
+
+/// One key of a block. `dflt` is the value taken when the key is absent (null: the key is required,
+/// or its default depends on other keys as `doc` says).
+struct Field {
+  enum class Type { number, integer, string, numbers, integers, rows, object, objects };
+  std::string key;
+  Type type;
+  std::string doc;
+  json dflt = nullptr;
+  bool required = false;             ///< must be present (an array: and not empty)
+  std::optional<Bound> min, max;     ///< number, integer (arrays of them: each item)
+  std::vector<std::string> choices;  ///< string: the accepted values (any string when empty)
+  std::string block;                 ///< object, objects: the name of the block describing it
+  std::vector<Field> columns;        ///< rows: each row is an array of these values
+  std::size_t count = 0;             ///< rows: the number of rows
+
+  Field& req() {
+    required = true;
+    return *this;
+  }
+  Field& def(json value) {
+    dflt = std::move(value);
+    return *this;
+  }
+  Field& above(double v) {
+    min = Bound{v, true};
+    return *this;
+  }
+  Field& at_least(double v) {
+    min = Bound{v, false};
+    return *this;
+  }
+  Field& below(double v) {
+    max = Bound{v, true};
+    return *this;
+  }
+  Field& at_most(double v) {
+    max = Bound{v, false};
+    return *this;
+  }
+  Field& positive() { return above(0.0); }
+  Field& non_negative() { return at_least(0.0); }
+};
+
+inline Field number(std::string key, std::string doc) { return {std::move(key), Field::Type::number, std::move(doc)}; }
+inline Field integer(std::string key, std::string doc) { return {std::move(key), Field::Type::integer, std::move(doc)}; }
+inline Field numbers(std::string key, std::string doc) { return {std::move(key), Field::Type::numbers, std::move(doc)}; }
+inline Field integers(std::string key, std::string doc) {
+  return {std::move(key), Field::Type::integers, std::move(doc)};
+}
+inline Field text(std::string key, std::string doc, std::vector<std::string> choices = {}) {
+  Field f{std::move(key), Field::Type::string, std::move(doc)};
+  f.choices = std::move(choices);
+  return f;
+}
+inline Field object(std::string key, std::string block, std::string doc) {
+  Field f{std::move(key), Field::Type::object, std::move(doc)};
+  f.block = std::move(block);
+  return f;
+}
+inline Field objects(std::string key, std::string block, std::string doc) {
+  Field f{std::move(key), Field::Type::objects, std::move(doc)};
+  f.block = std::move(block);
+  return f;
+}
+inline Field rows(std::string key, std::string doc, std::size_t count, std::vector<Field> columns) {
+  Field f{std::move(key), Field::Type::rows, std::move(doc)};
+  f.count = count;
+  f.columns = std::move(columns);
+  return f;
+}
+
+/// A variant of a block, picked by the block's "type", with the keys it adds.
+struct Variant {
+  std::string type;
+  std::vector<Field> fields;
+};
+
+/// A JSON object of the configuration, named as in error messages ("operation"; "string.sections"
+/// for each item of that array; "config" for the top level), with its keys and variants.
+struct Block {
+  std::string name, doc;
+  std::vector<Field> fields;      ///< the keys of every variant
+  std::vector<Variant> variants;  ///< empty, or one per value of the key "type"
+};
+
+inline std::vector<Block> make_blocks() {
+  const Config d;  // the defaults of absent keys
+  const std::vector<Field> poly_coefficients = [] {
+    std::vector<Field> a;
+    for (int i = 0; i < 8; ++i)
+      a.push_back(number("a" + std::to_string(i), "Eq. (5.1) coefficient a" + std::to_string(i)).req());
+    a.push_back(number("ref_speed", "mean bit speed of Eq. (5.1) [speed_unit]").positive().req());
+    a.push_back(number("gain", "constant factor of Eq. (5.1) (1.36: ft.lbf to N m)").req());
+    return a;
+  }();
+  const std::vector<Field> hysteresis = {
+      number("beta1", "Eq. (3.3): H = beta1 tanh(beta2 a) sign(v), in [0, 1)").at_least(0.0).below(1.0).req(),
+      number("beta2", "Eq. (3.3) [1 / (speed_unit/s)]").non_negative().req()};
+  std::vector<Field> hysteretic = {
+      number("b0", "Eq. (3.2): T = b0 [tanh(b1 v) + b2 |v|^b4 sign(v) / (1 + b3 |v|^b5) (1 + H)] [N m]").req(),
+      number("b1", "Eq. (3.2) [1 / speed_unit]").req(),
+      number("b2", "Eq. (3.2)").req(),
+      number("b3", "Eq. (3.2)").non_negative().req(),
+      number("b4", "Eq. (3.2) exponent").positive().req(),
+      number("b5", "Eq. (3.2) exponent").positive().req()};
+  hysteretic.insert(hysteretic.end(), hysteresis.begin(), hysteresis.end());
+  std::vector<Field> poly_hysteretic = poly_coefficients;
+  poly_hysteretic.insert(poly_hysteretic.end(), hysteresis.begin(), hysteresis.end());
+  using Law = BitRockLaw::Kind;
+  const std::vector<std::string> law_types = {BitRockLaw::kind_name(Law::tucker_wang), BitRockLaw::kind_name(Law::hysteretic),
+                                              BitRockLaw::kind_name(Law::polynomial),
+                                              BitRockLaw::kind_name(Law::polynomial_hysteretic)};
+  const std::vector<std::string> drives = {TopDrive::kind_name(TopDrive::Kind::ideal),
+                                           TopDrive::kind_name(TopDrive::Kind::motor)};
+
+  return {
+      {"config",
+       "drillpy / drillsim configuration (cpp/include/drill/config.hpp); unknown and repeated keys are refused",
+       {text("$schema", "the JSON Schema of this file, for editors (ignored by the engine)"),
+        text("name", "name of the configuration").def(d.name),
+        text("description", "free text (ignored by the engine)"),
+        object("string", "string", "the drill string: sections from the top to the bit").req(),
+        object("rom", "rom", "reduced-order model (Eqs. 2.7-2.10)"),
+        object("damping", "damping", "damping of the reduced model")
+            .def({{"type", "modal"}, {"ratios", d.damping.ratios}}),
+        object("law", "law", "bit-rock interaction law").req(),
+        object("operation", "operation", "operating point"),
+        object("top_drive", "top_drive", "how the top is turned").def({{"type", "ideal"}}),
+        object("sensors", "sensors", "measurement chain of the recorded channels"),
+        object("simulation", "simulation", "time integration (appendices A, B)"),
+        object("metrics", "metrics", "stick and slip detection"),
+        object("sweep", "sweep", "grid of the sweep job (drillsim --job sweep)"),
+        object("craig_bampton", "craig_bampton", "Craig-Bampton substructuring (chapter 6)")}},
+      {"string",
+       "the drill string (Eqs. 2.1-2.6)",
+       {objects("sections", "string.sections", "uniform sections from the top to the bit").req(),
+        objects("lumped_inertias", "string.lumped_inertias", "rotary inertias added at nodes").def(json::array())}},
+      {"string.sections",
+       "a uniform section: a hollow or solid circular shaft of linear torsion elements",
+       {text("name", "section name (default: section<index>)"),
+        number("length_m", "length [m]").positive().req(),
+        number("outer_radius_m", "outer radius [m]").positive().req(),
+        number("inner_radius_m", "inner radius [m], below outer_radius_m; 0: a solid bar").non_negative().def(0.0),
+        number("youngs_modulus_pa", "Young's modulus [Pa]").positive().req(),
+        number("poisson_ratio", "Poisson's ratio [-]").above(-1.0).below(0.5).req(),
+        number("density_kg_m3", "density [kg/m^3]").positive().req(),
+        integer("elements", "number of linear elements").at_least(1).req()}},
+      {"string.lumped_inertias",
+       "a rotary inertia added at a node",
+       {integer("node", "node index: 0 at the top, negative from the bit (-1: the bit)").def(-1),
+        number("inertia_kg_m2", "rotary inertia [kg m^2]").positive().req()}},
+      {"rom",
+       "reduced-order model",
+       {integer("modes", "retained modes, at most the number of elements (default: 20, or that number if smaller)").at_least(1)}},
+      {"damping",
+       "modal damping ratios, or Rayleigh damping D = a M + b K through two (frequency, ratio) pairs",
+       {text("type", "damping model", {"modal", "rayleigh"}).req()},
+       {{"modal",
+         {numbers("ratios", "damping ratio of modes 1, 2, ... (the last repeats), in [0, 1]")
+              .non_negative()
+              .at_most(1.0)
+              .req()}},
+        {"rayleigh",
+         {rows("pairs", "[[f1_hz, ratio1], [f2_hz, ratio2]]: the ratios at two distinct frequencies", 2,
+               {number("frequency_hz", "frequency [Hz]").positive(),
+                number("ratio", "damping ratio in [0, 1]").non_negative().at_most(1.0)})
+              .req()}}}},
+      {"law",
+       "torque on bit as a function of bit speed v, bit acceleration a and WOB; it scales linearly with the WOB",
+       {text("type", "law: Eq. (3.1), (3.2)-(3.3), (5.1) or (5.3)", law_types).req(),
+        text("speed_unit", "unit of v (and a per second) in the law's formulas", {"rad_s", "rad/s", "rpm", "RPM"})
+            .req(),
+        number("wob_ref_n", "WOB at which the parameters hold [N]").positive().req()},
+       {{law_types[0],
+         {number("c0", "Eq. (3.1): T = c0 [tanh(alpha0 v) + alpha1 v / (1 + alpha2 v^2)] [N m]").req(),
+          number("alpha0", "Eq. (3.1) [1 / speed_unit]").non_negative().req(),
+          number("alpha1", "Eq. (3.1) [1 / speed_unit]").req(),
+          number("alpha2", "Eq. (3.1) [1 / speed_unit^2]").non_negative().req()}},
+        {law_types[1], hysteretic},
+        {law_types[2], poly_coefficients},
+        {law_types[3], poly_hysteretic}}},
+      {"operation",
+       "operating point",
+       {number("top_speed_rad_s", "top-drive speed (commanded speed of a motor top drive) [rad/s]").def(d.top_speed),
+        number("wob_n", "weight on bit [N] (default: law.wob_ref_n)").non_negative(),
+        number("bit_viscous_nms", "viscous torque c_v v on the bit [N m s/rad] (not in the thesis)")
+            .non_negative()
+            .def(d.bit_viscous),
+        number("string_friction_nm", "Coulomb torque T_sf sign(v) of the string, lumped at the bit [N m] "
+                                     "(not in the thesis)")
+            .non_negative()
+            .def(d.string_friction)}},
+      {"top_drive",
+       "ideal (the thesis: the top turns at top_speed_rad_s) or an open-loop motor commanded at it, "
+       "J_m Omega' = c_m (Omega_c - Omega) - T_top",
+       {text("type", "top-drive model", drives).req()},
+       {{drives[0], {}},
+        {drives[1],
+         {number("slope_nms_rad", "c_m: torque lost per unit speed [N m s/rad]").positive().req(),
+          number("inertia_kg_m2", "J_m: rotor and drive-train inertia [kg m^2]").positive().req()}}}},
+      {"sensors",
+       "measurement chain of the recorded channels",
+       {number("lowpass_hz", "cutoff of a second-order Butterworth low-pass [Hz]; 0: ideal sensors")
+            .non_negative()
+            .def(d.sensor_lowpass_hz)}},
+      {"simulation",
+       "time integration",
+       {text("scheme", "integrator", {to_string(Scheme::modified_euler), to_string(Scheme::bdf2)})
+            .def(to_string(d.sim.scheme)),
+        text("acceleration", "bit acceleration in Eq. (3.3); lagged: modified_euler only",
+             {to_string(Acceleration::implicit), to_string(Acceleration::lagged)})
+            .def(to_string(d.sim.acceleration)),
+        number("dt_s", "time step [s]").positive().def(d.sim.dt),
+        number("duration_s", "simulated time [s], at least one step").positive().def(d.sim.duration),
+        number("transient_s", "time discarded before the metrics [s], below duration_s "
+                              "(default: 100 or half the duration)")
+            .non_negative(),
+        integer("output_stride", "the series keeps every n-th step").at_least(1).def(d.output_stride),
+        text("start", "initial state: rest (Eq. 2.10), rigid (Eq. 2.3) or steady (steady drilling, disturbed)",
+             {to_string(StartMode::rest), to_string(StartMode::rigid), to_string(StartMode::steady)})
+            .def(to_string(d.start))}},
+      {"metrics",
+       "stick and slip detection",
+       {number("stick_threshold_fraction", "stick when the bit speed is at most this fraction of the top speed")
+            .above(0.0)
+            .below(1.0)
+            .def(d.metrics.stick_threshold_fraction),
+        number("stick_debounce_s", "minimum duration of a phase change [s]")
+            .non_negative()
+            .def(d.metrics.stick_debounce_s),
+        number("slip_level_fraction", "a slip exceeds this fraction of the top speed, else it is chatter")
+            .above(0.0)
+            .below(1.0)
+            .def(d.metrics.slip_level_fraction)}},
+      {"sweep",
+       "grid of the sweep job",
+       {numbers("top_speeds_rad_s", "top speeds [rad/s]").def(json::array()),
+        numbers("wobs_n", "weights on bit [N]; empty: operation.wob_n").non_negative().def(json::array())}},
+      {"craig_bampton",
+       "Craig-Bampton substructuring",
+       {integers("modes", "fixed-interface modes per substructure").at_least(1).def(json::array())}}};
+}
+
+/// Every block of the configuration, the top level ("config") first.
+inline const std::vector<Block>& blocks() {
+  static const std::vector<Block> all = make_blocks();
+  return all;
+}
+
+inline const Block& block(const std::string& name) {
+  for (const Block& b : blocks())
+    if (b.name == name) return b;
+  throw std::logic_error("no configuration block " + name);
+}
+
+/// The keys a block accepts: its fields and those of the variant `type`.
+inline std::set<std::string> keys(const std::string& name, const std::string& type = "") {
+  const Block& b = block(name);
+  std::set<std::string> out;
+  for (const Field& f : b.fields) out.insert(f.key);
+  for (const Variant& v : b.variants)
+    if (v.type == type)
+      for (const Field& f : v.fields) out.insert(f.key);
+  return out;
+}
+
+}  // namespace schema
+
 namespace detail {
 
 inline void check_keys(const json& j, const std::string& where, const std::set<std::string>& allowed) {
@@ -247,13 +529,10 @@ inline BitRockLaw parse_law(const json& j) {
   const std::string w = "law";
   BitRockLaw l;
   l.kind = BitRockLaw::parse_kind(get_string(j, "type", w, "", true));
+  check_keys(j, w, schema::keys(w, BitRockLaw::kind_name(l.kind)));
   l.speed_unit = parse_speed_unit(get_string(j, "speed_unit", w, "", true), w + ".speed_unit");
   l.wob_ref = get_number(j, "wob_ref_n", w);
-  std::set<std::string> keys{"type", "speed_unit", "wob_ref_n"};
-  auto num = [&](const std::string& k) {
-    keys.insert(k);
-    return get_number(j, k, w);
-  };
+  auto num = [&](const std::string& k) { return get_number(j, k, w); };
   switch (l.kind) {
     case BitRockLaw::Kind::tucker_wang:
       l.c0 = num("c0");
@@ -277,7 +556,6 @@ inline BitRockLaw parse_law(const json& j) {
       }
       break;
   }
-  check_keys(j, w, keys);
   return l;
 }
 
@@ -314,20 +592,20 @@ inline json law_to_json(const BitRockLaw& l) {
 /// Parse and validate a configuration.
 inline Config parse_config(const json& j) {
   using namespace detail;
-  check_keys(j, "config", {"name", "string", "rom", "damping", "law", "operation", "simulation", "metrics", "sweep",
-                           "craig_bampton", "description", "top_drive", "sensors"});
+  check_keys(j, "config", schema::keys("config"));
   Config c;
-  c.name = get_string(j, "name", "config", "custom");
+  c.name = get_string(j, "name", "config", c.name);
+  get_string(j, "description", "config", "");  // free text and the editors' "$schema": strings, else ignored
+  get_string(j, "$schema", "config", "");
   if (!j.contains("string")) throw std::invalid_argument("config.string: missing (required object)");
   const json& js = j.at("string");
-  check_keys(js, "string", {"sections", "lumped_inertias"});
+  check_keys(js, "string", schema::keys("string"));
   if (!js.contains("sections") || !js.at("sections").is_array())
     throw std::invalid_argument("string.sections: missing or not an array");
   for (std::size_t k = 0; k < js.at("sections").size(); ++k) {
     const json& s = js.at("sections")[k];
     const std::string w = "string.sections[" + std::to_string(k) + "]";
-    check_keys(s, w, {"name", "length_m", "outer_radius_m", "inner_radius_m", "youngs_modulus_pa", "poisson_ratio",
-                      "density_kg_m3", "elements"});
+    check_keys(s, w, schema::keys("string.sections"));
     Section sec;
     sec.name = get_string(s, "name", w, "section" + std::to_string(k));
     sec.length = get_number(s, "length_m", w);
@@ -344,24 +622,25 @@ inline Config parse_config(const json& j) {
     if (!li.is_array()) throw std::invalid_argument("string.lumped_inertias = " + li.dump() + ": must be an array");
     for (std::size_t k = 0; k < li.size(); ++k) {
       const std::string w = "string.lumped_inertias[" + std::to_string(k) + "]";
-      check_keys(li[k], w, {"node", "inertia_kg_m2"});
+      check_keys(li[k], w, schema::keys("string.lumped_inertias"));
       c.string.lumped.push_back({get_int(li[k], "node", w, -1), get_number(li[k], "inertia_kg_m2", w)});
     }
   }
   c.modes = std::min(20, c.string.n_elements());
   if (j.contains("rom")) {
-    check_keys(j.at("rom"), "rom", {"modes"});
+    check_keys(j.at("rom"), "rom", schema::keys("rom"));
     c.modes = get_int(j.at("rom"), "modes", "rom", c.modes);
   }
   if (j.contains("damping")) {
     const json& d = j.at("damping");
     const std::string type = get_string(d, "type", "damping", "", true);
+    if (type != "modal" && type != "rayleigh")
+      throw std::invalid_argument("damping.type = \"" + type + "\": unknown damping (use modal or rayleigh)");
+    check_keys(d, "damping", schema::keys("damping", type));
     if (type == "modal") {
-      check_keys(d, "damping", {"type", "ratios"});
       c.damping.kind = DampingSpec::Kind::modal;
       c.damping.ratios = get_numbers(d, "ratios", "damping");
-    } else if (type == "rayleigh") {
-      check_keys(d, "damping", {"type", "pairs"});
+    } else {
       c.damping.kind = DampingSpec::Kind::rayleigh;
       const json& p = d.contains("pairs") ? d.at("pairs") : json();
       if (!p.is_array() || p.size() != 2 || !p[0].is_array() || !p[1].is_array() || p[0].size() != 2 ||
@@ -373,15 +652,13 @@ inline Config parse_config(const json& j) {
       c.damping.z1 = p[0][1];
       c.damping.f2 = p[1][0];
       c.damping.z2 = p[1][1];
-    } else {
-      throw std::invalid_argument("damping.type = \"" + type + "\": unknown damping (use modal or rayleigh)");
     }
   }
   if (!j.contains("law")) throw std::invalid_argument("config.law: missing (required object)");
   c.law = parse_law(j.at("law"));
   if (j.contains("operation")) {
     const json& o = j.at("operation");
-    check_keys(o, "operation", {"top_speed_rad_s", "wob_n", "bit_viscous_nms", "string_friction_nm"});
+    check_keys(o, "operation", schema::keys("operation"));
     c.top_speed = get_number(o, "top_speed_rad_s", "operation", c.top_speed);
     c.wob = get_number(o, "wob_n", "operation", c.law.wob_ref);
     c.bit_viscous = get_number(o, "bit_viscous_nms", "operation", 0.0);
@@ -392,22 +669,19 @@ inline Config parse_config(const json& j) {
   if (j.contains("top_drive")) {
     const json& t = j.at("top_drive");
     c.top_drive.kind = TopDrive::parse_kind(get_string(t, "type", "top_drive", "", true));
+    check_keys(t, "top_drive", schema::keys("top_drive", TopDrive::kind_name(c.top_drive.kind)));
     if (c.top_drive.is_motor()) {
-      check_keys(t, "top_drive", {"type", "slope_nms_rad", "inertia_kg_m2"});
       c.top_drive.slope = get_number(t, "slope_nms_rad", "top_drive");
       c.top_drive.inertia = get_number(t, "inertia_kg_m2", "top_drive");
-    } else {
-      check_keys(t, "top_drive", {"type"});
     }
   }
   if (j.contains("sensors")) {
-    check_keys(j.at("sensors"), "sensors", {"lowpass_hz"});
+    check_keys(j.at("sensors"), "sensors", schema::keys("sensors"));
     c.sensor_lowpass_hz = get_number(j.at("sensors"), "lowpass_hz", "sensors", 0.0);
   }
-  if (j.contains("simulation")) {
-    const json& s = j.at("simulation");
-    check_keys(s, "simulation",
-               {"scheme", "acceleration", "dt_s", "duration_s", "transient_s", "output_stride", "start"});
+  {  // an absent block takes the same defaults as an empty one
+    const json s = j.contains("simulation") ? j.at("simulation") : json::object();
+    check_keys(s, "simulation", schema::keys("simulation"));
     c.sim.scheme = parse_scheme(get_string(s, "scheme", "simulation", to_string(c.sim.scheme)));
     c.sim.acceleration =
         parse_acceleration(get_string(s, "acceleration", "simulation", to_string(c.sim.acceleration)));
@@ -419,19 +693,19 @@ inline Config parse_config(const json& j) {
   }
   if (j.contains("metrics")) {
     const json& m = j.at("metrics");
-    check_keys(m, "metrics", {"stick_threshold_fraction", "stick_debounce_s", "slip_level_fraction"});
+    check_keys(m, "metrics", schema::keys("metrics"));
     c.metrics.stick_threshold_fraction =
         get_number(m, "stick_threshold_fraction", "metrics", c.metrics.stick_threshold_fraction);
     c.metrics.stick_debounce_s = get_number(m, "stick_debounce_s", "metrics", c.metrics.stick_debounce_s);
     c.metrics.slip_level_fraction = get_number(m, "slip_level_fraction", "metrics", c.metrics.slip_level_fraction);
   }
   if (j.contains("sweep")) {
-    check_keys(j.at("sweep"), "sweep", {"top_speeds_rad_s", "wobs_n"});
+    check_keys(j.at("sweep"), "sweep", schema::keys("sweep"));
     c.sweep_speeds = get_numbers(j.at("sweep"), "top_speeds_rad_s", "sweep");
     c.sweep_wobs = get_numbers(j.at("sweep"), "wobs_n", "sweep");
   }
   if (j.contains("craig_bampton")) {
-    check_keys(j.at("craig_bampton"), "craig_bampton", {"modes"});
+    check_keys(j.at("craig_bampton"), "craig_bampton", schema::keys("craig_bampton"));
     c.cb_modes = get_ints(j.at("craig_bampton"), "modes", "craig_bampton");
   }
   c.validate();

@@ -2,7 +2,10 @@
 // integrator, single runs with their metrics, and parallel SS sweeps over top speed and WOB.
 #pragma once
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,6 +31,9 @@ struct RunReport {
 };
 
 // StartMode and parse_start: config.hpp (simulation.start).
+
+/// Called by Simulation::run about a thousand times per run with the simulated time and the duration [s].
+using RunProgressFn = std::function<void(double t, double duration)>;
 
 class Simulation {
  public:
@@ -99,8 +105,10 @@ class Simulation {
   }
 
   /// One run with metrics; `record` keeps every output_stride-th step of the series. Without an
-  /// explicit `start` the run starts as simulation.start says.
-  RunReport run(const Inputs& in, bool record = true, const ModelState* start = nullptr) const {
+  /// explicit `start` the run starts as simulation.start says. `progress` is told how far the run
+  /// is (the steps between its calls cost one integer comparison each).
+  RunReport run(const Inputs& in, bool record = true, const ModelState* start = nullptr,
+                const RunProgressFn& progress = nullptr) const {
     std::optional<ModelState> s0;
     if (!start) {
       s0 = start_state(in);
@@ -112,12 +120,18 @@ class Simulation {
     const double omega_ref = std::fabs(in.top_speed.is_constant() ? in.top_speed.value : mean(in.top_speed.samples));
     PhaseObserver ph(cfg_.transient, cfg_.metrics.stick_threshold_fraction * omega_ref, cfg_.metrics.stick_debounce_s,
                      cfg_.metrics.slip_level_fraction * omega_ref);
+    const long every = std::max(1L, cfg_.sim.steps() / 1000);
+    long next_report = progress ? 0 : LONG_MAX;
     r.final_state = integ_.run(
         in,
         [&](const StepState& s) {
           sev(s);
           ph(s);
           if (record) r.series(s);
+          if (s.step >= next_report) {
+            progress(s.t, cfg_.sim.duration);
+            next_report += every;
+          }
         },
         start);
     r.severity = sev.severity();

@@ -1,25 +1,34 @@
 // drillsim: batch runs from a JSON configuration (the same schema drillpy reads).
 //
 //   drillsim (--config FILE | --preset NAME) [--job run|sweep] [--out DIR] [--format csv|npy]
-//            [--threads N]
-//   drillsim --version
+//            [--threads N] [--progress | --no-progress]
+//   drillsim --schema | --version | --help
 //
 // job run:   one simulation at the configured operation point; writes the time series
 //            (series.csv or one .npy per channel) and summary.json (SS, stick/slip, periodicity).
 // job sweep: SS over sweep.top_speeds_rad_s x sweep.wobs_n; writes severity.csv/.npy and
 //            summary.json (with threshold_rad_s for a single WOB).
-// Any error prints one line "drillsim: error: ..." and exits with status 2.
-#include <climits>
+// --schema prints the configuration's JSON Schema (config_schema.hpp). A progress report (points
+// or simulated time, and the elapsed time) goes to stderr when it is a terminal, or with --progress.
+// Arguments are parsed by CLI11. Any error prints one line "drillsim: error: ..." naming the option
+// and the value, and exits with status 2.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <charconv>
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "drill/config.hpp"
+#include "drill/config_schema.hpp"
 #include "drill/metrics.hpp"
 #include "drill/presets.hpp"
 #include "drill/run_summary.hpp"
@@ -33,11 +42,6 @@ namespace fs = std::filesystem;
 using namespace drill;
 
 namespace {
-
-void usage() {
-  std::cerr << "usage: drillsim (--config FILE | --preset NAME) [--job run|sweep] [--out DIR] "
-               "[--format csv|npy] [--threads N]\n       drillsim --version\n";
-}
 
 /// Write a 1-D or 2-D float64 array in NPY format version 1.0 (C order).
 void write_npy(const fs::path& path, const std::vector<double>& data, std::size_t rows, std::size_t cols) {
@@ -85,55 +89,91 @@ void write_series(const fs::path& dir, const std::string& format, const Recorder
 
 json nan_to_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
-/// --threads N: a non-negative integer (0: the OpenMP default), the whole argument.
+/// --threads N: an int >= 0 (0: the OpenMP default), the whole argument.
 int parse_threads(const std::string& text) {
-  std::size_t used = 0;
-  long n = 0;
-  try {
-    n = std::stol(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != text.size() || n > INT_MAX || n < INT_MIN)
-    throw std::invalid_argument("--threads = \"" + text + "\": must be an integer");
-  require(n >= 0, "--threads", n, "must not be negative (0: the OpenMP default)");
-  return static_cast<int>(n);
+  int n = -1;
+  const char* end = text.data() + text.size();
+  const auto [stop, err] = std::from_chars(text.data(), end, n);
+  if (err != std::errc() || stop != end || n < 0)
+    throw CLI::ValidationError("--threads = " + text + ": must be an integer >= 0 (0: the OpenMP default)");
+  return n;
 }
+
+/// A progress report on stderr: rewritten in place on a terminal (else one line per report), at
+/// most 4 times a second, always at the end.
+class Progress {
+ public:
+  using clock = std::chrono::steady_clock;
+  explicit Progress(bool enabled) : enabled_(enabled), tty_(isatty(STDERR_FILENO) != 0) {}
+  ~Progress() {
+    if (open_) std::cerr << "\n";
+  }
+
+  /// Report text() (e.g. "sweep: 8/22 points") and the elapsed time; `last`: the final report.
+  template <class Text>
+  void operator()(bool last, Text&& text) {
+    if (!enabled_) return;
+    const clock::time_point now = clock::now();
+    if (!last && now - shown_ < std::chrono::milliseconds(250)) return;
+    shown_ = now;
+    std::ostringstream line;
+    line << (tty_ ? "\r\033[K" : "") << text() << ", " << std::fixed << std::setprecision(1)
+         << std::chrono::duration<double>(now - start_).count() << " s elapsed";
+    open_ = tty_ && !last;
+    std::cerr << line.str() << (open_ ? "" : "\n") << std::flush;
+  }
+
+ private:
+  bool enabled_, tty_, open_ = false;
+  clock::time_point start_ = clock::now(), shown_ = start_;
+};
 
 int run(int argc, char** argv) {
   std::string config_path, preset_name, job = "run", out = "drillsim-out", format = "csv";
   int threads = 0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&](const std::string& flag) -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(flag + ": missing value");
-      return argv[++i];
-    };
-    if (a == "--config") config_path = value(a);
-    else if (a == "--preset") preset_name = value(a);
-    else if (a == "--job") job = value(a);
-    else if (a == "--out") out = value(a);
-    else if (a == "--format") format = value(a);
-    else if (a == "--threads") threads = parse_threads(value(a));
-    else if (a == "--version") {
-      std::cout << "drillsim " << DRILLPY_VERSION << "\n";
-      return 0;
-    } else if (a == "-h" || a == "--help") {
-      usage();
-      return 0;
-    } else
-      throw std::invalid_argument("argument \"" + a + "\": unknown option");
+  bool progress_on = false, progress_off = false;
+  CLI::App app{"drillsim: batch runs of the drill-string model from a JSON configuration", "drillsim"};
+  app.footer(
+      "job run: one simulation at the configured operation point (series and summary.json).\n"
+      "job sweep: SS over sweep.top_speeds_rad_s x sweep.wobs_n (severity and summary.json).");
+  CLI::Option* config = app.add_option("--config", config_path, "JSON configuration file")->check(CLI::ExistingFile);
+  app.add_option("--preset", preset_name, "built-in configuration")
+      ->check(CLI::IsMember(preset_names()))
+      ->excludes(config);
+  app.add_option("--job", job, "what to run")->check(CLI::IsMember({"run", "sweep"}))->capture_default_str();
+  app.add_option("--out", out, "output folder")->capture_default_str();
+  app.add_option("--format", format, "series and severity files")
+      ->check(CLI::IsMember({"csv", "npy"}))
+      ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--threads", [&](const std::string& text) { threads = parse_threads(text); },
+         "sweep threads (0: the OpenMP default)")
+      ->type_name("N")
+      ->default_str("0");
+  app.add_flag("--progress", progress_on, "report progress on stderr (default: when it is a terminal)");
+  app.add_flag("--no-progress,--quiet", progress_off, "no progress report (overrides --progress)");
+  app.add_flag_callback(
+      "--schema",
+      [] {
+        std::cout << config_schema().dump(2) << "\n";
+        throw CLI::Success();
+      },
+      "print the configuration's JSON Schema (draft 2020-12) and exit");
+  app.set_version_flag("--version", std::string("drillsim ") + DRILLPY_VERSION);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version, --schema
+    throw std::invalid_argument(e.what());
   }
-  if (config_path.empty() == preset_name.empty())
-    throw std::invalid_argument("give exactly one of --config FILE or --preset NAME");
-  if (format != "csv" && format != "npy") throw std::invalid_argument("--format = \"" + format + "\": use csv or npy");
-  if (job != "run" && job != "sweep") throw std::invalid_argument("--job = \"" + job + "\": use run or sweep");
+  if (config_path.empty() && preset_name.empty()) throw std::invalid_argument("give --config FILE or --preset NAME");
+  Progress progress(!progress_off && (progress_on || isatty(STDERR_FILENO)));
   Config cfg;
   if (!preset_name.empty()) {
     cfg = preset(preset_name);
   } else {
     std::ifstream f(config_path);
-    if (!f) throw std::invalid_argument("--config = \"" + config_path + "\": cannot open file");
+    if (!f) throw std::invalid_argument("--config: cannot read " + config_path);
     std::stringstream ss;
     ss << f.rdbuf();
     cfg = parse_config_text(ss.str());
@@ -142,14 +182,27 @@ int run(int argc, char** argv) {
   fs::create_directories(out);
   json summary{{"config", to_json(cfg)}, {"job", job}};
   if (job == "run") {
-    const RunReport r = sim.run(sim.inputs());
+    const double duration = cfg.sim.duration;
+    auto report = [&](bool last, double t) {
+      progress(last, [&] {
+        std::ostringstream os;
+        os << "run: " << std::fixed << std::setprecision(1) << t << "/" << duration << " s simulated";
+        return os.str();
+      });
+    };
+    const RunReport r = sim.run(sim.inputs(), true, nullptr, [&](double t, double) { report(false, t); });
+    report(true, duration);
     write_series(out, format, r.series);
     summary.update(run_summary<json>(r));
     std::cout << "SS = " << r.severity << ", stick fraction = " << r.stick_fraction << ", periodic over "
               << r.periodic.period_cycles << " cycle(s)\n";
   } else {
     if (cfg.sweep_speeds.empty()) throw std::invalid_argument("sweep.top_speeds_rad_s: missing or empty for --job sweep");
-    const std::vector<double> ss = sim.sweep_severity(cfg.sweep_speeds, cfg.sweep_wobs, nullptr, threads);
+    const ProgressFn points = [&](std::size_t done, std::size_t total) {
+      progress(done == total, [&] { return "sweep: " + std::to_string(done) + "/" + std::to_string(total) + " points"; });
+      return true;
+    };
+    const std::vector<double> ss = sim.sweep_severity(cfg.sweep_speeds, cfg.sweep_wobs, points, threads);
     const std::size_t nw = cfg.sweep_wobs.empty() ? 1 : cfg.sweep_wobs.size();
     if (format == "npy") {
       write_npy(fs::path(out) / "severity.npy", ss, nw, cfg.sweep_speeds.size());
