@@ -158,3 +158,32 @@ def test_bad_options_are_refused():
         CleaningOptions(stretch_min_spikes=1).validate()
     with pytest.raises(ValueError, match="only 2 finite time stamp"):
         clean(Record(time_s=np.array([0.0, 1.0, np.nan]), wob=np.ones(3)))
+
+
+def test_time_errors_name_the_file_and_far_off_stamps_are_refused_fast(tmp_path):
+    """Found by test_fuzz.py: time-stamp errors named no file; a stamp far off the others asked for a
+    grid of 10^15 samples, and a nanosecond step made the spike search take seconds on six rows."""
+    import time
+    from drillpy.records.io import read_record
+    p = tmp_path / "r.csv"
+    p.write_text("time_s,wob_N\n0,1\n1,2\n")
+    with pytest.raises(ValueError, match=r"record = '.*r.csv': time_s: only 2 finite time stamp"):
+        clean(read_record(p))
+    t = np.arange(1000) * 1e-3
+    t[-1] = 1e12  # one stamp far off: refused, not a grid of 10^15 samples
+    with pytest.raises(ValueError, match=r"time_s: the time stamps span 0 to 1e\+12 s"):
+        clean(Record(time_s=t, wob=np.ones(t.size)))
+    start = time.perf_counter()
+    rec, rep = clean(Record(time_s=np.arange(6) * 1e-9, torque_on_bit=np.array([1.0, 2, 3, 50, 4, 5])))
+    assert time.perf_counter() - start < 1.0 and len(rec) == 6 and rep.dt_s == pytest.approx(1e-9)
+
+
+def test_stamps_out_of_order_throughout_are_refused_not_an_index_error():
+    """Found by test_fuzz.py: re-stamping the neighbours of bad stamps could swallow every anchor and
+    raise IndexError; such a record is refused with the rows named."""
+    t = np.array([0.001, 0.0, 0.002, 0.003, 0.004, 0.005, 0.009, 0.007, 0.014, 0.006, 0.01, 0.012, 0.011, 0.013,
+                  0.008, 0.015, 0.016, 0.017, 0.018])
+    x = 50 + np.arange(t.size, dtype=float)
+    x[3] = np.nan
+    with pytest.raises(ValueError, match=r"time_s: 18 sample\(s\) from row 0 .* to row 17 cannot be placed"):
+        clean(Record(time_s=t, bit_speed=x))

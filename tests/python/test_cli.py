@@ -158,3 +158,91 @@ def test_mc_counts_are_ints_and_a_bad_one_is_a_one_line_error(capsys):
     assert (a.samples, a.seed, a.first_sample) == (12, 3, 0)
     assert main(["mc", "--preset", "thesis-field", "--first-sample", "x", "--no-progress"]) == 2
     assert capsys.readouterr().err == "drillpy: error: first_sample = 'x': must be an integer\n"
+
+
+def _one_error_line(capsys) -> str:
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("drillpy: error: "), err
+    return err[0]
+
+
+def test_usage_errors_are_one_line_and_negative_numbers_are_values(capsys):
+    """Found by test_fuzz.py: argparse dumped its usage; '--speeds -10,-5' read as an option."""
+    from drillpy.cli import main
+    with pytest.raises(SystemExit) as e:
+        main(["modes", "--preset", "thesis-rig", "--elements", "x"])
+    assert e.value.code == 2
+    assert _one_error_line(capsys) == ("drillpy: error: argument --elements: invalid int value: 'x' "
+                                       "(see drillpy modes --help)")
+    assert main(["sweep", "--preset", "thesis-rig", "--speeds", "-10,-5", "--no-progress"]) == 2
+    assert "sweep.top_speeds_rad_s[0] = -10: must be positive" in _one_error_line(capsys)
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["modes", "--preset", "thesis-rig", "-n", "0"], "-n = 0: must be an integer between 1 and 20"),
+    (["modes", "--preset", "thesis-rig", "-n", "9999999999999999999"], "-n = 9999999999999999999"),
+    (["modes", "--preset", "thesis-rig", "--threads", str(10**30)], f"threads = '{10**30}'"),
+    (["sweep", "--preset", "thesis-rig", "--speeds", "6:27:10000000000000"], "at most 100000 points"),
+    (["sweep", "--preset", "thesis-rig", "--speeds", "inf,8"], "--speeds = 'inf,8': the values must be finite"),
+    (["frf", "--preset", "thesis-ch6", "--case", str(10**25)], f"case = {10**25}: must be an integer between 1 and 7"),
+    (["robust-ss", "--preset", "thesis-ch6", "--samples", str(2**63)], f"samples = {2**63}"),
+    (["robust-ss", "--preset", "thesis-ch6", "--eta-npy", "/nonexistent.npy"], "--eta-npy = '/nonexistent.npy': no such"),
+])
+def test_out_of_range_options_name_the_option(capsys, args, needle):
+    """Found by test_fuzz.py: pybind11 cast errors, a misleading field, a grid of 10^13 points."""
+    from drillpy.cli import main
+    assert main(args) == 2
+    assert needle in _one_error_line(capsys)
+
+
+def test_files_given_to_options_are_checked_before_work(tmp_path, capsys):
+    """Found by test_fuzz.py: '[Errno 17] File exists' after the run, numpy's pickle text, a warning."""
+    from drillpy.cli import main
+    f = tmp_path / "file.txt"
+    f.write_text("not a folder")
+    assert main(["simulate", "--preset", "thesis-rig", "--out", str(f)]) == 2
+    assert f"--out = '{f}': is a file, not a folder" in _one_error_line(capsys)
+    assert main(["simulate", "--preset", "thesis-rig", "--out", str(f / "sub")]) == 2
+    assert f"'{f}' on its path is a file" in _one_error_line(capsys)
+    assert main(["robust-ss", "--preset", "thesis-ch6", "--eta-npy", str(f)]) == 2
+    assert "not a NumPy .npy array file" in _one_error_line(capsys)
+    (tmp_path / "empty.csv").write_text("")
+    assert main(["mc", "--preset", "thesis-rig", "--psd-table", str(tmp_path / "empty.csv")]) == 2
+    assert "empty.csv': no data" in _one_error_line(capsys)
+
+
+def test_analyze_options_are_checked_before_work(tmp_path, capsys):
+    """Found by test_fuzz.py: '--folds -2' gave numpy's 'number sections must be larger than 0.',
+    '--psd-fmax 0' a fit error, '--calibrate 1:0' a tuple of np.float64."""
+    from drillpy.cli import main
+    p = tmp_path / "r.csv"
+    p.write_text("time_s,bit_speed_rad_s\n" + "\n".join(f"{k / 1000},{5 + np.sin(k / 50)}" for k in range(500)))
+    for args, needle in ((["--folds", "-2"], "--folds = -2: must be an integer >= 0"),
+                         (["--psd-fmax", "0"], "--psd-fmax = 0.0: must be a positive number [Hz]"),
+                         (["--calibrate", "1:0"], "--calibrate = '1:0': needs finite T0 < T1 [s]"),
+                         (["--calibrate", "0:x"], "--calibrate = '0:x': use T0:T1 [s]")):
+        assert main(["analyze", str(p), "--out", str(tmp_path / "out"), "--no-progress", *args]) == 2
+        assert needle in _one_error_line(capsys)
+        assert not (tmp_path / "out").exists()
+
+
+def test_json_outputs_hold_null_not_nan(tmp_path, capsys):
+    """Found by test_fuzz.py: robust-ss printed and wrote NaN (a bootstrap interval of two samples)."""
+    from drillpy.cli import main
+    args = ["robust-ss", "--preset", "thesis-ch6", "--samples", "2", "--speeds", "8", "--duration", "0.1",
+            "--transient", "0", "--no-progress", "--json", "--out", str(tmp_path / "rs")]
+    assert main(args) == 0
+
+    def refuse(token):
+        raise AssertionError(token)
+    d = json.loads(capsys.readouterr().out, parse_constant=refuse)
+    json.loads((tmp_path / "rs" / "robust_ss.json").read_text(), parse_constant=refuse)
+    assert any(v is None for st in d.values() if isinstance(st, dict) for v in st.get("p05_speed_bootstrap", {}).values())
+
+
+def test_a_failed_command_removes_the_output_folder_it_created(tmp_path, capsys):
+    """Found by test_fuzz.py: drillpy report left its folder when the run failed (dt above the stability bound)."""
+    from drillpy.cli import main
+    assert main(["report", "--preset", "thesis-rig", "--dt", "1", "--no-progress", "--out", str(tmp_path / "a" / "b")]) == 2
+    assert "stability bound" in _one_error_line(capsys)
+    assert not (tmp_path / "a").exists()

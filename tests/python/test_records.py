@@ -169,3 +169,15 @@ def test_csv_rows_out_of_time_order_are_sorted_not_restamped(tmp_path):
     np.testing.assert_allclose(rec.time_s, r.time_s, atol=1e-9)
     (o,) = [a for a in rep.artifacts if a.kind == "order"]
     assert o.samples == 2 and o.start_s == pytest.approx(r.time_s[300])
+
+
+def test_binary_or_nul_file_read_as_csv_names_the_file(tmp_path):
+    """Found by test_fuzz.py: a binary file raised UnicodeDecodeError naming no file (and a cell over
+    the csv module's size limit a csv.Error)."""
+    p = tmp_path / "rec.csv"
+    p.write_bytes(b"\x80\x01binary")
+    with pytest.raises(ValueError, match=r"rec.csv': not a UTF-8 text file \(byte 0: invalid start byte\)"):
+        read_record(p)
+    p.write_text("time_s,wob_N\n0," + "1" * 200_000 + "\n")
+    with pytest.raises(ValueError, match=r"rec.csv': not a CSV text file \(field larger than field limit"):
+        read_record(p)

@@ -29,7 +29,12 @@ Every error prints one line ``drillpy: error: ...`` and exits with status 2.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import os
+import re
+import shutil
 import sys
+from pathlib import Path
 from typing import Callable
 
 import numpy as np
@@ -44,6 +49,25 @@ class OptionError(Exception):
     multi-line usage error, whereas :func:`main` prints this one as ``drillpy: error: ...`` (status 2)
     like every error of the library.
     """
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with drillpy's errors: one line ``drillpy: error: ...`` (status 2) naming the
+    subcommand's help instead of a usage dump; a value starting with ``-`` and a digit, a dot,
+    ``inf`` or ``nan`` is a (negative) number, not an option, so ``--speeds -10,-5`` and
+    ``--t0 -1e3`` are values."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = re.compile(r"^-(\.?\d|inf|nan)", re.IGNORECASE)
+
+    def error(self, message: str):
+        """Print ``drillpy: error: <message> (see <prog> --help)`` on stderr and exit with status 2."""
+        self.exit(2, f"drillpy: error: {message} (see {self.prog} --help)\n")
+
+
+#: Most points a grid option may ask for (a sweep over more would run for days).
+MAX_GRID_POINTS = 100_000
 
 
 def parse_grid(text: str, name: str) -> np.ndarray:
@@ -64,21 +88,39 @@ def parse_grid(text: str, name: str) -> np.ndarray:
     Raises
     ------
     ValueError
-        ``"<name> = '<text>': use start:stop:num or a comma-separated list"``.
+        ``"<name> = '<text>': use start:stop:num or a comma-separated list"``; also for a value
+        that is not finite or more than :data:`MAX_GRID_POINTS` points.
     """
+    bad = f"{name} = {text!r}: use start:stop:num or a comma-separated list"
     try:
         if ":" in text:
             a, b, n = text.split(":")
-            n = int(n)
-            if n < 1:
-                raise ValueError
-            return np.linspace(float(a), float(b), n)
-        vals = [float(x) for x in text.split(",") if x.strip()]
-        if not vals:
-            raise ValueError
-        return np.asarray(vals)
+            a, b, n = float(a), float(b), int(n)
+            vals = [a, b]
+        else:
+            vals = [float(x) for x in text.split(",") if x.strip()]
+            n = len(vals)
     except ValueError:
-        raise ValueError(f"{name} = {text!r}: use start:stop:num or a comma-separated list") from None
+        raise ValueError(bad) from None
+    if n < 1:
+        raise ValueError(bad)
+    if n > MAX_GRID_POINTS:
+        raise ValueError(f"{name} = {text!r}: at most {MAX_GRID_POINTS} points")
+    if not np.all(np.isfinite(vals)):
+        raise ValueError(f"{name} = {text!r}: the values must be finite numbers")
+    return np.linspace(a, b, n) if ":" in text else np.asarray(vals)
+
+
+def print_json(result) -> None:
+    """Print ``result`` as one line of JSON, NaN and inf as ``null`` (:func:`drillpy.jsonio.dumps`).
+
+    Parameters
+    ----------
+    result : object
+        What a ``--json`` command prints (dicts, lists, numbers, NumPy values).
+    """
+    from drillpy.jsonio import dumps
+    print(dumps(result, indent=None))
 
 
 def integer(name: str) -> Callable[[str], int]:
@@ -105,8 +147,12 @@ def integer(name: str) -> Callable[[str], int]:
     return convert
 
 
+#: Most OpenMP threads ``--threads`` takes.
+MAX_THREADS = 1024
+
+
 def threads_option(text: str) -> int:
-    """The ``type=`` function of ``--threads``: a non-negative integer (0: the OpenMP default).
+    """The ``type=`` function of ``--threads``: an integer in [0, :data:`MAX_THREADS`] (0: the OpenMP default).
 
     Parameters
     ----------
@@ -121,14 +167,15 @@ def threads_option(text: str) -> int:
     Raises
     ------
     OptionError
-        ``"threads = '<text>': must be a non-negative integer (0: the OpenMP default)"``.
+        ``"threads = '<text>': must be an integer between 0 and 1024 (0: the OpenMP default)"``.
     """
     try:
         n = int(text)
     except ValueError:
         n = -1
-    if n < 0:
-        raise OptionError(f"threads = {text!r}: must be a non-negative integer (0: the OpenMP default)")
+    if not 0 <= n <= MAX_THREADS:
+        raise OptionError(f"threads = {text!r}: must be an integer between 0 and {MAX_THREADS} (0: the OpenMP "
+                          "default)")
     return n
 
 
@@ -185,6 +232,57 @@ def model_config(a: argparse.Namespace) -> dict:
                           duration=a.duration, transient=a.transient, start=a.start)
 
 
+def check_output_folder(out: str) -> None:
+    """Refuse an output folder that cannot be one, before any work is done.
+
+    Parameters
+    ----------
+    out : str
+        The ``--out`` value.
+
+    Raises
+    ------
+    ValueError
+        ``"--out = '<out>': is a file, not a folder"`` (or names the file on its path).
+    """
+    p = Path(out)
+    for q in (p, *p.parents):
+        if q.exists():
+            if not q.is_dir():
+                where = "is a file" if q == p else f"{str(q)!r} on its path is a file"
+                raise ValueError(f"--out = {out!r}: {where}, not a folder")
+            return
+
+
+def removed_on_failure(out):
+    """Context manager: if its block raises, remove the first folder of ``out`` that did not exist
+    on entry (with what this run wrote in it); a folder that existed before is never removed.
+
+    Parameters
+    ----------
+    out : str or Path
+        The output folder.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        The guard.
+    """
+    p, first_new = Path(os.path.abspath(out)), None
+    while not p.exists() and p != p.parent:
+        first_new, p = p, p.parent
+
+    @contextlib.contextmanager
+    def guard():
+        try:
+            yield
+        except BaseException:
+            if first_new is not None and first_new.is_dir():
+                shutil.rmtree(first_new, ignore_errors=True)
+            raise
+    return guard()
+
+
 # Order of the subcommands in ``drillpy --help`` (unchanged from the single-module CLI).
 COMMANDS = ("report", "modes", "simulate", "sweep", "map", "convergence", "analyze", "predict", "frf",
             "frf-report", "robust-ss", "reproduce", "mc", "mc-merge", "loop")
@@ -201,8 +299,7 @@ def build_parser() -> argparse.ArgumentParser:
     from drillpy.cli import model, records, reproduce, uncertainty
     registry = {**model.SUBCOMMANDS, **records.SUBCOMMANDS, **uncertainty.SUBCOMMANDS, **reproduce.SUBCOMMANDS}
     assert set(registry) == set(COMMANDS), sorted(set(registry) ^ set(COMMANDS))
-    p = argparse.ArgumentParser(prog="drillpy", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = _Parser(prog="drillpy", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     from drillpy import __version__
     p.add_argument("--version", action="version", version=f"drillpy {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
@@ -223,14 +320,22 @@ def main(argv: list[str] | None = None) -> int:
     -------
     int
         Exit status: 0 on success, 2 after a one-line ``drillpy: error: ...`` on stderr (bad input,
-        failed run, unreadable file), 130 when interrupted. argparse's own usage errors exit with 2.
+        failed run, unreadable file), 130 when interrupted. argparse's own usage errors exit with 2
+        after one line too (:class:`_Parser`). A ``--out`` that cannot be a folder is refused before
+        any work, and a failed command removes the output folder it created
+        (:func:`removed_on_failure`).
     """
     from drillpy.provenance import running_command
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
         args = parser.parse_args(argv)
-        with running_command(argv):  # the command line recorded in every output
+        out = getattr(args, "out", None)
+        out = out if isinstance(out, str) else None
+        if out is not None:
+            check_output_folder(out)
+        # the command line recorded in every output; a failed command leaves no folder it created
+        with running_command(argv), removed_on_failure(out) if out else contextlib.nullcontext():
             return args.func(args)
     except (OptionError, ValueError, RuntimeError, OSError) as e:
         print(f"drillpy: error: {e}", file=sys.stderr)

@@ -6,12 +6,12 @@ them into one library call and prints the result (text, or one JSON line with ``
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 import numpy as np
 
-from drillpy.cli import add_model_args, model_config, parse_grid
+from drillpy.cli import add_model_args, model_config, parse_grid, print_json
+from drillpy.jsonio import jsonable
 from drillpy.model.config import with_overrides
 
 
@@ -41,7 +41,7 @@ def cmd_report(a: argparse.Namespace) -> int:
     from drillpy.reports.preset import field_report, print_field_summary
     s = field_report(model_config(a), a.out, progress=not a.no_progress, threads=a.threads)
     if a.json:
-        print(json.dumps({k: v for k, v in s.items() if k != "config"}))
+        print_json({k: v for k, v in s.items() if k != "config"})
     else:
         print_field_summary(s)
         print(f"figures and summary.json written to {a.out}")
@@ -71,10 +71,13 @@ def cmd_modes(a: argparse.Namespace) -> int:
     int
         Exit status 0; prints ``{"frequencies_hz": [...]}`` or one line per mode.
     """
+    from drillpy import validate
     from drillpy.model.simulation import natural_frequencies
-    f = natural_frequencies(model_config(a), a.n)
+    cfg = model_config(a)
+    validate.integer("-n", a.n, 1, sum(s["elements"] for s in cfg["string"]["sections"]))  # the free DOFs
+    f = natural_frequencies(cfg, a.n)
     if a.json:
-        print(json.dumps({"frequencies_hz": [float(x) for x in f]}))
+        print_json({"frequencies_hz": [float(x) for x in f]})
     else:
         for k, x in enumerate(f, 1):
             print(f"mode {k}: {x:.4f} Hz")
@@ -114,6 +117,7 @@ def cmd_simulate(a: argparse.Namespace) -> int:
     # The run-summary writing below is being unified with the other run outputs (one schema) in
     # the library; it stays here, unchanged, until then.
     from drillpy.figures import simulation as plotting
+    from drillpy.jsonio import dumps
     from drillpy.model.simulation import simulate
     from drillpy.provenance import header, provenance
     # the effective configuration (overrides, operating point and start) is the one saved
@@ -130,8 +134,8 @@ def cmd_simulate(a: argparse.Namespace) -> int:
                    header=header(prov) + "\ntime_s,bit_speed_rad_s,bit_accel_rad_s2,bit_angle_rad,torque_on_bit_Nm,"
                           "top_torque_Nm,top_speed_rad_s")
         plotting.time_series_plot(out / "time_series.png", r.t, r.bit_speed, r.torque_on_bit, r.top_speed)
-        (out / "summary.json").write_text(json.dumps({**summary, "config": r.config, "provenance": prov}, indent=2))
-    print(json.dumps(summary) if a.json else
+        (out / "summary.json").write_text(dumps({**summary, "config": r.config, "provenance": prov}, indent=2))
+    print(dumps(summary, indent=None) if a.json else
           f"SS = {r.severity:.3f}, stick fraction = {r.stick_fraction:.3f}, "
           f"periodic over {r.period_cycles} cycle(s)")
     return 0
@@ -205,9 +209,9 @@ def cmd_sweep(a: argparse.Namespace) -> int:
         res.update(threshold_rad_s=r.threshold, threshold_precision_rad_s=r.precision,
                    threshold_bracket_rad_s=[r.below, r.above], refinement_runs=[list(e) for e in r.evaluations])
     if a.out:
-        write_sweep(a.out, speeds, ss, thr, res, cfg, start=a.start)
+        write_sweep(a.out, speeds, ss, thr, jsonable(res), cfg, start=a.start)  # NaN written as null
     if a.json:
-        print(json.dumps(res))
+        print_json(res)
     else:
         for s, v in zip(speeds, ss):
             print(f"{s:8.3f} rad/s  SS = {v:.3f}")
@@ -258,8 +262,11 @@ def cmd_map(a: argparse.Namespace) -> int:
                       start=a.start)
     res = {"top_speeds_rpm": sp.tolist(), "wobs_kn": w.tolist(), "severity": m.tolist()}
     if a.out:
-        write_map(a.out, sp, w, m, res, cfg, start=a.start)
-    print(json.dumps(res) if a.json else f"stable fraction (SS < 0.5): {np.mean(m < 0.5):.3f}")
+        write_map(a.out, sp, w, m, jsonable(res), cfg, start=a.start)  # NaN written as null
+    if a.json:
+        print_json(res)
+    else:
+        print(f"stable fraction (SS < 0.5): {np.mean(m < 0.5):.3f}")
     return 0
 
 
@@ -288,7 +295,7 @@ def cmd_convergence(a: argparse.Namespace) -> int:
     from drillpy.model.convergence import convergence_report
     r = convergence_report(model_config(a))
     if a.json:
-        print(json.dumps(r))
+        print_json(r)
         return 0
     sp = r["space"]
     print("FE frequencies vs exact (max relative error over the first 5):")

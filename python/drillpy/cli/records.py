@@ -6,13 +6,12 @@ them into one library call (which writes the output folder) and prints the resul
 from __future__ import annotations
 
 import argparse
-import contextlib
 import json
-import os
-import shutil
-from pathlib import Path
+import math
 
-from drillpy.cli import parse_grid, threads_option
+from drillpy import validate
+from drillpy.cli import print_json, threads_option
+from drillpy.cli import removed_on_failure as _removed_on_failure
 
 
 def _add_analyze(sub) -> argparse.ArgumentParser:
@@ -88,35 +87,6 @@ ANALYZE_STAGES = (("record:", "cycles"), ("cycles:", "eta and PSD"), ("eta_exp:"
                   ("report.md", "done"))
 
 
-def _removed_on_failure(out):
-    """Context manager: if its block raises, remove the first folder of ``out`` that did not exist
-    on entry (with what this run wrote in it); a folder that existed before is never removed.
-
-    Parameters
-    ----------
-    out : str or Path
-        The output folder.
-
-    Returns
-    -------
-    contextlib.AbstractContextManager
-        The guard.
-    """
-    p, first_new = Path(os.path.abspath(out)), None
-    while not p.exists() and p != p.parent:
-        first_new, p = p, p.parent
-
-    @contextlib.contextmanager
-    def guard():
-        try:
-            yield
-        except BaseException:
-            if first_new is not None and first_new.is_dir():
-                shutil.rmtree(first_new, ignore_errors=True)
-            raise
-    return guard()
-
-
 def _analyze(a: argparse.Namespace, items: list, log) -> int:
     """The body of :func:`cmd_analyze` for the records ``items`` (:func:`drillpy.records.samples.find_records`).
 
@@ -135,13 +105,12 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
         Exit status 0.
     """
     from drillpy.records.samples import Acceptance, SampleOptions, analyze_samples
+    _check_analyze_options(a)
     if len(items) == 1:  # one record (or one window of it): the single-record analysis
         from drillpy.jsonio import jsonable
         from drillpy.reports.analysis import AnalysisOptions, analyze_record
         t0, t1 = items[0][2] or (a.t0, a.t1)
-        cal = None if a.calibrate is None else tuple(parse_grid(a.calibrate.replace(":", ","), "--calibrate"))
-        if cal is not None and len(cal) != 2:
-            raise ValueError(f"--calibrate = {a.calibrate!r}: use T0:T1 [s]")
+        cal = None if a.calibrate is None else time_window(a.calibrate, "--calibrate")
         opt = AnalysisOptions(t0=t0, t1=t1, cycle_at_s=a.cycle_at, folds=5 if a.folds is None else a.folds,
                               psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim, calibrate=cal)
         s = analyze_record(items[0][1], a.out, opt, log=log)
@@ -161,6 +130,47 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
         print(json.dumps(jsonable({k: s[k] for k in ("n_samples", "laws", "table_5_2", "across_samples",
                                                       "acceptance", "parameters")}), allow_nan=False))
     return 0
+
+
+def time_window(text: str, name: str) -> tuple:
+    """Parse a window option ``T0:T1`` [s].
+
+    Parameters
+    ----------
+    text : str
+        The option's value, e.g. ``"0:20"``.
+    name : str
+        Option named in the error message, e.g. ``"--calibrate"``.
+
+    Returns
+    -------
+    tuple of float
+        ``(t0, t1)`` [s], finite with t0 < t1.
+
+    Raises
+    ------
+    ValueError
+        ``"<name> = '<text>': use T0:T1 [s]"`` or ``"...: needs finite T0 < T1 [s]"``.
+    """
+    try:
+        t0, t1 = (float(x) for x in text.split(":"))
+    except ValueError:
+        raise ValueError(f"{name} = {text!r}: use T0:T1 [s]") from None
+    if not (math.isfinite(t0) and math.isfinite(t1) and t0 < t1):
+        raise ValueError(f"{name} = {text!r}: needs finite T0 < T1 [s]")
+    return t0, t1
+
+
+def _check_analyze_options(a: argparse.Namespace) -> None:
+    """Refuse a bad number among the options of ``drillpy analyze`` before any work, naming it."""
+    for name in ("t0", "t1", "cycle_at"):
+        if getattr(a, name) is not None:
+            validate.number("--" + name.replace("_", "-"), getattr(a, name), unit="s")
+    if a.folds is not None:
+        validate.integer("--folds", a.folds, 0)
+    validate.positive("--psd-fmax", a.psd_fmax, "Hz")
+    for name in ("max_var_mse_regularized", "max_var_mse_non_regularized", "cv_reference", "concrete_variation"):
+        validate.non_negative("--" + name.replace("_", "-"), getattr(a, name))
 
 
 def _add_predict(sub) -> argparse.ArgumentParser:
@@ -193,13 +203,17 @@ def cmd_predict(a: argparse.Namespace) -> int:
         predicted (SS, stick fraction, cycle frequency [Hz], torque p5-p95 [N m]) as JSON or text.
     """
     from drillpy.records.prediction import describe, load_model, predict_record, write_prediction
+    for name in ("t0", "t1"):
+        if getattr(a, name) is not None:
+            validate.number("--" + name, getattr(a, name), unit="s")
+    validate.positive("--horizon", a.horizon, "s")
     model = load_model(a.model)
     pred = predict_record(model, a.record, t0=a.t0, t1=a.t1, horizon_s=a.horizon, threads=a.threads)
     if a.out:
         write_prediction(pred, a.out)
     s = pred.summary()
     if a.json:
-        print(json.dumps({k: s[k] for k in ("short_horizon_error", "long_run")}, allow_nan=False))
+        print_json({k: s[k] for k in ("short_horizon_error", "long_run")})
     else:
         lr = s["long_run"]
         print(f"{describe(model)} at the record's operating point; short-horizon error E = {s['short_horizon_error']:.3f}")
@@ -264,9 +278,9 @@ def cmd_loop(a: argparse.Namespace) -> int:
                       "loop", enabled=not a.no_progress, echo=None if a.json else print, count=True) as log:
         js = loop_record(a.record, a.out, preset=a.preset, config_path=a.config, options=opt, log=log)
     if a.json:
-        print(json.dumps({k: js[k] for k in ("metric", "baseline_error", "final_error", "declared", "removed",
-                                             "final_effects", "unexplained_fraction", "warnings")} |
-                         {"added": [s["effect"] for s in js["steps"] if s["action"] == "add"]}))
+        print_json({k: js[k] for k in ("metric", "baseline_error", "final_error", "declared", "removed",
+                                       "final_effects", "unexplained_fraction", "warnings")} |
+                   {"added": [s["effect"] for s in js["steps"] if s["action"] == "add"]})
     return 0
 
 

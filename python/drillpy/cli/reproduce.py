@@ -2,10 +2,9 @@
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
-from drillpy.cli import threads_option
+from drillpy.cli import print_json, threads_option
 
 
 def _add_reproduce(sub) -> argparse.ArgumentParser:
@@ -41,7 +40,7 @@ def cmd_reproduce(a: argparse.Namespace) -> int:
     res = reproduce(a.chapter, a.out, Options(quick=a.quick, threads=a.threads, progress=not a.no_progress,
                                               seed=a.seed), record=a.record)
     if a.json:
-        print(json.dumps(res.as_dict()))
+        print_json(res.as_dict())
     else:
         print((Path(a.out) / "table.md").read_text(), end="")
         print(f"figures, table.md and reproduce.json written to {a.out}")

@@ -7,12 +7,14 @@ them into library calls and prints the result (text, or one JSON line with ``--j
 from __future__ import annotations
 
 import argparse
-import json
+import warnings
 from pathlib import Path
 
 import numpy as np
 
-from drillpy.cli import add_model_args, integer, model_config, parse_grid
+from drillpy import validate
+from drillpy.cli import add_model_args, integer, model_config, parse_grid, print_json
+from drillpy.jsonio import jsonable
 
 
 def add_uncertainty_args(p: argparse.ArgumentParser, samples: int, out: str) -> None:
@@ -49,11 +51,31 @@ def cb_config(a: argparse.Namespace) -> dict:
     dict
         The configuration, with the Craig-Bampton modes per substructure when ``--cb-modes`` is given.
     """
+    validate.integer("samples", a.samples, 1, MAX_SAMPLES)
+    validate.seed(a.seed)
     cfg = model_config(a)
     if a.cb_modes:
         from drillpy.uncertainty.frf import with_cb_modes
         cfg = with_cb_modes(cfg, [int(x) for x in parse_grid(a.cb_modes, "--cb-modes")])
     return cfg
+
+
+#: Most Monte Carlo samples of a structural study (as drillpy mc: the engine's limit).
+MAX_SAMPLES = 10_000_000
+
+
+def _eta_samples(path: str) -> np.ndarray:
+    """The eta samples of ``--eta-npy``: a numeric NumPy array file (one row per sample)."""
+    p = Path(path)
+    if not p.is_file():
+        raise ValueError(f"--eta-npy = {path!r}: no such file")
+    try:
+        eta = np.load(p, allow_pickle=False)
+    except (ValueError, OSError, EOFError):
+        raise ValueError(f"--eta-npy = {path!r}: not a NumPy .npy array file") from None
+    if not (isinstance(eta, np.ndarray) and eta.dtype.kind in "biuf"):
+        raise ValueError(f"--eta-npy = {path!r}: not a numeric NumPy array (.npy)")
+    return eta
 
 
 def _add_frf(sub) -> argparse.ArgumentParser:
@@ -86,6 +108,8 @@ def cmd_frf(a: argparse.Namespace) -> int:
     """
     from drillpy.reports.uncertainty import BANDS_HZ, write_envelope
     from drillpy.uncertainty.frf import band_widths, frf_envelope
+    if a.case is not None:
+        validate.integer("case", a.case, 1, 7)
     cfg = cb_config(a)
     env = frf_envelope(cfg, a.model, a.delta, a.case, samples=a.samples, seed=a.seed,
                        freq_hz=parse_grid(a.freqs, "--freqs"), probability=a.probability,
@@ -94,10 +118,10 @@ def cmd_frf(a: argparse.Namespace) -> int:
     bands = {b: r for b, r in BANDS_HZ.items() if np.sum((env.freq_hz >= r[0]) & (env.freq_hz <= r[1])) >= 2}
     if a.out:
         title = a.model + (f" case {a.case}" if a.case else f" delta {a.delta if a.delta is not None else 0.1}")
-        write_envelope(a.out, env, title, res, cfg, seed=a.seed, samples=a.samples, model=a.model, delta=a.delta,
+        write_envelope(a.out, env, title, jsonable(res), cfg, seed=a.seed, samples=a.samples, model=a.model, delta=a.delta,
                        case=a.case)
     if a.json:
-        print(json.dumps(res))
+        print_json(res)
     else:
         print(f"{a.model}, {env.samples} samples, {int(round(100 * env.probability))} % envelope; "
               "mean width [dB] per band:")
@@ -129,10 +153,11 @@ def cmd_frf_report(a: argparse.Namespace) -> int:
         Exit status 0; prints the summary as JSON or the verdict on each conclusion of section 6.6.
     """
     from drillpy.reports.uncertainty import chapter6_report, print_conclusions
+    validate.integer("mode_samples", a.mode_samples, 1, MAX_SAMPLES)
     s = chapter6_report(cb_config(a), a.out, samples=a.samples, mode_samples=a.mode_samples, seed=a.seed,
                         progress=not a.no_progress, threads=a.threads)
     if a.json:
-        print(json.dumps(s))
+        print_json(s)
     else:
         print_conclusions(s["conclusions"])
         print(f"figures and summary.json written to {a.out}")
@@ -178,13 +203,13 @@ def cmd_robust_ss(a: argparse.Namespace) -> int:
         raise ValueError("--bit-rock and --eta-npy: give one source of eta")
     speeds = parse_grid(a.speeds, "--speeds")
     studies, res = robust_severity(cfg, speeds, a.samples, delta=a.delta, eta_psd=THESIS_PSD if a.bit_rock else None,
-                                   eta=np.load(a.eta_npy) if a.eta_npy else None, eta_dt=a.eta_dt,
+                                   eta=_eta_samples(a.eta_npy) if a.eta_npy else None, eta_dt=a.eta_dt,
                                    refine=a.refine, seed=a.seed, progress=not a.no_progress, threads=a.threads)
     if a.out:
-        write_robust_severity(a.out, speeds, studies, res, cfg, seed=a.seed, delta=a.delta, samples=a.samples,
+        write_robust_severity(a.out, speeds, studies, jsonable(res), cfg, seed=a.seed, delta=a.delta, samples=a.samples,
                               bit_rock=a.bit_rock or None, eta_npy=a.eta_npy)
     if a.json:
-        print(json.dumps(res))
+        print_json(res)
     else:
         for label, st in studies.items():
             print(f"{label}:")
@@ -316,9 +341,13 @@ def psd_option(a: argparse.Namespace):
         if not p.is_file():
             raise ValueError(f"--psd-table = {str(p)!r}: no such file")
         try:
-            data = np.loadtxt(p, delimiter=",", ndmin=2, comments="#")
+            with warnings.catch_warnings():  # an empty file: refused below, not a warning
+                warnings.simplefilter("ignore", UserWarning)
+                data = np.loadtxt(p, delimiter=",", ndmin=2, comments="#")
         except ValueError as e:
             raise ValueError(f"--psd-table = {str(p)!r}: {e}") from None
+        if data.size == 0:
+            raise ValueError(f"--psd-table = {str(p)!r}: no data (needs rows f_hz,S)")
         if data.shape[1] != 2:
             raise ValueError(f"--psd-table = {str(p)!r}: needs two columns f_hz,S (one-sided, 1/Hz)")
         if getattr(a, "eta_std", None) is not None:
@@ -385,7 +414,7 @@ def cmd_mc(a: argparse.Namespace) -> int:
         res["figures"] = write_figures(study, cfg, a.out, psd=psd, eta_dt=a.eta_dt,
                                        threads=a.threads, progress=not a.no_progress)
     if a.json:
-        print(json.dumps(res))
+        print_json(res)
     else:
         print(f"{res['samples']} samples, eta std {res['eta_std']:.4f}; protocol: "
               + (f"Algorithm 1 literally (from rest, {res['duration_s']:g} s, SS after {res['transient_s']:g} s)"

@@ -43,6 +43,10 @@ from drillpy.records.stick import STICK_FRACTION, stick_threshold
 
 KINDS = ("time", "order", "duplicate", "gap", "nonfinite", "spike", "oscillation")
 MAX_RESTAMP = 10  #: anchors re-stamped on each side of a run of bad time stamps, at most
+#: The time grid may hold at most MAX_GRID_FACTOR x rows + MAX_GRID_EXTRA samples (gaps inserted):
+#: beyond that the stamps are refused rather than a grid of invented samples built (e.g. one stamp
+#: of 1e12 s in a 1 kHz record would ask for 10^15 samples).
+MAX_GRID_FACTOR, MAX_GRID_EXTRA = 10, 10**6
 
 
 @dataclass
@@ -240,8 +244,10 @@ def clean(record: Record, options: CleaningOptions | None = None) -> tuple[Recor
     ------
     ValueError
         If the time stamps cannot be placed on a uniform grid (e.g. a file made of concatenated
-        pieces that overlap in time), there are fewer than 3 finite time stamps, or a channel has
-        no finite value at all (the error names it).
+        pieces that overlap in time), there are fewer than 3 finite time stamps, the stamps span
+        far more sampling intervals than the record has rows (:data:`MAX_GRID_FACTOR`), or a
+        channel has no finite value at all (the error names it, and the record's source file when
+        known).
     """
     opt = options or CleaningOptions()
     opt.validate()
@@ -252,13 +258,22 @@ def clean(record: Record, options: CleaningOptions | None = None) -> tuple[Recor
             raise ValueError(f"record = {src!r}: channel {name!r} ({col}) has no finite value (all "
                              f"{len(record)} samples NaN or missing); nothing to clean or analyse")
     rep = CleaningReport(n_input=len(record))
-    rec = _regrid(record, opt, rep)
-    for name in rec.channels:
-        _fill_missing(rec, name, opt, rep)
-    rep.stick_threshold_rad_s = _stick_threshold(rec, opt)
-    for name in rec.channels:
-        if opt.spike_channels is None or name in opt.spike_channels:
-            _spikes(rec, name, opt, rep)
+    # values near the float limit (1e308) overflow in differences and medians: the results are inf
+    # and NaN, which the thresholds and flags handle, not warnings
+    with np.errstate(over="ignore", invalid="ignore"):
+        try:
+            rec = _regrid(record, opt, rep)
+        except ValueError as e:  # time stamps that cannot be placed: name the record they come from
+            src = record.provenance.get("source")
+            if src is None:
+                raise
+            raise ValueError(f"record = {src!r}: {e}") from None
+        for name in rec.channels:
+            _fill_missing(rec, name, opt, rep)
+        rep.stick_threshold_rad_s = _stick_threshold(rec, opt)
+        for name in rec.channels:
+            if opt.spike_channels is None or name in opt.spike_channels:
+                _spikes(rec, name, opt, rep)
     rep.n_output = len(rec)
     rep.artifacts.sort(key=lambda a: (a.start_s, a.channel))
     rec.provenance = dict(rec.provenance, cleaning=rep.summary())
@@ -277,6 +292,12 @@ def _regrid(record: Record, opt: CleaningOptions, rep: CleaningReport) -> Record
         raise ValueError("time_s: the time stamps never increase")
     dt = float(f"{np.median(pos):.12g}")  # drop the rounding noise of the stamps
     rep.dt_s = dt
+    lo, hi = float(np.min(t[fin])), float(np.max(t[fin]))
+    steps = (hi - lo) / dt
+    if not steps <= MAX_GRID_FACTOR * t.size + MAX_GRID_EXTRA:  # mostly invented samples (and memory)
+        raise ValueError(f"time_s: the time stamps span {lo:g} to {hi:g} s, {steps:.3g} sampling intervals of "
+                         f"{dt:g} s for {t.size} rows: a stamp far off the others, or pieces recorded far apart "
+                         "(fix the stamps, or split the file)")
     t0 = float(t[fin][0])
     k = np.full(t.size, -1, dtype=np.int64)
     k[fin] = np.rint((t[fin] - t0) / dt).astype(np.int64)
@@ -345,8 +366,12 @@ def _regrid(record: Record, opt: CleaningOptions, rep: CleaningReport) -> Record
                 k[run] = klo + 1 + np.arange(n)
             elif lo.size:
                 k[run] = k[lo[-1]] + 1 + np.arange(n)
-            else:
+            elif hi.size:
                 k[run] = k[hi[0]] - n + np.arange(n)
+            else:  # re-stamping the neighbours swallowed every anchor: nothing left to place the rows by
+                raise ValueError(
+                    f"time_s: {n} sample(s) from row {run[0]} (t = {float(t[run[0]])!r} s) to row {run[-1]} cannot be "
+                    "placed: the time stamps go backwards or repeat throughout (sort or fix the file)")
             restamped[run] = True
             rep.artifacts.append(Artifact(
                 "time", "time", float(t0 + k[run[0]] * dt), float(t0 + k[run[-1]] * dt), n,
@@ -354,7 +379,9 @@ def _regrid(record: Record, opt: CleaningOptions, rep: CleaningReport) -> Record
     src_rows = rows[keep][np.argsort(k[keep], kind="stable")]
     ks = k[src_rows]
     if np.any(np.diff(ks) <= 0):  # the placement above leaves no repeat; guard against surprises
-        raise ValueError("time_s: repeated time stamps remain after repair")
+        raise ValueError(f"time_s: the time stamps cannot be placed on a uniform grid of {dt:g} s: off the grid by "
+                         f"more than grid_tolerance = {opt.grid_tolerance:g} interval, or out of order (sort or fix "
+                         "the file)")
     # rows whose place in time differs from their place in the file (sorted by time stamp above)
     out_of_order = src_rows != np.sort(src_rows)
     for run in _runs(out_of_order):
@@ -461,7 +488,7 @@ def _fill_missing(rec: Record, name: str, opt: CleaningOptions, rep: CleaningRep
 
 
 def _max_fill(opt: CleaningOptions, dt: float) -> int:
-    return int(np.floor(opt.max_fill_s / dt + 1e-9))
+    return int(min(np.floor(opt.max_fill_s / dt + 1e-9), 2**62))  # bounded at a vanishing dt
 
 
 def _stick_threshold(rec: Record, opt: CleaningOptions) -> float:
@@ -507,7 +534,8 @@ def spike_regions(x: np.ndarray, dt: float, opt: CleaningOptions | None = None) 
         return []
     idx = np.arange(x.size)
     xf = np.where(fin, x, np.interp(idx, idx[fin], x[fin]))
-    w = max(3, int(round(opt.spike_window_s / dt)) | 1)
+    # a window (or pad) longer than the record is the record: bounds the cost at a vanishing dt
+    w = max(3, int(round(min(opt.spike_window_s / dt, 2 * x.size + 1))) | 1)
     r = xf - ndimage.median_filter(xf, size=w, mode="nearest")
     sigma = 1.4826 * np.median(np.abs(r[fin]))
     lo, hi = np.percentile((xf - r)[fin], [1, 99])  # range of the running median: spikes do not widen it
@@ -521,7 +549,7 @@ def spike_regions(x: np.ndarray, dt: float, opt: CleaningOptions | None = None) 
     keep_labels = np.unique(grown[core])
     region = np.isin(grown, keep_labels[keep_labels > 0])
     # the acquisition filter smears a spike: take its tails too
-    pad = int(round(opt.spike_pad_s / dt))
+    pad = int(round(min(opt.spike_pad_s / dt, x.size)))
     if pad:
         region = ndimage.binary_dilation(region, iterations=pad)
     return _runs(region)

@@ -461,15 +461,20 @@ def read_csv(path: str | Path) -> Record:
     Raises
     ------
     ValueError
-        Naming the file and, where it applies, the row and column: empty file, missing time
-        column, no data column, unknown column or unit, duplicate column, a row with the wrong
-        number of cells, a cell that is not a number, a column without any value.
+        Naming the file and, where it applies, the row and column: not UTF-8 text (a binary file),
+        not CSV (a NUL byte), empty file, missing time column, no data column, unknown column or
+        unit, duplicate column, a row with the wrong number of cells, a cell that is not a number,
+        a column without any value.
     """
     p = Path(path)
     if not p.is_file():
         raise ValueError(f"record = {str(p)!r}: no such file")
-    with open(p, newline="", encoding="utf-8-sig") as fh:
-        lines = fh.read().splitlines()
+    try:
+        with open(p, newline="", encoding="utf-8-sig") as fh:
+            lines = fh.read().splitlines()
+    except UnicodeDecodeError as e:  # a binary file, or text in another encoding
+        raise ValueError(f"record = {str(p)!r}: not a UTF-8 text file (byte {e.start}: {e.reason}); a CSV "
+                         "record is UTF-8 text") from None
     comments, rest = [], []
     for i, line in enumerate(lines, 1):
         if not rest and line.lstrip().startswith("#"):
@@ -478,8 +483,10 @@ def read_csv(path: str | Path) -> Record:
             rest.append((i, line))
     if not rest:
         raise ValueError(f"record = {str(p)!r}: empty file (no header row)")
-    reader = csv.reader([ln for _, ln in rest])
-    rows = list(reader)
+    try:
+        rows = list(csv.reader([ln for _, ln in rest]))
+    except csv.Error as e:  # a NUL byte, a field over the csv module's size limit
+        raise ValueError(f"record = {str(p)!r}: not a CSV text file ({e})") from None
     header = [h.strip() for h in rows[0]]
     cols = []
     seen = {}
