@@ -124,3 +124,29 @@ def test_bad_study_definitions_name_the_field(cfg):
     with pytest.raises(ValueError, match=r"^chunk = 0"):
         run_study(Study("sweep", cfg, SPEEDS), chunk=0, progress=False)
     assert definition.TASK_DIM == {"sweep": "top_speed", "map": "wob", "mc": "sample"}
+
+
+def test_commands_store_resume_and_distribute_their_studies(tmp_path, capsys):
+    """drillpy mc/sweep/map --out write study.zarr; the same mc command extended computes only the new
+    samples and prints what the in-memory study prints; --scheduler local:2 gives the same JSON."""
+    from drillpy.cli import main
+    mc = ["mc", "--preset", "thesis-field", "--modes", "8", "--speeds", "12,18,24", "--warmup", "20", "--duration",
+          "30", "--transient", "10", "--seed", "4", "--no-progress", "--json"]
+    assert main([*mc, "--samples", "7"]) == 0
+    in_memory = json.loads(capsys.readouterr().out)
+    assert main([*mc, "--samples", "4", "--out", str(tmp_path / "mc"), "--no-figures", "--chunk", "3"]) == 0
+    assert main([*mc, "--samples", "7", "--out", str(tmp_path / "mc"), "--no-figures"]) == 0
+    assert json.loads(capsys.readouterr().out.splitlines()[-1]) == in_memory
+    ds = open_study(tmp_path / "mc")
+    assert ds.sizes["sample"] == 7 and ds.attrs["chunk"] == 3 and ds["done"].values.all()
+    sweep = ["sweep", "--preset", "thesis-rig", "--speeds", "4:12:5", "--duration", "20", "--transient", "10",
+             "--no-progress", "--json"]
+    assert main(sweep) == 0
+    plain = capsys.readouterr().out
+    assert main([*sweep, "--out", str(tmp_path / "sweep"), "--chunk", "2"]) == 0
+    assert capsys.readouterr().out == plain
+    assert open_study(tmp_path / "sweep")["severity"].dims == ("top_speed",)
+    assert main([*sweep, "--scheduler", "local:2"]) == 0
+    assert capsys.readouterr().out == plain
+    assert main([*sweep, "--scheduler", "cluster"]) == 2
+    assert "scheduler = 'cluster'" in capsys.readouterr().err

@@ -212,6 +212,48 @@ def add_model_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
+def add_study_args(p: argparse.ArgumentParser) -> None:
+    """Add the options of a stored, distributable study (:mod:`drillpy.study`): ``--scheduler`` and ``--chunk``.
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The parser of ``sweep``, ``map`` or ``mc``.
+    """
+    p.add_argument("--scheduler", default="local",
+                   help="where the runs go: local (OpenMP in this process, default), local:N (a Dask LocalCluster "
+                        "of N workers) or tcp://HOST:PORT (a running Dask scheduler); with --out the study is "
+                        "stored in OUT/study.zarr and a repeated command computes only what is missing")
+    p.add_argument("--chunk", type=integer("chunk"),
+                   help="runs per task along the study's task axis (default: sweep 4 speeds, map 1 WOB, mc 50 "
+                        "samples); a stored study keeps its own")
+
+
+def study_severity(study, a: argparse.Namespace, direct: Callable[[], np.ndarray]) -> np.ndarray:
+    """SS of a study: ``direct()`` (today's in-process path) unless ``--out`` stores it or ``--scheduler``
+    distributes it, then :func:`drillpy.study.run_study` (the same bits either way).
+
+    Parameters
+    ----------
+    study : drillpy.study.Study
+        The study.
+    a : argparse.Namespace
+        ``--out``, ``--scheduler``, ``--chunk``, ``--threads``, ``--no-progress``.
+    direct : callable
+        Computes the SS array in this process without a store.
+
+    Returns
+    -------
+    numpy.ndarray
+        SS [-] in the study's dimensions.
+    """
+    if not a.out and a.scheduler == "local":
+        return direct()
+    from drillpy.study import run_study
+    return run_study(study, a.out, scheduler=a.scheduler, chunk=a.chunk, threads=a.threads,
+                     progress=not a.no_progress)["severity"].values
+
+
 def model_config(a: argparse.Namespace) -> dict:
     """The configuration selected by the options of :func:`add_model_args`.
 

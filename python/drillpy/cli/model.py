@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from drillpy.cli import add_model_args, model_config, parse_grid, print_json
+from drillpy.cli import add_model_args, add_study_args, model_config, parse_grid, print_json, study_severity
 from drillpy.jsonio import jsonable
 from drillpy.model.config import with_overrides
 
@@ -170,7 +170,8 @@ def _add_sweep(sub) -> argparse.ArgumentParser:
     s = sub.add_parser("sweep", help="SS versus top speed (Fig. 4.8)")
     add_model_args(s)
     s.add_argument("--speeds", default="6:27:22", help="top speeds [rad/s], start:stop:num or list")
-    s.add_argument("--out", help="folder for the figure and sweep.json")
+    s.add_argument("--out", help="folder for the figure, sweep.json and study.zarr")
+    add_study_args(s)
     s.add_argument("--refine", type=float, metavar="TOL", help="locate the threshold by bisection to TOL [rad/s]")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_sweep)
@@ -197,7 +198,10 @@ def cmd_sweep(a: argparse.Namespace) -> int:
     from drillpy.reports.preset import write_sweep
     cfg = model_config(a)
     speeds = parse_grid(a.speeds, "--speeds")
-    ss = sweep_severity(cfg, speeds, progress=not a.no_progress, threads=a.threads, start=a.start)
+    from drillpy.study import Study
+    ss = study_severity(Study("sweep", cfg, tuple(speeds.tolist()), options={"start": a.start}), a,
+                        lambda: sweep_severity(cfg, speeds, progress=not a.no_progress, threads=a.threads,
+                                               start=a.start))
     thr = severity_threshold(speeds, ss)
     crossings = severity_crossings(speeds, ss)
     res = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.tolist(), "threshold_rad_s": thr,
@@ -233,7 +237,8 @@ def _add_map(sub) -> argparse.ArgumentParser:
     add_model_args(s)
     s.add_argument("--speeds-rpm", default="50:160:23", help="top speeds [RPM]")
     s.add_argument("--wobs-kn", default="22:267:12", help="weights on bit [kN]")
-    s.add_argument("--out", help="folder for the figure and map.json")
+    s.add_argument("--out", help="folder for the figure, map.json and study.zarr")
+    add_study_args(s)
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_map)
     return s
@@ -258,8 +263,11 @@ def cmd_map(a: argparse.Namespace) -> int:
     cfg = model_config(a)
     sp = parse_grid(a.speeds_rpm, "--speeds-rpm")
     w = parse_grid(a.wobs_kn, "--wobs-kn")
-    m = stability_map(cfg, sp * np.pi / 30.0, w * 1e3, progress=not a.no_progress, threads=a.threads,
-                      start=a.start)
+    from drillpy.study import Study
+    speeds, wobs = sp * np.pi / 30.0, w * 1e3
+    m = study_severity(Study("map", cfg, tuple(speeds.tolist()), wobs=tuple(wobs.tolist()), options={"start": a.start}),
+                       a, lambda: stability_map(cfg, speeds, wobs, progress=not a.no_progress, threads=a.threads,
+                                                start=a.start))
     res = {"top_speeds_rpm": sp.tolist(), "wobs_kn": w.tolist(), "severity": m.tolist()}
     if a.out:
         write_map(a.out, sp, w, m, jsonable(res), cfg, start=a.start)  # NaN written as null

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from drillpy import validate
-from drillpy.cli import add_model_args, integer, model_config, parse_grid, print_json
+from drillpy.cli import add_model_args, add_study_args, integer, model_config, parse_grid, print_json
 from drillpy.jsonio import jsonable
 
 
@@ -262,7 +262,9 @@ def add_mc(sub) -> argparse.ArgumentParser:
                         "thesis's +-20 %% field fluctuation read as +-3 sigma; docs/stochastic.md)")
     s.add_argument("--refine", type=float, metavar="TOL",
                    help="locate the 5 %% speed by bisection to TOL [rad/s] (same samples at new speeds)")
-    s.add_argument("--out", help="folder for the figures, mc.json and mc_samples.json (every sample's SS)")
+    s.add_argument("--out", help="folder for the figures, mc.json, mc_samples.json (every sample's SS) and "
+                             "study.zarr (with --first-sample 0: resumed or extended by the same command)")
+    add_study_args(s)
     s.add_argument("--no-figures", action="store_true",
                    help="with --out, write mc.json and mc_samples.json only (chunks of a study to merge)")
     s.add_argument("--json", action="store_true")
@@ -394,13 +396,17 @@ def cmd_mc(a: argparse.Namespace) -> int:
     cfg = model_config(a)
     speeds = parse_grid(a.speeds, "--speeds")
     psd = psd_option(a)
-    study = mcm.stochastic_study(
-        cfg, speeds, a.samples, a.seed, psd=psd,
-        eta_dt=a.eta_dt, warmup=mcm.WARMUP_S if a.warmup is None else a.warmup,
-        duration=mcm.DURATION_S if a.duration is None else a.duration,
-        transient=mcm.TRANSIENT_S if a.transient is None else a.transient,
-        first_sample=a.first_sample, threads=a.threads,
-        progress=not a.no_progress)
+    durations = dict(warmup=mcm.WARMUP_S if a.warmup is None else a.warmup,
+                     duration=mcm.DURATION_S if a.duration is None else a.duration,
+                     transient=mcm.TRANSIENT_S if a.transient is None else a.transient)
+    if a.first_sample == 0 and (a.out or a.scheduler != "local"):  # a stored or distributed study
+        from drillpy.study import run_study
+        ds = run_study(mcm.study_definition(cfg, speeds, a.samples, a.seed, psd=psd, eta_dt=a.eta_dt, **durations),
+                       a.out, scheduler=a.scheduler, chunk=a.chunk, threads=a.threads, progress=not a.no_progress)
+        study = mcm.from_dataset(ds)
+    else:
+        study = mcm.stochastic_study(cfg, speeds, a.samples, a.seed, psd=psd, eta_dt=a.eta_dt, **durations,
+                                     first_sample=a.first_sample, threads=a.threads, progress=not a.no_progress)
     res = study.summary()
     res.update(robust_speed_summary(study.severity, study.speeds, a.refine, study.seed, lambda sp: mcm.stochastic_study(
         cfg, sp, study.severity.shape[0], study.seed, psd=psd, eta_dt=a.eta_dt,

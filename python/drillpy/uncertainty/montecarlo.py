@@ -300,13 +300,80 @@ def stochastic_study(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = T
     if deterministic:
         zero = _engine(c, lambda f: np.zeros_like(f), eta_dt, seed, warmup)
         det = zero.severity(list(sp), 0, 1, None, int(threads))[0]
-    settings = {"warmup_s": float(warmup), "duration_s": c["simulation"]["duration_s"],
-                "transient_s": c["simulation"]["transient_s"], "dt_s": c["simulation"]["dt_s"],
-                "eta_dt_s": float(eta_dt),
-                "psd": psd.as_dict() if hasattr(psd, "as_dict") else {"type": "callable"},
-                "psd_convention": "one-sided, per Hz: Var[eta] = integral_0^inf S(f) df"}
     return study_from_samples(sp, ss, deterministic=det, seed=seed, first_sample=first,
-                              eta_std=math.sqrt(mc.eta_variance), settings=settings, config=c)
+                              eta_std=math.sqrt(mc.eta_variance), settings=_settings(c, psd, eta_dt, warmup), config=c)
+
+
+def _settings(c: dict, psd: Psd, eta_dt: float, warmup: float) -> dict:
+    return {"warmup_s": float(warmup), "duration_s": c["simulation"]["duration_s"],
+            "transient_s": c["simulation"]["transient_s"], "dt_s": c["simulation"]["dt_s"],
+            "eta_dt_s": float(eta_dt),
+            "psd": psd.as_dict() if hasattr(psd, "as_dict") else {"type": "callable"},
+            "psd_convention": "one-sided, per Hz: Var[eta] = integral_0^inf S(f) df"}
+
+
+def study_definition(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = THESIS_PSD, eta_dt: float = ETA_DT_S,
+                     warmup: float = WARMUP_S, duration: float = DURATION_S, transient: float = TRANSIENT_S):
+    """The study of :func:`stochastic_study` (samples 0 .. samples - 1) as a :class:`drillpy.study.Study`,
+    to run on a backend and store (``drillpy mc --out``/``--scheduler``).
+
+    Parameters
+    ----------
+    cfg, speeds, samples, seed, psd, eta_dt, warmup, duration, transient
+        As for :func:`stochastic_study`; ``psd`` must be a :class:`PsdModel` or :class:`PsdTable`
+        (a stored study cannot hold a Python callable).
+
+    Returns
+    -------
+    drillpy.study.Study
+        An ``"mc"`` study.
+
+    Raises
+    ------
+    ValueError
+        For a PSD given as a callable, and as :func:`stochastic_study` for bad values.
+    """
+    from drillpy.study import Study
+    if not hasattr(psd, "as_dict"):
+        raise ValueError("psd: a Python callable cannot be stored in a study (give a PsdModel or a PsdTable)")
+    c = _study_config(cfg, duration, transient)
+    validate.non_negative("warmup_s", warmup, "s")
+    return Study("mc", c, tuple(_speeds(speeds).tolist()), samples=samples, seed=validate.seed(seed),
+                 options={"psd": psd.as_dict(), "eta_dt_s": validate.positive("eta_dt_s", eta_dt, "s"),
+                          "warmup_s": float(warmup)})
+
+
+def from_dataset(ds) -> StochasticStudy:
+    """The :class:`StochasticStudy` of a stored mc study (:func:`drillpy.study.run_study`'s Dataset):
+    the same statistics as :func:`stochastic_study` of the same samples, bit for bit.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A finished ``"mc"`` study (``severity`` (sample, top_speed), ``deterministic_severity``,
+        ``eta_std`` and ``study`` attributes).
+
+    Returns
+    -------
+    StochasticStudy
+        The study with its statistics.
+
+    Raises
+    ------
+    ValueError
+        When some samples are not computed yet.
+    """
+    import json
+    from drillpy.uncertainty.process import psd_from_dict
+    if not bool(ds["done"].values.all()):
+        raise ValueError(f"done: {int((~ds['done'].values).sum())} samples of the study are not computed yet")
+    ident = json.loads(ds.attrs["study"])
+    o = ident["options"]
+    c = ident["config"]
+    return study_from_samples(ds["top_speed"].values, ds["severity"].values,
+                              deterministic=ds["deterministic_severity"].values, seed=ident["seed"], first_sample=0,
+                              eta_std=float(ds.attrs["eta_std"]),
+                              settings=_settings(c, psd_from_dict(o["psd"]), o["eta_dt_s"], o["warmup_s"]), config=c)
 
 
 def study_from_samples(speeds, severity, *, deterministic, seed: int, first_sample: int, eta_std: float,
