@@ -80,9 +80,11 @@ def test_drillsim_run_and_sweep(drillsim, tmp_path):
     (["--preset", "thesis-field", "--config", "/etc/hostname"], "--config excludes --preset"),
     (["--presett", "thesis-field"], "not expected: thesis-field --presett"),
     (["--preset", "thesis-field", "--bogus"], "not expected: --bogus"),
+    (["--preset", "thesis-field", "--out", "/etc/hostname"], "--out: /etc/hostname is a file, not a folder"),
 ])
 def test_drillsim_errors(drillsim, args, needle, tmp_path):
-    r = subprocess.run([drillsim, *args, "--out", str(tmp_path / "out")], capture_output=True, text=True)
+    out = [] if "--out" in args else ["--out", str(tmp_path / "out")]
+    r = subprocess.run([drillsim, *args, *out], capture_output=True, text=True)
     assert r.returncode == 2
     assert r.stderr.count("\n") == 1 and r.stderr.startswith("drillsim: error:") and needle in r.stderr, r.stderr
     assert not (tmp_path / "out").exists()

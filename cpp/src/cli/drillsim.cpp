@@ -167,6 +167,7 @@ int run(int argc, char** argv) {
     throw std::invalid_argument(e.what());
   }
   if (config_path.empty() && preset_name.empty()) throw std::invalid_argument("give --config FILE or --preset NAME");
+  if (fs::exists(out) && !fs::is_directory(out)) throw std::invalid_argument("--out: " + out + " is a file, not a folder");
   Progress progress(!progress_off && (progress_on || isatty(STDERR_FILENO)));
   Config cfg;
   if (!preset_name.empty()) {
