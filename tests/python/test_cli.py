@@ -248,3 +248,10 @@ def test_a_failed_command_removes_the_output_folder_it_created(tmp_path, capsys)
     assert main(["report", "--preset", "thesis-rig", "--dt", "1", "--no-progress", "--out", str(tmp_path / "a" / "b")]) == 2
     assert "stability bound" in _one_error_line(capsys)
     assert not (tmp_path / "a").exists()
+
+
+def test_eta_std_too_large_is_an_error_not_an_overflow(capsys):
+    """Found by test_fuzz.py (long run): --eta-std 1e180 raised OverflowError (34, 'Numerical result out of range')."""
+    from drillpy.cli import main
+    assert main(["mc", "--preset", "thesis-rig", "--eta-std", "1e180", "--no-progress"]) == 2
+    assert "--eta-std = 1e+180: too large" in _one_error_line(capsys)

@@ -370,6 +370,11 @@ _PATHS = st.sampled_from(["{tmp}/missing.json", "{tmp}", "{tmp}/junk.txt", "{tmp
                           "{tmp}/dup.json", "{tmp}/nan.json", "{tmp}/bin.dat"])
 _OUTS = st.sampled_from(["{tmp}/out", "{tmp}/out/deep/er", "{tmp}/junk.txt", "{tmp}/junk.txt/sub", "{tmp}"])
 _CONFIG = {"--config": (_PATHS, ("config",))}
+#: a stored, distributable study (sweep, map, mc): no tcp:// scheduler (connecting to none waits for a timeout)
+#: and no local:N with N >= 1 (a Dask cluster takes seconds to start)
+_STUDY = {"--scheduler": (st.sampled_from(["local", "bogus", "", "local:0", "local:x", "local:-1", "LOCAL"]),
+                          ("scheduler",)),
+          "--chunk": (_ints((-1, 0, 1, 3)), ("chunk",))}
 _OUT = {"--out": (_OUTS, ("out",))}
 
 
@@ -386,12 +391,12 @@ CLI = {
         "--wob-kn": (_floats((0.5, 0, -3)), ("wob",))}),
     "sweep": _cmd(["sweep", *_RIG, *_QUICK, "--speeds", "6,9", "--json"], {
         **_MODEL, **_OUT, "--speeds": (_grid(), ("speeds", "top_speed")),
-        "--refine": (_floats((0.1, 0, -1)), ("refine", "tol"))}),
+        "--refine": (_floats((0.1, 0, -1)), ("refine", "tol")), **_STUDY}),
     # no --out: the map figure of a single speed or WOB raises a TypeError in contourf (reported with
     # issue 13 item 4; drillpy/reports/preset.py write_map)
     "map": _cmd(["map", *_RIG, *_QUICK, "--speeds-rpm", "60,90", "--wobs-kn", "0.5", "--json"], {
         **_MODEL, "--speeds-rpm": (_grid(2), ("speeds", "top_speed")),
-        "--wobs-kn": (_grid(2), ("wobs", "wob"))}),
+        "--wobs-kn": (_grid(2), ("wobs", "wob")), **_STUDY}),
     # --no-figures: the figures of a study take 9 s
     "mc": _cmd(["mc", *_RIG, *_QUICK, "--samples", "2", "--warmup", "0", "--speeds", "8", "--json", "--no-figures"], {
         "--samples": (_ints((-1, 0, 1, 2, 10**7 + 1)), ("samples",)),
@@ -412,7 +417,7 @@ CLI = {
         "--eta-std": (_floats((0.0667, 0, -1)), ("eta-std", "eta_std")),
         "--refine": (_floats((0.5, 0, -1)), ("refine", "tol")),
         "--threads": _MODEL["--threads"], "--dt": _MODEL["--dt"], "--duration": _MODEL["--duration"],
-        "--transient": _MODEL["--transient"], "--start": _MODEL["--start"], **_OUT}),
+        "--transient": _MODEL["--transient"], "--start": _MODEL["--start"], **_OUT, **_STUDY}),
     "frf": _cmd(["frf", "--preset", "thesis-ch6", "--samples", "3", "--freqs", "0.1:10:5", "--json", "--no-progress"], {
         "--model": (st.sampled_from(["SM_full", "SM_CB1", "SM_CB2", "SM_x"]), ("model",)),
         "--case": (_ints((-1, 0, 1, 7, 8)), ("case",)),
@@ -612,6 +617,7 @@ def _names_input(msg: str, argv) -> bool:
                 else None
             named = tok in body or any(n in body for n in names.get(tok, ()))
             if named and (val is None or not val.strip() or any(f in body for f in _number_forms(val))
+                          or any(c.strip() and c.strip() in body for c in val.split(","))  # a list: the bad item
                           or any(c in body for c in _CONFLICT)):
                 return True
             i += 2 if val is not None else 1

@@ -369,6 +369,8 @@ def psd_option(a: argparse.Namespace):
             model = scaled_to_std(model, a.eta_std)
         except ValueError:
             raise ValueError(f"--eta-std = {a.eta_std!r}: must be a positive number") from None
+        except OverflowError:  # std ** 2 beyond the float range
+            raise ValueError(f"--eta-std = {a.eta_std!r}: too large (its square overflows)") from None
     return model
 
 
