@@ -48,6 +48,8 @@ def test_thesis_laws():
      "operation.string_friction_nm = -1.5: must not be negative"),
     (lambda c: c["operation"].update(string_friction_nm="high"), 'operation.string_friction_nm = "high"'),
     (lambda c: c["damping"].update(ratios=[5.0, 0.02]), "damping.ratios[0] = 5: must be at most 1"),
+    (lambda c: c["operation"].update(top_speed_rad_s=0.0), "operation.top_speed_rad_s = 0: must be positive"),
+    (lambda c: c["operation"].update(top_speed_rad_s=-8.0), "operation.top_speed_rad_s = -8: must be positive"),
     (lambda c: c.update(damping={"type": "rayleigh", "pairs": [[0.1, 0.05], [1.0, 2.0]]}),
      "damping.pairs[1].ratio = 2: must be at most 1"),
 ])

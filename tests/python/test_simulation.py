@@ -219,3 +219,12 @@ def test_operating_point_of_the_wrong_type_is_one_clear_error(kwargs, message):
     assert str(e.value).startswith(message)
     with pytest.raises(ValueError, match=r"^speeds = \['a'\]: must be a non-empty 1-D list of numbers"):
         drillpy.sweep_severity(cfg, ["a"])
+
+
+@pytest.mark.parametrize("speed", ["0", "-8"])
+def test_a_top_speed_not_forward_is_refused_on_the_command_line(speed, capsys):
+    """--top-speed 0 printed "severity": NaN and -8 ran with a negative torque on bit (issue 13)."""
+    from drillpy.cli import main
+    assert main(["simulate", "--preset", "thesis-rig", "--top-speed", speed, "--json"]) == 2
+    err = capsys.readouterr().err
+    assert err == f"drillpy: error: operation.top_speed_rad_s = {speed}: must be positive\n"

@@ -109,7 +109,9 @@ struct Config {
             "must be between 1 and the number of free DOFs (" + show(string.n_elements()) + ")");
     damping.validate();
     law.validate();
-    require_finite(top_speed, "operation.top_speed_rad_s");
+    // The law, the stick threshold and SS (Eq. 3.4) are written for a top turning forward: SS divides
+    // by the top speed (0 gave NaN) and a negative speed is a negative torque on bit.
+    require_positive(top_speed, "operation.top_speed_rad_s");
     require_non_negative(wob, "operation.wob_n");
     require_non_negative(bit_viscous, "operation.bit_viscous_nms");
     require_non_negative(string_friction, "operation.string_friction_nm");
@@ -126,7 +128,7 @@ struct Config {
     require_non_negative(metrics.stick_debounce_s, "metrics.stick_debounce_s");
     require_fraction(metrics.slip_level_fraction, "metrics.slip_level_fraction");
     for (std::size_t k = 0; k < sweep_speeds.size(); ++k)
-      require_finite(sweep_speeds[k], "sweep.top_speeds_rad_s[" + std::to_string(k) + "]");
+      require_positive(sweep_speeds[k], "sweep.top_speeds_rad_s[" + std::to_string(k) + "]");
     for (std::size_t k = 0; k < sweep_wobs.size(); ++k)
       require_non_negative(sweep_wobs[k], "sweep.wobs_n[" + std::to_string(k) + "]");
     for (std::size_t k = 0; k < cb_modes.size(); ++k)
@@ -367,7 +369,9 @@ inline std::vector<Block> make_blocks() {
         {law_types[3], poly_hysteretic}}},
       {"operation",
        "operating point",
-       {number("top_speed_rad_s", "top-drive speed (commanded speed of a motor top drive) [rad/s]").def(d.top_speed),
+       {number("top_speed_rad_s", "top-drive speed (commanded speed of a motor top drive) [rad/s]")
+            .positive()
+            .def(d.top_speed),
         number("wob_n", "weight on bit [N] (default: law.wob_ref_n)").non_negative(),
         number("bit_viscous_nms", "viscous torque c_v v on the bit [N m s/rad] (not in the thesis)")
             .non_negative()
@@ -420,7 +424,7 @@ inline std::vector<Block> make_blocks() {
             .def(d.metrics.slip_level_fraction)}},
       {"sweep",
        "grid of the sweep job",
-       {numbers("top_speeds_rad_s", "top speeds [rad/s]").def(json::array()),
+       {numbers("top_speeds_rad_s", "top speeds [rad/s]").positive().def(json::array()),
         numbers("wobs_n", "weights on bit [N]; empty: operation.wob_n").non_negative().def(json::array())}},
       {"craig_bampton",
        "Craig-Bampton substructuring",

@@ -229,14 +229,15 @@ def add_study_args(p: argparse.ArgumentParser) -> None:
                         "samples); a stored study keeps its own")
 
 
-def study_severity(study, a: argparse.Namespace, direct: Callable[[], np.ndarray]) -> np.ndarray:
+def study_severity(study: Callable, a: argparse.Namespace, direct: Callable[[], np.ndarray]) -> np.ndarray:
     """SS of a study: ``direct()`` (today's in-process path) unless ``--out`` stores it or ``--scheduler``
     distributes it, then :func:`drillpy.study.run_study` (the same bits either way).
 
     Parameters
     ----------
-    study : drillpy.study.Study
-        The study.
+    study : callable
+        Returns the :class:`drillpy.study.Study` (built only when needed, so that the in-process path
+        keeps the engine's own messages for bad grids).
     a : argparse.Namespace
         ``--out``, ``--scheduler``, ``--chunk``, ``--threads``, ``--no-progress``.
     direct : callable
@@ -250,7 +251,7 @@ def study_severity(study, a: argparse.Namespace, direct: Callable[[], np.ndarray
     if not a.out and a.scheduler == "local":
         return direct()
     from drillpy.study import run_study
-    return run_study(study, a.out, scheduler=a.scheduler, chunk=a.chunk, threads=a.threads,
+    return run_study(study(), a.out, scheduler=a.scheduler, chunk=a.chunk, threads=a.threads,
                      progress=not a.no_progress)["severity"].values
 
 

@@ -199,7 +199,7 @@ def cmd_sweep(a: argparse.Namespace) -> int:
     cfg = model_config(a)
     speeds = parse_grid(a.speeds, "--speeds")
     from drillpy.study import Study
-    ss = study_severity(Study("sweep", cfg, tuple(speeds.tolist()), options={"start": a.start}), a,
+    ss = study_severity(lambda: Study("sweep", cfg, tuple(speeds.tolist()), options={"start": a.start}), a,
                         lambda: sweep_severity(cfg, speeds, progress=not a.no_progress, threads=a.threads,
                                                start=a.start))
     thr = severity_threshold(speeds, ss)
@@ -265,8 +265,8 @@ def cmd_map(a: argparse.Namespace) -> int:
     w = parse_grid(a.wobs_kn, "--wobs-kn")
     from drillpy.study import Study
     speeds, wobs = sp * np.pi / 30.0, w * 1e3
-    m = study_severity(Study("map", cfg, tuple(speeds.tolist()), wobs=tuple(wobs.tolist()), options={"start": a.start}),
-                       a, lambda: stability_map(cfg, speeds, wobs, progress=not a.no_progress, threads=a.threads,
+    m = study_severity(lambda: Study("map", cfg, tuple(speeds.tolist()), wobs=tuple(wobs.tolist()),
+                                     options={"start": a.start}), a, lambda: stability_map(cfg, speeds, wobs, progress=not a.no_progress, threads=a.threads,
                                                 start=a.start))
     res = {"top_speeds_rpm": sp.tolist(), "wobs_kn": w.tolist(), "severity": m.tolist()}
     if a.out:
