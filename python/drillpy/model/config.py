@@ -263,6 +263,10 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
     ValueError
         Naming the field and the value for an invalid override.
     """
+    for name, value in (("beta1", beta1), ("dt", dt), ("duration", duration), ("transient", transient),
+                        ("top_speed", top_speed), ("wob", wob)):
+        if value is not None:  # the type here; the ranges are the configuration's (C++) checks
+            validate.number(name, value)
     c = copy.deepcopy(cfg)
     if elements is not None:
         validate.integer("elements", elements, 1, _INT_MAX)
@@ -282,7 +286,7 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
     for key, val in (("scheme", scheme), ("acceleration", acceleration), ("dt_s", dt), ("duration_s", duration),
                      ("transient_s", transient), ("start", start)):
         if val is not None:
-            sim[key] = val
+            sim[key] = float(val) if key.endswith("_s") else val
     if duration is not None and transient is None and sim.get("transient_s", 0) >= duration:
         sim["transient_s"] = 0.5 * duration
     op = c.setdefault("operation", {})
