@@ -386,10 +386,8 @@ CLI = {
     "sweep": _cmd(["sweep", *_RIG, *_QUICK, "--speeds", "6,9", "--json"], {
         **_MODEL, **_OUT, "--speeds": (_grid(), ("speeds", "top_speed")),
         "--refine": (_floats((0.1, 0, -1)), ("refine", "tol")), **_STUDY}),
-    # no --out: the map figure of a single speed or WOB raises a TypeError in contourf (reported with
-    # issue 13 item 4; drillpy/reports/preset.py write_map)
     "map": _cmd(["map", *_RIG, *_QUICK, "--speeds-rpm", "60,90", "--wobs-kn", "0.5", "--json"], {
-        **_MODEL, "--speeds-rpm": (_grid(2), ("speeds", "top_speed")),
+        **_MODEL, **_OUT, "--speeds-rpm": (_grid(2), ("speeds", "top_speed")),
         "--wobs-kn": (_grid(2), ("wobs", "wob")), **_STUDY}),
     # --no-figures: the figures of a study take 9 s
     "mc": _cmd(["mc", *_RIG, *_QUICK, "--samples", "2", "--warmup", "0", "--speeds", "8", "--json", "--no-figures"], {

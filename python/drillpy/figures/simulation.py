@@ -81,7 +81,8 @@ def stability_map_plot(path, speeds_rpm, wobs_kn, maps: dict, vmax=None) -> Path
     wobs_kn : array_like
         Weights on bit of the grid [kN].
     maps : dict
-        Panel label -> SS [-], shape (len(wobs_kn), len(speeds_rpm)).
+        Panel label -> SS [-], shape (len(wobs_kn), len(speeds_rpm)); one speed or one WOB gives a
+        strip without the SS = 0.5 contour.
     vmax : float, optional
         Upper end of the colour scale [-] (default: the largest SS of all maps).
 
@@ -95,7 +96,8 @@ def stability_map_plot(path, speeds_rpm, wobs_kn, maps: dict, vmax=None) -> Path
     fig, axes = plt.subplots(1, n, figsize=(4.6 * n, 4.0), squeeze=False)
     for ax, (label, m) in zip(axes[0], maps.items()):
         pc = ax.pcolormesh(speeds_rpm, wobs_kn, m, shading="nearest", cmap="jet", vmin=0, vmax=vmax)
-        ax.contour(speeds_rpm, wobs_kn, m, levels=[0.5], colors="w", linewidths=1.5)
+        if min(np.shape(m)) >= 2:  # a contour needs a 2-D grid (a map of one speed or one WOB is a strip)
+            ax.contour(speeds_rpm, wobs_kn, m, levels=[0.5], colors="w", linewidths=1.5)
         ax.set_xlabel("top-drive speed [RPM]")
         ax.set_ylabel("weight on bit [kN]")
         ax.set_title(label, fontsize=10)
