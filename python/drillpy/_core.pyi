@@ -271,17 +271,25 @@ class StochasticModel:
         """
         Monte Carlo envelope of the acceleration FRF (dB) for a unit torque at the bit.
         """
+    def envelope_from_samples(self, freq_hz: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], nodes: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], db: typing.Annotated[numpy.typing.ArrayLike, numpy.float32], energy: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], probability: typing.SupportsFloat | typing.SupportsIndex = 0.95, progress: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0) -> FrfEnvelope:
+        """
+        Envelope of the acceleration FRF from frf_samples results stacked in sample order (db (samples, n_nodes, n_freq), energy (samples, n_nodes)) and the mean model's response; progress counts frequencies.
+        """
     def frf_db(self, freq_hz: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], nodes: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], sample: typing.Any = None, seed: typing.SupportsInt | typing.SupportsIndex = 1) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
         Acceleration FRF [dB] of the mean model or of one realization (n_freq x n_nodes).
+        """
+    def frf_samples(self, freq_hz: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], nodes: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], first_sample: typing.SupportsInt | typing.SupportsIndex, samples: typing.SupportsInt | typing.SupportsIndex, seed: typing.SupportsInt | typing.SupportsIndex = 1, progress: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0) -> tuple[numpy.typing.NDArray[numpy.float32], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        Per-sample acceleration FRF of samples first_sample .. first_sample + samples - 1 (row r: sample first_sample + r): (db, energy) with db float32 (samples, n_nodes, n_freq) [dB] and energy (samples, n_nodes), int_B |a|^2 d omega (Eq. C.2).
         """
     def sample_matrices(self, seed: typing.SupportsInt | typing.SupportsIndex, sample: typing.SupportsInt | typing.SupportsIndex) -> dict:
         """
         Realization `sample` of the random M, D, K.
         """
-    def severity_samples(self, speeds: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], samples: typing.SupportsInt | typing.SupportsIndex, seed: typing.SupportsInt | typing.SupportsIndex = 1, structural: bool = True, eta: typing.Any = None, eta_psd: typing.Any = None, eta_dt: typing.SupportsFloat | typing.SupportsIndex = 0.05, progress: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+    def severity_samples(self, speeds: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], samples: typing.SupportsInt | typing.SupportsIndex, seed: typing.SupportsInt | typing.SupportsIndex = 1, structural: bool = True, eta: typing.Any = None, eta_psd: typing.Any = None, eta_dt: typing.SupportsFloat | typing.SupportsIndex = 0.05, progress: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, first_sample: typing.SupportsInt | typing.SupportsIndex = 0) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
-        SS (Eq. 3.4) for samples x top speeds with random structure; bit-rock uncertainty (Eq. 4.1) from eta rows sampled every eta_dt, or from a PSD on the generator grid of (eta_dt, duration) (Eq. 4.4).
+        SS (Eq. 3.4) of samples first_sample .. first_sample + samples - 1 (row r: sample first_sample + r) x top speeds with random structure; bit-rock uncertainty (Eq. 4.1) from eta rows (row r for row r of the result) sampled every eta_dt, or from a PSD on the generator grid of (eta_dt, duration) (Eq. 4.4).
         """
     @property
     def delta(self) -> numpy.typing.NDArray[numpy.float64]:

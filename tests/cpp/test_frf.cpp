@@ -159,3 +159,40 @@ TEST(FrfEnvelope, ProgressCanCancel) {
   EXPECT_EQ(e.samples, 0u);
   EXPECT_EQ(calls, 2u);
 }
+
+TEST(FrfEnvelope, ChunksOfSamplesGiveTheSameRowsAndStatistics) {
+  const Config c = ch6();
+  const StochasticModel sm(c, StochasticKind::cb2, thesis_case_dispersions(4));
+  const std::vector<int> nodes = thesis_observation_nodes(c.string);
+  const Eigen::VectorXd fhz = Eigen::VectorXd::LinSpaced(40, 0.05, 10.0);
+  EnvelopeOptions o;
+  o.samples = 11;
+  o.seed = 2;
+  o.probability = 0.8;
+  const FrfEnvelope whole = frf_envelope(sm, nodes, fhz, o);
+  const FrfSamples all = frf_sample_db(sm, nodes, fhz, o.seed, 0, 11);
+  const FrfSamples head = frf_sample_db(sm, nodes, fhz, o.seed, 0, 5, 1);
+  const FrfSamples tail = frf_sample_db(sm, nodes, fhz, o.seed, 5, 6, 2);
+  ASSERT_EQ(tail.db.rows(), 6);
+  ASSERT_EQ(tail.db.cols(), 3 * 40);
+  EXPECT_EQ(tail.db, all.db.bottomRows(6));
+  EXPECT_EQ(tail.energy, all.energy.bottomRows(6));
+  FrfDbRows db(11, 3 * 40);
+  db << head.db, tail.db;
+  Eigen::MatrixXd energy(11, 3);
+  energy << head.energy, tail.energy;
+  const FrfEnvelope e = frf_statistics(sm, nodes, fhz, db, energy, o.probability);
+  ASSERT_EQ(e.samples, 11u);
+  EXPECT_EQ(e.nominal_db, whole.nominal_db);
+  EXPECT_EQ(e.mean_db, whole.mean_db);
+  EXPECT_EQ(e.lower_db, whole.lower_db);
+  EXPECT_EQ(e.upper_db, whole.upper_db);
+  EXPECT_EQ(e.energy, whole.energy);
+  // Row r of a chunk is sample first + r: node o, frequency f at column o n_freq + f.
+  Eigen::MatrixXd M, D, K;
+  sm.sample_matrices(o.seed, 7, M, D, K);
+  const Eigen::MatrixXd db7 = bit_torque_response(sm.mean(), M, D, K, nodes).acceleration_db(2 * M_PI * fhz.array());
+  EXPECT_NEAR(tail.db(2, 2 * 40 + 17), db7(17, 2), 1e-4);
+  EXPECT_THROW(frf_statistics(sm, nodes, fhz, db.leftCols(3 * 39), energy, 0.9), std::invalid_argument);
+  EXPECT_THROW(frf_statistics(sm, nodes, fhz, db, energy.topRows(10), 0.9), std::invalid_argument);
+}

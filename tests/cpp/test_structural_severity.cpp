@@ -117,3 +117,24 @@ TEST(StructuralSeverity, RefusesBadInput) {
   o.samples = 0;
   EXPECT_THROW(severity_samples(sm, o), std::invalid_argument);
 }
+
+TEST(StructuralSeverity, ChunksOfSamplesStackToTheWholeRun) {
+  const Config c = short_ch6();
+  const StochasticModel sm(c, StochasticKind::cb2, std::vector<Dispersions>(2, Dispersions::Constant(0.1)));
+  const EtaProvider psd = psd_eta(GaussianProcess::from_psd(PsdModel{}, 0.05, c.sim.duration), 6);
+  for (const EtaProvider& eta : {EtaProvider(), psd}) {
+    SeverityStudyOptions o;
+    o.speeds = {8.0, 20.0};
+    o.seed = 6;
+    o.samples = 7;
+    const Eigen::MatrixXd whole = severity_samples(sm, o, eta);
+    o.samples = 3;
+    const Eigen::MatrixXd head = severity_samples(sm, o, eta);
+    o.first_sample = 3;
+    o.samples = 4;
+    const Eigen::MatrixXd tail = severity_samples(sm, o, eta);
+    Eigen::MatrixXd stacked(7, 2);
+    stacked << head, tail;
+    EXPECT_EQ(stacked, whole) << (eta ? "structure + PSD eta" : "structure");
+  }
+}

@@ -1,4 +1,5 @@
 """drillpy.uncertainty.frf: Craig-Bampton frequencies, dispersions, FRF envelopes, Conv2 and the `frf` command."""
+import dataclasses
 import json
 
 import numpy as np
@@ -101,3 +102,27 @@ def test_cli_bad_input_is_one_line_and_status_2(capsys, args, message):
     assert rc == 2
     assert err.startswith("drillpy: error:") and err.count("\n") == 1
     assert message in err
+
+
+def test_envelope_from_chunks_of_samples_is_the_envelope_bit_for_bit():
+    kw = dict(case=4, seed=5, freq_hz=FREQS, progress=False)
+    whole = F.frf_envelope(SMALL, "SM_CB2", samples=11, probability=0.9, **kw)
+    db_all, energy_all = F.frf_samples(SMALL, "SM_CB2", samples=11, **kw)
+    chunks = [F.frf_samples(SMALL, "SM_CB2", samples=n, first_sample=first, threads=t, **kw)
+              for first, n, t in ((0, 5, 1), (5, 6, 2))]
+    db, energy = (np.concatenate(a) for a in zip(*chunks))
+    assert db.dtype == np.float32 and db.shape == (11, 3, 200) and energy.shape == (11, 3)
+    np.testing.assert_array_equal(chunks[1][0], db_all[5:])
+    np.testing.assert_array_equal(chunks[1][1], energy_all[5:])
+    # db[r, p, f]: sample first + r, point p, frequency f.
+    one = _core.StochasticModel(engine_config(SMALL), "SM_CB2", F.dispersions(SMALL, case=4))
+    np.testing.assert_allclose(db[7], one.frf_db(FREQS, [1, 100, 200], 7, 5).T, atol=1e-4)
+    env = F.envelope_from_samples(SMALL, db, energy, "SM_CB2", probability=0.9, **kw)
+    for f in dataclasses.fields(F.FRFEnvelope):
+        np.testing.assert_array_equal(getattr(env, f.name), getattr(whole, f.name), err_msg=f.name)
+    with pytest.raises(ValueError, match="db"):
+        F.envelope_from_samples(SMALL, db[:, :2], energy, "SM_CB2", **kw)
+    with pytest.raises(ValueError, match="energy"):
+        F.envelope_from_samples(SMALL, db, energy[:10], "SM_CB2", **kw)
+    with pytest.raises(ValueError, match="first_sample"):
+        F.frf_samples(SMALL, "SM_CB2", samples=2, first_sample=-1, **kw)

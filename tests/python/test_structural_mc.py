@@ -63,3 +63,22 @@ def test_cli_robust_ss(capsys, tmp_path):
     assert set(res) == {"deterministic", "structure (SM_CB2)", "bit-rock (eta)", "structure + bit-rock"}
     assert res["structure (SM_CB2)"]["samples"] == 3 and len(res["structure + bit-rock"]["q95_ss"]) == 2
     assert (tmp_path / "severity_bands.png").stat().st_size > 10000
+
+
+@pytest.mark.parametrize("source", [dict(), dict(eta_psd=THESIS_PSD)], ids=["structural", "eta_psd"])
+def test_chunks_of_samples_stack_to_the_whole_run(source):
+    kw = dict(delta=0.1, seed=4, progress=False, **source)
+    whole = severity_study(CFG, SPEEDS, 7, **kw).ss
+    head = severity_study(CFG, SPEEDS, 3, first_sample=0, **kw)
+    tail = severity_study(CFG, SPEEDS, 4, first_sample=3, **kw)
+    assert tail.first_sample == 3
+    np.testing.assert_array_equal(np.vstack([head.ss, tail.ss]), whole)
+
+
+def test_eta_rows_of_a_chunk_belong_to_its_samples():
+    eta = eta_rows(5)
+    whole = severity_study(CFG, [20.0], 5, eta=eta, eta_dt=0.1, progress=False).ss
+    tail = severity_study(CFG, [20.0], 2, eta=eta[3:], eta_dt=0.1, first_sample=3, progress=False).ss
+    np.testing.assert_array_equal(tail, whole[3:])
+    with pytest.raises(ValueError, match="first_sample = -1"):
+        severity_study(CFG, SPEEDS, 2, first_sample=-1, progress=False)

@@ -143,14 +143,19 @@ struct FrfEnvelope {
   std::size_t samples = 0;     ///< 0 when cancelled
 };
 
-/// Statistical envelope of the acceleration FRF (section 6.6): realization i of the stochastic
-/// model comes from (seed, i) only and the statistics are reduced in index order, so results do
-/// not depend on the thread count. Progress counts samples, then frequencies.
-inline FrfEnvelope frf_envelope(const StochasticModel& sm, const std::vector<int>& nodes,
-                                const Eigen::VectorXd& freq_hz, const EnvelopeOptions& opt,
-                                const ProgressFn& progress = nullptr) {
-  const ReducedModel& mean = sm.mean();
-  const int n_free = static_cast<int>(mean.basis.rows());
+/// The dB responses of consecutive samples as float rows: row r is one sample's contiguous block,
+/// column o n_freq + f its value at node o and frequency f.
+using FrfDbRows = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+/// Per-sample results of samples first .. first + count - 1 (row r: sample first + r).
+struct FrfSamples {
+  FrfDbRows db;            ///< count x (n_obs n_freq): 20 log10 |a(omega)| [dB]; empty when cancelled
+  Eigen::MatrixXd energy;  ///< count x n_obs: int_B |a_i(omega)|^2 d omega (Eq. C.2)
+};
+
+/// Observation nodes free (1 .. n_free) and a positive, increasing grid of at least two frequencies.
+inline void check_frf_grid(const StochasticModel& sm, const std::vector<int>& nodes, const Eigen::VectorXd& freq_hz) {
+  const int n_free = static_cast<int>(sm.mean().basis.rows());
   require(!nodes.empty(), "nodes", nodes.size(), "needs at least one observation node");
   for (std::size_t o = 0; o < nodes.size(); ++o)
     require(nodes[o] >= 1 && nodes[o] <= n_free, "nodes[" + std::to_string(o) + "]", nodes[o],
@@ -161,11 +166,28 @@ inline FrfEnvelope frf_envelope(const StochasticModel& sm, const std::vector<int
     if (f) require(freq_hz(f) > freq_hz(f - 1), "freq_hz[" + std::to_string(f) + "]", freq_hz(f),
                    "the frequency grid must be increasing");
   }
-  require(opt.samples >= 1, "samples", opt.samples, "must be at least 1");
-  require(std::isfinite(opt.probability) && opt.probability > 0.0 && opt.probability < 1.0, "probability",
-          opt.probability, "must lie in (0, 1)");
+}
 
+/// The probability P held by the envelope lies in (0, 1).
+inline void check_envelope_probability(double probability) {
+  require(std::isfinite(probability) && probability > 0.0 && probability < 1.0, "probability", probability,
+          "must lie in (0, 1)");
+}
+
+/// Acceleration FRF in dB (Eqs. 6.5, 6.15) and band energy (integrand of Eq. C.2) of samples
+/// first .. first + count - 1: realization i of the stochastic model comes from (seed, i) only and
+/// each sample writes its own rows, so they do not depend on the thread count or the chunking.
+/// Progress counts samples.
+inline FrfSamples frf_sample_db(const StochasticModel& sm, const std::vector<int>& nodes,
+                                const Eigen::VectorXd& freq_hz, std::uint64_t seed, std::uint64_t first,
+                                std::size_t count, int threads = 0, const ProgressFn& progress = nullptr) {
+  check_frf_grid(sm, nodes, freq_hz);
+  require(count >= 1, "samples", count, "must be at least 1");
+  require(first <= (std::uint64_t(1) << 62), "first_sample", first, "must be below 2^62");
   const Eigen::Index nf = freq_hz.size(), no = static_cast<Eigen::Index>(nodes.size());
+  const double values = static_cast<double>(count) * static_cast<double>(nf) * static_cast<double>(no);
+  require(values <= 2.5e8, "samples", count,
+          "x frequencies x nodes = " + show(values) + " values exceeds the 2.5e8 (1 GB) kept for the quantiles");
   const Eigen::ArrayXd omega = 2.0 * M_PI * freq_hz.array();
   Eigen::ArrayXd weight = Eigen::ArrayXd::Zero(nf);  // trapezoid weights in omega
   for (Eigen::Index f = 0; f + 1 < nf; ++f) {
@@ -173,56 +195,72 @@ inline FrfEnvelope frf_envelope(const StochasticModel& sm, const std::vector<int
     weight(f) += h;
     weight(f + 1) += h;
   }
-
-  FrfEnvelope env;
-  env.freq_hz = freq_hz;
-  env.nodes = nodes;
-  env.nominal_db = bit_torque_response(mean, mean.M, mean.D, mean.K, nodes).acceleration_db(omega);
-
-  const std::size_t ns = opt.samples, total = ns + static_cast<std::size_t>(nf);
-  const double values = static_cast<double>(ns) * static_cast<double>(nf) * static_cast<double>(no);
-  require(values <= 2.5e8, "samples", ns,
-          "x frequencies x nodes = " + show(values) + " values exceeds the 2.5e8 (1 GB) kept for the quantiles");
-  // db[(i no + o) nf + f]: each sample writes its own contiguous block (no false sharing between
-  // threads); the statistics read blocks of `fb` consecutive frequencies (whole cache lines).
-  std::vector<float> db(static_cast<std::size_t>(values));
-  env.energy.resize(static_cast<Eigen::Index>(ns), no);
-  const bool done1 = parallel_for(
-      ns,
-      [&](std::size_t i) {
+  // Each sample writes its own contiguous row (no false sharing between threads).
+  FrfSamples out;
+  out.db.resize(static_cast<Eigen::Index>(count), no * nf);
+  out.energy.resize(static_cast<Eigen::Index>(count), no);
+  const bool done = parallel_for(
+      count,
+      [&](std::size_t r) {
+        const std::uint64_t i = first + r;
         Eigen::MatrixXd M, D, K;
-        sm.sample_matrices(opt.seed, i, M, D, K);
+        sm.sample_matrices(seed, i, M, D, K);
         Eigen::ArrayXXd re, im;
-        bit_torque_response(mean, M, D, K, nodes).acceleration(omega, re, im);
+        bit_torque_response(sm.mean(), M, D, K, nodes).acceleration(omega, re, im);
         const Eigen::ArrayXXd a2 = re.square() + im.square();
         if (!a2.allFinite() || (a2 <= 0.0).any())
           throw std::runtime_error("FRF of sample " + std::to_string(i) + " is not finite and positive");
         const Eigen::ArrayXXd a2db = 10.0 * a2.log10();
+        const Eigen::Index row = static_cast<Eigen::Index>(r);
         for (Eigen::Index o = 0; o < no; ++o) {
-          env.energy(static_cast<Eigen::Index>(i), o) = (a2.col(o) * weight).sum();
-          for (Eigen::Index f = 0; f < nf; ++f)
-            db[(i * static_cast<std::size_t>(no) + static_cast<std::size_t>(o)) * static_cast<std::size_t>(nf) +
-               static_cast<std::size_t>(f)] = static_cast<float>(a2db(f, o));
+          out.energy(row, o) = (a2.col(o) * weight).sum();
+          out.db.row(row).segment(o * nf, nf) = a2db.col(o).cast<float>().transpose();
         }
       },
-      progress ? ProgressFn([&](std::size_t d, std::size_t) { return progress(d, total); }) : ProgressFn(),
-      opt.threads);
-  if (!done1) return FrfEnvelope{};
+      progress, threads);
+  if (!done) return FrfSamples{};
+  return out;
+}
 
+/// Statistics of the dB responses `db` and energies of n_s samples (frf_sample_db's rows,
+/// stacked in sample order) with the nominal response of the mean model: mean and quantiles
+/// (1 -+ P)/2 per frequency and node, reduced in sample order. Progress counts frequencies;
+/// the envelope has samples = 0 when cancelled.
+inline FrfEnvelope frf_statistics(const StochasticModel& sm, const std::vector<int>& nodes,
+                                  const Eigen::VectorXd& freq_hz, const Eigen::Ref<const FrfDbRows>& db,
+                                  const Eigen::MatrixXd& energy, double probability, int threads = 0,
+                                  const ProgressFn& progress = nullptr) {
+  check_frf_grid(sm, nodes, freq_hz);
+  check_envelope_probability(probability);
+  const Eigen::Index nf = freq_hz.size(), no = static_cast<Eigen::Index>(nodes.size());
+  require(db.rows() >= 1, "samples", db.rows(), "must be at least 1");
+  require(db.cols() == no * nf, "db (columns)", db.cols(),
+          "must be nodes x frequencies = " + show(no * nf) + " per sample");
+  require(energy.rows() == db.rows() && energy.cols() == no, "energy (shape)", energy.rows(),
+          "must be one row of " + show(no) + " nodes per sample (" + show(db.rows()) + ")");
+
+  FrfEnvelope env;
+  env.freq_hz = freq_hz;
+  env.nodes = nodes;
+  const ReducedModel& mean = sm.mean();
+  const Eigen::ArrayXd omega = 2.0 * M_PI * freq_hz.array();
+  env.nominal_db = bit_torque_response(mean, mean.M, mean.D, mean.K, nodes).acceleration_db(omega);
+  env.energy = energy;
   env.mean_db.resize(nf, no);
   env.lower_db.resize(nf, no);
   env.upper_db.resize(nf, no);
-  const double plo = 0.5 * (1.0 - opt.probability), phi = 0.5 * (1.0 + opt.probability);
-  const std::size_t fb = 16, n_blocks = (static_cast<std::size_t>(nf) + fb - 1) / fb;
-  const bool done2 = parallel_for(
+  const std::size_t ns = static_cast<std::size_t>(db.rows()), nfs = static_cast<std::size_t>(nf);
+  const double plo = 0.5 * (1.0 - probability), phi = 0.5 * (1.0 + probability);
+  // Blocks of `fb` consecutive frequencies (whole cache lines of each sample's row).
+  const std::size_t fb = 16, n_blocks = (nfs + fb - 1) / fb;
+  const bool done = parallel_for(
       n_blocks,
       [&](std::size_t b) {
-        const std::size_t f0 = b * fb, nb = std::min(fb, static_cast<std::size_t>(nf) - f0);
+        const std::size_t f0 = b * fb, nb = std::min(fb, nfs - f0);
         std::vector<double> v(nb * ns);  // v[k ns + i]: frequency f0 + k, sample i
         for (Eigen::Index o = 0; o < no; ++o) {
           for (std::size_t i = 0; i < ns; ++i) {
-            const float* row = db.data() + (i * static_cast<std::size_t>(no) + static_cast<std::size_t>(o)) *
-                                               static_cast<std::size_t>(nf) + f0;
+            const float* row = db.row(static_cast<Eigen::Index>(i)).data() + o * nf + static_cast<Eigen::Index>(f0);
             for (std::size_t k = 0; k < nb; ++k) v[k * ns + i] = row[k];
           }
           for (std::size_t k = 0; k < nb; ++k) {
@@ -237,12 +275,29 @@ inline FrfEnvelope frf_envelope(const StochasticModel& sm, const std::vector<int
           }
         }
       },
-      progress ? ProgressFn([&](std::size_t d, std::size_t) { return progress(ns + std::min(d * fb, static_cast<std::size_t>(nf)), total); })
+      progress ? ProgressFn([&](std::size_t d, std::size_t) { return progress(std::min(d * fb, nfs), nfs); })
                : ProgressFn(),
-      opt.threads);
-  if (!done2) return FrfEnvelope{};
+      threads);
+  if (!done) return FrfEnvelope{};
   env.samples = ns;
   return env;
+}
+
+/// Statistical envelope of the acceleration FRF (section 6.6): frf_sample_db of samples
+/// 0 .. samples - 1, then frf_statistics, so results do not depend on the thread count.
+/// Progress counts samples, then frequencies.
+inline FrfEnvelope frf_envelope(const StochasticModel& sm, const std::vector<int>& nodes,
+                                const Eigen::VectorXd& freq_hz, const EnvelopeOptions& opt,
+                                const ProgressFn& progress = nullptr) {
+  check_envelope_probability(opt.probability);
+  const std::size_t ns = opt.samples, total = ns + static_cast<std::size_t>(freq_hz.size());
+  const FrfSamples s = frf_sample_db(
+      sm, nodes, freq_hz, opt.seed, 0, ns, opt.threads,
+      progress ? ProgressFn([&](std::size_t d, std::size_t) { return progress(d, total); }) : ProgressFn());
+  if (s.db.rows() == 0) return FrfEnvelope{};
+  return frf_statistics(
+      sm, nodes, freq_hz, s.db, s.energy, opt.probability, opt.threads,
+      progress ? ProgressFn([&](std::size_t d, std::size_t) { return progress(ns + d, total); }) : ProgressFn());
 }
 
 }  // namespace drill

@@ -48,12 +48,14 @@ inline EtaProvider psd_eta(GaussianProcess process, std::uint64_t seed) {
 struct SeverityStudyOptions {
   std::vector<double> speeds;  ///< constant top speeds [rad/s]
   std::size_t samples = 100;
+  std::uint64_t first_sample = 0;  ///< runs samples first_sample .. first_sample + samples - 1
   std::uint64_t seed = 1;
   bool structural = true;      ///< false: every sample uses the mean structure (bit-rock only)
   int threads = 0;
 };
 
-/// SS for every (sample, speed): a samples x speeds matrix; empty if cancelled.
+/// SS for every (sample, speed): a samples x speeds matrix, row r for sample first_sample + r;
+/// empty if cancelled.
 /// The law, WOB, time step and transient come from the model's configuration.
 inline Eigen::MatrixXd severity_samples(const StochasticModel& sm, const SeverityStudyOptions& opt,
                                         const EtaProvider& eta = nullptr, const ProgressFn& progress = nullptr) {
@@ -64,12 +66,14 @@ inline Eigen::MatrixXd severity_samples(const StochasticModel& sm, const Severit
     require(opt.speeds[k] > 0.0, "speeds[" + std::to_string(k) + "]", opt.speeds[k], "must be positive");
   }
   require(opt.samples >= 1, "samples", opt.samples, "must be at least 1");
+  require(opt.first_sample <= (std::uint64_t(1) << 62), "first_sample", opt.first_sample, "must be below 2^62");
   const std::size_t nsp = opt.speeds.size();
   Eigen::MatrixXd ss(static_cast<Eigen::Index>(opt.samples), static_cast<Eigen::Index>(nsp));
   const bool done = parallel_for(
       opt.samples * nsp,
       [&](std::size_t job) {
-        const std::size_t i = job / nsp, k = job % nsp;
+        const std::size_t r = job / nsp, k = job % nsp;
+        const std::uint64_t i = opt.first_sample + r;
         const ReducedModel model = opt.structural ? sm.sample(opt.seed, i) : sm.mean();
         const Integrator integ(model, cfg.law, cfg.sim);
         Inputs in;
@@ -80,7 +84,7 @@ inline Eigen::MatrixXd severity_samples(const StochasticModel& sm, const Severit
         if (eta) in.eta = eta(i);
         SeverityObserver sev(cfg.transient);
         integ.run(in, sev);
-        ss(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = sev.severity();
+        ss(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k)) = sev.severity();
       },
       progress, opt.threads);
   if (!done) ss.resize(0, 0);

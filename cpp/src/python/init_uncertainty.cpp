@@ -147,6 +147,49 @@ void init_uncertainty(py::module_& m) {
           py::arg("probability") = 0.95, py::arg("progress") = py::none(), py::arg("threads") = 0,
           "Monte Carlo envelope of the acceleration FRF (dB) for a unit torque at the bit.")
       .def(
+          "frf_samples",
+          [](const StochasticModel& s, const Eigen::VectorXd& freq_hz, const std::vector<int>& nodes,
+             std::uint64_t first_sample, std::size_t samples, std::uint64_t seed, py::object progress, int threads) {
+            FrfSamples r;
+            {
+              py::gil_scoped_release nogil;
+              r = frf_sample_db(s, nodes, freq_hz, seed, first_sample, samples, threads,
+                                drillpy_glue::progress_callback(progress));
+            }
+            const py::ssize_t ns = r.db.rows(), no = static_cast<py::ssize_t>(nodes.size()), nf = freq_hz.size();
+            auto* db = new FrfDbRows(std::move(r.db));
+            const py::capsule owner(db, [](void* p) { delete static_cast<FrfDbRows*>(p); });
+            const py::array_t<float> a({ns, no, nf}, db->data(), owner);
+            return py::make_tuple(a, r.energy);
+          },
+          py::arg("freq_hz"), py::arg("nodes"), py::arg("first_sample"), py::arg("samples"), py::arg("seed") = 1,
+          py::arg("progress") = py::none(), py::arg("threads") = 0,
+          "Per-sample acceleration FRF of samples first_sample .. first_sample + samples - 1 (row r: sample "
+          "first_sample + r): (db, energy) with db float32 (samples, n_nodes, n_freq) [dB] and energy (samples, "
+          "n_nodes), int_B |a|^2 d omega (Eq. C.2).")
+      .def(
+          "envelope_from_samples",
+          [](const StochasticModel& s, const Eigen::VectorXd& freq_hz, const std::vector<int>& nodes,
+             const py::array_t<float, py::array::c_style | py::array::forcecast>& db, const Eigen::MatrixXd& energy,
+             double probability, py::object progress, int threads) {
+            const py::ssize_t no = static_cast<py::ssize_t>(nodes.size()), nf = freq_hz.size();
+            require(db.ndim() == 3 && db.shape(1) == no && db.shape(2) == nf, "db (shape)", db.ndim(),
+                    "must be an array of shape (samples, " + show(no) + " nodes, " + show(nf) + " frequencies)");
+            const Eigen::Map<const FrfDbRows> rows(db.data(), db.shape(0), no * nf);
+            FrfEnvelope e;
+            {
+              py::gil_scoped_release nogil;
+              e = frf_statistics(s, nodes, freq_hz, rows, energy, probability, threads,
+                                 drillpy_glue::progress_callback(progress));
+            }
+            return e;
+          },
+          py::arg("freq_hz"), py::arg("nodes"), py::arg("db"), py::arg("energy"), py::arg("probability") = 0.95,
+          py::arg("progress") = py::none(), py::arg("threads") = 0,
+          "Envelope of the acceleration FRF from frf_samples results stacked in sample order (db (samples, "
+          "n_nodes, n_freq), energy (samples, n_nodes)) and the mean model's response; progress counts "
+          "frequencies.")
+      .def(
           "frf_db",
           [](const StochasticModel& s, const Eigen::VectorXd& freq_hz, const std::vector<int>& nodes, py::object sample,
              std::uint64_t seed) {
@@ -162,10 +205,12 @@ void init_uncertainty(py::module_& m) {
       .def(
           "severity_samples",
           [](const StochasticModel& s, const std::vector<double>& speeds, std::size_t samples, std::uint64_t seed,
-             bool structural, py::object eta, py::object eta_psd, double eta_dt, py::object progress, int threads) {
+             bool structural, py::object eta, py::object eta_psd, double eta_dt, py::object progress, int threads,
+             std::uint64_t first_sample) {
             SeverityStudyOptions o;
             o.speeds = speeds;
             o.samples = samples;
+            o.first_sample = first_sample;
             o.seed = seed;
             o.structural = structural;
             o.threads = threads;
@@ -181,7 +226,7 @@ void init_uncertainty(py::module_& m) {
                 series.push_back(Signal::sampled(std::vector<double>(row, row + a.shape(1)), 0.0, eta_dt));
                 series.back().validate("eta[" + std::to_string(i) + "]");
               }
-              provider = [&series](std::size_t i) { return series[i]; };
+              provider = [&series, first_sample](std::size_t i) { return series[i - first_sample]; };
             } else if (!eta_psd.is_none()) {
               const Array S = py::cast<Array>(eta_psd);
               provider = psd_eta(GaussianProcess(std::vector<double>(S.data(), S.data() + S.size()), eta_dt,
@@ -197,9 +242,10 @@ void init_uncertainty(py::module_& m) {
           },
           py::arg("speeds"), py::arg("samples"), py::arg("seed") = 1, py::arg("structural") = true,
           py::arg("eta") = py::none(), py::arg("eta_psd") = py::none(), py::arg("eta_dt") = 0.05,
-          py::arg("progress") = py::none(), py::arg("threads") = 0,
-          "SS (Eq. 3.4) for samples x top speeds with random structure; bit-rock uncertainty (Eq. 4.1) from eta "
-          "rows sampled every eta_dt, or from a PSD on the generator grid of (eta_dt, duration) (Eq. 4.4).");
+          py::arg("progress") = py::none(), py::arg("threads") = 0, py::arg("first_sample") = 0,
+          "SS (Eq. 3.4) of samples first_sample .. first_sample + samples - 1 (row r: sample first_sample + r) x "
+          "top speeds with random structure; bit-rock uncertainty (Eq. 4.1) from eta rows (row r for row r of the "
+          "result) sampled every eta_dt, or from a PSD on the generator grid of (eta_dt, duration) (Eq. 4.4).");
   m.def("observation_nodes", [](const Config& c) { return thesis_observation_nodes(c.string); },
         py::arg("config"), "P_obs,1 (first free node), P_obs,2 (first interface), P_obs,3 (bit) of section 6.6.");
 }

@@ -281,6 +281,23 @@ class FRFEnvelope:
         }
 
 
+def _grid(cfg: dict, freq_hz, nodes) -> tuple[np.ndarray, list[int], list[str]]:
+    """Frequencies [Hz] (default :func:`default_frequencies`), observation nodes (default P_obs,1-3)
+    and their labels."""
+    f = default_frequencies() if freq_hz is None else np.ascontiguousarray(freq_hz, dtype=float)
+    nd = observation_nodes(cfg) if nodes is None else [int(x) for x in nodes]
+    labels = list(POINT_LABELS) if nodes is None else [f"node {x}" for x in nd]
+    return f, nd, labels
+
+
+def _envelope(r, sm, labels: list, seed: int, probability: float) -> FRFEnvelope:
+    """The FRFEnvelope of the engine's ``_core.FrfEnvelope`` ``r`` computed with model ``sm``."""
+    return FRFEnvelope(freq_hz=r.freq_hz, nodes=list(r.nodes), nominal_db=r.nominal_db,
+                       mean_db=r.mean_db, lower_db=r.lower_db, upper_db=r.upper_db,
+                       energy=r.energy, model=sm.model, delta=np.asarray(sm.delta), samples=r.samples,
+                       seed=int(seed), probability=float(probability), labels=labels)
+
+
 def frf_envelope(cfg: dict, model: str = "SM_CB2", delta=None, case: int | None = None, *,
                  samples: int = 2500, seed: int = 1, freq_hz=None, probability: float = 0.95,
                  nodes=None, progress: bool = True, threads: int = 0) -> FRFEnvelope:
@@ -288,7 +305,8 @@ def frf_envelope(cfg: dict, model: str = "SM_CB2", delta=None, case: int | None 
 
     ``samples`` realizations of ``model`` (sample i from (seed, i) only), frequencies ``freq_hz``
     [Hz] (default :func:`default_frequencies`), observation ``nodes`` (default P_obs,1-3).
-    Ctrl-C stops the study (KeyboardInterrupt).
+    Ctrl-C stops the study (KeyboardInterrupt). The same as :func:`envelope_from_samples` of
+    :func:`frf_samples` (in any chunks of samples), bit for bit.
 
     The response is the acceleration a = -omega^2 u at each node for a unit harmonic torque at
     the bit (Eqs. 6.5, 6.15), shown as 20 log10 |a| [dB re 1 rad/s^2 per N m].
@@ -325,16 +343,119 @@ def frf_envelope(cfg: dict, model: str = "SM_CB2", delta=None, case: int | None 
     """
     validate.integer("samples", samples, 1)
     validate.seed(seed)
-    f = default_frequencies() if freq_hz is None else np.asarray(freq_hz, dtype=float)
+    f, nd, labels = _grid(cfg, freq_hz, nodes)
     sm = stochastic_model(cfg, model, delta, case)
-    nd = observation_nodes(cfg) if nodes is None else [int(x) for x in nodes]
     with progress_bar(int(samples) + f.size, f"FRF envelope {model}", progress) as cb:
-        r = sm.envelope(np.ascontiguousarray(f), nd, int(samples), int(seed), float(probability), cb, threads)
-    labels = list(POINT_LABELS) if nodes is None else [f"node {x}" for x in nd]
-    return FRFEnvelope(freq_hz=r.freq_hz, nodes=list(r.nodes), nominal_db=r.nominal_db,
-                       mean_db=r.mean_db, lower_db=r.lower_db, upper_db=r.upper_db,
-                       energy=r.energy, model=model, delta=np.asarray(sm.delta), samples=r.samples,
-                       seed=int(seed), probability=float(probability), labels=labels)
+        r = sm.envelope(f, nd, int(samples), int(seed), float(probability), cb, threads)
+    return _envelope(r, sm, labels, seed, probability)
+
+
+def frf_samples(cfg: dict, model: str = "SM_CB2", delta=None, case: int | None = None, *,
+                samples: int = 2500, seed: int = 1, first_sample: int = 0, freq_hz=None, nodes=None,
+                progress: bool = True, threads: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """Per-sample acceleration FRF of samples ``first_sample .. first_sample + samples - 1``
+    (section 6.6): the inputs of :func:`envelope_from_samples`, computed in chunks.
+
+    Sample i is realization i of ``model`` from (seed, i) only, so chunks stacked in sample order
+    equal one run over all samples bit for bit, whatever the chunks and thread counts. The
+    response is the acceleration a = -omega^2 u at each node for a unit harmonic torque at the bit
+    (Eqs. 6.5, 6.15). Ctrl-C stops the run (KeyboardInterrupt).
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration (e.g. ``load_config(preset="thesis-ch6")``).
+    model : str
+        "SM_full", "SM_CB1" or "SM_CB2" (default).
+    delta : float, dict or array_like, optional
+        Dispersions [-] (:func:`dispersions`; default 0.1).
+    case : int, optional
+        Case study 1-7 (Tables 6.1-6.7) instead of ``delta``.
+    samples : int
+        Number of realizations in the chunk (default 2500).
+    seed : int
+        Random seed.
+    first_sample : int
+        Index of the first realization; row r is sample ``first_sample + r``.
+    freq_hz : array_like, optional
+        Frequencies [Hz] (default :func:`default_frequencies`: 1000 points, 0.01-10 Hz).
+    nodes : sequence of int, optional
+        FE nodes to observe (default :func:`observation_nodes`).
+    progress : bool
+        Show a tqdm progress bar.
+    threads : int
+        OpenMP threads (0: the OpenMP default).
+
+    Returns
+    -------
+    db : numpy.ndarray
+        20 log10 |a| [dB re 1 rad/s^2 per N m] as float32 (the precision the envelope keeps),
+        shape (samples, n_points, n_freq): ``db[r, p, f]`` for sample ``first_sample + r``, point p
+        and frequency ``freq_hz[f]``.
+    energy : numpy.ndarray
+        integral_B |a_i(omega)|^2 d omega over the grid (omega in rad/s, trapezoid rule; the
+        integrand of Conv2, Eq. C.2) [(rad/s^2 / (N m))^2 rad/s], shape (samples, n_points).
+    """
+    n = validate.integer("samples", samples, 1)
+    first = validate.integer("first_sample", first_sample, 0, 2**62)
+    seed = validate.seed(seed)
+    f, nd, _ = _grid(cfg, freq_hz, nodes)
+    sm = stochastic_model(cfg, model, delta, case)
+    with progress_bar(n, f"FRF samples {model}", progress) as cb:
+        db, energy = sm.frf_samples(f, nd, first, n, seed, cb, threads)
+    return db, energy
+
+
+def envelope_from_samples(cfg: dict, db, energy, model: str = "SM_CB2", delta=None, case: int | None = None, *,
+                          seed: int = 1, freq_hz=None, probability: float = 0.95, nodes=None,
+                          progress: bool = True, threads: int = 0) -> FRFEnvelope:
+    """The envelope of :func:`frf_envelope` from :func:`frf_samples` results (section 6.6).
+
+    ``db`` and ``energy`` are the arrays of all samples stacked in sample order (chunks
+    concatenated along axis 0); the nominal curve is the mean model's. With the chunks of samples
+    0 .. n_s - 1 the result equals :func:`frf_envelope` with ``samples = n_s`` bit for bit.
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration the samples were computed with.
+    db : array_like
+        20 log10 |a| [dB] per sample, point and frequency, shape (n_s, n_points, n_freq) (float32
+        from :func:`frf_samples`).
+    energy : array_like
+        Band energy of each sample and point (Eq. C.2) [(rad/s^2 / (N m))^2 rad/s], shape
+        (n_s, n_points).
+    model : str
+        "SM_full", "SM_CB1" or "SM_CB2" (default), as for the samples.
+    delta : float, dict or array_like, optional
+        Dispersions [-] of the samples (:func:`dispersions`; default 0.1).
+    case : int, optional
+        Case study 1-7 (Tables 6.1-6.7) instead of ``delta``.
+    seed : int
+        Random seed of the samples (recorded in the result).
+    freq_hz : array_like, optional
+        Frequencies [Hz] of the samples (default :func:`default_frequencies`).
+    probability : float
+        Probability level P of the envelope (default 0.95).
+    nodes : sequence of int, optional
+        FE nodes of the samples (default :func:`observation_nodes`).
+    progress : bool
+        Show a tqdm progress bar (counting frequencies).
+    threads : int
+        OpenMP threads (0: the OpenMP default).
+
+    Returns
+    -------
+    FRFEnvelope
+        Nominal, mean and quantile curves and the Conv2 integrand of the n_s samples.
+    """
+    seed = validate.seed(seed)
+    f, nd, labels = _grid(cfg, freq_hz, nodes)
+    sm = stochastic_model(cfg, model, delta, case)
+    with progress_bar(f.size, f"FRF envelope {model}", progress) as cb:
+        r = sm.envelope_from_samples(f, nd, np.asarray(db, dtype=np.float32), np.asarray(energy, dtype=float),
+                                     float(probability), cb, threads)
+    return _envelope(r, sm, labels, seed, probability)
 
 
 def cb_frequencies(cfg: dict, n: int, modes=None) -> np.ndarray:

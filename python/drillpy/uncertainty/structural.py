@@ -38,9 +38,12 @@ class SeverityStudy:
     speeds : numpy.ndarray
         Top speeds [rad/s], shape (n_speeds,).
     ss : numpy.ndarray
-        SS [-], shape (samples, n_speeds); row i is realization i (the same at every speed).
+        SS [-], shape (samples, n_speeds); row r is realization ``first_sample + r`` (the same at
+        every speed).
     label : str
         Name of the uncertainty source (legend, JSON).
+    first_sample : int
+        Index of the realization of the first row (default 0).
     mean : numpy.ndarray
         Mean SS per speed [-] (computed).
     q05, q95 : numpy.ndarray
@@ -53,6 +56,7 @@ class SeverityStudy:
     speeds: np.ndarray
     ss: np.ndarray
     label: str = ""
+    first_sample: int = 0
 
     def __post_init__(self):
         st = _core.severity_statistics(self.ss, list(self.speeds), 0.5, 0.05, 0.05, 0.95)
@@ -79,7 +83,8 @@ class SeverityStudy:
 
 def severity_study(cfg: dict, speeds, samples: int, *, model: str = "SM_CB2", delta=0.1, case=None,
                    structural: bool = True, eta=None, eta_psd=None, eta_dt: float = ETA_DT_S,
-                   seed: int = 1, label: str = "", progress: bool = True, threads: int = 0) -> SeverityStudy:
+                   seed: int = 1, first_sample: int = 0, label: str = "", progress: bool = True,
+                   threads: int = 0) -> SeverityStudy:
     """SS of ``samples`` realizations at each top speed [rad/s] (constant WOB of the configuration).
 
     ``structural=False`` keeps the mean structure. ``eta_psd`` (a PSD, e.g. ``THESIS_PSD``) or
@@ -89,6 +94,9 @@ def severity_study(cfg: dict, speeds, samples: int, *, model: str = "SM_CB2", de
     Every run starts from the string at rest (Eq. 2.10; random samples keep the mean model's
     initial generalized velocity); realization i of the matrices and of eta is the same at every
     top speed (common random numbers). ``samples x speeds`` runs in all, in parallel.
+
+    Realizations ``first_sample .. first_sample + samples - 1`` run, so a study can be computed
+    in chunks: chunks stacked in sample order equal one run over all samples bit for bit.
 
     Parameters
     ----------
@@ -109,8 +117,9 @@ def severity_study(cfg: dict, speeds, samples: int, *, model: str = "SM_CB2", de
     structural : bool
         False: every sample uses the mean structure (bit-rock uncertainty alone).
     eta : array_like, optional
-        Torque fluctuation series [-], one row per sample, shape (samples, n), sampled every
-        ``eta_dt`` seconds from t = 0. Not together with ``eta_psd``.
+        Torque fluctuation series [-], one row per sample (row r for realization
+        ``first_sample + r``), shape (samples, n), sampled every ``eta_dt`` seconds from t = 0.
+        Not together with ``eta_psd``.
     eta_psd : PsdModel, PsdTable or callable, optional
         One-sided PSD of eta per Hz [1/Hz] (e.g. ``THESIS_PSD``, Eq. 4.4): eta generated in the
         engine, sample i the same as in :func:`~drillpy.uncertainty.montecarlo.stochastic_study`
@@ -119,6 +128,9 @@ def severity_study(cfg: dict, speeds, samples: int, *, model: str = "SM_CB2", de
         Sampling step of eta [s] (default 0.05 s).
     seed : int
         Random seed.
+    first_sample : int
+        Index of the first realization, 0 to 2^62; row r of ``ss`` is realization
+        ``first_sample + r``.
     label : str
         Name of the study (progress bar, legend, JSON).
     progress : bool
@@ -133,6 +145,7 @@ def severity_study(cfg: dict, speeds, samples: int, *, model: str = "SM_CB2", de
     """
     sp = np.atleast_1d(np.asarray(speeds, dtype=float))
     validate.integer("samples", samples, 1)
+    first = validate.integer("first_sample", first_sample, 0, 2**62)
     if eta is not None and eta_psd is not None:
         raise ValueError("give either eta or eta_psd, not both")
     S = None if eta_psd is None else psd_on_grid(eta_psd, eta_dt, cfg["simulation"]["duration_s"])[1]
@@ -140,8 +153,8 @@ def severity_study(cfg: dict, speeds, samples: int, *, model: str = "SM_CB2", de
     eta_arg = None if eta is None else np.ascontiguousarray(eta, dtype=float)
     with progress_bar(samples * sp.size, label or "SS under structural uncertainty", progress) as cb:
         ss = sm.severity_samples(list(sp), int(samples), int(seed), bool(structural), eta_arg, S, float(eta_dt), cb,
-                                 threads)
-    return SeverityStudy(speeds=sp, ss=np.asarray(ss), label=label)
+                                 threads, first)
+    return SeverityStudy(speeds=sp, ss=np.asarray(ss), label=label, first_sample=first)
 
 
 def severity_sources(cfg: dict, speeds, samples: int, *, delta=0.1, eta_psd=None, eta_dt: float = ETA_DT_S,
