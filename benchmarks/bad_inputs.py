@@ -275,7 +275,8 @@ def _text_row(row: str, cols: list) -> str:
 
 
 def _classify(rc, out, err, needle, warning=False) -> str:
-    text = err.strip()
+    # warnings printed before an error explain it (analyze of an implausible record): not part of it
+    text = "\n".join(ln for ln in err.strip().splitlines() if "warning:" not in ln)
     if "Traceback" in err or "Traceback" in out or rc is None or rc < 0 or "NaN" in out:
         return "crash"
     if rc == 0:

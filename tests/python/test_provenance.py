@@ -24,7 +24,8 @@ COMMANDS = {
                    "--transient", "10", "--samples", "2", "--speeds", "8,20", "--seed", "7", "--delta", "0.2"],
                   ["robust_ss.json"], {"seed": 7, "delta": 0.2, "samples": 2}),
     "mc": (["mc", "--preset", "thesis-field", "--modes", "10", "--samples", "2", "--speeds", "8,20", "--seed", "3",
-            "--warmup", "20", "--duration", "30", "--transient", "10"], ["mc.json"], {"seed": 3, "samples": 2}),
+            "--warmup", "20", "--duration", "30", "--transient", "10"], ["mc.json", "mc_samples.json"],
+           {"seed": 3, "samples": 2}),
 }
 
 

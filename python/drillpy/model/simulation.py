@@ -152,6 +152,8 @@ def simulate(cfg: "dict | _core.Config", top_speed: float | None = None, wob: fl
                           ("string_friction", "N m", string_friction), ("top_speed0", "rad/s", top_speed0)):
         if v is not None:  # the type only: the ranges are the configuration's (C++) checks
             validate.number(name, v, unit=unit)
+    if top_speed is not None:  # a run's own speed bypasses the configuration's check (Config.validate)
+        validate.positive("operation.top_speed_rad_s", top_speed, "rad/s")
     if start is not None:
         _check_start(start)
         cfg = _with_start(cfg, start)

@@ -8,7 +8,6 @@ hysteretic models 1-3 (Figs. 3.11-3.12) with a quantified check of the thesis's 
 """
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +16,8 @@ from drillpy.figures import simulation as plotting
 from drillpy.model.config import with_overrides
 from drillpy.provenance import provenance
 from drillpy.model.simulation import (natural_frequencies, severity_threshold, simulate, stability_map,
-                         sweep_severity)
+                                      sweep_severity)
+from drillpy.jsonio import dumps
 
 THESIS_FREQUENCIES_HZ = [0.13, 0.42, 0.74, 1.07, 1.41]
 THESIS_THRESHOLD_RAD_S = 16.0
@@ -185,7 +185,7 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
             "severity": {k: v.round(4).tolist() for k, v in maps.items()},
             "conclusions": map_conclusions(sp_rpm, w_kn, maps),
         }
-    (out / "summary.json").write_text(json.dumps({**summary, "provenance": provenance()}, indent=2))
+    (out / "summary.json").write_text(dumps({**summary, "provenance": provenance()}))
     return summary
 
 
@@ -257,8 +257,7 @@ def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, 
     out.mkdir(parents=True, exist_ok=True)
     plotting.severity_plot(out / "severity_vs_top_speed.png", speeds, severity, threshold)
     start = start or cfg.get("simulation", {}).get("start", "rest")  # the start used
-    (out / "sweep.json").write_text(json.dumps({**summary, "config": cfg, "provenance": provenance(start=start)},
-                                               indent=2))
+    (out / "sweep.json").write_text(dumps({**summary, "config": cfg, "provenance": provenance(start=start)}))
     return out
 
 
@@ -294,6 +293,5 @@ def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict,
     out.mkdir(parents=True, exist_ok=True)
     plotting.stability_map_plot(out / "stability_map.png", speeds_rpm, wobs_kn, {cfg["law"]["type"]: severity})
     start = start or cfg.get("simulation", {}).get("start", "rest")  # the start used
-    (out / "map.json").write_text(json.dumps({**summary, "config": cfg, "provenance": provenance(start=start)},
-                                             indent=2))
+    (out / "map.json").write_text(dumps({**summary, "config": cfg, "provenance": provenance(start=start)}))
     return out

@@ -26,6 +26,7 @@ import numpy as np
 
 from drillpy.model.config import load_config, with_overrides
 from drillpy.provenance import provenance, with_markdown_footer
+from drillpy.jsonio import dumps
 
 CHAPTERS = ("3", "4", "5", "6")
 THESIS_FREQUENCIES_HZ = (0.13, 0.42, 0.74, 1.07, 1.41)           # section 4.2.1
@@ -625,8 +626,7 @@ def reproduce(chapters, out_dir, options: Options | None = None, record=None) ->
         res.seconds[c] = round(time.perf_counter() - t0, 1)
     prov = provenance(seed=o.seed, quick=o.quick)
     (out / "table.md").write_text(with_markdown_footer(render_table(res, o), prov))
-    (out / "reproduce.json").write_text(json.dumps({**res.as_dict(), "quick": o.quick, "seed": o.seed,
-                                                    "provenance": prov}, indent=2))
+    (out / "reproduce.json").write_text(dumps({**res.as_dict(), "quick": o.quick, "seed": o.seed, "provenance": prov}))
     return res
 
 

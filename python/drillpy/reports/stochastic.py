@@ -167,7 +167,7 @@ def write_stochastic(result: StochasticAnalysis, out_dir) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     js = {**result.study.summary(), "figures": result.info, "config": result.study.config}
     prov = provenance(seed=result.study.seed, samples=int(result.study.severity.shape[0]))
-    (out / "mc.json").write_text(json.dumps({**js, "provenance": prov}, indent=2))
+    (out / "mc.json").write_text(dumps({**js, "provenance": prov}))
     write_samples(result.study, out)
     return js
 

@@ -11,7 +11,6 @@ averaged over frequency bands) into a verdict on each conclusion of section 6.6.
 """
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -20,6 +19,7 @@ import numpy as np
 from drillpy.uncertainty.frf import band_widths, cb_frequencies, conv2_vs_modes, default_frequencies, frf_envelope
 from drillpy.model.simulation import natural_frequencies
 from drillpy.provenance import provenance
+from drillpy.jsonio import dumps
 
 # Frequency bands [Hz]: below the first resonance (0.31 Hz on thesis-ch6), then low, mid, high.
 BANDS_HZ = {"very low 0.01-0.25 Hz": (0.01, 0.25), "low 0.25-2 Hz": (0.25, 2.0), "mid 2-5 Hz": (2.0, 5.0),
@@ -311,7 +311,7 @@ def write_chapter6(study: Chapter6Study, out_dir, **options) -> dict:
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "summary.json").write_text(json.dumps({**study.summary, "provenance": provenance(**options)}, indent=2))
+    (out / "summary.json").write_text(dumps({**study.summary, "provenance": provenance(**options)}))
     return study.summary
 
 
@@ -396,7 +396,7 @@ def write_envelope(out_dir, env, title: str, summary: dict, cfg: dict, **options
     out.mkdir(parents=True, exist_ok=True)
     for p, label in enumerate(env.labels):
         frf_plots.envelope_plot(out / f"frf_point{p + 1}.png", {title: env}, p, f"{title}: {label}")
-    (out / "envelope.json").write_text(json.dumps({**summary, "config": cfg, "provenance": provenance(**options)}))
+    (out / "envelope.json").write_text(dumps({**summary, "config": cfg, "provenance": provenance(**options)}, indent=None))
     return out
 
 
@@ -529,6 +529,5 @@ def write_robust_severity(out_dir, speeds, studies: dict, summary: dict, cfg: di
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     frf_plots.severity_bands_plot(out / "severity_bands.png", speeds, studies)
-    (out / "robust_ss.json").write_text(json.dumps({**summary, "config": cfg, "provenance": provenance(**options)},
-                                                   indent=2))
+    (out / "robust_ss.json").write_text(dumps({**summary, "config": cfg, "provenance": provenance(**options)}))
     return out
