@@ -20,7 +20,14 @@
 //   "top_drive": {"type": "ideal"}                 (the thesis: the top turns at top_speed_rad_s)
 //              | {"type": "motor", "slope_nms_rad": c_m, "inertia_kg_m2": J_m}
 //                                                  (open-loop motor commanded at top_speed_rad_s:
-//                                                   J_m Omega' = c_m (Omega_c - Omega) - T_top),
+//                                                   J_m Omega' = c_m (Omega_c - Omega) - T_top)
+//              | {"type": "controlled", "inertia_kg_m2": J,
+//                 "controller": {"type": "stiff" | "pi" | "soft_speed" | "z_torque",
+//                                "torque_limit_nm", "sample_time_s", "kp_nms_rad", "ki_nm_rad",
+//                                "bandwidth_ratio" (stiff, z_torque), "impedance_nms_rad",
+//                                "stick_slip_frequency_rad_s" (soft_speed), "torque_filter_s" (z_torque)}}
+//                                                  (J Omega' = u - T_top, u from a speed controller
+//                                                   commanded at top_speed_rad_s: controller.hpp),
 //   "sensors": {"lowpass_hz": 10}                  (measurement chain of recorded channels: second-
 //                                                   order Butterworth low-pass; 0 = ideal sensors;
 //                                                   used when a model is compared with a record),
@@ -116,8 +123,18 @@ struct Config {
     require_non_negative(bit_viscous, "operation.bit_viscous_nms");
     require_non_negative(string_friction, "operation.string_friction_nm");
     top_drive.validate();
-    require(!top_drive.is_motor() || sim.scheme == Scheme::modified_euler, "top_drive.type", std::string("motor"),
-            "is implemented for simulation.scheme = modified_euler only");
+    require(!top_drive.has_inertia() || sim.scheme == Scheme::modified_euler, "top_drive.type",
+            TopDrive::kind_name(top_drive.kind), "is implemented for simulation.scheme = modified_euler only");
+    if (top_drive.is_controlled()) {
+      const Controller& ctl = top_drive.controller;
+      require(!ctl.sampled() || sim.dt <= ctl.sample_time * (1.0 + 1e-12), "simulation.dt_s", sim.dt,
+              "is larger than top_drive.controller.sample_time_s = " + show(ctl.sample_time) + " s");
+      // the drive must carry the steady torque of the operating point (law, c_v Omega, T_sf)
+      const double steady = law.torque(top_speed, 0.0, wob) + bit_viscous * top_speed + string_friction;
+      require(ctl.torque_limit > steady, "top_drive.controller.torque_limit_nm", ctl.torque_limit,
+              "is below the steady torque " + show(steady) + " N m the drive carries at operation.top_speed_rad_s = " +
+                  show(top_speed) + " rad/s, wob_n = " + show(wob) + " N");
+    }
     require_non_negative(sensor_lowpass_hz, "sensors.lowpass_hz");
     sim.validate();
     require_non_negative(transient, "simulation.transient_s");
@@ -299,7 +316,24 @@ inline std::vector<Block> make_blocks() {
                                               BitRockLaw::kind_name(Law::polynomial),
                                               BitRockLaw::kind_name(Law::polynomial_hysteretic)};
   const std::vector<std::string> drives = {TopDrive::kind_name(TopDrive::Kind::ideal),
-                                           TopDrive::kind_name(TopDrive::Kind::motor)};
+                                           TopDrive::kind_name(TopDrive::Kind::motor),
+                                           TopDrive::kind_name(TopDrive::Kind::controlled)};
+  using Ctl = Controller::Kind;
+  const std::vector<std::string> controllers = {Controller::kind_name(Ctl::stiff), Controller::kind_name(Ctl::pi),
+                                                Controller::kind_name(Ctl::soft_speed),
+                                                Controller::kind_name(Ctl::z_torque)};
+  const Controller dc;  // the defaults of the controller's keys
+  auto kp = [] { return number("kp_nms_rad", "kp: proportional gain [N m s/rad]").positive(); };
+  auto ki = [] { return number("ki_nm_rad", "ki: integral gain [N m/rad]").non_negative(); };
+  auto bandwidth = [&] {
+    return number("bandwidth_ratio", "closed-loop bandwidth of the speed loop over the string's first natural "
+                                     "frequency: kp = 2 J w_b, ki = J w_b^2, w_b = ratio w_1")
+        .positive()
+        .def(dc.bandwidth_ratio);
+  };
+  auto impedance = [] {
+    return number("impedance_nms_rad", "Z [N m s/rad] (default: the top section's J_p sqrt(G rho))").positive();
+  };
 
   return {
       {"config",
@@ -387,7 +421,30 @@ inline std::vector<Block> make_blocks() {
        {{drives[0], {}},
         {drives[1],
          {number("slope_nms_rad", "c_m: torque lost per unit speed [N m s/rad]").positive().req(),
-          number("inertia_kg_m2", "J_m: rotor and drive-train inertia [kg m^2]").positive().req()}}}},
+          number("inertia_kg_m2", "J_m: rotor and drive-train inertia [kg m^2]").positive().req()}},
+        {drives[2],
+         {number("inertia_kg_m2", "J: rotor and drive-train inertia [kg m^2]").positive().req(),
+          object("controller", "top_drive.controller", "the speed controller driving the inertia").req()}}}},
+      {"top_drive.controller",
+       "speed controller of a controlled top drive, J Omega' = u - T_top, u = sat(kp e + ki int e), "
+       "e = Omega_ref - Omega (cpp/include/drill/controller.hpp, docs/control.md)",
+       {text("type", "stiff (high-gain PI), pi (user gains), soft_speed (SoftSpeed: kp = Z, ki = J w_s^2) or "
+                     "z_torque (ZTorque: set point corrected by -(T_top - T_mean) / Z)",
+             controllers)
+            .req(),
+        number("torque_limit_nm", "motor torque limit |u| <= L [N m] (anti-windup); absent: no limit").positive(),
+        number("sample_time_s", "sample time of the controller (zero-order hold) [s]; absent: continuous")
+            .positive()},
+       {{controllers[0], {bandwidth(), kp(), ki()}},
+        {controllers[1], {kp().req(), ki().req()}},
+        {controllers[2],
+         {kp(), ki(), impedance(),
+          number("stick_slip_frequency_rad_s", "w_s [rad/s] (default: the string's first natural frequency)")
+              .positive()}},
+        {controllers[3],
+         {bandwidth(), kp(), ki(), impedance(),
+          number("torque_filter_s", "time constant of the top torque's low-pass T_mean [s] (default: 5 / w_1)")
+              .positive()}}}},
       {"sensors",
        "measurement chain of the recorded channels",
        {number("lowpass_hz", "cutoff of a second-order Butterworth low-pass [Hz]; 0: ideal sensors")
@@ -678,6 +735,28 @@ inline Config parse_config(const json& j) {
       c.top_drive.slope = get_number(t, "slope_nms_rad", "top_drive");
       c.top_drive.inertia = get_number(t, "inertia_kg_m2", "top_drive");
     }
+    if (c.top_drive.is_controlled()) {
+      c.top_drive.inertia = get_number(t, "inertia_kg_m2", "top_drive");
+      if (!t.contains("controller")) throw std::invalid_argument("top_drive.controller: missing (required object)");
+      const json& k = t.at("controller");
+      const std::string w = "top_drive.controller";
+      if (!k.is_object()) throw std::invalid_argument(w + " = " + k.dump() + ": must be a JSON object");
+      Controller& ctl = c.top_drive.controller;
+      ctl.kind = Controller::parse_kind(get_string(k, "type", w, "", true));
+      check_keys(k, w, schema::keys(w, Controller::kind_name(ctl.kind)));
+      ctl.torque_limit = get_number(k, "torque_limit_nm", w, ctl.torque_limit);
+      if (k.contains("sample_time_s")) {
+        ctl.sample_time = get_number(k, "sample_time_s", w);
+        require(ctl.sample_time > 0.0, w + ".sample_time_s", ctl.sample_time,
+                "must be positive (omit it for a continuous controller)");
+      }
+      ctl.kp_given = get_number(k, "kp_nms_rad", w, NAN);
+      ctl.ki_given = get_number(k, "ki_nm_rad", w, NAN);
+      ctl.bandwidth_ratio = get_number(k, "bandwidth_ratio", w, ctl.bandwidth_ratio);
+      ctl.impedance_given = get_number(k, "impedance_nms_rad", w, NAN);
+      ctl.stick_slip_frequency = get_number(k, "stick_slip_frequency_rad_s", w, NAN);
+      ctl.torque_filter_given = get_number(k, "torque_filter_s", w, NAN);
+    }
   }
   if (j.contains("sensors")) {
     check_keys(j.at("sensors"), "sensors", schema::keys("sensors"));
@@ -802,6 +881,24 @@ inline json to_json(const Config& c) {
   if (!c.cb_modes.empty()) j["craig_bampton"] = {{"modes", c.cb_modes}};
   if (c.top_drive.is_motor())
     j["top_drive"] = {{"type", "motor"}, {"slope_nms_rad", c.top_drive.slope}, {"inertia_kg_m2", c.top_drive.inertia}};
+  if (c.top_drive.is_controlled()) {  // the configured fields (the tuned gains follow from them)
+    const Controller& k = c.top_drive.controller;
+    json ctl{{"type", Controller::kind_name(k.kind)}};
+    auto put = [&](const char* key, double v) {
+      if (!std::isnan(v)) ctl[key] = v;
+    };
+    if (std::isfinite(k.torque_limit)) ctl["torque_limit_nm"] = k.torque_limit;
+    if (k.sampled()) ctl["sample_time_s"] = k.sample_time;
+    put("kp_nms_rad", k.kp_given);
+    put("ki_nm_rad", k.ki_given);
+    if (k.kind == Controller::Kind::stiff || k.kind == Controller::Kind::z_torque)
+      ctl["bandwidth_ratio"] = k.bandwidth_ratio;
+    if (k.kind == Controller::Kind::soft_speed || k.kind == Controller::Kind::z_torque)
+      put("impedance_nms_rad", k.impedance_given);
+    if (k.kind == Controller::Kind::soft_speed) put("stick_slip_frequency_rad_s", k.stick_slip_frequency);
+    if (k.kind == Controller::Kind::z_torque) put("torque_filter_s", k.torque_filter_given);
+    j["top_drive"] = {{"type", "controlled"}, {"inertia_kg_m2", c.top_drive.inertia}, {"controller", ctl}};
+  }
   if (c.sensor_lowpass_hz > 0.0) j["sensors"] = {{"lowpass_hz", c.sensor_lowpass_hz}};
   return j;
 }

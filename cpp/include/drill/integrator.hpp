@@ -12,7 +12,9 @@
 // static_torque(W) (1 + eta) + T_sf, and it applies whenever that capacity is positive (so T_sf
 // alone makes the laws without a static torque stick).
 // Omega(t) is the commanded speed (ideal top drive) or the state of a motor model driven by it
-// (topdrive.hpp: J_m Omega' = c_m (Omega_c - Omega) - T_top; modified Euler only).
+// (topdrive.hpp: J_m Omega' = c_m (Omega_c - Omega) - T_top; modified Euler only), or of a
+// controlled drive J Omega' = u - T_top with the motor torque u of a speed controller
+// (controller.hpp; modified Euler only, the same coupling and stability bound as the motor).
 // The reduced matrices are first brought to M = I, K = diag(omega^2) by the generalized
 // eigenvectors of (K~, M~); D~ stays diagonal for modal or Rayleigh damping and is used dense
 // otherwise (random matrices, Craig-Bampton).
@@ -113,12 +115,16 @@ struct StepState {
   double torque_on_bit = 0.0;  ///< [N m]: law (1 + eta) + c_v v; the string friction is not part of it
   double top_torque = 0.0;     ///< elastic torque applied by the top drive [N m]
   double top_speed = 0.0;      ///< [rad/s]
+  double drive_torque = NAN;   ///< motor torque u of a controlled top drive [N m] (NaN otherwise)
 };
 
 /// Generalized coordinates and velocities of the reduced model (original basis).
 struct ModelState {
   Eigen::VectorXd q, qdot;
   double top_speed = NAN;  ///< motor speed [rad/s] (motor top drive; NaN: the command at t = 0)
+  /// Controlled top drive: the PI's integral torque T_I and z_torque's low-passed top torque
+  /// T_mean [N m] (NaN: the top torque of the initial state, the drive starting in equilibrium).
+  double drive_integral = NAN, drive_mean = NAN;
 };
 
 class Integrator {
@@ -160,8 +166,10 @@ class Integrator {
   /// Eq. (A.7) with a motor top drive: omega_max of the string coupled to the motor inertia, the
   /// largest |eigenvalue| of diag(omega^2) - top_load top_torque^T / J_m (the motor's own damping
   /// is implicit and needs no bound).
+  /// The same bound holds for a controlled drive of inertia J (its own loop is implicit when
+  /// continuous; a sampled loop holds its torque over the step and is checked by Jury's criterion).
   double stability_bound(const TopDrive& td) const {
-    if (!td.is_motor()) return stability_bound();
+    if (!td.has_inertia()) return stability_bound();
     const Eigen::MatrixXd Ka = Eigen::MatrixXd(w2_.asDiagonal()) - top_load_ * top_torque_.transpose() / td.inertia;
     const double w2max = Ka.eigenvalues().cwiseAbs().maxCoeff();
     return M_PI / (5.0 * std::sqrt(std::max(w2max, omega_max_ * omega_max_)));
@@ -225,8 +233,15 @@ class Integrator {
   template <class Observer>
   ModelState run(const Inputs& in, Observer&& obs, const ModelState* start = nullptr) const {
     in.validate();
-    if (in.top_drive.is_motor()) {
-      require(opt_.scheme == Scheme::modified_euler, "top_drive.type", std::string("motor"),
+    if (in.top_drive.is_controlled()) {
+      const Controller& c = in.top_drive.controller;
+      require(c.tuned(), "top_drive.controller", Controller::kind_name(c.kind),
+              "has no gains: tune it (TopDrive::tune_controller; Simulation does it from the string)");
+      require(!c.sampled() || opt_.dt <= c.sample_time * (1.0 + 1e-12), "simulation.dt_s", opt_.dt,
+              "is larger than top_drive.controller.sample_time_s = " + show(c.sample_time) + " s");
+    }
+    if (in.top_drive.has_inertia()) {
+      require(opt_.scheme == Scheme::modified_euler, "top_drive.type", TopDrive::kind_name(in.top_drive.kind),
               "is implemented for simulation.scheme = modified_euler only");
       const double bound = stability_bound(in.top_drive);
       require(opt_.dt < bound, "simulation.dt_s", opt_.dt,
@@ -238,7 +253,9 @@ class Integrator {
     require(s0.q.size() == V_.rows() && s0.qdot.size() == V_.rows(), "initial_state", s0.q.size(),
             "has the wrong size (the model has " + show(V_.rows()) + " coordinates)");
     Eigen::VectorXd z = Vinv_ * s0.q, p = Vinv_ * s0.qdot;
-    return opt_.scheme == Scheme::modified_euler ? run_euler(in, obs, z, p, s0.top_speed) : run_bdf2(in, obs, z, p);
+    if (opt_.scheme == Scheme::bdf2) return run_bdf2(in, obs, z, p);
+    if (in.top_drive.is_controlled()) return run_euler<true>(in, obs, z, p, s0);
+    return run_euler<false>(in, obs, z, p, s0);
   }
 
  private:
@@ -285,21 +302,33 @@ class Integrator {
 
   ModelState to_model(const Eigen::VectorXd& z, const Eigen::VectorXd& p) const { return {V_ * z, V_ * p}; }
 
-  template <class Observer>
-  ModelState run_euler(const Inputs& in, Observer& obs, Eigen::VectorXd& z, Eigen::VectorXd& p, double top0) const {
+  /// Modified Euler; `Controlled`: the top is a controlled drive (a separate instantiation, so the
+  /// ideal and motor paths are the same code as without controllers).
+  template <bool Controlled, class Observer>
+  ModelState run_euler(const Inputs& in, Observer& obs, Eigen::VectorXd& z, Eigen::VectorXd& p,
+                       const ModelState& s0) const {
+    const double top0 = s0.top_speed;
     const double dt = opt_.dt;
     const long n = opt_.steps();
     const double g = bit_.squaredNorm();
     Eigen::VectorXd f(z.size());
     double theta_top = 0.0, a_guess = 0.0, v_prev = NAN;
-    const bool motor = in.top_drive.is_motor(), lagged = opt_.acceleration == Acceleration::lagged;
+    const bool motor = Controlled || in.top_drive.is_motor(), lagged = opt_.acceleration == Acceleration::lagged;
     double om_state = std::isfinite(top0) ? top0 : in.top_speed.at(0.0);  // motor speed
+    // a controlled drive's loop, starting in equilibrium with the string's top torque unless given
+    const double T0 = Controlled ? top_torque_.dot(z) : 0.0;
+    ControlLoop loop{in.top_drive.controller, in.top_drive.inertia,
+                     std::isfinite(s0.drive_integral) ? s0.drive_integral : T0,
+                     std::isfinite(s0.drive_mean) ? s0.drive_mean : T0};
     for (long i = 0;; ++i) {
       const double t = i * dt;
       const double om = motor ? om_state : in.top_speed.at(t);
       // the motor's speed at the next step, from the string's top torque of this step
-      const double om_next = motor ? in.top_drive.step(om, in.top_speed.at(t), top_torque_.dot(z), dt)
-                                   : in.top_speed.at(t + dt);
+      double om_next;
+      if constexpr (Controlled)
+        om_next = loop.step(i, t, om, in.top_speed.at(t), top_torque_.dot(z), dt);
+      else
+        om_next = motor ? in.top_drive.step(om, in.top_speed.at(t), top_torque_.dot(z), dt) : in.top_speed.at(t + dt);
       const double domega = motor ? (om_next - om) / dt : in.top_speed.rate(t);
       const double wob = in.wob.at(t), eta = in.eta.at(t);
       const double v = om + bit_.dot(p);
@@ -367,7 +396,11 @@ class Integrator {
       if (Ts + in.string_friction > 0.0) stick_euler(v, om, alpha, g, dt, Ts, in.string_friction, visc, a, T, fric);
       if (!std::isfinite(v) || !std::isfinite(T)) diverged(t);
       const double T_bit = fric != 0.0 ? T - fric : T;  // the string friction acts outside the torque sensor
-      obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, top_torque_.dot(z), om}));
+      if constexpr (Controlled)
+        obs(static_cast<const StepState&>(
+            StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, top_torque_.dot(z), om, loop.torque}));
+      else
+        obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, top_torque_.dot(z), om}));
       if (i == n) break;
       v_prev = v;
       p += dt * (f - bit_ * T);  // Eq. (A.5): velocity first, with the torque of step i ...
@@ -377,6 +410,10 @@ class Integrator {
     }
     ModelState out = to_model(z, p);
     out.top_speed = om_state;
+    if constexpr (Controlled) {
+      out.drive_integral = loop.integral;
+      out.drive_mean = loop.mean;
+    }
     return out;
   }
 

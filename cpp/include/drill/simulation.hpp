@@ -40,7 +40,17 @@ class Simulation {
   explicit Simulation(Config cfg)
       : cfg_(validated(std::move(cfg))),
         rom_(build_modal_rom(cfg_.string, cfg_.modes, cfg_.damping)),
-        integ_(rom_.model, cfg_.law, cfg_.sim) {}
+        integ_(rom_.model, cfg_.law, cfg_.sim) {
+    // a controlled top drive is tuned from the top section's characteristic impedance and the
+    // first natural frequency of the reduced model (string clamped at the top): controller.hpp
+    if (cfg_.top_drive.is_controlled()) cfg_.top_drive.tune_controller(top_impedance(), rom_.omega(0));
+  }
+
+  /// The characteristic torsional impedance of the top section, Z = J_p sqrt(G rho) [N m s/rad].
+  double top_impedance() const {
+    const Section& s = cfg_.string.sections.front();
+    return characteristic_impedance(s.polar_moment(), s.shear_modulus(), s.density);
+  }
 
   const Config& config() const { return cfg_; }
   const ModalROM& rom() const { return rom_; }
@@ -65,6 +75,8 @@ class Simulation {
   /// from Eq. (2.10) probes the other side of the bistable band (docs/validation.md).
   /// With a motor top drive the string turns at the speed where the motor's torque carries the
   /// torque on bit, Omega = Omega_c - T(Omega) / c_m (bisection on [0, Omega_c]; 0 if it stalls).
+  /// With a controlled drive (controller.hpp) with integral action the top turns at the command and
+  /// the PI's integral carries the torque (T_I = T_mean = the twist's top torque): zero steady speed error.
   /// The twist and the motor carry the total torque at the bit, c_v Omega and the string friction
   /// T_sf sign(Omega) of `operation.string_friction_nm` included.
   ModelState steady_state(double top_speed, double wob, double disturbance = 0.01) const {
@@ -75,7 +87,10 @@ class Simulation {
       return sf > 0.0 ? T + sf * ((om > 0.0) - (om < 0.0)) : T;
     };
     double om = top_speed;
-    if (cfg_.top_drive.is_motor() && top_speed > 0.0) {
+    const TopDrive& td = cfg_.top_drive;
+    // a controller with integral action turns at the command (om = top_speed); a P-only one droops
+    const bool droops = td.is_motor() || (td.is_controlled() && !(td.controller.ki > 0.0));
+    if (droops && top_speed > 0.0) {
       double lo = 0.0, hi = top_speed;  // g(om) = om - Omega_c + T(om) / c_m is negative at 0 unless stalled
       auto g = [&](double x) { return x - cfg_.top_drive.steady_speed(top_speed, torque(x)); };
       if (g(lo) >= 0.0) hi = lo;
@@ -83,7 +98,10 @@ class Simulation {
       om = 0.5 * (lo + hi);
     }
     ModelState s{r.K.ldlt().solve(-torque(om) * r.bit.transpose()), -disturbance * om * r.init_velocity};
-    if (cfg_.top_drive.is_motor()) s.top_speed = om;
+    if (td.has_inertia()) s.top_speed = om;
+    // the integral carries the reduced model's top torque of this twist (T(Omega) to the modal
+    // truncation of the static twist), so that the drive starts in equilibrium
+    if (td.is_controlled()) s.drive_integral = s.drive_mean = td.controller.ki > 0.0 ? integ_.top_torque(s) : 0.0;
     return s;
   }
 

@@ -13,38 +13,72 @@
 // steady torque T the motor turns at Omega_c - T / c_m (droop 1 / c_m per N m) and it stalls above
 // c_m Omega_c. The motor speed is a state of the simulation; its own damping term is integrated
 // implicitly (backward Euler: stable for any c_m dt / J_m), the string torque explicitly.
+//
+// A `controlled` drive (issue 15) is the same free top inertia J driven by the torque of a speed
+// controller instead of the motor's characteristic (controller.hpp: stiff, pi, soft_speed, z_torque,
+// with a torque limit and a sample time):
+//
+//   J Omega' = u - T_top,   u = sat_L(kp (Omega_ref - Omega) + T_I),   T_I' = ki (Omega_ref - Omega)
+//
+// Its gains are tuned from the string (Simulation's constructor calls tune_controller with the top
+// section's characteristic impedance and the first natural frequency of the reduced model). With
+// integral action the drive turns at the command in steady drilling (steady_speed).
 #pragma once
 
 #include <cmath>
 #include <string>
 
+#include "drill/controller.hpp"
 #include "drill/errors.hpp"
 
 namespace drill {
 
 struct TopDrive {
-  enum class Kind { ideal, motor };
+  enum class Kind { ideal, motor, controlled };
   Kind kind = Kind::ideal;
   double slope = 0.0;    ///< c_m: torque lost per unit speed [N m s/rad] (motor only)
-  double inertia = 0.0;  ///< J_m: rotor and drive train inertia [kg m^2] (motor only)
+  double inertia = 0.0;  ///< J_m, J: rotor and drive train inertia [kg m^2] (motor, controlled)
+  Controller controller;  ///< controlled only
 
   static Kind parse_kind(const std::string& s) {
     if (s == "ideal") return Kind::ideal;
     if (s == "motor") return Kind::motor;
-    throw std::invalid_argument("top_drive.type = \"" + s + "\": unknown top drive (use ideal or motor)");
+    if (s == "controlled") return Kind::controlled;
+    throw std::invalid_argument("top_drive.type = \"" + s + "\": unknown top drive (use ideal, motor or controlled)");
   }
-  static std::string kind_name(Kind k) { return k == Kind::motor ? "motor" : "ideal"; }
+  static std::string kind_name(Kind k) {
+    return k == Kind::motor ? "motor" : k == Kind::controlled ? "controlled" : "ideal";
+  }
   bool is_motor() const { return kind == Kind::motor; }
+  bool is_controlled() const { return kind == Kind::controlled; }
+  /// The top is a free inertia (motor or controlled): its speed is a state of the simulation.
+  bool has_inertia() const { return kind != Kind::ideal; }
 
   void validate() const {
-    if (kind != Kind::motor) return;
-    require_positive(slope, "top_drive.slope_nms_rad");
+    if (kind == Kind::ideal) return;
+    if (kind == Kind::motor) require_positive(slope, "top_drive.slope_nms_rad");
     require_positive(inertia, "top_drive.inertia_kg_m2");
+    if (kind == Kind::controlled) {
+      controller.validate();
+      const Controller c = controller.tuned() ? controller : controller.with_given_gains();
+      if (c.tuned()) c.validate_tuned(inertia);
+    }
   }
 
-  /// Steady speed under a torque T [N m] at command Omega_c [rad/s]: Omega_c - T / c_m.
+  /// Tune a controlled drive's gains from the top section's characteristic impedance Z [N m s/rad]
+  /// and the string's first natural frequency w1 [rad/s] (Controller::tune), and check them.
+  void tune_controller(double Z, double w1) {
+    if (kind != Kind::controlled) return;
+    controller.tune(inertia, Z, w1);
+    controller.validate_tuned(inertia);
+  }
+
+  /// Steady speed under a torque T [N m] at command Omega_c [rad/s]: Omega_c - T / c_m for the motor;
+  /// the command for the ideal drive and a controller (the integral carries the torque; ki > 0).
   double steady_speed(double command, double torque) const {
-    return is_motor() ? command - torque / slope : command;
+    if (is_motor()) return command - torque / slope;
+    if (is_controlled() && !(controller.ki > 0.0)) return command - torque / controller.kp;  // P only: droop
+    return command;
   }
 
   /// Motor speed after one step dt from `omega` with the command and the string's top torque of
