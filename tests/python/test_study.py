@@ -123,7 +123,8 @@ def test_bad_study_definitions_name_the_field(cfg):
         _mc(cfg, 0)
     with pytest.raises(ValueError, match=r"^chunk = 0"):
         run_study(Study("sweep", cfg, SPEEDS), chunk=0, progress=False)
-    assert definition.TASK_DIM == {"sweep": "top_speed", "map": "wob", "mc": "sample"}
+    assert definition.TASK_DIM == {"sweep": "top_speed", "map": "wob", "mc": "sample", "structural": "sample",
+                                   "frf": "sample"}
 
 
 def test_commands_store_resume_and_distribute_their_studies(tmp_path, capsys):
@@ -150,3 +151,56 @@ def test_commands_store_resume_and_distribute_their_studies(tmp_path, capsys):
     assert capsys.readouterr().out == plain
     assert main([*sweep, "--scheduler", "cluster"]) == 2
     assert "scheduler = 'cluster'" in capsys.readouterr().err
+
+
+def test_frf_and_structural_studies_equal_the_chapter6_functions(tmp_path):
+    """An frf study stores every sample's FRF; the envelope from the store is frf_envelope's, bit for bit;
+    a structural study (robust-ss's SM_CB2 source) stores the SS of severity_study."""
+    from drillpy.uncertainty.frf import envelope_from_samples, frf_envelope, observation_nodes
+    from drillpy.uncertainty.structural import severity_study
+    cfg = load_config(preset="thesis-ch6")
+    freq = np.linspace(0.1, 5.0, 40)
+    nodes = observation_nodes(cfg)
+    study = Study("frf", cfg, (), samples=9, seed=5,
+                  options={"model": "SM_CB2", "delta": None, "case": 4, "freq_hz": freq.tolist(), "nodes": nodes})
+    ds = run_study(study, tmp_path / "frf", chunk=4, progress=False)
+    assert ds["frf_db"].dims == ("sample", "point", "frequency") and ds["frf_db"].dtype == np.float32
+    assert ds["frequency"].attrs["units"] == "Hz"
+    env = envelope_from_samples(cfg, ds["frf_db"].values, ds["energy"].values, "SM_CB2", None, 4, seed=5,
+                                freq_hz=freq, nodes=nodes, progress=False)
+    ref = frf_envelope(cfg, "SM_CB2", None, 4, samples=9, seed=5, freq_hz=freq, progress=False)
+    for name in ("nominal_db", "mean_db", "lower_db", "upper_db", "energy"):
+        np.testing.assert_array_equal(getattr(env, name), getattr(ref, name), err_msg=name)
+    c = with_overrides({**cfg, "craig_bampton": {"modes": [6, 3]}}, duration=20.0, transient=10.0, dt=1e-3)
+    st = Study("structural", c, (8.0, 20.0), samples=5, seed=7,
+               options={"model": "SM_CB2", "delta": 0.2, "case": None, "structural": True, "psd": None,
+                        "eta_dt_s": 0.05})
+    ds = run_study(st, tmp_path / "ss", chunk=2, progress=False, group="structure")
+    ref = severity_study(c, [8.0, 20.0], 5, delta=0.2, seed=7, progress=False)
+    np.testing.assert_array_equal(ds["severity"].values, ref.ss)
+    np.testing.assert_array_equal(open_study(tmp_path / "ss", group="structure")["severity"].values, ref.ss)
+
+
+def test_frf_and_robust_ss_commands_store_the_same_numbers(tmp_path, capsys):
+    """frf --out stores every sample's FRF and prints the in-memory envelope; robust-ss --out stores one
+    group per source of uncertainty and prints the in-memory result; both resume without recomputing."""
+    import zarr
+    from drillpy.cli import main
+    frf = ["frf", "--preset", "thesis-ch6", "--model", "SM_CB2", "--case", "4", "--samples", "7", "--seed", "5",
+           "--freqs", "0.1:5:30", "--json", "--no-progress"]
+    assert main(frf) == 0
+    plain = capsys.readouterr().out
+    assert main([*frf, "--out", str(tmp_path / "frf"), "--chunk", "3"]) == 0
+    assert capsys.readouterr().out == plain
+    assert open_study(tmp_path / "frf")["frf_db"].shape == (7, 3, 30)
+    rss = ["robust-ss", "--preset", "thesis-ch6", "--cb-modes", "6,3", "--dt", "1e-3", "--duration", "20",
+           "--transient", "10", "--samples", "3", "--speeds", "8,20", "--seed", "7", "--delta", "0.2", "--json",
+           "--no-progress"]
+    assert main(rss) == 0
+    plain = capsys.readouterr().out
+    for _ in range(2):  # the second run finds every block done
+        assert main([*rss, "--out", str(tmp_path / "rss"), "--chunk", "2"]) == 0
+        assert capsys.readouterr().out == plain
+    groups = set(zarr.open_group(str(tmp_path / "rss" / "study.zarr")).group_keys())
+    assert groups == {"deterministic", "structure_SM_CB2"}
+    assert open_study(tmp_path / "rss", group="structure_SM_CB2")["done"].values.all()

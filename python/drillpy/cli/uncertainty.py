@@ -7,6 +7,7 @@ them into library calls and prints the result (text, or one JSON line with ``--j
 from __future__ import annotations
 
 import argparse
+import sys
 import warnings
 from pathlib import Path
 
@@ -81,7 +82,9 @@ def _eta_samples(path: str) -> np.ndarray:
 def _add_frf(sub) -> argparse.ArgumentParser:
     """Register ``drillpy frf`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("frf", help="acceleration FRF envelopes under structural uncertainty (chapter 6)")
-    add_uncertainty_args(s, samples=2500, out="folder for the figures and envelope.json")
+    add_uncertainty_args(s, samples=2500, out="folder for the figures, envelope.json and study.zarr (every "
+                                              "sample's FRF)")
+    add_study_args(s)
     s.add_argument("--model", choices=["SM_full", "SM_CB1", "SM_CB2"], default="SM_CB2", help="stochastic model")
     s.add_argument("--case", type=int, help="SM_CB2 case study 1-7 (Tables 6.1-6.7)")
     s.add_argument("--delta", type=float, help="one dispersion for every random matrix (default 0.1)")
@@ -111,9 +114,22 @@ def cmd_frf(a: argparse.Namespace) -> int:
     if a.case is not None:
         validate.integer("case", a.case, 1, 7)
     cfg = cb_config(a)
-    env = frf_envelope(cfg, a.model, a.delta, a.case, samples=a.samples, seed=a.seed,
-                       freq_hz=parse_grid(a.freqs, "--freqs"), probability=a.probability,
-                       progress=not a.no_progress, threads=a.threads)
+    freq = parse_grid(a.freqs, "--freqs")
+    if a.out or a.scheduler != "local":  # every sample's FRF stored / computed in chunks, the same envelope
+        from drillpy.study import Study, run_study
+        from drillpy.uncertainty.frf import envelope_from_samples, observation_nodes
+        nodes = observation_nodes(cfg)
+        study = Study("frf", cfg, (), samples=a.samples, seed=a.seed,
+                      options={"model": a.model, "delta": a.delta, "case": a.case, "freq_hz": freq.tolist(),
+                               "nodes": list(nodes)})
+        ds = run_study(study, a.out, scheduler=a.scheduler, chunk=a.chunk, threads=a.threads,
+                       progress=not a.no_progress)
+        env = envelope_from_samples(cfg, ds["frf_db"].values, ds["energy"].values, a.model, a.delta, a.case,
+                                    seed=a.seed, freq_hz=freq, probability=a.probability, progress=False,
+                                    threads=a.threads)  # the default nodes (those stored), with their labels
+    else:
+        env = frf_envelope(cfg, a.model, a.delta, a.case, samples=a.samples, seed=a.seed, freq_hz=freq,
+                           probability=a.probability, progress=not a.no_progress, threads=a.threads)
     res = {**env.to_json(), "case": a.case}
     bands = {b: r for b, r in BANDS_HZ.items() if np.sum((env.freq_hz >= r[0]) & (env.freq_hz <= r[1])) >= 2}
     if a.out:
@@ -167,7 +183,9 @@ def cmd_frf_report(a: argparse.Namespace) -> int:
 def _add_robust_ss(sub) -> argparse.ArgumentParser:
     """Register ``drillpy robust-ss`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("robust-ss", help="SS versus top speed with SM_CB2 structural uncertainty (time domain)")
-    add_uncertainty_args(s, samples=40, out="folder for the figure and robust_ss.json")
+    add_uncertainty_args(s, samples=40, out="folder for the figure, robust_ss.json and study.zarr (one group per "
+                                            "source of uncertainty)")
+    add_study_args(s)
     s.add_argument("--delta", type=float, default=0.1, help="dispersion of every SM_CB2 matrix")
     s.add_argument("--speeds", default="6:27:8", help="top speeds [rad/s], start:stop:num or list")
     s.add_argument("--bit-rock", action="store_true",
@@ -202,9 +220,20 @@ def cmd_robust_ss(a: argparse.Namespace) -> int:
     if a.bit_rock and a.eta_npy:
         raise ValueError("--bit-rock and --eta-npy: give one source of eta")
     speeds = parse_grid(a.speeds, "--speeds")
-    studies, res = robust_severity(cfg, speeds, a.samples, delta=a.delta, eta_psd=THESIS_PSD if a.bit_rock else None,
-                                   eta=_eta_samples(a.eta_npy) if a.eta_npy else None, eta_dt=a.eta_dt,
-                                   refine=a.refine, seed=a.seed, progress=not a.no_progress, threads=a.threads)
+    client = cluster = None
+    if a.out or a.scheduler != "local":
+        from drillpy.study.run import open_client, parse_scheduler
+        client, cluster = open_client(parse_scheduler(a.scheduler), lambda m: print(m, file=sys.stderr))
+    try:
+        studies, res = robust_severity(cfg, speeds, a.samples, delta=a.delta,
+                                       eta_psd=THESIS_PSD if a.bit_rock else None,
+                                       eta=_eta_samples(a.eta_npy) if a.eta_npy else None, eta_dt=a.eta_dt,
+                                       refine=a.refine, seed=a.seed, progress=not a.no_progress, threads=a.threads,
+                                       runner=_stored_runner(a, client) if a.out or client else None)
+    finally:
+        if cluster is not None:
+            client.close()
+            cluster.close()
     if a.out:
         write_robust_severity(a.out, speeds, studies, jsonable(res), cfg, seed=a.seed, delta=a.delta, samples=a.samples,
                               bit_rock=a.bit_rock or None, eta_npy=a.eta_npy)
@@ -219,6 +248,25 @@ def cmd_robust_ss(a: argparse.Namespace) -> int:
             print("  P(SS > 0.5) <= 5 % from", "no crossing in range" if p05 is None else f"{p05:.2f} rad/s",
                   _robust_speed_text(res[label]))
     return 0
+
+
+def _stored_runner(a: argparse.Namespace, client):
+    """A :func:`drillpy.uncertainty.structural.severity_study` that runs each source of ``robust-ss`` as a
+    stored study (group ``<source>`` of ``OUT/study.zarr``) on the chosen backend; the same numbers."""
+    import re
+    from drillpy.study import Study, run_study
+    from drillpy.uncertainty.structural import SeverityStudy
+
+    def run(cfg, speeds, samples, *, model="SM_CB2", delta=0.1, case=None, structural=True, eta_psd=None,
+            eta_dt=0.05, seed=1, label="", progress=True, threads=0):
+        study = Study("structural", cfg, tuple(float(v) for v in speeds), samples=samples, seed=seed,
+                      options={"model": model, "delta": delta.tolist() if hasattr(delta, "tolist") else delta,
+                               "case": case, "structural": structural,
+                               "psd": None if eta_psd is None else eta_psd.as_dict(), "eta_dt_s": float(eta_dt)})
+        ds = run_study(study, a.out, client=client, chunk=a.chunk, threads=threads, progress=progress,
+                       group=re.sub(r"[^A-Za-z0-9]+", "_", label).strip("_"))
+        return SeverityStudy(speeds=np.asarray(speeds, dtype=float), ss=ds["severity"].values, label=label)
+    return run
 
 
 def add_mc(sub) -> argparse.ArgumentParser:

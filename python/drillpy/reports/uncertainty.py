@@ -439,7 +439,7 @@ def robust_speed_summary(severity, speeds, refine: float | None, seed: int, eval
 
 def robust_severity(cfg: dict, speeds, samples: int, *, delta: float = 0.1, eta_psd=None, eta=None,
                     eta_dt: float = 0.05, refine: float | None = None, seed: int = 1, progress: bool = True,
-                    threads: int = 0) -> tuple[dict, dict]:
+                    threads: int = 0, runner=None) -> tuple[dict, dict]:
     """SS versus top speed per source of uncertainty with the robust speed of each (``drillpy robust-ss``).
 
     Parameters
@@ -467,6 +467,8 @@ def robust_severity(cfg: dict, speeds, samples: int, *, delta: float = 0.1, eta_
         Show a progress bar.
     threads : int
         OpenMP threads (0: default).
+    runner : callable, optional
+        Runs the studies of the sources of ``eta_psd`` (:func:`drillpy.uncertainty.structural.severity_sources`).
 
     Returns
     -------
@@ -477,7 +479,7 @@ def robust_severity(cfg: dict, speeds, samples: int, *, delta: float = 0.1, eta_
     """
     from drillpy.uncertainty.structural import severity_sources, severity_study
     kw = dict(seed=seed, progress=progress, threads=threads)
-    studies = severity_sources(cfg, speeds, samples, delta=delta, eta_psd=eta_psd, eta_dt=eta_dt, **kw)
+    studies = severity_sources(cfg, speeds, samples, delta=delta, eta_psd=eta_psd, eta_dt=eta_dt, runner=runner, **kw)
     if eta is not None:
         studies["bit-rock (eta)"] = severity_study(cfg, speeds, samples, delta=0.0, structural=False, eta=eta,
                                                    eta_dt=eta_dt, label="bit-rock (eta)", **kw)

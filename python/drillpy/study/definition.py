@@ -2,13 +2,18 @@
 
 A study (:class:`Study`) is one of the engine's parameter studies:
 
-========== ========================= ============ ==================================================
-kind       dimensions of ``severity`` task axis    one task
-========== ========================= ============ ==================================================
-sweep      (top_speed,)              top_speed    SS (Eq. 3.4) of one run at one top speed
-map        (wob, top_speed)          wob          the runs of one WOB row (Figs. 3.11-3.12)
-mc         (sample, top_speed)       sample       one realization of eta at every speed (Algorithm 1)
-========== ========================= ============ ==================================================
+========== ============================================ ========= ==============================================
+kind       variables (dimensions)                       task axis one task
+========== ============================================ ========= ==============================================
+sweep      severity (top_speed)                         top_speed SS (Eq. 3.4) of one run at one top speed
+map        severity (wob, top_speed)                    wob       the runs of one WOB row (Figs. 3.11-3.12)
+mc         severity (sample, top_speed)                 sample    one realization of eta at every speed
+                                                                  (Algorithm 1)
+structural severity (sample, top_speed)                 sample    one random structure (SM_CB2, chapter 6), with
+                                                                  or without eta, at every speed (robust-ss)
+frf        frf_db (sample, point, frequency) float32,   sample    the acceleration FRF of one random structure
+           energy (sample, point)                                 (Eqs. 6.5, 6.15) and its band energy (Eq. C.2)
+========== ============================================ ========= ==============================================
 
 The task axis is cut into blocks (:func:`compute_block` computes one). Every value depends only on
 its own coordinates, and a Monte Carlo sample i only on (seed, i) (the counter-based streams of
@@ -25,14 +30,19 @@ import numpy as np
 
 from drillpy import _core, validate
 
-KINDS = ("sweep", "map", "mc")
+KINDS = ("sweep", "map", "mc", "structural", "frf")
 #: Dimension along which each kind's tasks are cut into blocks.
-TASK_DIM = {"sweep": "top_speed", "map": "wob", "mc": "sample"}
-#: Units of the coordinates (attributes of the stored Dataset).
-UNITS = {"top_speed": "rad/s", "wob": "N", "sample": "1", "severity": "1"}
+TASK_DIM = {"sweep": "top_speed", "map": "wob", "mc": "sample", "structural": "sample", "frf": "sample"}
+#: Units of the coordinates and variables (attributes of the stored Dataset).
+UNITS = {"top_speed": "rad/s", "wob": "N", "sample": "1", "severity": "1", "frequency": "Hz", "point": "FE node",
+         "frf_db": "dB re 1 rad/s^2 per N m", "energy": "(rad/s^2 / (N m))^2 rad/s"}
+#: Long names of the variables.
+LONG_NAMES = {"severity": "stick-slip severity SS (Eq. 3.4)",
+              "frf_db": "acceleration FRF 20 log10 |a| for a unit torque at the bit (Eqs. 6.5, 6.15)",
+              "energy": "band energy of the FRF, the integrand of Conv2 (Eq. C.2)"}
 #: Default block length along the task axis: a block must outweigh its scheduling and, for mc, the
 #: deterministic warm start every block repeats (100 s per speed against 60 s per sample and speed).
-DEFAULT_CHUNK = {"sweep": 4, "map": 1, "mc": 50}
+DEFAULT_CHUNK = {"sweep": 4, "map": 1, "mc": 50, "structural": 10, "frf": 100}
 
 
 @dataclass(frozen=True)
@@ -43,21 +53,23 @@ class Study:
     Attributes
     ----------
     kind : str
-        ``"sweep"``, ``"map"`` or ``"mc"``.
+        ``"sweep"``, ``"map"``, ``"mc"``, ``"structural"`` or ``"frf"``.
     config : dict
         The configuration of every run (:func:`drillpy.model.config.load_config`; for mc, with the
         study's duration and transient already applied).
     top_speeds : tuple of float
-        Top-drive speeds [rad/s].
+        Top-drive speeds [rad/s] (frf: empty).
     wobs : tuple of float
         Weights on bit [N] (map only; empty otherwise).
     samples : int
-        Number of Monte Carlo samples (mc only; 0 otherwise).
+        Number of Monte Carlo samples (mc, structural, frf; 0 otherwise).
     seed : int
-        Seed of the random streams (mc only).
+        Seed of the random streams (mc, structural, frf).
     options : dict
         What else decides the numbers, JSON-ready: for mc ``psd`` (the PSD's ``as_dict``), ``eta_dt_s``,
-        ``warmup_s``; for sweep and map ``start`` (None: the configuration's).
+        ``warmup_s``; for sweep and map ``start`` (None: the configuration's); for structural ``model``,
+        ``delta``, ``case``, ``structural``, ``psd`` (None: no eta), ``eta_dt_s``; for frf ``model``,
+        ``delta``, ``case``, ``freq_hz`` and ``nodes``.
     """
     kind: str
     config: dict = field(repr=False)
@@ -71,11 +83,11 @@ class Study:
         if self.kind not in KINDS:
             raise ValueError(f"kind = {self.kind!r}: unknown study (use {', '.join(KINDS)})")
         sp = np.asarray(self.top_speeds, dtype=float)
-        if sp.ndim != 1 or sp.size == 0 or not np.all(np.isfinite(sp)) or np.any(sp <= 0):
+        if self.kind != "frf" and (sp.ndim != 1 or sp.size == 0 or not np.all(np.isfinite(sp)) or np.any(sp <= 0)):
             raise ValueError(f"top_speeds = {list(self.top_speeds)!r}: must be positive finite numbers [rad/s]")
         if self.kind == "map" and len(self.wobs) == 0:
             raise ValueError("wobs = (): a map needs at least one weight on bit [N]")
-        if self.kind == "mc":
+        if TASK_DIM[self.kind] == "sample":
             validate.integer("samples", self.samples, 1, 10_000_000)
             validate.seed(self.seed)
 
@@ -87,11 +99,36 @@ class Study:
     @property
     def task_size(self) -> int:
         """Length of the task dimension."""
-        return {"sweep": len(self.top_speeds), "map": len(self.wobs), "mc": self.samples}[self.kind]
+        return {"sweep": len(self.top_speeds), "map": len(self.wobs)}.get(self.kind, self.samples)
 
-    def dims(self) -> tuple:
-        """Dimensions of the ``severity`` array, task dimension first."""
-        return {"sweep": ("top_speed",), "map": ("wob", "top_speed"), "mc": ("sample", "top_speed")}[self.kind]
+    def variables(self) -> dict:
+        """Each stored variable's dimensions (task dimension first) and dtype.
+
+        Returns
+        -------
+        dict
+            name -> (dims, numpy dtype).
+        """
+        if self.kind == "frf":
+            return {"frf_db": (("sample", "point", "frequency"), np.float32), "energy": (("sample", "point"), np.float64)}
+        dims = {"sweep": ("top_speed",), "map": ("wob", "top_speed")}.get(self.kind, ("sample", "top_speed"))
+        return {"severity": (dims, np.float64)}
+
+    def coords(self) -> dict:
+        """Coordinates other than the task dimension's samples: name -> values.
+
+        Returns
+        -------
+        dict
+            ``top_speed`` [rad/s], ``wob`` [N], ``frequency`` [Hz] and ``point`` (FE node) as they apply.
+        """
+        if self.kind == "frf":
+            return {"point": np.asarray(self.options["nodes"], dtype=np.int64),
+                    "frequency": np.asarray(self.options["freq_hz"], dtype=float)}
+        c = {"top_speed": np.asarray(self.top_speeds, dtype=float)}
+        if self.kind == "map":
+            c["wob"] = np.asarray(self.wobs, dtype=float)
+        return c
 
     def identity(self) -> dict:
         """Everything but the length of the task dimension of an mc study: two studies with the same
@@ -113,7 +150,7 @@ class Study:
 
 @functools.lru_cache(maxsize=4)
 def _engine(key: str):
-    """The engine of a study, built once per process (a worker keeps it between blocks)."""
+    """The engine of a sweep, map or mc study, built once per process (a worker keeps it between blocks)."""
     from drillpy.model.config import engine_config
     from drillpy.uncertainty.process import psd_from_dict, psd_on_grid
     d = json.loads(key)
@@ -125,8 +162,8 @@ def _engine(key: str):
     return _core.MonteCarlo(cfg, S, float(o["eta_dt_s"]), int(d["seed"]), float(o["warmup_s"]))
 
 
-def compute_block(study: Study, lo: int, hi: int, threads: int = 0) -> np.ndarray:
-    """SS of the tasks ``lo .. hi - 1`` of a study (along its task dimension).
+def compute_block(study: Study, lo: int, hi: int, threads: int = 0) -> dict:
+    """The results of tasks ``lo .. hi - 1`` of a study (along its task dimension).
 
     Parameters
     ----------
@@ -139,17 +176,33 @@ def compute_block(study: Study, lo: int, hi: int, threads: int = 0) -> np.ndarra
 
     Returns
     -------
-    numpy.ndarray
-        SS [-], shape (hi - lo, ...) in the order of :meth:`Study.dims`.
+    dict
+        Variable name -> array of shape (hi - lo, ...) in the order of :meth:`Study.variables`.
     """
+    o = study.options
+    if study.kind == "frf":
+        from drillpy.uncertainty.frf import frf_samples
+        db, energy = frf_samples(study.config, o["model"], o["delta"], o["case"], samples=hi - lo, seed=study.seed,
+                                 first_sample=lo, freq_hz=o["freq_hz"], nodes=o["nodes"], progress=False,
+                                 threads=threads)
+        return {"frf_db": np.asarray(db), "energy": np.asarray(energy)}
+    if study.kind == "structural":
+        from drillpy.uncertainty.process import psd_from_dict
+        from drillpy.uncertainty.structural import severity_study
+        st = severity_study(study.config, list(study.top_speeds), hi - lo, model=o["model"], delta=o["delta"],
+                            case=o["case"], structural=o["structural"],
+                            eta_psd=None if o["psd"] is None else psd_from_dict(o["psd"]), eta_dt=o["eta_dt_s"],
+                            seed=study.seed, first_sample=lo, progress=False, threads=threads)
+        return {"severity": np.asarray(st.ss)}
     eng = _engine(study.key())
     sp = list(study.top_speeds)
-    start = study.options.get("start")
     if study.kind == "sweep":
-        return np.asarray(eng.sweep(sp[lo:hi], [], None, int(threads), start))[0]
-    if study.kind == "map":
-        return np.asarray(eng.sweep(sp, list(study.wobs)[lo:hi], None, int(threads), start))
-    return np.asarray(eng.severity(sp, int(lo), int(hi - lo), None, int(threads)))
+        ss = np.asarray(eng.sweep(sp[lo:hi], [], None, int(threads), o.get("start")))[0]
+    elif study.kind == "map":
+        ss = np.asarray(eng.sweep(sp, list(study.wobs)[lo:hi], None, int(threads), o.get("start")))
+    else:
+        ss = np.asarray(eng.severity(sp, int(lo), int(hi - lo), None, int(threads)))
+    return {"severity": ss}
 
 
 def deterministic_curve(study: Study, threads: int = 0) -> np.ndarray:

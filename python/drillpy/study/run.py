@@ -62,8 +62,27 @@ def parse_scheduler(text: str | None):
     raise ValueError(f"scheduler = {text!r}: use local, local:N (N >= 1 Dask workers) or tcp://HOST:PORT")
 
 
-def _client(scheduler, log):
-    """A Dask client for ``local:N`` (a new LocalCluster) or an address; None for the local backend."""
+def open_client(scheduler, log):
+    """A Dask client for a backend of :func:`parse_scheduler`: ``N`` starts a LocalCluster of N
+    single-threaded workers (its dashboard address goes to ``log``), an address joins that scheduler.
+
+    Parameters
+    ----------
+    scheduler : None, int or str
+        What :func:`parse_scheduler` returned.
+    log : callable
+        Receives the dashboard line.
+
+    Returns
+    -------
+    (Client or None, LocalCluster or None)
+        ``(None, None)`` for the local backend; close both when done.
+
+    Raises
+    ------
+    ValueError
+        When Dask is not installed.
+    """
     if scheduler is None:
         return None, None
     try:
@@ -78,7 +97,7 @@ def _client(scheduler, log):
 
 
 def run_study(study: Study, out=None, *, client=None, scheduler=None, chunk: int | None = None, threads: int = 0,
-              progress: bool = True, log=None):
+              progress: bool = True, log=None, group: str | None = None):
     """Compute a study (the missing part of it when ``out`` holds it already) and return it labelled.
 
     Parameters
@@ -101,12 +120,14 @@ def run_study(study: Study, out=None, *, client=None, scheduler=None, chunk: int
         One progress bar over the study's tasks.
     log : callable, optional
         Receives status lines (default: stderr).
+    group : str, optional
+        Zarr group of the study inside ``out/study.zarr`` (a command storing several studies).
 
     Returns
     -------
     xarray.Dataset
-        ``severity`` with named dimensions and units, ``done``, the study's attributes (and for mc
-        ``deterministic_severity`` and ``eta_std``).
+        The study's variables with named dimensions and units, ``done``, the study's attributes (and
+        for mc ``deterministic_severity`` and ``eta_std``).
 
     Raises
     ------
@@ -120,27 +141,28 @@ def run_study(study: Study, out=None, *, client=None, scheduler=None, chunk: int
     sched = None if client is not None else parse_scheduler(scheduler)
     init = {}
     path = None if out is None else Path(out) / st.STORE_NAME
-    if study.kind == "mc" and (path is None or not path.exists()):
+    if study.kind == "mc" and (path is None or not st._has_group(path, group)):
         init = {"deterministic_severity": deterministic_curve(study, threads), "eta_std": _eta_std(study)}
     if path is None:
         done, results = np.zeros(study.task_size, dtype=bool), {}
     else:
         Path(out).mkdir(parents=True, exist_ok=True)
-        done, chunk = st.prepare(study, path, chunk, init)
+        done, chunk = st.prepare(study, path, chunk, init, group)
         results = None
     blocks = _blocks(done, chunk)
     own = None
     if client is None and sched is not None and blocks:
-        client, own = _client(sched, log)
+        client, own = open_client(sched, log)
     try:
         with progress_bar(int(sum(hi - lo for lo, hi in blocks)), f"{study.kind} study", progress) as cb:
             finished = 0
             for lo, values in _compute(study, blocks, client, threads):
+                n = next(iter(values.values())).shape[0]
                 if results is None:
-                    st.write_block(study, path, lo, values)
+                    st.write_block(study, path, lo, values, group)
                 else:
                     results[lo] = values
-                finished += values.shape[0]
+                finished += n
                 if cb is not None:
                     cb(finished, 0)
     finally:
@@ -148,10 +170,11 @@ def run_study(study: Study, out=None, *, client=None, scheduler=None, chunk: int
             client.close()
             own.close()
     if path is not None:
-        return st.open_study(path)
+        return st.open_study(path, group)
     ds = st._empty(study, 0, study.task_size, chunk, {k: v for k, v in init.items() if np.isscalar(v)})
     for lo, values in results.items():
-        ds["severity"][{study.task_dim: slice(lo, lo + values.shape[0])}] = values
+        for name, v in values.items():
+            ds[name][{study.task_dim: slice(lo, lo + v.shape[0])}] = v
     ds["done"][:] = True
     for k, v in init.items():
         if not np.isscalar(v):
@@ -169,7 +192,7 @@ def _compute(study: Study, blocks: list, client, threads: int):
     futures = {client.submit(compute_block, study, lo, hi, 1, pure=False): lo for lo, hi in blocks}
     try:
         for fut in as_completed(futures):
-            yield futures[fut], np.asarray(fut.result())
+            yield futures[fut], fut.result()
     finally:
         for fut in futures:
             fut.cancel()

@@ -2,8 +2,9 @@
 
 ``DIR/study.zarr`` holds an ``xarray.Dataset`` readable with ``xarray.open_zarr``:
 
-* ``severity``: SS (Eq. 3.4) [-] with the study's named dimensions (``top_speed`` [rad/s], ``wob`` [N],
-  ``sample``), NaN where not computed yet;
+* the study's variables (:meth:`drillpy.study.definition.Study.variables`): ``severity``, SS (Eq. 3.4)
+  [-] with the named dimensions ``top_speed`` [rad/s], ``wob`` [N], ``sample``; for frf ``frf_db``
+  (sample, point, frequency [Hz]) and ``energy`` (sample, point); NaN where not computed yet;
 * ``done``: one flag per task (along the task dimension), set only after the task's values are
   written, so a store interrupted at any moment (Ctrl-C, a lost worker) is consistent: what is
   flagged is final, the rest is computed again by the next run;
@@ -23,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from drillpy.study.definition import UNITS, Study
+from drillpy.study.definition import LONG_NAMES, UNITS, Study
 
 STORE_NAME = "study.zarr"
 _ZARR = {"consolidated": False}
@@ -34,12 +35,9 @@ def _xr():
     return xr
 
 
-def _coords(study: Study, lo: int = 0, hi: int | None = None) -> dict:
-    c = {"top_speed": ("top_speed", np.asarray(study.top_speeds, dtype=float), {"units": UNITS["top_speed"]})}
-    if study.kind == "map":
-        c["wob"] = ("wob", np.asarray(study.wobs, dtype=float), {"units": UNITS["wob"]})
-    if study.kind == "mc":
-        hi = study.samples if hi is None else hi
+def _coords(study: Study, lo: int, hi: int) -> dict:
+    c = {k: (k, v, {"units": UNITS[k]}) for k, v in study.coords().items()}
+    if study.task_dim == "sample":
         c["sample"] = ("sample", np.arange(lo, hi, dtype=np.int64), {"units": UNITS["sample"]})
     return c
 
@@ -51,23 +49,23 @@ def _attrs(study: Study, chunk: int, extra: dict) -> dict:
 
 
 def _empty(study: Study, lo: int, hi: int, chunk: int, extra: dict):
-    """NaN-filled ``severity`` and unset ``done`` for tasks lo .. hi - 1."""
+    """NaN-filled variables and unset ``done`` for tasks lo .. hi - 1."""
     xr = _xr()
-    dims = study.dims()
-    shape = [hi - lo] + [len(study.top_speeds)] * (len(dims) - 1)
-    coords = _coords(study, lo, hi) if study.kind == "mc" else _coords(study)
-    ds = xr.Dataset({"severity": (dims, np.full(shape, np.nan),
-                                  {"units": UNITS["severity"], "long_name": "stick-slip severity SS (Eq. 3.4)"}),
-                     "done": ((study.task_dim,), np.zeros(hi - lo, dtype=bool),
-                              {"long_name": "task computed and written"})},
-                    coords=coords, attrs=_attrs(study, chunk, extra))
-    return ds
+    sizes = {k: len(v) for k, v in study.coords().items()}
+    data = {}
+    for name, (dims, dtype) in study.variables().items():
+        shape = [hi - lo] + [sizes[d] for d in dims[1:]]
+        data[name] = (dims, np.full(shape, np.nan, dtype=dtype), {"units": UNITS[name], "long_name": LONG_NAMES[name]})
+    data["done"] = ((study.task_dim,), np.zeros(hi - lo, dtype=bool), {"long_name": "task computed and written"})
+    return xr.Dataset(data, coords=_coords(study, lo, hi), attrs=_attrs(study, chunk, extra))
 
 
 def _encoding(study: Study, chunk: int) -> dict:
-    dims = study.dims()
-    return {"severity": {"chunks": (chunk,) + (len(study.top_speeds),) * (len(dims) - 1)},
-            "done": {"chunks": (chunk,)}}
+    sizes = {k: len(v) for k, v in study.coords().items()}
+    enc = {name: {"chunks": (chunk,) + tuple(sizes[d] for d in dims[1:])}
+           for name, (dims, _) in study.variables().items()}
+    enc["done"] = {"chunks": (chunk,)}
+    return enc
 
 
 def _differs(a: dict, b: dict, prefix: str = "") -> str | None:
@@ -83,7 +81,7 @@ def _differs(a: dict, b: dict, prefix: str = "") -> str | None:
     return None if a == b else prefix.rstrip(".")
 
 
-def prepare(study: Study, path, chunk: int, init: dict | None = None) -> tuple[np.ndarray, int]:
+def prepare(study: Study, path, chunk: int, init: dict | None = None, group: str | None = None) -> tuple[np.ndarray, int]:
     """Open the store at ``path`` for ``study`` (created if missing, extended if the mc study is longer).
 
     Parameters
@@ -96,6 +94,8 @@ def prepare(study: Study, path, chunk: int, init: dict | None = None) -> tuple[n
         Block length along the task dimension for a new store (an existing store keeps its own).
     init : dict, optional
         Extra content of a new store: ``{"deterministic_severity": array, "eta_std": float}`` for mc.
+    group : str, optional
+        Zarr group of the study inside the store (one store holding several studies: robust-ss).
 
     Returns
     -------
@@ -111,15 +111,15 @@ def prepare(study: Study, path, chunk: int, init: dict | None = None) -> tuple[n
     xr = _xr()
     p = Path(path)
     init = init or {}
-    if not p.exists():
+    if not _has_group(p, group):
         extra = {k: v for k, v in init.items() if np.isscalar(v)}
         ds = _empty(study, 0, study.task_size, chunk, extra)
         for k, v in init.items():
             if not np.isscalar(v):
                 ds[k] = ("top_speed", np.asarray(v, dtype=float), {"units": UNITS["severity"]})
-        ds.to_zarr(p, mode="w", encoding=_encoding(study, chunk), **_ZARR)
+        ds.to_zarr(p, mode="w" if group is None else "a", group=group, encoding=_encoding(study, chunk), **_ZARR)
         return np.zeros(study.task_size, dtype=bool), chunk
-    ds = xr.open_zarr(p, chunks=None, **_ZARR)
+    ds = xr.open_zarr(p, chunks=None, group=group, **_ZARR)
     if "study" not in ds.attrs:
         raise ValueError(f"store = '{p}': not a drillpy study store (no study attribute)")
     stored = json.loads(ds.attrs["study"])
@@ -133,13 +133,19 @@ def prepare(study: Study, path, chunk: int, init: dict | None = None) -> tuple[n
     done = np.asarray(ds["done"].values, dtype=bool)
     if n < study.task_size:  # extend an mc study: the first n samples stay as they are
         extra = {k: ds.attrs[k] for k in ds.attrs if k not in ("study", "chunk", "provenance")}
-        _empty(study, n, study.task_size, chunk, extra).to_zarr(p, append_dim=study.task_dim, **_ZARR)
+        _empty(study, n, study.task_size, chunk, extra).to_zarr(p, append_dim=study.task_dim, group=group, **_ZARR)
         done = np.concatenate([done, np.zeros(study.task_size - n, dtype=bool)])
     return done, chunk
 
 
-def write_block(study: Study, path, lo: int, values: np.ndarray) -> None:
-    """Write the values of tasks ``lo .. lo + len(values) - 1``, then flag them done.
+def _has_group(path: Path, group: str | None) -> bool:
+    if group is None:
+        return path.exists()
+    return (path / group).exists()
+
+
+def write_block(study: Study, path, lo: int, values: dict, group: str | None = None) -> None:
+    """Write the results of tasks ``lo .. lo + n - 1``, then flag them done.
 
     Parameters
     ----------
@@ -149,33 +155,39 @@ def write_block(study: Study, path, lo: int, values: np.ndarray) -> None:
         The ``.zarr`` folder.
     lo : int
         First task of the block.
-    values : numpy.ndarray
-        SS of the block (:func:`drillpy.study.definition.compute_block`).
+    values : dict
+        Variable -> array (:func:`drillpy.study.definition.compute_block`).
+    group : str, optional
+        Zarr group of the study inside the store.
     """
     xr = _xr()
-    hi = lo + values.shape[0]
-    region = {study.task_dim: slice(lo, hi)}
-    xr.Dataset({"severity": (study.dims(), values)}).to_zarr(path, region=region, safe_chunks=False, **_ZARR)
-    xr.Dataset({"done": ((study.task_dim,), np.ones(hi - lo, dtype=bool))}).to_zarr(
-        path, region=region, safe_chunks=False, **_ZARR)
+    variables = study.variables()
+    n = next(iter(values.values())).shape[0]
+    region = {study.task_dim: slice(lo, lo + n)}
+    xr.Dataset({k: (variables[k][0], v) for k, v in values.items()}).to_zarr(
+        path, region=region, safe_chunks=False, group=group, **_ZARR)
+    xr.Dataset({"done": ((study.task_dim,), np.ones(n, dtype=bool))}).to_zarr(
+        path, region=region, safe_chunks=False, group=group, **_ZARR)
 
 
-def open_study(path):
+def open_study(path, group: str | None = None):
     """A stored study as an ``xarray.Dataset`` (numpy-backed; ``xarray.open_zarr`` gives the same lazily).
 
     Parameters
     ----------
     path : str or Path
         ``study.zarr`` or the output folder holding it.
+    group : str, optional
+        Zarr group of the study (robust-ss stores one per source of uncertainty).
 
     Returns
     -------
     xarray.Dataset
-        ``severity``, ``done``, coordinates with units, the study's attributes.
+        The study's variables, ``done``, coordinates with units, the study's attributes.
     """
     p = Path(path)
     if p.is_dir() and (p / STORE_NAME).exists():
         p = p / STORE_NAME
     if not p.exists():
         raise ValueError(f"store = '{path}': no {STORE_NAME} there")
-    return _xr().open_zarr(p, chunks=None, **_ZARR).load()
+    return _xr().open_zarr(p, chunks=None, group=group, **_ZARR).load()

@@ -158,7 +158,7 @@ def severity_study(cfg: dict, speeds, samples: int, *, model: str = "SM_CB2", de
 
 
 def severity_sources(cfg: dict, speeds, samples: int, *, delta=0.1, eta_psd=None, eta_dt: float = ETA_DT_S,
-                     seed: int = 1, progress: bool = True, threads: int = 0) -> dict:
+                     seed: int = 1, progress: bool = True, threads: int = 0, runner=None) -> dict:
     """How much each source widens the SS band: the deterministic string, structural uncertainty
     (SM_CB2 with ``delta``), and, when ``eta_psd`` is given, the stochastic bit-rock law alone
     (mean structure) and both together (same eta and same matrices per sample).
@@ -183,6 +183,9 @@ def severity_sources(cfg: dict, speeds, samples: int, *, delta=0.1, eta_psd=None
         Show tqdm progress bars.
     threads : int
         OpenMP threads (0: the OpenMP default).
+    runner : callable, optional
+        Runs one study with :func:`severity_study`'s signature (default :func:`severity_study`;
+        ``drillpy robust-ss --out/--scheduler`` passes one that stores and distributes it).
 
     Returns
     -------
@@ -190,12 +193,13 @@ def severity_sources(cfg: dict, speeds, samples: int, *, delta=0.1, eta_psd=None
         Label -> :class:`SeverityStudy`: "deterministic", "structure (SM_CB2)" and, with
         ``eta_psd``, "bit-rock (eta)" and "structure + bit-rock".
     """
+    run = runner or severity_study
     kw = dict(seed=seed, progress=progress, threads=threads)
-    out = {"deterministic": severity_study(cfg, speeds, 1, delta=0.0, structural=False, label="deterministic", **kw),
-           "structure (SM_CB2)": severity_study(cfg, speeds, samples, delta=delta, label="structure (SM_CB2)", **kw)}
+    out = {"deterministic": run(cfg, speeds, 1, delta=0.0, structural=False, label="deterministic", **kw),
+           "structure (SM_CB2)": run(cfg, speeds, samples, delta=delta, label="structure (SM_CB2)", **kw)}
     if eta_psd is not None:
-        out["bit-rock (eta)"] = severity_study(cfg, speeds, samples, delta=0.0, structural=False, eta_psd=eta_psd,
-                                               eta_dt=eta_dt, label="bit-rock (eta)", **kw)
-        out["structure + bit-rock"] = severity_study(cfg, speeds, samples, delta=delta, eta_psd=eta_psd,
-                                                     eta_dt=eta_dt, label="structure + bit-rock", **kw)
+        out["bit-rock (eta)"] = run(cfg, speeds, samples, delta=0.0, structural=False, eta_psd=eta_psd,
+                                    eta_dt=eta_dt, label="bit-rock (eta)", **kw)
+        out["structure + bit-rock"] = run(cfg, speeds, samples, delta=delta, eta_psd=eta_psd, eta_dt=eta_dt,
+                                          label="structure + bit-rock", **kw)
     return out
