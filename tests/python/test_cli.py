@@ -255,3 +255,22 @@ def test_eta_std_too_large_is_an_error_not_an_overflow(capsys):
     from drillpy.cli import main
     assert main(["mc", "--preset", "thesis-rig", "--eta-std", "1e180", "--no-progress"]) == 2
     assert "--eta-std = 1e+180: too large" in _one_error_line(capsys)
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["convergence", "--preset", "thesis-rig", "--dt", "1"], "--dt = 1.0: convergence runs its own ladder"),
+    (["frf", "--preset", "thesis-rig", "--samples", "3"], "--cb-modes: the configuration 'thesis-rig' sets no "
+                                                          "craig_bampton.modes"),
+])
+def test_options_a_command_cannot_honour_are_refused(args, needle, capsys):
+    """Reported by test_fuzz.py: convergence ignored --dt silently; frf on a string without Craig-Bampton
+    modes blamed craig_bampton.modes = 0, a field the user never wrote."""
+    from drillpy.cli import main
+    assert main([*args, "--no-progress"]) == 2
+    assert needle in _one_error_line(capsys)
+
+
+def test_too_few_bit_speed_samples_name_the_channel():
+    from drillpy.records.signals import segment_cycles
+    with pytest.raises(ValueError, match=r"^bit_speed: 2 valid samples of 4: too few"):
+        segment_cycles(np.array([1.0, np.nan, 2.0, np.nan]), 0.01, 0.1)

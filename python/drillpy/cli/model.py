@@ -301,6 +301,9 @@ def cmd_convergence(a: argparse.Namespace) -> int:
         Exit status 0; prints :func:`drillpy.model.convergence.convergence_report` as JSON or tables.
     """
     from drillpy.model.convergence import convergence_report
+    for opt, value in (("--dt", a.dt), ("--scheme", a.scheme)):
+        if value is not None:  # the study sets both itself: a silently ignored option misleads
+            raise ValueError(f"{opt} = {value}: convergence runs its own ladder of time steps with both schemes")
     r = convergence_report(model_config(a))
     if a.json:
         print_json(r)

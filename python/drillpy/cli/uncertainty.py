@@ -58,6 +58,11 @@ def cb_config(a: argparse.Namespace) -> dict:
     if a.cb_modes:
         from drillpy.uncertainty.frf import with_cb_modes
         cfg = with_cb_modes(cfg, [int(x) for x in parse_grid(a.cb_modes, "--cb-modes")])
+    elif getattr(a, "model", "SM_CB2") != "SM_full" and not cfg.get("craig_bampton", {}).get("modes"):
+        n = len(cfg["string"]["sections"])
+        raise ValueError(f"--cb-modes: the configuration {cfg.get('name', '')!r} sets no craig_bampton.modes; give "
+                         f"one number of fixed-interface modes per section ({n} section{'s' if n != 1 else ''}, e.g. "
+                         f"{','.join(['25'] * n)}) or use thesis-ch6")
     return cfg
 
 

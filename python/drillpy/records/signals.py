@@ -301,7 +301,7 @@ def segment_cycles(bit_speed, dt: float, stick_threshold: float, *, valid=None,
     n = v.size
     ok = np.isfinite(v) if valid is None else (np.asarray(valid, bool) & np.isfinite(v))
     if ok.sum() < 3:
-        raise ValueError("segment_cycles: fewer than 3 valid bit-speed samples")
+        raise ValueError(f"bit_speed: {int(ok.sum())} valid samples of {n}: too few to find stick-slip cycles (3 at least)")
     idx = np.arange(n)
     vf = np.where(ok, v, np.interp(idx, idx[ok], v[ok]))
     lo, hi = np.percentile(vf[ok], [1, 99])
