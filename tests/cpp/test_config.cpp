@@ -50,7 +50,16 @@ TEST(Config, TotalElementsSplitInProportionToLength) {
 }
 
 TEST(Config, ErrorsNameTheFieldAndTheValue) {
-  EXPECT_NE(parse_error_of("{\"string\": ").find("malformed JSON"), std::string::npos);
+  EXPECT_NE(parse_error_of("{\"string\": ").find("malformed JSON: parse error at line 1"), std::string::npos);
+  EXPECT_EQ(parse_error_of("{\"string\": ").find("json.exception"), std::string::npos);  // no library tag
+  {  // a key with a line break is shown escaped: still one line
+    json j = preset_json("thesis-field");
+    j["a\nb"] = 1;
+    const std::string e = parse_error_of(j.dump());
+    EXPECT_NE(e.find("config.\"a\\nb\" = 1: unknown key"), std::string::npos) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos);
+  }
+  EXPECT_NE(parse_error_of(with("/string/sections/0/elements", 6000)).find("exceeds 5000"), std::string::npos);
   EXPECT_NE(parse_error_of("[1, 2]").find("must be a JSON object"), std::string::npos);
   EXPECT_NE(parse_error_of("{}").find("config.string: missing"), std::string::npos);
   json j = preset_json("thesis-field");
@@ -204,8 +213,11 @@ std::set<std::string> property_names(const json& properties) {
   return names;
 }
 // The JSON pointer of a block in a configuration: "string.sections" is each item of that array.
+/// Where a block's object sits in a configuration: string.sections is an array of objects (its first
+/// item), top_drive.controller an object inside the controlled top drive.
 std::string block_pointer(const std::string& name) {
   if (name == "config") return "";
+  if (name == "top_drive.controller") return "/top_drive/controller";
   const std::size_t dot = name.find('.');
   return dot == std::string::npos ? "/" + name : "/" + name.substr(0, dot) + "/" + name.substr(dot + 1) + "/0";
 }
@@ -236,6 +248,7 @@ TEST(Config, SchemaPropertiesAreTheKeysTheParserAccepts) {
     for (const std::string& type : types) {
       const std::string at = block_pointer(b.name);
       json base = preset_json("thesis-field");
+      if (b.name == "top_drive.controller") base["top_drive"] = {{"type", "controlled"}, {"inertia_kg_m2", 2000.0}};
       if (!at.empty()) base[json::json_pointer(at)] = type.empty() ? json::object() : json{{"type", type}};
       for (const std::string& key : schema::keys(b.name, type)) {
         json j = base;

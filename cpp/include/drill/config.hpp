@@ -47,6 +47,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <algorithm>
 #include <climits>
 #include <cstdint>
 #include <optional>
@@ -518,8 +519,12 @@ namespace detail {
 inline void check_keys(const json& j, const std::string& where, const std::set<std::string>& allowed) {
   if (!j.is_object()) throw std::invalid_argument(where + " = " + j.dump() + ": must be a JSON object");
   for (auto it = j.begin(); it != j.end(); ++it)
-    if (!allowed.count(it.key()))
-      throw std::invalid_argument(where + "." + it.key() + " = " + it.value().dump() + ": unknown key");
+    if (!allowed.count(it.key())) {
+      // a key with a control character (a line break...) is shown JSON-escaped: the error stays one line
+      const bool plain = std::all_of(it.key().begin(), it.key().end(), [](unsigned char ch) { return ch >= 0x20; });
+      const std::string key = plain ? it.key() : json(it.key()).dump();
+      throw std::invalid_argument(where + "." + key + " = " + it.value().dump() + ": unknown key");
+    }
 }
 
 inline double get_number(const json& j, const std::string& key, const std::string& where) {
@@ -839,7 +844,11 @@ inline json parse_json_text(const std::string& text, const std::string& what = "
   try {
     return json::parse(text, cb);
   } catch (const json::parse_error& e) {
-    throw std::invalid_argument(what + ": malformed JSON: " + e.what());
+    // nlohmann's text starts with "[json.exception.parse_error.101] parse error at ...": keep the position
+    std::string why = e.what();
+    const std::size_t tag = why.find("] ");
+    if (why.rfind("[json.exception.", 0) == 0 && tag != std::string::npos) why = why.substr(tag + 2);
+    throw std::invalid_argument(what + ": malformed JSON: " + why);
   }
 }
 

@@ -60,6 +60,7 @@ struct LumpedInertia {
 struct StringModel {
   std::vector<Section> sections;
   std::vector<LumpedInertia> lumped;
+  static constexpr int max_elements = 5000;  ///< total elements accepted (validate)
 
   int n_elements() const {
     int n = 0;
@@ -85,6 +86,12 @@ struct StringModel {
     require(!sections.empty(), "string.sections", sections.size(), "needs at least one section");
     for (std::size_t k = 0; k < sections.size(); ++k)
       sections[k].validate("string.sections[" + std::to_string(k) + "]");
+    // the modal reduction solves a dense n x n eigenproblem (Eq. 2.7): 3000 elements take 40 s, and the
+    // thesis converges with 100 (docs/numerics.md)
+    long long total = 0;  // summed wide: sections of up to INT_MAX elements each
+    for (const auto& s : sections) total += s.elements;
+    require(total <= max_elements, "string.sections[].elements", total,
+            "in total exceeds " + show(max_elements) + " (the dense eigenproblem of the reduction would take minutes)");
     for (std::size_t k = 0; k < lumped.size(); ++k) {
       const std::string w = "string.lumped_inertias[" + std::to_string(k) + "]";
       const int node = resolve_node(lumped[k].node);

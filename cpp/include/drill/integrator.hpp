@@ -79,7 +79,7 @@ struct SimOptions {
   void validate() const {
     require_positive(dt, "simulation.dt_s");
     require_positive(duration, "simulation.duration_s");
-    require(duration >= dt, "simulation.duration_s", duration, "must be at least one time step");
+    require(duration >= dt, "simulation.duration_s", duration, "must be at least one time step (simulation.dt_s = " + show(dt) + ")");
     require(duration / dt < 2e9, "simulation.duration_s", duration, "needs more than 2e9 steps");
     require(acceleration == Acceleration::implicit || scheme == Scheme::modified_euler, "simulation.acceleration",
             to_string(acceleration), "is implemented for simulation.scheme = modified_euler only");
