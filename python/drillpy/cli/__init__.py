@@ -210,6 +210,56 @@ def add_model_args(p: argparse.ArgumentParser) -> None:
                         "(Eq. 2.3) or steady drilling (default: the configuration's simulation.start, "
                         "rest unless set); saved in the configuration")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    c = p.add_argument_group("controlled top drive (docs/control.md)")
+    c.add_argument("--controller", choices=["stiff", "pi", "soft_speed", "z_torque"],
+                   help="a top drive with inertia driven by this speed controller (tuned from the string's "
+                        "properties unless --kp/--ki are given) instead of the configuration's top drive")
+    c.add_argument("--drive-inertia", type=float, metavar="J",
+                   help="rotor and gearbox inertia of the controlled top drive [kg m^2] (needed with --controller "
+                        "unless the configuration's drive has one)")
+    c.add_argument("--kp", type=float, help="proportional gain [N m s/rad] (overrides the tuning)")
+    c.add_argument("--ki", type=float, help="integral gain [N m/rad] (overrides the tuning)")
+    c.add_argument("--torque-limit", type=float, help="motor torque limit [N m]")
+    c.add_argument("--sample-time", type=float, help="controller sample time [s] (zero-order hold; default continuous)")
+
+
+def controlled_drive(a: argparse.Namespace, base: dict) -> dict | None:
+    """The ``top_drive`` block of ``--controller`` and its options (None without ``--controller``).
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        ``--controller``, ``--drive-inertia``, ``--kp``, ``--ki``, ``--torque-limit``, ``--sample-time``.
+    base : dict
+        The configuration before the override (its drive's inertia is kept when none is given).
+
+    Returns
+    -------
+    dict or None
+        ``{"type": "controlled", "inertia_kg_m2": J, "controller": {...}}``; the engine validates it.
+
+    Raises
+    ------
+    ValueError
+        A controller option without ``--controller``, or no inertia known.
+    """
+    extra = {"--drive-inertia": a.drive_inertia, "--kp": a.kp, "--ki": a.ki, "--torque-limit": a.torque_limit,
+             "--sample-time": a.sample_time}
+    if a.controller is None:
+        given = [k for k, v in extra.items() if v is not None]
+        if given:
+            raise ValueError(f"{given[0]} = {extra[given[0]]}: needs --controller")
+        return None
+    inertia = a.drive_inertia if a.drive_inertia is not None else base.get("top_drive", {}).get("inertia_kg_m2")
+    if inertia is None:
+        raise ValueError(f"--controller = {a.controller}: give --drive-inertia, the top drive's inertia [kg m^2] "
+                         "(the configuration's drive has none)")
+    ctl = {"type": a.controller}
+    for key, value in (("kp_nms_rad", a.kp), ("ki_nm_rad", a.ki), ("torque_limit_nm", a.torque_limit),
+                       ("sample_time_s", a.sample_time)):
+        if value is not None:
+            ctl[key] = value
+    return {"type": "controlled", "inertia_kg_m2": inertia, "controller": ctl}
 
 
 def add_study_args(p: argparse.ArgumentParser) -> None:
@@ -272,7 +322,8 @@ def model_config(a: argparse.Namespace) -> dict:
     base = load_config(preset=a.preset) if a.preset else load_config(path=a.config)
     return with_overrides(base, elements=a.elements, modes=a.modes, law=a.law, beta1=a.beta1,
                           speed_unit=a.speed_unit, scheme=a.scheme, acceleration=a.acceleration, dt=a.dt,
-                          duration=a.duration, transient=a.transient, start=a.start)
+                          duration=a.duration, transient=a.transient, start=a.start,
+                          top_drive=controlled_drive(a, base))
 
 
 def check_output_folder(out: str) -> None:

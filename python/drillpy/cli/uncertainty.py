@@ -54,6 +54,9 @@ def cb_config(a: argparse.Namespace) -> dict:
     """
     validate.integer("samples", a.samples, 1, MAX_SAMPLES)
     validate.seed(a.seed)
+    if a.controller is not None:  # the random reduced models of chapter 6 are clamped at the top
+        raise ValueError(f"--controller = {a.controller}: the structural-uncertainty studies (frf, frf-report, "
+                         "robust-ss) run with the thesis's ideal top drive only")
     cfg = model_config(a)
     if a.cb_modes:
         from drillpy.uncertainty.frf import with_cb_modes

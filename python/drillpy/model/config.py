@@ -217,7 +217,7 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
                    speed_unit: str | None = None, scheme: str | None = None,
                    acceleration: str | None = None, dt: float | None = None, duration: float | None = None,
                    transient: float | None = None, top_speed: float | None = None,
-                   wob: float | None = None, start: str | None = None) -> dict:
+                   wob: float | None = None, start: str | None = None, top_drive: dict | None = None) -> dict:
     """A normalized copy of ``cfg`` with command-line style overrides applied.
 
     Parameters
@@ -252,6 +252,8 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
     start : str, optional
         Initial state of runs and sweeps (``simulation.start``): ``"rest"`` (Eq. 2.10), ``"rigid"``
         (Eq. 2.3) or ``"steady"``.
+    top_drive : dict, optional
+        The ``top_drive`` block (e.g. a controlled drive, docs/control.md), validated by the engine.
 
     Returns
     -------
@@ -294,4 +296,6 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
         op["top_speed_rad_s"] = float(top_speed)
     if wob is not None:
         op["wob_n"] = float(wob)
+    if top_drive is not None:
+        c["top_drive"] = copy.deepcopy(top_drive)
     return normalize(c)
