@@ -240,7 +240,8 @@ def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, 
     threshold : float or None
         Speed below which SS > 0.5 [rad/s], drawn on the figure; None without a crossing.
     summary : dict
-        JSON summary of the sweep, written with the configuration under ``"config"``.
+        JSON summary of the sweep, written with the configuration under ``"config"`` (its ``sweep``
+        block set to the speeds run, so ``drillsim --job sweep`` repeats the sweep).
     cfg : dict
         Configuration the sweep ran with.
     start : str, optional
@@ -257,6 +258,8 @@ def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, 
     out.mkdir(parents=True, exist_ok=True)
     plotting.severity_plot(out / "severity_vs_top_speed.png", speeds, severity, threshold)
     start = start or cfg.get("simulation", {}).get("start", "rest")  # the start used
+    # the grid run, in the configuration: drillsim --job sweep on it repeats the sweep
+    cfg = {**cfg, "sweep": {"top_speeds_rad_s": [float(v) for v in speeds], "wobs_n": []}}
     (out / "sweep.json").write_text(dumps({**summary, "config": cfg, "provenance": provenance(start=start)}))
     return out
 
@@ -276,7 +279,8 @@ def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict,
     severity : ndarray
         SS [-] over speed x WOB, as returned by :func:`drillpy.model.simulation.stability_map`.
     summary : dict
-        JSON summary of the map, written with the configuration under ``"config"``.
+        JSON summary of the map, written with the configuration under ``"config"`` (its ``sweep`` block
+        set to the grid run, so ``drillsim --job sweep`` repeats the map).
     cfg : dict
         Configuration the map ran with (its law type labels the panel).
     start : str, optional
@@ -293,5 +297,7 @@ def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict,
     out.mkdir(parents=True, exist_ok=True)
     plotting.stability_map_plot(out / "stability_map.png", speeds_rpm, wobs_kn, {cfg["law"]["type"]: severity})
     start = start or cfg.get("simulation", {}).get("start", "rest")  # the start used
+    cfg = {**cfg, "sweep": {"top_speeds_rad_s": [float(v) * np.pi / 30.0 for v in speeds_rpm],
+                            "wobs_n": [float(w) * 1e3 for w in wobs_kn]}}  # the grid run [rad/s, N]
     (out / "map.json").write_text(dumps({**summary, "config": cfg, "provenance": provenance(start=start)}))
     return out
