@@ -206,7 +206,8 @@ def compute_block(study: Study, lo: int, hi: int, threads: int = 0) -> dict:
 
 
 def deterministic_curve(study: Study, threads: int = 0) -> np.ndarray:
-    """SS with eta = 0 per top speed of an mc study (Fig. 4.8), the same durations and warm start.
+    """SS with eta = 0 per top speed of an mc study (Fig. 4.8), the same durations and warm start
+    (:func:`drillpy.uncertainty.montecarlo.deterministic_severity`).
 
     Parameters
     ----------
@@ -220,10 +221,6 @@ def deterministic_curve(study: Study, threads: int = 0) -> np.ndarray:
     numpy.ndarray
         SS [-], shape (n_speeds,).
     """
-    from drillpy.model.config import engine_config
-    from drillpy.uncertainty.process import psd_from_dict, psd_on_grid
+    from drillpy.uncertainty.montecarlo import deterministic_severity
     o = study.options
-    f, _ = psd_on_grid(psd_from_dict(o["psd"]), o["eta_dt_s"], study.config["simulation"]["duration_s"])
-    zero = _core.MonteCarlo(engine_config(study.config), np.zeros_like(f), float(o["eta_dt_s"]), int(study.seed),
-                            float(o["warmup_s"]))
-    return np.asarray(zero.severity(list(study.top_speeds), 0, 1, None, int(threads)))[0]
+    return deterministic_severity(study.config, study.top_speeds, o["eta_dt_s"], study.seed, o["warmup_s"], threads)

@@ -296,10 +296,7 @@ def stochastic_study(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = T
         ss = mc.severity(list(sp), first, n, cb, int(threads))
     if ss.size == 0:  # cancelled by the callback without an exception
         raise KeyboardInterrupt
-    det = None
-    if deterministic:
-        zero = _engine(c, lambda f: np.zeros_like(f), eta_dt, seed, warmup)
-        det = zero.severity(list(sp), 0, 1, None, int(threads))[0]
+    det = deterministic_severity(c, sp, eta_dt, seed, warmup, threads) if deterministic else None
     return study_from_samples(sp, ss, deterministic=det, seed=seed, first_sample=first,
                               eta_std=math.sqrt(mc.eta_variance), settings=_settings(c, psd, eta_dt, warmup), config=c)
 
@@ -374,6 +371,34 @@ def from_dataset(ds) -> StochasticStudy:
                               deterministic=ds["deterministic_severity"].values, seed=ident["seed"], first_sample=0,
                               eta_std=float(ds.attrs["eta_std"]),
                               settings=_settings(c, psd_from_dict(o["psd"]), o["eta_dt_s"], o["warmup_s"]), config=c)
+
+
+def deterministic_severity(c: dict, speeds, eta_dt: float, seed: int, warmup: float, threads: int = 0) -> np.ndarray:
+    """SS with eta = 0 at each top speed (Fig. 4.8): the study's runs, durations and warm start without
+    the random torque.
+
+    Parameters
+    ----------
+    c : dict
+        The study's configuration (its duration and transient applied).
+    speeds : array_like
+        Top speeds [rad/s].
+    eta_dt : float
+        Sampling step of eta [s] (the grid of the zero process).
+    seed : int
+        Seed of the study (unused by a zero process; kept so the engine is the study's).
+    warmup : float
+        Deterministic start-up [s].
+    threads : int
+        OpenMP threads (0: all cores).
+
+    Returns
+    -------
+    numpy.ndarray
+        SS [-], shape (n_speeds,).
+    """
+    zero = _engine(c, lambda f: np.zeros_like(f), eta_dt, seed, warmup)
+    return np.asarray(zero.severity(list(speeds), 0, 1, None, int(threads)))[0]
 
 
 def study_from_samples(speeds, severity, *, deterministic, seed: int, first_sample: int, eta_std: float,
