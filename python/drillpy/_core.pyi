@@ -204,6 +204,11 @@ class Simulation:
         The configuration (a copy).
         """
     @property
+    def drive_gains(self) -> typing.Any:
+        """
+        The resolved gains of a controlled top drive (kp, ki, Z, tau, J, L; the top section's impedance and the first natural frequency they were tuned from), None for another drive.
+        """
+    @property
     def frequencies_hz(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         Natural frequencies of the retained modes [Hz].
@@ -353,6 +358,10 @@ class MonteCarlo:
     def severity(self, speeds: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], first_sample: typing.SupportsInt | typing.SupportsIndex, samples: typing.SupportsInt | typing.SupportsIndex, progress: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
         SS (Eq. 3.4) per sample (rows) and top speed (columns).
+        """
+    def severity_and_bit_speed(self, speeds: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], first_sample: typing.SupportsInt | typing.SupportsIndex, samples: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex = 0) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        SS (Eq. 3.4) and the mean bit speed of the SS window [rad/s] per sample (rows) and top speed (columns).
         """
     @property
     def eta_variance(self) -> float:

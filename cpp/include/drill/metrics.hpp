@@ -20,6 +20,7 @@ struct SeverityObserver {
   double vmax = -std::numeric_limits<double>::infinity();
   double vmin = std::numeric_limits<double>::infinity();
   double top_sum = 0.0;
+  double bit_sum = 0.0;
   long count = 0;
 
   explicit SeverityObserver(double t_start_ = 0.0) : t_start(t_start_) {}
@@ -28,9 +29,11 @@ struct SeverityObserver {
     vmax = std::max(vmax, s.bit_speed);
     vmin = std::min(vmin, s.bit_speed);
     top_sum += s.top_speed;
+    bit_sum += s.bit_speed;
     ++count;
   }
   double mean_top_speed() const { return count ? top_sum / count : std::nan(""); }
+  double mean_bit_speed() const { return count ? bit_sum / count : std::nan(""); }
   double severity() const {
     if (!count) return std::nan("");
     return (vmax - vmin) / (2.0 * std::fabs(mean_top_speed()));

@@ -87,11 +87,15 @@ class MonteCarlo {
 
   /// SS (Eq. 3.4) of samples first .. first + count - 1 at each top speed [rad/s]:
   /// result(r, s) for sample first + r and speeds[s]. An empty matrix if cancelled.
+  /// With `mean_bit_speed`, also the mean bit speed of each run's SS window [rad/s] (a bit that
+  /// stays stuck has a small SS: SS alone cannot tell it from smooth drilling).
   Eigen::MatrixXd severity(const std::vector<double>& speeds, std::uint64_t first, std::size_t count,
-                           const ProgressFn& progress = nullptr, int threads = 0) const {
+                           const ProgressFn& progress = nullptr, int threads = 0,
+                           Eigen::MatrixXd* mean_bit_speed = nullptr) const {
     check_speeds(speeds);
     check_range(first, count);
     Eigen::MatrixXd out(static_cast<Eigen::Index>(count), static_cast<Eigen::Index>(speeds.size()));
+    if (mean_bit_speed) mean_bit_speed->resize(out.rows(), out.cols());
     const Config& c = sim_.config();
     const std::vector<ModelState> warm = warm_states(speeds, threads);
     const bool done = parallel_for(
@@ -104,6 +108,8 @@ class MonteCarlo {
             SeverityObserver sev(c.transient);
             sim_.integrator().run(in, sev, warm.empty() ? nullptr : &warm[s]);
             out(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(s)) = sev.severity();
+            if (mean_bit_speed)
+              (*mean_bit_speed)(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(s)) = sev.mean_bit_speed();
           }
         },
         progress, threads);

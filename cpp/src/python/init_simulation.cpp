@@ -117,6 +117,21 @@ void init_simulation(py::module_& m) {
       .def_property_readonly("config", [](const Simulation& s) { return s.config(); }, "The configuration (a copy).")
       .def_property_readonly("frequencies_hz", [](const Simulation& s) { return Eigen::VectorXd(s.rom().omega / (2 * M_PI)); },
                              "Natural frequencies of the retained modes [Hz].")
+      .def_property_readonly(
+          "drive_gains",
+          [](const Simulation& s) -> py::object {
+            const TopDrive& td = s.config().top_drive;
+            if (!td.is_controlled()) return py::none();
+            const Controller& c = td.controller;
+            return py::dict(py::arg("type") = Controller::kind_name(c.kind), py::arg("kp_nms_rad") = c.kp,
+                            py::arg("ki_nm_rad") = c.ki, py::arg("impedance_nms_rad") = c.impedance,
+                            py::arg("torque_filter_s") = c.torque_filter, py::arg("inertia_kg_m2") = td.inertia,
+                            py::arg("torque_limit_nm") = c.torque_limit,
+                            py::arg("top_impedance_nms_rad") = s.top_impedance(),
+                            py::arg("omega1_rad_s") = s.rom().omega(0));
+          },
+          "The resolved gains of a controlled top drive (kp, ki, Z, tau, J, L; the top section's impedance and "
+          "the first natural frequency they were tuned from), None for another drive.")
       .def_property_readonly("stability_bound", [](const Simulation& s) { return s.integrator().stability_bound(); },
                              "Modified-Euler bound pi / (5 omega_max) [s] (Eq. A.7).")
       .def(

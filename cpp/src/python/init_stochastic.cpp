@@ -138,6 +138,19 @@ void init_stochastic(py::module_& m) {
           py::arg("speeds"), py::arg("first_sample"), py::arg("samples"), py::arg("progress") = py::none(),
           py::arg("threads") = 0, "SS (Eq. 3.4) per sample (rows) and top speed (columns).")
       .def(
+          "severity_and_bit_speed",
+          [](const MonteCarlo& mc, const std::vector<double>& speeds, std::uint64_t first, std::size_t count,
+             int threads) {
+            Eigen::MatrixXd ss, bit;
+            {
+              py::gil_scoped_release nogil;
+              ss = mc.severity(speeds, first, count, nullptr, threads, &bit);
+            }
+            return py::make_tuple(ss, bit);
+          },
+          py::arg("speeds"), py::arg("first_sample"), py::arg("samples"), py::arg("threads") = 0,
+          "SS (Eq. 3.4) and the mean bit speed of the SS window [rad/s] per sample (rows) and top speed (columns).")
+      .def(
           "phases",
           [](const MonteCarlo& mc, double speed, std::uint64_t first, std::size_t count, py::object progress,
              int threads) {

@@ -15,6 +15,7 @@
   drillpy mc-merge CHUNK_DIR1 CHUNK_DIR2 ... --out DIR   chunks run with mc --first-sample --out
   drillpy loop     RECORD --preset thesis-rig --out DIR      residual -> missing effect -> corrected model
   drillpy predict  MODEL.json RECORD --out DIR --json       a calibrated rig model on a record it never saw
+  drillpy control  --preset thesis-field --drive-inertia 2000 --torque-limit 50000 --out DIR   robust tuning
 
 Every error prints one line ``drillpy: error: ...`` and exits with status 2.
 """
@@ -25,6 +26,7 @@ Every error prints one line ``drillpy: error: ...`` and exits with status 2.
 #   cli/uncertainty.py  frf, frf-report, robust-ss, mc, mc-merge
 #   cli/records.py      analyze, predict, loop
 #   cli/reproduce.py    reproduce
+#   cli/control.py      control
 # A handler parses its arguments, calls the library and prints; files are written by the library.
 from __future__ import annotations
 
@@ -379,7 +381,7 @@ def removed_on_failure(out):
 
 # Order of the subcommands in ``drillpy --help`` (unchanged from the single-module CLI).
 COMMANDS = ("report", "modes", "simulate", "sweep", "map", "convergence", "analyze", "predict", "frf",
-            "frf-report", "robust-ss", "reproduce", "mc", "mc-merge", "loop")
+            "frf-report", "robust-ss", "reproduce", "mc", "mc-merge", "loop", "control")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -390,8 +392,9 @@ def build_parser() -> argparse.ArgumentParser:
     argparse.ArgumentParser
         Each subcommand's parsed namespace carries its handler as ``func``.
     """
-    from drillpy.cli import model, records, reproduce, uncertainty
-    registry = {**model.SUBCOMMANDS, **records.SUBCOMMANDS, **uncertainty.SUBCOMMANDS, **reproduce.SUBCOMMANDS}
+    from drillpy.cli import control, model, records, reproduce, uncertainty
+    registry = {**model.SUBCOMMANDS, **records.SUBCOMMANDS, **uncertainty.SUBCOMMANDS, **reproduce.SUBCOMMANDS,
+                **control.SUBCOMMANDS}
     assert set(registry) == set(COMMANDS), sorted(set(registry) ^ set(COMMANDS))
     p = _Parser(prog="drillpy", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     from drillpy import __version__

@@ -1,0 +1,119 @@
+"""``drillpy control``: robust tuning of top-drive controllers under the chapter-4 uncertainty and the
+drives side by side (issue 15; :mod:`drillpy.reports.control`, docs/control.md)."""
+from __future__ import annotations
+
+import argparse
+import sys
+
+from drillpy.cli import integer, parse_grid, print_json, threads_option
+from drillpy.model.config import load_config, with_overrides
+
+
+def _add_control(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy control``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The ``drillpy`` subparsers.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    s = sub.add_parser("control", help="robust tuning of top-drive controllers under uncertainty (docs/control.md)")
+    src = s.add_mutually_exclusive_group(required=True)
+    src.add_argument("--preset", help="built-in configuration (thesis-field, thesis-rig, ...)")
+    src.add_argument("--config", help="JSON configuration file (e.g. a loop's model.json)")
+    s.add_argument("--drive-inertia", type=float, required=True, metavar="J",
+                   help="rotor and gearbox inertia of the top drive [kg m^2]")
+    s.add_argument("--torque-limit", type=float, help="motor torque limit [N m] (default: none)")
+    s.add_argument("--controllers", default="soft_speed,z_torque",
+                   help="controllers to tune, comma-separated (soft_speed, z_torque)")
+    s.add_argument("--speeds", help="top speeds of the operating window [rad/s], start:stop:num or list "
+                                    "(default: the configuration's speed x 0.5:1.25:6)")
+    s.add_argument("--wobs-kn", help="WOBs of the operating window [kN], start:stop:num or list "
+                                     "(default: the configuration's WOB x 0.8, 1, 1.2)")
+    s.add_argument("--samples", type=integer("samples"), default=16, help="tuning samples per (speed, WOB)")
+    s.add_argument("--validation-samples", type=integer("validation_samples"), default=48,
+                   help="new samples of the comparison per (speed, WOB)")
+    s.add_argument("--seed", type=integer("seed"), default=1,
+                   help="seed of the tuning samples (the comparison uses seed + 1)")
+    s.add_argument("--grid", type=integer("grid"), default=5, help="coarse grid points per gain")
+    s.add_argument("--refine", type=integer("refine"), default=16, help="Nelder-Mead evaluations after the grid")
+    s.add_argument("--bootstrap", type=integer("bootstrap"), default=400, help="bootstrap resamples")
+    s.add_argument("--warmup", type=float, default=100.0, help="deterministic warm start of every run [s]")
+    s.add_argument("--duration", type=float, default=60.0, help="run with eta after the warm start [s]")
+    s.add_argument("--transient", type=float, default=20.0, help="discarded before SS [s]")
+    s.add_argument("--threads", type=threads_option, default=0, help="OpenMP threads (0: default)")
+    s.add_argument("--out", required=True, help="folder for control.json, report.md and the figures")
+    s.add_argument("--no-progress", action="store_true", help="no progress lines on stderr")
+    s.add_argument("--json", action="store_true", help="print control.json's summary as one JSON line")
+    s.set_defaults(func=cmd_control)
+    return s
+
+
+def _grid(text, default, scale: float, name: str):
+    return default if text is None else parse_grid(text, name) * scale
+
+
+def cmd_control(a: argparse.Namespace) -> int:
+    """Tune, compare and write the report (:func:`drillpy.reports.control.control_study`).
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        Arguments of ``drillpy control``.
+
+    Returns
+    -------
+    int
+        Exit status 0; prints one line per drive (P over the window, the 5 % speed) or, with
+        ``--json``, the drives' statistics and the tuned gains.
+    """
+    import numpy as np
+
+    from drillpy import validate
+    from drillpy.control.tuning import Window
+    from drillpy.reports.control import REFERENCE, control_study, write_control
+    cfg = load_config(preset=a.preset) if a.preset else load_config(path=a.config)
+    cfg = with_overrides(cfg)
+    validate.positive("--drive-inertia", a.drive_inertia, "kg m^2")
+    if a.torque_limit is not None:
+        validate.positive("--torque-limit", a.torque_limit, "N m")
+    controllers = [c.strip() for c in a.controllers.split(",") if c.strip()]
+    op = cfg["operation"]
+    speeds = _grid(a.speeds, op["top_speed_rad_s"] * np.linspace(0.5, 1.25, 6), 1.0, "--speeds")
+    wobs = _grid(a.wobs_kn, op["wob_n"] * np.array([0.8, 1.0, 1.2]), 1e3, "--wobs-kn")
+    window = Window(speeds, wobs, a.samples, a.seed, warmup=a.warmup, duration=a.duration, transient=a.transient)
+
+    def progress(text: str) -> None:
+        if not a.no_progress:
+            print(f"drillpy control: {text}", file=sys.stderr, flush=True)
+
+    study = control_study(cfg, inertia=a.drive_inertia, torque_limit=a.torque_limit, window=window,
+                          validation_samples=a.validation_samples, validation_seed=a.seed + 1,
+                          controllers=controllers, grid=a.grid, refine_evaluations=a.refine,
+                          bootstrap=a.bootstrap, threads=a.threads, progress=progress)
+    js = write_control(study, a.out)
+    if a.json:
+        print_json({"reference": REFERENCE, "tunings": {c: {"gains": t["gains"], "factors": t["factors"]}
+                                                        for c, t in js["tunings"].items()},
+                    "drives": {k: {key: r[key] for key in ("p_window", "p_vs_reference", "stalled_fraction", "mean_ss",
+                                                           "deterministic_threshold_rad_s", "p05_speed_rad_s",
+                                                           "p05_interval")}
+                               for k, r in js["comparison"].items()},
+                    "episode_speed_rad_s": js["episode_speed_rad_s"], "episodes": js["episodes"]})
+        return 0
+    for c, t in study.tunings.items():
+        print(f"{c}: tuned " + ", ".join(f"{k} = {v:.4g} ({t.factors[k]:.3g} x nominal)" for k, v in t.gains.items()))
+    for label, r in study.comparison.items():
+        pw, p05 = r["p_window"], r["p05_speed_rad_s"]
+        print(f"{label:18s} P(SS > 0.5 or stalled) = {pw['value']:.3f} [{pw['low']:.3f}, {pw['high']:.3f}]  "
+              f"5 % speed " + (f"{p05:.2f} rad/s" if p05 is not None else r["p05_reading"]))
+    print(f"report.md, control.json and figures written to {a.out}")
+    return 0
+
+
+SUBCOMMANDS = {"control": _add_control}

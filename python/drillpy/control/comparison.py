@@ -1,0 +1,159 @@
+"""Top drives side by side (issue 15, items 2-3): deterministic stability maps and thresholds, and
+the probability of stick-slip under the chapter-4 bit-rock uncertainty on **new** samples.
+
+For every drive (the ideal drive of the thesis, the stiff PI, the nominal and tuned SoftSpeed and
+ZTorque controllers):
+
+* the deterministic stability map SS(WOB, speed) (eta = 0 with the Monte Carlo's warm start and
+  durations, Fig. 4.8's curve per WOB) and the speed below which SS > 0.5 at the nominal WOB (the
+  thesis's 16 rad/s for the ideal drive);
+* on validation samples (a seed the tuning never saw, the same samples for every drive: common
+  random numbers): P(SS > 0.5 or stalled) over the window with its bootstrap interval, the paired
+  difference to the reference drive, the same per speed at the nominal WOB with a Wilson 90 %
+  band, and the 5 % speed (the lowest speed from which P <= 5 %, section 4.2.2) with its bootstrap
+  interval (:mod:`drillpy.uncertainty.robust_speed`).
+
+A stalled run (:data:`drillpy.control.tuning.STALL_FRACTION`) counts as stick-slip everywhere: its
+SS is +inf in the tables, so the thresholds and probabilities see it.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from drillpy.jsonio import jsonable
+from drillpy.control.tuning import Window, bootstrap_p, score, stalled_fraction, window_severity
+from drillpy.model.simulation import severity_threshold
+from drillpy.uncertainty.robust_speed import bootstrap_interval, exceedance, p_speed
+
+#: SS a stalled run enters the deterministic crossing with (a large finite stand-in for +inf)
+STALLED_SS = 1e3
+#: z of the two-sided 90 % Wilson interval
+Z90 = 1.6448536269514722
+
+
+def wilson_band(p: np.ndarray, n: int, z: float = Z90) -> tuple[np.ndarray, np.ndarray]:
+    """Wilson score interval of binomial proportions.
+
+    Parameters
+    ----------
+    p : numpy.ndarray
+        Observed proportions.
+    n : int
+        Trials per proportion.
+    z : float
+        Normal quantile (default: 90 % two-sided).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Lower and upper bounds.
+    """
+    p = np.asarray(p, dtype=float)
+    d = 1.0 + z * z / n
+    c = (p + z * z / (2 * n)) / d
+    h = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return np.clip(c - h, 0.0, 1.0), np.clip(c + h, 0.0, 1.0)
+
+
+def nominal_index(window: Window, wob: float) -> int:
+    """Index of the window's WOB closest to ``wob``.
+
+    Parameters
+    ----------
+    window : Window
+        The operating window.
+    wob : float
+        The nominal WOB [N].
+
+    Returns
+    -------
+    int
+        Row of the nominal WOB.
+    """
+    return int(np.argmin(np.abs(window.wobs - wob)))
+
+
+def compare_drives(cfg: dict, drives: dict, window: Window, *, reference: str, validation_seed: int,
+                   bootstrap: int = 400, threads: int = 0, progress=None) -> dict:
+    """Every drive's deterministic map and its Monte Carlo statistics on validation samples.
+
+    Parameters
+    ----------
+    cfg : dict
+        The configuration (its ``operation.wob_n`` is the nominal WOB).
+    drives : dict
+        Label -> ``top_drive`` block (None: the configuration's own drive).
+    window : Window
+        Speeds, WOBs, samples (the validation sample count) and durations.
+    reference : str
+        Label of the drive the differences are taken to (e.g. ``stiff``).
+    validation_seed : int
+        Seed of the validation samples (not the tuning's).
+    bootstrap : int
+        Bootstrap resamples of every interval.
+    threads : int
+        OpenMP threads (0: the default).
+    progress : callable, optional
+        Called with a short text after each drive.
+
+    Returns
+    -------
+    dict
+        Per label: ``map`` (SS, n_wobs x n_speeds), ``deterministic_threshold_rad_s`` (None: no
+        crossing), ``p_window`` and ``p_vs_reference`` (:func:`drillpy.control.tuning.bootstrap_p`),
+        ``mean_ss`` (runs that did not stall), ``stalled_fraction``, ``p_by_speed``, ``p_band`` (low, high), ``p05_speed_rad_s`` and
+        ``p05_interval``, ``p05_reading``, ``nominal_row`` (the nominal WOB's row); plus ``severity`` (the validation SS tables, not JSON).
+    """
+    if reference not in drives:
+        raise ValueError(f"reference = {reference!r}: not one of the drives ({', '.join(drives)})")
+    k = nominal_index(window, cfg["operation"]["wob_n"])
+    tables = {label: window_severity(cfg, d, window, seed=validation_seed, threads=threads) for label, d in
+              _announce(drives, progress)}
+    out = {}
+    for label, drive in drives.items():
+        ss = tables[label]
+        det = window_severity(cfg, drive, window, seed=validation_seed, threads=threads, deterministic=True)[:, 0]
+        at = ss[k]
+        p = exceedance(at)
+        low, high = wilson_band(p, at.shape[0])
+        p05 = p_speed(at, window.speeds)
+        out[label] = {
+            "map": det, "deterministic_threshold_rad_s": severity_threshold(window.speeds, np.minimum(det[k], STALLED_SS)),
+            "p_window": bootstrap_p(ss, bootstrap, validation_seed),
+            "p_vs_reference": bootstrap_p(ss, bootstrap, validation_seed, reference=tables[reference]),
+            "mean_ss": score(ss)[2], "stalled_fraction": stalled_fraction(ss), "p_by_speed": p, "p_band": (low, high), "p05_speed_rad_s": p05,
+            "p05_interval": bootstrap_interval(at, window.speeds, resamples=bootstrap, seed=validation_seed),
+            "p05_reading": _p05_reading(p, window.speeds, p05), "nominal_row": k, "severity": ss}
+    return out
+
+
+def _announce(drives: dict, progress):
+    for label, d in drives.items():
+        yield label, d
+        if progress is not None:
+            progress(f"validation samples: {label} done")
+
+
+def _p05_reading(p: np.ndarray, speeds: np.ndarray, p05) -> str:
+    """How to read the 5 % speed when the grid has no crossing."""
+    if p05 is not None:
+        return "crossing"
+    if np.all(p <= 0.05):
+        return f"below the window: P <= 5 % from {speeds.min():g} rad/s"
+    return f"above the window: P > 5 % at {speeds.max():g} rad/s"
+
+
+def json_ready(result: dict) -> dict:
+    """The comparison without its SS tables, in JSON types (for control.json).
+
+    Parameters
+    ----------
+    result : dict
+        What :func:`compare_drives` returned.
+
+    Returns
+    -------
+    dict
+        The same keys per drive, ``severity`` left out (:func:`drillpy.jsonio.jsonable`).
+    """
+    return jsonable({label: {k: v for k, v in r.items() if k != "severity"} for label, r in result.items()})

@@ -1,0 +1,180 @@
+"""Figures of ``drillpy control`` (docs/control.md): stability maps per drive, P(SS > 0.5) versus
+speed with bands, the stick-slip episode with and without the tuned controllers, the tuning scores."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from drillpy.figures.simulation import _save, plt
+
+if TYPE_CHECKING:
+    from drillpy.reports.control import ControlStudy
+
+
+def control_figures(study: "ControlStudy", out_dir) -> list:
+    """Every figure of a control study, written to ``out_dir``.
+
+    Parameters
+    ----------
+    study : ControlStudy
+        What :func:`drillpy.reports.control.control_study` returned.
+    out_dir : str or Path
+        Output folder.
+
+    Returns
+    -------
+    list of Path
+        The files written.
+    """
+    out = Path(out_dir)
+    paths = [maps_plot(out / "maps.png", study), p_vs_speed_plot(out / "p_vs_speed.png", study),
+             episode_plot(out / "episode.png", study)]
+    for name, t in study.tunings.items():
+        paths.append(tuning_plot(out / f"tuning_{name}.png", name, t))
+    return paths
+
+
+def maps_plot(path, study: "ControlStudy") -> Path:
+    """Deterministic SS over (top speed, WOB) for every drive, with the SS = 0.5 contour; stalled
+    runs marked with a red cross.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG file.
+    study : ControlStudy
+        The control study.
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
+    labels = list(study.comparison)
+    cols = min(3, len(labels))
+    rows = math.ceil(len(labels) / cols)
+    sp, wb = study.validation_window.speeds, study.validation_window.wobs / 1e3
+    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.4 * rows), squeeze=False)
+    finite = [r["map"][np.isfinite(r["map"])] for r in study.comparison.values()]
+    vmax = max([1.0] + [float(np.max(f)) for f in finite if f.size])
+    for ax, label in zip(axes.flat, labels):
+        m = study.comparison[label]["map"]
+        shown = np.where(np.isfinite(m), m, vmax)
+        im = ax.pcolormesh(sp, wb, shown, shading="nearest", vmin=0.0, vmax=vmax, cmap="viridis")
+        if sp.size > 1 and wb.size > 1 and np.min(shown) < 0.5 < np.max(shown):
+            ax.contour(sp, wb, shown, levels=[0.5], colors="w", linewidths=1.2)
+        iw, isp = np.nonzero(~np.isfinite(m))
+        if iw.size:
+            ax.plot(sp[isp], wb[iw], "rx", ms=8, label="stalled")
+            ax.legend(fontsize=7)
+        ax.set_title(label)
+        ax.set_xlabel("top speed [rad/s]")
+        ax.set_ylabel("WOB [kN]")
+        fig.colorbar(im, ax=ax, label="SS [-]")
+    for ax in list(axes.flat)[len(labels):]:
+        ax.set_visible(False)
+    return _save(fig, path)
+
+
+def p_vs_speed_plot(path, study: "ControlStudy") -> Path:
+    """P(SS > 0.5) versus top speed at the nominal WOB for every drive, with Wilson 90 % bands.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG file.
+    study : ControlStudy
+        The control study.
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
+    fig, ax = plt.subplots(figsize=(7.5, 4.5))
+    sp = study.validation_window.speeds
+    for label, r in study.comparison.items():
+        (line,) = ax.plot(sp, r["p_by_speed"], "o-", label=label, ms=3)
+        ax.fill_between(sp, r["p_band"][0], r["p_band"][1], color=line.get_color(), alpha=0.15)
+    ax.axhline(0.05, color="k", ls=":", lw=1, label="5 %")
+    k = next(iter(study.comparison.values()))["nominal_row"]
+    ax.set_title(f"P(SS > 0.5 or stalled) at WOB {study.validation_window.wobs[k] / 1e3:g} kN, "
+                 f"{study.validation_window.samples} new samples")
+    ax.set_xlabel("top speed [rad/s]")
+    ax.set_ylabel("P(SS > 0.5 or stalled) [-]")
+    ax.set_ylim(-0.02, 1.02)
+    ax.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def episode_plot(path, study: "ControlStudy") -> Path:
+    """Bit speed, top speed and motor torque of the episode with each drive.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG file.
+    study : ControlStudy
+        The control study.
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
+    fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
+    t_end = study.config["simulation"]["duration_s"]
+    t_start = max(study.config["simulation"]["transient_s"], t_end - 60.0)
+    for label, e in study.episodes.items():
+        w = e.t >= t_start
+        wm = e.t_motor >= t_start
+        axes[0].plot(e.t[w], e.bit_speed[w], lw=0.8, label=f"{label} (SS {e.severity:.2f})")
+        axes[1].plot(e.t[w], e.top_speed[w], lw=0.8, label=label)
+        axes[2].plot(e.t_motor[wm], e.motor_torque[wm] / 1e3, lw=0.8, label=label)
+    if study.torque_limit is not None:
+        axes[2].axhline(study.torque_limit / 1e3, color="r", ls="--", lw=1, label="torque limit")
+    axes[0].set_ylabel("bit speed [rad/s]")
+    axes[1].set_ylabel("top speed [rad/s]")
+    axes[2].set_ylabel("motor torque [kN m]")
+    axes[2].set_xlabel("time [s]")
+    axes[0].set_title(f"Top speed command {study.episode_speed:g} rad/s")
+    for ax in axes:
+        ax.legend(fontsize=7, loc="upper right")
+    return _save(fig, path)
+
+
+def tuning_plot(path, name: str, tuning) -> Path:
+    """The score of every evaluated gain pair (log factors of the nominal tuning), the optimum marked.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG file.
+    name : str
+        The controller.
+    tuning : Tuning
+        Its :class:`drillpy.control.tuning.Tuning`.
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
+    keys = list(tuning.gains)
+    x = np.array([[10 ** e["log10_factors"][k] for k in keys] for e in tuning.evaluations])
+    s = np.array([e["p_ss_gt_0_5"] for e in tuning.evaluations])
+    fig, ax = plt.subplots(figsize=(5.5, 4.5))
+    sc = ax.scatter(x[:, 0], x[:, 1], c=s, cmap="viridis_r", s=40, edgecolors="k", linewidths=0.3)
+    ax.plot([tuning.factors[keys[0]]], [tuning.factors[keys[1]]], "r*", ms=14, label="optimum")
+    ax.plot([1.0], [1.0], "ks", mfc="none", ms=10, label="nominal tuning")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(f"{keys[0]} / nominal")
+    ax.set_ylabel(f"{keys[1]} / nominal")
+    ax.set_title(f"{name}: P(SS > 0.5 or stalled), tuning samples", fontsize=9)
+    fig.colorbar(sc, ax=ax, label="P [-]")
+    ax.legend(fontsize=8)
+    return _save(fig, path)
