@@ -2,6 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -131,4 +134,27 @@ TEST(StochasticModel, RefusesBadDispersionsAndCases) {
   const std::vector<Dispersions> t4 = thesis_case_dispersions(4);
   EXPECT_EQ(t4[0], Dispersions::Constant(0.1));
   EXPECT_EQ(t4[1], Dispersions::Zero());
+}
+
+TEST(StochasticModel, SampleTopCouplingsFollowTheRandomMatrices) {
+  // A top drive with inertia (issue 15) needs the rotating frame's load and the top torque of each
+  // realization (StochasticModel::top_coupling): the random mass on the rigid rotation c, and a top
+  // torque that carries the torque on bit in steady drilling, T_top = -top_torque K~^-1 bit^T T_bit = T_bit.
+  const StochasticModel sm(ch6_16_modes(), StochasticKind::cb2, all(2, 0.1));
+  const ReducedModel& m = sm.mean();
+  const Eigen::VectorXd& c = m.init_velocity;
+  auto carried = [](const ReducedModel& r, const Eigen::RowVectorXd& top_torque) {
+    return -(top_torque * r.K.ldlt().solve(r.bit.transpose()))(0);  // T_top per unit T_bit at equilibrium
+  };
+  EXPECT_NEAR(carried(m, m.top_torque), 1.0, 0.005);
+  double worst_mean_vectors = 0.0;
+  for (std::uint64_t i = 0; i < 5; ++i) {
+    const ReducedModel r = sm.sample(1, i);
+    EXPECT_LT((r.top_load - r.M * c - (m.top_load - m.M * c)).norm(), 1e-12 * m.top_load.norm()) << i;
+    EXPECT_NEAR(carried(r, r.top_torque), 1.0, 0.01) << i;
+    worst_mean_vectors = std::max(worst_mean_vectors, std::fabs(carried(r, m.top_torque) - 1.0));
+    EXPECT_EQ(r.bit, m.bit);
+    EXPECT_EQ(r.init_velocity, m.init_velocity);
+  }
+  EXPECT_GT(worst_mean_vectors, 0.05) << "the mean model's top torque does not carry a random string's torque";
 }

@@ -1,4 +1,4 @@
-"""The controlled top drive from the command line (issue 15): --controller on sweep, map and mc."""
+"""The controlled top drive from the command line (issue 15): --controller on sweep, map, mc and robust-ss."""
 import json
 
 import pytest
@@ -47,6 +47,31 @@ def test_controller_options_are_checked(args, message, capsys):
     assert err.count("\n") == 1 and message in err
 
 
-def test_structural_studies_refuse_a_controller(capsys):
-    assert main(["robust-ss", "--preset", "thesis-ch6", "--controller", "stiff", "--drive-inertia", "100"]) == 2
-    assert "ideal top drive only" in capsys.readouterr().err
+def test_frequency_domain_studies_refuse_a_controller(capsys):
+    for cmd in ("frf", "frf-report"):
+        assert main([cmd, "--preset", "thesis-ch6", "--controller", "stiff", "--drive-inertia", "100"]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "--controller = stiff: the frequency-domain studies" in err
+
+
+ROBUST = ["robust-ss", "--preset", "thesis-ch6", "--cb-modes", "6,3", "--dt", "1e-3", "--duration", "30",
+          "--transient", "15", "--samples", "4", "--speeds", "10,12", "--seed", "3", "--json", "--no-progress"]
+
+
+def test_robust_ss_with_z_torque_lowers_the_stick_slip_of_the_random_strings(capsys, tmp_path):
+    """robust-ss --controller: every SM_CB2 realization runs with the controlled drive (tuned on the
+    nominal string); z_torque lowers the mean SS and P(SS > 0.5) of the random strings against the ideal
+    drive, and the saved configuration holds the drive."""
+    assert main(ROBUST) == 0
+    ideal = json.loads(capsys.readouterr().out)
+    assert main([*ROBUST, "--controller", "z_torque", "--drive-inertia", "2000", "--out", str(tmp_path)]) == 0
+    z = json.loads(capsys.readouterr().out)
+    for label in ("deterministic", "structure (SM_CB2)"):
+        assert max(ideal[label]["mean_ss"]) > 0.5, label  # the ideal drive sticks at these speeds
+        for a, b in zip(ideal[label]["mean_ss"], z[label]["mean_ss"]):
+            assert b < 0.5 * a, label
+    assert ideal["structure (SM_CB2)"]["p_ss_above_0_5"][0] == 1.0
+    assert max(z["structure (SM_CB2)"]["p_ss_above_0_5"]) == 0.0
+    saved = json.loads((tmp_path / "robust_ss.json").read_text())["config"]["top_drive"]
+    assert saved["type"] == "controlled" and saved["controller"]["type"] == "z_torque"
+    assert saved["inertia_kg_m2"] == 2000

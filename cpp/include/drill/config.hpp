@@ -193,6 +193,13 @@ struct Config {
   }
 };
 
+/// The characteristic torsional impedance of the string's top section, Z = J_p sqrt(G rho)
+/// [N m s/rad] (controller.hpp): the impedance a controlled top drive is tuned to.
+inline double top_impedance(const StringModel& s) {
+  const Section& top = s.sections.front();
+  return characteristic_impedance(top.polar_moment(), top.shear_modulus(), top.density);
+}
+
 /// The keys of every block of the configuration: one table from which parse_config takes the keys
 /// it accepts and config_schema() (config_schema.hpp) writes the JSON Schema for editors, with each
 /// key's JSON type, meaning and unit, the bounds the validators enforce and the default.

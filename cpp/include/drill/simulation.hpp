@@ -47,10 +47,7 @@ class Simulation {
   }
 
   /// The characteristic torsional impedance of the top section, Z = J_p sqrt(G rho) [N m s/rad].
-  double top_impedance() const {
-    const Section& s = cfg_.string.sections.front();
-    return characteristic_impedance(s.polar_moment(), s.shear_modulus(), s.density);
-  }
+  double top_impedance() const { return drill::top_impedance(cfg_.string); }
 
   const Config& config() const { return cfg_; }
   const ModalROM& rom() const { return rom_; }

@@ -39,24 +39,29 @@ def add_uncertainty_args(p: argparse.ArgumentParser, samples: int, out: str) -> 
     p.add_argument("--json", action="store_true")
 
 
-def cb_config(a: argparse.Namespace) -> dict:
+def cb_config(a: argparse.Namespace, controller: bool = False) -> dict:
     """The configuration of :func:`drillpy.cli.model_config` with ``--cb-modes`` applied.
 
     Parameters
     ----------
     a : argparse.Namespace
         Arguments of a command registered with :func:`add_uncertainty_args`.
+    controller : bool
+        Whether the command accepts ``--controller`` (``robust-ss``: the time-domain runs take the
+        configuration's top drive, a controlled one tuned on the nominal string). The frequency-domain
+        studies (``frf``, ``frf-report``) refuse it: their FRFs are those of the string clamped at the top.
 
     Returns
     -------
     dict
-        The configuration, with the Craig-Bampton modes per substructure when ``--cb-modes`` is given.
+        The configuration, with the Craig-Bampton modes per substructure when ``--cb-modes`` is given
+        and the controlled top drive of ``--controller``.
     """
     validate.integer("samples", a.samples, 1, MAX_SAMPLES)
     validate.seed(a.seed)
-    if a.controller is not None:  # the random reduced models of chapter 6 are clamped at the top
-        raise ValueError(f"--controller = {a.controller}: the structural-uncertainty studies (frf, frf-report, "
-                         "robust-ss) run with the thesis's ideal top drive only")
+    if a.controller is not None and not controller:  # FRFs of the random models clamped at the top (chapter 6)
+        raise ValueError(f"--controller = {a.controller}: the frequency-domain studies (frf, frf-report) are those "
+                         "of the string clamped at the top (the thesis's ideal drive); robust-ss takes a controller")
     cfg = model_config(a)
     if a.cb_modes:
         from drillpy.uncertainty.frf import with_cb_modes
@@ -190,7 +195,8 @@ def cmd_frf_report(a: argparse.Namespace) -> int:
 
 def _add_robust_ss(sub) -> argparse.ArgumentParser:
     """Register ``drillpy robust-ss`` on the subparsers ``sub``; returns its parser."""
-    s = sub.add_parser("robust-ss", help="SS versus top speed with SM_CB2 structural uncertainty (time domain)")
+    s = sub.add_parser("robust-ss", help="SS versus top speed with SM_CB2 structural uncertainty (time domain; "
+                                         "--controller: a controlled top drive tuned on the nominal string)")
     add_uncertainty_args(s, samples=40, out="folder for the figure, robust_ss.json and study.zarr (one group per "
                                             "source of uncertainty)")
     add_study_args(s)
@@ -224,7 +230,7 @@ def cmd_robust_ss(a: argparse.Namespace) -> int:
     """
     from drillpy.reports.uncertainty import robust_severity, write_robust_severity
     from drillpy.uncertainty.process import THESIS_PSD
-    cfg = cb_config(a)
+    cfg = cb_config(a, controller=True)
     if a.bit_rock and a.eta_npy:
         raise ValueError("--bit-rock and --eta-npy: give one source of eta")
     speeds = parse_grid(a.speeds, "--speeds")

@@ -89,7 +89,11 @@ def severity_study(cfg: dict, speeds, samples: int, *, model: str = "SM_CB2", de
 
     ``structural=False`` keeps the mean structure. ``eta_psd`` (a PSD, e.g. ``THESIS_PSD``) or
     ``eta`` (array (samples, n) sampled every ``eta_dt`` s) adds the bit-rock uncertainty (Eq. 4.1).
-    The law, WOB, time step, duration and transient are the configuration's.
+    The law, WOB, time step, duration, transient and top drive are the configuration's: a controlled
+    drive (``top_drive.type = "controlled"``, docs/control.md) is tuned once, on the nominal string (the
+    first natural frequency of the mean reduced model and the top section's impedance), and every
+    realization runs with those gains (the rotating-frame coupling of Eq. 2.9 with the mean model's top
+    load and top-torque recovery).
 
     Every run starts from the string at rest (Eq. 2.10; random samples keep the mean model's
     initial generalized velocity); realization i of the matrices and of eta is the same at every
