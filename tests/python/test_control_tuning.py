@@ -67,6 +67,17 @@ def test_a_drive_that_gives_way_stalls_and_counts_as_a_failure():
     assert score(det)[1] == 1.0
 
 
+def test_stalled_runs_enter_the_comparison_as_stick_slip():
+    drives = {"stiff": controlled_drive("stiff", J), "giving_way": controlled_drive("z_torque", J, None,
+                                                                                    {"torque_filter_s": 60.0})}
+    w = Window([6.0, 20.0], [245e3], 2, 3, **SHORT)
+    comp = compare_drives(FIELD, drives, w, reference="stiff", validation_seed=3, bootstrap=20)
+    g = comp["giving_way"]
+    assert np.isinf(g["map"][0, 0]) and np.all(np.isinf(g["severity"][0, :, 0]))
+    assert g["p_by_speed"][0] == 1.0 and g["stalled_fraction"] >= 0.5
+    assert g["deterministic_threshold_rad_s"] is not None and g["deterministic_threshold_rad_s"] > 6.0
+
+
 def test_motor_torque_is_the_interval_mean_of_the_drive_equation():
     # J Omega' = u - T_top with Omega = sin t, T_top = cos t: the mean of u over [a, b] is
     # J (sin b - sin a) / h + (sin b - sin a) / h.

@@ -25,7 +25,7 @@ from drillpy.control.tuning import Window, bootstrap_p, score, stalled_fraction,
 from drillpy.model.simulation import severity_threshold
 from drillpy.uncertainty.robust_speed import bootstrap_interval, exceedance, p_speed
 
-#: SS a stalled run enters the deterministic crossing with (a large finite stand-in for +inf)
+#: SS a stalled run enters the crossings with (a large finite stand-in for +inf)
 STALLED_SS = 1e3
 #: z of the two-sided 90 % Wilson interval
 Z90 = 1.6448536269514722
@@ -113,7 +113,7 @@ def compare_drives(cfg: dict, drives: dict, window: Window, *, reference: str, v
     for label, drive in drives.items():
         ss = tables[label]
         det = window_severity(cfg, drive, window, seed=validation_seed, threads=threads, deterministic=True)[:, 0]
-        at = ss[k]
+        at = np.minimum(ss[k], STALLED_SS)  # the engine's statistics take finite SS; a stall stays above 0.5
         p = exceedance(at)
         low, high = wilson_band(p, at.shape[0])
         p05 = p_speed(at, window.speeds)
