@@ -2,7 +2,7 @@
 # Install what a fresh Debian 12 machine (root, Python 3.11) lacks to build and test drillpy.
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive PIP_BREAK_SYSTEM_PACKAGES=1 PIP_ROOT_USER_ACTION=ignore
-pkgs="g++ make cmake ninja-build git libeigen3-dev libgtest-dev googletest nlohmann-json3-dev librandom123-dev pybind11-dev libcli11-dev"
+pkgs="g++ make cmake ninja-build git libeigen3-dev libgtest-dev googletest nlohmann-json3-dev librandom123-dev pybind11-dev libcli11-dev libhwy-dev"
 python3 -m pip --version >/dev/null 2>&1 || pkgs="$pkgs python3-pip python3-dev"
 missing=""
 for p in $pkgs; do dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"; done

@@ -176,6 +176,11 @@ class Simulation:
     """
     A configured reduced-order simulation (appendix B).
     """
+    @staticmethod
+    def batch_width() -> int:
+        """
+        Runs per SIMD batch of the batched integrator on this host (the lanes of a double vector).
+        """
     def __init__(self, config: Config) -> None:
         ...
     def motor_stability_bound(self, inertia_kg_m2: typing.SupportsFloat | typing.SupportsIndex) -> float:
@@ -194,9 +199,9 @@ class Simulation:
         """
         Reduced state (q, q') of steady drilling at a top speed (and the top's speed, which a motor top drive lowers below its command, with with_top_speed).
         """
-    def sweep(self, speeds: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], wobs: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] = [], progress: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, start: str | None = None) -> numpy.typing.NDArray[numpy.float64]:
+    def sweep(self, speeds: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], wobs: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] = [], progress: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, start: str | None = None, batched: bool = True) -> numpy.typing.NDArray[numpy.float64]:
         """
-        SS (Eq. 3.4) on a WOB x top-speed grid, in parallel; start: rest (Eq. 2.10), rigid (Eq. 2.3) or steady (default: the configuration's simulation.start).
+        SS (Eq. 3.4) on a WOB x top-speed grid, in parallel; start: rest (Eq. 2.10), rigid (Eq. 2.3) or steady (default: the configuration's simulation.start); batched: runs in SIMD lockstep where the batched integrator supports them (False: one by one through the scalar reference integrator).
         """
     @property
     def config(self) -> Config:
@@ -355,9 +360,9 @@ class MonteCarlo:
         """
         Stick and slip durations [s] per sample at one top speed, and SS.
         """
-    def severity(self, speeds: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], first_sample: typing.SupportsInt | typing.SupportsIndex, samples: typing.SupportsInt | typing.SupportsIndex, progress: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+    def severity(self, speeds: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], first_sample: typing.SupportsInt | typing.SupportsIndex, samples: typing.SupportsInt | typing.SupportsIndex, progress: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, batched: bool = True) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
-        SS (Eq. 3.4) per sample (rows) and top speed (columns).
+        SS (Eq. 3.4) per sample (rows) and top speed (columns); batched: samples in SIMD lockstep where the batched integrator supports the configuration (False: the scalar reference integrator).
         """
     def severity_and_bit_speed(self, speeds: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], first_sample: typing.SupportsInt | typing.SupportsIndex, samples: typing.SupportsInt | typing.SupportsIndex, threads: typing.SupportsInt | typing.SupportsIndex = 0) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
         """

@@ -53,6 +53,17 @@ def test_sweep_threshold_and_figure_4_8_shape():
     assert ss[0] > 1.0 and ss[-1] < 0.1
 
 
+def test_batched_sweep_agrees_with_the_scalar_reference():
+    # runs in SIMD lockstep (issue 16) against the scalar integrator: rounding-level differences
+    # (vectorized exp/log, summation order), SS within 1e-4 (tests/cpp/test_batched_integrator.cpp)
+    cfg = drillpy.with_overrides(FIELD, modes=10, duration=30.0, transient=10.0)
+    speeds = [6.0, 12.0, 18.0, 24.0, 27.0]
+    batched = drillpy.sweep_severity(cfg, speeds, progress=False, batched=True)
+    scalar = drillpy.sweep_severity(cfg, speeds, progress=False, batched=False)
+    np.testing.assert_allclose(batched, scalar, rtol=1e-4)
+    assert drillpy._core.Simulation.batch_width() in (2, 4, 8)
+
+
 def test_progress_callback_and_grid_shape():
     calls = []
     sim = drillpy._core.Simulation(drillpy.model.config.engine_config(FIELD))

@@ -128,6 +128,8 @@ struct ModelState {
 };
 
 class Integrator {
+  friend class BatchedIntegrator;  // batched_integrator.hpp: the same scheme on runs in SIMD lockstep
+
  public:
   Integrator(const ReducedModel& model, const BitRockLaw& law, const SimOptions& opt)
       : law_(law), opt_(opt) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "drill/batched_integrator.hpp"
 #include "drill/config.hpp"
 #include "drill/integrator.hpp"
 #include "drill/metrics.hpp"
@@ -162,9 +163,12 @@ class Simulation {
   /// SS on a grid: result[w * speeds.size() + s] for wobs[w], speeds[s]. An empty `wobs` means
   /// the configured WOB. Returns an empty vector if cancelled.
   /// Every run starts as `start` says (default: simulation.start of the configuration).
+  /// `batched`: the runs go through BatchedIntegrator in SIMD lockstep when it supports them (an
+  /// ideal top drive, modified Euler: batched_integrator.hpp), else one by one through Integrator,
+  /// the reference (false: always).
   std::vector<double> sweep_severity(const std::vector<double>& speeds, const std::vector<double>& wobs,
                                      const ProgressFn& progress = nullptr, int threads = 0,
-                                     std::optional<StartMode> start_mode = std::nullopt) const {
+                                     std::optional<StartMode> start_mode = std::nullopt, bool batched = true) const {
     const StartMode start = start_mode.value_or(cfg_.start);
     require(!speeds.empty(), "sweep.top_speeds_rad_s", speeds.size(), "is empty");
     const std::vector<double> w = wobs.empty() ? std::vector<double>{cfg_.wob} : wobs;
@@ -174,6 +178,27 @@ class Simulation {
     }
     for (std::size_t k = 0; k < w.size(); ++k) require_non_negative(w[k], "sweep.wobs_n[" + std::to_string(k) + "]");
     std::vector<double> out(speeds.size() * w.size());
+    const BatchedIntegrator lockstep(integ_);
+    if (batched && lockstep.supports(inputs(speeds[0], w[0]))) {
+      const bool done = parallel_batches(
+          out.size(),
+          [&](std::size_t first, std::size_t count) {
+            std::vector<Inputs> in;
+            std::vector<std::optional<ModelState>> s0;
+            for (std::size_t i = first; i < first + count; ++i) {
+              in.push_back(inputs(speeds[i % speeds.size()], w[i / speeds.size()]));
+              s0.push_back(start_state(start, in.back().top_speed.value, in.back().wob.value));
+            }
+            std::vector<const ModelState*> s0p;
+            for (const auto& s : s0) s0p.push_back(s ? &*s : nullptr);
+            std::vector<SeverityObserver> sev(count, SeverityObserver(cfg_.transient));
+            lockstep.run(in.data(), s0p.data(), count, sev.data());
+            for (std::size_t k = 0; k < count; ++k) out[first + k] = sev[k].severity();
+          },
+          progress, threads);
+      if (!done) out.clear();
+      return out;
+    }
     const bool done = parallel_for(
         out.size(),
         [&](std::size_t i) {

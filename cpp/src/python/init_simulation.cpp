@@ -193,13 +193,13 @@ void init_simulation(py::module_& m) {
       .def(
           "sweep",
           [](const Simulation& s, const std::vector<double>& speeds, const std::vector<double>& wobs,
-             py::object progress, int threads, std::optional<std::string> start) {
+             py::object progress, int threads, std::optional<std::string> start, bool batched) {
             std::optional<StartMode> mode;
             if (start) mode = parse_start(*start);
             std::vector<double> out;
             {
               py::gil_scoped_release nogil;
-              out = s.sweep_severity(speeds, wobs, drillpy_glue::progress_callback(progress), threads, mode);
+              out = s.sweep_severity(speeds, wobs, drillpy_glue::progress_callback(progress), threads, mode, batched);
             }
             const std::size_t nw = wobs.empty() ? 1 : wobs.size();
             py::array_t<double> a({nw, speeds.size()});
@@ -207,9 +207,12 @@ void init_simulation(py::module_& m) {
             return a;
           },
           py::arg("speeds"), py::arg("wobs") = std::vector<double>{}, py::arg("progress") = py::none(),
-          py::arg("threads") = 0, py::arg("start") = py::none(),
+          py::arg("threads") = 0, py::arg("start") = py::none(), py::arg("batched") = true,
           "SS (Eq. 3.4) on a WOB x top-speed grid, in parallel; start: rest (Eq. 2.10), rigid (Eq. 2.3) or steady "
-          "(default: the configuration's simulation.start).")
+          "(default: the configuration's simulation.start); batched: runs in SIMD lockstep where the batched "
+          "integrator supports them (False: one by one through the scalar reference integrator).")
+      .def_static("batch_width", &BatchedIntegrator::width,
+                  "Runs per SIMD batch of the batched integrator on this host (the lanes of a double vector).")
       .def(
           "steady_state",
           [](const Simulation& s, double top_speed, double wob, bool with_top_speed) -> py::tuple {

@@ -127,16 +127,18 @@ void init_stochastic(py::module_& m) {
       .def(
           "severity",
           [](const MonteCarlo& mc, const std::vector<double>& speeds, std::uint64_t first, std::size_t count,
-             py::object progress, int threads) {
+             py::object progress, int threads, bool batched) {
             Eigen::MatrixXd out;
             {
               py::gil_scoped_release nogil;
-              out = mc.severity(speeds, first, count, drillpy_glue::progress_callback(progress), threads);
+              out = mc.severity(speeds, first, count, drillpy_glue::progress_callback(progress), threads, nullptr, batched);
             }
             return out;
           },
           py::arg("speeds"), py::arg("first_sample"), py::arg("samples"), py::arg("progress") = py::none(),
-          py::arg("threads") = 0, "SS (Eq. 3.4) per sample (rows) and top speed (columns).")
+          py::arg("threads") = 0, py::arg("batched") = true,
+          "SS (Eq. 3.4) per sample (rows) and top speed (columns); batched: samples in SIMD lockstep where the "
+          "batched integrator supports the configuration (False: the scalar reference integrator).")
       .def(
           "severity_and_bit_speed",
           [](const MonteCarlo& mc, const std::vector<double>& speeds, std::uint64_t first, std::size_t count,

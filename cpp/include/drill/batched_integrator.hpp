@@ -1,0 +1,199 @@
+// Independent runs stepped in SIMD lockstep (issue 16): one run per lane of a vector register,
+// structure-of-arrays state (mode-major, one vector per modal coordinate), masked Newton solve of
+// the bit acceleration, vectorized exp/log.
+//
+// Scope: the modified Euler scheme (appendix A, Eqs. A.5-A.6) with the implicit bit acceleration
+// of Eq. (A.1), an ideal top drive at constant top speed, constant WOB, any eta(t) of Eq. (4.1),
+// any bit-rock law (Eqs. 3.1-3.3, 5.1, 5.3) with its stick condition, bit viscous torque, string
+// friction, and diagonal modal damping: the constant-speed sweeps and the Monte Carlo of section
+// 4.2. Other runs (motor or controlled drive, bdf2, the lagged acceleration, dense damping, time-
+// varying top speed or WOB) are refused by supports() and stay on Integrator, which is also the
+// reference of this path.
+//
+// Library: Google Highway (Debian libhwy-dev). One source gives the kernel for every x86 target
+// (SSSE3, SSE4, AVX2, AVX-512) compiled with the baseline flags, with Highway's runtime dispatch
+// (HWY_DYNAMIC_DISPATCH picks the host's widest target: `pip install .` stays portable, no
+// -march=native), its vector ops for the whole step and its contrib/math Exp and Log. xsimd 8
+// (Debian) needs one translation unit per instruction set compiled with -m flags, where the
+// engine's inline Eigen code would then be compiled for AVX-512 too and could be picked by the
+// linker for the baseline path; SLEEF gives the transcendentals only; Eigen's packet math is fixed
+// at compile time by the -m flags (no runtime dispatch).
+//
+// Reproducibility: lanes never mix (the masked Newton freezes a converged lane), a batch is padded
+// with copies of its first run, and the target is fixed for the life of the process, so a run's
+// bits do not depend on the runs that share its batch, its lane, the batch count, the thread count
+// or the chunking. AVX2 (4 lanes) and AVX-512 (8 lanes) give the same bits (both evaluate Exp and
+// Log with FMA); the SSE targets, without FMA, differ from them by rounding. Against Integrator the
+// results differ by rounding only: exp/log within 1-4 ulp of libm's and another summation order of
+// the modal dot products (tests/cpp/test_batched_integrator.cpp states the tolerances).
+#pragma once
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "drill/bitrock.hpp"
+#include "drill/errors.hpp"
+#include "drill/integrator.hpp"
+#include "drill/parallel.hpp"
+
+namespace drill {
+
+/// Arguments of one kernel call: steps first .. first + count - 1 of one vector of runs. Arrays
+/// marked [lanes] hold one value per lane, [modes][lanes] and [count][lanes] are row-major.
+struct BatchStepArgs {
+  long first = 0, count = 0;
+  long last = 0;  ///< the final step: no update after it
+  int modes = 0;
+  double dt = 0.0, g = 0.0, speed_factor = 1.0;
+  const BitRockLaw* law = nullptr;
+  const double *negd = nullptr, *w2 = nullptr, *bit = nullptr;  ///< -diag(D), omega^2, bit [modes]
+  double *z = nullptr, *p = nullptr, *f = nullptr;              ///< modal state and forces [modes][lanes]
+  double* a_guess = nullptr;                                    ///< Newton's start, carried over [lanes]
+  const double *om = nullptr, *wob_scale = nullptr, *static_torque = nullptr;  ///< [lanes]
+  const double *bit_viscous = nullptr, *string_friction = nullptr;            ///< [lanes]
+  const double* eta = nullptr;                                                 ///< [count][lanes]
+  double *v = nullptr, *a = nullptr, *T = nullptr;  ///< bit speed, acceleration, torque on bit [count][lanes]
+};
+
+}  // namespace drill
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "drill/batched_kernel-inl.hpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+// the kernel of the static (baseline) target, which foreach_target.h leaves to this file
+#include "drill/batched_kernel-inl.hpp"
+
+namespace drill {
+
+HWY_EXPORT(BatchLanes);
+HWY_EXPORT(BatchSteps);
+
+class BatchedIntegrator {
+ public:
+  /// The batched path of `integ`'s model, law and options (the integrator must outlive it).
+  explicit BatchedIntegrator(const Integrator& integ) : in_(integ) {}
+
+  /// Runs per batch: the lanes of a double vector on the host's instruction set (8 with AVX-512,
+  /// 4 with AVX2, 2 below).
+  static std::size_t width() { return HWY_DYNAMIC_DISPATCH(BatchLanes)(); }
+
+  /// Whether the batched path can run these inputs (see the header's scope); otherwise use Integrator.
+  bool supports(const Inputs& in) const {
+    const SimOptions& o = in_.opt_;
+    return o.scheme == Scheme::modified_euler && o.acceleration == Acceleration::implicit && in_.diag_damping_ &&
+           in.top_drive.kind == TopDrive::Kind::ideal && in.top_speed.is_constant() && in.wob.is_constant();
+  }
+
+  /// Runs in[0 .. n) from start[r] (nullptr: Eq. 2.10), calling obs[r](const StepState&) at every
+  /// step including t = 0, as Integrator::run does; the observers see the step, t, the bit speed,
+  /// acceleration and torque on bit and the top speed (bit_angle and top_torque are NaN). Returns
+  /// the final states. Throws like Integrator::run (the lowest diverging run's time).
+  template <class Observer>
+  std::vector<ModelState> run(const Inputs* in, const ModelState* const* start, std::size_t n, Observer* obs) const {
+    for (std::size_t r = 0; r < n; ++r) {
+      in[r].validate();
+      require(supports(in[r]), "batched run", r, "is outside the batched path (BatchedIntegrator::supports)");
+    }
+    std::vector<ModelState> out(n);
+    const std::size_t N = width();
+    for (std::size_t b = 0; b < n; b += N) run_vector(in + b, start + b, std::min(N, n - b), obs + b, out.data() + b);
+    return out;
+  }
+
+ private:
+  template <class Observer>
+  void run_vector(const Inputs* in, const ModelState* const* start, std::size_t n, Observer* obs,
+                  ModelState* out) const {
+    const Integrator& I = in_;
+    const std::size_t N = width();
+    const int m = static_cast<int>(I.w2_.size());
+    const double dt = I.opt_.dt;
+    const long last = I.opt_.steps();
+    constexpr long block = 256;
+    std::vector<double> z(m * N), p(m * N), f(m * N), a_guess(N, 0.0), om(N), wob_scale(N), st(N), cv(N), sf(N);
+    std::vector<double> eta(block * N), v(block * N), a(block * N), T(block * N);
+    for (std::size_t l = 0; l < N; ++l) {
+      const std::size_t r = l < n ? l : 0;  // padding lanes repeat the first run
+      om[l] = in[r].top_speed.value;
+      wob_scale[l] = in[r].wob.value / I.law_.wob_ref;
+      st[l] = I.law_.static_torque(in[r].wob.value);
+      cv[l] = in[r].bit_viscous;
+      sf[l] = in[r].string_friction;
+      const ModelState s0 = start[r] ? *start[r] : I.initial_state(om[l]);
+      require(s0.q.size() == I.V_.rows() && s0.qdot.size() == I.V_.rows(), "initial_state", s0.q.size(),
+              "has the wrong size (the model has " + show(I.V_.rows()) + " coordinates)");
+      const Eigen::VectorXd zl = I.Vinv_ * s0.q, pl = I.Vinv_ * s0.qdot;
+      for (int j = 0; j < m; ++j) {
+        z[j * N + l] = zl(j);
+        p[j * N + l] = pl(j);
+      }
+    }
+    const Eigen::VectorXd negd = -I.d_;
+    BatchStepArgs args;
+    args.last = last;
+    args.modes = m;
+    args.dt = dt;
+    args.g = I.bit_.squaredNorm();
+    args.speed_factor = speed_factor(I.law_.speed_unit);
+    args.law = &I.law_;
+    args.negd = negd.data();
+    args.w2 = I.w2_.data();
+    args.bit = I.bit_.data();
+    args.z = z.data();
+    args.p = p.data();
+    args.f = f.data();
+    args.a_guess = a_guess.data();
+    args.om = om.data();
+    args.wob_scale = wob_scale.data();
+    args.static_torque = st.data();
+    args.bit_viscous = cv.data();
+    args.string_friction = sf.data();
+    args.eta = eta.data();
+    args.v = v.data();
+    args.a = a.data();
+    args.T = T.data();
+    for (long first = 0; first <= last; first += block) {
+      const long count = std::min(block, last + 1 - first);
+      for (long s = 0; s < count; ++s)
+        for (std::size_t l = 0; l < N; ++l) eta[s * N + l] = in[l < n ? l : 0].eta.at((first + s) * dt);
+      args.first = first;
+      args.count = count;
+      HWY_DYNAMIC_DISPATCH(BatchSteps)(args);
+      for (std::size_t l = 0; l < n; ++l)
+        for (long s = 0; s < count; ++s) {
+          const std::size_t k = s * N + l;
+          const long i = first + s;
+          const double t = i * dt;
+          if (!std::isfinite(v[k]) || !std::isfinite(T[k])) Integrator::diverged(t);
+          obs[l](static_cast<const StepState&>(StepState{i, t, v[k], a[k], NAN, T[k], NAN, om[l]}));
+        }
+    }
+    for (std::size_t l = 0; l < n; ++l) {
+      Eigen::VectorXd zl(m), pl(m);
+      for (int j = 0; j < m; ++j) {
+        zl(j) = z[j * N + l];
+        pl(j) = p[j * N + l];
+      }
+      out[l] = I.to_model(zl, pl);
+    }
+  }
+
+  const Integrator& in_;
+};
+
+/// parallel_for over n independent runs in batches of BatchedIntegrator::width():
+/// batch(first, count) runs first .. first + count - 1. progress counts runs.
+template <class BatchJob>
+bool parallel_batches(std::size_t n, BatchJob&& batch, const ProgressFn& progress = nullptr, int threads = 0) {
+  const std::size_t w = BatchedIntegrator::width(), nb = (n + w - 1) / w;
+  ProgressFn runs;
+  if (progress) runs = [&](std::size_t done, std::size_t) { return progress(std::min(n, done * w), n); };
+  return parallel_for(
+      nb, [&](std::size_t b) { batch(b * w, std::min(w, n - b * w)); }, runs, threads);
+}
+}  // namespace drill
