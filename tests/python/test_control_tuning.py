@@ -123,6 +123,9 @@ def test_tuning_stays_in_its_bounds_and_reports_the_nominal_tuning(field_study):
             assert FACTOR_RANGE[0] * (1 - 1e-9) <= f <= FACTOR_RANGE[1] * (1 + 1e-9)
         assert t.score <= t.nominal_score
         assert t.spread["resamples"] == 20
+        # a 2 x 2 grid has its points on the bounds: an optimum off the nominal tuning is flagged
+        on_bound = [k for k, f in t.factors.items() if min(abs(f / b - 1) for b in FACTOR_RANGE) < 1e-9]
+        assert t.at_bound == on_bound
 
 
 def test_impedance_matching_lowers_the_stick_slip_speed_of_the_stiff_drive(field_study):
@@ -164,6 +167,7 @@ def test_control_command_writes_its_report(tmp_path):
     (["--drive-inertia", "2000", "--controllers", "pid"], "controllers: 'pid'"),
     (["--drive-inertia", "2000", "--torque-limit", "0"], "--torque-limit = 0"),
     (["--drive-inertia", "2000", "--speeds", "10,-3"], "speeds"),
+    (["--drive-inertia", "2000", "--factor-range", "2,5"], "factor_range = (2, 5)"),
 ])
 def test_control_command_refuses_bad_input(tmp_path, args, message):
     env = {**os.environ, "PYTHONPATH": str(ROOT / "python"), "PYTHONWARNINGS": "error"}

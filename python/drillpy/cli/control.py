@@ -42,6 +42,8 @@ def _add_control(sub) -> argparse.ArgumentParser:
                    help="seed of the tuning samples (the comparison uses seed + 1)")
     s.add_argument("--grid", type=integer("grid"), default=5, help="coarse grid points per gain")
     s.add_argument("--refine", type=integer("refine"), default=16, help="Nelder-Mead evaluations after the grid")
+    s.add_argument("--factor-range", default="0.1,10",
+                   help="LOW,HIGH: factors of the nominal tuning searched for every gain (log scale; default 0.1,10)")
     s.add_argument("--bootstrap", type=integer("bootstrap"), default=400, help="bootstrap resamples")
     s.add_argument("--warmup", type=float, default=100.0, help="deterministic warm start of every run [s]")
     s.add_argument("--duration", type=float, default=60.0, help="run with eta after the warm start [s]")
@@ -83,6 +85,9 @@ def cmd_control(a: argparse.Namespace) -> int:
     if a.torque_limit is not None:
         validate.positive("--torque-limit", a.torque_limit, "N m")
     controllers = [c.strip() for c in a.controllers.split(",") if c.strip()]
+    factor_range = parse_grid(a.factor_range, "--factor-range")
+    if factor_range.size != 2:
+        raise ValueError(f"--factor-range = {a.factor_range!r}: give LOW,HIGH (e.g. 0.1,10)")
     op = cfg["operation"]
     speeds = _grid(a.speeds, op["top_speed_rad_s"] * np.linspace(0.5, 1.25, 6), 1.0, "--speeds")
     wobs = _grid(a.wobs_kn, op["wob_n"] * np.array([0.8, 1.0, 1.2]), 1e3, "--wobs-kn")
@@ -95,10 +100,12 @@ def cmd_control(a: argparse.Namespace) -> int:
     study = control_study(cfg, inertia=a.drive_inertia, torque_limit=a.torque_limit, window=window,
                           validation_samples=a.validation_samples, validation_seed=a.seed + 1,
                           controllers=controllers, grid=a.grid, refine_evaluations=a.refine,
-                          bootstrap=a.bootstrap, threads=a.threads, progress=progress)
+                          bootstrap=a.bootstrap, factor_range=tuple(factor_range), threads=a.threads,
+                          progress=progress)
     js = write_control(study, a.out)
     if a.json:
-        print_json({"reference": REFERENCE, "tunings": {c: {"gains": t["gains"], "factors": t["factors"]}
+        print_json({"reference": REFERENCE, "tunings": {c: {"gains": t["gains"], "factors": t["factors"],
+                                                        "at_bound": t["at_bound"]}
                                                         for c, t in js["tunings"].items()},
                     "drives": {k: {key: r[key] for key in ("p_window", "p_vs_reference", "stalled_fraction", "mean_ss",
                                                            "deterministic_threshold_rad_s", "p05_speed_rad_s",
@@ -107,7 +114,9 @@ def cmd_control(a: argparse.Namespace) -> int:
                     "episode_speed_rad_s": js["episode_speed_rad_s"], "episodes": js["episodes"]})
         return 0
     for c, t in study.tunings.items():
-        print(f"{c}: tuned " + ", ".join(f"{k} = {v:.4g} ({t.factors[k]:.3g} x nominal)" for k, v in t.gains.items()))
+        print(f"{c}: tuned " + ", ".join(f"{k} = {v:.4g} ({t.factors[k]:.3g} x nominal"
+                                         + (", on the search bound)" if k in t.at_bound else ")")
+                                         for k, v in t.gains.items()))
     for label, r in study.comparison.items():
         pw, p05 = r["p_window"], r["p05_speed_rad_s"]
         print(f"{label:18s} P(SS > 0.5 or stalled) = {pw['value']:.3f} [{pw['low']:.3f}, {pw['high']:.3f}]  "

@@ -264,6 +264,10 @@ class Tuning:
         Every candidate scored: ``factors`` (log10), ``score``, ``p``, ``mean_ss``.
     spread : dict
         The bootstrap of the optimum (:func:`optimum_spread`).
+    at_bound : list of str
+        Gains whose optimum lies on a bound of the search range (widen it: ``factor_range``).
+    factor_range : tuple of float
+        The searched factors (low, high).
     """
     controller: str
     nominal: dict
@@ -277,6 +281,8 @@ class Tuning:
     nominal_mean_ss: float
     evaluations: list = field(default_factory=list)
     spread: dict = field(default_factory=dict)
+    at_bound: list = field(default_factory=list)
+    factor_range: tuple = FACTOR_RANGE
 
     def as_dict(self) -> dict:
         """JSON-ready result.
@@ -290,12 +296,13 @@ class Tuning:
                 "tuning_samples": {"score": self.score, "p_ss_gt_0_5": self.p_stick_slip, "mean_ss": self.mean_ss,
                                    "nominal_score": self.nominal_score, "nominal_p_ss_gt_0_5": self.nominal_p,
                                    "nominal_mean_ss": self.nominal_mean_ss},
-                "spread": self.spread, "evaluations": self.evaluations}
+                "spread": self.spread, "at_bound": self.at_bound, "factor_range": list(self.factor_range),
+                "evaluations": self.evaluations}
 
 
 def tune(cfg: dict, controller: str, window: Window, *, inertia: float, torque_limit: float | None = None,
-         grid: int = 5, refine_evaluations: int = 24, bootstrap: int = 200, threads: int = 0,
-         progress=None) -> Tuning:
+         grid: int = 5, refine_evaluations: int = 24, bootstrap: int = 200, factor_range=FACTOR_RANGE,
+         threads: int = 0, progress=None) -> Tuning:
     """Search the gains of ``controller`` minimising the score over ``window`` (module docstring).
 
     Parameters
@@ -316,6 +323,9 @@ def tune(cfg: dict, controller: str, window: Window, *, inertia: float, torque_l
         Most Nelder-Mead evaluations after the grid (0: the grid's best point).
     bootstrap : int
         Bootstrap resamples of the optimum (:func:`optimum_spread`; 0: none).
+    factor_range : tuple of float
+        (low, high) factors of the nominal gains searched (default :data:`FACTOR_RANGE`); an optimum
+        on a bound is flagged in ``Tuning.at_bound``.
     threads : int
         OpenMP threads (0: the default).
     progress : callable, optional
@@ -339,7 +349,10 @@ def tune(cfg: dict, controller: str, window: Window, *, inertia: float, torque_l
     refine_evaluations = validate.integer("refine_evaluations", refine_evaluations, 0, 10_000)
     keys = TUNABLE[controller]
     nominal = drive_gains(with_overrides(cfg, top_drive=controlled_drive(controller, inertia, torque_limit)))
-    lo, hi = (math.log10(f) for f in FACTOR_RANGE)
+    f_lo, f_hi = (validate.positive("factor_range", float(f)) for f in factor_range)
+    if not f_lo < 1.0 < f_hi:
+        raise ValueError(f"factor_range = ({f_lo:g}, {f_hi:g}): must bracket the nominal tuning (low < 1 < high)")
+    lo, hi = math.log10(f_lo), math.log10(f_hi)
     cache: dict[tuple, tuple] = {}
     tables: dict[tuple, np.ndarray] = {}
 
@@ -375,7 +388,8 @@ def tune(cfg: dict, controller: str, window: Window, *, inertia: float, torque_l
                    for x, v in cache.items()]
     return Tuning(controller, nominal, {k: nominal[k] * 10.0 ** v for k, v in zip(keys, best)},
                   {k: 10.0 ** v for k, v in zip(keys, best)}, s, p, m, ns, npr, nm, evaluations,
-                  optimum_spread(tables, keys, bootstrap, window.seed) if bootstrap else {})
+                  optimum_spread(tables, keys, bootstrap, window.seed) if bootstrap else {},
+                  [k for k, v in zip(keys, best) if min(v - lo, hi - v) < 1e-6], (f_lo, f_hi))
 
 
 def optimum_spread(tables: dict, keys, resamples: int, seed: int) -> dict:

@@ -16,7 +16,7 @@ import numpy as np
 
 from drillpy.control.comparison import compare_drives, json_ready, nominal_index
 from drillpy.control.episode import run_episode
-from drillpy.control.tuning import TUNABLE, UNITS, Window, controlled_drive, tune
+from drillpy.control.tuning import FACTOR_RANGE, TUNABLE, UNITS, Window, controlled_drive, tune
 from drillpy.jsonio import dumps
 from drillpy.provenance import provenance, with_markdown_footer
 from drillpy.reports.text import number_text
@@ -51,6 +51,8 @@ class ControlStudy:
         Label -> :class:`drillpy.control.episode.Episode` at ``episode_speed``.
     motor_torque : dict
         Label -> per speed of the window, the deterministic run's ``summary`` (peak motor torque...).
+    factor_range : tuple of float
+        The searched factors of the nominal gains.
     """
     config: dict
     inertia: float
@@ -63,11 +65,12 @@ class ControlStudy:
     episode_speed: float
     episodes: dict
     motor_torque: dict = field(default_factory=dict)
+    factor_range: tuple = FACTOR_RANGE
 
 
 def control_study(cfg: dict, *, inertia: float, torque_limit: float | None, window: Window,
                   validation_samples: int, validation_seed: int, controllers=tuple(TUNABLE), grid: int = 5,
-                  refine_evaluations: int = 16, bootstrap: int = 400, threads: int = 0,
+                  refine_evaluations: int = 16, bootstrap: int = 400, factor_range=FACTOR_RANGE, threads: int = 0,
                   progress=None) -> ControlStudy:
     """Tune, compare on new samples, and run the episodes (module docstring).
 
@@ -93,6 +96,8 @@ def control_study(cfg: dict, *, inertia: float, torque_limit: float | None, wind
         Nelder-Mead evaluations after the grid.
     bootstrap : int
         Bootstrap resamples (the optimum's spread, every interval).
+    factor_range : tuple of float
+        Factors of the nominal gains searched (:func:`drillpy.control.tuning.tune`).
     threads : int
         OpenMP threads (0: the default).
     progress : callable, optional
@@ -114,7 +119,8 @@ def control_study(cfg: dict, *, inertia: float, torque_limit: float | None, wind
         if c not in TUNABLE:
             raise ValueError(f"controllers: {c!r} is not tunable (use {', '.join(TUNABLE)})")
     tunings = {c: tune(cfg, c, window, inertia=inertia, torque_limit=torque_limit, grid=grid,
-                       refine_evaluations=refine_evaluations, bootstrap=bootstrap, threads=threads,
+                       refine_evaluations=refine_evaluations, bootstrap=bootstrap, factor_range=factor_range,
+                       threads=threads,
                        progress=progress) for c in controllers}
     drives = {"ideal": None, REFERENCE: controlled_drive("stiff", inertia, torque_limit)}
     for c, t in tunings.items():
@@ -132,7 +138,8 @@ def control_study(cfg: dict, *, inertia: float, torque_limit: float | None, wind
     t0 = cfg["simulation"]["transient_s"]
     motor = {label: [run_episode(cfg, label, d, float(s), wob).summary(t0) for s in window.speeds]
              for label, d in drives.items()}
-    return ControlStudy(cfg, float(inertia), torque_limit, window, val, tunings, drives, comp, speed, episodes, motor)
+    return ControlStudy(cfg, float(inertia), torque_limit, window, val, tunings, drives, comp, speed, episodes, motor,
+                        tuple(factor_range))
 
 
 def episode_speed(speeds: np.ndarray, comparison: dict, tunings: dict) -> float:
@@ -210,20 +217,23 @@ def report_text(study: ControlStudy) -> str:
     lines = [f"# Top-drive control under uncertainty: {study.config.get('name', '')}", "",
              f"Drive inertia J = {study.inertia:g} kg m^2; motor torque limit "
              f"{'none' if study.torque_limit is None else f'{study.torque_limit:g} N m'}. Operating window: speeds "
-             f"{', '.join(f'{s:g}' for s in tw.speeds)} rad/s x WOB {', '.join(f'{w / 1e3:g}' for w in tw.wobs)} kN. "
+             f"{', '.join(f'{s:.4g}' for s in tw.speeds)} rad/s x WOB {', '.join(f'{w / 1e3:g}' for w in tw.wobs)} kN. "
              f"Uncertainty: the chapter-4 stochastic bit-rock law (Eq. 4.1, Eq. 4.4's PSD), runs of {tw.duration:g} s "
              f"after a {tw.warmup:g} s deterministic warm start, SS after {tw.transient:g} s.", "",
              f"Tuning: {tw.samples} samples (seed {tw.seed}) per (speed, WOB), common random numbers. "
              f"Comparison: {vw.samples} new samples (seed {vw.seed}), the same for every drive.", "",
              "## Tuned gains", "",
+             f"Searched: each gain x {study.factor_range[0]:g} to x {study.factor_range[1]:g} of the nominal tuning "
+             "(log scale). A gain on a bound of that range is flagged: the best value may lie beyond it.", "",
              "| controller | gain | nominal | tuned | factor | bootstrap 5-95 % of the factor | P tuning samples: nominal -> tuned |",
              "|---|---|---|---|---|---|---|"]
     for name, t in study.tunings.items():
         for key in TUNABLE[name]:
             sp = t.spread.get("factors", {}).get(key)
             band = f"{sp['q05']:.3g} - {sp['q95']:.3g}" if sp else "n/a"
+            bound = " (**on the search bound**)" if key in t.at_bound else ""
             lines.append(f"| {name} | {key} [{UNITS[key]}] | {t.nominal[key]:.4g} | {t.gains[key]:.4g} | "
-                         f"{t.factors[key]:.3g} | {band} | {t.nominal_p:.3f} -> {t.p_stick_slip:.3f} |")
+                         f"{t.factors[key]:.3g}{bound} | {band} | {t.nominal_p:.3f} -> {t.p_stick_slip:.3f} |")
     lines += ["", "## The drives on new samples", "",
               "P = P(SS > 0.5 or stalled) over the whole window (90 % bootstrap interval); a run is stalled when "
               "its mean bit speed is below half the command (the bit stuck, SS then small). The difference to the "
@@ -242,7 +252,7 @@ def report_text(study: ControlStudy) -> str:
                      f"{r['mean_ss']:.3f} | "
                      f"{_speed_text(r, 'deterministic_threshold_rad_s')} | {p05} |")
     t0 = study.config["simulation"]["transient_s"]
-    lines += ["", f"## Stick-slip episode at {study.episode_speed:g} rad/s (nominal WOB)", "",
+    lines += ["", f"## Stick-slip episode at {study.episode_speed:.4g} rad/s (nominal WOB)", "",
               "| drive | SS | stick fraction | peak motor torque [N m] | mean motor torque [N m] | within limit |",
               "|---|---|---|---|---|---|"]
     for label, e in study.episodes.items():
@@ -251,7 +261,7 @@ def report_text(study: ControlStudy) -> str:
         lines.append(f"| {label} | {s['ss']:.3f} | {s['stick_fraction']:.3f} | {s['peak_motor_torque_nm']:.4g} | "
                      f"{s['mean_motor_torque_nm']:.4g} | {within} |")
     lines += ["", "## Peak motor torque per speed (deterministic runs, nominal WOB) [N m]", "",
-              "| drive | " + " | ".join(f"{s:g}" for s in tw.speeds) + " |", "|---|" + "---|" * len(tw.speeds)]
+              "| drive | " + " | ".join(f"{s:.4g}" for s in tw.speeds) + " |", "|---|" + "---|" * len(tw.speeds)]
     for label, rows in study.motor_torque.items():
         lines.append(f"| {label} | " + " | ".join(f"{r['peak_motor_torque_nm']:.3g}" for r in rows) + " |")
     lines += ["", "Motor torque: the interval mean of u = J Omega' + T_top on the recorded series "
