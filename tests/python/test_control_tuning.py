@@ -14,6 +14,7 @@ from drillpy.control.episode import motor_torque, run_episode
 from drillpy.control.tuning import (FACTOR_RANGE, STALL_FRACTION, Window, bootstrap_p, controlled_drive, drive_gains,
                                     score, tune, window_severity)
 from drillpy.model.config import load_config, with_overrides
+from drillpy.uncertainty.process import THESIS_PSD, scaled_to_std
 
 ROOT = Path(__file__).resolve().parents[2]
 FIELD = load_config(preset="thesis-field")
@@ -52,6 +53,9 @@ def test_common_random_numbers_and_sample_independence():
     c = window_severity(FIELD, None, w2, seed=8)
     assert not np.array_equal(b, c)  # another seed: new samples
     assert np.array_equal(window_severity(FIELD, None, w2, threads=1), window_severity(FIELD, None, w2, threads=2))
+    strong = Window([10.0, 16.0], [245e3], 2, 7, psd=scaled_to_std(THESIS_PSD, 0.2), **SHORT)
+    assert strong.as_dict()["psd"]["A0"] > w2.as_dict()["psd"]["A0"]
+    assert np.std(window_severity(FIELD, None, strong)) != np.std(b)  # the eta amplitude reaches the runs
 
 
 def test_a_drive_that_gives_way_stalls_and_counts_as_a_failure():

@@ -48,6 +48,9 @@ def _add_control(sub) -> argparse.ArgumentParser:
     s.add_argument("--warmup", type=float, default=100.0, help="deterministic warm start of every run [s]")
     s.add_argument("--duration", type=float, default=60.0, help="run with eta after the warm start [s]")
     s.add_argument("--transient", type=float, default=20.0, help="discarded before SS [s]")
+    s.add_argument("--eta-std", type=float,
+                   help="scale the Eq. (4.4) PSD of eta to this standard deviation (e.g. 0.0667: +-20 %% read as "
+                        "+-3 sigma; docs/stochastic.md); default the thesis's PSD")
     s.add_argument("--threads", type=threads_option, default=0, help="OpenMP threads (0: default)")
     s.add_argument("--out", required=True, help="folder for control.json, report.md and the figures")
     s.add_argument("--no-progress", action="store_true", help="no progress lines on stderr")
@@ -91,7 +94,13 @@ def cmd_control(a: argparse.Namespace) -> int:
     op = cfg["operation"]
     speeds = _grid(a.speeds, op["top_speed_rad_s"] * np.linspace(0.5, 1.25, 6), 1.0, "--speeds")
     wobs = _grid(a.wobs_kn, op["wob_n"] * np.array([0.8, 1.0, 1.2]), 1e3, "--wobs-kn")
-    window = Window(speeds, wobs, a.samples, a.seed, warmup=a.warmup, duration=a.duration, transient=a.transient)
+    from drillpy.uncertainty.process import THESIS_PSD, scaled_to_std
+    psd = THESIS_PSD
+    if a.eta_std is not None:
+        validate.positive("--eta-std", a.eta_std)
+        psd = scaled_to_std(THESIS_PSD, a.eta_std)
+    window = Window(speeds, wobs, a.samples, a.seed, warmup=a.warmup, duration=a.duration, transient=a.transient,
+                    psd=psd)
 
     def progress(text: str) -> None:
         if not a.no_progress:

@@ -126,6 +126,8 @@ class Window:
         Seed of the realizations.
     warmup, duration, transient : float
         The chapter-4 run's durations [s] (:mod:`drillpy.uncertainty.montecarlo`).
+    psd : PsdModel or PsdTable
+        One-sided PSD of eta per Hz (default the thesis's Eq. 4.4; :mod:`drillpy.uncertainty.process`).
     """
     speeds: np.ndarray
     wobs: np.ndarray
@@ -134,6 +136,7 @@ class Window:
     warmup: float = WARMUP_S
     duration: float = DURATION_S
     transient: float = TRANSIENT_S
+    psd: object = THESIS_PSD
 
     def __post_init__(self):
         self.speeds = _positive_grid(self.speeds, "speeds")
@@ -151,7 +154,7 @@ class Window:
         """
         return {"speeds_rad_s": self.speeds.tolist(), "wobs_n": self.wobs.tolist(), "samples": self.samples,
                 "seed": self.seed, "warmup_s": self.warmup, "duration_s": self.duration,
-                "transient_s": self.transient}
+                "transient_s": self.transient, "psd": self.psd.as_dict()}
 
 
 def _positive_grid(values, name: str) -> np.ndarray:
@@ -192,7 +195,7 @@ def window_severity(cfg: dict, drive: dict | None, window: Window, *, seed: int 
     out = []
     for w in window.wobs:
         c = _study_config(with_overrides(cfg, wob=float(w), top_drive=drive), window.duration, window.transient)
-        mc = _engine(c, _zero_psd if deterministic else THESIS_PSD, ETA_DT_S, seed, window.warmup)
+        mc = _engine(c, _zero_psd if deterministic else window.psd, ETA_DT_S, seed, window.warmup)
         ss, bit = mc.severity_and_bit_speed(list(window.speeds), 0, 1 if deterministic else window.samples,
                                             int(threads))
         out.append(np.where(bit < STALL_FRACTION * window.speeds, np.inf, ss))

@@ -127,7 +127,7 @@ def control_study(cfg: dict, *, inertia: float, torque_limit: float | None, wind
         drives[c] = controlled_drive(c, inertia, torque_limit)
         drives[f"{c}_tuned"] = controlled_drive(c, inertia, torque_limit, t.gains)
     val = Window(window.speeds, window.wobs, validation_samples, validation_seed, window.warmup, window.duration,
-                 window.transient)
+                 window.transient, window.psd)
     comp = compare_drives(cfg, drives, val, reference=REFERENCE, validation_seed=validation_seed,
                           bootstrap=bootstrap, threads=threads, progress=progress)
     k = nominal_index(window, cfg["operation"]["wob_n"])
@@ -218,7 +218,7 @@ def report_text(study: ControlStudy) -> str:
              f"Drive inertia J = {study.inertia:g} kg m^2; motor torque limit "
              f"{'none' if study.torque_limit is None else f'{study.torque_limit:g} N m'}. Operating window: speeds "
              f"{', '.join(f'{s:.4g}' for s in tw.speeds)} rad/s x WOB {', '.join(f'{w / 1e3:g}' for w in tw.wobs)} kN. "
-             f"Uncertainty: the chapter-4 stochastic bit-rock law (Eq. 4.1, Eq. 4.4's PSD), runs of {tw.duration:g} s "
+             f"Uncertainty: the chapter-4 stochastic bit-rock law (Eq. 4.1; eta's PSD {tw.psd.as_dict()}), runs of {tw.duration:g} s "
              f"after a {tw.warmup:g} s deterministic warm start, SS after {tw.transient:g} s.", "",
              f"Tuning: {tw.samples} samples (seed {tw.seed}) per (speed, WOB), common random numbers. "
              f"Comparison: {vw.samples} new samples (seed {vw.seed}), the same for every drive.", "",
