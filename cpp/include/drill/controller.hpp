@@ -185,33 +185,55 @@ inline double characteristic_impedance(double polar_moment, double shear_modulus
   return polar_moment * std::sqrt(shear_modulus * density);
 }
 
-/// The running state of a controlled drive in the time integration (integrator.hpp).
+/// The running state of a controlled drive in the time integration (integrator.hpp), with time steps dt.
+/// What does not change during a run is computed once, when the loop is made (the same expressions
+/// as in the step, so the same numbers): the torque filter's factor 1 - exp(-dt / tau) (z_torque;
+/// 1 - exp(-T_s / tau) sampled), h = dt / J, the backward-Euler denominator 1 + h kp + h dt ki and
+/// dt ki. The step then costs no exponential and two divisions (by Z and by the denominator);
+/// evaluating them every step was a quarter of z_torque's extra cost (benchmarks/bench_controller.py).
 struct ControlLoop {
-  const Controller& c;
-  double J;
-  double integral;     ///< T_I [N m]
-  double mean;         ///< T_mean of z_torque [N m]
-  double hold = 0.0;   ///< motor torque held between samples [N m]
-  double torque = 0.0; ///< motor torque of the last step [N m]
+  double integral;      ///< T_I [N m]
+  double mean;          ///< T_mean of z_torque [N m]
+  double hold = 0.0;    ///< motor torque held between samples [N m]
+  double torque = 0.0;  ///< motor torque of the last step [N m]
   long next_sample = 0;
 
+  /// A loop of controller c (tuned) on the inertia J [kg m^2], with time step dt [s], starting
+  /// from the integral and filtered torques [N m].
+  ControlLoop(const Controller& c, double J, double dt, double integral0, double mean0)
+      : integral(integral0),
+        mean(mean0),
+        kp_(c.kp),
+        ki_(c.ki),
+        L_(c.torque_limit),
+        Z_(c.impedance),
+        Ts_(c.sample_time),
+        dt_(dt),
+        h_(dt / J),
+        dt_ki_(dt * c.ki),
+        ki_Ts_(c.ki * c.sample_time),
+        den_(1.0 + h_ * c.kp + h_ * dt * c.ki),
+        sampled_(c.sampled()),
+        feedback_(c.torque_feedback()) {
+    if (feedback_) filter_ = 1.0 - std::exp(-(sampled_ ? Ts_ : dt) / c.torque_filter);
+  }
+
   /// The motor speed at the next step from `om`, the command and the string's top torque of the
-  /// step at time t (step i of size dt).
-  double step(long i, double t, double om, double command, double top_torque, double dt) {
-    const double L = c.torque_limit;
-    if (c.sampled()) {
+  /// step at time t.
+  double step(double t, double om, double command, double top_torque) {
+    const double L = L_;
+    if (sampled_) {
       // a sample at the first step at or after each instant k T_s
-      if (t + 1e-9 * dt >= next_sample * c.sample_time) {
-        while (next_sample * c.sample_time <= t + 1e-9 * dt) ++next_sample;
-        const double Ts = c.sample_time;
+      if (t + 1e-9 * dt_ >= next_sample * Ts_) {
+        while (next_sample * Ts_ <= t + 1e-9 * dt_) ++next_sample;
         double ref = command;
-        if (c.torque_feedback()) {
-          mean += (1.0 - std::exp(-Ts / c.torque_filter)) * (top_torque - mean);
-          ref -= (top_torque - mean) / c.impedance;
+        if (feedback_) {
+          mean += filter_ * (top_torque - mean);
+          ref -= (top_torque - mean) / Z_;
         }
         const double e = ref - om;
-        const double I1 = c.ki * Ts * e + integral;
-        double u = c.kp * e + I1;
+        const double I1 = ki_Ts_ * e + integral;
+        double u = kp_ * e + I1;
         if (std::fabs(u) > L) {
           u = std::copysign(L, u);
           if (e * u <= 0.0) integral = I1;  // integrate only out of saturation
@@ -222,29 +244,32 @@ struct ControlLoop {
         hold = u;
       }
       torque = hold;
-      (void)i;
-      return om + dt / J * (hold - top_torque);
+      return om + h_ * (hold - top_torque);
     }
     double ref = command;
-    if (c.torque_feedback()) {
-      mean += (1.0 - std::exp(-dt / c.torque_filter)) * (top_torque - mean);
-      ref -= (top_torque - mean) / c.impedance;
+    if (feedback_) {
+      mean += filter_ * (top_torque - mean);
+      ref -= (top_torque - mean) / Z_;
     }
     // backward Euler on J Omega' = kp (ref - Omega) + T_I - T_top, T_I' = ki (ref - Omega)
-    const double h = dt / J;
-    double om1 = (om + h * (c.kp * ref + integral + dt * c.ki * ref - top_torque)) / (1.0 + h * c.kp + h * dt * c.ki);
-    double I1 = integral + dt * c.ki * (ref - om1);
-    double u = c.kp * (ref - om1) + I1;
+    double om1 = (om + h_ * (kp_ * ref + integral + dt_ki_ * ref - top_torque)) / den_;
+    double I1 = integral + dt_ki_ * (ref - om1);
+    double u = kp_ * (ref - om1) + I1;
     if (std::fabs(u) > L) {
       u = std::copysign(L, u);
-      om1 = om + h * (u - top_torque);
+      om1 = om + h_ * (u - top_torque);
       const double e = ref - om1;
-      I1 = e * u <= 0.0 ? integral + dt * c.ki * e : integral;
+      I1 = e * u <= 0.0 ? integral + dt_ki_ * e : integral;
     }
     integral = std::min(std::max(I1, -L), L);
     torque = u;
     return om1;
   }
+
+ private:
+  double kp_, ki_, L_, Z_, Ts_, dt_, h_, dt_ki_, ki_Ts_, den_;
+  double filter_ = 0.0;
+  bool sampled_, feedback_;
 };
 
 }  // namespace drill

@@ -319,18 +319,19 @@ class Integrator {
     double om_state = std::isfinite(top0) ? top0 : in.top_speed.at(0.0);  // motor speed
     // a controlled drive's loop, starting in equilibrium with the string's top torque unless given
     const double T0 = Controlled ? top_torque_.dot(z) : 0.0;
-    ControlLoop loop{in.top_drive.controller, in.top_drive.inertia,
+    ControlLoop loop(in.top_drive.controller, in.top_drive.inertia, dt,
                      std::isfinite(s0.drive_integral) ? s0.drive_integral : T0,
-                     std::isfinite(s0.drive_mean) ? s0.drive_mean : T0};
+                     std::isfinite(s0.drive_mean) ? s0.drive_mean : T0);
     for (long i = 0;; ++i) {
       const double t = i * dt;
       const double om = motor ? om_state : in.top_speed.at(t);
+      const double T_top = top_torque_.dot(z);  // the string's elastic torque at the top (reported too)
       // the motor's speed at the next step, from the string's top torque of this step
       double om_next;
       if constexpr (Controlled)
-        om_next = loop.step(i, t, om, in.top_speed.at(t), top_torque_.dot(z), dt);
+        om_next = loop.step(t, om, in.top_speed.at(t), T_top);
       else
-        om_next = motor ? in.top_drive.step(om, in.top_speed.at(t), top_torque_.dot(z), dt) : in.top_speed.at(t + dt);
+        om_next = motor ? in.top_drive.step(om, in.top_speed.at(t), T_top, dt) : in.top_speed.at(t + dt);
       const double domega = motor ? (om_next - om) / dt : in.top_speed.rate(t);
       const double wob = in.wob.at(t), eta = in.eta.at(t);
       const double v = om + bit_.dot(p);
@@ -399,10 +400,9 @@ class Integrator {
       if (!std::isfinite(v) || !std::isfinite(T)) diverged(t);
       const double T_bit = fric != 0.0 ? T - fric : T;  // the string friction acts outside the torque sensor
       if constexpr (Controlled)
-        obs(static_cast<const StepState&>(
-            StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, top_torque_.dot(z), om, loop.torque}));
+        obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, T_top, om, loop.torque}));
       else
-        obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, top_torque_.dot(z), om}));
+        obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, T_top, om}));
       if (i == n) break;
       v_prev = v;
       p += dt * (f - bit_ * T);  // Eq. (A.5): velocity first, with the torque of step i ...
