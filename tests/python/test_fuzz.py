@@ -476,6 +476,29 @@ CLI = {
         "--seed": (st.sampled_from([v for v in _BAD_INTS if v.strip() not in ("7", "9" * 25)]), ("seed",)),
     }, cheap=False),
 }
+# expensive when valid (tuning runs hundreds of simulations): only values every one of which must be refused
+CLI["control"] = _cmd(["control", *_RIG, "--drive-inertia", "0.01", "--out", "{tmp}/control", "--no-progress"], {},
+                      cheap=False)
+CLI["control"]["refused"] = {
+    "--drive-inertia": (st.sampled_from(["0", "-1", "nan", "inf", "x"]), ("drive-inertia", "drive_inertia")),
+    "--torque-limit": (st.sampled_from(["0", "-5", "nan", "x"]), ("torque-limit", "torque_limit")),
+    "--controllers": (st.sampled_from(["pid", "", ",", "stiff", "soft_speed,x"]), ("controllers",)),
+    "--factor-range": (st.sampled_from(["2,5", "0,10", "0.5,1", "x", "1", "0.1,10,100", "nan,10"]),
+                       ("factor-range", "factor_range")),
+    "--samples": (st.sampled_from(["0", "-1", "x", "1.5"]), ("samples",)),
+    "--validation-samples": (st.sampled_from(["0", "-1", "x"]), ("validation-samples", "validation_samples")),
+    "--grid": (st.sampled_from(["1", "0", "51", "x"]), ("grid",)),
+    "--refine": (st.sampled_from(["-1", "x"]), ("refine",)),
+    "--bootstrap": (st.sampled_from(["0", "-1", "x"]), ("bootstrap",)),
+    "--seed": (st.sampled_from(["-1", "x", str(2**64 - 1), str(2**64)]), ("seed",)),
+    "--speeds": (st.sampled_from(["0,1", "x", "nan", "-3", ""]), ("speeds", "top_speed")),
+    "--wobs-kn": (st.sampled_from(["-1", "x", "0"]), ("wobs", "wob", "wobs-kn")),
+    "--eta-std": (st.sampled_from(["0", "-1", "nan", "x"]), ("eta-std", "eta_std")),
+    "--warmup": (st.sampled_from(["-1", "nan", "x"]), ("warmup",)),
+    "--duration": (st.sampled_from(["0", "-1", "x"]), ("duration",)),
+    "--transient": (st.sampled_from(["-1", "1e9", "x"]), ("transient",)),
+    "--threads": (st.sampled_from(["-1", "x", "1.5"]), ("threads",)),
+}
 CLI["mc-merge"] = _cmd(["mc-merge", "--json"], {**_OUT, "@chunk": (_PATHS, ())}, cheap=False)
 CLI["mc-merge"]["refused"] = {"@chunk": (_PATHS.filter(lambda p: "config" not in p), ())}
 #: values every model option refuses (for the commands whose valid runs are long studies)

@@ -88,9 +88,18 @@ def cmd_control(a: argparse.Namespace) -> int:
     if a.torque_limit is not None:
         validate.positive("--torque-limit", a.torque_limit, "N m")
     controllers = [c.strip() for c in a.controllers.split(",") if c.strip()]
+    if not controllers:
+        raise ValueError(f"--controllers = {a.controllers!r}: name at least one of soft_speed, z_torque")
     factor_range = parse_grid(a.factor_range, "--factor-range")
     if factor_range.size != 2:
         raise ValueError(f"--factor-range = {a.factor_range!r}: give LOW,HIGH (e.g. 0.1,10)")
+    validate.integer("--validation-samples", a.validation_samples, 1, 100_000)
+    validate.integer("--bootstrap", a.bootstrap, 1, 100_000)
+    validate.integer("--grid", a.grid, 2, 50)
+    validate.integer("--refine", a.refine, 0, 10_000)
+    validate.seed(a.seed, "--seed")
+    if a.seed == 2**64 - 1:
+        raise ValueError(f"--seed = {a.seed}: must be below 2^64 - 1 (the comparison uses seed + 1)")
     op = cfg["operation"]
     speeds = _grid(a.speeds, op["top_speed_rad_s"] * np.linspace(0.5, 1.25, 6), 1.0, "--speeds")
     wobs = _grid(a.wobs_kn, op["wob_n"] * np.array([0.8, 1.0, 1.2]), 1e3, "--wobs-kn")

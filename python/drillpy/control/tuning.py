@@ -143,6 +143,11 @@ class Window:
         self.wobs = _positive_grid(self.wobs, "wobs")
         self.samples = validate.integer("samples", self.samples, 1, 100_000)
         self.seed = validate.seed(self.seed)
+        self.warmup = validate.non_negative("warmup", self.warmup, "s")
+        self.duration = validate.positive("duration", self.duration, "s")
+        self.transient = validate.non_negative("transient", self.transient, "s")
+        if self.transient >= self.duration:
+            raise ValueError(f"transient = {self.transient:g}: must be shorter than the duration ({self.duration:g} s)")
 
     def as_dict(self) -> dict:
         """JSON-ready description.
