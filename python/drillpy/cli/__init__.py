@@ -256,12 +256,9 @@ def controlled_drive(a: argparse.Namespace, base: dict) -> dict | None:
     if inertia is None:
         raise ValueError(f"--controller = {a.controller}: give --drive-inertia, the top drive's inertia [kg m^2] "
                          "(the configuration's drive has none)")
-    ctl = {"type": a.controller}
-    for key, value in (("kp_nms_rad", a.kp), ("ki_nm_rad", a.ki), ("torque_limit_nm", a.torque_limit),
-                       ("sample_time_s", a.sample_time)):
-        if value is not None:
-            ctl[key] = value
-    return {"type": "controlled", "inertia_kg_m2": inertia, "controller": ctl}
+    from drillpy.control.tuning import controlled_drive as drive
+    keys = {"kp_nms_rad": a.kp, "ki_nm_rad": a.ki, "sample_time_s": a.sample_time}
+    return drive(a.controller, inertia, a.torque_limit, {k: v for k, v in keys.items() if v is not None})
 
 
 def add_study_args(p: argparse.ArgumentParser) -> None:

@@ -27,32 +27,29 @@ from drillpy.uncertainty.robust_speed import bootstrap_interval, exceedance, p_s
 
 #: SS a stalled run enters the crossings with (a large finite stand-in for +inf)
 STALLED_SS = 1e3
-#: z of the two-sided 90 % Wilson interval
-Z90 = 1.6448536269514722
 
 
-def wilson_band(p: np.ndarray, n: int, z: float = Z90) -> tuple[np.ndarray, np.ndarray]:
-    """Wilson score interval of binomial proportions.
+def wilson_band(p: np.ndarray, n: int, confidence: float = 0.9) -> tuple[np.ndarray, np.ndarray]:
+    """Wilson score interval of binomial proportions (SciPy's ``binomtest(...).proportion_ci``).
 
     Parameters
     ----------
     p : numpy.ndarray
-        Observed proportions.
+        Observed proportions (of ``n`` trials each).
     n : int
         Trials per proportion.
-    z : float
-        Normal quantile (default: 90 % two-sided).
+    confidence : float
+        Confidence level (default 90 %, two-sided).
 
     Returns
     -------
     tuple of numpy.ndarray
         Lower and upper bounds.
     """
-    p = np.asarray(p, dtype=float)
-    d = 1.0 + z * z / n
-    c = (p + z * z / (2 * n)) / d
-    h = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return np.clip(c - h, 0.0, 1.0), np.clip(c + h, 0.0, 1.0)
+    from scipy.stats import binomtest
+
+    cis = [binomtest(int(round(x * n)), n).proportion_ci(confidence, method="wilson") for x in np.asarray(p, float)]
+    return np.array([c.low for c in cis]), np.array([c.high for c in cis])
 
 
 def nominal_index(window: Window, wob: float) -> int:

@@ -45,8 +45,8 @@ import numpy as np
 
 from drillpy import _core, validate
 from drillpy.model.config import engine_config, with_overrides
-from drillpy.uncertainty.montecarlo import (DURATION_S, ETA_DT_S, SS_LEVEL, TRANSIENT_S, WARMUP_S, _engine,
-                                            _study_config)
+from drillpy.uncertainty.montecarlo import (DURATION_S, ETA_DT_S, SS_LEVEL, TRANSIENT_S, WARMUP_S, study_config,
+                                            study_engine)
 from drillpy.uncertainty.process import THESIS_PSD
 
 #: a run whose mean bit speed is below this fraction of the command is stalled (module docstring)
@@ -72,7 +72,8 @@ def controlled_drive(controller: str, inertia: float, torque_limit: float | None
     torque_limit : float, optional
         Motor torque limit L [N m] (None: unlimited).
     gains : dict, optional
-        Controller keys that override the tuning (e.g. ``{"kp_nms_rad": 500.0}``).
+        Other ``controller`` keys: gains that override the tuning (e.g. ``{"kp_nms_rad": 500.0}``),
+        ``sample_time_s``...
 
     Returns
     -------
@@ -82,7 +83,7 @@ def controlled_drive(controller: str, inertia: float, torque_limit: float | None
     ctl = {"type": controller, **(gains or {})}
     if torque_limit is not None:
         ctl["torque_limit_nm"] = float(torque_limit)
-    return {"type": "controlled", "inertia_kg_m2": float(inertia), "controller": ctl}
+    return {"type": "controlled", "inertia_kg_m2": inertia, "controller": ctl}
 
 
 def drive_gains(cfg: dict) -> dict:
@@ -199,8 +200,8 @@ def window_severity(cfg: dict, drive: dict | None, window: Window, *, seed: int 
     seed = validate.seed(window.seed if seed is None else seed)
     out = []
     for w in window.wobs:
-        c = _study_config(with_overrides(cfg, wob=float(w), top_drive=drive), window.duration, window.transient)
-        mc = _engine(c, _zero_psd if deterministic else window.psd, ETA_DT_S, seed, window.warmup)
+        c = study_config(with_overrides(cfg, wob=float(w), top_drive=drive), window.duration, window.transient)
+        mc = study_engine(c, _zero_psd if deterministic else window.psd, ETA_DT_S, seed, window.warmup)
         ss, bit = mc.severity_and_bit_speed(list(window.speeds), 0, 1 if deterministic else window.samples,
                                             int(threads))
         out.append(np.where(bit < STALL_FRACTION * window.speeds, np.inf, ss))

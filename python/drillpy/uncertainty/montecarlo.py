@@ -203,12 +203,48 @@ class PhaseStudy:
     seed: int
 
 
-def _study_config(cfg: dict, duration: float, transient: float) -> dict:
+def study_config(cfg: dict, duration: float, transient: float) -> dict:
+    """The configuration of a study's runs: ``cfg`` with the stochastic part's durations.
+
+    Parameters
+    ----------
+    cfg : dict
+        The configuration.
+    duration : float
+        Stochastic part of every run [s] (> 0).
+    transient : float
+        Discarded at its start before SS [s].
+
+    Returns
+    -------
+    dict
+        A normalized copy with ``simulation.duration_s`` and ``transient_s`` set.
+    """
     return with_overrides(cfg, duration=validate.positive("duration_s", duration),
                           transient=float(transient))
 
 
-def _engine(cfg: dict, psd: Psd, eta_dt: float, seed: int, warmup: float):
+def study_engine(cfg: dict, psd: Psd, eta_dt: float, seed: int, warmup: float) -> "_core.MonteCarlo":
+    """The engine of a chapter-4 study: eta of PSD ``psd`` on the study's grid, the warm start.
+
+    Parameters
+    ----------
+    cfg : dict
+        The study's configuration (:func:`study_config`).
+    psd : PsdModel, PsdTable or callable
+        One-sided PSD of eta per Hz [1/Hz].
+    eta_dt : float
+        Sampling step of eta [s].
+    seed : int
+        Seed of the realizations.
+    warmup : float
+        Deterministic start-up shared by all samples [s].
+
+    Returns
+    -------
+    _core.MonteCarlo
+        Its ``severity``/``severity_and_bit_speed`` run samples by index (common random numbers).
+    """
     sim = cfg["simulation"]
     _, S = psd_on_grid(psd, eta_dt, sim["duration_s"])
     return _core.MonteCarlo(engine_config(cfg), S, float(eta_dt), seed, float(warmup))
@@ -290,8 +326,8 @@ def stochastic_study(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = T
     n = validate.integer("samples", samples, 1, MAX_SAMPLES)
     first = validate.integer("first_sample", first_sample, 0, 2**62)
     seed = validate.seed(seed)
-    c = _study_config(cfg, duration, transient)
-    mc = _engine(c, psd, eta_dt, seed, warmup)
+    c = study_config(cfg, duration, transient)
+    mc = study_engine(c, psd, eta_dt, seed, warmup)
     with progress_bar(n, "Monte Carlo samples", progress) as cb:
         ss = mc.severity(list(sp), first, n, cb, int(threads))
     if ss.size == 0:  # cancelled by the callback without an exception
@@ -333,7 +369,7 @@ def study_definition(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = T
     from drillpy.study import Study
     if not hasattr(psd, "as_dict"):
         raise ValueError("psd: a Python callable cannot be stored in a study (give a PsdModel or a PsdTable)")
-    c = _study_config(cfg, duration, transient)
+    c = study_config(cfg, duration, transient)
     validate.non_negative("warmup_s", warmup, "s")
     return Study("mc", c, tuple(_speeds(speeds).tolist()), samples=samples, seed=validate.seed(seed),
                  options={"psd": psd.as_dict(), "eta_dt_s": validate.positive("eta_dt_s", eta_dt, "s"),
@@ -397,7 +433,7 @@ def deterministic_severity(c: dict, speeds, eta_dt: float, seed: int, warmup: fl
     numpy.ndarray
         SS [-], shape (n_speeds,).
     """
-    zero = _engine(c, lambda f: np.zeros_like(f), eta_dt, seed, warmup)
+    zero = study_engine(c, lambda f: np.zeros_like(f), eta_dt, seed, warmup)
     return np.asarray(zero.severity(list(speeds), 0, 1, None, int(threads)))[0]
 
 
@@ -569,10 +605,10 @@ def phase_study(cfg: dict, speed: float | None = None, *, seed: int, cycles: int
     seed = validate.seed(seed)
     ncyc = validate.integer("cycles", cycles, 1, 10**6)
     nb = validate.integer("batch", batch, 1, 100000)
-    c = _study_config(cfg, duration, transient)
+    c = study_config(cfg, duration, transient)
     om = float(c["operation"]["top_speed_rad_s"] if speed is None else speed)
     _speeds([om])
-    mc = _engine(c, psd, eta_dt, seed, warmup)
+    mc = study_engine(c, psd, eta_dt, seed, warmup)
     stick, slip, sev = [], [], []
     with progress_bar(ncyc, "stick-slip cycles", progress) as cb:
         first = 0
@@ -638,7 +674,7 @@ def stochastic_run(cfg: dict, top_speed: float, seed: int, *, sample: int = 0,
     """
     from drillpy.uncertainty.process import generate
     from drillpy.model.simulation import simulate
-    c = _study_config(cfg, duration, transient)
+    c = study_config(cfg, duration, transient)
     t, eta = generate(psd, dt=eta_dt, duration=c["simulation"]["duration_s"], samples=1,
                       seed=seed, first_sample=sample)
     return simulate(c, float(top_speed), eta_series=eta[0], series_dt=eta_dt), t, eta[0]
