@@ -1,14 +1,13 @@
 """Speed of the short-horizon predictions of ``drillpy loop``: the engine's batch runner
-(``_core.predict_horizons``: restart states, inputs, sensors, all horizons in parallel) against the
-same horizons run one by one through ``Simulation.run`` from Python (the baseline a loop without
-the batch runner would use), measured in the same run.
+(``_core.predict_horizons``: restart states, inputs, sensors, all horizons in parallel), its
+horizons stepped one by one (``batched=False``, the scalar integrator) or in SIMD lockstep (the
+default, issue 16), against the same horizons run one by one through ``Simulation.run`` from
+Python (the baseline a loop without the batch runner would use), measured in the same run.
 
     PYTHONPATH=python python3 benchmarks/bench_horizons.py
 
 Prints the time per evaluation of 80 horizons of 0.25 s of the thesis-rig model (engine step
-0.1 ms, outputs at 1 kHz: one evaluation of the calibration half of sample 175) and the ratios
-(on one thread the runner costs what the engine's steps cost; its gain is the threads and the
-restart states, sensors and inputs handled without Python).
+0.1 ms, outputs at 1 kHz: one evaluation of the calibration half of sample 175), minima of 5.
 """
 from __future__ import annotations
 
@@ -29,29 +28,41 @@ def main() -> None:
     stride = int(round(dt / cfg["simulation"]["dt_s"]))
     idx = np.arange(n) * L + 2000
     k = idx * (stride // cfg["simulation"]["output_stride"])  # samples of the reference (every 1 ms)
-    state = np.column_stack([ref.bit_speed[k], ref.bit_accel[k], ref.torque_on_bit[k],
-                             np.full(n, cfg["operation"]["top_speed_rad_s"]), np.zeros(n)])
-    sensor = np.column_stack([state[:, 0], state[:, 1], state[:, 2], np.zeros(n), state[:, 3], np.zeros(n)])
-    batch = {}
-    for threads in (1, 0):
-        batch[threads] = []
+    om = np.full(n, cfg["operation"]["top_speed_rad_s"])
+    zero = np.zeros(n)
+    v, a, T = ref.bit_speed[k], ref.bit_accel[k], ref.torque_on_bit[k]
+    starts = _core.HorizonStart.from_arrays(
+        index=idx.tolist(), bit_speed=v, bit_accel=a, torque=T, top_speed=om, top_accel=zero, y_bit_speed=v,
+        dy_bit_speed=a, y_torque=T, dy_torque=zero, y_top_speed=om, dy_top_speed=zero)
+    top = np.full(idx[-1] + L + 1, cfg["operation"]["top_speed_rad_s"])  # a sampled top speed, as the loop's
+
+    def runner(threads: int, batched: bool) -> float:
+        times = []
         for _ in range(5):
             t = time.perf_counter()
-            _core.predict_horizons(sim, idx.tolist(), state, sensor, dt, L, threads=threads)
-            batch[threads].append(time.perf_counter() - t)
+            _core.predict_horizons(sim, starts, dt, L, top_speed=top, threads=threads, batched=batched)
+            times.append(time.perf_counter() - t)
+        return min(times)
+
+    scalar1, batched1, batched = runner(1, False), runner(1, True), runner(0, True)
     short = drillpy.with_overrides(cfg, duration=L * dt, transient=0.5 * L * dt)
     one = _core.Simulation(engine_config(short))
     loop = []
     for _ in range(2):
         t = time.perf_counter()
         for h in range(n):
-            q, qd = _core.state_from_bit(sim, *state[h])
+            q, qd = _core.state_from_bit(sim, v[h], a[h], T[h], om[h], 0.0)
             one.run(q0=q, qdot0=qd, record=True)
         loop.append(time.perf_counter() - t)
-    b1, b, s = min(batch[1]), min(batch[0]), min(loop)
-    print(f"{n} horizons of {L * dt:g} s ({n * L * stride} engine steps): one Simulation.run per horizon "
-          f"{1e3 * s:.1f} ms; batch runner {1e3 * b1:.1f} ms on 1 thread (ratio {s / b1:.2f}), {1e3 * b:.1f} ms on "
-          f"{_core.max_threads()} OpenMP threads (ratio {s / b:.2f}); {1e9 * b1 / (n * L * stride):.0f} ns per step")
+    s = min(loop)
+    steps = n * L * stride
+    print(f"{n} horizons of {L * dt:g} s ({steps} engine steps):")
+    print(f"  one Simulation.run per horizon      {1e3 * s:8.1f} ms")
+    print(f"  runner, scalar, 1 thread            {1e3 * scalar1:8.1f} ms  {1e9 * scalar1 / steps:5.0f} ns per step")
+    print(f"  runner, batched, 1 thread           {1e3 * batched1:8.1f} ms  {1e9 * batched1 / steps:5.0f} ns per step"
+          f"  ({scalar1 / batched1:.2f} x scalar)")
+    print(f"  runner, batched, {_core.max_threads()} threads           {1e3 * batched:8.1f} ms"
+          f"  ({s / batched:.1f} x one run per horizon)")
 
 
 if __name__ == "__main__":

@@ -519,9 +519,9 @@ def observation_nodes(config: Config) -> list[int]:
     """
     P_obs,1 (first free node), P_obs,2 (first interface), P_obs,3 (bit) of section 6.6.
     """
-def predict_horizons(simulation: Simulation, starts: collections.abc.Sequence[HorizonStart], dt: typing.SupportsFloat | typing.SupportsIndex, samples: typing.SupportsInt | typing.SupportsIndex, top_speed: typing.Any = None, wob: typing.Any = None, eta: typing.Any = None, progress: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0) -> HorizonResult:
+def predict_horizons(simulation: Simulation, starts: collections.abc.Sequence[HorizonStart], dt: typing.SupportsFloat | typing.SupportsIndex, samples: typing.SupportsInt | typing.SupportsIndex, top_speed: typing.Any = None, wob: typing.Any = None, eta: typing.Any = None, progress: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, batched: bool = True) -> HorizonResult:
     """
-    Short-horizon predictions restarted from measured states (drill/horizons.hpp), one per HorizonStart, samples dt [s] apart; top_speed [rad/s] and wob [N] are input series on the record's grid (default: the operating point), eta horizons x (samples + 1) the bit-rock fluctuation of Eq. (4.1).
+    Short-horizon predictions restarted from measured states (drill/horizons.hpp), one per HorizonStart, samples dt [s] apart; top_speed [rad/s] and wob [N] are input series on the record's grid (default: the operating point), eta horizons x (samples + 1) the bit-rock fluctuation of Eq. (4.1); batched: horizons in SIMD lockstep with an ideal top drive (False: the scalar reference integrator).
     """
 def preset_json(arg0: str) -> str:
     """

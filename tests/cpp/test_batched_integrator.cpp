@@ -1,7 +1,8 @@
 // The batched integrator (issue 16): a run gives the same bits alone and in every lane of a batch,
 // on AVX2 (4 lanes) and AVX-512 (8 lanes); it agrees with the scalar reference Integrator bit for
 // bit where no exp/log is evaluated and one mode is retained, and to the stated tolerance
-// otherwise; the studies use it and fall back to Integrator outside its scope.
+// otherwise; the studies (sweeps, Monte Carlo, horizon predictions) use it and fall back to
+// Integrator outside its scope.
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
 
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "drill/batched_integrator.hpp"
+#include "drill/horizons.hpp"
 #include "drill/montecarlo.hpp"
 #include "drill/presets.hpp"
 #include "drill/process.hpp"
@@ -49,7 +51,8 @@ Config batch_rig_with_stick(BitRockLaw::Kind kind) {
   return c;
 }
 
-/// n distinct runs: speeds across the stick-slip band, every other one with an eta realization.
+/// n distinct runs: speeds across the stick-slip band, every other one with an eta realization,
+/// every third one with a sampled top speed and WOB (ramps between the samples).
 std::vector<Inputs> batch_inputs(const Simulation& sim, std::size_t n) {
   const Config& c = sim.config();
   const GaussianProcess proc = GaussianProcess::from_psd(PsdModel(), 0.05, c.sim.duration);
@@ -59,6 +62,11 @@ std::vector<Inputs> batch_inputs(const Simulation& sim, std::size_t n) {
     if (k % 2 == 1) {
       RandomStream rng(11, k, MonteCarlo::eta_stream);
       x.eta = proc.signal(rng);
+    }
+    if (k % 3 == 2) {
+      const double om = x.top_speed.value, w = x.wob.value, dt = c.sim.duration / 4.0;
+      x.top_speed = Signal::sampled({om, 1.4 * om, 0.7 * om, om, 1.2 * om}, 0.0, dt);
+      x.wob = Signal::sampled({w, 0.8 * w, 1.1 * w}, 0.2 * dt, dt);
     }
     in.push_back(x);
   }
@@ -183,4 +191,58 @@ TEST(BatchedIntegrator, MonteCarloSamplesAgreeWithTheScalarPath) {
   const Eigen::MatrixXd all = mc.severity(sp, 0, 8, nullptr, 1, nullptr, true);
   for (int i = 0; i < 5; ++i)
     for (int k = 0; k < 2; ++k) EXPECT_EQ(b(i, k), all(3 + i, k));
+}
+
+TEST(BatchedIntegrator, HorizonPredictionsAgreeWithTheScalarPath) {
+  // drillpy loop's horizons (horizons.hpp) on the rig: sampled top speed, WOB and eta, restarts
+  // from states of a long run; one mode and Eq. (5.3), whose tanh is the only exp: the batched
+  // and scalar predictions agree to rounding (1e-9 relative), and for any thread count.
+  Config c = preset("thesis-rig");
+  c.damping.ratios = {0.05};
+  c.sim.duration = 3.0;
+  c.transient = 1.0;
+  const Simulation sim(c);
+  std::vector<double> v, a, T, top;
+  sim.integrator().run(sim.inputs(), [&](const StepState& s) {
+    v.push_back(s.bit_speed);
+    a.push_back(s.bit_accel);
+    T.push_back(s.torque_on_bit);
+    top.push_back(s.top_speed);
+  });
+  const int stride = 10, samples = 100;
+  HorizonInputs hin;
+  hin.dt = stride * c.sim.dt;
+  hin.samples = samples;
+  const std::size_t grid = v.size() / stride;
+  for (std::size_t j = 0; j < grid; ++j) {
+    hin.top_speed.push_back(c.top_speed * (1.0 + 0.1 * std::sin(0.01 * j)));
+    hin.wob.push_back(c.wob * (1.0 + 0.05 * std::cos(0.02 * j)));
+  }
+  std::vector<HorizonStart> starts;
+  for (long k = 0; k < 11; ++k) {
+    const long i = (10 + 17 * k) * stride;
+    HorizonStart h;
+    h.index = i / stride;
+    h.bit_speed = v[i];
+    h.bit_accel = a[i];
+    h.torque = T[i];
+    h.top_speed = top[i];
+    h.y_bit_speed = v[i];
+    h.y_torque = T[i];
+    h.y_top_speed = top[i];
+    starts.push_back(h);
+  }
+  hin.eta = Eigen::MatrixXd::NullaryExpr(11, samples + 1, [](Eigen::Index r, Eigen::Index j) {
+    return 0.2 * std::sin(0.3 * r + 0.05 * j);
+  });
+  const HorizonResult b = predict_horizons(sim, starts, hin, nullptr, 2, true);
+  const HorizonResult b1 = predict_horizons(sim, starts, hin, nullptr, 1, true);
+  const HorizonResult s = predict_horizons(sim, starts, hin, nullptr, 1, false);
+  EXPECT_EQ(b.bit_speed, b1.bit_speed);
+  EXPECT_EQ(b.torque, b1.torque);
+  const double vs = s.bit_speed.cwiseAbs().maxCoeff(), ts = s.torque.cwiseAbs().maxCoeff();
+  EXPECT_LE((b.bit_speed - s.bit_speed).cwiseAbs().maxCoeff(), 1e-9 * vs);
+  EXPECT_LE((b.torque - s.torque).cwiseAbs().maxCoeff(), 1e-9 * ts);
+  EXPECT_LE((b.top_speed - s.top_speed).cwiseAbs().maxCoeff(), 1e-12 * vs);
+  EXPECT_GT(s.bit_speed.maxCoeff() - s.bit_speed.minCoeff(), 1.0);  // the horizons see stick-slip
 }

@@ -3,12 +3,12 @@
 // the bit acceleration, vectorized exp/log.
 //
 // Scope: the modified Euler scheme (appendix A, Eqs. A.5-A.6) with the implicit bit acceleration
-// of Eq. (A.1), an ideal top drive at constant top speed, constant WOB, any eta(t) of Eq. (4.1),
-// any bit-rock law (Eqs. 3.1-3.3, 5.1, 5.3) with its stick condition, bit viscous torque, string
-// friction, and diagonal modal damping: the constant-speed sweeps and the Monte Carlo of section
-// 4.2. Other runs (motor or controlled drive, bdf2, the lagged acceleration, dense damping, time-
-// varying top speed or WOB) are refused by supports() and stay on Integrator, which is also the
-// reference of this path.
+// of Eq. (A.1), an ideal top drive with any top speed Omega(t), any WOB W(t) and eta(t) of Eq.
+// (4.1), any bit-rock law (Eqs. 3.1-3.3, 5.1, 5.3) with its stick condition, bit viscous torque,
+// string friction, and diagonal modal damping: the constant-speed sweeps and the Monte Carlo of
+// section 4.2, and the loop's horizon predictions (horizons.hpp). Other runs (motor or controlled
+// drive, bdf2, the lagged acceleration, dense damping) are refused by supports() and stay on
+// Integrator, which is also the reference of this path.
 //
 // Library: Google Highway (Debian libhwy-dev). One source gives the kernel for every x86 target
 // (SSSE3, SSE4, AVX2, AVX-512) compiled with the baseline flags, with Highway's runtime dispatch
@@ -43,7 +43,8 @@
 namespace drill {
 
 /// Arguments of one kernel call: steps first .. first + count - 1 of one vector of runs. Arrays
-/// marked [lanes] hold one value per lane, [modes][lanes] and [count][lanes] are row-major.
+/// marked [lanes] hold one value per lane, [modes][lanes] and [count][lanes] are row-major; the
+/// inputs have a row for step first + count too.
 struct BatchStepArgs {
   long first = 0, count = 0;
   long last = 0;  ///< the final step: no update after it
@@ -51,11 +52,12 @@ struct BatchStepArgs {
   double dt = 0.0, g = 0.0, speed_factor = 1.0;
   const BitRockLaw* law = nullptr;
   const double *negd = nullptr, *w2 = nullptr, *bit = nullptr;  ///< -diag(D), omega^2, bit [modes]
+  const double* top_load = nullptr;                             ///< load of the top's acceleration [modes]
   double *z = nullptr, *p = nullptr, *f = nullptr;              ///< modal state and forces [modes][lanes]
   double* a_guess = nullptr;                                    ///< Newton's start, carried over [lanes]
-  const double *om = nullptr, *wob_scale = nullptr, *static_torque = nullptr;  ///< [lanes]
-  const double *bit_viscous = nullptr, *string_friction = nullptr;            ///< [lanes]
-  const double* eta = nullptr;                                                 ///< [count][lanes]
+  const double *bit_viscous = nullptr, *string_friction = nullptr;  ///< [lanes]
+  /// Omega, dOmega/dt, W / W_ref, the static torque at W, eta [count + 1][lanes]
+  const double *om = nullptr, *domega = nullptr, *wob_scale = nullptr, *static_torque = nullptr, *eta = nullptr;
   double *v = nullptr, *a = nullptr, *T = nullptr;  ///< bit speed, acceleration, torque on bit [count][lanes]
 };
 
@@ -86,7 +88,7 @@ class BatchedIntegrator {
   bool supports(const Inputs& in) const {
     const SimOptions& o = in_.opt_;
     return o.scheme == Scheme::modified_euler && o.acceleration == Acceleration::implicit && in_.diag_damping_ &&
-           in.top_drive.kind == TopDrive::Kind::ideal && in.top_speed.is_constant() && in.wob.is_constant();
+           in.top_drive.kind == TopDrive::Kind::ideal;
   }
 
   /// Runs in[0 .. n) from start[r] (nullptr: Eq. 2.10), calling obs[r](const StepState&) at every
@@ -115,16 +117,14 @@ class BatchedIntegrator {
     const double dt = I.opt_.dt;
     const long last = I.opt_.steps();
     constexpr long block = 256;
-    std::vector<double> z(m * N), p(m * N), f(m * N), a_guess(N, 0.0), om(N), wob_scale(N), st(N), cv(N), sf(N);
-    std::vector<double> eta(block * N), v(block * N), a(block * N), T(block * N);
+    std::vector<double> z(m * N), p(m * N), f(m * N), a_guess(N, 0.0), cv(N), sf(N);
+    std::vector<double> om((block + 1) * N), dom((block + 1) * N), ws((block + 1) * N), st((block + 1) * N);
+    std::vector<double> eta((block + 1) * N), v(block * N), a(block * N), T(block * N);
     for (std::size_t l = 0; l < N; ++l) {
       const std::size_t r = l < n ? l : 0;  // padding lanes repeat the first run
-      om[l] = in[r].top_speed.value;
-      wob_scale[l] = in[r].wob.value / I.law_.wob_ref;
-      st[l] = I.law_.static_torque(in[r].wob.value);
       cv[l] = in[r].bit_viscous;
       sf[l] = in[r].string_friction;
-      const ModelState s0 = start[r] ? *start[r] : I.initial_state(om[l]);
+      const ModelState s0 = start[r] ? *start[r] : I.initial_state(in[r].top_speed.at(0.0));
       require(s0.q.size() == I.V_.rows() && s0.qdot.size() == I.V_.rows(), "initial_state", s0.q.size(),
               "has the wrong size (the model has " + show(I.V_.rows()) + " coordinates)");
       const Eigen::VectorXd zl = I.Vinv_ * s0.q, pl = I.Vinv_ * s0.qdot;
@@ -144,12 +144,14 @@ class BatchedIntegrator {
     args.negd = negd.data();
     args.w2 = I.w2_.data();
     args.bit = I.bit_.data();
+    args.top_load = I.top_load_.data();
     args.z = z.data();
     args.p = p.data();
     args.f = f.data();
     args.a_guess = a_guess.data();
     args.om = om.data();
-    args.wob_scale = wob_scale.data();
+    args.domega = dom.data();
+    args.wob_scale = ws.data();
     args.static_torque = st.data();
     args.bit_viscous = cv.data();
     args.string_friction = sf.data();
@@ -159,8 +161,17 @@ class BatchedIntegrator {
     args.T = T.data();
     for (long first = 0; first <= last; first += block) {
       const long count = std::min(block, last + 1 - first);
-      for (long s = 0; s < count; ++s)
-        for (std::size_t l = 0; l < N; ++l) eta[s * N + l] = in[l < n ? l : 0].eta.at((first + s) * dt);
+      for (long s = 0; s <= count; ++s)  // the inputs of Integrator::run_euler's step first + s
+        for (std::size_t l = 0; l < N; ++l) {
+          const Inputs& x = in[l < n ? l : 0];
+          const double t = (first + s) * dt, wob = x.wob.at(t);
+          const std::size_t k = s * N + l;
+          om[k] = x.top_speed.at(t);
+          dom[k] = x.top_speed.rate(t);
+          ws[k] = wob / I.law_.wob_ref;
+          st[k] = I.law_.static_torque(wob);
+          eta[k] = x.eta.at(t);
+        }
       args.first = first;
       args.count = count;
       HWY_DYNAMIC_DISPATCH(BatchSteps)(args);
@@ -170,7 +181,7 @@ class BatchedIntegrator {
           const long i = first + s;
           const double t = i * dt;
           if (!std::isfinite(v[k]) || !std::isfinite(T[k])) Integrator::diverged(t);
-          obs[l](static_cast<const StepState&>(StepState{i, t, v[k], a[k], NAN, T[k], NAN, om[l]}));
+          obs[l](static_cast<const StepState&>(StepState{i, t, v[k], a[k], NAN, T[k], NAN, om[k]}));
         }
     }
     for (std::size_t l = 0; l < n; ++l) {
@@ -187,13 +198,14 @@ class BatchedIntegrator {
 };
 
 /// parallel_for over n independent runs in batches of BatchedIntegrator::width():
-/// batch(first, count) runs first .. first + count - 1. progress counts runs.
+/// batch(first, count) runs first .. first + count - 1. progress counts runs; chunk counts batches.
 template <class BatchJob>
-bool parallel_batches(std::size_t n, BatchJob&& batch, const ProgressFn& progress = nullptr, int threads = 0) {
+bool parallel_batches(std::size_t n, BatchJob&& batch, const ProgressFn& progress = nullptr, int threads = 0,
+                      std::size_t chunk = 0) {
   const std::size_t w = BatchedIntegrator::width(), nb = (n + w - 1) / w;
   ProgressFn runs;
   if (progress) runs = [&](std::size_t done, std::size_t) { return progress(std::min(n, done * w), n); };
   return parallel_for(
-      nb, [&](std::size_t b) { batch(b * w, std::min(w, n - b * w)); }, runs, threads);
+      nb, [&](std::size_t b) { batch(b * w, std::min(w, n - b * w)); }, runs, threads, chunk);
 }
 }  // namespace drill

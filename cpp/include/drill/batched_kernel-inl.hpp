@@ -4,8 +4,7 @@
 //
 // One call steps one vector of independent runs (one run per lane) through the modified Euler
 // scheme of Integrator::run_euler (Eqs. A.5-A.6 with Eq. A.1's bit acceleration solved by the
-// safeguarded Newton iteration; the stick condition of Eqs. 5.1, 5.3) with an ideal top drive at
-// constant top speed and WOB. Every lane performs the scalar path's arithmetic in the same order
+// safeguarded Newton iteration; the stick condition of Eqs. 5.1, 5.3) with an ideal top drive. Every lane performs the scalar path's arithmetic in the same order
 // (no FMA contraction: -ffp-contract=off in CMakeLists.txt), except that the modal dot products
 // are summed mode by mode and exp/log are Highway's (contrib/math: exp within 1 ulp, log within 4
 // ulp of the exact value). The Newton iteration is masked: a lane that has converged keeps its
@@ -106,25 +105,29 @@ inline void BatchSteps(const BatchStepArgs& a) {
   const int m = a.modes;
   const BitRockLaw& law = *a.law;
   const V dt = hn::Set(d, a.dt), g = hn::Set(d, a.g), zero = hn::Zero(d), one = hn::Set(d, 1.0);
-  const V om = hn::LoadU(d, a.om), w = hn::LoadU(d, a.wob_scale), cv = hn::LoadU(d, a.bit_viscous);
-  const V Tsf = hn::LoadU(d, a.string_friction), static0 = hn::LoadU(d, a.static_torque);
-  const V rest_tol = hn::Set(d, 1e-12) * (one + hn::Abs(om));  // Integrator::rest_tolerance
+  const V cv = hn::LoadU(d, a.bit_viscous), Tsf = hn::LoadU(d, a.string_friction);
   const double k = law.beta2 * a.speed_factor;                   // r.k of at_speed
   const V kv = hn::Set(d, k);
   const bool hysteresis = k != 0.0;
   V a_guess = hn::LoadU(d, a.a_guess);
-  // the modal sums of the first step: v = Omega + bit . p, f = -D p - w2 z, alpha = bit . f
+  // the modal sums of the first step: v = Omega + bit . p, f = -D p - w2 z - top_load dOmega/dt
+  // (the last term where dOmega/dt != 0), alpha = bit . f
   V bp = zero, bf = zero;
+  const V dom0 = hn::LoadU(d, a.domega);
+  const M accel0 = dom0 != zero;
   for (int j = 0; j < m; ++j) {
     const V p = hn::LoadU(d, a.p + j * N), z = hn::LoadU(d, a.z + j * N);
-    const V f = hn::Set(d, a.negd[j]) * p - hn::Set(d, a.w2[j]) * z;
+    V f = hn::Set(d, a.negd[j]) * p - hn::Set(d, a.w2[j]) * z;
+    f = hn::IfThenElse(accel0, f - hn::Set(d, a.top_load[j]) * dom0, f);
     hn::StoreU(f, d, a.f + j * N);
     bp = bp + hn::Set(d, a.bit[j]) * p;
     bf = bf + hn::Set(d, a.bit[j]) * f;
   }
   for (long s = 0; s < a.count; ++s) {
     const long i = a.first + s;
-    const V v = om + bp, alpha = bf + zero;  // + dOmega/dt = 0 at constant top speed
+    const V om = hn::LoadU(d, a.om + s * N), w = hn::LoadU(d, a.wob_scale + s * N);
+    const V static0 = hn::LoadU(d, a.static_torque + s * N);
+    const V v = om + bp, alpha = bf + hn::LoadU(d, a.domega + s * N);
     const V eta = hn::LoadU(d, a.eta + s * N);
     V base, frac, c;
     AtSpeed(d, law, a.speed_factor, v, w, base, frac, c);
@@ -180,7 +183,7 @@ inline void BatchSteps(const BatchStepArgs& a) {
     if (!hn::AllFalse(d, sticky)) {
       const V T_req = (alpha + v / dt) / g, F_req = T_req - visc;
       const V sv = Sign(d, v), sf = Sign(d, F_req);
-      const M at_rest = hn::Abs(v) <= rest_tol;
+      const M at_rest = hn::Abs(v) <= hn::Set(d, 1e-12) * (one + hn::Abs(om));  // Integrator::rest_tolerance
       const M crossing = hn::AndNot(at_rest, v * (v + dt * acc) <= zero);
       const M holds = hn::Or(hn::Abs(F_req) <= cap, hn::And(crossing, sf == sv));
       const M stuck = hn::And(sticky, hn::And(hn::Or(at_rest, crossing), holds));
@@ -198,13 +201,16 @@ inline void BatchSteps(const BatchStepArgs& a) {
     // Eqs. (A.5), (A.6), fused with the modal sums of the next step
     bp = zero;
     bf = zero;
+    const V dom1 = hn::LoadU(d, a.domega + (s + 1) * N);
+    const M accel1 = dom1 != zero;
     for (int j = 0; j < m; ++j) {
       const V bj = hn::Set(d, a.bit[j]);
       const V p = hn::LoadU(d, a.p + j * N) + dt * (hn::LoadU(d, a.f + j * N) - bj * T);
       const V z = hn::LoadU(d, a.z + j * N) + dt * p;
       hn::StoreU(p, d, a.p + j * N);
       hn::StoreU(z, d, a.z + j * N);
-      const V f = hn::Set(d, a.negd[j]) * p - hn::Set(d, a.w2[j]) * z;
+      V f = hn::Set(d, a.negd[j]) * p - hn::Set(d, a.w2[j]) * z;
+      f = hn::IfThenElse(accel1, f - hn::Set(d, a.top_load[j]) * dom1, f);
       hn::StoreU(f, d, a.f + j * N);
       bp = bp + bj * p;
       bf = bf + bj * f;

@@ -15,13 +15,16 @@
 // friction T_sf sign(v) of `operation.string_friction_nm` (extensions, not in the thesis) act on the
 // bit but are not part of it. The restart state carries the total torque T + c_v v + T_sf sign(v),
 // with sign(0) = 0 (a measured bit at rest: the set-valued string friction is taken as zero).
-// Horizons are independent and run in parallel; each writes its own rows.
+// Horizons are independent and run in parallel, each writing its own rows; with an ideal top drive
+// they run in SIMD lockstep unless `batched` is false (batched_integrator.hpp; a horizon's numbers
+// do not depend on which horizons share its batch).
 #pragma once
 
 #include <Eigen/Dense>
 #include <cmath>
 #include <vector>
 
+#include "drill/batched_integrator.hpp"
 #include "drill/errors.hpp"
 #include "drill/integrator.hpp"
 #include "drill/parallel.hpp"
@@ -57,9 +60,39 @@ struct HorizonResult {
   Eigen::MatrixXd bit_speed, torque, top_speed;
 };
 
+/// The sensors of one horizon: observes its run and writes its row of the result.
+struct HorizonSensors {
+  const HorizonStart* st;
+  double bit_viscous;
+  long stride;
+  Eigen::Index row;
+  HorizonResult* r;
+  LowPass2 fv, ft, fo;
+
+  void operator()(const StepState& s) {
+    // (the integrator's torque on bit already leaves the string friction out)
+    const double contact = s.torque_on_bit - bit_viscous * s.bit_speed;
+    if (s.step == 0) {
+      fv.reset(st->y_bit_speed, st->dy_bit_speed, s.bit_speed);
+      ft.reset(st->y_torque, st->dy_torque, contact);
+      fo.reset(st->y_top_speed, st->dy_top_speed, s.top_speed);
+      return;
+    }
+    const double yv = fv.step(s.bit_speed), yt = ft.step(contact), yo = fo.step(s.top_speed);
+    if (s.step % stride == 0) {
+      const Eigen::Index j = static_cast<Eigen::Index>(s.step / stride - 1);
+      r->bit_speed(row, j) = yv;
+      r->torque(row, j) = yt;
+      r->top_speed(row, j) = yo;
+    }
+  }
+};
+
+/// `batched`: through BatchedIntegrator where it supports the configuration (false: Integrator,
+/// the reference, one horizon at a time).
 inline HorizonResult predict_horizons(const Simulation& sim, const std::vector<HorizonStart>& starts,
                                       const HorizonInputs& hin, const ProgressFn& progress = nullptr,
-                                      int threads = 0) {
+                                      int threads = 0, bool batched = true) {
   const Config& c = sim.config();
   require_positive(hin.dt, "horizons.dt_s");
   require(hin.samples >= 1, "horizons.samples", hin.samples, "must be at least 1");
@@ -92,52 +125,59 @@ inline HorizonResult predict_horizons(const Simulation& sim, const std::vector<H
   r.bit_speed.resize(n, hin.samples);
   r.torque.resize(n, hin.samples);
   r.top_speed.resize(n, hin.samples);
-  const bool done = parallel_for(
-      n,
-      [&](std::size_t h) {
-        const HorizonStart& st = starts[h];
-        Inputs in = sim.inputs();
-        auto slice = [&](const std::vector<double>& s) {
-          return Signal::sampled(std::vector<double>(s.begin() + st.index, s.begin() + st.index + need), 0.0, hin.dt);
-        };
-        if (!hin.top_speed.empty()) in.top_speed = slice(hin.top_speed);
-        if (!hin.wob.empty()) in.wob = slice(hin.wob);
-        if (hin.eta.size() > 0) {
-          const Eigen::RowVectorXd row = hin.eta.row(static_cast<Eigen::Index>(h));
-          in.eta = Signal::sampled(std::vector<double>(row.data(), row.data() + row.size()), 0.0, hin.dt);
-        }
-        // the state carries the total torque on the bit: the measured contact torque plus c_v v
-        // and the string friction T_sf sign(v)
-        double Tb = st.torque + in.bit_viscous * st.bit_speed;
-        if (in.string_friction > 0.0) Tb += in.string_friction * ((st.bit_speed > 0.0) - (st.bit_speed < 0.0));
-        const ModelState s0 =
-            in.top_drive.is_motor() && !std::isfinite(st.top_accel)
-                ? integ.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, in.top_drive, in.top_speed.at(0.0))
-                : integ.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, st.top_accel);
-        LowPass2 fv(c.sensor_lowpass_hz, c.sim.dt), ft(c.sensor_lowpass_hz, c.sim.dt), fo(c.sensor_lowpass_hz, c.sim.dt);
-        const Eigen::Index row = static_cast<Eigen::Index>(h);
-        integ.run(
-            in,
-            [&](const StepState& s) {
-              // (the integrator's torque on bit already leaves the string friction out)
-              const double contact = s.torque_on_bit - in.bit_viscous * s.bit_speed;
-              if (s.step == 0) {
-                fv.reset(st.y_bit_speed, st.dy_bit_speed, s.bit_speed);
-                ft.reset(st.y_torque, st.dy_torque, contact);
-                fo.reset(st.y_top_speed, st.dy_top_speed, s.top_speed);
-                return;
-              }
-              const double yv = fv.step(s.bit_speed), yt = ft.step(contact), yo = fo.step(s.top_speed);
-              if (s.step % stride == 0) {
-                const Eigen::Index j = static_cast<Eigen::Index>(s.step / stride - 1);
-                r.bit_speed(row, j) = yv;
-                r.torque(row, j) = yt;
-                r.top_speed(row, j) = yo;
-              }
-            },
-            &s0);
-      },
-      progress, threads, n);  // one parallel region: a call is short, and barriers cost on busy machines
+  // the inputs, the restart state and the sensors of horizon h
+  auto setup = [&](std::size_t h, Inputs& in, ModelState& s0) {
+    const HorizonStart& st = starts[h];
+    in = sim.inputs();
+    auto slice = [&](const std::vector<double>& s) {
+      return Signal::sampled(std::vector<double>(s.begin() + st.index, s.begin() + st.index + need), 0.0, hin.dt);
+    };
+    if (!hin.top_speed.empty()) in.top_speed = slice(hin.top_speed);
+    if (!hin.wob.empty()) in.wob = slice(hin.wob);
+    if (hin.eta.size() > 0) {
+      const Eigen::RowVectorXd row = hin.eta.row(static_cast<Eigen::Index>(h));
+      in.eta = Signal::sampled(std::vector<double>(row.data(), row.data() + row.size()), 0.0, hin.dt);
+    }
+    // the state carries the total torque on the bit: the measured contact torque plus c_v v
+    // and the string friction T_sf sign(v)
+    double Tb = st.torque + in.bit_viscous * st.bit_speed;
+    if (in.string_friction > 0.0) Tb += in.string_friction * ((st.bit_speed > 0.0) - (st.bit_speed < 0.0));
+    s0 = in.top_drive.is_motor() && !std::isfinite(st.top_accel)
+             ? integ.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, in.top_drive, in.top_speed.at(0.0))
+             : integ.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, st.top_accel);
+    const double fc = c.sensor_lowpass_hz, dt = c.sim.dt;
+    return HorizonSensors{&st, in.bit_viscous, stride, static_cast<Eigen::Index>(h), &r,
+                          LowPass2(fc, dt), LowPass2(fc, dt), LowPass2(fc, dt)};
+  };
+  // one parallel region: a call is short, and barriers cost on busy machines
+  const BatchedIntegrator lockstep(integ);
+  bool done;
+  if (batched && lockstep.supports(sim.inputs())) {
+    done = parallel_batches(
+        n,
+        [&](std::size_t h0, std::size_t count) {
+          std::vector<Inputs> in(count);
+          std::vector<ModelState> s0(count);
+          std::vector<const ModelState*> s0p(count);
+          std::vector<HorizonSensors> sensors;
+          for (std::size_t k = 0; k < count; ++k) {
+            sensors.push_back(setup(h0 + k, in[k], s0[k]));
+            s0p[k] = &s0[k];
+          }
+          lockstep.run(in.data(), s0p.data(), count, sensors.data());
+        },
+        progress, threads, n);
+  } else {
+    done = parallel_for(
+        n,
+        [&](std::size_t h) {
+          Inputs in;
+          ModelState s0;
+          HorizonSensors sensors = setup(h, in, s0);
+          integ.run(in, sensors, &s0);
+        },
+        progress, threads, n);
+  }
   if (!done) return HorizonResult{};
   return r;
 }

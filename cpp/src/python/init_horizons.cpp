@@ -121,7 +121,7 @@ void init_horizons(py::module_& m) {
   m.def(
       "predict_horizons",
       [](const Simulation& sim, const std::vector<HorizonStart>& starts, double dt, int samples, py::object top_speed,
-         py::object wob, py::object eta, py::object progress, int threads) {
+         py::object wob, py::object eta, py::object progress, int threads, bool batched) {
         HorizonInputs hin;
         hin.dt = dt;
         hin.samples = samples;
@@ -131,16 +131,17 @@ void init_horizons(py::module_& m) {
         HorizonResult r;
         {
           py::gil_scoped_release nogil;
-          r = predict_horizons(sim, starts, hin, drillpy_glue::progress_callback(progress), threads);
+          r = predict_horizons(sim, starts, hin, drillpy_glue::progress_callback(progress), threads, batched);
         }
         return r;
       },
       py::arg("simulation"), py::arg("starts"), py::arg("dt"), py::arg("samples"), py::arg("top_speed") = py::none(),
       py::arg("wob") = py::none(), py::arg("eta") = py::none(), py::arg("progress") = py::none(),
-      py::arg("threads") = 0,
+      py::arg("threads") = 0, py::arg("batched") = true,
       "Short-horizon predictions restarted from measured states (drill/horizons.hpp), one per HorizonStart, "
       "samples dt [s] apart; top_speed [rad/s] and wob [N] are input series on the record's grid (default: the "
-      "operating point), eta horizons x (samples + 1) the bit-rock fluctuation of Eq. (4.1).");
+      "operating point), eta horizons x (samples + 1) the bit-rock fluctuation of Eq. (4.1); batched: horizons in "
+      "SIMD lockstep with an ideal top drive (False: the scalar reference integrator).");
   m.def(
       "top_torque_from_bit",
       [](const Simulation& sim, const Eigen::VectorXd& v, const Eigen::VectorXd& a, const Eigen::VectorXd& T,
