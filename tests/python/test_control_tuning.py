@@ -1,13 +1,10 @@
 """Robust tuning of top-drive controllers and the drives side by side (issue 15, items 2-4):
 drillpy.control and ``drillpy control``."""
 import json
-import os
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import run_cli
 
 from drillpy.control.comparison import compare_drives, wilson_band
 from drillpy.control.episode import motor_torque, run_episode
@@ -16,7 +13,6 @@ from drillpy.control.tuning import (FACTOR_RANGE, STALL_FRACTION, Window, bootst
 from drillpy.model.config import load_config, with_overrides
 from drillpy.uncertainty.process import THESIS_PSD, scaled_to_std
 
-ROOT = Path(__file__).resolve().parents[2]
 FIELD = load_config(preset="thesis-field")
 J = 2000.0  # an assumed field top drive [kg m^2] (docs/control.md)
 SHORT = dict(warmup=50.0, duration=30.0, transient=10.0)
@@ -146,13 +142,12 @@ def test_impedance_matching_lowers_the_stick_slip_speed_of_the_stiff_drive(field
 
 def test_control_command_writes_its_report(tmp_path):
     out = tmp_path / "ctl"
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "python"), "PYTHONWARNINGS": "error"}
-    cmd = [sys.executable, "-m", "drillpy", "control", "--preset", "thesis-field", "--drive-inertia", "2000",
+    cmd = ["control", "--preset", "thesis-field", "--drive-inertia", "2000",
            "--torque-limit", "50000", "--speeds", "10,18", "--wobs-kn", "245", "--samples", "2",
            "--validation-samples", "2", "--grid", "2", "--refine", "2", "--bootstrap", "20", "--warmup", "30",
            "--duration", "20", "--transient", "5", "--controllers", "z_torque", "--out", str(out), "--json",
            "--no-progress"]
-    r = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=600)
+    r = run_cli(*cmd)
     assert r.returncode == 0, r.stderr
     res = json.loads(r.stdout)
     assert set(res["drives"]) == {"ideal", "stiff", "z_torque", "z_torque_tuned"}
@@ -174,9 +169,7 @@ def test_control_command_writes_its_report(tmp_path):
     (["--drive-inertia", "2000", "--factor-range", "2,5"], "factor_range = (2, 5)"),
 ])
 def test_control_command_refuses_bad_input(tmp_path, args, message):
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "python"), "PYTHONWARNINGS": "error"}
-    r = subprocess.run([sys.executable, "-m", "drillpy", "control", "--preset", "thesis-field", *args,
-                        "--out", str(tmp_path / "o")], capture_output=True, text=True, env=env, timeout=120)
+    r = run_cli("control", "--preset", "thesis-field", *args, "--out", str(tmp_path / "o"))
     assert r.returncode == 2
     assert message in r.stderr and r.stderr.count("\n") == 1
     assert not (tmp_path / "o").exists()
