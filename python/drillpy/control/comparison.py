@@ -104,8 +104,11 @@ def compare_drives(cfg: dict, drives: dict, window: Window, *, reference: str, v
     if reference not in drives:
         raise ValueError(f"reference = {reference!r}: not one of the drives ({', '.join(drives)})")
     k = nominal_index(window, cfg["operation"]["wob_n"])
-    tables = {label: window_severity(cfg, d, window, seed=validation_seed, threads=threads) for label, d in
-              _announce(drives, progress)}
+    tables = {}
+    for label, d in drives.items():
+        tables[label] = window_severity(cfg, d, window, seed=validation_seed, threads=threads)
+        if progress is not None:
+            progress(f"validation samples: {label} done")
     out = {}
     for label, drive in drives.items():
         ss = tables[label]
@@ -122,13 +125,6 @@ def compare_drives(cfg: dict, drives: dict, window: Window, *, reference: str, v
             "p05_interval": bootstrap_interval(at, window.speeds, resamples=bootstrap, seed=validation_seed),
             "p05_reading": _p05_reading(p, window.speeds, p05), "nominal_row": k, "severity": ss}
     return out
-
-
-def _announce(drives: dict, progress):
-    for label, d in drives.items():
-        yield label, d
-        if progress is not None:
-            progress(f"validation samples: {label} done")
 
 
 def _p05_reading(p: np.ndarray, speeds: np.ndarray, p05) -> str:
