@@ -58,7 +58,9 @@ def test_measured_drive_follows_the_top_speed(window):
 def test_calibration_keeps_each_drives_scan_minimum(window):
     rec, thr = window
     law = load_config(preset="thesis-rig")["law"]
-    cal = rigsim.calibrate(rec, law, thr, drives=("constant", "measured"))
+    cal = rigsim.calibrate(rec, law, thr, drives=("constant", "measured"), threads=2)
+    one = rigsim.calibrate(rec, law, thr, drives=("constant",), threads=1)
+    assert one.per_drive["constant"]["scan"] == cal.per_drive["constant"]["scan"]  # the same whatever the threads
     for d in ("constant", "measured"):
         b = cal.per_drive[d]
         assert b["mismatch"] == min(m for _, m in b["scan"])

@@ -22,6 +22,8 @@ from __future__ import annotations
 
 import copy
 import math
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -610,7 +612,7 @@ class Calibration:
 
 
 def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVES, preset: str = "thesis-rig",
-              log=None) -> Calibration:
+              log=None, threads: int = 0) -> Calibration:
     """Calibrate the effective damping ratio and the top drive of the rig model with ``law`` on a
     cleaned ``record``: for each drive the parameters with the smallest mismatch (rms relative
     error over :data:`MATCHED`, :func:`compare`), then the drive with the smallest mismatch.
@@ -621,6 +623,8 @@ def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVE
     log grid, then a Nelder-Mead polish in the logarithms from the best grid point. The motor's
     command always reproduces the record's reliable mean top speed (:func:`simulate_model`).
     A parameter set whose simulation fails (unstable, diverged) counts as an infinite mismatch.
+    The grid points are independent simulations: they run ``threads`` at a time (the engine
+    releases the GIL), with the same results whatever the thread count.
 
     Parameters
     ----------
@@ -637,6 +641,8 @@ def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVE
         Engine preset of the rig.
     log : callable, optional
         Called with one progress line (str) per drive.
+    threads : int
+        Grid points simulated at once (0: one per core).
 
     Returns
     -------
@@ -666,12 +672,17 @@ def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVE
                 cache[key] = math.inf
         return cache[key]
 
+    def scan_of(drive, grid):
+        with ThreadPoolExecutor(max_workers=workers) as pool:
+            return list(zip(grid, pool.map(lambda p: mismatch(drive, *np.atleast_1d(p)), grid)))
+
+    workers = threads if threads > 0 else (os.cpu_count() or 1)
     per = {}
     for drive in drives:
         if drive == "motor":
             grid = [(z, cm, J) for z in (0.05, 0.1, 0.2, 0.4) for cm in np.geomspace(0.05, 2.0, 5)
                     for J in np.geomspace(5e-3, 5e-2, 3)]
-            scan = [(p, mismatch("motor", *p)) for p in grid]
+            scan = scan_of("motor", grid)
             best = min(scan, key=lambda q: q[1])[0]
             res = optimize.minimize(lambda x: mismatch("motor", *np.exp(x)), np.log(best), method="Nelder-Mead",
                                     options={"maxfev": 40, "xatol": 0.02, "fatol": 1e-3})
@@ -682,10 +693,10 @@ def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVE
         else:
             grid = np.geomspace(0.01, 1.5, 14)
             grid = grid[grid <= 1.0]  # the engine refuses a damping ratio above critical
-            scan = [(float(z), mismatch(drive, z)) for z in grid]
+            scan = scan_of(drive, [float(z) for z in grid])
             k = int(np.argmin([m for _, m in scan]))
-            for z in np.geomspace(grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)], 7)[1:-1]:
-                scan.append((float(z), mismatch(drive, z)))
+            scan += scan_of(drive, [float(z) for z in np.geomspace(grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)],
+                                                                   7)[1:-1]])
             z, mis = min(scan, key=lambda q: q[1])
             per[drive] = {"damping_ratio": z, "mismatch": mis, "scan": sorted(scan)}
         if log:
@@ -729,7 +740,7 @@ class Selection:
 
 
 def select_model(record: Record, laws: dict, stick_threshold: float, *, drives=DRIVES, preset: str = "thesis-rig",
-                 log=None) -> Selection:
+                 log=None, threads: int = 0) -> Selection:
     """Choose the law and the top drive by how well they predict data they were not calibrated on.
 
     ``laws`` maps names to engine laws (identified on ``record``). Each law is calibrated
@@ -752,6 +763,8 @@ def select_model(record: Record, laws: dict, stick_threshold: float, *, drives=D
         Engine preset of the rig.
     log : callable, optional
         Called with one progress line (str) per candidate and per drive of the final calibration.
+    threads : int
+        Simulations run at once by the calibrations (0: one per core).
 
     Returns
     -------
@@ -769,7 +782,7 @@ def select_model(record: Record, laws: dict, stick_threshold: float, *, drives=D
     first, second = record.select(t[0], mid), record.select(mid + 0.5 * record.dt, t[-1])
     scores = {}
     for name, law in laws.items():
-        cal = calibrate(first, law, stick_threshold, drives=drives, preset=preset)
+        cal = calibrate(first, law, stick_threshold, drives=drives, preset=preset, threads=threads)
         for drive, b in cal.per_drive.items():
             m = RigModel(law, b["damping_ratio"], drive, b.get("motor_slope_nms_rad"), b.get("motor_inertia_kg_m2"),
                          preset=preset)
@@ -782,5 +795,5 @@ def select_model(record: Record, laws: dict, stick_threshold: float, *, drives=D
                 log(f"rig model selection: {name}, {drive} drive: mismatch {b['mismatch']:.3f} on the first half, "
                     f"{mis:.3f} predicting the second half")
     name, drive = min(scores, key=lambda k: scores[k]["prediction_half_mismatch"])
-    cal = calibrate(record, laws[name], stick_threshold, drives=(drive,), preset=preset, log=log)
+    cal = calibrate(record, laws[name], stick_threshold, drives=(drive,), preset=preset, log=log, threads=threads)
     return Selection({f"{k[0]}, {k[1]}": v for k, v in scores.items()}, name, cal)

@@ -1,0 +1,62 @@
+"""Wall time of the rig calibration of ``drillpy analyze`` (its damping scans and the motor's grid,
+:func:`drillpy.records.rigsim.calibrate`) on 1 thread against 2, measured in one run (issue 16).
+
+    PYTHONPATH=python python3 benchmarks/bench_rig_calibration.py [--repeats 3]
+
+Sample 175's calibration part (0-20 s, cleaned), the Eq. (5.1) law identified on it, the three top
+drives (constant, measured, motor: 14 + 5 damping ratios each for the first two, 60 grid points and
+a Nelder-Mead polish for the motor). The grid points are independent simulations run in a thread
+pool; the script checks that both thread counts give the same calibration. Medians of
+``--repeats``; the machine is shared: read the ratio.
+"""
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "python"))
+SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--record", default=str(SAMPLE175))
+    a = ap.parse_args()
+    from drillpy.records import identification as ident
+    from drillpy.records import rigsim
+    from drillpy.records import signals as sig
+    from drillpy.records.cleaning import clean
+    from drillpy.records.io import read_mat
+    rec = clean(read_mat(a.record))[0].select(0.0, 20.0)
+    thr = 0.05 * float(np.median(rec.top_speed[rigsim.reliable_top_speed(rec)]))
+    cyc = sig.segment_cycles(rec.bit_speed, rec.dt, thr, valid=rec.valid())
+    d = ident.FitData.from_arrays(rec.bit_speed, sig.derivative(rec.bit_speed, rec.dt), rec.torque_on_bit,
+                                  cyc.branch_labels(len(rec)), cyc.cycle_id(len(rec)), wob=rec.wob, every=10,
+                                  cycles=cyc)
+    law = ident.fit_law("polynomial", d).law
+    times, cals = {1: [], 2: []}, {}
+    for _ in range(a.repeats):
+        for threads in (1, 2):
+            t0 = time.perf_counter()
+            cals[threads] = rigsim.calibrate(rec, law, thr, threads=threads)
+            times[threads].append(time.perf_counter() - t0)
+    one, two = (statistics.median(times[k]) for k in (1, 2))
+    same = cals[1].summary() == cals[2].summary()
+    print(f"rig calibration of sample 175 (0-20 s, drives {', '.join(cals[1].per_drive)}), median of {a.repeats}:")
+    print(f"  1 thread   {one:7.2f} s")
+    print(f"  2 threads  {two:7.2f} s")
+    print(f"same calibration on 1 and 2 threads: {same}; chosen: {cals[2].model.drive} drive, damping ratio "
+          f"{cals[2].model.damping_ratio:.3g}, mismatch {cals[2].comparison.mismatch:.3f}")
+    print(f"speed-up of 2 threads over 1: {one / two:.2f} x")
+    return 0 if same else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
