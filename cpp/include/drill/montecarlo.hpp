@@ -90,8 +90,8 @@ class MonteCarlo {
   /// result(r, s) for sample first + r and speeds[s]. An empty matrix if cancelled.
   /// With `mean_bit_speed`, also the mean bit speed of each run's SS window [rad/s] (a bit that
   /// stays stuck has a small SS: SS alone cannot tell it from smooth drilling).
-  /// `batched`: the samples go through BatchedIntegrator in SIMD lockstep (one sample per lane, all
-  /// the speeds in turn) when it supports the configuration (batched_integrator.hpp), else one by
+  /// `batched`: the samples go through BatchedIntegrator in SIMD lockstep (one sample per lane, one
+  /// task per batch and speed) when it supports the configuration (batched_integrator.hpp), else one by
   /// one through Integrator, the reference (false: always).
   Eigen::MatrixXd severity(const std::vector<double>& speeds, std::uint64_t first, std::size_t count,
                            const ProgressFn& progress = nullptr, int threads = 0,
@@ -104,24 +104,26 @@ class MonteCarlo {
     const std::vector<ModelState> warm = warm_states(speeds, threads);
     const BatchedIntegrator lockstep(sim_.integrator());
     if (batched && lockstep.supports(sim_.inputs(speeds[0], c.wob))) {
-      const bool done = parallel_batches(
-          count,
-          [&](std::size_t r0, std::size_t n) {
-            std::vector<Inputs> in(n, sim_.inputs(c.top_speed, c.wob));
+      // one task per (batch of samples, speed): enough tasks for every thread even with few samples
+      const std::size_t w = BatchedIntegrator::width(), ns = speeds.size(), nb = (count + w - 1) / w;
+      ProgressFn runs;
+      if (progress) runs = [&](std::size_t tasks, std::size_t) { return progress(std::min(count, tasks / ns * w), count); };
+      const bool done = parallel_for(
+          nb * ns,
+          [&](std::size_t task) {
+            const std::size_t s = task % ns, r0 = task / ns * w, n = std::min(w, count - r0);
+            std::vector<Inputs> in(n, sim_.inputs(speeds[s], c.wob));
             for (std::size_t k = 0; k < n; ++k) in[k].eta = eta(first + r0 + k);
-            for (std::size_t s = 0; s < speeds.size(); ++s) {
-              for (Inputs& x : in) x.top_speed = Signal::constant(speeds[s]);
-              const std::vector<const ModelState*> s0(n, warm.empty() ? nullptr : &warm[s]);
-              std::vector<SeverityObserver> sev(n, SeverityObserver(c.transient));
-              lockstep.run(in.data(), s0.data(), n, sev.data());
-              for (std::size_t k = 0; k < n; ++k) {
-                const Eigen::Index r = static_cast<Eigen::Index>(r0 + k), j = static_cast<Eigen::Index>(s);
-                out(r, j) = sev[k].severity();
-                if (mean_bit_speed) (*mean_bit_speed)(r, j) = sev[k].mean_bit_speed();
-              }
+            const std::vector<const ModelState*> s0(n, warm.empty() ? nullptr : &warm[s]);
+            std::vector<SeverityObserver> sev(n, SeverityObserver(c.transient));
+            lockstep.run(in.data(), s0.data(), n, sev.data());
+            for (std::size_t k = 0; k < n; ++k) {
+              const Eigen::Index r = static_cast<Eigen::Index>(r0 + k), j = static_cast<Eigen::Index>(s);
+              out(r, j) = sev[k].severity();
+              if (mean_bit_speed) (*mean_bit_speed)(r, j) = sev[k].mean_bit_speed();
             }
           },
-          progress, threads);
+          runs, threads);
       if (!done) return Eigen::MatrixXd();
       return out;
     }
