@@ -21,7 +21,7 @@ the calibrated damping ratio takes it (docs/loop.md); nothing else may be named.
     PYTHONPATH=python python3 benchmarks/loop_validation.py --only fast  # the cases the tests run
     PYTHONPATH=python python3 benchmarks/loop_validation.py --only half,two --markdown --no-header  # part
     PYTHONPATH=python python3 benchmarks/loop_validation.py --only single --truth-model   # the floor of E
-    PYTHONPATH=python python3 benchmarks/loop_validation.py --only single --declared-gj truth  # GJ known exactly
+    PYTHONPATH=python python3 benchmarks/loop_validation.py --seed 18 --declared-gj truth  # GJ known exactly
 
 ``--truth-model`` runs no loop: it scores the case's truth itself through the loop's predictor (its
 law, damping, effects and stiffness, reduced to the declared model's one mode at the loop's engine
@@ -195,11 +195,13 @@ def main(argv=None) -> int:
     ap.add_argument("--no-header", action="store_true", help="Markdown rows only (to join the outputs of several runs)")
     ap.add_argument("--truth-model", action="store_true", help="score each case's truth (one mode, the loop's step) "
                                                                 "with the loop's predictor instead of running the loop")
+    ap.add_argument("--seed", type=int, action="append", help="run only the cases of this seed (repeatable)")
     ap.add_argument("--declared-gj", choices=("nominal", "truth"), default="nominal",
                     help="declare the nominal GJ (default) or the truth's own (its draw inside the tolerance)")
     a = ap.parse_args(argv)
     kinds = None if a.only is None else set(a.only.split(","))
-    cases = [c for c in CASES if kinds is None or c.kind in kinds or ("fast" in kinds and c.fast)]
+    cases = [c for c in CASES if (kinds is None or c.kind in kinds or ("fast" in kinds and c.fast))
+             and (a.seed is None or c.seed in a.seed)]
     if a.truth_model:
         for c in cases:
             if not set(c.effects) <= IN_CONFIG:

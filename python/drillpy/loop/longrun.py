@@ -145,24 +145,54 @@ def long_run(model: LoopModel, data: LoopData) -> dict:
             "stick_slips": {"measured": stick_slips(meas), "model": stick_slips(mod)}}
 
 
-def destroys_cycle(before: dict, after: dict) -> bool:
-    """A correction destroys the measured stick-slip cycle when the record and the model before it
-    stick-slip and the model after it does not.
+#: A correction may raise the sum of the long run's relative SS and stick-fraction errors
+#: (:func:`cycle_miss`) by at most this: the two metrics' 15 % tolerance together (issue 10).
+CYCLE_SLACK = 0.3
+
+
+def cycle_miss(lr: dict) -> float:
+    """Sum of the long run's relative SS and stick-fraction errors (model vs. record) [-].
+
+    Parameters
+    ----------
+    lr : dict
+        :func:`long_run` of a model (without ``"error"``).
+
+    Returns
+    -------
+    float
+        |e_SS| + |e_stick| (a metric undefined on the record is left out).
+    """
+    return sum(abs(x) for k, x in lr["relative_error"].items() if k in ("ss", "stick_fraction") and x is not None)
+
+
+def cycle_damage(before: dict, after: dict) -> str | None:
+    """Why a correction breaks the measured stick-slip cycle, or None: the record stick-slips and
+    the model after it does not while the model before it did, or its SS and stick fraction move
+    away from the record's by more than :data:`CYCLE_SLACK` (:func:`cycle_miss`; e.g. a stick
+    fraction falling from 0.13 to 0.03 against 0.11 measured).
 
     Parameters
     ----------
     before : dict
         :func:`long_run` of the model before the correction.
     after : dict
-        :func:`long_run` of the corrected model (an ``"error"`` counts as destroyed).
+        :func:`long_run` of the corrected model (an ``"error"`` counts as broken).
 
     Returns
     -------
-    bool
-        True when the correction is to be rejected.
+    str or None
+        The reason to reject the correction, or None.
     """
     if "error" in after:
-        return True
-    if "error" in before:
-        return False
-    return after["stick_slips"]["measured"] and before["stick_slips"]["model"] and not after["stick_slips"]["model"]
+        return f"the corrected model cannot be simulated over the record: {after['error']}"
+    if "error" in before or not after["stick_slips"]["measured"]:
+        return None
+    if before["stick_slips"]["model"] and not after["stick_slips"]["model"]:
+        return "the corrected model no longer stick-slips while the record does"
+    b, a = cycle_miss(before), cycle_miss(after)
+    if a > b + CYCLE_SLACK:
+        return (f"the corrected model's limit cycle moves away from the record's: SS and stick-fraction errors "
+                f"{b:.2f} -> {a:.2f} (stick fraction {before['model']['stick_fraction']:.3f} -> "
+                f"{after['model']['stick_fraction']:.3f}, measured {after['measured']['stick_fraction']:.3f})")
+    return None

@@ -20,7 +20,7 @@ from .discovery import discover, library, residual_structure
 from .effects import CATALOGUE
 from .evidence import adequacy, evidence, law_evidence
 from .fitting import calibrate, fit_candidate, null_candidate, parameter_evidence, refit
-from .longrun import destroys_cycle, long_run
+from .longrun import cycle_damage, cycle_miss, long_run
 from .model import Evaluation, LoopModel, equation_residual, evaluate
 from .options import LoopOptions
 
@@ -186,9 +186,9 @@ def _backward(cur: Evaluation, cur_lr: dict, data: LoopData, opt: LoopOptions, k
                 continue
             e = evidence(red, cur, data, len(cur.model.effects), opt)
             lr = _long(opt, red.model, data)
-            kept = opt.long_run and destroys_cycle(cur_lr, lr)
+            kept = cycle_damage(cur_lr, lr) if opt.long_run else None
             log(f"  remove {name:<20} E_val {red.E_test:.4f} (the effect's gain {100 * e['relative_gain']:+.1f} %)"
-                + ("" if e["accepted"] else "  <- kept: without it the model no longer sticks" if kept else
+                + ("" if e["accepted"] else f"  <- kept: without it {kept}" if kept else
                    "  <- not defended: removed"))
             if not e["accepted"] and not kept:
                 trials.append((red.E_test, name, red, e, lr))
@@ -222,15 +222,11 @@ def _direct(effect, cur: Evaluation, cur_lr: dict, cand: Evaluation, e: dict, da
     lr = long_run(cand.model, data)
     if "error" in lr:
         return
-
-    def miss(r):
-        return sum(abs(x) for k, x in r["relative_error"].items() if k in ("ss", "stick_fraction") and x is not None)
-
-    if miss(lr) < miss(cur_lr) - DIRECT_LONG_RUN_GAIN:
+    if cycle_miss(lr) < cycle_miss(cur_lr) - DIRECT_LONG_RUN_GAIN:
         e["accepted"] = True
         e["direct"] = d["detail"]
         e["reasons"] = [f"measured directly: {d['detail']}; long-run SS and stick-fraction errors "
-                        f"{miss(cur_lr):.2f} -> {miss(lr):.2f}"]
+                        f"{cycle_miss(cur_lr):.2f} -> {cycle_miss(lr):.2f}"]
 
 
 def _hold_damping(model: LoopModel, lr: dict, data: LoopData, opt: LoopOptions, log) -> tuple:
@@ -417,10 +413,11 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
                     m2, lr2, held = _hold_damping(nm, lr, data, opt, log)
                     if held:
                         new, lr = evaluate(m2, data, th), lr2
-                if opt.long_run and destroys_cycle(cur_lr, lr):
+                damage = cycle_damage(cur_lr, lr) if opt.long_run else None
+                if damage:
                     e["accepted"] = False
-                    e["reasons"] = e["reasons"] + ["the corrected model no longer stick-slips while the record does"]
-                    log(f"  {name}: rejected, the corrected model's limit cycle has no stick-slip")
+                    e["reasons"] = e["reasons"] + [damage]
+                    log(f"  {name}: rejected, {damage}")
                     continue
                 chosen = (name, ev, e, new, lr, held)
                 break
