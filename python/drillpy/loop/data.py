@@ -94,6 +94,8 @@ class LoopData:
         The record's own sampling rate [Hz].
     record : Record or None
         The cleaned record at its own rate (the long-run check).
+    batched : bool
+        Step the horizons in SIMD lockstep (``LoopOptions.batched``).
     """
     source: str
     t: np.ndarray
@@ -119,6 +121,7 @@ class LoopData:
     decimation: int
     record_rate_hz: float
     record: Record | None = None  #: the cleaned record at its own rate (the long-run check)
+    batched: bool = False
 
     @property
     def horizon_samples(self) -> np.ndarray:
@@ -243,7 +246,8 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopDat
     if law_train.size < 20:
         raise ValueError(f"record: only {law_train.size} slip samples in the calibration part to fit the law")
     return LoopData(str(rec.provenance.get("source", "record")), t, dt, ch, v_meas, T_meas, ok, has_top, has_wob, thr,
-                    t_split, starts, is_test, L, sv, sT, top_meas, top_ok, law_train, law_test, rep.lines(), q, fs, rec)
+                    t_split, starts, is_test, L, sv, sT, top_meas, top_ok, law_train, law_test, rep.lines(), q, fs, rec,
+                    opt.batched)
 
 
 

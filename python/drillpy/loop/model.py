@@ -363,12 +363,9 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
         y_top_speed=ytop, dy_top_speed=dytop)
     wob_series = chs["W_eff"] if any(CATALOGUE[n].wob_input(p, model, chs.get("W")) is not None
                                      for n, p in model.effects.items()) else None
-    # The scalar integrator, not the batched one (2.5 x faster, benchmarks/bench_horizons.py; its
-    # predictions differ from these by 1e-14 rad/s): the loop's fit and its long runs are sensitive to
-    # rounding (one ulp on the predicted bit speeds moves the sample-175 stick fraction from 0.108 to
-    # 0.129, the batched rounding to 0.026), which test_loop's 15 % tolerance does not absorb (issue 16).
+    # the scalar reference integrator unless the options ask for the batched one (LoopOptions.batched)
     r = _core.predict_horizons(sim, starts, data.dt, data.L + D, top_speed=top_series, wob=wob_series, eta=eta,
-                               threads=threads, batched=False)
+                               threads=threads, batched=data.batched)
     if top:
         return r.bit_speed[:, D:], r.torque[:, D:], r.top_speed[:, D:]
     return r.bit_speed[:, D:], r.torque[:, D:]

@@ -54,6 +54,12 @@ class LoopOptions:
         stick-slip cycle is rejected.
     discovery : bool
         Regress the final model's residual on a library of candidate terms (sparse regression).
+    batched : bool
+        Step the short horizons in SIMD lockstep (the batched integrator, about 2.5 x faster) instead
+        of the scalar reference integrator (default). The predictions differ by rounding (about
+        1e-14 rad/s), which is enough to change the loop's decisions near a threshold: on sample 175
+        the corrected model's stick fraction is 0.108 on the scalar path and 0.133 on this one
+        (docs/loop.md).
     """
     horizon_s: float = 0.25
     calibration_fraction: float = 0.5
@@ -71,6 +77,7 @@ class LoopOptions:
     backward: bool = True
     long_run: bool = True
     discovery: bool = True
+    batched: bool = False
 
     def validate(self) -> None:
         """Check every option (ranges, types, known effect names).
