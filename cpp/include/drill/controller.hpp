@@ -188,9 +188,12 @@ inline double characteristic_impedance(double polar_moment, double shear_modulus
 /// The running state of a controlled drive in the time integration (integrator.hpp), with time steps dt.
 /// What does not change during a run is computed once, when the loop is made (the same expressions
 /// as in the step, so the same numbers): the torque filter's factor 1 - exp(-dt / tau) (z_torque;
-/// 1 - exp(-T_s / tau) sampled), h = dt / J, the backward-Euler denominator 1 + h kp + h dt ki and
-/// dt ki. The step then costs no exponential and two divisions (by Z and by the denominator);
-/// evaluating them every step was a quarter of z_torque's extra cost (benchmarks/bench_controller.py).
+/// 1 - exp(-T_s / tau) sampled), h = dt / J, dt ki, and the reciprocals of Z and of the
+/// backward-Euler denominator 1 + h kp + h dt ki (multiplying by them rounds differently from
+/// dividing, by an ulp). The step then costs no exponential and no division: it lies on the chain
+/// of dependent operations from the string's top torque to the bit's Newton solve, and evaluating
+/// these every step was a quarter of z_torque's extra cost, the divisions another tenth
+/// (benchmarks/bench_controller.py).
 struct ControlLoop {
   double integral;      ///< T_I [N m]
   double mean;          ///< T_mean of z_torque [N m]
@@ -206,13 +209,13 @@ struct ControlLoop {
         kp_(c.kp),
         ki_(c.ki),
         L_(c.torque_limit),
-        Z_(c.impedance),
+        inv_Z_(1.0 / c.impedance),
         Ts_(c.sample_time),
         dt_(dt),
         h_(dt / J),
         dt_ki_(dt * c.ki),
         ki_Ts_(c.ki * c.sample_time),
-        den_(1.0 + h_ * c.kp + h_ * dt * c.ki),
+        inv_den_(1.0 / (1.0 + h_ * c.kp + h_ * dt * c.ki)),
         sampled_(c.sampled()),
         feedback_(c.torque_feedback()) {
     if (feedback_) filter_ = 1.0 - std::exp(-(sampled_ ? Ts_ : dt) / c.torque_filter);
@@ -229,7 +232,7 @@ struct ControlLoop {
         double ref = command;
         if (feedback_) {
           mean += filter_ * (top_torque - mean);
-          ref -= (top_torque - mean) / Z_;
+          ref -= (top_torque - mean) * inv_Z_;
         }
         const double e = ref - om;
         const double I1 = ki_Ts_ * e + integral;
@@ -249,10 +252,10 @@ struct ControlLoop {
     double ref = command;
     if (feedback_) {
       mean += filter_ * (top_torque - mean);
-      ref -= (top_torque - mean) / Z_;
+      ref -= (top_torque - mean) * inv_Z_;
     }
     // backward Euler on J Omega' = kp (ref - Omega) + T_I - T_top, T_I' = ki (ref - Omega)
-    double om1 = (om + h_ * (kp_ * ref + integral + dt_ki_ * ref - top_torque)) / den_;
+    double om1 = (om + h_ * (kp_ * ref + integral + dt_ki_ * ref - top_torque)) * inv_den_;
     double I1 = integral + dt_ki_ * (ref - om1);
     double u = kp_ * (ref - om1) + I1;
     if (std::fabs(u) > L) {
@@ -267,7 +270,7 @@ struct ControlLoop {
   }
 
  private:
-  double kp_, ki_, L_, Z_, Ts_, dt_, h_, dt_ki_, ki_Ts_, den_;
+  double kp_, ki_, L_, inv_Z_, Ts_, dt_, h_, dt_ki_, ki_Ts_, inv_den_;
   double filter_ = 0.0;
   bool sampled_, feedback_;
 };
