@@ -119,8 +119,10 @@ struct BitRockLaw {
   struct AtSpeed {
     double base = 0.0, frac = 0.0, dbase_dv = 0.0, dfrac_dv = 0.0, c = 0.0, k = 0.0;
     double torque(double a) const { return base + frac * (1.0 + c * tanh_sat(k * a)); }
-    TorqueEval eval(double a) const {
-      const double th = tanh_sat(k * a), h = 1.0 + c * th;
+    TorqueEval eval(double a) const { return eval_tanh(tanh_sat(k * a)); }
+    /// eval(a) from th = tanh_sat(k a), computed by the caller.
+    TorqueEval eval_tanh(double th) const {
+      const double h = 1.0 + c * th;
       return {base + frac * h, dbase_dv + dfrac_dv * h, frac * c * k * (1.0 - th * th)};
     }
   };

@@ -316,6 +316,9 @@ class Integrator {
     Eigen::VectorXd f(z.size());
     double theta_top = 0.0, v_prev = NAN;
     double a1 = 0.0, a2 = 0.0, a3 = 0.0;  // the accelerations of the last three solves of Eq. (A.1)
+    bool newton = false;                  // the last step solved Eq. (A.1) by Newton
+    const double k_law = law_.beta2 * speed_factor(law_.speed_unit);  // k of BitRockLaw::AtSpeed
+    const double inv_dt = 1.0 / dt;
     const bool motor = Controlled || in.top_drive.is_motor(), lagged = opt_.acceleration == Acceleration::lagged;
     double om_state = std::isfinite(top0) ? top0 : in.top_speed.at(0.0);  // motor speed
     // a controlled drive's loop, starting in equilibrium with the string's top torque unless given
@@ -333,8 +336,15 @@ class Integrator {
         om_next = loop.step(t, om, in.top_speed.at(t), T_top);
       else
         om_next = motor ? in.top_drive.step(om, in.top_speed.at(t), T_top, dt) : in.top_speed.at(t + dt);
-      const double domega = motor ? (om_next - om) / dt : in.top_speed.rate(t);
+      const double domega = motor ? (om_next - om) * inv_dt : in.top_speed.rate(t);
       const double wob = in.wob.at(t), eta = in.eta.at(t);
+      // Newton's start for Eq. (A.1) (below). Its tanh does not depend on this step: evaluated
+      // here, where it overlaps the step's chain of dependent operations (the controller's, the
+      // law's exp and log), when the last step needed Newton too (a smooth run)
+      const double guess = 3.0 * (a1 - a2) + a3;
+      const double th_guess = newton ? tanh_sat(k_law * guess) : 0.0;
+      const bool newton_last = newton;
+      newton = false;
       const double v = om + bit_.dot(p);
       // modal forces other than the bit torque: damping, stiffness, accelerating frame
       if (diag_damping_)
@@ -377,13 +387,13 @@ class Integrator {
           // The start is the parabola through the last three solutions extrapolated to this step:
           // within tol of the root at almost every step of a smooth run, so that one evaluation
           // converges (the last solution alone needed two: benchmarks/bench_controller.py).
-          const double guess = 3.0 * (a1 - a2) + a3;
+          newton = true;
           double lo = std::min(up, dn), hi = std::max(up, dn), x = std::min(std::max(guess, lo), hi);
           const double tol = 1e-9 * (1.0 + std::fabs(alpha));
           double dx_old = HUGE_VAL;
           T = NAN;  // stays NaN (and is reported as a divergence) only if 200 steps do not converge
           for (int it = 0; it < 200; ++it) {
-            const TorqueEval e = ts.eval(x);
+            const TorqueEval e = newton_last && x == guess ? ts.eval_tanh(th_guess) : ts.eval(x);
             const double F = x + g * (scale * e.T + rest) - alpha;
             (F < 0.0 ? lo : hi) = x;
             double xn = x - F / (1.0 + g * scale * e.dT_da);
