@@ -336,7 +336,13 @@ class Integrator {
         om_next = loop.step(t, om, in.top_speed.at(t), T_top);
       else
         om_next = motor ? in.top_drive.step(om, in.top_speed.at(t), T_top, dt) : in.top_speed.at(t + dt);
-      const double domega = motor ? (om_next - om) * inv_dt : in.top_speed.rate(t);
+      // the top's acceleration; a controlled drive's by a product (off a division's latency; the
+      // motor's division stays: drillpy loop's results move with its rounding)
+      double domega;
+      if constexpr (Controlled)
+        domega = (om_next - om) * inv_dt;
+      else
+        domega = motor ? (om_next - om) / dt : in.top_speed.rate(t);
       const double wob = in.wob.at(t), eta = in.eta.at(t);
       // Newton's start for Eq. (A.1) (below). Its tanh does not depend on this step: evaluated
       // here, where it overlaps the step's chain of dependent operations (the controller's, the
