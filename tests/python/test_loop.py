@@ -224,21 +224,26 @@ def test_long_run_check_rejects_a_step_that_breaks_the_measured_cycle():
 
 def test_sample175_corrected_model_stick_slips_like_the_record(tmp_path):
     """The loop on the measured record (first 40 s; calibration 0-20 s, errors on 20-40 s): the
-    declared hysteresis is removed, the WOB coupling and the directly measured static friction are
-    added, the held-out error falls, and the corrected model's limit cycle matches the record's SS,
-    stick fraction and cycle frequency within 15 % (docs/loop.md)."""
+    declared hysteresis is removed, the WOB coupling is added, the held-out error falls, the
+    baseline's damping is held where the declared model stick-slips, the corrected model's limit
+    cycle matches the record's SS, stick fraction and cycle frequency within 15 %, and the
+    break-away torque of the stick phases is measured with its interval (docs/loop.md)."""
     out = tmp_path / "s175"
     p = run_cli("loop", str(sample175_path()), "--preset", "thesis-rig", "--out", str(out), "--rate", "250")
     assert p.returncode == 0, p.stderr
     js = json.loads((out / "loop.json").read_text())
     assert set(js) == LOOP_KEYS
     assert js["declared"] == ["bit_hysteresis"] and js["removed"] == ["bit_hysteresis"]
-    assert {"wob_coupling", "static_friction"} <= set(js["final_effects"])
+    assert "wob_coupling" in js["final_effects"]
     assert js["adequacy"]["adequate"] and js["final_error"] < 0.95 * js["baseline_error"]
     last = js["steps"][-1]["long_run"]
     for k in ("ss", "stick_fraction", "cycle_frequency_hz"):
         assert abs(last["after"][k] / last["measured"][k] - 1.0) < 0.15, (k, last)
-    assert js["baseline_long_run"]["model"]["stick_fraction"] == 0.0  # the declared law cannot stick
+    assert js["baseline_long_run"]["model"]["stick_fraction"] > 0.05  # damping held on the cycle
+    ev0 = json.loads((out / "evidence.json").read_text())
+    sf = [c for r in ev0["rounds"] for c in r if c["effect"] == "static_friction"]
+    t_s = sf[-1]["parameters"]["static_torque_nm"]
+    assert t_s["source"] == "stick phases" and 2.5 < t_s["ci95"][0] < t_s["value"] < t_s["ci95"][1] < 3.2
     ev = json.loads((out / "evidence.json").read_text())
     assert ev["record"]["calibration_s"][1] == pytest.approx(20.0, abs=0.01)
     assert any("held" in n for n in ev["notes"])  # the limit cycle sets the damping
