@@ -58,8 +58,8 @@ class LoopOptions:
         Step the short horizons in SIMD lockstep (the batched integrator, about 2.5 x faster) instead
         of the scalar reference integrator (default). The predictions differ by rounding (about
         1e-14 rad/s), which is enough to change the loop's decisions near a threshold: on sample 175
-        the corrected model's stick fraction is 0.108 on the scalar path and 0.133 on this one
-        (docs/loop.md).
+        the scalar path stops after ``wob_coupling`` (stick fraction 0.109, the record's 0.114), this
+        one adds ``top_drive_dynamics`` and ``static_friction`` after it (0.053) (docs/loop.md).
     """
     horizon_s: float = 0.25
     calibration_fraction: float = 0.5
