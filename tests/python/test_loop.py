@@ -240,11 +240,10 @@ def test_sample175_corrected_model_stick_slips_like_the_record(tmp_path):
     for k in ("ss", "stick_fraction", "cycle_frequency_hz"):
         assert abs(last["after"][k] / last["measured"][k] - 1.0) < 0.15, (k, last)
     assert js["baseline_long_run"]["model"]["stick_fraction"] > 0.05  # damping held on the cycle
-    ev0 = json.loads((out / "evidence.json").read_text())
-    sf = [c for r in ev0["rounds"] for c in r if c["effect"] == "static_friction"]
+    ev = json.loads((out / "evidence.json").read_text())
+    sf = [c for r in ev["rounds"] for c in r if c["effect"] == "static_friction"]
     t_s = sf[-1]["parameters"]["static_torque_nm"]
     assert t_s["source"] == "stick phases" and 2.5 < t_s["ci95"][0] < t_s["value"] < t_s["ci95"][1] < 3.2
-    ev = json.loads((out / "evidence.json").read_text())
     assert ev["record"]["calibration_s"][1] == pytest.approx(20.0, abs=0.01)
     assert any("held" in n for n in ev["notes"])  # the limit cycle sets the damping
     assert ev["discovery"]["balanced"] is False  # the encoders' twist does not follow the torque
