@@ -272,3 +272,38 @@ def test_bad_inputs_name_what_is_wrong(tmp_path):
     assert p.returncode == 2 and "not allowed with argument" in p.stderr
     with pytest.raises(ValueError, match="horizon_s = 0"):
         L.LoopOptions(horizon_s=0).validate()
+
+
+def test_damping_hold_is_searched_again_when_the_refit_leaves_the_cycle(monkeypatch):
+    """The held damping lies at the edge of the stick-slip region: when the refit of the other
+    parameters moves that edge below it (validation case 13: the motor's droop 2.51 -> 2.81), the
+    search is repeated from the refit model, so the held model stick-slips like the record. A
+    stand-in long run sticks below a damping edge of 0.15 before any refit and 0.11 after one."""
+    from drillpy.loop import run as R
+    from drillpy.loop.model import LoopModel
+    meas = {"ss": 1.05, "stick_fraction": 0.12, "cycle_frequency_hz": 2.6}
+    refits = []
+
+    def long_run(m, data):
+        edge = 0.11 if m.top_speed > 8.5 else 0.15
+        z = m.damping_ratios[0]
+        stick = min(0.3, 3.0 * (edge - z) + 0.01) if z < edge else 0.0
+        mod = {"ss": 1.0 + (edge - z) if z < edge else 0.5, "stick_fraction": stick, "cycle_frequency_hz": 2.6}
+        return {"measured": meas, "model": mod, "relative_error": {},
+                "stick_slips": {"measured": True, "model": stick >= 0.01}}
+
+    def refit(m, data, opt):
+        refits.append(m.damping_ratios[0])
+        m = m.copy()
+        m.top_speed = 9.0  # a refit model: its stick-slip edge has moved
+        return m, None
+
+    monkeypatch.setattr(R, "long_run", long_run)
+    monkeypatch.setattr(R, "refit", refit)
+    m0 = LoopModel({"damping": {"type": "modal", "ratios": [0.25]}}, {}, 8.0, 500.0)
+    held, lr, note = R._hold_damping(m0, long_run(m0, None), None, L.LoopOptions(), log=lambda *a: None)
+    assert refits[0] > 0.11  # the first hold sat where only the model before the refit sticks
+    assert 2 <= len(refits) <= R.HOLD_ROUNDS
+    assert held.damping_held and held.damping_ratios[0] < 0.11 and lr["stick_slips"]["model"]
+    assert abs(lr["model"]["stick_fraction"] - meas["stick_fraction"]) < 0.06
+    assert "held at" in note
