@@ -65,6 +65,7 @@ top_speed_ramp     commanded top speed ramps linearly over the        +15 % / +7
     python3 benchmarks/independent_rig.py --effects static_friction,wob_coupling --size full \\
         --seed 3 --noise 1 --out rec.csv
     python3 benchmarks/independent_rig.py --summary        # a clean record's SS, stick fraction, frequency
+    python3 benchmarks/independent_rig.py --summary --law eq51   # the control: the declared preset's own Eq. (5.1)
 """
 from __future__ import annotations
 
@@ -115,15 +116,39 @@ EFFECTS = {
 }
 
 
+#: Eq. (5.1) as the ``thesis-rig`` preset carries it (regularized: a0 = 0; speed in RPM, gain 1.36),
+#: extended to v < 0 as an odd function: the control law of ``--law eq51``.
+EQ51 = {"a1": 2.187, "a2": 1.976, "a3": 0.0, "a4": 1.983, "a5": -1.315e-3, "a6": -4.823e-5, "a7": 1.047e-7,
+        "ref_rpm": 90.36, "gain": 1.36}
+LAWS = ("tucker_wang", "eq51")
+_law_name = "tucker_wang"
+
+
+def use_law(name: str) -> None:
+    """Select the bit-rock law of every later simulation: ``tucker_wang`` (the default) or ``eq51``."""
+    global _law_name
+    if name not in LAWS:
+        raise ValueError(f"law = {name!r}: one of {', '.join(LAWS)}")
+    _law_name = name
+
+
 def law(v: float) -> float:
-    """Tucker-Wang torque [N m] at W = W_ref, v in rad/s (odd in v, 0 at rest)."""
-    return C0 * (math.tanh(ALPHA0 * v) + ALPHA1 * v / (1.0 + ALPHA2 * v * v))
+    """The selected law's torque [N m] at W = W_ref, v in rad/s (odd in v, 0 at rest)."""
+    if _law_name == "tucker_wang":
+        return C0 * (math.tanh(ALPHA0 * v) + ALPHA1 * v / (1.0 + ALPHA2 * v * v))
+    p, u = EQ51, abs(v) * 60.0 / (2.0 * math.pi)
+    if u <= 0.01 * p["ref_rpm"]:
+        t = p["a1"] * u
+    elif u <= 0.05 * p["ref_rpm"]:
+        t = p["a2"] + p["a3"] * u
+    else:
+        t = p["a4"] + u * (p["a5"] + u * (p["a6"] + u * p["a7"]))
+    return math.copysign(p["gain"] * t, v) if v != 0.0 else 0.0
 
 
 def law_max() -> float:
-    """The law's low-speed maximum at W_ref [N m] (the plain law's static torque)."""
-    v = np.linspace(1e-4, 20.0, 200001)
-    return float(np.max(C0 * (np.tanh(ALPHA0 * v) + ALPHA1 * v / (1 + ALPHA2 * v * v))))
+    """The law's low-speed maximum at W_ref [N m] (the plain law's static torque), over 0-20 rad/s."""
+    return max(law(v) for v in np.linspace(1e-4, 20.0, 20001))
 
 
 def effect_params(effects, size: str = "full", overrides: dict | None = None) -> dict:
@@ -359,9 +384,11 @@ def main(argv=None) -> int:
     ap.add_argument("--duration", type=float, default=DURATION_S)
     ap.add_argument("--settle", type=float, default=SETTLE_S)
     ap.add_argument("--dt", type=float, default=DT)
+    ap.add_argument("--law", choices=LAWS, default="tucker_wang", help="the bit-rock law (eq51: the preset's own)")
     ap.add_argument("--out", help="CSV file to write")
     ap.add_argument("--summary", action="store_true", help="print SS, stick fraction, frequency, torque range")
     a = ap.parse_args(argv)
+    use_law(a.law)
     names = [x for x in a.effects.split(",") if x]
     over = dict(s.split("=") for s in a.set)
     eff = effect_params(names, a.size, over)
@@ -371,7 +398,8 @@ def main(argv=None) -> int:
     if a.out:
         write_csv(res, a.out, [f"independent_rig.py (no drillpy code): effects {eff or 'none'}, size {a.size}, "
                                f"seed {a.seed}, noise x{a.noise:g}",
-                               f"Tucker-Wang c0 {C0} alpha0 {ALPHA0} alpha1 {ALPHA1} alpha2 {ALPHA2}; {N_SEG} lumped "
+                               (f"Tucker-Wang c0 {C0} alpha0 {ALPHA0} alpha1 {ALPHA1} alpha2 {ALPHA2}" if a.law ==
+                                "tucker_wang" else f"Eq. 5.1 {EQ51}") + f"; {N_SEG} lumped "
                                f"segments, modal zeta {ZETA}, dt {a.dt:g} s"])
     if a.summary or not a.out:
         c = res["clean"]

@@ -165,12 +165,15 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--only", help="comma-separated case indices (0-based)")
     ap.add_argument("--rate", type=float, default=250.0, help="the loop's analysis rate [Hz] (250)")
+    ap.add_argument("--law", choices=rig.LAWS, default="tucker_wang",
+                    help="the simulator's bit-rock law (eq51: the declared preset's own, a control)")
     ap.add_argument("--dir", help="folder for records and logs (default: a new temporary folder)")
     a = ap.parse_args(argv)
+    rig.use_law(a.law)
     idx = list(range(len(CASES))) if not a.only else [int(x) for x in a.only.split(",")]
     folder = a.dir or tempfile.mkdtemp(prefix="loop_independent_")
     os.makedirs(folder, exist_ok=True)
-    print(f"records and logs in {folder}; loop at {a.rate:g} Hz, thesis-rig preset, default options")
+    print(f"records and logs in {folder}; {a.law} law; loop at {a.rate:g} Hz, thesis-rig preset, default options")
     print("| # | kind | truth | loop steps (in order) | final effects | E base -> final | SS/stick: record; baseline; "
           "final model | pass | why |")
     print("|---:|---|---|---|---|---|---|---|---|")
