@@ -96,6 +96,8 @@ class LoopData:
         The cleaned record at its own rate (the long-run check).
     batched : bool
         Step the horizons in SIMD lockstep (``LoopOptions.batched``).
+    law_knot : bool
+        Calibrate a polynomial law's low-speed knot (``LoopOptions.law_knot``).
     """
     source: str
     t: np.ndarray
@@ -122,6 +124,7 @@ class LoopData:
     record_rate_hz: float
     record: Record | None = None  #: the cleaned record at its own rate (the long-run check)
     batched: bool = False
+    law_knot: bool = True
 
     @property
     def horizon_samples(self) -> np.ndarray:
@@ -247,7 +250,7 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopDat
         raise ValueError(f"record: only {law_train.size} slip samples in the calibration part to fit the law")
     return LoopData(str(rec.provenance.get("source", "record")), t, dt, ch, v_meas, T_meas, ok, has_top, has_wob, thr,
                     t_split, starts, is_test, L, sv, sT, top_meas, top_ok, law_train, law_test, rep.lines(), q, fs, rec,
-                    opt.batched)
+                    opt.batched, opt.law_knot)
 
 
 

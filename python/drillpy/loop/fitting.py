@@ -34,8 +34,41 @@ class _FamilyData:
         self.wob_ref, self.speed_ref = wob_ref, speed_ref
 
 
-def _law_family(law: dict, hysteresis: bool, a_scale: float) -> tuple:
-    """(family name, starting parameters, fixed parameters, _FamilyData) of a law."""
+#: Bounds of the polynomial law's knot v_k [RPM] where its low-speed piece meets the cubic
+#: (``LoopOptions.law_knot``): from below the rig's stick threshold to the upper half of the slip speeds.
+KNOT_BOUNDS_RPM = (4.0, 60.0)
+
+
+def _poly_knot(p, d, unit, fx, hyst=False):
+    """Eq. (5.1)/(5.3) with its low-speed shape calibrated: the cubic a4..a7 above the knot v_k, a
+    straight line below it from the torque t_low at v_k / 5 to the cubic's value at v_k, and from
+    a0 at rest to t_low below v_k / 5 (the engine's pieces at 1 % and 5 % of ``ref_speed`` = 20 v_k).
+    Parameters a4..a7 (beta1, beta2), t_low, v_k, speeds in the law's unit."""
+    a4, a5, a6, a7 = p[:4]
+    t_low, v_k = p[-2], p[-1]
+    ref, v1 = v_k / 0.05, v_k / 5.0
+    a0 = float(fx.get("a0", 0.0))
+    t_k = a4 + v_k * (a5 + v_k * (a6 + v_k * a7))
+    a3 = (t_k - t_low) / (v_k - v1)
+    law = {"type": "polynomial_hysteretic" if hyst else "polynomial", "speed_unit": unit,
+           "wob_ref_n": d.wob_ref, "a0": a0, "a1": (t_low - a0) / v1, "a2": t_low - a3 * v1, "a3": a3,
+           "a4": a4, "a5": a5, "a6": a6, "a7": a7, "ref_speed": ref, "gain": fx["gain"]}
+    if hyst:
+        law["beta1"], law["beta2"] = p[4], p[5]
+    return law
+
+
+_FAMILIES = dict(ident.FAMILIES)
+for _n in ("polynomial", "polynomial_hysteretic"):
+    _f = ident.FAMILIES[_n]
+    _FAMILIES[_n + "_knot"] = ident._Family(_f.names + ("t_low", "v_knot"), _f.lower + (0.0, -np.inf),
+                                            _f.upper + (np.inf, np.inf),
+                                            lambda p, d, u, fx, h=_n.endswith("hysteretic"): _poly_knot(p, d, u, fx, h))
+
+
+def _law_family(law: dict, hysteresis: bool, a_scale: float, knot: bool = False) -> tuple:
+    """(family name, starting parameters, fixed parameters, _FamilyData) of a law; ``knot``: a
+    polynomial law's low-speed knot and the torque below it are free (:func:`_poly_knot`)."""
     t, unit = law["type"], law["speed_unit"]
     s = RPM if unit == "rpm" else 1.0
     hyst0 = [float(law.get("beta1", 0.0)) or 0.1, float(law.get("beta2", 0.0)) or 1.0 / (a_scale * s)]
@@ -43,7 +76,13 @@ def _law_family(law: dict, hysteresis: bool, a_scale: float) -> tuple:
         p = [law["a4"], law["a5"], law["a6"], law["a7"]]
         fd = _FamilyData(law["wob_ref_n"], law["ref_speed"] / s)
         name = "polynomial_hysteretic" if hysteresis else "polynomial"
-        return name, p + (hyst0 if hysteresis else []), {"gain": law["gain"]}, fd
+        p += hyst0 if hysteresis else []
+        if knot:
+            v1 = 0.01 * float(law["ref_speed"])
+            k_lo, k_hi = _knot_bounds(unit)
+            v_k = min(max(5.0 * v1, k_lo), k_hi)
+            return name + "_knot", p + [float(law["a2"]) + float(law["a3"]) * v1, v_k], {"gain": law["gain"]}, fd
+        return name, p, {"gain": law["gain"]}, fd
     fd = _FamilyData(law["wob_ref_n"], 1.0)
     if t == "hysteretic":
         knee = law["b3"] ** (-1.0 / law["b5"]) if law["b3"] > 0 else 1e6
@@ -81,12 +120,20 @@ def law_fit_residual(model: LoopModel, data: LoopData) -> np.ndarray:
     return chs["T"][idx] - law_torque(m, chs, idx)
 
 
+def _knot_bounds(unit: str) -> tuple:
+    """:data:`KNOT_BOUNDS_RPM` in the law's speed unit."""
+    f = 1.0 if unit == "rpm" else 1.0 / RPM
+    return KNOT_BOUNDS_RPM[0] * f, KNOT_BOUNDS_RPM[1] * f
+
+
 def _a_scale(data: LoopData) -> float:
     return float(np.std(data.ch["v1"][data.law_train])) or 1.0
 
 
 def _law_bounds(model: LoopModel, data: LoopData, fam) -> tuple:
     lo, hi = np.array(fam.lower, float), np.array(fam.upper, float)
+    if "v_knot" in fam.names:
+        lo[-1], hi[-1] = _knot_bounds(model.law["speed_unit"])
     if "beta2" in fam.names:
         s = RPM if model.law["speed_unit"] == "rpm" else 1.0
         hi[fam.names.index("beta2")] = BETA2_SPREAD / (_a_scale(data) * s)
@@ -130,8 +177,8 @@ def fit_law(model: LoopModel, data: LoopData) -> LoopModel:
     hyst = "bit_hysteresis" in m.effects
     wob = "wob_coupling" in m.effects
     W = chs["W"][idx] if wob else np.full(idx.size, m.wob)
-    name, p0, fx, fd = _law_family(m.law, hyst, _a_scale(data))
-    fam = ident.FAMILIES[name]
+    name, p0, fx, fd = _law_family(m.law, hyst, _a_scale(data), data.law_knot)
+    fam = _FAMILIES[name]
     unit = m.law["speed_unit"]
     x0 = list(p0) + ([m.effects["wob_coupling"].get("gain", 1.0)] if wob else [])
     lo, hi = _law_bounds(m, data, fam)
@@ -156,9 +203,9 @@ def fit_law(model: LoopModel, data: LoopData) -> LoopModel:
     return m
 
 
-def _law_vector(model: LoopModel) -> tuple:
-    name, p0, fx, fd = _law_family(model.law, "bit_hysteresis" in model.effects, 1.0)
-    return ident.FAMILIES[name], np.array(p0, float), fx, fd
+def _law_vector(model: LoopModel, knot: bool) -> tuple:
+    name, p0, fx, fd = _law_family(model.law, "bit_hysteresis" in model.effects, 1.0, knot)
+    return _FAMILIES[name], np.array(p0, float), fx, fd
 
 
 def _pack(model: LoopModel, data: LoopData, names) -> tuple:
@@ -178,7 +225,7 @@ def _pack(model: LoopModel, data: LoopData, names) -> tuple:
 
     for name in names:
         if name == LAW:
-            fam, p0, _, _ = _law_vector(model)
+            fam, p0, _, _ = _law_vector(model, data.law_knot)
             flo, fhi = _law_bounds(model, data, fam)
             for i in range(p0.size):
                 add(float(p0[i]), flo[i], fhi[i], "lin", (LAW, fam.names[i]))
@@ -196,11 +243,11 @@ def _pack(model: LoopModel, data: LoopData, names) -> tuple:
     return np.array(x, float), np.array(lo, float), np.array(hi, float), where
 
 
-def _unpack(model: LoopModel, x, where) -> LoopModel:
+def _unpack(model: LoopModel, x, where, knot: bool) -> LoopModel:
     m = model.copy()
     law_p = [xi for xi, w in zip(x, where) if w[0] == LAW]
     if law_p:
-        fam, _, fx, fd = _law_vector(model)
+        fam, _, fx, fd = _law_vector(model, knot)
         m.law = fam.build(np.array(law_p), fd, model.law["speed_unit"], fx)
         if "bit_hysteresis" in m.effects:
             m.effects["bit_hysteresis"] = {"beta1": float(m.law["beta1"]), "beta2": float(m.law["beta2"])}
@@ -278,14 +325,14 @@ def fit_dynamic(model: LoopModel, data: LoopData, names, opt: LoopOptions) -> tu
 
     def res(x):
         try:
-            r = residual_vector(_unpack(model, x, where), data, opt.threads)
+            r = residual_vector(_unpack(model, x, where, data.law_knot), data, opt.threads)
         except (ValueError, RuntimeError):  # an unstable or diverging trial: a large residual
             return np.full(size, 10.0)
         return np.where(np.isfinite(r), r, 10.0)
 
     r = optimize.least_squares(res, x0, bounds=(lo, hi), method="trf", diff_step=1e-3,
                                max_nfev=opt.nfev_per_parameter * x0.size, x_scale="jac", xtol=1e-6, ftol=1e-6)
-    return _unpack(model, r.x, where), _intervals(r, lo, hi, where)
+    return _unpack(model, r.x, where, data.law_knot), _intervals(r, lo, hi, where)
 
 
 def _intervals(r, lo, hi, where) -> dict:

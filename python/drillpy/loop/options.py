@@ -60,6 +60,12 @@ class LoopOptions:
         1e-14 rad/s), which is enough to change the loop's decisions near a threshold: on sample 175
         the scalar path stops after ``wob_coupling`` (stick fraction 0.109, the record's 0.114), this
         one adds ``top_drive_dynamics`` and ``static_friction`` after it (0.053) (docs/loop.md).
+    law_knot : bool
+        Calibrate, with the rest of a polynomial law (Eq. 5.1/5.3), where its low-speed linear piece
+        meets the cubic (the knot v_k, RPM, 4-60) and the torque at the piece's lower end (v_k / 5):
+        the law's own low-speed shape, which the thesis ties to 1 % and 5 % of the mean bit speed.
+        A law that rises after the break-away (Tucker-Wang's, Eq. 3.1) then needs no effect to
+        stand in for it (docs/loop.md). False keeps the thesis's tie.
     """
     horizon_s: float = 0.25
     calibration_fraction: float = 0.5
@@ -78,6 +84,7 @@ class LoopOptions:
     long_run: bool = True
     discovery: bool = True
     batched: bool = False
+    law_knot: bool = True
 
     def validate(self) -> None:
         """Check every option (ranges, types, known effect names).

@@ -155,7 +155,8 @@ class StaticFriction(Effect):
     def _set(law, a0):
         ref = float(law["ref_speed"])
         law["a0"] = float(a0)
-        law["a1"] = (float(law["a2"]) - float(a0)) / (0.01 * ref)  # the tie of drillpy.records.identification
+        # from a0 at rest to the low-speed piece's value at 1 % of ref (drillpy.records.identification's tie)
+        law["a1"] = (float(law["a2"]) + float(law["a3"]) * 0.01 * ref - float(a0)) / (0.01 * ref)
 
     def configure(self, cfg, p, model):
         """Set the polynomial law's a0 so that its static torque gain a0 W / W_ref is T_s at the
