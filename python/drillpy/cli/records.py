@@ -246,6 +246,11 @@ def _add_loop(sub) -> argparse.ArgumentParser:
     s.add_argument("--effects", help="comma-separated candidate effects (default: the whole catalogue)")
     s.add_argument("--dt", type=float, help="engine time step of the predictions [s] (default: the model's)")
     s.add_argument("--threads", type=threads_option, default=0, help="OpenMP threads (0: default)")
+    s.add_argument("--scalar", action="store_true",
+                   help="step the horizons with the scalar reference integrator (default: the batched SIMD one)")
+    s.add_argument("--thesis-knot", action="store_true",
+                   help="keep a polynomial law's low-speed pieces tied at 1 %% and 5 %% of the mean speed "
+                        "(default: the knot calibrated with the law)")
     s.add_argument("--json", action="store_true", help="print the errors and the effects found as JSON")
     s.add_argument("--no-progress", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_loop)
@@ -272,7 +277,8 @@ def cmd_loop(a: argparse.Namespace) -> int:
     effects = NAMES if a.effects is None else tuple(e.strip() for e in a.effects.split(",") if e.strip())
     opt = LoopOptions(horizon_s=a.horizon, calibration_fraction=a.calibration_fraction, rate_hz=a.rate,
                       min_gain=a.min_gain, alpha=a.alpha, min_delta_bic=a.min_delta_bic, max_steps=a.max_steps,
-                      effects=effects, threads=a.threads, dt_s=a.dt)
+                      effects=effects, threads=a.threads, dt_s=a.dt, batched=not a.scalar,
+                      law_knot=not a.thesis_knot)
     from drillpy.progress import log_progress
     with log_progress(((r"  null candidate", "candidates"), (r"  candidate ", "candidates"), (r"  remove ", "backward")),
                       "loop", enabled=not a.no_progress, echo=None if a.json else print, count=True) as log:

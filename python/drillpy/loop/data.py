@@ -123,7 +123,7 @@ class LoopData:
     decimation: int
     record_rate_hz: float
     record: Record | None = None  #: the cleaned record at its own rate (the long-run check)
-    batched: bool = False
+    batched: bool = True
     law_knot: bool = True
 
     @property

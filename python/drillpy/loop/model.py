@@ -363,7 +363,7 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
         y_top_speed=ytop, dy_top_speed=dytop)
     wob_series = chs["W_eff"] if any(CATALOGUE[n].wob_input(p, model, chs.get("W")) is not None
                                      for n, p in model.effects.items()) else None
-    # the scalar reference integrator unless the options ask for the batched one (LoopOptions.batched)
+    # the batched SIMD integrator unless the options ask for the scalar reference one (LoopOptions.batched)
     r = _core.predict_horizons(sim, starts, data.dt, data.L + D, top_speed=top_series, wob=wob_series, eta=eta,
                                threads=threads, batched=data.batched)
     if top:

@@ -55,11 +55,11 @@ class LoopOptions:
     discovery : bool
         Regress the final model's residual on a library of candidate terms (sparse regression).
     batched : bool
-        Step the short horizons in SIMD lockstep (the batched integrator, about 2.5 x faster) instead
-        of the scalar reference integrator (default). The predictions differ by rounding (about
-        1e-14 rad/s), which is enough to change the loop's decisions near a threshold: on sample 175
-        the scalar path stops after ``wob_coupling`` (stick fraction 0.109, the record's 0.114), this
-        one adds ``top_drive_dynamics`` and ``static_friction`` after it (0.053) (docs/loop.md).
+        Step the short horizons in SIMD lockstep (the batched integrator, default) instead of the
+        scalar reference integrator. The predictions differ by rounding (about 1e-14 rad/s), which
+        is enough to change a decision that sits at a threshold; on sample 175 and on the
+        validation records both paths give the same answer (docs/loop.md,
+        ``benchmarks/loop_sample175.py``: the batched loop 1.65 x faster).
     law_knot : bool
         Calibrate, with the rest of a polynomial law (Eq. 5.1/5.3), where its low-speed linear piece
         meets the cubic (the knot v_k, RPM, 4-60) and the torque at the piece's lower end (v_k / 5):
@@ -83,7 +83,7 @@ class LoopOptions:
     backward: bool = True
     long_run: bool = True
     discovery: bool = True
-    batched: bool = False
+    batched: bool = True
     law_knot: bool = True
 
     def validate(self) -> None:
