@@ -209,18 +209,19 @@ def _lr(ss, stick, measured=(1.216, 0.114)):
 
 def test_long_run_check_rejects_a_step_that_breaks_the_measured_cycle():
     """A model that stops sticking while the record sticks, or cannot be simulated, is rejected; so is
-    a step whose stick phases vanish, taking the stick fraction below a third of the record's from
-    above it (sample 175: the motor took it 0.112 -> 0.017 against 0.114); a step that keeps the
+    a step whose stick phases vanish is named, taking the stick fraction below a third of the record's
+    from above it (sample 175: the motor took it 0.112 -> 0.017 against 0.114); a step that keeps the
     stick passes, as does one from a model already below that third; a record without stick-slip
     constrains nothing. The long-run error sums the relative SS and stick-fraction errors."""
-    from drillpy.loop.longrun import cycle_damage, cycle_miss
+    from drillpy.loop.longrun import cycle_damage, cycle_miss, stick_collapse
     assert cycle_miss(_lr(1.187, 0.133)) == pytest.approx(0.0236 + 0.1667, abs=1e-3)
     assert "no longer stick-slips" in cycle_damage(_lr(1.1, 0.1), _lr(1.1, 0.0))
     assert "cannot be simulated" in cycle_damage(_lr(1.1, 0.1), {"error": "diverged"})
-    assert "stick phases vanish" in cycle_damage(_lr(1.162, 0.112), _lr(1.059, 0.017))
-    assert "stick phases vanish" in cycle_damage(_lr(1.187, 0.133), _lr(1.088, 0.0255))
-    assert cycle_damage(_lr(1.162, 0.112), _lr(1.1, 0.04)) is None  # above 0.114 / 3
-    assert cycle_damage(_lr(1.1, 0.03), _lr(1.1, 0.02)) is None  # already below it before the step
+    assert "stick phases vanish" in stick_collapse(_lr(1.162, 0.112), _lr(1.059, 0.017))
+    assert "stick phases vanish" in stick_collapse(_lr(1.187, 0.133), _lr(1.088, 0.0255))
+    assert stick_collapse(_lr(1.162, 0.112), _lr(1.1, 0.04)) is None  # above 0.114 / 3
+    assert stick_collapse(_lr(1.1, 0.03), _lr(1.1, 0.02)) is None  # already below it before the step
+    assert stick_collapse(_lr(0.2, 0.0, (0.2, 0.0)), _lr(0.2, 0.0, (0.2, 0.0))) is None  # the record does not stick
     assert cycle_damage(_lr(1.129, 0.0787), _lr(1.187, 0.133)) is None
     assert cycle_damage(_lr(1.1, 0.0), _lr(1.1, 0.0)) is None  # the model before did not stick either
     assert cycle_damage(_lr(0.2, 0.0, (0.2, 0.0)), _lr(1.0, 0.5, (0.2, 0.0))) is None
