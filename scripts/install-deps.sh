@@ -11,4 +11,4 @@ if [ -n "$missing" ]; then
   apt-get update -qq
   apt-get install -y -qq --no-install-recommends $missing >/dev/null
 fi
-python3 -m pip install -q --disable-pip-version-check numpy scipy matplotlib tqdm scikit-learn xarray zarr 'dask[distributed]' pytest scikit-build-core pybind11 ruff pybind11-stubgen==3.0.0 hypothesis jsonschema
+python3 -m pip install -q --disable-pip-version-check numpy scipy matplotlib tqdm scikit-learn threadpoolctl xarray zarr 'dask[distributed]' pytest scikit-build-core pybind11 ruff pybind11-stubgen==3.0.0 hypothesis jsonschema

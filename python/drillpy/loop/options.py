@@ -60,6 +60,12 @@ class LoopOptions:
         is enough to change a decision that sits at a threshold; on sample 175 and on the
         validation records both paths give the same answer (docs/loop.md,
         ``benchmarks/loop_sample175.py``: the batched loop 1.65 x faster).
+    blas_threads : int
+        BLAS threads of the optimizer's linear algebra while the loop runs (1; 0: the library's
+        default). One is fastest: OpenBLAS's threads gain nothing on the tall Jacobians' SVDs and
+        spin after each call, taking the cores from the engine's OpenMP threads (sample 175:
+        ``benchmarks/loop_sample175.py``); with one the answer cannot depend on the BLAS thread
+        count either.
     law_knot : bool
         Calibrate, with the rest of a polynomial law (Eq. 5.1/5.3), where its low-speed linear piece
         meets the cubic (the knot v_k, RPM, 4-60) and the torque at the piece's lower end (v_k / 5):
@@ -84,6 +90,7 @@ class LoopOptions:
     long_run: bool = True
     discovery: bool = True
     batched: bool = True
+    blas_threads: int = 1
     law_knot: bool = True
 
     def validate(self) -> None:
@@ -108,6 +115,7 @@ class LoopOptions:
             validate.positive("dt_s", self.dt_s, "s")
         validate.integer("nfev_per_parameter", self.nfev_per_parameter, 1)
         validate.integer("max_steps", self.max_steps, 0)
+        validate.integer("blas_threads", self.blas_threads, 0)
         for e in self.effects:
             if e not in NAMES:
                 raise ValueError(f"effects: unknown effect {e!r} (known: {', '.join(NAMES)})")

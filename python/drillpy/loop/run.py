@@ -352,9 +352,25 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
     ------
     ValueError
         Invalid options, or a record the loop cannot use (:func:`drillpy.loop.data.prepare`).
+
+    Notes
+    -----
+    The optimizer's linear algebra (SVDs of tall Jacobians) runs on ``options.blas_threads`` BLAS
+    threads (:func:`threadpoolctl.threadpool_limits`; one by default): OpenBLAS's threads gain
+    nothing on those matrices, and while they spin after each call they take the cores from the
+    engine's OpenMP threads (``benchmarks/loop_sample175.py``).
     """
     opt = options or LoopOptions()
     opt.validate()
+    if not opt.blas_threads:
+        return _run_loop(record, cfg, opt, log)
+    from threadpoolctl import threadpool_limits
+    with threadpool_limits(limits=opt.blas_threads, user_api="blas"):
+        return _run_loop(record, cfg, opt, log)
+
+
+def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
+    """:func:`run_loop` with validated options."""
     cfg = normalize(cfg)
     raw = read_record(record) if isinstance(record, (str, Path)) else record
     warns = check_record(raw, cfg)  # before prepare: a record it refuses (a time unit off) is explained
