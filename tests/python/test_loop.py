@@ -327,13 +327,12 @@ def test_knot_family_with_the_thesis_tie_is_the_tied_law_and_is_continuous():
     cubic = [law["a4"], law["a5"], law["a6"], law["a7"]]
     tied = ident.FAMILIES["polynomial"].build(cubic, fd, "rpm", {"gain": law["gain"]})
     v_k = 0.05 * law["ref_speed"]
-    t_k = float(np.polyval(cubic[::-1], v_k))
-    knot = F._FAMILIES["polynomial_knot"].build(cubic + [t_k, v_k], fd, "rpm", {"gain": law["gain"]})
+    knot = F._FAMILIES["polynomial_knot"].build(cubic + [1.0, v_k], fd, "rpm", {"gain": law["gain"]})
     v = np.linspace(0.0, 30.0, 3001) / RPM  # 0-30 RPM, in rad/s
     z = np.zeros(v.size)
     w = np.full(v.size, law["wob_ref_n"])
     np.testing.assert_allclose(ident.law_eval(knot, v, z, w)[0], ident.law_eval(tied, v, z, w)[0], rtol=1e-12, atol=1e-12)
-    knot = F._FAMILIES["polynomial_knot"].build(cubic + [0.6 * t_k, 25.0], fd, "rpm", {"gain": law["gain"]})
+    knot = F._FAMILIES["polynomial_knot"].build(cubic + [0.6, 25.0], fd, "rpm", {"gain": law["gain"]})
     for vk in (5.0, 25.0):  # the pieces meet (the engine's thresholds are 1 % and 5 % of ref_speed)
         T = ident.law_eval(knot, np.array([vk - 1e-9, vk + 1e-9]) / RPM, np.zeros(2), np.full(2, law["wob_ref_n"]))[0]
         assert T[0] == pytest.approx(T[1], rel=1e-7)

@@ -41,14 +41,19 @@ KNOT_BOUNDS_RPM = (4.0, 60.0)
 
 def _poly_knot(p, d, unit, fx, hyst=False):
     """Eq. (5.1)/(5.3) with its low-speed shape calibrated: the cubic a4..a7 above the knot v_k, a
-    straight line below it from the torque t_low at v_k / 5 to the cubic's value at v_k, and from
-    a0 at rest to t_low below v_k / 5 (the engine's pieces at 1 % and 5 % of ``ref_speed`` = 20 v_k).
-    Parameters a4..a7 (beta1, beta2), t_low, v_k, speeds in the law's unit."""
+    straight line below it from r t_k at v_k / 5 to the cubic's value t_k at v_k, and from a0 at rest
+    to r t_k below v_k / 5 (the engine's pieces at 1 % and 5 % of ``ref_speed`` = 20 v_k).
+    Parameters a4..a7 (beta1, beta2), r in [0, 1], v_k; speeds in the law's unit.
+
+    r <= 1: the piece rises (or is flat) towards the knot. A torque that *falls* from a peak just off
+    rest is a break-away, ``static_friction``, which the catalogue names with evidence; the law's own
+    shape must not absorb it (validation case 18 lost its static friction to a free peak)."""
     a4, a5, a6, a7 = p[:4]
-    t_low, v_k = p[-2], p[-1]
+    r, v_k = p[-2], p[-1]
     ref, v1 = v_k / 0.05, v_k / 5.0
     a0 = float(fx.get("a0", 0.0))
     t_k = a4 + v_k * (a5 + v_k * (a6 + v_k * a7))
+    t_low = r * t_k
     a3 = (t_k - t_low) / (v_k - v1)
     law = {"type": "polynomial_hysteretic" if hyst else "polynomial", "speed_unit": unit,
            "wob_ref_n": d.wob_ref, "a0": a0, "a1": (t_low - a0) / v1, "a2": t_low - a3 * v1, "a3": a3,
@@ -61,8 +66,8 @@ def _poly_knot(p, d, unit, fx, hyst=False):
 _FAMILIES = dict(ident.FAMILIES)
 for _n in ("polynomial", "polynomial_hysteretic"):
     _f = ident.FAMILIES[_n]
-    _FAMILIES[_n + "_knot"] = ident._Family(_f.names + ("t_low", "v_knot"), _f.lower + (0.0, -np.inf),
-                                            _f.upper + (np.inf, np.inf),
+    _FAMILIES[_n + "_knot"] = ident._Family(_f.names + ("low_ratio", "v_knot"), _f.lower + (0.0, -np.inf),
+                                            _f.upper + (1.0, np.inf),
                                             lambda p, d, u, fx, h=_n.endswith("hysteretic"): _poly_knot(p, d, u, fx, h))
 
 
@@ -79,9 +84,11 @@ def _law_family(law: dict, hysteresis: bool, a_scale: float, knot: bool = False)
         p += hyst0 if hysteresis else []
         if knot:
             v1 = 0.01 * float(law["ref_speed"])
+            t_k = float(law["a2"]) + float(law["a3"]) * 5.0 * v1
+            r = (float(law["a2"]) + float(law["a3"]) * v1) / t_k if t_k > 0 else 1.0
             k_lo, k_hi = _knot_bounds(unit)
             v_k = min(max(5.0 * v1, k_lo), k_hi)
-            return name + "_knot", p + [float(law["a2"]) + float(law["a3"]) * v1, v_k], {"gain": law["gain"]}, fd
+            return name + "_knot", p + [min(max(r, 0.0), 1.0), v_k], {"gain": law["gain"]}, fd
         return name, p, {"gain": law["gain"]}, fd
     fd = _FamilyData(law["wob_ref_n"], 1.0)
     if t == "hysteretic":
