@@ -63,9 +63,10 @@ def _poly_knot(p, d, unit, fx, hyst=False):
     return law
 
 
-#: Weight [N m] of the prior row w (1 - r) the law fit adds for the knot's low_ratio r: where the
-#: slip samples do not reach below the knot (a knot near the stick threshold) r is not identified
-#: and stays at 1, the thesis's flat piece; where they do, one row of 0.05 N m does not move it.
+#: Weight [N m] of the prior row w (1 - r) the law residual's fit adds for the knot's low_ratio r:
+#: where the slip samples do not reach below the knot (a knot near the stick threshold) r is not
+#: identified and starts the short-horizon fits at 1, the thesis's flat piece; where they do, one
+#: row of 0.05 N m does not move it (on the validation truths r is the same to 4e-4 without it).
 KNOT_PRIOR_NM = 0.05
 
 _FAMILIES = dict(ident.FAMILIES)
@@ -75,17 +76,12 @@ for _n in ("polynomial", "polynomial_hysteretic"):
     _FAMILIES[_n + "_knot"] = ident._Family(_f.names + ("low_ratio", "v_knot"), _f.lower + (0.0, -np.inf),
                                             _f.upper + (1.0, np.inf),
                                             lambda p, d, u, fx, h=_h: _poly_knot(p, d, u, fx, h))
-    _FAMILIES[_n + "_knot_held"] = ident._Family(
-        _f.names, _f.lower, _f.upper,
-        lambda p, d, u, fx, h=_h: _poly_knot(list(p) + [fx["low_ratio"], fx["v_knot"]], d, u, fx, h))
 
 
-def _law_family(law: dict, hysteresis: bool, a_scale: float, knot: str | None = None) -> tuple:
-    """(family name, starting parameters, fixed parameters, _FamilyData) of a law. ``knot`` (a
-    polynomial law, ``LoopOptions.law_knot``): ``"free"``, its low-speed knot and low_ratio are
-    fitted (:func:`_poly_knot`; the law residual's fit); ``"held"``, they are held at the law's
-    (the short-horizon fits: the slip samples place the knot, the horizons do not see it apart from
-    the rest of the law); None, the thesis's tie."""
+def _law_family(law: dict, hysteresis: bool, a_scale: float, knot: bool = False) -> tuple:
+    """(family name, starting parameters, fixed parameters, _FamilyData) of a law; ``knot``: a
+    polynomial law's low-speed knot and low_ratio are fitted (:func:`_poly_knot`,
+    ``LoopOptions.law_knot``), else the thesis's tie."""
     t, unit = law["type"], law["speed_unit"]
     s = RPM if unit == "rpm" else 1.0
     hyst0 = [float(law.get("beta1", 0.0)) or 0.1, float(law.get("beta2", 0.0)) or 1.0 / (a_scale * s)]
@@ -100,8 +96,6 @@ def _law_family(law: dict, hysteresis: bool, a_scale: float, knot: str | None = 
             r = min(max((float(law["a2"]) + float(law["a3"]) * v1) / t_k if t_k > 0 else 1.0, 0.0), 1.0)
             k_lo, k_hi = _knot_bounds(unit)
             v_k = min(max(5.0 * v1, k_lo), k_hi)
-            if knot == "held":
-                return name + "_knot_held", p, {"gain": law["gain"], "low_ratio": r, "v_knot": 5.0 * v1}, fd
             return name + "_knot", p + [r, v_k], {"gain": law["gain"]}, fd
         return name, p, {"gain": law["gain"]}, fd
     fd = _FamilyData(law["wob_ref_n"], 1.0)
@@ -198,7 +192,7 @@ def fit_law(model: LoopModel, data: LoopData) -> LoopModel:
     hyst = "bit_hysteresis" in m.effects
     wob = "wob_coupling" in m.effects
     W = chs["W"][idx] if wob else np.full(idx.size, m.wob)
-    name, p0, fx, fd = _law_family(m.law, hyst, _a_scale(data), "free" if data.law_knot else None)
+    name, p0, fx, fd = _law_family(m.law, hyst, _a_scale(data), data.law_knot)
     fam = _FAMILIES[name]
     unit = m.law["speed_unit"]
     x0 = list(p0) + ([m.effects["wob_coupling"].get("gain", 1.0)] if wob else [])
@@ -229,7 +223,7 @@ def fit_law(model: LoopModel, data: LoopData) -> LoopModel:
 
 
 def _law_vector(model: LoopModel, knot: bool) -> tuple:
-    name, p0, fx, fd = _law_family(model.law, "bit_hysteresis" in model.effects, 1.0, "held" if knot else None)
+    name, p0, fx, fd = _law_family(model.law, "bit_hysteresis" in model.effects, 1.0, knot)
     return _FAMILIES[name], np.array(p0, float), fx, fd
 
 
