@@ -363,3 +363,15 @@ def test_calibrated_knot_follows_a_law_that_rises_after_break_away(tmp_path):
     res = L.run_loop(str(path), cfg, L.LoopOptions(rate_hz=250), log=lambda *a: None)
     assert [s["effect"] for s in res.steps if s["action"] == "add"] == []
     assert res.baseline.E_test < 0.1
+
+
+def test_a_step_near_the_threshold_is_reported_as_marginal():
+    """An added effect whose validation gain is below twice ``min_gain`` gets a "marginal" note
+    (validation case 26: torque_fluctuation at 6.2 %); one on its direct measurement says so; a
+    clear gain (sample 175's wob_coupling, 12.1 %) gets none."""
+    from drillpy.loop.run import marginal
+    opt = L.LoopOptions()
+    assert "6.2 %" in marginal("torque_fluctuation", {"relative_gain": 0.062}, opt)
+    assert "direct measurement" in marginal("static_friction", {"relative_gain": -0.002}, opt)
+    assert marginal("wob_coupling", {"relative_gain": 0.121}, opt) is None
+    assert marginal("x", {"relative_gain": 0.062}, L.LoopOptions(min_gain=0.02)) is None

@@ -234,6 +234,38 @@ def _direct(effect, cur: Evaluation, cur_lr: dict, cand: Evaluation, e: dict, da
 #: case 13's, the truth: 71 %).
 COLLAPSE_GAIN = 0.25
 
+#: An added effect whose validation gain is below this multiple of ``min_gain`` is reported as a
+#: marginal decision: the rounding of another integrator path or another seed of the same truth can
+#: tip it (validation case 26's torque_fluctuation at 6.2 %).
+MARGIN_FACTOR = 2.0
+
+
+def marginal(name: str, e: dict, opt: LoopOptions) -> str | None:
+    """The note on an added effect whose evidence sits near the threshold, or None.
+
+    Parameters
+    ----------
+    name : str
+        The effect.
+    e : dict
+        Its evidence (:func:`drillpy.loop.evidence.evidence`: ``relative_gain``).
+    opt : LoopOptions
+        The loop's options (``min_gain``).
+
+    Returns
+    -------
+    str or None
+        "marginal: ..." when the validation gain is below :data:`MARGIN_FACTOR` x ``min_gain`` (an
+        effect added on its direct measurement, below ``min_gain``, says so), else None.
+    """
+    g = float(e.get("relative_gain", 0.0))
+    if g >= MARGIN_FACTOR * opt.min_gain:
+        return None
+    why = "added on its direct measurement" if g < opt.min_gain else f"the {100 * opt.min_gain:.0f} % asked is passed by little"
+    return (f"marginal: {name} lowers the validation error by {100 * g:.1f} % ({why}; below "
+            f"{100 * MARGIN_FACTOR * opt.min_gain:.0f} % a decision can tip with the rounding or the record)")
+
+
 #: Rounds of the damping hold: search, refit, and again while the refit model has left the cycle.
 HOLD_ROUNDS = 3
 
@@ -473,6 +505,11 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
                 break
             name, ev, e, new, lr, held = chosen
             e = dict(e, error_test_refit=new.E_test, error_test_null=null.E_test, candidates=rounds[-1])
+            margin = marginal(name, e, opt)
+            if margin:
+                e["marginal"] = margin
+                notes.append(margin)
+                log(f"  {margin}")
             if held:
                 e["damping"] = held
             steps.append({"action": "add", "effect": name, "error_before": cur.E_test, "error_after": new.E_test,
