@@ -126,3 +126,17 @@ def test_string_friction_restarts_near_rest_with_the_share_of_the_contact_torque
     chs2 = {"v": v2, "T": T2, "W_eff": np.full(4, 557.1)}
     d2 = eff.restart_torque({"string_friction_nm": 0.3}, m, data, chs2, np.arange(4))
     assert T2 + d2 + 0.3 * np.sign(v2) == pytest.approx([1.5, 2.3, 2.8, -2.8])
+
+
+def test_torque_fluctuation_forgotten_within_half_a_horizon_is_flagged():
+    """The fluctuation's forecast keeps (1 + s/tau) exp(-s/tau) of its restart value; below 1/e at the
+    middle of a 0.25 s horizon (tau < 0.058 s) the fit only corrects the first samples after each
+    restart (validation case 26: tau 0.025 s) and is flagged; the injected fluctuation's 0.24 s is not."""
+    from types import SimpleNamespace
+    from drillpy.loop.effects import CATALOGUE
+    eff = CATALOGUE["torque_fluctuation"]
+    data = SimpleNamespace(L=62, dt=0.004)  # 0.248 s horizons at 250 Hz
+    assert eff.flags({"tau_s": 0.025, "memory_s": 14.2}, data)
+    assert eff.flags({"tau_s": 0.055, "memory_s": 1.0}, data)
+    assert eff.flags({"tau_s": 0.06, "memory_s": 1.0}, data) == []
+    assert eff.flags({"tau_s": 0.237, "memory_s": 0.131}, data) == []
