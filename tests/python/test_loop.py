@@ -367,7 +367,7 @@ def test_calibrated_knot_follows_a_law_that_rises_after_break_away(tmp_path):
 
 def test_a_step_near_the_threshold_is_reported_as_marginal():
     """An added effect whose validation gain is below twice ``min_gain`` gets a "marginal" note
-    (validation case 26: torque_fluctuation at 6.2 %); one on its direct measurement says so; a
+    (a 6.2 % gain, as validation case 26's fast torque_fluctuation had); one on its direct measurement says so; a
     clear gain (sample 175's wob_coupling, 12.1 %) gets none."""
     from drillpy.loop.run import marginal
     opt = L.LoopOptions()

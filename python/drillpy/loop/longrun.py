@@ -205,7 +205,7 @@ def stick_collapse(before: dict, after: dict) -> str | None:
     The loop rejects such an addition unless its short-horizon gain is strong
     (``run.COLLAPSE_GAIN``; then it is added and flagged) and keeps an effect whose removal does
     it: the stick fraction of a single long run is a fragile metric (validation case 13's motor,
-    E 0.376 -> 0.110, first takes it from 0.13 to 0.03 against 0.13).
+    E 0.375 -> 0.103, takes it from 0.13 to 0.03 against 0.13).
 
     Parameters
     ----------

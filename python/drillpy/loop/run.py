@@ -236,7 +236,7 @@ COLLAPSE_GAIN = 0.25
 
 #: An added effect whose validation gain is below this multiple of ``min_gain`` is reported as a
 #: marginal decision: the rounding of another integrator path or another seed of the same truth can
-#: tip it (validation case 26's torque_fluctuation at 6.2 %).
+#: tip it (validation case 26's fast torque_fluctuation passed at 6.2 % before it was flagged).
 MARGIN_FACTOR = 2.0
 
 
