@@ -58,7 +58,7 @@ class LoopOptions:
         Step the short horizons in SIMD lockstep (the batched integrator, default) instead of the
         scalar reference integrator. The predictions differ by rounding (about 1e-14 rad/s), which
         is enough to change a decision that sits at a threshold; on sample 175 both paths give the
-        same answer, the batched one 2.1 x faster (``benchmarks/loop_sample175.py``); the
+        same answer, the batched one 2.3 x faster (``benchmarks/loop_sample175.py``); the
         validation tables of docs/loop.md are run on it.
     blas_threads : int
         BLAS threads of the optimizer's linear algebra while the loop runs (1; 0: the library's
