@@ -210,7 +210,7 @@ def _lr(ss, stick, measured=(1.216, 0.114)):
 def test_long_run_check_rejects_a_step_that_breaks_the_measured_cycle():
     """A model that stops sticking while the record sticks, or cannot be simulated, is rejected; so is
     a step whose stick phases vanish is named, taking the stick fraction below a third of the record's
-    from above it (sample 175: the motor took it 0.112 -> 0.017 against 0.114); a step that keeps the
+    from above it (like sample 175's motor on the scalar path: 0.111 -> 0.016 against 0.114); a step that keeps the
     stick passes, as does one from a model already below that third; a record without stick-slip
     constrains nothing. The long-run error sums the relative SS and stick-fraction errors."""
     from drillpy.loop.longrun import cycle_damage, cycle_miss, stick_collapse

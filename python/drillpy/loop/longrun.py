@@ -199,8 +199,8 @@ def cycle_damage(before: dict, after: dict) -> str | None:
 def stick_collapse(before: dict, after: dict) -> str | None:
     """Why a correction makes the measured stick phases vanish, or None: it takes the model's stick
     fraction from at least :data:`STICK_COLLAPSE` of the record's to below it (the model may still
-    stick now and then: sample 175 with the knot calibrated, the motor of ``top_drive_dynamics``
-    took it from 0.112 to 0.017 against the record's 0.114 with a 7 % gain on the short horizons).
+    stick now and then: on sample 175, ``drillpy loop --scalar``, the motor of ``top_drive_dynamics``
+    takes it from 0.111 to 0.016 against the record's 0.114 with a 7.0 % gain on the short horizons).
 
     The loop rejects such an addition unless its short-horizon gain is strong
     (``run.COLLAPSE_GAIN``; then it is added and flagged) and keeps an effect whose removal does
