@@ -117,3 +117,30 @@ def test_simulate_rig_refuses_incomplete_drives(window):
     with pytest.raises(ValueError, match="drillpy rig model"):
         rigsim.RigModel.from_dict({"config": {}})
     assert RPM > 0
+
+
+def test_damping_scan_in_lockstep_agrees_with_one_model_at_a_time(window):
+    # drillpy analyze's scan (calibrate): the models differ in their damping only, one batched call
+    rec, thr = window
+    law = load_config(preset="thesis-rig")["law"]  # Eq. (5.3): its tanh goes through exp
+    for drive in ("constant", "measured"):
+        models = [rigsim.RigModel(law, z, drive) for z in (0.03, 0.1, 0.3, 0.69)]
+        many = rigsim.simulate_models(models, rec)
+        for m, sim in zip(models, many):
+            one = rigsim.simulate_model(m, rec)
+            np.testing.assert_allclose(sim.bit_speed, one.bit_speed, rtol=0, atol=1e-6)
+            np.testing.assert_allclose(sim.torque_on_bit, one.torque_on_bit, rtol=0, atol=1e-6)
+            assert rigsim.compare(rec, sim, thr).mismatch == pytest.approx(rigsim.compare(rec, one, thr).mismatch,
+                                                                          rel=1e-6)
+            assert sim.provenance["drive"] == drive and sim.provenance["config"]["damping"]["ratios"] == [m.damping_ratio]
+        assert np.array_equal(rigsim.simulate_models(models[2:3], rec)[0].bit_speed, many[2].bit_speed)
+
+
+def test_simulate_models_takes_one_drive_without_a_motor(window):
+    rec, _ = window
+    law = load_config(preset="thesis-rig")["law"]
+    with pytest.raises(ValueError, match="drive = 'motor'"):
+        rigsim.simulate_models([rigsim.RigModel(law, 0.1, "motor", 0.3, 0.02)], rec)
+    with pytest.raises(ValueError, match="drives = constant, measured"):
+        rigsim.simulate_models([rigsim.RigModel(law, 0.1, "constant"), rigsim.RigModel(law, 0.1, "measured")], rec)
+    assert rigsim.simulate_models([], rec) == []

@@ -239,3 +239,47 @@ def test_a_top_speed_not_forward_is_refused_on_the_command_line(speed, capsys):
     assert main(["simulate", "--preset", "thesis-rig", "--top-speed", speed, "--json"]) == 2
     err = capsys.readouterr().err
     assert err == f"drillpy: error: operation.top_speed_rad_s = {speed}: must be positive\n"
+
+
+def _rig_scan(ratios, duration=5.0):
+    cfgs = []
+    for z in ratios:
+        c = drillpy.load_config(preset="thesis-rig")  # one mode, Eq. (5.3): its tanh goes through exp
+        c["simulation"].update(duration_s=duration, transient_s=1.0)
+        c["damping"] = {"type": "modal", "ratios": [z]}
+        cfgs.append(c)
+    return cfgs
+
+
+def test_a_damping_scan_in_lockstep_agrees_with_one_run_at_a_time():
+    from drillpy.model.simulation import simulate_many
+    cfgs = _rig_scan([0.02, 0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 0.9, 1.0])  # more than one batch on any host
+    many, errors = simulate_many(cfgs)
+    assert errors == [""] * len(cfgs)
+    ss = []
+    for c, r in zip(cfgs, many):
+        one = drillpy.simulate(c)
+        assert r.bit_speed.shape == one.bit_speed.shape
+        np.testing.assert_allclose(r.bit_speed, one.bit_speed, rtol=0, atol=1e-8)  # rounding of exp only
+        assert r.severity == pytest.approx(one.severity, rel=1e-8)
+        assert r.bit_angle.size == 0 and one.bit_angle.size == one.t.size  # not formed in lockstep
+        ss.append(r.severity)
+    assert max(ss) - min(ss) > 0.5  # each lane has its own damping: light damping stick-slips, heavy does not
+    # the run's bits do not depend on the runs beside it
+    alone, _ = simulate_many(cfgs[4:5])
+    assert np.array_equal(alone[0].bit_speed, many[4].bit_speed)
+    scalar, _ = simulate_many(cfgs, batched=False)
+    np.testing.assert_array_equal(scalar[3].bit_angle, drillpy.simulate(cfgs[3]).bit_angle)
+
+
+def test_a_diverging_run_is_reported_and_the_others_complete():
+    from drillpy.model.simulation import simulate_many
+    cfgs = _rig_scan([0.1, 0.2])
+    bad = _rig_scan([0.2])[0]
+    bad["law"]["a7"] = -1.0  # the cubic turns negative: the bit runs away
+    results, errors = simulate_many([cfgs[0], bad, cfgs[1]])
+    assert results[1] is None and errors[1].startswith("simulation diverged at t = ")
+    assert errors[0] == errors[2] == ""
+    assert results[2].severity == drillpy.simulate(cfgs[1]).severity
+    with pytest.raises(ValueError, match="damping.ratios"):
+        simulate_many([cfgs[0], _rig_scan([1.5])[0]])

@@ -5,8 +5,9 @@
 // Scope: the modified Euler scheme (appendix A, Eqs. A.5-A.6) with the implicit bit acceleration
 // of Eq. (A.1), an ideal top drive with any top speed Omega(t), any WOB W(t) and eta(t) of Eq.
 // (4.1), any bit-rock law (Eqs. 3.1-3.3, 5.1, 5.3) with its stick condition, bit viscous torque,
-// string friction, and diagonal modal damping: the constant-speed sweeps and the Monte Carlo of
-// section 4.2, and the loop's horizon predictions (horizons.hpp). Other runs (motor or controlled
+// string friction, and diagonal modal damping, which may differ from lane to lane: the
+// constant-speed sweeps and the Monte Carlo of section 4.2, the loop's horizon predictions
+// (horizons.hpp) and the damping scans of several configurations (run_many.hpp). Other runs (motor or controlled
 // drive, bdf2, the lagged acceleration, dense damping) are refused by supports() and stay on
 // Integrator, which is also the reference of this path.
 //
@@ -51,7 +52,8 @@ struct BatchStepArgs {
   int modes = 0;
   double dt = 0.0, g = 0.0, speed_factor = 1.0;
   const BitRockLaw* law = nullptr;
-  const double *negd = nullptr, *w2 = nullptr, *bit = nullptr;  ///< -diag(D), omega^2, bit [modes]
+  const double* negd = nullptr;                                 ///< -diag(D) of each lane's model [modes][lanes]
+  const double *w2 = nullptr, *bit = nullptr;                   ///< omega^2, bit [modes]
   const double* top_load = nullptr;                             ///< load of the top's acceleration [modes]
   double *z = nullptr, *p = nullptr, *f = nullptr;              ///< modal state and forces [modes][lanes]
   double* a_guess = nullptr;                                    ///< Newton's start, carried over [lanes]
@@ -91,33 +93,63 @@ class BatchedIntegrator {
            in.top_drive.kind == TopDrive::Kind::ideal;
   }
 
+  /// Whether `other` can step in lockstep with this integrator's runs with its own damping: the
+  /// same scheme, time step, duration and law, the same modal basis, frequencies and couplings,
+  /// and a damping that is diagonal in that basis (the models differ at most in their modal damping).
+  bool shares_model(const Integrator& other) const {
+    const Integrator& I = in_;
+    const SimOptions &a = I.opt_, &b = other.opt_;
+    const BitRockLaw &p = I.law_, &q = other.law_;
+    return &other == &I ||
+           (a.scheme == b.scheme && a.acceleration == b.acceleration && a.dt == b.dt && a.steps() == b.steps() &&
+            other.diag_damping_ && I.V_ == other.V_ && I.Vinv_ == other.Vinv_ && I.w2_ == other.w2_ &&
+            I.bit_ == other.bit_ && I.top_load_ == other.top_load_ && p.kind == q.kind &&
+            p.speed_unit == q.speed_unit && p.wob_ref == q.wob_ref && p.c0 == q.c0 && p.alpha0 == q.alpha0 &&
+            p.alpha1 == q.alpha1 && p.alpha2 == q.alpha2 && p.b == q.b && p.beta1 == q.beta1 &&
+            p.beta2 == q.beta2 && p.a == q.a && p.ref_speed == q.ref_speed && p.gain == q.gain);
+  }
+
   /// Runs in[0 .. n) from start[r] (nullptr: Eq. 2.10), calling obs[r](const StepState&) at every
   /// step including t = 0, as Integrator::run does; the observers see the step, t, the bit speed,
-  /// acceleration and torque on bit and the top speed (bit_angle and top_torque are NaN). Returns
-  /// the final states. Throws like Integrator::run (the lowest diverging run's time).
+  /// acceleration and torque on bit and the top speed (bit_angle and top_torque are NaN). Run r
+  /// has the modal damping of damping[r] (an integrator that shares_model(); nullptr, or a null
+  /// `damping`: this integrator's), so that a damping scan steps in lockstep too. Returns the final
+  /// states. Throws like Integrator::run (the lowest diverging run's time), unless `diverged_at` is
+  /// given: then diverged_at[r] is the time run r diverged at (NaN: it did not), its observer is
+  /// not called from that step on, and the other runs go on.
   template <class Observer>
-  std::vector<ModelState> run(const Inputs* in, const ModelState* const* start, std::size_t n, Observer* obs) const {
+  std::vector<ModelState> run(const Inputs* in, const ModelState* const* start, std::size_t n, Observer* obs,
+                              const Integrator* const* damping = nullptr, double* diverged_at = nullptr) const {
+    std::vector<const Integrator*> model(n, &in_);
     for (std::size_t r = 0; r < n; ++r) {
       in[r].validate();
       require(supports(in[r]), "batched run", r, "is outside the batched path (BatchedIntegrator::supports)");
+      if (damping && damping[r]) {
+        require(shares_model(*damping[r]), "batched run", r,
+                "has a model that differs from the batch's in more than its modal damping");
+        model[r] = damping[r];
+      }
     }
     std::vector<ModelState> out(n);
+    if (diverged_at) std::fill(diverged_at, diverged_at + n, NAN);
     const std::size_t N = width();
-    for (std::size_t b = 0; b < n; b += N) run_vector(in + b, start + b, std::min(N, n - b), obs + b, out.data() + b);
+    for (std::size_t b = 0; b < n; b += N)
+      run_vector(in + b, start + b, model.data() + b, std::min(N, n - b), obs + b, out.data() + b,
+                 diverged_at ? diverged_at + b : nullptr);
     return out;
   }
 
  private:
   template <class Observer>
-  void run_vector(const Inputs* in, const ModelState* const* start, std::size_t n, Observer* obs,
-                  ModelState* out) const {
+  void run_vector(const Inputs* in, const ModelState* const* start, const Integrator* const* model, std::size_t n,
+                  Observer* obs, ModelState* out, double* diverged_at) const {
     const Integrator& I = in_;
     const std::size_t N = width();
     const int m = static_cast<int>(I.w2_.size());
     const double dt = I.opt_.dt;
     const long last = I.opt_.steps();
     constexpr long block = 256;
-    std::vector<double> z(m * N), p(m * N), f(m * N), a_guess(N, 0.0), cv(N), sf(N);
+    std::vector<double> z(m * N), p(m * N), f(m * N), negd(m * N), a_guess(N, 0.0), cv(N), sf(N);
     std::vector<double> om((block + 1) * N), dom((block + 1) * N), ws((block + 1) * N), st((block + 1) * N);
     std::vector<double> eta((block + 1) * N), v(block * N), a(block * N), T(block * N);
     for (std::size_t l = 0; l < N; ++l) {
@@ -131,9 +163,9 @@ class BatchedIntegrator {
       for (int j = 0; j < m; ++j) {
         z[j * N + l] = zl(j);
         p[j * N + l] = pl(j);
+        negd[j * N + l] = -model[r]->d_(j);
       }
     }
-    const Eigen::VectorXd negd = -I.d_;
     BatchStepArgs args;
     args.last = last;
     args.modes = m;
@@ -159,19 +191,33 @@ class BatchedIntegrator {
     args.v = v.data();
     args.a = a.data();
     args.T = T.data();
-    for (long first = 0; first <= last; first += block) {
-      const long count = std::min(block, last + 1 - first);
-      for (long s = 0; s <= count; ++s)  // the inputs of Integrator::run_euler's step first + s
+    // the inputs of Integrator::run_euler's step first + s, in row s; a constant signal's rows are
+    // filled once, a sampled one's at every block
+    auto fill = [&](long first, long count, bool sampled) {
+      for (long s = 0; s <= count; ++s)
         for (std::size_t l = 0; l < N; ++l) {
           const Inputs& x = in[l < n ? l : 0];
-          const double t = (first + s) * dt, wob = x.wob.at(t);
+          const double t = (first + s) * dt;
           const std::size_t k = s * N + l;
-          om[k] = x.top_speed.at(t);
-          dom[k] = x.top_speed.rate(t);
-          ws[k] = wob / I.law_.wob_ref;
-          st[k] = I.law_.static_torque(wob);
-          eta[k] = x.eta.at(t);
+          if (x.top_speed.is_constant() != sampled) {
+            om[k] = x.top_speed.at(t);
+            dom[k] = x.top_speed.rate(t);
+          }
+          if (x.wob.is_constant() != sampled) {
+            const double wob = x.wob.at(t);
+            ws[k] = wob / I.law_.wob_ref;
+            st[k] = I.law_.static_torque(wob);
+          }
+          if (x.eta.is_constant() != sampled) eta[k] = x.eta.at(t);
         }
+    };
+    fill(0, block, false);
+    bool any_sampled = false;
+    for (std::size_t l = 0; l < n; ++l)
+      any_sampled = any_sampled || !in[l].top_speed.is_constant() || !in[l].wob.is_constant() || !in[l].eta.is_constant();
+    for (long first = 0; first <= last; first += block) {
+      const long count = std::min(block, last + 1 - first);
+      if (any_sampled) fill(first, count, true);
       args.first = first;
       args.count = count;
       HWY_DYNAMIC_DISPATCH(BatchSteps)(args);
@@ -180,7 +226,14 @@ class BatchedIntegrator {
           const std::size_t k = s * N + l;
           const long i = first + s;
           const double t = i * dt;
-          if (!std::isfinite(v[k]) || !std::isfinite(T[k])) Integrator::diverged(t);
+          if (diverged_at && !std::isnan(diverged_at[l])) break;
+          if (!std::isfinite(v[k]) || !std::isfinite(T[k])) {
+            if (!diverged_at) Integrator::diverged(t);
+            diverged_at[l] = t;
+            for (int j = 0; j < m; ++j) z[j * N + l] = p[j * N + l] = 0.0;  // a finite lane: no Newton spin on NaN
+            a_guess[l] = 0.0;
+            break;
+          }
           obs[l](static_cast<const StepState&>(StepState{i, t, v[k], a[k], NAN, T[k], NAN, om[k]}));
         }
     }

@@ -117,7 +117,7 @@ inline void BatchSteps(const BatchStepArgs& a) {
   const M accel0 = dom0 != zero;
   for (int j = 0; j < m; ++j) {
     const V p = hn::LoadU(d, a.p + j * N), z = hn::LoadU(d, a.z + j * N);
-    V f = hn::Set(d, a.negd[j]) * p - hn::Set(d, a.w2[j]) * z;
+    V f = hn::LoadU(d, a.negd + j * N) * p - hn::Set(d, a.w2[j]) * z;
     f = hn::IfThenElse(accel0, f - hn::Set(d, a.top_load[j]) * dom0, f);
     hn::StoreU(f, d, a.f + j * N);
     bp = bp + hn::Set(d, a.bit[j]) * p;
@@ -209,7 +209,7 @@ inline void BatchSteps(const BatchStepArgs& a) {
       const V z = hn::LoadU(d, a.z + j * N) + dt * p;
       hn::StoreU(p, d, a.p + j * N);
       hn::StoreU(z, d, a.z + j * N);
-      V f = hn::Set(d, a.negd[j]) * p - hn::Set(d, a.w2[j]) * z;
+      V f = hn::LoadU(d, a.negd + j * N) * p - hn::Set(d, a.w2[j]) * z;
       f = hn::IfThenElse(accel1, f - hn::Set(d, a.top_load[j]) * dom1, f);
       hn::StoreU(f, d, a.f + j * N);
       bp = bp + bj * p;

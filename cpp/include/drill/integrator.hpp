@@ -222,6 +222,10 @@ class Integrator {
     return s;
   }
   double omega_max() const { return omega_max_; }
+  /// The error of a run whose bit speed or torque became non-finite at time t [s].
+  static std::string divergence(double t) {
+    return "simulation diverged at t = " + show(t) + " s (non-finite bit speed or torque); check the law parameters and dt";
+  }
   const SimOptions& options() const { return opt_; }
   const BitRockLaw& law() const { return law_; }
 
@@ -590,10 +594,7 @@ class Integrator {
     return x;
   }
 
-  [[noreturn]] static void diverged(double t) {
-    throw std::runtime_error("simulation diverged at t = " + show(t) +
-                             " s (non-finite bit speed or torque); check the law parameters and dt");
-  }
+  [[noreturn]] static void diverged(double t) { throw std::runtime_error(divergence(t)); }
 
   BitRockLaw law_;
   SimOptions opt_;

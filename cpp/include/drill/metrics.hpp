@@ -183,7 +183,12 @@ struct Recorder {
       v->reserve(static_cast<std::size_t>(expected / stride + 1));
   }
   void operator()(const StepState& s) {
-    if (s.step % stride) return;
+    if (s.step < next_) return;  // steps increase: one integer division per kept sample, not per step
+    if (s.step % stride) {
+      next_ = s.step - s.step % stride + stride;
+      return;
+    }
+    next_ = s.step + stride;
     t.push_back(s.t);
     bit_speed.push_back(s.bit_speed);
     bit_accel.push_back(s.bit_accel);
@@ -192,6 +197,9 @@ struct Recorder {
     top_torque.push_back(s.top_torque);
     top_speed.push_back(s.top_speed);
   }
+
+ private:
+  long next_ = 0;  ///< the next step that may be kept
 };
 
 }  // namespace drill

@@ -130,35 +130,59 @@ class Simulation {
       s0 = start_state(in);
       if (s0) start = &*s0;
     }
-    RunReport r;
-    r.series = Recorder(record ? cfg_.output_stride : 0, record ? cfg_.sim.steps() : 0);
-    SeverityObserver sev(cfg_.transient);
-    const double omega_ref = std::fabs(in.top_speed.is_constant() ? in.top_speed.value : mean(in.top_speed.samples));
-    PhaseObserver ph(cfg_.transient, cfg_.metrics.stick_threshold_fraction * omega_ref, cfg_.metrics.stick_debounce_s,
-                     cfg_.metrics.slip_level_fraction * omega_ref);
+    RunObserver obs(cfg_, in, record);
     const long every = std::max(1L, cfg_.sim.steps() / 1000);
     long next_report = progress ? 0 : LONG_MAX;
-    r.final_state = integ_.run(
+    ModelState last = integ_.run(
         in,
         [&](const StepState& s) {
-          sev(s);
-          ph(s);
-          if (record) r.series(s);
+          obs(s);
           if (s.step >= next_report) {
             progress(s.t, cfg_.sim.duration);
             next_report += every;
           }
         },
         start);
-    r.severity = sev.severity();
-    r.mean_top_speed = sev.mean_top_speed();
-    r.stick_fraction = ph.stick_fraction();
-    r.stick = ph.stick;
-    r.slip = ph.slip;
-    r.slip_first = ph.slip_first;
-    r.periodic = detect_periodicity(ph);
-    return r;
+    return obs.report(std::move(last));
   }
+
+  /// The observers of one run with metrics (run, run_many): the series every output_stride-th
+  /// step when `record`, SS (Eq. 3.4) and the stick and slip phases after the transient.
+  class RunObserver {
+   public:
+    RunObserver(const Config& cfg, const Inputs& in, bool record)
+        : record_(record), sev_(cfg.transient), ph_(phases(cfg, in)) {
+      r_.series = Recorder(record ? cfg.output_stride : 0, record ? cfg.sim.steps() : 0);
+    }
+    void operator()(const StepState& s) {
+      sev_(s);
+      ph_(s);
+      if (record_) r_.series(s);
+    }
+    /// The report of the observed run, which ended in `final_state`.
+    RunReport report(ModelState final_state) {
+      r_.severity = sev_.severity();
+      r_.mean_top_speed = sev_.mean_top_speed();
+      r_.stick_fraction = ph_.stick_fraction();
+      r_.stick = ph_.stick;
+      r_.slip = ph_.slip;
+      r_.slip_first = ph_.slip_first;
+      r_.periodic = detect_periodicity(ph_);
+      r_.final_state = std::move(final_state);
+      return std::move(r_);
+    }
+
+   private:
+    static PhaseObserver phases(const Config& cfg, const Inputs& in) {
+      const double omega_ref = std::fabs(in.top_speed.is_constant() ? in.top_speed.value : mean(in.top_speed.samples));
+      return PhaseObserver(cfg.transient, cfg.metrics.stick_threshold_fraction * omega_ref,
+                           cfg.metrics.stick_debounce_s, cfg.metrics.slip_level_fraction * omega_ref);
+    }
+    bool record_;
+    RunReport r_;
+    SeverityObserver sev_;
+    PhaseObserver ph_;
+  };
 
   /// SS on a grid: result[w * speeds.size() + s] for wobs[w], speeds[s]. An empty `wobs` means
   /// the configured WOB. Returns an empty vector if cancelled.

@@ -6,6 +6,7 @@
 
 #include "drill/config.hpp"
 #include "drill/metrics.hpp"
+#include "drill/run_many.hpp"
 #include "drill/run_summary.hpp"
 #include "drill/simulation.hpp"
 #include "glue.hpp"
@@ -223,6 +224,35 @@ void init_simulation(py::module_& m) {
           py::arg("top_speed"), py::arg("wob"), py::arg("with_top_speed") = false,
           "Reduced state (q, q') of steady drilling at a top speed (and the top's speed, which a motor top "
           "drive lowers below its command, with with_top_speed).");
+  m.def(
+      "run_many",
+      [](const std::vector<const Simulation*>& sims, py::object top_speed_series, double series_dt, double series_t0,
+         bool record, int threads, bool batched) {
+        std::vector<Inputs> in;
+        for (const Simulation* s : sims) {
+          require(s != nullptr, "run_many simulations", "None", "must all be Simulation objects");
+          Inputs x = s->inputs();
+          if (!top_speed_series.is_none())
+            x.top_speed = to_signal(top_speed_series, series_dt, series_t0, x.top_speed.value, "top_speed_series");
+          in.push_back(x);
+        }
+        ManyRuns r;
+        {
+          py::gil_scoped_release nogil;
+          r = run_many(sims, in, record, threads, batched);
+        }
+        py::list reports;
+        for (std::size_t k = 0; k < r.reports.size(); ++k)
+          reports.append(r.errors[k].empty() ? py::cast(std::move(r.reports[k])) : py::none());
+        return py::make_tuple(reports, r.errors);
+      },
+      py::arg("simulations"), py::arg("top_speed_series") = py::none(), py::arg("series_dt") = 1e-3,
+      py::arg("series_t0") = 0.0, py::arg("record") = true, py::arg("threads") = 0, py::arg("batched") = true,
+      "Independent runs of several simulations at their configured operation points (drill/run_many.hpp), in "
+      "parallel and, where the models differ at most in their modal damping and the batched integrator supports "
+      "them, in SIMD lockstep (their series then lack bit_angle and top_torque); top_speed_series, sampled every "
+      "series_dt from series_t0, drives every run. Returns (reports, errors): a run that failed has report None "
+      "and its error message, the others an empty message.");
   m.def("severity_threshold", &severity_threshold, py::arg("speeds"), py::arg("severities"), py::arg("level") = 0.5,
         "Top speed below which SS > level (NaN if the curve does not cross the level).");
 }

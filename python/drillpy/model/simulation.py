@@ -179,6 +179,53 @@ def simulate(cfg: "dict | _core.Config", top_speed: float | None = None, wob: fl
                             config=sim.config.to_dict(), report=r)
 
 
+def simulate_many(cfgs, *, top_speed_series=None, series_dt: float = 1e-3, series_t0: float = 0.0,
+                  record: bool = True, threads: int = 0, batched: bool = True):
+    """Run several configurations at their operation points, in parallel (``drill/run_many.hpp``).
+
+    Configurations whose models differ at most in their modal damping (a damping scan) step in
+    SIMD lockstep, one run per vector lane, where the batched integrator supports them (ideal top
+    drive, modified Euler); a run's numbers do not depend on the runs beside it. Otherwise each
+    runs through the scalar reference integrator, as :func:`simulate` would.
+
+    Parameters
+    ----------
+    cfgs : sequence of dict or _core.Config
+        The configurations; each run starts as its ``simulation.start`` says.
+    top_speed_series : array_like, optional
+        Top speed [rad/s] driving every run, sampled every ``series_dt`` from ``series_t0`` [s]
+        (default: each configuration's constant ``operation.top_speed_rad_s``).
+    series_dt, series_t0 : float
+        Sampling of ``top_speed_series`` [s].
+    record : bool
+        Keep the time series. Runs made in lockstep have empty ``bit_angle`` and ``top_torque``
+        (the batched path does not form them).
+    threads : int
+        OpenMP threads (0: the default).
+    batched : bool
+        ``False``: every run through the scalar reference integrator.
+
+    Returns
+    -------
+    results : list of SimulationResult or None
+        Per configuration, None where the run failed.
+    errors : list of str
+        Per configuration, the failed run's error message (e.g. diverged at a time), else ``""``.
+
+    Raises
+    ------
+    ValueError
+        Naming the field and the value for an invalid configuration or series.
+    """
+    sims = [_engine(c) for c in cfgs]
+    reports, errors = _core.run_many(sims, _opt(top_speed_series), series_dt, series_t0, bool(record), int(threads),
+                                     bool(batched))
+    results = [None if r is None else SimulationResult(**{k: getattr(r, k) for k in _REPORT_FIELDS},
+                                                       config=s.config.to_dict(), report=r)
+               for s, r in zip(sims, reports)]
+    return results, list(errors)
+
+
 #: initial states of a run (``Simulation::start_state`` in simulation.hpp)
 START_MODES = ("rest", "rigid", "steady")
 

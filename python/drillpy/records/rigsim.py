@@ -34,7 +34,7 @@ from drillpy.records import stick as _stick
 from drillpy.records.stick import STICK_FRACTION
 from drillpy.records.io import Flag, Record
 from drillpy.records.signals import MeanCycle, derivative, mean_cycle, rig_lowpass, segment_cycles, stick_slip_metrics
-from drillpy.model.simulation import simulate
+from drillpy.model.simulation import simulate, simulate_many
 
 #: Metrics compared between simulation and measurement (relative errors enter the mismatch).
 MATCHED = ("ss", "stick_fraction", "cycle_frequency_hz", "bit_speed_p95", "torque_p5", "torque_p95",
@@ -307,21 +307,38 @@ class RigModel:
             raise ValueError(f"model: config lacks {e}") from None
 
 
-def _run(model: RigModel, record: Record, command: float, wob: float, filtered: bool):
-    t = record.time_s
-    dt = record.dt
-    cfg = model.config(command, wob, duration_s=float(t[-1] - t[0]))
-    cfg["simulation"]["output_stride"] = max(1, int(round(dt / cfg["simulation"]["dt_s"])))
-    cfg = normalize(cfg)
-    measured = model.drive == "measured"
-    res = simulate(cfg, None if measured else command,
-                   top_speed_series=record.top_speed if measured else None, series_dt=dt)
-    n = min(res.t.size, t.size)
+def _setup(model: RigModel, record: Record, command: float, wob: float) -> dict:
+    """The engine configuration of ``model`` over ``record``'s span, output on its grid."""
+    cfg = model.config(command, wob, duration_s=float(record.time_s[-1] - record.time_s[0]))
+    cfg["simulation"]["output_stride"] = max(1, int(round(record.dt / cfg["simulation"]["dt_s"])))
+    return normalize(cfg)
+
+
+def _channels(res, record: Record, filtered: bool):
+    """The simulated bit speed, top speed and torque on bit on ``record``'s grid (and how many samples)."""
+    n = min(res.t.size, record.time_s.size)
     vb, vt, tq = res.bit_speed[:n], res.top_speed[:n], res.torque_on_bit[:n]
     if filtered:
         fs = 1.0 / float(np.median(np.diff(res.t)))
         vb, vt, tq = (rig_lowpass(x, fs) for x in (vb, vt, tq))
-    return res, cfg, n, vb, vt, tq
+    return n, vb, vt, tq
+
+
+def _run(model: RigModel, record: Record, command: float, wob: float):
+    measured = model.drive == "measured"
+    return simulate(_setup(model, record, command, wob), None if measured else command,
+                    top_speed_series=record.top_speed if measured else None, series_dt=record.dt)
+
+
+def _as_record(model: RigModel, record: Record, res, command: float, op: dict, wob: float, filtered: bool) -> Record:
+    """The simulation ``res`` of ``model`` as a record on ``record``'s grid (see :func:`simulate_model`)."""
+    n, vb, vt, tq = _channels(res, record, filtered)
+    t = res.t[:n] + record.time_s[0]
+    return Record(time_s=t, bit_speed=vb, top_speed=vt, torque_on_bit=tq, wob=np.full(n, wob),
+                  units={"time": "s", "bit_speed": "rad_s", "top_speed": "rad_s", "torque_on_bit": "Nm", "wob": "N"},
+                  provenance={"source": "simulation", "format": "drillpy.simulate", "preset": model.preset,
+                              "drive": model.drive, "filtered": filtered, "command_rad_s": command,
+                              "operating_point": op, "config": res.config})
 
 
 def simulate_model(model: RigModel, record: Record, *, filtered: bool = True, skip_s: float = 2.0) -> Record:
@@ -370,8 +387,9 @@ def simulate_model(model: RigModel, record: Record, *, filtered: bool = True, sk
         sel = record.time_s >= record.time_s[0] + skip_s
 
         def gap(c):
-            _, _, n, _, top, _ = _run(model, record, c, wob, False)
-            return float(np.mean(top[sel[:n]])) - target
+            res = _run(model, record, c, wob)
+            _, _, top, _ = _channels(res, record, False)
+            return float(np.mean(top[sel[:top.size]])) - target
 
         # the mean top speed rises with the command, with jumps where the motor stalls or stick-slip
         # starts: bracket the record's mean, then bisect (a secant step can land in a stall)
@@ -391,13 +409,62 @@ def simulate_model(model: RigModel, record: Record, *, filtered: bool = True, sk
                 break
             lo, hi = (mid, hi) if g < 0 else (lo, mid)
         command = best[1]
-    res, cfg, n, vb, vt, tq = _run(model, record, command, wob, filtered)
-    t = res.t[:n] + record.time_s[0]
-    return Record(time_s=t, bit_speed=vb, top_speed=vt, torque_on_bit=tq, wob=np.full(n, wob),
-                  units={"time": "s", "bit_speed": "rad_s", "top_speed": "rad_s", "torque_on_bit": "Nm", "wob": "N"},
-                  provenance={"source": "simulation", "format": "drillpy.simulate", "preset": model.preset,
-                              "drive": model.drive, "filtered": filtered, "command_rad_s": command,
-                              "operating_point": op, "config": res.config})
+    return _as_record(model, record, _run(model, record, command, wob), command, op, wob, filtered)
+
+
+def simulate_models(models, record: Record, *, filtered: bool = True, threads: int = 0, batched: bool = True) -> list:
+    """Simulate several constant- or measured-drive models over ``record``, as :func:`simulate_model`
+    does each, in one call: models that differ only in their damping (a damping scan) run in SIMD
+    lockstep (:func:`drillpy.model.simulation.simulate_many`), the others one by one in parallel.
+
+    Parameters
+    ----------
+    models : sequence of RigModel
+        Models with the ``constant`` or the ``measured`` drive.
+    record : Record
+        A cleaned record with a top-speed channel (see :func:`simulate_model`).
+    filtered : bool
+        Pass the simulated channels through the rig's 10 Hz acquisition filter.
+    threads : int
+        Engine threads (0: one per core).
+    batched : bool
+        ``False``: every model through the scalar reference integrator (the two agree to rounding).
+
+    Returns
+    -------
+    list of Record or None
+        Per model its simulation, None where it failed (diverged).
+
+    Raises
+    ------
+    ValueError
+        For a motor drive (its command is searched run by run: :func:`simulate_model`), for the
+        measured drive when the record's top speed has excluded samples, and when the operating
+        point cannot be taken.
+    """
+    models = list(models)
+    if not models:
+        return []
+    op = operating_point(record)
+    wob = op.get("wob_n", models[0].law["wob_ref_n"])
+    command = op["top_speed_rad_s"]
+    series = None
+    for m in models:
+        if m.drive == "motor":
+            raise ValueError("simulate_models: drive = 'motor': its command is searched run by run "
+                             "(use simulate_model)")
+        if m.drive == "measured":
+            if not record.valid("top_speed").all():
+                raise ValueError("simulate_models: the top-speed channel has excluded samples; a drive signal "
+                                 "must be complete (clean the record, or select a span without them)")
+            series = record.top_speed
+    if series is not None and any(m.drive != "measured" for m in models):
+        raise ValueError("simulate_models: drives = " + ", ".join(sorted({m.drive for m in models}))
+                         + ": one call takes one drive (its top speed drives every run)")
+    results, _ = simulate_many([_setup(m, record, command, wob) for m in models],
+                               top_speed_series=series, series_dt=record.dt, threads=threads, batched=batched)
+    return [None if res is None else _as_record(m, record, res, command, op, wob, filtered)
+            for m, res in zip(models, results)]
 
 
 def simulate_rig(record: Record, law: dict | None = None, damping_ratio: float | None = None, *,
@@ -496,7 +563,77 @@ def _loop(rec: Record, thr: float, t_start: float, grid) -> MeanCycle | None:
         return None
 
 
-def compare(measured: Record, simulated: Record, stick_threshold: float, t_start: float = 2.0) -> RigComparison:
+@dataclass
+class MeasuredSide:
+    """The measured record's side of :func:`compare` for simulations that start at ``t0 - t_start``
+    with one drive: computed once, reused by every point of a scan (:func:`calibrate`).
+
+    Attributes
+    ----------
+    t0 : float
+        Start of the compared span [s].
+    skip : ndarray of bool
+        Samples left out of both records (the measured drive's unreliable top speed).
+    metrics : dict
+        The measured metrics over the span.
+    grid : ndarray
+        Bit-speed grid of the mean cycles [rad/s].
+    cycle : MeanCycle or None
+        The measured mean cycle.
+    """
+    t0: float
+    skip: np.ndarray
+    metrics: dict
+    grid: np.ndarray
+    cycle: MeanCycle | None
+
+
+def _metrics(rec: Record, stick_threshold: float, t0: float, skip: np.ndarray) -> dict:
+    sel = (rec.time_s >= t0) & rec.valid("bit_speed", "top_speed", "torque_on_bit") & ~skip[:len(rec)]
+    m = stick_slip_metrics(rec.time_s, rec.bit_speed, rec.top_speed, rec.torque_on_bit, stick_threshold, valid=sel)
+    ok = (rec.time_s >= t0) & reliable_top_speed(rec) & ~skip[:len(rec)]
+    if ok.sum() > 1:  # the mean top speed and SS (Eq. 3.4) from reliable top-speed samples only
+        m["top_speed_std"] = float(np.std(rec.top_speed[ok]))
+        m["mean_top_speed"] = float(np.mean(rec.top_speed[ok]))
+        v = rec.bit_speed[sel]
+        m["ss"] = float((np.max(v) - np.min(v)) / (2.0 * abs(m["mean_top_speed"])))
+    else:
+        m["top_speed_std"] = float("nan")
+    return m
+
+
+def measured_side(measured: Record, stick_threshold: float, start_s: float, drive: str,
+                  t_start: float = 2.0) -> MeasuredSide:
+    """The measured side of :func:`compare` for simulations starting at ``start_s`` with ``drive``.
+
+    Parameters
+    ----------
+    measured : Record
+        The cleaned measurement.
+    stick_threshold : float
+        Bit speed at or below which the bit counts as stuck [rad/s].
+    start_s : float
+        The simulations' first time [s].
+    drive : str
+        Their drive (:data:`DRIVES`).
+    t_start : float
+        Start-up discarded from both [s].
+
+    Returns
+    -------
+    MeasuredSide
+    """
+    t0 = start_s + t_start
+    skip = np.zeros(len(measured), bool)
+    if drive == "measured" and measured.top_speed is not None:
+        skip = ~reliable_top_speed(measured) & measured.valid("top_speed")
+    grid = np.linspace(0.0, np.percentile(measured.bit_speed[measured.time_s >= t0], 99), 40)
+    return MeasuredSide(t0, skip, _metrics(measured, stick_threshold, t0, skip), grid,
+                        _loop(measured, stick_threshold, t0, grid))
+
+
+def compare(measured: Record, simulated: Record, stick_threshold: float, t_start: float = 2.0, *,
+            side: MeasuredSide | None = None) -> RigComparison:
     """Compare a simulated record with the measured one after ``t_start`` seconds of simulation
     (the start-up of the simulation is discarded from both). ``top_speed_std`` is over the
     reliable top-speed samples of the measurement (:func:`reliable_top_speed`). When the
@@ -515,36 +652,22 @@ def compare(measured: Record, simulated: Record, stick_threshold: float, t_start
         the same for both records.
     t_start : float
         Start-up discarded from both, counted from the simulation's first sample [s].
+    side : MeasuredSide, optional
+        The measured side already computed (:func:`measured_side` with the same arguments and
+        the simulation's first time and drive); default: computed here.
 
     Returns
     -------
     RigComparison
     """
-    t0 = simulated.time_s[0] + t_start
-    skip = np.zeros(len(measured), bool)
-    if simulated.provenance.get("drive") == "measured" and measured.top_speed is not None:
-        skip = ~reliable_top_speed(measured) & measured.valid("top_speed")
-
-    def metrics(rec):
-        sel = (rec.time_s >= t0) & rec.valid("bit_speed", "top_speed", "torque_on_bit") & ~skip[:len(rec)]
-        m = stick_slip_metrics(rec.time_s, rec.bit_speed, rec.top_speed, rec.torque_on_bit,
-                               stick_threshold, valid=sel)
-        ok = (rec.time_s >= t0) & reliable_top_speed(rec) & ~skip[:len(rec)]
-        if ok.sum() > 1:  # the mean top speed and SS (Eq. 3.4) from reliable top-speed samples only
-            m["top_speed_std"] = float(np.std(rec.top_speed[ok]))
-            m["mean_top_speed"] = float(np.mean(rec.top_speed[ok]))
-            v = rec.bit_speed[sel]
-            m["ss"] = float((np.max(v) - np.min(v)) / (2.0 * abs(m["mean_top_speed"])))
-        else:
-            m["top_speed_std"] = float("nan")
-        return m
-
-    m, s = metrics(measured), metrics(simulated)
+    if side is None:
+        side = measured_side(measured, stick_threshold, float(simulated.time_s[0]),
+                             simulated.provenance.get("drive", "constant"), t_start)
+    m, s = side.metrics, _metrics(simulated, stick_threshold, side.t0, side.skip)
     rel = [relative_error(s[k], m[k]) for k in MATCHED]
     mis = float(np.sqrt(np.mean(np.square(rel))))
-    grid = np.linspace(0.0, np.percentile(measured.bit_speed[measured.time_s >= t0], 99), 40)
-    mm = _loop(measured, stick_threshold, t0, grid)
-    ms = _loop(simulated, stick_threshold, t0, grid)
+    mm = side.cycle
+    ms = _loop(simulated, stick_threshold, side.t0, side.grid)
     loop = float("nan")
     if mm is not None and ms is not None:
         d = np.r_[mm.upper - ms.upper, mm.lower - ms.lower]
@@ -623,8 +746,10 @@ def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVE
     log grid, then a Nelder-Mead polish in the logarithms from the best grid point. The motor's
     command always reproduces the record's reliable mean top speed (:func:`simulate_model`).
     A parameter set whose simulation fails (unstable, diverged) counts as an infinite mismatch.
-    The grid points are independent simulations: they run ``threads`` at a time (the engine
-    releases the GIL), with the same results whatever the thread count.
+    The grid points are independent simulations. A damping scan's models differ in their damping
+    only: its points run in one call, in SIMD lockstep (:func:`simulate_models`); the motor's points
+    run ``threads`` at a time (the engine releases the GIL). The results do not depend on the
+    thread count.
 
     Parameters
     ----------
@@ -673,8 +798,23 @@ def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVE
         return cache[key]
 
     def scan_of(drive, grid):
-        with ThreadPoolExecutor(max_workers=workers) as pool:
-            return list(zip(grid, pool.map(lambda p: mismatch(drive, *np.atleast_1d(p)), grid)))
+        if drive == "motor":  # each point searches its own command: one simulate_model per point
+            with ThreadPoolExecutor(max_workers=workers) as pool:
+                return list(zip(grid, pool.map(lambda p: mismatch(drive, *p), grid)))
+        # a damping scan: the grid's models differ in their damping only, one lockstep call
+        todo = [z for z in grid if (drive, round(z, 12), None, None) not in cache]
+        try:
+            sims = simulate_models([RigModel(law, z, drive, preset=preset) for z in todo], record, threads=threads)
+        except (ValueError, RuntimeError):  # outside the stability bound, ...
+            sims = [None] * len(todo)
+        side = measured_side(record, stick_threshold, float(record.time_s[0]), drive)
+        for z, sim in zip(todo, sims):
+            try:
+                mis = math.inf if sim is None else compare(record, sim, stick_threshold, side=side).mismatch
+            except (ValueError, RuntimeError):
+                mis = math.inf
+            cache[(drive, round(z, 12), None, None)] = mis
+        return [(z, cache[(drive, round(z, 12), None, None)]) for z in grid]
 
     workers = threads if threads > 0 else (os.cpu_count() or 1)
     per = {}
