@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Config', 'FrfEnvelope', 'HorizonResult', 'HorizonStart', 'MonteCarlo', 'RunReport', 'SeverityStatistics', 'Simulation', 'StochasticModel', 'cb_frequencies', 'conv1', 'craig_bampton', 'exact_frequencies', 'fe_matrices', 'generate_process', 'law_torque', 'lowpass2', 'max_dispersion', 'max_threads', 'natural_frequencies', 'normalize_config', 'observation_nodes', 'predict_horizons', 'preset_json', 'preset_names', 'process_grid', 'process_variance', 'psd_model_integral', 'psd_model_values', 'psd_table_values', 'random_matrix', 'severity_statistics', 'severity_threshold', 'state_from_bit', 'thesis_case_dispersions', 'top_torque_from_bit', 'with_total_elements']
+__all__: list[str] = ['Config', 'FrfEnvelope', 'HorizonResult', 'HorizonStart', 'MonteCarlo', 'RunReport', 'SeverityStatistics', 'Simulation', 'StochasticModel', 'cb_frequencies', 'conv1', 'craig_bampton', 'exact_frequencies', 'fe_matrices', 'generate_process', 'law_torque', 'lowpass2', 'max_dispersion', 'max_threads', 'natural_frequencies', 'normalize_config', 'observation_nodes', 'predict_horizons', 'preset_json', 'preset_names', 'process_grid', 'process_variance', 'psd_model_integral', 'psd_model_values', 'psd_table_values', 'random_matrix', 'run_many', 'severity_statistics', 'severity_threshold', 'state_from_bit', 'thesis_case_dispersions', 'top_torque_from_bit', 'with_total_elements']
 class Config:
     """
     A validated engine configuration (the JSON schema drillsim reads), parsed once. Pass it to Simulation, StochasticModel, MonteCarlo and the model functions (built from a dict by drillpy.model.config.engine_config).
@@ -554,6 +554,10 @@ def psd_table_values(table_f: typing.Annotated[numpy.typing.ArrayLike, numpy.flo
 def random_matrix(mean: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], delta: typing.SupportsFloat | typing.SupportsIndex, seed: typing.SupportsInt | typing.SupportsIndex = 1, sample: typing.SupportsInt | typing.SupportsIndex = 0) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
     """
     One realization of SE+ (positive-definite mean, Eqs. 6.1-6.2) or SE+0 (semi-definite mean, Eqs. 6.24-6.25) with dispersion delta (Eq. 6.3).
+    """
+def run_many(simulations: collections.abc.Sequence[Simulation], top_speed_series: typing.Any = None, series_dt: typing.SupportsFloat | typing.SupportsIndex = 0.001, series_t0: typing.SupportsFloat | typing.SupportsIndex = 0.0, record: bool = True, threads: typing.SupportsInt | typing.SupportsIndex = 0, batched: bool = True) -> tuple[list, list[str]]:
+    """
+    Independent runs of several simulations at their configured operation points (drill/run_many.hpp), in parallel and, where the models differ at most in their modal damping and the batched integrator supports them, in SIMD lockstep (their series then lack bit_angle and top_torque); top_speed_series, sampled every series_dt from series_t0, drives every run. Returns (reports, errors): a run that failed has report None and its error message, the others an empty message.
     """
 def severity_statistics(severity: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], speeds: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex], level: typing.SupportsFloat | typing.SupportsIndex = 0.5, prob: typing.SupportsFloat | typing.SupportsIndex = 0.05, q_low: typing.SupportsFloat | typing.SupportsIndex = 0.05, q_high: typing.SupportsFloat | typing.SupportsIndex = 0.95) -> SeverityStatistics:
     """
