@@ -3,8 +3,9 @@
 
     PYTHONPATH=python python3 benchmarks/bench_fig49.py [--samples 500] [--speeds 6:27:22]
 
-(500 samples take hours on 2 cores: a run of 300 s at 100 modes costs about 0.8 s on the scalar
-path; with fewer samples the script also prints the times scaled to 500, every run costing the same.)
+(500 samples take about 8 minutes on the scalar path with 2 threads: a run of 300 s at 100 modes
+is 586 000 steps at about 150 ns; with fewer samples the script also prints the times scaled to
+500, every run costing the same.)
 
 The study of ``drillpy reproduce`` (docs/validation.md, Fig. 4.9): the thesis-ch4 preset (100
 modes), Algorithm 1 literally (from rest, 300 s runs, SS after 200 s), eta with the shape of Eq.
