@@ -119,3 +119,16 @@ def test_sample175_cycles_match_the_readme_and_thesis():
     assert mc.all[i150] < 0.7 * mc.all[i25]  # velocity weakening (Fig. 5.7b)
     e = sig.eta_exp(rec.time_s, rec.bit_speed, rec.torque_on_bit, lab, mc).statistics()
     assert abs(e["mean"]) < 0.01 and 0.1 < e["std"] < 0.3
+
+
+def test_a_record_of_sensor_noise_has_no_cycle_frequency():
+    # steady drilling seen through 0.03 rad/s of noise: the highest PSD bin of noise is no cycle
+    rng = np.random.default_rng(5)
+    fs = 1000.0
+    t = np.arange(30000) / fs
+    noise = 7.5 + 0.03 * rng.standard_normal(t.size)
+    assert np.isnan(sig.dominant_frequency(noise, fs))
+    lagged = sig.rig_lowpass(noise, fs)  # coloured by the 10 Hz acquisition filter: still no peak
+    assert np.isnan(sig.dominant_frequency(lagged, fs))
+    cycle = noise + 0.1 * np.sin(2 * np.pi * 2.6 * t)  # a weak oscillation above the same noise
+    assert sig.dominant_frequency(cycle, fs) == pytest.approx(2.625, abs=0.13)

@@ -102,7 +102,8 @@ class LoopResult:
     @property
     def unexplained_fraction(self) -> float | None:
         """Fraction of the final model's equation residual the discovery step leaves unexplained
-        [-] (None when the step did not run)."""
+        [-] (None when the step did not run, or when the bit's equation does not balance on the
+        record: then no fraction of it is a model mismatch)."""
         return self.discovery.get("unexplained_fraction")
 
     def loop_json(self) -> dict:
@@ -173,9 +174,10 @@ def _pair(before: dict, after: dict) -> dict:
             "after": after.get("model"), "error": after.get("error")}
 
 
-def _backward(cur: Evaluation, cur_lr: dict, data: LoopData, opt: LoopOptions, keep, log) -> tuple:
+def _backward(cur: Evaluation, cur_lr: dict, data: LoopData, opt: LoopOptions, keep, log, done: int) -> tuple:
     """Remove, one at a time, the effects (other than ``keep``) the guard does not defend against
-    their removal (the cheapest removal first). Returns (model, its long run, the removal steps)."""
+    their removal (the cheapest removal first), after ``done`` steps. Returns (model, its long
+    run, the removal steps)."""
     steps = []
     while True:
         trials = []
@@ -199,7 +201,7 @@ def _backward(cur: Evaluation, cur_lr: dict, data: LoopData, opt: LoopOptions, k
                       "evidence": {**e, "accepted": True, "reasons": [f"the guard does not defend {name}: " +
                                                                       "; ".join(e["reasons"])]},
                       "long_run": _pair(cur_lr, lr), "before": cur, "candidate": red, "after": red})
-        log(f"step: remove {name}: validation error {cur.E_test:.4f} -> {red.E_test:.4f}")
+        log(f"step {done + len(steps)}: remove {name}: validation error {cur.E_test:.4f} -> {red.E_test:.4f}")
         cur, cur_lr = red, lr
 
 
@@ -345,14 +347,17 @@ def _discovery(model: LoopModel, data: LoopData, log) -> dict:
     off = [f"{t['name']} ({t['coefficient'] / nominal[t['name']]:+.0%} of its own coefficient)"
            for t in out["terms"] if t["name"] in nominal and abs(t["coefficient"]) > 0.5 * nominal[t["name"]]]
     out["balanced"] = not off
+    names = ", ".join(f"{t['name']} ({t['coefficient']:.3g} {t['unit']})" for t in out["terms"]) or "none"
     if off:
         out["warning"] = ("the bit's equation does not balance on this record: " + ", ".join(off) + "; the twist "
                           "integrated from the top and bit encoders does not follow the measured torque, so the "
                           "terms found are not a model mismatch and the unexplained fraction is not meaningful")
+        out["unexplained_fraction"] = None  # not a fraction of a model mismatch: not reported as one
         log("discovery: " + out["warning"])
-    names = ", ".join(f"{t['name']} ({t['coefficient']:.3g} {t['unit']})" for t in out["terms"]) or "none"
-    log(f"discovery: terms {names}; unexplained: {100 * out['unexplained_fraction']:.0f} % of the final model's "
-        f"equation residual")
+        log(f"discovery: terms {names}; unexplained: not meaningful (the equation does not balance)")
+    else:
+        log(f"discovery: terms {names}; unexplained: {100 * out['unexplained_fraction']:.0f} % of the final model's "
+            f"equation residual")
     return out
 
 
@@ -437,7 +442,7 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
         log("the declared model is not better than a trivial predictor: nothing is attributed")
     else:
         if opt.backward and cur.model.effects:
-            cur, cur_lr, rem = _backward(cur, cur_lr, data, opt, (), log)
+            cur, cur_lr, rem = _backward(cur, cur_lr, data, opt, (), log, len(steps))
             steps += rem
         tried = set(cur.model.effects) | {s["effect"] for s in steps}
         for _ in range(opt.max_steps):
@@ -518,7 +523,7 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
             tried.add(name)
             cur, cur_lr = new, lr
             if opt.backward:
-                cur, cur_lr, rem = _backward(cur, cur_lr, data, opt, (name,), log)
+                cur, cur_lr, rem = _backward(cur, cur_lr, data, opt, (name,), log, len(steps))
                 steps += rem
     disc = _discovery(cur.model, data, log) if opt.discovery else {}
     return LoopResult(data, base, cur, steps, rounds, opt, cfg, notes, declared, adeq, base_lr, disc, last, warns)

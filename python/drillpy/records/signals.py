@@ -383,8 +383,12 @@ def cycle_statistics(cycles: Cycles, bit_speed, top_speed=None, torque=None, wob
     return out
 
 
-def dominant_frequency(x, fs_hz: float, fmin_hz: float = 0.5, segment_s: float = 8.0) -> float:
-    """Frequency [Hz] of the highest Welch-PSD peak of ``x`` above ``fmin_hz``.
+def dominant_frequency(x, fs_hz: float, fmin_hz: float = 0.5, segment_s: float = 8.0,
+                       prominence: float = 10.0) -> float:
+    """Frequency [Hz] of the highest Welch-PSD peak of ``x`` above ``fmin_hz``, NaN when that peak
+    does not stand out: below ``prominence`` times the median PSD from half to twice its frequency
+    (a record that only carries sensor noise has no cycle; white noise's highest peak is about 3
+    times that median).
 
     Applied to the bit speed it gives the stick-slip cycle frequency (about 2.6-2.8 Hz on sample
     175, near the rig's first torsional frequency of 3 Hz, section 5.3.1).
@@ -400,17 +404,22 @@ def dominant_frequency(x, fs_hz: float, fmin_hz: float = 0.5, segment_s: float =
     segment_s : float
         Welch segment length [s] (shortened to the signal); the resolution is 1 / segment_s
         (0.125 Hz by default).
+    prominence : float
+        How far the peak must rise above the PSD around it.
 
     Returns
     -------
     float
-        Frequency of the peak [Hz].
+        Frequency of the peak [Hz]; NaN when it does not stand out.
     """
     x = np.asarray(x, float)
     nper = min(x.size, int(segment_s * fs_hz))
     f, p = sps.welch(x - np.mean(x), fs=fs_hz, nperseg=nper)
     m = f >= fmin_hz
-    return float(f[m][np.argmax(p[m])])
+    k = int(np.argmax(p[m]))
+    fk, pk = float(f[m][k]), float(p[m][k])
+    around = p[(f >= 0.5 * fk) & (f <= 2.0 * fk)]
+    return fk if pk >= prominence * float(np.median(around)) else float("nan")
 
 
 def stick_slip_metrics(t, bit_speed, top_speed, torque, stick_threshold: float, valid=None) -> dict:
