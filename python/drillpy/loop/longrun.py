@@ -8,7 +8,8 @@ import math
 import numpy as np
 
 from drillpy.records import rigsim
-from drillpy.model.config import normalize
+from drillpy import _core
+from drillpy.model.config import engine_config, normalize
 from drillpy.records.io import Record
 from drillpy.model.simulation import simulate
 from .data import LoopData
@@ -31,8 +32,9 @@ def simulate_record(model: LoopModel, data: LoopData) -> Record:
     takes it, after the model's measurement chain, on the record's time grid.
 
     The simulation starts :data:`SETTLE_S` before the record's span (drive series held at their
-    first value) at an engine step that divides the record's interval; the torque on bit is the
-    contact torque (the viscous torque outside the sensor removed).
+    first value) at an engine step that divides the record's interval, from Eq. (2.10) (a motor
+    turning at the record's first top speed); the torque on bit is the contact torque (the viscous
+    torque outside the sensor removed).
 
     Parameters
     ----------
@@ -71,7 +73,15 @@ def simulate_record(model: LoopModel, data: LoopData) -> Record:
         x = eff.wob_input(p, model, w)
         if x is not None:
             wob = series(x)
-    res = simulate(cfg, top_speed_series=top, wob_series=wob, series_dt=dt)
+    start = {}
+    if cfg.get("top_drive", {}).get("type") == "motor" and rec.top_speed is not None:
+        # Eq. (2.10) at the measured top speed: the motor turns as the record's top does, not at
+        # its command (two to three times faster on a soft motor, a start that flings the bit far
+        # beyond the speeds the law was calibrated on)
+        om0 = float(_filled(rec, "top_speed")[0])
+        v0 = np.asarray(_core.Simulation(engine_config(cfg)).reduced_matrices()["init_velocity"], float)
+        start = {"q0": np.zeros(v0.size), "qdot0": -om0 * v0, "top_speed0": om0}
+    res = simulate(cfg, top_speed_series=top, wob_series=wob, series_dt=dt, **start)
     keep = res.t >= SETTLE_S - 1e-9
     n = min(int(keep.sum()), t.size)
     chans = {"bit_speed": res.bit_speed[keep][:n], "top_speed": res.top_speed[keep][:n],
