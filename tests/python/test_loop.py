@@ -17,6 +17,7 @@ from _testrig import sample175_path
 from loop_validation import CASES, DURATION_S, LOOP_DT_S, RATE_HZ, run_case
 
 from drillpy import loop as L
+from drillpy.model.config import load_config
 from drillpy.loop.effects import torque_fluctuation as TF
 from drillpy.loop.model import law_torque, state_channels
 from drillpy.loop.run import analysis_config
@@ -375,3 +376,32 @@ def test_a_step_near_the_threshold_is_reported_as_marginal():
     assert "direct measurement" in marginal("static_friction", {"relative_gain": -0.002}, opt)
     assert marginal("wob_coupling", {"relative_gain": 0.121}, opt) is None
     assert marginal("x", {"relative_gain": 0.062}, L.LoopOptions(min_gain=0.02)) is None
+
+
+def test_a_soft_motor_long_run_starts_at_the_measured_top_speed(tmp_path):
+    """The long run of a model with a soft motor (droop 9 rad/s per N m, command 22.8 rad/s for a
+    top turning at 7.5) starts with the motor at the record's top speed (Eq. 2.10 there). Started at
+    its command, the bit was flung past 28 rad/s, where the law calibrated on a Stribeck record
+    (a7 < 0, speeds up to 19 rad/s) turns negative, and the run diverged: the right effect of the
+    second independent check was then refused (docs/loop.md)."""
+    import stribeck_rig
+    from drillpy.loop.data import prepare
+    from drillpy.loop.effects import stripped
+    from drillpy.loop.longrun import long_run
+    from drillpy.loop.model import LoopModel
+    path = tmp_path / "motor.csv"
+    stribeck_rig.make_record("top_drive_dynamics", 13, str(path), omega_c=23.809, cm=0.1)
+    opt = L.LoopOptions(rate_hz=250)
+    cfg = load_config(preset="thesis-rig")
+    data = prepare(str(path), cfg, opt)
+    acfg = analysis_config(cfg, data.dt, opt.dt_s)
+    law = {"type": "polynomial", "speed_unit": "rpm", "wob_ref_n": 557.1, "gain": 1.36, "ref_speed": 80.0,
+           "a0": 0.0, "a1": 2.15252, "a2": 1.72202, "a3": 0.0, "a4": 1.805331, "a5": -0.0216071,
+           "a6": 1.969381e-4, "a7": -6.04036e-7}  # the fit of that record: negative above 28 rad/s
+    base = stripped(acfg)
+    base["damping"] = {"type": "modal", "ratios": [0.0397]}
+    motor = {"variant": "motor", "droop_rad_s_per_nm": 9.096, "inertia_kg_m2": 0.01964, "command_rad_s": 22.758}
+    lr = long_run(LoopModel(base, law, 7.517, 554.2, {"top_drive_dynamics": motor}), data)
+    assert "error" not in lr, lr.get("error")
+    m, r = lr["model"], lr["measured"]
+    assert abs(m["ss"] / r["ss"] - 1) < 0.15 and abs(m["stick_fraction"] / r["stick_fraction"] - 1) < 0.3
