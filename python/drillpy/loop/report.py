@@ -317,9 +317,9 @@ def render_report(res: LoopResult, files: dict) -> str:
     if disc.get("terms") is not None:
         L += ["### What the catalogue cannot name", "",
               f"The final model's residual of the bit's equation of motion, regressed on a library of terms "
-              f"({disc.get('method', '')}): **unexplained: "
-              + (f"{100 * disc['unexplained_fraction']:.0f} % of the residual**." if disc.get("unexplained_fraction")
-                 is not None else "not meaningful** (the bit's equation does not balance on this record)."), ""]
+              f"({disc.get('method', '')}): **unexplained: {100 * disc['unexplained_fraction']:.0f} % of the residual**"
+              + (" (a residual of an equation that does not balance: not a model mismatch)." if disc.get("balanced") is False
+                 else "."), ""]
         if disc.get("warning"):
             L += [f"**Warning**: {disc['warning']}.", ""]
         for t in disc["terms"]:

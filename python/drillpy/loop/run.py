@@ -102,8 +102,8 @@ class LoopResult:
     @property
     def unexplained_fraction(self) -> float | None:
         """Fraction of the final model's equation residual the discovery step leaves unexplained
-        [-] (None when the step did not run, or when the bit's equation does not balance on the
-        record: then no fraction of it is a model mismatch)."""
+        [-] (None when the step did not run; where the bit's equation does not balance on the
+        record, ``discovery["balanced"]`` is False and the residual is not a model mismatch)."""
         return self.discovery.get("unexplained_fraction")
 
     def loop_json(self) -> dict:
@@ -352,12 +352,9 @@ def _discovery(model: LoopModel, data: LoopData, log) -> dict:
         out["warning"] = ("the bit's equation does not balance on this record: " + ", ".join(off) + "; the twist "
                           "integrated from the top and bit encoders does not follow the measured torque, so the "
                           "terms found are not a model mismatch and the unexplained fraction is not meaningful")
-        out["unexplained_fraction"] = None  # not a fraction of a model mismatch: not reported as one
         log("discovery: " + out["warning"])
-        log(f"discovery: terms {names}; unexplained: not meaningful (the equation does not balance)")
-    else:
-        log(f"discovery: terms {names}; unexplained: {100 * out['unexplained_fraction']:.0f} % of the final model's "
-            f"equation residual")
+    log(f"discovery: terms {names}; unexplained: {100 * out['unexplained_fraction']:.0f} % of the final model's "
+        "equation residual" + (" (which does not balance: not a model mismatch)" if off else ""))
     return out
 
 
