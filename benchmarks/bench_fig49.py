@@ -69,7 +69,7 @@ def main() -> int:
     rel = np.abs(ss_batched - ss_scalar) / np.maximum(np.abs(ss_scalar), 1e-12)
     same_bits = bool(np.array_equal(ss_one, ss_batched))
     dp = float(np.max(np.abs(np.mean(ss_batched > 0.5, axis=0) - np.mean(ss_scalar > 0.5, axis=0))))
-    p05 = [p_speed(s, speeds) for s in (ss_scalar, ss_batched)]
+    p05 = ["none" if v is None else f"{v:.2f}" for v in (p_speed(s, speeds) for s in (ss_scalar, ss_batched))]
     print(f"batched vs scalar: relative SS difference per run median {np.median(rel):.1e}, largest {rel.max():.1e}; "
           f"largest |P(SS > 0.5) difference| over the speeds {dp:.3f}; 5 % speed {p05[0]} vs {p05[1]} rad/s")
     print(f"1 vs 2 threads identical bits: {same_bits}")
