@@ -405,23 +405,3 @@ def test_a_soft_motor_long_run_starts_at_the_measured_top_speed(tmp_path):
     assert "error" not in lr, lr.get("error")
     m, r = lr["model"], lr["measured"]
     assert abs(m["ss"] / r["ss"] - 1) < 0.15 and abs(m["stick_fraction"] / r["stick_fraction"] - 1) < 0.3
-
-
-def test_the_baseline_calibration_leaves_the_damping_s_local_minimum(tmp_path):
-    """The joint fit of law and damping has local minima: on the Stribeck rig's string-friction
-    record (250 Hz), started from the declared 0.25 only it stops at a damping ratio of 0.104 with
-    a calibration error of 0.324; the damping held at 0.066 gives 0.166. The baseline also starts
-    from fitting.DAMPING_STARTS and keeps the smallest calibration error (docs/loop.md)."""
-    import stribeck_rig
-    from drillpy.loop.data import prepare
-    from drillpy.loop.fitting import DAMPING_STARTS, calibrate
-    from drillpy.loop.model import evaluate
-    path = tmp_path / "string_friction.csv"
-    stribeck_rig.make_record("string_friction", 17, str(path))
-    opt = L.LoopOptions(rate_hz=250)
-    cfg = load_config(preset="thesis-rig")
-    data = prepare(str(path), cfg, opt)
-    m, _ = calibrate(analysis_config(cfg, data.dt, opt.dt_s), data, opt)
-    ev = evaluate(m, data)
-    assert ev.E_train < 0.2 and ev.E_test < 0.2, (m.damping_ratios, ev.E_train, ev.E_test)
-    assert 0.03 < m.damping_ratios[0] < 0.09 and len(DAMPING_STARTS) >= 3
