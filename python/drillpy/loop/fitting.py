@@ -462,19 +462,10 @@ def null_candidate(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
     return _finish(m, data), ci
 
 
-#: First-mode damping ratios the baseline calibration also starts from, besides the declared one
-#: (the other modes' ratios scaled alike); the smallest calibration error wins. The joint fit of
-#: law and damping has local minima: on the Stribeck check's string-friction record at 250 Hz
-#: (docs/loop.md) the declared 0.25 led to 0.104 with a calibration error of 0.324, while the
-#: damping held at 0.066 gives 0.166.
-DAMPING_STARTS = (0.02, 0.06, 0.2)
-
-
 def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:
     """The declared model calibrated on the calibration part: its catalogue effects taken out of
     the configuration into the model, the law, the damping ratios, the effects' parameters, and
     the operating point (top speed and WOB: the calibration part's means). Returns (model, intervals).
-    Modal damping is started from the declared ratios and from :data:`DAMPING_STARTS`.
 
     Parameters
     ----------
@@ -495,18 +486,7 @@ def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:
     w0 = float(np.mean(data.ch["W"][tr])) if data.has_wob else float(cfg["operation"]["wob_n"])
     base = stripped(cfg)
     m = LoopModel(base, dict(base["law"]), om, w0, declared_effects(cfg))
-    best = refit(m, data, opt)
-    ratios = m.damping_ratios
-    if ratios and ratios[0] > 0:  # the joint fit has local minima in the damping: more starts
-        score = e_train(best[0], data, opt.threads)
-        for z in DAMPING_STARTS:
-            mz = m.copy()
-            mz.cfg["damping"]["ratios"] = [min(x * z / ratios[0], 1.0) for x in ratios]
-            mz, ci = _calibrate(fit_law(mz, data), data, opt)
-            e = e_train(mz, data, opt.threads)
-            if e < score:
-                best, score = (_finish(mz, data), ci), e
-    return best
+    return refit(m, data, opt)
 
 
 def fit_candidate(model: LoopModel, data: LoopData, name: str, opt: LoopOptions) -> tuple:
