@@ -27,7 +27,9 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "python"))
-SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
+sys.path.insert(0, str(REPO / "benchmarks"))
+
+from rig_calibration_part import SAMPLE175, calibration_part  # noqa: E402
 
 
 def main() -> int:
@@ -37,18 +39,8 @@ def main() -> int:
     ap.add_argument("--record", default=str(SAMPLE175))
     a = ap.parse_args()
     from drillpy import _core
-    from drillpy.records import identification as ident
     from drillpy.records import rigsim
-    from drillpy.records import signals as sig
-    from drillpy.records.cleaning import clean
-    from drillpy.records.io import read_mat
-    rec = clean(read_mat(a.record))[0].select(0.0, 20.0)
-    thr = 0.05 * float(np.median(rec.top_speed[rigsim.reliable_top_speed(rec)]))
-    cyc = sig.segment_cycles(rec.bit_speed, rec.dt, thr, valid=rec.valid())
-    d = ident.FitData.from_arrays(rec.bit_speed, sig.derivative(rec.bit_speed, rec.dt), rec.torque_on_bit,
-                                  cyc.branch_labels(len(rec)), cyc.cycle_id(len(rec)), wob=rec.wob, every=10,
-                                  cycles=cyc)
-    law = ident.fit_law("polynomial", d).law
+    rec, thr, law = calibration_part(a.record)
     grid = [float(z) for z in np.geomspace(0.01, 1.5, 14) if z <= 1.0]
     models = [rigsim.RigModel(law, z, drive) for drive in ("constant", "measured") for z in grid]
     by_drive = {drive: [m for m in models if m.drive == drive] for drive in ("constant", "measured")}

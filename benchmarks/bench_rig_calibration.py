@@ -5,8 +5,8 @@
 
 Sample 175's calibration part (0-20 s, cleaned), the Eq. (5.1) law identified on it, the three top
 drives (constant, measured, motor: 14 + 5 damping ratios each for the first two, 60 grid points and
-a Nelder-Mead polish for the motor). The grid points are independent simulations run in a thread
-pool; the script checks that both thread counts give the same calibration. Medians of
+a Nelder-Mead polish for the motor). The damping scans run in SIMD lockstep on the engine's threads, the motor's
+points in a thread pool; the script checks that both thread counts give the same calibration. Medians of
 ``--repeats``; the machine is shared: read the ratio.
 """
 from __future__ import annotations
@@ -17,11 +17,12 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "python"))
-SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
+sys.path.insert(0, str(REPO / "benchmarks"))
+
+from rig_calibration_part import SAMPLE175, calibration_part  # noqa: E402
 
 
 def main() -> int:
@@ -29,18 +30,8 @@ def main() -> int:
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--record", default=str(SAMPLE175))
     a = ap.parse_args()
-    from drillpy.records import identification as ident
     from drillpy.records import rigsim
-    from drillpy.records import signals as sig
-    from drillpy.records.cleaning import clean
-    from drillpy.records.io import read_mat
-    rec = clean(read_mat(a.record))[0].select(0.0, 20.0)
-    thr = 0.05 * float(np.median(rec.top_speed[rigsim.reliable_top_speed(rec)]))
-    cyc = sig.segment_cycles(rec.bit_speed, rec.dt, thr, valid=rec.valid())
-    d = ident.FitData.from_arrays(rec.bit_speed, sig.derivative(rec.bit_speed, rec.dt), rec.torque_on_bit,
-                                  cyc.branch_labels(len(rec)), cyc.cycle_id(len(rec)), wob=rec.wob, every=10,
-                                  cycles=cyc)
-    law = ident.fit_law("polynomial", d).law
+    rec, thr, law = calibration_part(a.record)
     times, cals = {1: [], 2: []}, {}
     for _ in range(a.repeats):
         for threads in (1, 2):
