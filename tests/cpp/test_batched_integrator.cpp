@@ -16,6 +16,7 @@
 #include "drill/process.hpp"
 #include "drill/rng.hpp"
 #include "drill/simulation.hpp"
+#include "rig_with_stick.hpp"
 
 using namespace drill;
 
@@ -37,17 +38,6 @@ Config batch_field(double duration) {
   c.modes = 10;
   c.sim.duration = duration;
   c.transient = duration / 3.0;
-  return c;
-}
-
-/// The rig with a static torque (Eq. 5.1 with a0 > 0: the stick condition) and string friction.
-Config batch_rig_with_stick(BitRockLaw::Kind kind) {
-  Config c = preset("thesis-rig");
-  c.law.kind = kind;
-  c.law.a[0] = 1.0;
-  c.string_friction = 0.3;
-  c.sim.duration = 4.0;
-  c.transient = 1.0;
   return c;
 }
 
@@ -99,7 +89,7 @@ void expect_lane_independent(const Config& c) {
 
 TEST(BatchedIntegrator, ARunHasTheSameBitsAloneAndInEveryLane) {
   expect_lane_independent(batch_field(3.0));  // hysteretic law (Eqs. 3.2-3.3), eta of Eq. (4.1)
-  expect_lane_independent(batch_rig_with_stick(BitRockLaw::Kind::polynomial_hysteretic));  // Eq. (5.3), stick
+  expect_lane_independent(rig_with_stick(BitRockLaw::Kind::polynomial_hysteretic));  // Eq. (5.3), stick
   Config tw = batch_field(3.0);
   tw.law = thesis_tucker_wang();  // Eq. (3.1)
   expect_lane_independent(tw);
@@ -128,7 +118,7 @@ TEST(BatchedIntegrator, ReproducesTheScalarBitsWithoutExpLogOnOneMode) {
   // Eq. (5.1) has no transcendental function and the rig retains one mode (no dot product to
   // reorder): every operation is the scalar path's, in its order, so the bits are the same,
   // through the stick condition and the string friction.
-  const Simulation sim(batch_rig_with_stick(BitRockLaw::Kind::polynomial));
+  const Simulation sim(rig_with_stick(BitRockLaw::Kind::polynomial));
   const BatchedIntegrator b(sim.integrator());
   const std::vector<Inputs> in = batch_inputs(sim, 5);
   const std::vector<BatchTrace> tr = run_batched(b, in);

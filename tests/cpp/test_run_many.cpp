@@ -11,6 +11,7 @@
 
 #include "drill/presets.hpp"
 #include "drill/run_many.hpp"
+#include "rig_with_stick.hpp"
 
 using namespace drill;
 
@@ -18,15 +19,9 @@ namespace {
 
 const std::vector<double> kRatios = {0.02, 0.05, 0.1, 0.2, 0.3, 0.45, 0.7, 1.0};
 
-/// The rig (Table 5.1, one mode) with a static torque (Eq. 5.1, a0 > 0: the stick condition) and
-/// string friction, at one modal damping ratio.
+/// The rig with stick (rig_with_stick.hpp) at one modal damping ratio.
 Config rig(BitRockLaw::Kind kind, double ratio) {
-  Config c = preset("thesis-rig");
-  c.law.kind = kind;
-  c.law.a[0] = 1.0;
-  c.string_friction = 0.3;
-  c.sim.duration = 4.0;
-  c.transient = 1.0;
+  Config c = rig_with_stick(kind);
   c.damping.kind = DampingSpec::Kind::modal;
   c.damping.ratios = {ratio};
   return c;
