@@ -272,6 +272,8 @@ def test_bad_inputs_name_what_is_wrong(tmp_path):
     p = run_cli("loop", str(short), "--preset", "thesis-rig", "--out", str(tmp_path / "d"),
                 "--calibration-fraction", "1.5")
     assert p.returncode == 2 and "calibration_fraction = 1.5" in p.stderr
+    p = run_cli("loop", str(short), "--preset", "thesis-rig", "--out", str(tmp_path / "g"), "--gj-tolerance", "-0.1")
+    assert p.returncode == 2 and "gj_tolerance = -0.1" in p.stderr
     p = run_cli("loop", str(short), "--config", str(tmp_path / "none.json"), "--out", str(tmp_path / "e"))
     assert p.returncode == 2 and "no such file" in p.stderr
     p = run_cli("loop", str(short), "--preset", "thesis-rig", "--config", "x.json", "--out", str(tmp_path / "f"))

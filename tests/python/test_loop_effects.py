@@ -140,3 +140,31 @@ def test_torque_fluctuation_forgotten_within_half_a_horizon_is_flagged():
     assert eff.flags({"tau_s": 0.055, "memory_s": 1.0}, data)
     assert eff.flags({"tau_s": 0.06, "memory_s": 1.0}, data) == []
     assert eff.flags({"tau_s": 0.237, "memory_s": 0.131}, data) == []
+
+
+def test_a_static_torque_not_above_the_sliding_law_is_flagged():
+    """A break-away torque is above the torque the bit slides at: T_s at most 1.05 x the sliding law's
+    largest torque over the record's speeds (the declared Eq. 5.1: 2.69 N m at 0.1 rad/s, about 3 N m
+    at most) is a torque at rest the regularized law lacks, not a static friction (a Tucker-Wang law's
+    1.2 N m, docs/loop.md), and is flagged; the validation's 4.5 N m is not."""
+    import numpy as np
+    from drillpy import loop as L
+    from drillpy.loop.effects.static_friction import ABOVE_SLIDING, sliding_peak
+    from drillpy.loop.run import analysis_config
+    from drillpy.records import identification as ident
+    from drillpy.records.synthetic import declared_config, synthetic_record
+    eff = CATALOGUE["static_friction"]
+    cfg = normalize(declared_config())
+    opt = L.LoopOptions(rate_hz=500.0, dt_s=2e-4)
+    data = L.prepare(synthetic_record((), duration_s=8.0, seed=2, fs_hz=500.0), cfg, opt)
+    base = stripped(analysis_config(cfg, data.dt, opt.dt_s))
+    m = LoopModel(base, dict(base["law"]), float(base["operation"]["top_speed_rad_s"]), float(base["operation"]["wob_n"]), {})
+    peak = sliding_peak(m, data)
+    v = np.linspace(0.01, 20.0, 2000)
+    law = ident.law_eval(m.law, v, np.zeros(v.size), np.full(v.size, m.wob))[0]
+    assert 2.5 < peak <= law.max() + 1e-9 and peak > 0.98 * law[v > 0.05 * data.stick_threshold].max()
+    assert eff.flags({"static_torque_nm": 1.2}, data, m)
+    assert eff.flags({"static_torque_nm": 0.99 * ABOVE_SLIDING * peak}, data, m)
+    assert eff.flags({"static_torque_nm": 1.01 * ABOVE_SLIDING * peak}, data, m) == []
+    assert eff.flags({"static_torque_nm": 4.5}, data, m) == []
+    assert eff.flags({"static_torque_nm": 1.2}, data) == []  # no model: nothing to compare with

@@ -251,6 +251,9 @@ def _add_loop(sub) -> argparse.ArgumentParser:
     s.add_argument("--thesis-knot", action="store_true",
                    help="keep a polynomial law's low-speed pieces tied at 1 %% and 5 %% of the mean speed "
                         "(default: the knot calibrated with the law)")
+    s.add_argument("--gj-tolerance", type=float, default=0.03,
+                   help="relative tolerance of the declared string GJ, within which it is calibrated like the "
+                        "damping; a mismatch beyond it is string_stiffness (0: GJ held as declared)")
     s.add_argument("--json", action="store_true", help="print the errors and the effects found as JSON")
     s.add_argument("--no-progress", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_loop)
@@ -278,7 +281,7 @@ def cmd_loop(a: argparse.Namespace) -> int:
     opt = LoopOptions(horizon_s=a.horizon, calibration_fraction=a.calibration_fraction, rate_hz=a.rate,
                       min_gain=a.min_gain, alpha=a.alpha, min_delta_bic=a.min_delta_bic, max_steps=a.max_steps,
                       effects=effects, threads=a.threads, dt_s=a.dt, batched=not a.scalar,
-                      law_knot=not a.thesis_knot)
+                      law_knot=not a.thesis_knot, gj_tolerance=a.gj_tolerance)
     from drillpy.progress import log_progress
     with log_progress(((r"  null candidate", "candidates"), (r"  candidate ", "candidates"), (r"  remove ", "backward")),
                       "loop", enabled=not a.no_progress, echo=None if a.json else print, count=True) as log:

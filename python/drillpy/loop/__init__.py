@@ -5,8 +5,9 @@ Starting from a declared model (a preset or a JSON configuration), :func:`run_lo
 1. **calibrates what the declared model leaves uncertain** on the first part of a record (the
    *calibration part*; the rest, the *validation part*, is never used to fit anything): the law's
    parameters (on the law residual, then jointly), the modal damping ratios, the parameters of the
-   effects it declares and the operating point. The declared geometry is held: a stiffness
-   mismatch is an effect to be found (``string_stiffness``), not absorbed (:mod:`.fitting`);
+   effects it declares, the string's GJ within the declared geometry's tolerance (+-3 %) and the
+   operating point, to convergence. A stiffness mismatch beyond that tolerance is an effect to be
+   found (``string_stiffness``), not absorbed (:mod:`.fitting`);
 2. checks that the calibrated model predicts better than two **trivial predictors** (the channel
    means and the value held from each restart); if it does not, nothing is attributed
    (:func:`.evidence.adequacy`);

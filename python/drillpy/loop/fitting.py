@@ -1,6 +1,7 @@
-"""Calibration of a loop model: the law on the law residual, then the law, the modal damping ratios
-and every effect's free parameters jointly on the calibration horizons (least squares on the
-normalized short-horizon residuals), with 95 % intervals of the effects' parameters.
+"""Calibration of a loop model: the law on the law residual, then the law, the modal damping ratios,
+the string's GJ within the declared geometry's tolerance and every effect's free parameters jointly
+on the calibration horizons (least squares on the normalized short-horizon residuals, restarted to
+convergence), with 95 % intervals of the effects' parameters.
 
 The same procedure and budget (``LoopOptions.nfev_per_parameter`` evaluations per parameter, from
 the current model's values) calibrate the declared model, the null candidate (no effect added) and
@@ -17,15 +18,20 @@ from drillpy.records import identification as ident
 from drillpy.records.io import RPM
 from .data import LoopData
 from .effects import CATALOGUE, declared_effects, stripped
-from .model import LoopModel, law_channels, law_torque, residual_vector
+from .model import STIFFNESS, LoopModel, law_channels, law_torque, residual_vector
 from .options import LoopOptions
 
 LAW = "law"          #: pseudo-effect: the law's free parameters (and the WOB coupling gain)
 DAMPING = "damping"  #: pseudo-effect: the modal damping ratios
+GJ = "gj"            #: pseudo-effect: the GJ within the declared geometry's tolerance
 #: Bounds of a modal damping ratio (fitted in ln).
 DAMPING_BOUNDS = (1e-3, 1.0)
 #: tanh(beta2 a) may saturate at no less than 1/100 of the acceleration spread (else it is a sign switch).
 BETA2_SPREAD = 100.0
+#: A restart of the short-horizon least squares is repeated while it lowers the cost by this share,
+#: at most RESTARTS times (within the same evaluation budget).
+RESTART_GAIN = 0.01
+RESTARTS = 20
 
 
 class _FamilyData:
@@ -253,6 +259,8 @@ def _pack(model: LoopModel, data: LoopData, names) -> tuple:
         elif name == DAMPING:
             for i, z in enumerate(model.damping_ratios or ()):
                 add(float(z), *DAMPING_BOUNDS, "log", (DAMPING, i))
+        elif name == GJ:
+            add(model.gj_factor, 1.0 - model.gj_tolerance, 1.0 + model.gj_tolerance, "log", (GJ, 0))
         else:
             eff = CATALOGUE[name]
             p = model.effects[name]
@@ -274,6 +282,8 @@ def _unpack(model: LoopModel, x, where, knot: bool) -> LoopModel:
         val = float(math.exp(xi) if scale == "log" else xi)
         if name == DAMPING:
             m.cfg["damping"]["ratios"][key] = val
+        elif name == GJ:
+            m.gj_factor = val
         elif name != LAW:
             m.effects[name][key] = val
     return m
@@ -312,9 +322,13 @@ def fit_dynamic(model: LoopModel, data: LoopData, names, opt: LoopOptions) -> tu
     ({effect: {parameter: {"value", "ci95", "at_bound"}}}; the intervals from the Jacobian at the
     optimum, the residual variance inflated by its autocorrelation time).
 
-    Parameters ``"log"``-scaled (and the damping ratios, bounds :data:`DAMPING_BOUNDS`) are fitted
-    in ln; a trial the engine refuses scores a residual of 10 everywhere. Trust region, relative
-    step 1e-3, tolerances 1e-6.
+    Parameters ``"log"``-scaled (and the damping ratios, bounds :data:`DAMPING_BOUNDS`, and the
+    GJ factor within its tolerance) are fitted in ln; a trial the engine refuses scores a residual
+    of 10 everywhere. Trust region, relative step 1e-3, tolerances 1e-6; restarted from its result
+    (at most :data:`RESTARTS` times, within the budget) while a restart lowers the cost by
+    :data:`RESTART_GAIN` at least: the residual jumps where a predicted stop or break-away crosses
+    a sample, the trust region shrinks on such a kink and the step tolerance then ends the search
+    short of a stationary point (docs/loop.md, "Calibration").
 
     Parameters
     ----------
@@ -324,7 +338,8 @@ def fit_dynamic(model: LoopModel, data: LoopData, names, opt: LoopOptions) -> tu
         The record on the analysis grid.
     names : list of str
         What to fit: :data:`LAW` (the law's free parameters, with the ``wob_coupling`` gain),
-        :data:`DAMPING` (the modal damping ratios) and effect names (their
+        :data:`DAMPING` (the modal damping ratios), :data:`GJ` (the string's GJ factor within
+        ``model.gj_tolerance``) and effect names (their
         :meth:`~drillpy.loop.effects.base.Effect.free` parameters).
     opt : LoopOptions
         ``nfev_per_parameter`` and ``threads`` are used.
@@ -349,8 +364,25 @@ def fit_dynamic(model: LoopModel, data: LoopData, names, opt: LoopOptions) -> tu
             return np.full(size, 10.0)
         return np.where(np.isfinite(r), r, 10.0)
 
+    budget = opt.nfev_per_parameter * x0.size
     r = optimize.least_squares(res, x0, bounds=(lo, hi), method="trf", diff_step=1e-3,
-                               max_nfev=opt.nfev_per_parameter * x0.size, x_scale="jac", xtol=1e-6, ftol=1e-6)
+                               max_nfev=budget, x_scale="jac", xtol=1e-6, ftol=1e-6)
+    used = r.nfev
+    # Restarts: the short horizons' residual jumps where a predicted stop or break-away crosses a
+    # sample, so the trust region shrinks on a kink and the step test (xtol) stops the search far from
+    # a stationary point; a restart from the result re-opens the region. Repeated, within the same
+    # budget, while a restart lowers the cost by RESTART_GAIN at least (docs/loop.md, "Calibration").
+    for _ in range(RESTARTS):
+        if used >= budget or r.status not in (2, 3):
+            break
+        s = optimize.least_squares(res, r.x, bounds=(lo, hi), method="trf", diff_step=1e-3,
+                                   max_nfev=budget - used, x_scale="jac", xtol=1e-6, ftol=1e-6)
+        used += s.nfev
+        gained = s.cost < (1.0 - RESTART_GAIN) * r.cost
+        if s.cost < r.cost:
+            r = s
+        if not gained:
+            break
     return _unpack(model, r.x, where, data.law_knot), _intervals(r, lo, hi, where)
 
 
@@ -367,7 +399,7 @@ def _intervals(r, lo, hi, where) -> dict:
     for i, (name, key, scale) in enumerate(where):
         if name == LAW and key in ("beta1", "beta2"):
             name = "bit_hysteresis"  # the law's hysteresis term is that effect's
-        elif name in (LAW, DAMPING):
+        elif name in (LAW, DAMPING, GJ):
             continue
         se = math.sqrt(max(cov[i, i], 0.0)) if np.isfinite(cov[i, i]) else math.nan
         a, b = r.x[i] - 1.96 * se, r.x[i] + 1.96 * se
@@ -380,9 +412,10 @@ def _intervals(r, lo, hi, where) -> dict:
 
 
 def _calibrate(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
-    """The law, the damping ratios and every effect's free parameters jointly on the calibration
-    horizons, from the model's values."""
-    return fit_dynamic(model, data, [LAW] + ([] if model.damping_held else [DAMPING]) + list(model.effects), opt)
+    """The law, the damping ratios, the GJ within its tolerance and every effect's free parameters
+    jointly on the calibration horizons, from the model's values."""
+    return fit_dynamic(model, data, [LAW] + ([] if model.damping_held else [DAMPING]) + ([GJ] if model.gj_free else [])
+                       + list(model.effects), opt)
 
 
 def eta_std(model: LoopModel, data: LoopData) -> float:
@@ -434,8 +467,11 @@ def refit(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
     tuple
         (LoopModel, intervals as :func:`fit_dynamic`).
     """
-    a = _calibrate(fit_law(model, data), data, opt)
-    b = _calibrate(model, data, opt)
+    law = fit_law(model, data)
+    own = model.copy()
+    own.n_law = law.n_law  # one law family: its free parameters count alike from either start
+    a = _calibrate(law, data, opt)
+    b = _calibrate(own, data, opt)
     best = a if e_train(a[0], data, opt.threads) < e_train(b[0], data, opt.threads) else b
     return _finish(best[0], data), best[1]
 
@@ -464,8 +500,9 @@ def null_candidate(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
 
 def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:
     """The declared model calibrated on the calibration part: its catalogue effects taken out of
-    the configuration into the model, the law, the damping ratios, the effects' parameters, and
-    the operating point (top speed and WOB: the calibration part's means). Returns (model, intervals).
+    the configuration into the model, the law, the damping ratios, the string's GJ within
+    ``opt.gj_tolerance`` of the declared, the effects' parameters, and the operating point (top
+    speed and WOB: the calibration part's means). Returns (model, intervals).
 
     Parameters
     ----------
@@ -485,7 +522,7 @@ def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:
     om = float(np.mean(data.ch["top"][tr])) if data.has_top else float(cfg["operation"]["top_speed_rad_s"])
     w0 = float(np.mean(data.ch["W"][tr])) if data.has_wob else float(cfg["operation"]["wob_n"])
     base = stripped(cfg)
-    m = LoopModel(base, dict(base["law"]), om, w0, declared_effects(cfg))
+    m = LoopModel(base, dict(base["law"]), om, w0, declared_effects(cfg), gj_tolerance=opt.gj_tolerance)
     return refit(m, data, opt)
 
 
@@ -497,6 +534,8 @@ def fit_candidate(model: LoopModel, data: LoopData, name: str, opt: LoopOptions)
 
     A law-level effect is started from its defaults and fitted with the law on the law residual
     first. An effect whose direct measurement is significant starts from the measured values only.
+    ``string_stiffness`` carries the whole GJ factor: the factor calibrated within the declared
+    tolerance is reset to 1 while it is an effect.
 
     Parameters
     ----------
@@ -521,6 +560,8 @@ def fit_candidate(model: LoopModel, data: LoopData, name: str, opt: LoopOptions)
     """
     eff = CATALOGUE[name]
     m = model.copy()
+    if name == STIFFNESS:
+        m.gj_factor = 1.0  # the effect carries the whole factor
     if eff.level == "law":
         m.effects[name] = dict(eff.defaults)  # the law's start (fit_law starts the hysteresis from the law)
         m, ci = _calibrate(fit_law(m, data), data, opt)  # the law's new term on the law residual first
@@ -590,5 +631,5 @@ def parameter_evidence(model: LoopModel, name: str, ci: dict, data: LoopData) ->
                 what = f"the no-effect value {q.null:g}" + (f" +- {q.margin:g} (the declared model's tolerance)"
                                                             if q.margin else "")
                 reasons.append(f"{q.name}: 95 % interval [{lo:.4g}, {hi:.4g}] reaches {what}")
-    reasons += eff.flags(p, data)
+    reasons += eff.flags(p, data, model)
     return rows, reasons

@@ -21,6 +21,9 @@ from drillpy.model.config import engine_config
 from .data import LoopData, measured
 from .effects import CATALOGUE
 
+#: The catalogue's effect that carries a GJ beyond the declared geometry's tolerance.
+STIFFNESS = "string_stiffness"
+
 
 @dataclass
 class LoopModel:
@@ -52,6 +55,12 @@ class LoopModel:
     damping_held : bool
         True: the modal damping ratios are set by the limit cycle, not fitted
         (``run._hold_damping``); they then do not count in :attr:`k`.
+    gj_tolerance : float
+        Relative tolerance of the declared GJ (``LoopOptions.gj_tolerance``): the string's GJ is
+        calibrated within 1 +- it while ``string_stiffness`` is not an effect; 0: held as declared.
+    gj_factor : float
+        The calibrated GJ over the declared GJ, within the tolerance (1 when held or when
+        ``string_stiffness``, which then carries the whole factor, is an effect).
     """
     cfg: dict
     law: dict
@@ -60,6 +69,8 @@ class LoopModel:
     effects: dict = field(default_factory=dict)
     n_law: int = 0    #: free parameters of the law
     damping_held: bool = False  #: the damping ratios are set by the limit cycle, not fitted (run._hold_damping)
+    gj_tolerance: float = 0.0   #: relative tolerance of the declared GJ, within which it is calibrated
+    gj_factor: float = 1.0      #: calibrated GJ over the declared GJ (within the tolerance)
 
     def copy(self) -> "LoopModel":
         """A deep copy (configuration, law and effects' parameter dicts included)."""
@@ -72,9 +83,15 @@ class LoopModel:
         return list(d["ratios"]) if d.get("type") == "modal" else None
 
     @property
+    def gj_free(self) -> bool:
+        """True when the GJ is calibrated within its tolerance (a tolerance, and no ``string_stiffness``)."""
+        return self.gj_tolerance > 0 and STIFFNESS not in self.effects
+
+    @property
     def k(self) -> int:
-        """Number of calibrated parameters (law, damping ratios, effects)."""
-        return self.n_law + (0 if self.damping_held else len(self.damping_ratios or ())) + sum(CATALOGUE[n].count(p) for n, p in self.effects.items())
+        """Number of calibrated parameters (law, damping ratios, GJ within its tolerance, effects)."""
+        return (self.n_law + (0 if self.damping_held else len(self.damping_ratios or ())) + int(self.gj_free)
+                + sum(CATALOGUE[n].count(p) for n, p in self.effects.items()))
 
     def engine_config(self) -> dict:
         """The engine configuration of the model, every effect applied."""
@@ -82,6 +99,8 @@ class LoopModel:
         c["law"] = dict(self.law)
         c["operation"]["wob_n"] = float(self.wob)
         c["operation"]["top_speed_rad_s"] = float(self.top_speed)
+        if self.gj_factor != 1.0:
+            CATALOGUE[STIFFNESS].configure(c, {"gj_factor": self.gj_factor}, self)
         for name, p in self.effects.items():
             CATALOGUE[name].configure(c, p, self)
         return c
@@ -89,14 +108,15 @@ class LoopModel:
     def parameters(self) -> dict:
         """The model's parameters for ``loop.json`` (SI; the law in its own speed unit)."""
         return {"law": dict(self.law), "top_speed_rad_s": self.top_speed, "wob_n": self.wob,
-                "damping": self.cfg["damping"], "effects": copy.deepcopy(self.effects)}
+                "damping": self.cfg["damping"], "gj_factor": self.gj_factor, "effects": copy.deepcopy(self.effects)}
 
     def to_dict(self) -> dict:
         """``model.json``: the engine configuration with every effect applied, the effects and the
         operating point (read back by :meth:`from_dict` and by ``drillpy predict``)."""
         return {"format": "drillpy.loop_model", "version": 1, "config": self.engine_config(),
                 "base_config": self.cfg, "law": self.law, "top_speed_rad_s": self.top_speed, "wob_n": self.wob,
-                "effects": self.effects, "n_law": self.n_law, "damping_held": self.damping_held}
+                "effects": self.effects, "n_law": self.n_law, "damping_held": self.damping_held,
+                "gj_tolerance": self.gj_tolerance, "gj_factor": self.gj_factor}
 
     @classmethod
     def from_dict(cls, d: dict) -> "LoopModel":
@@ -106,7 +126,8 @@ class LoopModel:
         ----------
         d : dict
             ``{"format": "drillpy.loop_model", "base_config", "law", "top_speed_rad_s" [rad/s],
-            "wob_n" [N], "effects", "n_law" (optional), "damping_held" (optional), ...}``.
+            "wob_n" [N], "effects", "n_law", "damping_held", "gj_tolerance" and "gj_factor" (these
+            four optional), ...}``.
 
         Returns
         -------
@@ -126,7 +147,8 @@ class LoopModel:
             if unknown:
                 raise ValueError(f"model: effects {sorted(unknown)} are not in the catalogue")
             return cls(d["base_config"], d["law"], float(d["top_speed_rad_s"]), float(d["wob_n"]), eff,
-                       int(d.get("n_law", 0)), bool(d.get("damping_held", False)))
+                       int(d.get("n_law", 0)), bool(d.get("damping_held", False)),
+                       float(d.get("gj_tolerance", 0.0)), float(d.get("gj_factor", 1.0)))
         except KeyError as e:
             raise ValueError(f"model: lacks {e}") from None
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .effects import NAMES
+from .effects.string_stiffness import MARGIN as GJ_TOLERANCE
 from drillpy import validate
 from drillpy.records.stick import STICK_FRACTION
 
@@ -72,6 +73,11 @@ class LoopOptions:
         the law's own low-speed shape, which the thesis ties to 1 % and 5 % of the mean bit speed.
         A law that rises after the break-away (Tucker-Wang's, Eq. 3.1) then needs no effect to
         stand in for it (docs/loop.md). False keeps the thesis's tie.
+    gj_tolerance : float
+        Relative tolerance of the declared string GJ (0.03: a bar radius known to +-0.75 %, the
+        ``string_stiffness`` margin): the GJ is calibrated within 1 +- it like the damping (a value
+        the declared model leaves uncertain); a mismatch beyond it is ``string_stiffness``, found
+        with evidence. 0 holds the declared GJ.
     """
     horizon_s: float = 0.25
     calibration_fraction: float = 0.5
@@ -92,6 +98,7 @@ class LoopOptions:
     batched: bool = True
     blas_threads: int = 1
     law_knot: bool = True
+    gj_tolerance: float = GJ_TOLERANCE
 
     def validate(self) -> None:
         """Check every option (ranges, types, known effect names).
@@ -114,6 +121,7 @@ class LoopOptions:
         if self.dt_s is not None:
             validate.positive("dt_s", self.dt_s, "s")
         validate.integer("nfev_per_parameter", self.nfev_per_parameter, 1)
+        validate.number("gj_tolerance", self.gj_tolerance, lo=0.0, hi=0.5, hi_closed=False)
         validate.integer("max_steps", self.max_steps, 0)
         validate.integer("blas_threads", self.blas_threads, 0)
         for e in self.effects:

@@ -285,7 +285,9 @@ def render_report(res: LoopResult, files: dict) -> str:
     a = res.adequacy
     L += ["## Baseline", "",
           f"- declared effects: {', '.join(res.declared) or 'none'}; calibrated modal damping ratios "
-          f"{b.model.damping_ratios}.",
+          f"{b.model.damping_ratios}" + (f"; string GJ x {b.model.gj_factor:.4f} (calibrated within the declared "
+                                         f"geometry's +-{100 * b.model.gj_tolerance:g} %)" if b.model.gj_free else "")
+          + ".",
           f"- validation error E = {b.E_test:.4f}; trivial predictors: channel means {a['mean_predictor_error']:.4f}, "
           f"value held from the restart {a['hold_last_predictor_error']:.4f} -> "
           + ("**adequate** (better than both)." if a["adequate"] else

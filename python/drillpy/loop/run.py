@@ -429,7 +429,8 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
     base = evaluate(m0, data, th)
     adeq = adequacy(base, data)
     declared = list(m0.effects)
-    log(f"baseline (declared model calibrated: damping {m0.damping_ratios}, effects {declared or 'none'}): validation "
+    gj = f", GJ x {m0.gj_factor:.4f} (within the declared +-{100 * m0.gj_tolerance:g} %)" if m0.gj_free else ""
+    log(f"baseline (declared model calibrated: damping {m0.damping_ratios}{gj}, effects {declared or 'none'}): validation "
         f"error E = {base.E_test:.4f} (calibration {base.E_train:.4f}); mean predictor {adeq['mean_predictor_error']:.4f}, "
         f"hold-last predictor {adeq['hold_last_predictor_error']:.4f}")
     cur, cur_lr, steps, rounds, last = base, base_lr, [], [], {}

@@ -230,7 +230,7 @@ class Effect:
         """
         return None
 
-    def flags(self, p: dict, data) -> list:
+    def flags(self, p: dict, data, model=None) -> list:
         """Reasons why fitted values are physically implausible (an empty list: plausible).
 
         A non-empty list keeps the effect from being credited
@@ -242,6 +242,8 @@ class Effect:
             The fitted parameter values (name -> value).
         data : LoopData
             The record on the analysis grid (e.g. its sampling interval ``dt`` [s]).
+        model : LoopModel, optional
+            The fitted model with the effect (e.g. its calibrated law).
 
         Returns
         -------

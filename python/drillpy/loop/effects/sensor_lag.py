@@ -41,7 +41,7 @@ class SensorLag(Effect):
         """
         return [{"lowpass_hz": f} for f in (2.0, 4.0, 8.0, 16.0)]
 
-    def flags(self, p, data):
+    def flags(self, p, data, model=None):
         """Flag a filter whose delay sqrt(2) / omega_c is under two analysis samples: it cannot move
         a prediction of the horizon's length; see :meth:`Effect.flags`.
 
@@ -51,6 +51,8 @@ class SensorLag(Effect):
             ``{"lowpass_hz": f_c [Hz]}``.
         data : LoopData
             The record (its sampling interval ``dt`` [s] and horizon length ``L`` [samples]).
+        model : LoopModel, optional
+            Not used.
         """
         d = self.delay_s(p)
         if d < 2.0 * data.dt:

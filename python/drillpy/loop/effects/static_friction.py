@@ -11,6 +11,27 @@ def _a0(law: dict, torque: float, wob: float) -> float:
     return float(torque) * float(law["wob_ref_n"]) / (float(law["gain"]) * float(wob))
 
 
+#: A break-away torque must exceed the sliding law's largest torque by this factor.
+ABOVE_SLIDING = 1.05
+
+
+def sliding_peak(model, data) -> float:
+    """The largest torque [N m] the model's law (without static torque) gives at its WOB W_0 over
+    the calibration part's speeds, from 5 % of the stick threshold to the 99th percentile.
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model (a polynomial ``law``, ``wob`` [N]).
+    data : LoopData
+        The record on the analysis grid.
+    """
+    from drillpy.records import identification as ident
+    cal = data.valid & (data.t < data.t_split)
+    v = np.linspace(0.05 * data.stick_threshold, float(np.percentile(data.ch["v"][cal], 99)), 200)
+    return float(np.max(ident.law_eval(model.law, v, np.zeros(v.size), np.full(v.size, model.wob))[0]))
+
+
 class StaticFriction(Effect):
     """A break-away (static) torque T_s at the bit: the non-regularized law of Eq. (5.1) with
     a0 > 0 (polynomial laws only), a1 re-tied so that the law falls linearly from T_s to the slip
@@ -96,14 +117,39 @@ class StaticFriction(Effect):
             return None
         m, se = float(np.mean(brk)), float(np.std(brk, ddof=1) / np.sqrt(brk.size))
         h = float(stats.t.ppf(0.975, brk.size - 1)) * se
-        # the largest torque the law itself gives over the record's speeds: a break-away torque (the
-        # peak just after the bit leaves) below it is the law's own peak, not a static friction
-        v = np.linspace(0.05 * data.stick_threshold, float(np.percentile(data.ch["v"][cal], 99)), 200)
-        t_low = float(np.max(ident.law_eval(model.law, v, np.zeros(v.size), np.full(v.size, model.wob))[0]))
+        # a break-away torque (the peak just after the bit leaves) below the law's own peak is that
+        # peak, not a static friction
+        t_low = sliding_peak(model, data)
         return {"params": {"static_torque_nm": m, "source": "stick phases"},
-                "ci95": {"static_torque_nm": [m - h, m + h]}, "significant": bool(m - h > 1.05 * t_low),
+                "ci95": {"static_torque_nm": [m - h, m + h]}, "significant": bool(m - h > ABOVE_SLIDING * t_low),
                 "detail": f"break-away torque {m:.3f} N m [{m - h:.3f}, {m + h:.3f}] over {brk.size} stick phases "
                           f"against the law's largest torque {t_low:.3f} N m"}
+
+    def flags(self, p, data, model=None):
+        """Flag a static torque not above the sliding law: T_s at most :data:`ABOVE_SLIDING` times
+        the largest torque the model's law gives over the record's speeds (:func:`sliding_peak`)
+        holds the bit below the torque it slides at, which is no break-away: it is a torque at rest
+        that the regularized law (zero at rest) lacks, a shape of the law such as a Tucker-Wang
+        law's c0 tanh(alpha0 v) (1.2 N m from 0.1 rad/s on, docs/loop.md), and the fit lends it the
+        effect's name. See :meth:`Effect.flags`.
+
+        Parameters
+        ----------
+        p : dict
+            ``{"static_torque_nm": T_s [N m]}``.
+        data : LoopData
+            The record (its bit speed over the calibration part).
+        model : LoopModel, optional
+            The fitted model (its calibrated law and WOB W_0); without it nothing is flagged.
+        """
+        if model is None or not str(model.law["type"]).startswith("polynomial"):
+            return []
+        peak = sliding_peak(model, data)
+        if p["static_torque_nm"] <= ABOVE_SLIDING * peak:
+            return [f"T_s = {p['static_torque_nm']:.3g} N m is not above the sliding law's largest torque "
+                    f"({peak:.3g} N m over the record's speeds, x {ABOVE_SLIDING:g}): no break-away, but a torque at "
+                    "rest the regularized law lacks (the law's shape)"]
+        return []
 
     def starts(self, model, data):
         """Multiples of the law's torque at the stick threshold: a static torque below it changes

@@ -60,7 +60,7 @@ class TopDriveDynamics(Effect):
         """
         return 3 if p.get("variant") == "motor" else 0
 
-    def flags(self, p, data):
+    def flags(self, p, data, model=None):
         """Flag a recorded top speed whose standard deviation is below :data:`STEADY_TOP` (1 %) of
         its mean over the valid, measured samples: the top already turns at the constant the model
         assumes; see :meth:`Effect.flags`.
@@ -71,6 +71,8 @@ class TopDriveDynamics(Effect):
             The fitted values (not read).
         data : LoopData
             The record (its top-speed channel [rad/s] and ``top_ok`` mask).
+        model : LoopModel, optional
+            Not used.
         """
         ok = data.valid & data.top_ok
         top = data.ch["top"][ok]

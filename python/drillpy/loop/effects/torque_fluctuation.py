@@ -41,7 +41,7 @@ class TorqueFluctuation(Effect):
         """
         return 2
 
-    def flags(self, p, data):
+    def flags(self, p, data, model=None):
         """Flag an eta the forecast forgets within the first half of a horizon: the effect stands
         for a contact that changes slowly, correlated over longer than a horizon (its signature),
         and its conditional mean keeps (1 + s/tau) exp(-s/tau) of the restart's eta after s; below
@@ -57,6 +57,8 @@ class TorqueFluctuation(Effect):
             ``{"tau_s": tau [s], ...}``.
         data : LoopData
             The record (its sampling interval ``dt`` [s] and horizon length ``L`` [samples]).
+        model : LoopModel, optional
+            Not used.
         """
         half = 0.5 * data.L * data.dt
         x = half / p["tau_s"]

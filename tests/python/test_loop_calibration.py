@@ -1,0 +1,124 @@
+"""The loop's calibration (drillpy.loop.fitting): the least squares restarted to convergence, the
+string's GJ calibrated within the declared geometry's tolerance (a mismatch beyond it left to
+``string_stiffness``), the law's parameter count alike from either start, and the model file keeping
+the calibrated GJ. Records from truths the declared model did not generate."""
+from __future__ import annotations
+
+import pytest
+
+from drillpy import loop as L
+from drillpy.loop import fitting as F
+from drillpy.loop.model import LoopModel
+from drillpy.loop.run import _without, analysis_config
+from drillpy.model.config import normalize
+from drillpy.records.synthetic import declared_config, synthetic_record, truth_config
+
+RATE_HZ, DT_S = 500.0, 2e-4
+
+
+def _calibrated(effects, seed, tol, duration_s=20.0):
+    rec = synthetic_record(effects, duration_s=duration_s, seed=seed, fs_hz=RATE_HZ)
+    opt = L.LoopOptions(rate_hz=RATE_HZ, dt_s=DT_S, gj_tolerance=tol)
+    cfg = normalize(declared_config())
+    data = L.prepare(rec, cfg, opt)
+    m, _ = F.calibrate(analysis_config(cfg, data.dt, opt.dt_s), data, opt)
+    return m, data, opt
+
+
+def test_gj_is_calibrated_within_the_declared_tolerance():
+    """The truth of seed 18 has a GJ 1.46 % above the declared (inside the geometry's +-3 %), 3 modes
+    and its own damping and law: the calibration finds the GJ to 0.2 % and fits the calibration
+    horizons better than with the GJ held; held (tolerance 0) it stays exactly as declared."""
+    truth_gj = truth_config(18)[1]["gj_factor"]
+    free, data, opt = _calibrated({}, 18, 0.03)
+    held, _, _ = _calibrated({}, 18, 0.0)
+    assert truth_gj == pytest.approx(1.01456, abs=1e-4)
+    assert free.gj_free and free.gj_factor == pytest.approx(truth_gj, abs=0.002)
+    assert held.gj_factor == 1.0 and not held.gj_free
+    assert free.k == held.k + 1  # the GJ is counted as a calibrated parameter
+    assert F.e_train(free, data, 0) < 0.95 * F.e_train(held, data, 0)
+    # the engine configuration carries it: every section's modulus times the factor
+    base = [s["youngs_modulus_pa"] for s in free.cfg["string"]["sections"]]
+    eng = [s["youngs_modulus_pa"] for s in free.engine_config()["string"]["sections"]]
+    assert eng == pytest.approx([b * free.gj_factor for b in base], rel=1e-12)
+
+
+def test_a_stiffness_beyond_the_tolerance_is_left_to_string_stiffness():
+    """A string 15 % softer: the calibrated GJ stops at the tolerance's bound (0.97) rather than
+    absorbing the mismatch; the ``string_stiffness`` candidate carries the whole factor (the
+    tolerance's factor reset to 1) and finds it."""
+    m, data, opt = _calibrated({"string_stiffness": {}}, 17, 0.03)
+    assert m.gj_factor == pytest.approx(0.97, abs=1e-3)
+    cand, ci = F.fit_candidate(m, data, "string_stiffness", opt)
+    assert cand.gj_factor == 1.0 and not cand.gj_free
+    assert cand.effects["string_stiffness"]["gj_factor"] == pytest.approx(0.85, abs=0.02)
+    assert cand.k == m.k  # the GJ factor is the effect's parameter now, not one more
+
+
+def test_the_law_counts_alike_from_either_start():
+    """``refit`` keeps the better of two starts (a fresh law fit, the model's own values): the law's
+    free parameters are counted the same from both, so that the BIC of a candidate started from a
+    fresh law fit is not charged for the null candidate's law (a model built before any law fit
+    used to count none)."""
+    m, data, opt = _calibrated({}, 2, 0.0, duration_s=12.0)
+    fresh = LoopModel(m.cfg, dict(m.law), m.top_speed, m.wob, {})
+    assert fresh.n_law == 0
+    r, _ = F.refit(fresh, data, opt)
+    assert r.n_law == F.fit_law(fresh, data).n_law > 0
+
+
+def test_model_file_keeps_the_calibrated_gj():
+    """model.json (``to_dict``) read back gives the same engine configuration, GJ factor included."""
+    m, _, _ = _calibrated({}, 9, 0.03, duration_s=12.0)
+    assert abs(m.gj_factor - 1.0) > 1e-3
+    back = LoopModel.from_dict(m.to_dict())
+    assert back.gj_factor == m.gj_factor and back.gj_tolerance == 0.03
+    assert back.engine_config() == m.engine_config()
+
+
+def test_calibration_restarts_until_the_cost_stops_falling():
+    """On the independent rig's record with a 4.5 N m break-away (benchmarks/independent_rig.py, a
+    Tucker-Wang law and 8 lumped segments, no drillpy code), the static-friction candidate's least
+    squares stopped on the step tolerance short of convergence: a second calibration from its result
+    lowered the error by more than 1 %. With the restarts a second calibration gains less than
+    0.5 %."""
+    rig = pytest.importorskip("independent_rig")
+    import tempfile
+    import os
+    import drillpy
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "static.csv")
+        rig.write_csv(rig.simulate(rig.effect_params(["static_friction"]), seed=15, duration_s=20.0), path, ["static"])
+        cfg = normalize(drillpy.load_config(preset="thesis-rig"))
+        opt = L.LoopOptions(rate_hz=250, gj_tolerance=0.0)
+        data = L.prepare(path, cfg, opt)
+    m, _ = F.calibrate(analysis_config(cfg, data.dt, opt.dt_s), data, opt)
+    m, _ = F.null_candidate(_without(m, "bit_hysteresis"), data, opt)
+    c = m.copy()
+    d = F.CATALOGUE["static_friction"].direct(c, data)
+    assert d["significant"]
+    c.effects["static_friction"] = dict(d["params"])
+    start = F.fit_law(c, data)
+    names = [F.LAW, F.DAMPING, "static_friction"]
+
+    def twice(restarts):
+        old = F.RESTARTS
+        F.RESTARTS = restarts
+        try:
+            once, _ = F.fit_dynamic(start, data, names, opt)
+            again, _ = F.fit_dynamic(once, data, names, opt)
+        finally:
+            F.RESTARTS = old
+        return F.e_train(once, data, 0), F.e_train(again, data, 0)
+
+    e1, e2 = twice(0)
+    assert e2 < 0.99 * e1, (e1, e2)  # the premise: one least-squares call stops short
+    e1, e2 = twice(F.RESTARTS)
+    assert e2 > 0.995 * e1, (e1, e2)
+
+
+def test_a_gj_tolerance_out_of_range_is_refused():
+    with pytest.raises(ValueError, match="gj_tolerance"):
+        L.LoopOptions(gj_tolerance=-0.01).validate()
+    with pytest.raises(ValueError, match="gj_tolerance"):
+        L.LoopOptions(gj_tolerance=0.7).validate()
