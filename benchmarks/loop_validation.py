@@ -73,7 +73,7 @@ CASES = [
     Case("single", {"torque_fluctuation": {}}, 15),
     Case("confounded", {"viscous_damping": {}}, 16, acceptable=("viscous_damping",)),
     Case("single", {"string_stiffness": {}}, 17, fast=True),
-    Case("single", {"static_friction": {}}, 18),
+    Case("single", {"static_friction": {}}, 18, fast=True),
     Case("single", {"string_friction": {}}, 19),
     Case("half", {"bit_hysteresis": {"beta1": 0.1}}, 21),
     Case("half", {"wob_coupling": {"gain": 0.5}}, 22),

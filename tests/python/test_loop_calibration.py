@@ -122,3 +122,28 @@ def test_a_gj_tolerance_out_of_range_is_refused():
         L.LoopOptions(gj_tolerance=-0.01).validate()
     with pytest.raises(ValueError, match="gj_tolerance"):
         L.LoopOptions(gj_tolerance=0.7).validate()
+
+
+def test_a_stiffness_fit_inside_the_tolerance_recalibrates_the_null_candidate():
+    """A model whose GJ sits at the wrong edge of the tolerance (0.971, the truth's 1.0146) with the
+    rest calibrated around it: the ``string_stiffness`` candidate, from its own starts, lands inside
+    the tolerance near the truth; that is a model of the null class, returned as the recalibrated
+    model (the factor as its calibrated GJ, no effect) since it calibrates better. A fit outside the
+    tolerance is a mismatch, not a recalibration."""
+    from drillpy.loop.run import _null_class
+    m, data, opt = _calibrated({}, 18, 0.03)
+    stuck = m.copy()
+    stuck.gj_factor = 0.971
+    stuck, _ = F.fit_dynamic(stuck, data, [F.LAW, F.DAMPING], opt)  # the GJ held at the wrong edge
+    fit = F.fit_candidate(stuck, data, "string_stiffness", opt)
+    f = fit[0].effects["string_stiffness"]["gj_factor"]
+    assert f == pytest.approx(1.0146, abs=0.005)
+    logged = []
+    alt, lr, note = _null_class(fit, stuck, {}, data, opt, logged.append)
+    assert alt.effects == {} and alt.gj_factor == f and alt.gj_free
+    assert F.e_train(alt, data, 0) < 0.99 * F.e_train(stuck, data, 0)
+    assert "inside the declared GJ tolerance" in note and logged
+    outside = (fit[0].copy(), fit[1])
+    outside[0].effects["string_stiffness"]["gj_factor"] = 0.95
+    assert _null_class(outside, stuck, {}, data, opt, logged.append) is None
+    assert _null_class(fit, alt, {}, data, opt, logged.append) is None  # no better than the null: nothing

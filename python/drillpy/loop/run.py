@@ -19,9 +19,9 @@ from .data import LoopData, prepare
 from .discovery import discover, library, residual_structure
 from .effects import CATALOGUE
 from .evidence import adequacy, evidence, law_evidence
-from .fitting import calibrate, fit_candidate, null_candidate, parameter_evidence, refit
+from .fitting import RESTART_GAIN, calibrate, e_train, fit_candidate, null_candidate, parameter_evidence, refit
 from .longrun import cycle_damage, cycle_miss, long_run, stick_collapse
-from .model import Evaluation, LoopModel, equation_residual, evaluate
+from .model import STIFFNESS, Evaluation, LoopModel, equation_residual, evaluate
 from .options import LoopOptions
 
 
@@ -268,6 +268,42 @@ def marginal(name: str, e: dict, opt: LoopOptions) -> str | None:
             f"{100 * MARGIN_FACTOR * opt.min_gain:.0f} % a decision can tip with the rounding or the record)")
 
 
+#: At most this many recalibrations from a ``string_stiffness`` fit inside the GJ tolerance (:func:`_null_class`).
+RECALIBRATIONS = 2
+
+
+def _null_class(fit, null_m: LoopModel, cur_lr: dict, data: LoopData, opt: LoopOptions, log):
+    """A ``string_stiffness`` candidate whose factor lies inside the declared GJ tolerance is a
+    model of the null class: the GJ calibrated within its tolerance, from the effect's own starts
+    (factors 0.8-1.25) instead of the current value. The calibration can stop in a local minimum of
+    the GJ (a baseline that took the GJ to its bound to stand in for a missing effect keeps it
+    there once the effect is added); when that fit calibrates better than the null candidate, by
+    :data:`~.fitting.RESTART_GAIN` at least, and keeps the record's limit cycle, it is returned as
+    (model with the factor as its calibrated GJ, its long run, note), else None."""
+    if fit is None or isinstance(fit, Exception) or not null_m.gj_tolerance:
+        return None
+    m = fit[0]
+    f = float(m.effects[STIFFNESS]["gj_factor"])
+    if abs(f - 1.0) > null_m.gj_tolerance:
+        return None
+    alt = m.copy()
+    del alt.effects[STIFFNESS]
+    alt.gj_factor = f
+    e_alt, e_null = e_train(alt, data, opt.threads), e_train(null_m, data, opt.threads)
+    if not e_alt < (1.0 - RESTART_GAIN) * e_null:
+        return None
+    lr = _long(opt, alt, data)
+    if opt.long_run and (not lr or "error" in lr):
+        return None
+    if opt.long_run and cur_lr and "error" not in cur_lr and (cycle_damage(cur_lr, lr) or stick_collapse(cur_lr, lr)):
+        return None
+    note = (f"recalibrated: the string_stiffness fit lies inside the declared GJ tolerance (x {f:.4f}) and calibrates "
+            f"better than the null candidate (E_cal {e_null:.4f} -> {e_alt:.4f}): a model of the null class from "
+            "other starts, its calibration replaces the current one and the round is fitted again from it")
+    log(f"  {note}")
+    return alt, lr, note
+
+
 #: Rounds of the damping hold: search, refit, and again while the refit model has left the cycle.
 HOLD_ROUNDS = 3
 
@@ -443,18 +479,35 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
             cur, cur_lr, rem = _backward(cur, cur_lr, data, opt, (), log, len(steps))
             steps += rem
         tried = set(cur.model.effects) | {s["effect"] for s in steps}
-        for _ in range(opt.max_steps):
+        recalibrated = 0
+        for _ in range(opt.max_steps + RECALIBRATIONS):
             cands = [e for e in opt.effects if e not in tried and all(c in data.channels() for c in CATALOGUE[e].needs)
                      and not (cur.model.damping_held and "damping" in CATALOGUE[e].confounded_with)]
-            if not cands:
+            if not cands or sum(s["action"] == "add" for s in steps) >= opt.max_steps:
                 break
             null_m, _ = null_candidate(cur.model, data, opt)
             null = evaluate(null_m, data, th)
             log(f"  null candidate (no effect, recalibrated) E_val {null.E_test:.4f}")
+            fits = {}
+            for name in cands:
+                try:
+                    fits[name] = fit_candidate(cur.model, data, name, opt)
+                except (ValueError, RuntimeError) as err:  # a candidate the engine refuses is not evidence
+                    fits[name] = err
+            if recalibrated < RECALIBRATIONS:
+                better = _null_class(fits.get(STIFFNESS), null_m, cur_lr, data, opt, log)
+                if better is not None:
+                    recalibrated += 1
+                    cur = evaluate(better[0], data, th)
+                    cur_lr = better[1]
+                    notes.append(better[2])
+                    continue  # the candidates refitted from the recalibrated model
             results = []
             for name in cands:
                 try:
-                    cm, ci = fit_candidate(cur.model, data, name, opt)
+                    if isinstance(fits[name], Exception):
+                        raise fits[name]
+                    cm, ci = fits[name]
                     ev = evaluate(cm, data, th)
                     e = evidence(null, ev, data, len(cands), opt)
                     e["parameters"], why = parameter_evidence(cm, name, ci, data)
