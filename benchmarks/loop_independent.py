@@ -191,7 +191,7 @@ def run_case(i: int, case: Case, folder: str, rate: float, simulator: str = "tuc
     blr = res.baseline_long_run or {}
     last_lr = next((s["long_run"] for s in reversed(res.steps) if s.get("long_run")), None)
     final_model_lr = last_lr.get("after") if last_lr else blr.get("model")
-    order = [("+" if s["action"] == "add" else "-") + s["effect"] for s in res.steps]
+    order = [{"add": "+", "remove": "-"}.get(s["action"], "~") + s["effect"] for s in res.steps]
     return {"ok": ok, "why": why, "order": order, "E0": res.baseline.E_test, "E1": res.final.E_test,
             "rec_lr": blr.get("measured"), "base_lr": blr.get("model"), "fin_lr": final_model_lr,
             "t_sim": t_sim, "t_loop": t_loop, "final": list(res.final.model.effects)}

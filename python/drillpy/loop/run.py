@@ -39,7 +39,9 @@ class LoopResult:
     final : Evaluation
         The model after the last step (the baseline when nothing was added or removed).
     steps : list of dict
-        Every step in order: ``action`` (``"add"``/``"remove"``), ``effect``, ``error_before``,
+        Every step in order: ``action`` (``"add"``/``"remove"``, or ``"recalibrate"``: the
+        calibration replaced by a ``string_stiffness`` fit inside the GJ tolerance, decided on the
+        calibration error, :func:`_null_class`), ``effect``, ``error_before``,
         ``error_after`` (E, validation part [-]), ``evidence``, ``long_run`` (measured / before /
         after), and the Evaluations ``before``, ``candidate``, ``after``.
     rounds : list of list
@@ -279,7 +281,8 @@ def _null_class(fit, null_m: LoopModel, cur_lr: dict, data: LoopData, opt: LoopO
     the GJ (a baseline that took the GJ to its bound to stand in for a missing effect keeps it
     there once the effect is added); when that fit calibrates better than the null candidate, by
     :data:`~.fitting.RESTART_GAIN` at least, and keeps the record's limit cycle, it is returned as
-    (model with the factor as its calibrated GJ, its long run, note), else None."""
+    (model with the factor as its calibrated GJ, its long run, note, {calibration errors before and
+    after, factor}), else None. The loop records it as a step with ``"action": "recalibrate"``."""
     if fit is None or isinstance(fit, Exception) or not null_m.gj_tolerance:
         return None
     m = fit[0]
@@ -301,7 +304,7 @@ def _null_class(fit, null_m: LoopModel, cur_lr: dict, data: LoopData, opt: LoopO
             f"better than the null candidate (E_cal {e_null:.4f} -> {e_alt:.4f}): a model of the null class from "
             "other starts, its calibration replaces the current one and the round is fitted again from it")
     log(f"  {note}")
-    return alt, lr, note
+    return alt, lr, note, {"calibration_error_before": e_null, "calibration_error_after": e_alt, "gj_factor": f}
 
 
 #: Rounds of the damping hold: search, refit, and again while the refit model has left the cycle.
@@ -498,9 +501,18 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
                 better = _null_class(fits.get(STIFFNESS), null_m, cur_lr, data, opt, log)
                 if better is not None:
                     recalibrated += 1
-                    cur = evaluate(better[0], data, th)
-                    cur_lr = better[1]
-                    notes.append(better[2])
+                    alt_m, lr, note, cal = better
+                    new = evaluate(alt_m, data, th)
+                    e = dict(evidence(null, new, data, 1, opt), accepted=True, reasons=[note], **cal,
+                             parameters={"gj_factor": {"value": cal["gj_factor"], "ci95": None, "at_bound": False,
+                                                       "unit": "-"}})
+                    steps.append({"action": "recalibrate", "effect": STIFFNESS, "error_before": cur.E_test,
+                                  "error_after": new.E_test, "evidence": e, "long_run": _pair(cur_lr, lr),
+                                  "before": cur, "candidate": new, "after": new})
+                    log(f"step {len(steps)}: recalibrate (GJ x {cal['gj_factor']:.4f}): validation error "
+                        f"{cur.E_test:.4f} -> {new.E_test:.4f}")
+                    notes.append(note)
+                    cur, cur_lr = new, lr
                     continue  # the candidates refitted from the recalibrated model
             results = []
             for name in cands:
