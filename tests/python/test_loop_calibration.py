@@ -139,9 +139,11 @@ def test_a_stiffness_fit_inside_the_tolerance_recalibrates_the_null_candidate():
     f = fit[0].effects["string_stiffness"]["gj_factor"]
     assert f == pytest.approx(1.0146, abs=0.005)
     logged = []
-    alt, lr, note = _null_class(fit, stuck, {}, data, opt, logged.append)
-    assert alt.effects == {} and alt.gj_factor == f and alt.gj_free
-    assert F.e_train(alt, data, 0) < 0.99 * F.e_train(stuck, data, 0)
+    alt, lr, note, cal = _null_class(fit, stuck, {}, data, opt, logged.append)
+    assert alt.effects == {} and alt.gj_factor == f == cal["gj_factor"] and alt.gj_free
+    assert F.e_train(alt, data, 0) == cal["calibration_error_after"] < 0.99 * cal["calibration_error_before"]
+    assert cal["calibration_error_before"] == F.e_train(stuck, data, 0)
+    assert lr["stick_slips"]["model"]  # the recalibrated model keeps the record's cycle
     assert "inside the declared GJ tolerance" in note and logged
     outside = (fit[0].copy(), fit[1])
     outside[0].effects["string_stiffness"]["gj_factor"] = 0.95
