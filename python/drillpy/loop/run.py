@@ -307,6 +307,25 @@ def _null_class(fit, null_m: LoopModel, cur_lr: dict, data: LoopData, opt: LoopO
     return alt, lr, note, {"calibration_error_before": e_null, "calibration_error_after": e_alt, "gj_factor": f}
 
 
+def _recalibration(fit, null: Evaluation, cur: Evaluation, cur_lr: dict, data: LoopData, opt: LoopOptions,
+                   log) -> dict | None:
+    """The step ``"action": "recalibrate"`` of a round whose ``string_stiffness`` fit is a better
+    model of the null class (:func:`_null_class`), or None. Its evidence is taken against the null
+    candidate, with the calibration errors and the factor; like the Evaluations ``before``,
+    ``candidate`` and ``after``, ``after_long_run`` (the recalibrated model's whole long run) stays
+    out of ``loop.json``."""
+    better = _null_class(fit, null.model, cur_lr, data, opt, log)
+    if better is None:
+        return None
+    alt, lr, note, cal = better
+    new = evaluate(alt, data, opt.threads)
+    e = dict(evidence(null, new, data, 1, opt), accepted=True, reasons=[note], **cal,
+             parameters={"gj_factor": {"value": cal["gj_factor"], "ci95": None, "at_bound": False, "unit": "-"}})
+    return {"action": "recalibrate", "effect": STIFFNESS, "error_before": cur.E_test, "error_after": new.E_test,
+            "evidence": e, "long_run": _pair(cur_lr, lr), "before": cur, "candidate": new, "after": new,
+            "after_long_run": lr}
+
+
 #: Rounds of the damping hold: search, refit, and again while the refit model has left the cycle.
 HOLD_ROUNDS = 3
 
@@ -497,23 +516,16 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
                     fits[name] = fit_candidate(cur.model, data, name, opt)
                 except (ValueError, RuntimeError) as err:  # a candidate the engine refuses is not evidence
                     fits[name] = err
-            if recalibrated < RECALIBRATIONS:
-                better = _null_class(fits.get(STIFFNESS), null_m, cur_lr, data, opt, log)
-                if better is not None:
-                    recalibrated += 1
-                    alt_m, lr, note, cal = better
-                    new = evaluate(alt_m, data, th)
-                    e = dict(evidence(null, new, data, 1, opt), accepted=True, reasons=[note], **cal,
-                             parameters={"gj_factor": {"value": cal["gj_factor"], "ci95": None, "at_bound": False,
-                                                       "unit": "-"}})
-                    steps.append({"action": "recalibrate", "effect": STIFFNESS, "error_before": cur.E_test,
-                                  "error_after": new.E_test, "evidence": e, "long_run": _pair(cur_lr, lr),
-                                  "before": cur, "candidate": new, "after": new})
-                    log(f"step {len(steps)}: recalibrate (GJ x {cal['gj_factor']:.4f}): validation error "
-                        f"{cur.E_test:.4f} -> {new.E_test:.4f}")
-                    notes.append(note)
-                    cur, cur_lr = new, lr
-                    continue  # the candidates refitted from the recalibrated model
+            step = _recalibration(fits.get(STIFFNESS), null, cur, cur_lr, data, opt, log) \
+                if recalibrated < RECALIBRATIONS else None
+            if step is not None:
+                recalibrated += 1
+                steps.append(step)
+                log(f"step {len(steps)}: recalibrate (GJ x {step['evidence']['gj_factor']:.4f}): validation error "
+                    f"{cur.E_test:.4f} -> {step['error_after']:.4f}")
+                notes.append(step["evidence"]["reasons"][0])
+                cur, cur_lr = step["after"], step["after_long_run"]
+                continue  # the candidates refitted from the recalibrated model
             results = []
             for name in cands:
                 try:
