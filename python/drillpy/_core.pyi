@@ -172,6 +172,11 @@ class RunReport:
         """
         Torque on bit of the bit-rock law [N m] (Eqs. 3.1-3.3; string friction left out).
         """
+    @property
+    def wob(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        Weight on bit the law saw [N]: the input, or the axial jack's state (axial.hpp).
+        """
 class Simulation:
     """
     A configured reduced-order simulation (appendix B).

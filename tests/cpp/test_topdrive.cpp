@@ -157,3 +157,40 @@ TEST(TopDrive, ConfigParsesRoundTripsAndNamesBadFields) {
   bad["top_drive"] = {{"type", "ideal"}, {"slope_nms_rad", 1.0}};
   EXPECT_NE(error_of([&] { parse_config(bad); }).find("unknown key"), std::string::npos);
 }
+
+TEST(TopDrive, TorqueLimitStallsTheMotorBelowTheTorqueItCannotOvercome) {
+  // A bit held by a static torque Ts = 5 N m: an unlimited motor commanded at 14 rad/s with
+  // c_m = 0.5 reaches up to c_m Omega_c = 7 N m and breaks the stick; with T_max = 2 N m it cannot:
+  // the bit never moves and the top comes to rest where the string's top torque balances T_max.
+  Config c = preset("thesis-rig");
+  c.law.kind = BitRockLaw::Kind::polynomial;
+  c.law.speed_unit = SpeedUnit::rad_s;
+  c.law.a = {5.0 / 1.36, 0.0, 2.0 / 1.36, 0.0, 2.0 / 1.36, 0.0, 0.0, 0.0};
+  c.law.ref_speed = 10.0;
+  c.law.wob_ref = c.wob;
+  c.top_speed = 14.0;
+  c.top_drive = motor(0.5, 0.002);
+  c.sim.duration = 10.0;
+  c.transient = 5.0;
+  {
+    const Simulation sim(c);
+    const RunReport r = sim.run(sim.inputs());
+    EXPECT_GT(*std::max_element(r.series.bit_speed.begin(), r.series.bit_speed.end()), 1.0);  // broke away
+  }
+  c.top_drive.max_torque = 2.0;
+  const Simulation sim(c);
+  const RunReport r = sim.run(sim.inputs());
+  EXPECT_LT(*std::max_element(r.series.bit_speed.begin(), r.series.bit_speed.end()), 1e-9);  // stalled
+  const std::size_t half = r.series.t.size() / 2, n = r.series.t.size() - half;
+  double T = 0.0, om = 0.0;
+  for (std::size_t i = half; i < r.series.t.size(); ++i) T += r.series.top_torque[i] / n, om += r.series.top_speed[i] / n;
+  EXPECT_NEAR(T, 2.0, 0.02);  // the string holds the motor's limit
+  EXPECT_LT(std::fabs(om), 0.01 * c.top_speed);  // the top stopped (it swings about the balance)
+  EXPECT_DOUBLE_EQ(sim.steady_speed(14.0, c.wob), 0.0);  // 2 N m of law torque at any speed >= T_max
+  // the limit round-trips and is range-checked
+  json j = to_json(c);
+  EXPECT_DOUBLE_EQ(j["top_drive"]["max_torque_nm"].get<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(parse_config(j).top_drive.max_torque, 2.0);
+  j["top_drive"]["max_torque_nm"] = 0.0;
+  EXPECT_NE(error_of([&] { parse_config(j); }).find("top_drive.max_torque_nm = 0"), std::string::npos);
+}

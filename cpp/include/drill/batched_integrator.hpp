@@ -90,7 +90,7 @@ class BatchedIntegrator {
   bool supports(const Inputs& in) const {
     const SimOptions& o = in_.opt_;
     return o.scheme == Scheme::modified_euler && o.acceleration == Acceleration::implicit && in_.diag_damping_ &&
-           in.top_drive.kind == TopDrive::Kind::ideal;
+           in.top_drive.kind == TopDrive::Kind::ideal && !in.axial.active();
   }
 
   /// Whether `other` can step in lockstep with this integrator's runs with its own damping: the
@@ -234,7 +234,7 @@ class BatchedIntegrator {
             a_guess[l] = 0.0;
             break;
           }
-          obs[l](static_cast<const StepState&>(StepState{i, t, v[k], a[k], NAN, T[k], NAN, om[k]}));
+          obs[l](static_cast<const StepState&>(StepState{i, t, v[k], a[k], NAN, T[k], NAN, om[k], NAN, in[l].wob.at(t)}));
         }
     }
     for (std::size_t l = 0; l < n; ++l) {

@@ -28,6 +28,10 @@
 //                                "stick_slip_frequency_rad_s" (soft_speed), "torque_filter_s" (z_torque)}}
 //                                                  (J Omega' = u - T_top, u from a speed controller
 //                                                   commanded at top_speed_rad_s: controller.hpp),
+//   "axial": {"type": "none"}                      (the WOB is the input operation.wob_n)
+//          | {"type": "jack", "gain_n_rad": g, "relaxation_s": tau}
+//                                                  (the WOB as a state, axial.hpp:
+//                                                   W' = g (Omega_f - v) - (W - W_s) / tau),
 //   "sensors": {"lowpass_hz": 10}                  (measurement chain of recorded channels: second-
 //                                                   order Butterworth low-pass; 0 = ideal sensors;
 //                                                   used when a model is compared with a record),
@@ -55,6 +59,7 @@
 #include <string>
 #include <vector>
 
+#include "drill/axial.hpp"
 #include "drill/bitrock.hpp"
 #include "drill/errors.hpp"
 #include "drill/fem.hpp"
@@ -102,6 +107,7 @@ struct Config {
   double bit_viscous = 0.0;   ///< [N m s/rad]
   double string_friction = 0.0;  ///< Coulomb string friction at the bit [N m] (an extension, not in the thesis)
   TopDrive top_drive;         ///< ideal (default) or open-loop motor
+  Axial axial;                ///< none (default: the WOB is an input) or the rig's jack (axial.hpp)
   double sensor_lowpass_hz = 0.0;  ///< cutoff of the recorded channels' low-pass [Hz]; 0: ideal sensors
   SimOptions sim;
   double transient = 100.0;   ///< [s] discarded before metrics
@@ -136,6 +142,9 @@ struct Config {
               "is below the steady torque " + show(steady) + " N m the drive carries at operation.top_speed_rad_s = " +
                   show(top_speed) + " rad/s, wob_n = " + show(wob) + " N");
     }
+    axial.validate();
+    require(!axial.active() || sim.scheme == Scheme::modified_euler, "axial.type", Axial::kind_name(axial.kind),
+            "is implemented for simulation.scheme = modified_euler only");
     require_non_negative(sensor_lowpass_hz, "sensors.lowpass_hz");
     sim.validate();
     require_non_negative(transient, "simulation.transient_s");
@@ -356,6 +365,8 @@ inline std::vector<Block> make_blocks() {
         object("law", "law", "bit-rock interaction law").req(),
         object("operation", "operation", "operating point"),
         object("top_drive", "top_drive", "how the top is turned").def({{"type", "ideal"}}),
+        object("axial", "axial", "the weight on bit: an input, or a state driven by the rig's jack")
+            .def({{"type", "none"}}),
         object("sensors", "sensors", "measurement chain of the recorded channels"),
         object("simulation", "simulation", "time integration (appendices A, B)"),
         object("metrics", "metrics", "stick and slip detection"),
@@ -429,7 +440,8 @@ inline std::vector<Block> make_blocks() {
        {{drives[0], {}},
         {drives[1],
          {number("slope_nms_rad", "c_m: torque lost per unit speed [N m s/rad]").positive().req(),
-          number("inertia_kg_m2", "J_m: rotor and drive-train inertia [kg m^2]").positive().req()}},
+          number("inertia_kg_m2", "J_m: rotor and drive-train inertia [kg m^2]").positive().req(),
+          number("max_torque_nm", "T_max: the motor's torque limit [N m]; absent: unlimited").positive()}},
         {drives[2],
          {number("inertia_kg_m2", "J: rotor and drive-train inertia [kg m^2]").positive().req(),
           object("controller", "top_drive.controller", "the speed controller driving the inertia").req()}}}},
@@ -453,6 +465,15 @@ inline std::vector<Block> make_blocks() {
          {bandwidth(), kp(), ki(), impedance(),
           number("torque_filter_s", "time constant of the top torque's low-pass T_mean [s] (default: 5 / w_1)")
               .positive()}}}},
+      {"axial",
+       "none (the WOB is operation.wob_n) or the rig's jack, W' = g (Omega_f - v) - (W - W_s) / tau (axial.hpp)",
+       {text("type", "axial model", {Axial::kind_name(Axial::Kind::none), Axial::kind_name(Axial::Kind::jack)}).req()},
+       {{Axial::kind_name(Axial::Kind::none), {}},
+        {Axial::kind_name(Axial::Kind::jack),
+         {number("gain_n_rad", "g = k_ax d / (2 pi): WOB per radian the bit lags its steady rotation [N/rad]")
+              .non_negative()
+              .req(),
+          number("relaxation_s", "tau: the jack's time constant [s]").positive().req()}}}},
       {"sensors",
        "measurement chain of the recorded channels",
        {number("lowpass_hz", "cutoff of a second-order Butterworth low-pass [Hz]; 0: ideal sensors")
@@ -746,6 +767,7 @@ inline Config parse_config(const json& j) {
     if (c.top_drive.is_motor()) {
       c.top_drive.slope = get_number(t, "slope_nms_rad", "top_drive");
       c.top_drive.inertia = get_number(t, "inertia_kg_m2", "top_drive");
+      if (t.contains("max_torque_nm")) c.top_drive.max_torque = get_number(t, "max_torque_nm", "top_drive");
     }
     if (c.top_drive.is_controlled()) {
       c.top_drive.inertia = get_number(t, "inertia_kg_m2", "top_drive");
@@ -768,6 +790,15 @@ inline Config parse_config(const json& j) {
       ctl.impedance_given = get_number(k, "impedance_nms_rad", w, NAN);
       ctl.stick_slip_frequency = get_number(k, "stick_slip_frequency_rad_s", w, NAN);
       ctl.torque_filter_given = get_number(k, "torque_filter_s", w, NAN);
+    }
+  }
+  if (j.contains("axial")) {
+    const json& a = j.at("axial");
+    c.axial.kind = Axial::parse_kind(get_string(a, "type", "axial", "", true));
+    check_keys(a, "axial", schema::keys("axial", Axial::kind_name(c.axial.kind)));
+    if (c.axial.active()) {
+      c.axial.gain = get_number(a, "gain_n_rad", "axial");
+      c.axial.relaxation = get_number(a, "relaxation_s", "axial");
     }
   }
   if (j.contains("sensors")) {
@@ -895,8 +926,10 @@ inline json to_json(const Config& c) {
   if (!c.sweep_speeds.empty() || !c.sweep_wobs.empty())
     j["sweep"] = {{"top_speeds_rad_s", c.sweep_speeds}, {"wobs_n", c.sweep_wobs}};
   if (!c.cb_modes.empty()) j["craig_bampton"] = {{"modes", c.cb_modes}};
-  if (c.top_drive.is_motor())
+  if (c.top_drive.is_motor()) {
     j["top_drive"] = {{"type", "motor"}, {"slope_nms_rad", c.top_drive.slope}, {"inertia_kg_m2", c.top_drive.inertia}};
+    if (std::isfinite(c.top_drive.max_torque)) j["top_drive"]["max_torque_nm"] = c.top_drive.max_torque;
+  }
   if (c.top_drive.is_controlled()) {  // the configured fields (the tuned gains follow from them)
     const Controller& k = c.top_drive.controller;
     json ctl{{"type", Controller::kind_name(k.kind)}};
@@ -915,6 +948,8 @@ inline json to_json(const Config& c) {
     if (k.kind == Controller::Kind::z_torque) put("torque_filter_s", k.torque_filter_given);
     j["top_drive"] = {{"type", "controlled"}, {"inertia_kg_m2", c.top_drive.inertia}, {"controller", ctl}};
   }
+  if (c.axial.active())
+    j["axial"] = {{"type", "jack"}, {"gain_n_rad", c.axial.gain}, {"relaxation_s", c.axial.relaxation}};
   if (c.sensor_lowpass_hz > 0.0) j["sensors"] = {{"lowpass_hz", c.sensor_lowpass_hz}};
   return j;
 }

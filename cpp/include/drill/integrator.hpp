@@ -40,6 +40,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "drill/axial.hpp"
 #include "drill/bitrock.hpp"
 #include "drill/errors.hpp"
 #include "drill/modal.hpp"
@@ -95,8 +96,12 @@ struct Inputs {
   double bit_viscous = 0.0;                   ///< extra viscous torque at the bit [N m s/rad]
   double string_friction = 0.0;               ///< Coulomb string friction T_sf at the bit [N m] (not reported)
   TopDrive top_drive;                         ///< ideal (Omega = top_speed) or motor (commanded by it)
+  Axial axial;                                ///< none (W = wob) or the jack: W a state, wob its set force
   void validate() const {
     top_drive.validate();
+    axial.validate();
+    require(!axial.active() || std::isfinite(axial.feed_speed), "axial.feed_speed", axial.feed_speed,
+            "must be set (Simulation::inputs sets it to the drive's steady speed)");
     top_speed.validate("operation.top_speed_rad_s");
     wob.validate("operation.wob_n");
     eta.validate("eta");
@@ -116,6 +121,7 @@ struct StepState {
   double top_torque = 0.0;     ///< elastic torque applied by the top drive [N m]
   double top_speed = 0.0;      ///< [rad/s]
   double drive_torque = NAN;   ///< motor torque u of a controlled top drive [N m] (NaN otherwise)
+  double wob = NAN;            ///< weight on bit the law saw [N] (the input, or the axial state)
 };
 
 /// Generalized coordinates and velocities of the reduced model (original basis).
@@ -125,6 +131,7 @@ struct ModelState {
   /// Controlled top drive: the PI's integral torque T_I and z_torque's low-passed top torque
   /// T_mean [N m] (NaN: the top torque of the initial state, the drive starting in equilibrium).
   double drive_integral = NAN, drive_mean = NAN;
+  double wob = NAN;  ///< the axial state W [N] (axial jack; NaN: the set force at t = 0)
 };
 
 class Integrator {
@@ -325,6 +332,8 @@ class Integrator {
     const double inv_dt = 1.0 / dt;
     const bool motor = Controlled || in.top_drive.is_motor(), lagged = opt_.acceleration == Acceleration::lagged;
     double om_state = std::isfinite(top0) ? top0 : in.top_speed.at(0.0);  // motor speed
+    const bool axial = in.axial.active();
+    double wob_state = std::isfinite(s0.wob) ? s0.wob : in.wob.at(0.0);  // the axial state (axial.hpp)
     // a controlled drive's loop, starting in equilibrium with the string's top torque unless given
     const double T0 = Controlled ? top_torque_.dot(z) : 0.0;
     ControlLoop loop(in.top_drive.controller, in.top_drive.inertia, dt,
@@ -347,7 +356,7 @@ class Integrator {
         domega = (om_next - om) * inv_dt;
       else
         domega = motor ? (om_next - om) / dt : in.top_speed.rate(t);
-      const double wob = in.wob.at(t), eta = in.eta.at(t);
+      const double wob = axial ? wob_state : in.wob.at(t), eta = in.eta.at(t);
       // Newton's start for Eq. (A.1) (below). Its tanh does not depend on this step: evaluated
       // here, where it overlaps the step's chain of dependent operations (the controller's, the
       // law's exp and log), when the last step needed Newton too (a smooth run)
@@ -427,18 +436,20 @@ class Integrator {
       if (!std::isfinite(v) || !std::isfinite(T)) diverged(t);
       const double T_bit = fric != 0.0 ? T - fric : T;  // the string friction acts outside the torque sensor
       if constexpr (Controlled)
-        obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, T_top, om, loop.torque}));
+        obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, T_top, om, loop.torque, wob}));
       else
-        obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, T_top, om}));
+        obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, T_top, om, NAN, wob}));
       if (i == n) break;
       v_prev = v;
       p += dt * (f - bit_ * T);  // Eq. (A.5): velocity first, with the torque of step i ...
       z += dt * p;               // Eq. (A.6): ... then the displacement with the new velocity.
       theta_top += 0.5 * dt * (om + om_next);
       om_state = om_next;
+      if (axial) wob_state = in.axial.step(wob_state, v, in.wob.at(t), dt);
     }
     ModelState out = to_model(z, p);
     out.top_speed = om_state;
+    if (axial) out.wob = wob_state;
     if constexpr (Controlled) {
       out.drive_integral = loop.integral;
       out.drive_mean = loop.mean;
@@ -488,7 +499,7 @@ class Integrator {
       const double om = in.top_speed.at(0.0);
       const double v = om + x_n;
       const double T = total_torque(v, 0.0, in.wob.at(0.0), in.eta.at(0.0), in.bit_viscous).T;
-      obs(static_cast<const StepState&>(StepState{0, 0.0, v, 0.0, bit_.dot(z), T, top_torque_.dot(z), om}));
+      obs(static_cast<const StepState&>(StepState{0, 0.0, v, 0.0, bit_.dot(z), T, top_torque_.dot(z), om, NAN, in.wob.at(0.0)}));
     }
     // backward Euler on the first step and on the step after each stuck step (the BDF2 history of a
     // bit that has just been stopped by the stick condition is not smooth: restart the multistep)
@@ -546,7 +557,7 @@ class Integrator {
       x_old = x_n;
       x_n = x;
       const StepState st{i + 1, t1, om1 + x, ca * x + a0 + domega, theta_top + bit_.dot(z),
-                         fric != 0.0 ? Tnew - fric : Tnew, top_torque_.dot(z), om1};
+                         fric != 0.0 ? Tnew - fric : Tnew, top_torque_.dot(z), om1, NAN, in.wob.at(t1)};
       obs(st);
     }
     return to_model(z, p);

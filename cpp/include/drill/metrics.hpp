@@ -176,10 +176,10 @@ inline Periodicity detect_periodicity(const PhaseObserver& ph, int max_k = 8, in
 /// Keeps every `stride`-th step of the time series.
 struct Recorder {
   long stride = 1;
-  std::vector<double> t, bit_speed, bit_accel, bit_angle, torque_on_bit, top_torque, top_speed;
+  std::vector<double> t, bit_speed, bit_accel, bit_angle, torque_on_bit, top_torque, top_speed, wob;
 
   explicit Recorder(long stride_ = 1, long expected = 0) : stride(std::max(1L, stride_)) {
-    for (auto* v : {&t, &bit_speed, &bit_accel, &bit_angle, &torque_on_bit, &top_torque, &top_speed})
+    for (auto* v : {&t, &bit_speed, &bit_accel, &bit_angle, &torque_on_bit, &top_torque, &top_speed, &wob})
       v->reserve(static_cast<std::size_t>(expected / stride + 1));
   }
   void operator()(const StepState& s) {
@@ -196,6 +196,7 @@ struct Recorder {
     torque_on_bit.push_back(s.torque_on_bit);
     top_torque.push_back(s.top_torque);
     top_speed.push_back(s.top_speed);
+    wob.push_back(s.wob);
   }
 
  private:

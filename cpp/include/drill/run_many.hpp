@@ -30,7 +30,7 @@ struct ManyRuns {
 /// Integrator, the reference. A run that fails (diverges) gets its error message and an empty
 /// report; the others go on. A run's numbers do not depend on the other runs, the thread count or
 /// the chunking.
-inline ManyRuns run_many(const std::vector<const Simulation*>& sims, const std::vector<Inputs>& in,
+inline ManyRuns run_many(const std::vector<const Simulation*>& sims, std::vector<Inputs> in,
                          bool record = true, int threads = 0, bool batched = true) {
   require(sims.size() == in.size(), "run_many inputs", in.size(), "must have one entry per simulation");
   const std::size_t n = sims.size();
@@ -38,6 +38,7 @@ inline ManyRuns run_many(const std::vector<const Simulation*>& sims, const std::
   if (n == 0) return out;
   for (std::size_t r = 0; r < n; ++r) {
     require(sims[r] != nullptr, "run_many simulation", r, "is null");
+    in[r] = sims[r]->axial_feed(in[r]);
     in[r].validate();
   }
   const BatchedIntegrator lockstep(sims[0]->integrator());

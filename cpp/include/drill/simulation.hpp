@@ -62,6 +62,8 @@ class Simulation {
     in.bit_viscous = cfg_.bit_viscous;
     in.string_friction = cfg_.string_friction;
     in.top_drive = cfg_.top_drive;
+    in.axial = cfg_.axial;
+    if (in.axial.active()) in.axial.feed_speed = steady_speed(top_speed, wob);
     return in;
   }
   Inputs inputs() const { return inputs(cfg_.top_speed, cfg_.wob); }
@@ -79,11 +81,30 @@ class Simulation {
   /// T_sf sign(Omega) of `operation.string_friction_nm` included.
   ModelState steady_state(double top_speed, double wob, double disturbance = 0.01) const {
     const ReducedModel& r = rom_.model;
+    const double om = steady_speed(top_speed, wob);
+    ModelState s{r.K.ldlt().solve(-steady_torque(om, wob) * r.bit.transpose()), -disturbance * om * r.init_velocity};
+    const TopDrive& td = cfg_.top_drive;
+    if (td.has_inertia()) s.top_speed = om;
+    // the integral carries the reduced model's top torque of this twist (T(Omega) to the modal
+    // truncation of the static twist), so that the drive starts in equilibrium
+    if (td.is_controlled()) s.drive_integral = s.drive_mean = td.controller.ki > 0.0 ? integ_.top_torque(s) : 0.0;
+    return s;
+  }
+
+  /// The total torque at the bit in steady drilling at bit speed om [rad/s] and WOB [N]: the law at
+  /// zero acceleration, c_v om and the string friction.
+  double steady_torque(double om, double wob) const {
     const double sf = cfg_.string_friction;
-    auto torque = [&](double om) {
-      const double T = cfg_.law.torque(om, 0.0, wob) + cfg_.bit_viscous * om;
-      return sf > 0.0 ? T + sf * ((om > 0.0) - (om < 0.0)) : T;
-    };
+    const double T = cfg_.law.torque(om, 0.0, wob) + cfg_.bit_viscous * om;
+    return sf > 0.0 ? T + sf * ((om > 0.0) - (om < 0.0)) : T;
+  }
+
+  /// The speed of steady drilling at a top-speed command [rad/s] and WOB [N]: the command with an
+  /// ideal drive or a controller with integral action; with a motor (or a P-only controller) the
+  /// speed where the drive's torque carries the torque on bit, Omega = Omega_c - T(Omega) / c_m
+  /// (bisection on [0, Omega_c]; 0 if it stalls).
+  double steady_speed(double top_speed, double wob) const {
+    auto torque = [&](double om) { return steady_torque(om, wob); };
     double om = top_speed;
     const TopDrive& td = cfg_.top_drive;
     // a controller with integral action turns at the command (om = top_speed); a P-only one droops
@@ -95,12 +116,18 @@ class Simulation {
       for (int it = 0; it < 200 && hi - lo > 1e-12 * top_speed; ++it) (g(0.5 * (lo + hi)) < 0.0 ? lo : hi) = 0.5 * (lo + hi);
       om = 0.5 * (lo + hi);
     }
-    ModelState s{r.K.ldlt().solve(-torque(om) * r.bit.transpose()), -disturbance * om * r.init_velocity};
-    if (td.has_inertia()) s.top_speed = om;
-    // the integral carries the reduced model's top torque of this twist (T(Omega) to the modal
-    // truncation of the static twist), so that the drive starts in equilibrium
-    if (td.is_controlled()) s.drive_integral = s.drive_mean = td.controller.ki > 0.0 ? integ_.top_torque(s) : 0.0;
-    return s;
+    return om;
+  }
+
+  /// Inputs with the axial jack's feed speed set (axial.hpp): the steady drilling speed at the mean
+  /// command and the mean set force of the inputs, unless already set (inputs() sets it for its
+  /// constant operating point; a caller that changes the inputs' speed or WOB resets it to NaN).
+  /// Unchanged without the jack.
+  Inputs axial_feed(Inputs in) const {
+    if (!in.axial.active() || std::isfinite(in.axial.feed_speed)) return in;
+    auto avg = [](const Signal& s) { return s.is_constant() ? s.value : mean(s.samples); };
+    in.axial.feed_speed = steady_speed(avg(in.top_speed), avg(in.wob));
+    return in;
   }
 
   /// The initial state of a run at this top speed and WOB (nothing for `rest`: the integrator's Eq. 2.10).
@@ -123,8 +150,9 @@ class Simulation {
   /// One run with metrics; `record` keeps every output_stride-th step of the series. Without an
   /// explicit `start` the run starts as simulation.start says. `progress` is told how far the run
   /// is (the steps between its calls cost one integer comparison each).
-  RunReport run(const Inputs& in, bool record = true, const ModelState* start = nullptr,
+  RunReport run(const Inputs& inputs_, bool record = true, const ModelState* start = nullptr,
                 const RunProgressFn& progress = nullptr) const {
+    const Inputs in = axial_feed(inputs_);
     std::optional<ModelState> s0;
     if (!start) {
       s0 = start_state(in);

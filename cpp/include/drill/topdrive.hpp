@@ -14,6 +14,14 @@
 // c_m Omega_c. The motor speed is a state of the simulation; its own damping term is integrated
 // implicitly (backward Euler: stable for any c_m dt / J_m), the string torque explicitly.
 //
+// The motor's torque is limited (`max_torque_nm`, T_max; the rig's motor: 8 N m, thesis section 5.1):
+//
+//   J_m Omega' = min(c_m (Omega_c - Omega), T_max) - T_top
+//
+// so that a bit stuck at a torque above min(c_m Omega_c, T_max) stalls the top ("the bit sticks and
+// achieves a reactive torque that the electrical motor is not able to overcome", section 5.3.2).
+// Without the key the characteristic is unlimited (the previous model).
+//
 // A `controlled` drive (issue 15) is the same free top inertia J driven by the torque of a speed
 // controller instead of the motor's characteristic (controller.hpp: stiff, pi, soft_speed, z_torque,
 // with a torque limit and a sample time):
@@ -38,6 +46,7 @@ struct TopDrive {
   Kind kind = Kind::ideal;
   double slope = 0.0;    ///< c_m: torque lost per unit speed [N m s/rad] (motor only)
   double inertia = 0.0;  ///< J_m, J: rotor and drive train inertia [kg m^2] (motor, controlled)
+  double max_torque = HUGE_VAL;  ///< T_max: the motor's torque limit [N m] (motor only; HUGE_VAL: none)
   Controller controller;  ///< controlled only
 
   static Kind parse_kind(const std::string& s) {
@@ -56,7 +65,10 @@ struct TopDrive {
 
   void validate() const {
     if (kind == Kind::ideal) return;
-    if (kind == Kind::motor) require_positive(slope, "top_drive.slope_nms_rad");
+    if (kind == Kind::motor) {
+      require_positive(slope, "top_drive.slope_nms_rad");
+      require(max_torque > 0.0, "top_drive.max_torque_nm", max_torque, "must be positive (absent: unlimited)");
+    }
     require_positive(inertia, "top_drive.inertia_kg_m2");
     if (kind == Kind::controlled) {
       controller.validate();
@@ -76,15 +88,19 @@ struct TopDrive {
   /// Steady speed under a torque T [N m] at command Omega_c [rad/s]: Omega_c - T / c_m for the motor;
   /// the command for the ideal drive and a controller (the integral carries the torque; ki > 0).
   double steady_speed(double command, double torque) const {
-    if (is_motor()) return command - torque / slope;
+    if (is_motor()) return torque >= max_torque ? 0.0 : command - torque / slope;
     if (is_controlled() && !(controller.ki > 0.0)) return command - torque / controller.kp;  // P only: droop
     return command;
   }
 
   /// Motor speed after one step dt from `omega` with the command and the string's top torque of
-  /// the current step: (Omega + dt (c_m Omega_c - T_top) / J_m) / (1 + dt c_m / J_m).
+  /// the current step: (Omega + dt (c_m Omega_c - T_top) / J_m) / (1 + dt c_m / J_m) on the
+  /// characteristic; Omega + dt (T_max - T_top) / J_m where the characteristic's torque at the new
+  /// speed would exceed the limit (the step is implicit in the characteristic, explicit in the limit).
   double step(double omega, double command, double top_torque, double dt) const {
-    return (omega + dt / inertia * (slope * command - top_torque)) / (1.0 + dt * slope / inertia);
+    const double next = (omega + dt / inertia * (slope * command - top_torque)) / (1.0 + dt * slope / inertia);
+    if (slope * (command - next) <= max_torque) return next;
+    return omega + dt / inertia * (max_torque - top_torque);
   }
 };
 

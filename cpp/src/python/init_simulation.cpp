@@ -44,6 +44,7 @@ py::dict report_to_dict(const RunReport& r) {
   d["torque_on_bit"] = as_array(r.series.torque_on_bit);
   d["top_torque"] = as_array(r.series.top_torque);
   d["top_speed"] = as_array(r.series.top_speed);
+  d["wob"] = as_array(r.series.wob);
   d["severity"] = r.severity;
   d["mean_top_speed"] = r.mean_top_speed;
   d["stick_fraction"] = r.stick_fraction;
@@ -76,6 +77,8 @@ void bind_run_report(py::module_& m) {
                "Elastic torque at the top of the string [N m].");
   vector_field(c, "top_speed", [](const RunReport& r) -> const auto& { return r.series.top_speed; },
                "Top speed [rad/s] (the motor's with a motor top drive).");
+  vector_field(c, "wob", [](const RunReport& r) -> const auto& { return r.series.wob; },
+               "Weight on bit the law saw [N]: the input, or the axial jack's state (axial.hpp).");
   c.def_readonly("severity", &RunReport::severity,
                  "Stick-slip severity SS over t >= transient, Eq. (3.4), dimensionless (NaN when undefined).");
   c.def_readonly("mean_top_speed", &RunReport::mean_top_speed, "Mean top speed over t >= transient [rad/s].");
@@ -170,6 +173,7 @@ void init_simulation(py::module_& m) {
             in.eta = to_signal(eta_series, series_dt, series_t0, 0.0, "eta_series");
             if (!bit_viscous.is_none()) in.bit_viscous = py::cast<double>(bit_viscous);
             if (!string_friction.is_none()) in.string_friction = py::cast<double>(string_friction);
+            in.axial.feed_speed = NAN;  // the jack's feed follows these inputs (Simulation::axial_feed)
             ModelState start;
             const bool has_start = !q0.is_none();
             if (has_start) {
@@ -234,6 +238,7 @@ void init_simulation(py::module_& m) {
           Inputs x = s->inputs();
           if (!top_speed_series.is_none())
             x.top_speed = to_signal(top_speed_series, series_dt, series_t0, x.top_speed.value, "top_speed_series");
+          x.axial.feed_speed = NAN;  // the jack's feed follows these inputs (Simulation::axial_feed)
           in.push_back(x);
         }
         ManyRuns r;

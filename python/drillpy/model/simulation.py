@@ -29,6 +29,9 @@ class SimulationResult:
         Torque the top drive applies [N m].
     top_speed : ndarray
         Top-drive speed [rad/s].
+    wob : ndarray
+        Weight on bit the law saw [N]: the input, or the axial jack's state (``axial``,
+        ``drill/axial.hpp``).
     severity : float
         Stick-slip severity SS, Eq. (3.4), over t >= transient [dimensionless]; NaN when undefined.
     mean_top_speed : float
@@ -57,6 +60,7 @@ class SimulationResult:
     torque_on_bit: np.ndarray
     top_torque: np.ndarray
     top_speed: np.ndarray
+    wob: np.ndarray
     severity: float
     mean_top_speed: float
     stick_fraction: float
@@ -86,7 +90,7 @@ class SimulationResult:
 
 
 #: the fields of SimulationResult that come from the engine's RunReport (RunReport.to_dict keys)
-_REPORT_FIELDS = ("t", "bit_speed", "bit_accel", "bit_angle", "torque_on_bit", "top_torque", "top_speed",
+_REPORT_FIELDS = ("t", "bit_speed", "bit_accel", "bit_angle", "torque_on_bit", "top_torque", "top_speed", "wob",
                   "severity", "mean_top_speed", "stick_fraction", "stick_durations", "slip_durations",
                   "slip_first", "period_cycles", "period_stick", "period_slip", "final_q", "final_qdot")
 

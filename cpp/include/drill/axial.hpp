@@ -1,0 +1,61 @@
+// The axial side of the test rig: the weight on bit as a state of the model, not an input.
+//
+// The rig's electrical jack lifts the rock holder's platform at a constant input voltage (thesis
+// section 5.1); the WOB is read by three load cells under the platform and oscillates with the
+// stick-slip cycle, rising while the bit is stuck and falling while it slips (section 5.3.2, Figs.
+// 5.6-5.7). The mechanism: the jack feeds the platform at a steady rate while the bit removes rock
+// in proportion to its rotation (a depth of cut per revolution, as in the Richard-Germay-Detournay
+// account of axial-torsional coupling), so the axial compliance between them is compressed while the
+// bit lags its steady rotation and relieved while it runs ahead. The jack's own regulation (constant
+// voltage) pulls the force back to its set value on a time scale tau:
+//
+//   W' = g (Omega_f - v) - (W - W_s(t)) / tau,      W >= 0 (the bit lifts off the rock at W = 0)
+//
+// g = k_ax d / (2 pi) [N/rad] (axial stiffness k_ax [N/m] times the depth of cut per revolution d
+// [m]), Omega_f [rad/s] the bit speed whose cut matches the jack's feed (the drive's steady drilling
+// speed at the operating point: Simulation sets it), W_s(t) the jack's set force (operation.wob_n,
+// or a slow series: the jack's trend), v the bit speed. In steady drilling (v = Omega_f) W = W_s.
+// The bit-rock law then takes this W (every law scales with W / W_ref), so a long stick raises the
+// static torque, which is how a stall develops.
+//
+// The relaxation is integrated exactly over a step (the exponential of -dt / tau) with the rest of
+// the right-hand side held at the step's start (first order, like the scheme's explicit parts).
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "drill/errors.hpp"
+
+namespace drill {
+
+struct Axial {
+  enum class Kind { none, jack };
+  Kind kind = Kind::none;
+  double gain = 0.0;          ///< g = k_ax d / (2 pi): WOB per radian of lag of the bit [N/rad]
+  double relaxation = 1.0;    ///< tau: the jack's time constant [s]
+  double feed_speed = NAN;    ///< Omega_f [rad/s]: set per run (Simulation::inputs); NaN: not set
+
+  static Kind parse_kind(const std::string& s) {
+    if (s == "none") return Kind::none;
+    if (s == "jack") return Kind::jack;
+    throw std::invalid_argument("axial.type = \"" + s + "\": unknown axial model (use none or jack)");
+  }
+  static std::string kind_name(Kind k) { return k == Kind::jack ? "jack" : "none"; }
+  bool active() const { return kind == Kind::jack; }
+
+  void validate() const {
+    if (!active()) return;
+    require_non_negative(gain, "axial.gain_n_rad");
+    require_positive(relaxation, "axial.relaxation_s");
+  }
+
+  /// The WOB after one step dt from W at bit speed v and set force W_s [N].
+  double step(double W, double v, double set_force, double dt) const {
+    const double e = std::exp(-dt / relaxation);
+    const double next = set_force + (W - set_force) * e + gain * (feed_speed - v) * relaxation * (1.0 - e);
+    return next > 0.0 ? next : 0.0;
+  }
+};
+
+}  // namespace drill
