@@ -112,16 +112,17 @@ DEFAULTS = {
     # rock platform and torque load cell
     "J_p": 0.02, "f_p": 20.0, "zeta_p": 0.05,
     # bit-rock contact (exponential Stribeck, set-valued stick)
-    "r_b": 6e-3, "mu_static": 1.1, "mu_0": 0.9, "mu_inf": 0.26, "v_s": 11.0, "delta": 1.5,
+    "r_b": 6e-3, "mu_static": 0.95, "mu_0": 0.87, "mu_inf": 0.3, "v_s": 11.0, "delta": 1.5,
+    "mu_age": 0.08, "tau_age": 0.05,
     "eta_sd": 0.03, "eta_tau": 0.01,
     # axial side
-    "wob0": 560.0, "k_ax": 9e6, "V_0": 1.13e-3, "W_js": 690.0, "W_f": 0.0, "sigma": 4.56e6,
-    "rock_sd": 0.3, "rock_corr": 5e-5,
-    "switch_low": 0.6, "switch_dwell_min": 2.0, "switch_dwell_max": 6.0,
+    "wob0": 560.0, "k_ax": 9e6, "V_0": 1.11e-3, "W_js": 690.0, "jack_voltage": 1.0, "W_f": 0.0, "sigma": 4.56e6,
+    "rock_sd": 0.35, "rock_corr": 5e-5,
+    "switch_low": 0.93, "switch_dwell_min": 2.0, "switch_dwell_max": 6.0,
     "stall_speed": 0.3, "relief_wait": 1.2, "relief_speed": 5e-5,
     # acquisition
     "f_iir": 10.0, "encoder_ppr": 2000, "noise_speed": 0.3, "noise_torque": 0.01, "noise_wob": 2.0,
-    "noise_top_post": 1.5, "spike_rate": 0.5, "stretch": [],
+    "noise_top_post": 1.5, "spike_rate": 0.5, "stretch": [[28.0, 30.0]],
     # integration
     "dt": 5e-5, "settle": 4.0,
 }
@@ -285,11 +286,12 @@ def simulate(params: dict | None = None, elements=None, duration: float = 40.0, 
     xi_i = 0
     c_m, om_c, T_max = p["c_m"], p["omega_c"], p["T_max"]
     motor = "top_drive" in el
-    V0, W_js, W_f, sigma = p["V_0"], p["W_js"], p["W_f"], p["sigma"]
+    V0, W_js, W_f, sigma, u_jack = p["V_0"], p["W_js"], p["W_f"], p["sigma"], p["jack_voltage"]
     rock, inv_dz = _rock_field(rng, p, el, V0 * (settle + duration) * 1.5 + 1e-3)
     rock_last = len(rock) - 1
     mu_s, mu_0, mu_inf, v_s, delta = p["mu_static"], p["mu_0"], p["mu_inf"], p["v_s"], p["delta"]
     T_hold = p["T_hold"]
+    mu_age, tau_age, t_stick = p["mu_age"], p["tau_age"], 0.0
     operator = "operator" in el
     stall_speed, relief_wait, relief_speed = p["stall_speed"], p["relief_wait"], p["relief_speed"]
     relief_end = 0.5 * p["omega_c"]
@@ -317,7 +319,7 @@ def simulate(params: dict | None = None, elements=None, duration: float = 40.0, 
             if relieving:
                 vj = -relief_speed
             else:
-                vj = sw_l[sw_i] * V0 * (1.0 - W / W_js)
+                vj = V0 * (u_jack * sw_l[sw_i] - W / W_js)
                 if vj < 0.0:
                     vj = 0.0
             z_j += vj * dt
@@ -359,7 +361,8 @@ def simulate(params: dict | None = None, elements=None, duration: float = 40.0, 
         if stuck:
             lam = mode["lam_x"][0] @ xa[:2 * n] + mode["lam_u"][0] @ xa[2 * n:]
             T_stick = -lam
-            if abs(T_stick) > mu_s * W * r_b:
+            t_stick += dt
+            if abs(T_stick) > (mu_s + mu_age * math.log1p(t_stick / tau_age)) * W * r_b:
                 stuck, changed = False, True
                 slip_dir = 1.0 if T_stick > 0 else -1.0
             else:
@@ -373,7 +376,7 @@ def simulate(params: dict | None = None, elements=None, duration: float = 40.0, 
                 lam = trial["lam_x"][0] @ xx + trial["lam_u"][0] @ xa[2 * n:]
                 if abs(lam) <= mu_s * W * r_b:
                     xa[n:2 * n] = v_proj
-                    stuck, changed = True, True
+                    stuck, changed, t_stick = True, True, 0.0
                     T_c = -lam
         if motor:
             if held:
