@@ -11,13 +11,20 @@ the rock platform's rotation phi_p. M q'' + C q' + K q = B u + G^T lambda, u = [
 
 * **Top drive** (``top_drive``): the rotor (J_m) sits on node 0 with half a segment's inertia.
   Open-loop DC motor (ESC at a fixed setting):  T_m = min(c_m (Omega_c - Omega_0), T_max).
-  Its stall torque is c_m Omega_c (about 4.1 N m by default, below T_max = 8 N m: the motor saturates
-  only when driven backwards). One-way hold (our choice, documented): the rotor cannot be back-driven
-  past zero speed unless the torque demands it. When Omega_0 reaches 0 from above, node 0 is held
-  (constraint Omega_0 = 0) while the holding torque lambda_h the constraint needs lies in [0, T_hold]
-  (T_hold = T_max: the ESC's brake); it is released forwards when lambda_h < 0 (the motor wins) and
-  backwards when lambda_h > T_hold. Switched off, the top is an ideal drive: node 0 carries a 1e6 kg m^2
-  flywheel spinning at ``omega_top``.
+  Its stall torque is c_m Omega_c (3.94 N m by default, below T_max = 8 N m: the motor saturates only
+  when driven backwards). One-way hold (our choice): the rotor cannot be back-driven past zero speed
+  unless the torque demands it. When Omega_0 reaches 0 from above, node 0 is held (constraint
+  Omega_0 = 0) while the holding torque lambda_h the constraint needs lies in [0, T_hold] (T_hold =
+  T_max: the ESC's brake); it is released forwards when lambda_h < 0 (the motor wins) and backwards
+  when lambda_h > T_hold. Switched off, the top is an ideal drive: node 0 carries a 1e6 kg m^2 flywheel
+  spinning at ``omega_top``.
+  J_m = 0.013 kg m^2, not "a few 1e-3": with c_m = 0.22 N m s/rad an open-loop motor is a damper on
+  the top, and with J_m of a few 1e-3 it damps the string's 3 Hz mode to zeta ~ 0.45 (eigenvalues of
+  the linearized rig: a contact slope of -0.15 N m s/rad is needed to destabilize it, and then at
+  1.8 Hz); every law whose torque range fits sample 175 then slides steadily at a high speed. The
+  rotor's inertia shields the mode from the motor's damping once J_m omega_1 >~ c_m (J_m >~ 0.012);
+  at 0.013 the rig stick-slips at 2.9 Hz. The price: the top lags the torque by ~90 ms where sample
+  175 shows ~14 ms.
 * **String**: the 1.7 m steel bar, radius 2.5 mm, GJ/L = 3.08 N m/rad, density 7800 kg/m^3, cut into
   ``n_seg`` equal Kelvin-Voigt segments (stiffness k_s = n_seg GJ/L, material damping c_s = beta k_s)
   with each segment's rotary inertia rho I_p L/n_seg split between its two end nodes. beta is set so
@@ -31,29 +38,37 @@ the rock platform's rotation phi_p. M q'' + C q' + K q = B u + G^T lambda, u = [
   reading = max(0, k_p phi_p) (the rod stays attached; the cell's one-sided reading is clipped).
   Switched off, the rock is fixed (J_p = 1e6) and the reading is the contact torque T_c itself.
 * **Bit-rock contact**, v = Omega_N - Omega_p the bit's speed relative to the rock, W the WOB, r_b the
-  bit radius (torque arm). Slipping (v != 0), an exponential Stribeck law:
-      T_c = sign(v) W r_b mu(|v|) (1 + eta(t)),  mu(v) = mu_inf + (mu_0 - mu_inf) exp(-v / v_s)
+  bit radius (torque arm, 6 mm). Slipping (v != 0), a stretched-exponential Stribeck law:
+      T_c = sign(v) W r_b mu(|v|) (1 + eta(t)),  mu(v) = mu_inf + (mu_0 - mu_inf) exp(-(v / v_s)^delta)
+  (delta = 1: the exponential Stribeck; default 1.5, steeper at the operating speed, no flat top).
   Stuck (set-valued): constraint Omega_N = Omega_p; the contact torque is the constraint's reaction,
-  |T_c| <= T_s = mu_static W r_b with mu_static > mu_0 (the static torque exceeds the kinetic torque at
-  low speed). A slip ending with v crossing 0 becomes a stick (momentum-conserving merge of bit and
-  platform speeds) if the reaction it needs is within T_s; a stick breaks when |T_c| > T_s, in the
-  direction of T_c. W = 0 (lost contact): T_c = 0, no stick.
+  |T_c| <= T_s = mu_s(tau) W r_b, mu_s(tau) = mu_static + mu_age ln(1 + tau / tau_age), tau the time
+  stuck so far (static friction ageing: short sticks break near mu_static > mu_0, a long stick, i.e. a
+  stall, holds more). A slip ending with v crossing 0 becomes a stick (momentum-conserving merge of bit
+  and platform speeds) if the reaction it needs is within mu_static W r_b; a stick breaks when
+  |T_c| > T_s, in the direction of T_c. W = 0 (lost contact): T_c = 0, no stick.
 * **Torque fluctuation** (``eta``): eta(t) an Ornstein-Uhlenbeck process (sd ``eta_sd``, correlation
   time ``eta_tau``), updated exactly every step.
 * **Axial side** (``axial``; else W = ``wob0`` constant). Quasi-static axial compliance k_ax between
   the jack and the hole bottom: W = max(0, k_ax (z_j - h)). The jack is itself an open-loop DC drive at
-  a constant supply voltage: it feeds at z_j' = s(t) V_0 max(0, 1 - W/W_js) (its speed droops with the
-  load and it stops at W_js). The bit cuts the rock only while turning forwards and in contact, with an
-  RGD-like depth of cut per revolution d = max(0, W - W_f) / sigma:  h' = d max(v, 0) / (2 pi).
-  Hence the WOB rises at k_ax z_j' while the bit is stuck and falls while it slips fast.
+  a constant supply voltage u (relative, ``jack_voltage``): z_j' = V_0 max(0, u s(t) - W/W_js) (free
+  speed u V_0, stall force u W_js: its speed droops with the load). The bit cuts only while turning
+  forwards and in contact, with an RGD-like depth of cut per revolution d = max(0, W - W_f) /
+  (sigma rho(h)):  h' = d max(v, 0) / (2 pi). Hence the WOB rises at k_ax z_j' while the bit is stuck
+  and falls while it slips fast; the jack's droop makes the WOB lead the bit's angle deficit.
+* **Rock** (``rock``): the concrete's relative strength rho(h) along the hole: 1 + rock_sd x an AR(1)
+  field of correlation length rock_corr (floored at 0.3), times hard aggregates (Poisson, agg_rate per
+  m of depth, raised-cosine bumps of peak agg_factor over agg_size). Off, rho = 1.
 * **Jack switch** (``jack_switch``): s(t) toggles between 1 and ``switch_low`` with dwell times drawn
   uniformly in [switch_dwell_min, switch_dwell_max] s (seeded): the slow WOB variation of a few tens
-  of N. Off, s = 1.
-* **Stall and operator relief** (``operator``): a stall is the top held at zero speed (or below
-  ``stall_speed``) with the bit stuck: the bit's static torque mu_static W r_b exceeds the motor's
-  stall torque c_m Omega_c. After ``relief_wait`` s of stall the operator lowers the jack at
-  ``relief_speed`` (z_j' = -relief_speed) until the bit slips again, then feeds again. Off, a stall
-  lasts for ever (the jack stops at W_js).
+  of N. Off, s = 1. ``jack_steps`` [[t, u], ...]: the operator sets the supply to u at record time t
+  (default: 1.12 at 27.6 s, which stalls the rig as sample 175 stalls at 28-30 s).
+* **Stall and operator relief** (``operator``): the top stalls when the bit's static torque
+  mu_s W r_b exceeds what the motor can deliver, c_m Omega_c (plus the rotor's overshoot): the top
+  stops (below ``stall_speed``) with the bit stuck. After ``relief_wait`` s of stall the operator
+  lowers the jack at ``relief_speed`` (z_j' = -relief_speed) and sets the supply back to
+  ``jack_voltage``, until the bit turns again faster than Omega_c / 2; then the jack feeds again.
+  Off, a stall lasts for ever.
 * **Acquisition** (1 kHz): raw channels are the top and bit encoders (angles quantized to
   ``encoder_ppr`` counts per revolution when ``encoders``, speed = count difference x fs), the torque
   load cell and the WOB (three load cells, summed), each with white sensor noise (``noise_*``,
@@ -116,13 +131,14 @@ DEFAULTS = {
     "mu_age": 0.08, "tau_age": 0.05,
     "eta_sd": 0.03, "eta_tau": 0.01,
     # axial side
-    "wob0": 560.0, "k_ax": 9e6, "V_0": 1.11e-3, "W_js": 690.0, "jack_voltage": 1.0, "W_f": 0.0, "sigma": 4.56e6,
-    "rock_sd": 0.35, "rock_corr": 5e-5,
+    "wob0": 560.0, "k_ax": 9e6, "V_0": 1.11e-3, "W_js": 690.0, "jack_voltage": 1.0,
+    "jack_steps": [[27.6, 1.12]], "W_f": 0.0, "sigma": 4.56e6,
+    "rock_sd": 0.35, "rock_corr": 5e-5, "agg_rate": 150.0, "agg_size": 3e-4, "agg_factor": 1.8,
     "switch_low": 0.93, "switch_dwell_min": 2.0, "switch_dwell_max": 6.0,
     "stall_speed": 0.3, "relief_wait": 1.2, "relief_speed": 5e-5,
     # acquisition
     "f_iir": 10.0, "encoder_ppr": 2000, "noise_speed": 0.3, "noise_torque": 0.01, "noise_wob": 2.0,
-    "noise_top_post": 1.5, "spike_rate": 0.5, "stretch": [[28.0, 30.0]],
+    "noise_top_post": 1.5, "spike_rate": 0.5, "stretch": [],
     # integration
     "dt": 5e-5, "settle": 4.0,
 }
@@ -239,7 +255,14 @@ def _rock_field(rng, p, el, depth):
         return [1.0], 0.0
     a = math.exp(-dz / p["rock_corr"])
     e = scipy.signal.lfilter([math.sqrt(1 - a * a)], [1, -a], rng.standard_normal(n))
-    return np.maximum(0.3, 1 + p["rock_sd"] * e).tolist(), 1 / dz
+    f = np.maximum(0.3, 1 + p["rock_sd"] * e)
+    # hard aggregates: Poisson along the depth, each a raised-cosine bump of strength over agg_size
+    z = np.arange(n) * dz
+    zk = rng.uniform(0.0, depth, rng.poisson(p["agg_rate"] * depth))
+    for z0 in zk:
+        m = (z >= z0) & (z < z0 + p["agg_size"])
+        f[m] *= 1 + (p["agg_factor"] - 1) * 0.5 * (1 - np.cos(2 * math.pi * (z[m] - z0) / p["agg_size"]))
+    return f.tolist(), 1 / dz
 
 
 def simulate(params: dict | None = None, elements=None, duration: float = 40.0, seed: int = 1,
@@ -278,6 +301,8 @@ def simulate(params: dict | None = None, elements=None, duration: float = 40.0, 
     sw_t, sw_l = _switch_schedule(rng, settle + duration + 1, p) if "jack_switch" in el else ([0.0, math.inf],
                                                                                                 [1.0])
     sw_i = 0
+    steps = sorted((float(a) + settle, float(b)) for a, b in p["jack_steps"]) + [(math.inf, 1.0)]
+    st_i = 0
     use_eta = "eta" in el
     eta, a_eta = 0.0, math.exp(-dt / p["eta_tau"])
     s_eta = p["eta_sd"] * math.sqrt(1 - a_eta * a_eta)
@@ -316,6 +341,9 @@ def simulate(params: dict | None = None, elements=None, duration: float = 40.0, 
                 W = 0.0
             while t >= sw_t[sw_i + 1]:
                 sw_i += 1
+            if t >= steps[st_i][0]:
+                u_jack = steps[st_i][1]
+                st_i += 1
             if relieving:
                 vj = -relief_speed
             else:
@@ -405,6 +433,7 @@ def simulate(params: dict | None = None, elements=None, duration: float = 40.0, 
                 stall_t += dt
                 if stall_t > relief_wait:
                     relieving, stall_t = True, 0.0
+                    u_jack = p["jack_voltage"]          # the operator also sets the supply back
             else:
                 stall_t = 0.0
         # ---- record (1 kHz)
