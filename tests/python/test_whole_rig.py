@@ -131,3 +131,13 @@ def test_record_format_and_artifacts(tmp_path):
     res = rig.simulate({"stretch": [[2.0, 4.0]]}, duration=6.0, seed=2)
     seg = res["top_speed"][2100:3900] / rig.RPM
     assert seg.min() < -100 and 20 < np.median(seg) < 60
+
+
+def test_step_size_is_converged():
+    """The exact (zero-order-hold) integrator: halving the nonlinear inputs' hold step changes little."""
+    el = QUIET - {"eta"}
+    a = rig.simulate({"dt": 1e-4}, el, duration=6.0, seed=4)["clean"]
+    b = rig.simulate({"dt": 5e-5}, el, duration=6.0, seed=4)["clean"]
+    assert a["omN"].mean() == pytest.approx(b["omN"].mean(), rel=0.02)
+    assert a["T_c"].mean() == pytest.approx(b["T_c"].mean(), rel=0.02)
+    assert abs(a["stuck"].mean() - b["stuck"].mean()) < 0.01
