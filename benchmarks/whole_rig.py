@@ -673,6 +673,9 @@ def main(argv=None) -> int:
         return 0
     el = set(ELEMENTS) if a.effects == "all" else {x for x in a.effects.split(",") if x}
     el -= {x for x in a.without.split(",") if x}
+    unknown = (el | {x for x in a.without.split(",") if x}) - set(ELEMENTS)
+    if unknown:
+        ap.error(f"unknown elements {sorted(unknown)} (known: {', '.join(ELEMENTS)})")
     over = {}
     for s in a.set:
         k, v = s.split("=", 1)
