@@ -8,7 +8,14 @@ top-drive descriptions:
 * ``constant``: the top turns at the record's reliable mean top speed (the thesis's clamped top);
 * ``measured``: the top follows the measured top-speed signal;
 * ``motor``: the rig's open-loop motor, J_m Omega' = c_m (Omega_c - Omega) - T_top
-  (``drill/topdrive.hpp``), its command set so that the simulated mean top speed is the record's.
+  (``drill/topdrive.hpp``), its command set so that the simulated mean top speed is the record's;
+* ``rig``: the rig modelled whole (thesis chapter 5.1, 5.3.1) and self-contained: the open-loop motor
+  with its own calibrated command (the rig's speed setting) and its 8 N m torque limit, the
+  electrical jack's WOB as a state (``drill/axial.hpp``) driven by the record's slow WOB trend
+  (below 0.5 Hz), the torque-on-bit platform's 20 Hz response (:func:`~drillpy.records.signals.
+  platform_response`) and the string's GJ within the geometry's tolerance. Its inputs are constants
+  and that slow trend: it predicts the cycle, the top speed's swing and the WOB's oscillation
+  instead of being fed them, which makes it the predictive model (``measured`` is a diagnosis).
 
 The simulated bit speed, top speed and torque go through the rig's 10 Hz acquisition filter
 before they are compared with the measurement on SS, stick fraction, cycle frequency, torque
@@ -33,18 +40,56 @@ from drillpy.model.config import load_config, normalize
 from drillpy.records import stick as _stick
 from drillpy.records.stick import STICK_FRACTION
 from drillpy.records.io import Flag, Record
-from drillpy.records.signals import MeanCycle, derivative, mean_cycle, rig_lowpass, segment_cycles, stick_slip_metrics
+from drillpy.records.signals import (MeanCycle, derivative, mean_cycle, platform_response, rig_lowpass, segment_cycles,
+                                     stick_slip_metrics)
 from drillpy.model.simulation import simulate, simulate_many
 
 #: Metrics compared between simulation and measurement (relative errors enter the mismatch).
 MATCHED = ("ss", "stick_fraction", "cycle_frequency_hz", "bit_speed_p95", "torque_p5", "torque_p95",
            "top_speed_std")
-DRIVES = ("constant", "measured", "motor")
+#: What the whole rig model also predicts (the others take the WOB and the mean top speed as given).
+MATCHED_RIG = MATCHED + ("wob_std", "mean_top_speed")
+DRIVES = ("constant", "measured", "motor", "rig")
+#: The drives whose inputs are constants or slow signals: the candidates of a predictive model.
+PREDICTIVE_DRIVES = ("constant", "motor", "rig")
+
+#: The rig's platform (rock holder and jack) natural frequency [Hz], thesis section 5.3.1.
+PLATFORM_HZ = 20.0
+#: The rig motor's torque limit [N m], thesis section 5.1 ("up to 300 RPM and 8 N m").
+MOTOR_MAX_TORQUE_NM = 8.0
+#: The jack's WOB trend: the record's WOB low-passed below this [Hz] (a slow input, not the cycle).
+WOB_TREND_HZ = 0.5
+#: A stick phase at least this long is a stall [s], reported apart from the regular cycle: about
+#: 1.4 periods of the rig's 2.89 Hz mode; on sample 175 the regular stick phases last at most 0.09 s
+#: and its one stall 1.43 s (at 28.05 s).
+STALL_MIN_S = 0.5
+
+#: The whole rig model's calibrated parameters: (low, high, unit, the source of the range).
+RIG_PARAMETERS = {
+    "damping_ratio": (0.005, 0.1, "-", "a steel bar between two bearings: modal damping of a few per cent; "
+                                       "0.1 is the issue's plausibility bound"),
+    "motor_slope_nms_rad": (0.1, 1.0, "N m s/rad", "the motor's rating, 8 N m at stall and 300 RPM no-load, gives "
+                                                   "c_m = 8 / 31.4 = 0.25 for a linear DC characteristic; "
+                                                   "a factor 2.5 to 4 either way"),
+    "motor_inertia_kg_m2": (1e-3, 0.05, "kg m^2", "rotor, coupling and upper bearing: between a tenth and 5 times "
+                                                  "the disk's 9.33e-3 kg m^2 (Table 5.1)"),
+    "command_rad_s": (6.0, 31.4, "rad/s", "the motor's no-load speed: at most its 300 RPM (section 5.1); the "
+                                          "nominal setting of sample 175 is 160 RPM = 16.8 rad/s"),
+    "jack_gain_n_rad": (0.0, 1000.0, "N/rad", "axial stiffness x depth of cut per radian: 1e7 N/m x 0.6 mm/rev "
+                                              "/ 2 pi at the top"),
+    "jack_relaxation_s": (0.02, 3.0, "s", "the jack's regulation: from the platform's period to the seconds of "
+                                          "its voltage switch (section 5.3.2)"),
+    "platform_damping": (0.05, 1.5, "-", "the platform's 20 Hz mode held by a rod on a load cell; above 1 it is "
+                                         "overdamped and flagged"),
+    "gj_factor": (0.97, 1.15, "-", "the bar's GJ / L: 1.70 m (Table 5.1) or 1.53 m (section 5.1) gives x 1 to "
+                                   "x 1.11, and the 2.5 mm radius +-0.02 mm +-3 %"),
+}
 
 
 def rig_config(law: dict | None = None, damping_ratio: float | None = None, *, preset: str = "thesis-rig",
                duration_s: float | None = None, top_speed: float | None = None,
-               wob: float | None = None, motor: tuple | None = None) -> dict:
+               wob: float | None = None, motor: tuple | None = None, axial: tuple | None = None,
+               gj_factor: float = 1.0) -> dict:
     """The rig preset with another law, modal damping ratio and/or top drive (normalized by the engine).
 
     Parameters
@@ -65,8 +110,13 @@ def rig_config(law: dict | None = None, damping_ratio: float | None = None, *, p
         fitted at.
     motor : tuple of float, optional
         (c_m [N m s/rad], J_m [kg m^2]) of an open-loop motor top drive,
-        J_m Omega' = c_m (Omega_c - Omega) - T_top; None: an ideal top drive (any top drive of the
-        preset is removed).
+        J_m Omega' = c_m (Omega_c - Omega) - T_top, or (c_m, J_m, T_max [N m]) with its torque
+        limit; None: an ideal top drive (any top drive of the preset is removed).
+    axial : tuple of float, optional
+        (g [N/rad], tau [s]) of the rig's jack: the WOB as a state (``drill/axial.hpp``), its set
+        force ``wob``; None: the WOB is the input.
+    gj_factor : float
+        Factor on every section's Young's modulus (the GJ within the geometry's tolerance).
 
     Returns
     -------
@@ -87,6 +137,14 @@ def rig_config(law: dict | None = None, damping_ratio: float | None = None, *, p
     cfg.pop("top_drive", None)
     if motor is not None:
         cfg["top_drive"] = {"type": "motor", "slope_nms_rad": float(motor[0]), "inertia_kg_m2": float(motor[1])}
+        if len(motor) > 2 and motor[2] is not None:
+            cfg["top_drive"]["max_torque_nm"] = float(motor[2])
+    cfg.pop("axial", None)
+    if axial is not None:
+        cfg["axial"] = {"type": "jack", "gain_n_rad": float(axial[0]), "relaxation_s": float(axial[1])}
+    if gj_factor != 1.0:
+        for sec in cfg["string"]["sections"]:
+            sec["youngs_modulus_pa"] = float(sec["youngs_modulus_pa"]) * float(gj_factor)
     return normalize(cfg)
 
 
@@ -186,8 +244,9 @@ class RigModel:
         0.69 for the measured drive on sample 175 (docs/records.md, section 4).
     drive : str
         ``constant`` (the record's reliable mean top speed), ``measured`` (the top follows the
-        measured top speed) or ``motor`` (open-loop motor, J_m Omega' = c_m (Omega_c - Omega) -
-        T_top).
+        measured top speed: a diagnosis, fed the cycle it should predict), ``motor`` (open-loop
+        motor, J_m Omega' = c_m (Omega_c - Omega) - T_top, its command matched to the record's
+        mean top speed) or ``rig`` (the rig modelled whole: module docstring).
     motor_slope_nms_rad : float or None
         Motor slope c_m [N m s/rad]: the torque the motor gives per rad/s below its command.
     motor_inertia_kg_m2 : float or None
@@ -197,6 +256,17 @@ class RigModel:
     calibration : dict
         How the model was obtained (:func:`calibrate`): calibration window, operating point,
         motor command, mismatch, matched metrics, stick threshold, per-drive results.
+    command_rad_s : float or None
+        The ``rig`` drive's motor command Omega_c [rad/s], the rig's speed setting (calibrated, then
+        held: the mean top speed is predicted).
+    jack_gain_n_rad, jack_relaxation_s : float or None
+        The ``rig`` drive's jack, g [N/rad] and tau [s] (``drill/axial.hpp``).
+    platform_damping : float or None
+        The ``rig`` drive's platform damping ratio at :data:`PLATFORM_HZ` [-].
+    gj_factor : float
+        Factor on the bar's GJ (``rig`` drive; 1 for the others).
+    intervals : dict
+        Parameter name -> [low, high], a 95 % interval (``rig`` drive: :func:`calibrate_rig`).
     """
     law: dict
     damping_ratio: float
@@ -205,22 +275,65 @@ class RigModel:
     motor_inertia_kg_m2: float | None = None
     preset: str = "thesis-rig"
     calibration: dict = field(default_factory=dict)
+    command_rad_s: float | None = None
+    jack_gain_n_rad: float | None = None
+    jack_relaxation_s: float | None = None
+    platform_damping: float | None = None
+    gj_factor: float = 1.0
+    intervals: dict = field(default_factory=dict)
 
     def __post_init__(self):
         if self.drive not in DRIVES:
             raise ValueError(f"drive = {self.drive!r}: use {', '.join(DRIVES)}")
         if not (math.isfinite(self.damping_ratio) and self.damping_ratio > 0):
             raise ValueError(f"damping_ratio = {self.damping_ratio!r}: must be a positive number")
-        if self.drive == "motor":
-            for k in ("motor_slope_nms_rad", "motor_inertia_kg_m2"):
-                v = getattr(self, k)
-                if v is None or not (math.isfinite(v) and v > 0):
-                    raise ValueError(f"{k} = {v!r}: the motor drive needs a positive value")
+        need = {"motor": ("motor_slope_nms_rad", "motor_inertia_kg_m2"),
+                "rig": ("motor_slope_nms_rad", "motor_inertia_kg_m2", "command_rad_s", "jack_relaxation_s",
+                        "platform_damping", "gj_factor")}.get(self.drive, ())
+        for k in need:
+            v = getattr(self, k)
+            if v is None or not (math.isfinite(v) and v > 0):
+                raise ValueError(f"{k} = {v!r}: the {self.drive} drive needs a positive value")
+        if self.drive == "rig" and not (self.jack_gain_n_rad is not None and math.isfinite(self.jack_gain_n_rad)
+                                        and self.jack_gain_n_rad >= 0):
+            raise ValueError(f"jack_gain_n_rad = {self.jack_gain_n_rad!r}: the rig drive needs a value >= 0")
 
     @property
     def motor(self) -> tuple | None:
-        """(c_m [N m s/rad], J_m [kg m^2]) for the motor drive, None for the others."""
+        """(c_m [N m s/rad], J_m [kg m^2]) for the motor drive, with the torque limit
+        :data:`MOTOR_MAX_TORQUE_NM` for the rig drive, None for the others."""
+        if self.drive == "rig":
+            return (self.motor_slope_nms_rad, self.motor_inertia_kg_m2, MOTOR_MAX_TORQUE_NM)
         return (self.motor_slope_nms_rad, self.motor_inertia_kg_m2) if self.drive == "motor" else None
+
+    @property
+    def axial(self) -> tuple | None:
+        """(g [N/rad], tau [s]) of the rig drive's jack, None for the others."""
+        return (self.jack_gain_n_rad, self.jack_relaxation_s) if self.drive == "rig" else None
+
+    def parameters(self) -> dict:
+        """The rig drive's calibrated parameters with their 95 % intervals, physical ranges and flags.
+
+        Returns
+        -------
+        dict
+            Name -> ``value``, ``ci95`` ([low, high] or None), ``range`` [low, high], ``unit``,
+            ``source`` (of the range) and ``flag`` (None, or why the value is not plausible: at a
+            bound of its range, or an overdamped platform). Empty for the other drives.
+        """
+        if self.drive != "rig":
+            return {}
+        out = {}
+        for name, (lo, hi, unit, source) in RIG_PARAMETERS.items():
+            v = float(getattr(self, name))
+            flag = None
+            if v <= lo * (1 + 1e-3) or v >= hi * (1 - 1e-3):
+                flag = f"at the bound of its range [{lo:g}, {hi:g}] {unit}: an element the model lacks may be pushing it"
+            elif name == "platform_damping" and v > 1.0:
+                flag = "an overdamped platform: the torque channel lags more than a 20 Hz mode explains"
+            out[name] = {"value": v, "ci95": self.intervals.get(name), "range": [lo, hi], "unit": unit,
+                         "source": source, "flag": flag}
+        return out
 
     def config(self, top_speed: float, wob: float | None = None, duration_s: float | None = None) -> dict:
         """Engine configuration of the model at an operating point.
@@ -241,7 +354,8 @@ class RigModel:
             Normalized engine configuration (:func:`rig_config`).
         """
         return rig_config(self.law, self.damping_ratio, preset=self.preset, duration_s=duration_s,
-                          top_speed=top_speed, wob=wob, motor=self.motor)
+                          top_speed=top_speed, wob=wob, motor=self.motor, axial=self.axial,
+                          gj_factor=self.gj_factor if self.drive == "rig" else 1.0)
 
     def to_dict(self, top_speed: float | None = None, wob: float | None = None) -> dict:
         """``model.json``: the engine configuration (at the calibration's operating point) and the drive.
@@ -262,9 +376,17 @@ class RigModel:
         """
         op = self.calibration.get("operating_point", {})
         om = top_speed if top_speed is not None else self.calibration.get("command_rad_s", op.get("top_speed_rad_s"))
-        return {"format": "drillpy.rig_model", "version": 1, "drive": self.drive,
-                "config": self.config(om, wob if wob is not None else op.get("wob_n")),
-                "calibration": self.calibration}
+        if top_speed is None and self.drive == "rig":
+            om = self.command_rad_s
+        out = {"format": "drillpy.rig_model", "version": 1, "drive": self.drive,
+               "predictive": self.drive in PREDICTIVE_DRIVES,
+               "config": self.config(om, wob if wob is not None else op.get("wob_n")),
+               "calibration": self.calibration}
+        if self.drive == "rig":
+            out["rig"] = {"platform_hz": PLATFORM_HZ, "platform_damping": self.platform_damping,
+                          "gj_factor": self.gj_factor, "wob_trend_hz": WOB_TREND_HZ,
+                          "parameters": self.parameters()}
+        return out
 
     @classmethod
     def from_dict(cls, d: dict) -> "RigModel":
@@ -299,12 +421,75 @@ class RigModel:
                 raise ValueError(f"model: config.damping.type = {damp.get('type')!r}: a rig model has modal damping")
             td = cfg.get("top_drive", {"type": "ideal"})
             motor = td.get("type") == "motor"
-            return cls(law=cfg["law"], damping_ratio=float(damp["ratios"][0]), drive=d.get("drive", "constant"),
+            drive = d.get("drive", "constant")
+            extra = {}
+            if drive == "rig":
+                rig, ax = d.get("rig") or {}, cfg.get("axial") or {}
+                extra = {"command_rad_s": cfg["operation"]["top_speed_rad_s"], "jack_gain_n_rad": ax.get("gain_n_rad"),
+                         "jack_relaxation_s": ax.get("relaxation_s"), "platform_damping": rig.get("platform_damping"),
+                         "gj_factor": rig.get("gj_factor", 1.0),
+                         "intervals": {k: v.get("ci95") for k, v in (rig.get("parameters") or {}).items()
+                                       if v.get("ci95") is not None}}
+            return cls(law=cfg["law"], damping_ratio=float(damp["ratios"][0]), drive=drive,
                        motor_slope_nms_rad=td.get("slope_nms_rad") if motor else None,
                        motor_inertia_kg_m2=td.get("inertia_kg_m2") if motor else None,
-                       calibration=d.get("calibration", {}))  # rebuilt on the thesis-rig geometry
+                       calibration=d.get("calibration", {}), **extra)  # rebuilt on the thesis-rig geometry
         except KeyError as e:
             raise ValueError(f"model: config lacks {e}") from None
+
+
+def wob_trend(record: Record, default: float) -> np.ndarray:
+    """The jack's slow WOB: the record's valid WOB samples (gaps interpolated) low-passed below
+    :data:`WOB_TREND_HZ` (second-order Butterworth, zero phase). A slow input of the ``rig`` drive,
+    not the cycle: at 0.5 Hz the filter passes 0.01 % of the power at the rig's 2.6-2.9 Hz cycle.
+
+    Parameters
+    ----------
+    record : Record
+        A cleaned record.
+    default : float
+        The WOB [N] when the record has no valid WOB sample.
+
+    Returns
+    -------
+    ndarray
+        The trend [N], one value per sample.
+    """
+    n = len(record)
+    if record.wob is None or not record.valid("wob").any():
+        return np.full(n, float(default))
+    ok = record.valid("wob") & np.isfinite(record.wob)
+    idx = np.arange(n)
+    w = np.interp(idx, idx[ok], record.wob[ok])
+    fs = 1.0 / record.dt
+    if n < 30 or WOB_TREND_HZ >= 0.5 * fs:
+        return np.full(n, float(np.mean(w)))
+    from scipy import signal as sps
+    b, a = sps.butter(2, WOB_TREND_HZ, fs=fs)
+    return sps.filtfilt(b, a, w, padlen=min(n - 1, 3 * int(fs / WOB_TREND_HZ)))
+
+
+def drive_series(record: Record) -> np.ndarray:
+    """The measured top speed as a drive signal (the ``measured`` drive): excluded samples and
+    artifact stretches (not :func:`reliable_top_speed`) interpolated from the reliable ones. Those
+    samples are then left out of every comparison (:func:`measured_side`): never fed in unmarked,
+    never a refusal.
+
+    Parameters
+    ----------
+    record : Record
+        A cleaned record with a top-speed channel and at least two reliable samples.
+
+    Returns
+    -------
+    ndarray
+        Top speed [rad/s], one value per sample.
+    """
+    ok = reliable_top_speed(record) & np.isfinite(record.top_speed)
+    if ok.sum() < 2:
+        raise ValueError("record: fewer than 2 reliable top-speed samples; the measured drive needs a top speed")
+    idx = np.arange(len(record))
+    return np.interp(idx, idx[ok], record.top_speed[ok])
 
 
 def _setup(model: RigModel, record: Record, command: float, wob: float) -> dict:
@@ -314,27 +499,31 @@ def _setup(model: RigModel, record: Record, command: float, wob: float) -> dict:
     return normalize(cfg)
 
 
-def _channels(res, record: Record, filtered: bool):
-    """The simulated bit speed, top speed and torque on bit on ``record``'s grid (and how many samples)."""
+def _channels(res, record: Record, filtered: bool, platform_damping: float | None = None):
+    """The simulated bit speed, top speed, torque on bit and WOB on ``record``'s grid (and how many
+    samples); with ``platform_damping`` the torque is what the platform's load cell reads."""
     n = min(res.t.size, record.time_s.size)
-    vb, vt, tq = res.bit_speed[:n], res.top_speed[:n], res.torque_on_bit[:n]
+    vb, vt, tq, w = res.bit_speed[:n], res.top_speed[:n], res.torque_on_bit[:n], res.wob[:n]
+    fs = 1.0 / float(np.median(np.diff(res.t)))
+    if platform_damping is not None:
+        tq = platform_response(tq, fs, PLATFORM_HZ, platform_damping)
     if filtered:
-        fs = 1.0 / float(np.median(np.diff(res.t)))
-        vb, vt, tq = (rig_lowpass(x, fs) for x in (vb, vt, tq))
-    return n, vb, vt, tq
+        vb, vt, tq, w = (rig_lowpass(x, fs) for x in (vb, vt, tq, w))
+    return n, vb, vt, tq, w
 
 
 def _run(model: RigModel, record: Record, command: float, wob: float):
-    measured = model.drive == "measured"
+    measured, rig = model.drive == "measured", model.drive == "rig"
     return simulate(_setup(model, record, command, wob), None if measured else command,
-                    top_speed_series=record.top_speed if measured else None, series_dt=record.dt)
+                    top_speed_series=drive_series(record) if measured else None,
+                    wob_series=wob_trend(record, wob) if rig else None, series_dt=record.dt)
 
 
 def _as_record(model: RigModel, record: Record, res, command: float, op: dict, wob: float, filtered: bool) -> Record:
     """The simulation ``res`` of ``model`` as a record on ``record``'s grid (see :func:`simulate_model`)."""
-    n, vb, vt, tq = _channels(res, record, filtered)
+    n, vb, vt, tq, w = _channels(res, record, filtered, model.platform_damping if model.drive == "rig" else None)
     t = res.t[:n] + record.time_s[0]
-    return Record(time_s=t, bit_speed=vb, top_speed=vt, torque_on_bit=tq, wob=np.full(n, wob),
+    return Record(time_s=t, bit_speed=vb, top_speed=vt, torque_on_bit=tq, wob=w,
                   units={"time": "s", "bit_speed": "rad_s", "top_speed": "rad_s", "torque_on_bit": "Nm", "wob": "N"},
                   provenance={"source": "simulation", "format": "drillpy.simulate", "preset": model.preset,
                               "drive": model.drive, "filtered": filtered, "command_rad_s": command,
@@ -345,11 +534,13 @@ def simulate_model(model: RigModel, record: Record, *, filtered: bool = True, sk
     """Simulate ``model`` over the span of a cleaned ``record`` at the record's operating point.
 
     The constant drive turns at the record's reliable mean top speed; the measured drive follows
-    the record's top-speed channel (which must then be complete); the motor's command is found
-    (bracketing and bisection) so that the simulated mean top speed after ``skip_s`` equals the record's
-    reliable mean. The WOB is the record's mean WOB (the law scales with W / W_ref). Nothing of
-    the record but its operating point (and the measured drive's top speed) enters: this is how a
-    model predicts data it was not calibrated on.
+    the record's top-speed channel (its artifact stretches interpolated, :func:`drive_series`, and
+    left out of the comparison); the motor's command is found (bracketing and bisection) so that the
+    simulated mean top speed after ``skip_s`` equals the record's reliable mean; the rig drive runs at
+    its own calibrated command with the jack's set force the record's slow WOB trend
+    (:func:`wob_trend`). The WOB is otherwise the record's mean WOB (the law scales with W / W_ref).
+    Nothing of the record but its operating point, its WOB trend (and the measured drive's top speed)
+    enters: this is how a model predicts data it was not calibrated on.
 
     Parameters
     ----------
@@ -367,28 +558,24 @@ def simulate_model(model: RigModel, record: Record, *, filtered: bool = True, sk
     -------
     Record
         The simulation on the record's time grid (bit and top speed [rad/s], torque on bit
-        [N m], constant WOB [N]); ``provenance`` holds the drive, ``command_rad_s``, the
-        ``operating_point`` and the engine ``config``.
+        [N m], WOB [N]: constant, or the rig drive's jack state); ``provenance`` holds the drive,
+        ``command_rad_s``, the ``operating_point`` and the engine ``config``.
 
     Raises
     ------
     ValueError
-        For the measured drive when the record's top speed has excluded samples, and when the
-        operating point cannot be taken (:func:`operating_point`).
+        When the operating point cannot be taken (:func:`operating_point`).
     """
     op = operating_point(record)
     wob = op.get("wob_n", model.law["wob_ref_n"])
     target = op["top_speed_rad_s"]
-    if model.drive == "measured" and not record.valid("top_speed").all():
-        raise ValueError("simulate_model: the top-speed channel has excluded samples; a drive signal "
-                         "must be complete (clean the record, or select a span without them)")
-    command = target
+    command = model.command_rad_s if model.drive == "rig" else target
     if model.drive == "motor":
         sel = record.time_s >= record.time_s[0] + skip_s
 
         def gap(c):
             res = _run(model, record, c, wob)
-            _, _, top, _ = _channels(res, record, False)
+            _, _, top, _, _ = _channels(res, record, False)
             return float(np.mean(top[sel[:top.size]])) - target
 
         # the mean top speed rises with the command, with jumps where the motor stalls or stick-slip
@@ -438,9 +625,8 @@ def simulate_models(models, record: Record, *, filtered: bool = True, threads: i
     Raises
     ------
     ValueError
-        For a motor drive (its command is searched run by run: :func:`simulate_model`), for the
-        measured drive when the record's top speed has excluded samples, and when the operating
-        point cannot be taken.
+        For a motor or rig drive (run by run: :func:`simulate_model`), and when the operating point
+        cannot be taken.
     """
     models = list(models)
     if not models:
@@ -450,14 +636,10 @@ def simulate_models(models, record: Record, *, filtered: bool = True, threads: i
     command = op["top_speed_rad_s"]
     series = None
     for m in models:
-        if m.drive == "motor":
-            raise ValueError("simulate_models: drive = 'motor': its command is searched run by run "
-                             "(use simulate_model)")
+        if m.drive in ("motor", "rig"):
+            raise ValueError(f"simulate_models: drive = {m.drive!r}: run it by simulate_model")
         if m.drive == "measured":
-            if not record.valid("top_speed").all():
-                raise ValueError("simulate_models: the top-speed channel has excluded samples; a drive signal "
-                                 "must be complete (clean the record, or select a span without them)")
-            series = record.top_speed
+            series = drive_series(record)
     if series is not None and any(m.drive != "measured" for m in models):
         raise ValueError("simulate_models: drives = " + ", ".join(sorted({m.drive for m in models}))
                          + ": one call takes one drive (its top speed drives every run)")
@@ -588,10 +770,58 @@ class MeasuredSide:
     cycle: MeanCycle | None
 
 
+def stalls(bit_speed, dt: float, stick_threshold: float, valid=None, min_s: float = STALL_MIN_S) -> list:
+    """The stalls of a record: stick phases (bit speed at or below the threshold) of at least ``min_s``.
+
+    A stall is not part of the regular stick-slip cycle: the bit sticks at a torque the open-loop
+    motor cannot overcome until the WOB is relieved (thesis section 5.3.2). Stalls are reported
+    apart (count, starts, durations) and left out of the regular metrics (:func:`compare`).
+
+    Parameters
+    ----------
+    bit_speed : array_like
+        Bit speed [rad/s].
+    dt : float
+        Sampling interval [s].
+    stick_threshold : float
+        Bit speed at or below which the bit is stuck [rad/s].
+    valid : array_like of bool, optional
+        Usable samples (a phase is cut where they end); default all finite samples.
+    min_s : float
+        Shortest stall [s] (:data:`STALL_MIN_S`).
+
+    Returns
+    -------
+    list of tuple
+        ``(first_index, samples)`` per stall, in time order.
+    """
+    v = np.asarray(bit_speed, float)
+    ok = np.isfinite(v) if valid is None else (np.asarray(valid, bool) & np.isfinite(v))
+    st = ok & (v <= stick_threshold)
+    d = np.diff(np.r_[0, st.astype(np.int8), 0])
+    starts, ends = np.flatnonzero(d == 1), np.flatnonzero(d == -1)
+    n_min = int(math.ceil(min_s / dt))
+    return [(int(a), int(b - a)) for a, b in zip(starts, ends) if b - a >= n_min]
+
+
 def _metrics(rec: Record, stick_threshold: float, t0: float, skip: np.ndarray) -> dict:
-    sel = (rec.time_s >= t0) & rec.valid("bit_speed", "top_speed", "torque_on_bit") & ~skip[:len(rec)]
+    base = (rec.time_s >= t0) & ~skip[:len(rec)]
+    sel = base & rec.valid("bit_speed", "top_speed", "torque_on_bit")
+    stall = np.zeros(len(rec), bool)
+    found = stalls(rec.bit_speed, rec.dt, stick_threshold, valid=sel)
+    after = int(round(0.1 / rec.dt))  # the break-away that ends a stall is not a regular cycle either
+    for a, k in found:
+        stall[a:a + k + after] = True
+    if (sel & ~stall).sum() >= 3:
+        sel = sel & ~stall
     m = stick_slip_metrics(rec.time_s, rec.bit_speed, rec.top_speed, rec.torque_on_bit, stick_threshold, valid=sel)
-    ok = (rec.time_s >= t0) & reliable_top_speed(rec) & ~skip[:len(rec)]
+    m["stalls"] = {"count": len(found), "starts_s": [float(rec.time_s[a]) for a, _ in found],
+                   "durations_s": [float(k * rec.dt) for _, k in found]}
+    m["stall_fraction"] = float(sum(k for _, k in found) / max(int(base.sum()), 1))
+    w = sel & (rec.valid("wob") if rec.wob is not None else np.zeros(len(rec), bool))
+    m["wob_std"] = float(np.std(rec.wob[w])) if w.sum() > 1 else float("nan")
+    m["wob_mean"] = float(np.mean(rec.wob[w])) if w.sum() > 1 else float("nan")
+    ok = base & ~stall & reliable_top_speed(rec)
     if ok.sum() > 1:  # the mean top speed and SS (Eq. 3.4) from reliable top-speed samples only
         m["top_speed_std"] = float(np.std(rec.top_speed[ok]))
         m["mean_top_speed"] = float(np.mean(rec.top_speed[ok]))
@@ -626,14 +856,14 @@ def measured_side(measured: Record, stick_threshold: float, start_s: float, driv
     t0 = start_s + t_start
     skip = np.zeros(len(measured), bool)
     if drive == "measured" and measured.top_speed is not None:
-        skip = ~reliable_top_speed(measured) & measured.valid("top_speed")
+        skip = ~reliable_top_speed(measured)  # what drive_series interpolated was not a measurement
     grid = np.linspace(0.0, np.percentile(measured.bit_speed[measured.time_s >= t0], 99), 40)
     return MeasuredSide(t0, skip, _metrics(measured, stick_threshold, t0, skip), grid,
                         _loop(measured, stick_threshold, t0, grid))
 
 
 def compare(measured: Record, simulated: Record, stick_threshold: float, t_start: float = 2.0, *,
-            side: MeasuredSide | None = None) -> RigComparison:
+            side: MeasuredSide | None = None, keys: tuple | None = None) -> RigComparison:
     """Compare a simulated record with the measured one after ``t_start`` seconds of simulation
     (the start-up of the simulation is discarded from both). ``top_speed_std`` is over the
     reliable top-speed samples of the measurement (:func:`reliable_top_speed`). When the
@@ -655,16 +885,23 @@ def compare(measured: Record, simulated: Record, stick_threshold: float, t_start
     side : MeasuredSide, optional
         The measured side already computed (:func:`measured_side` with the same arguments and
         the simulation's first time and drive); default: computed here.
+    keys : tuple of str, optional
+        The metrics of the mismatch; default :data:`MATCHED_RIG` for the rig drive (it predicts the
+        WOB's oscillation and the mean top speed), :data:`MATCHED` for the others.
 
     Returns
     -------
     RigComparison
+        The metrics are those of the regular cycle: stalls (:func:`stalls`) are counted apart
+        (``stalls``, ``stall_fraction``) and their samples left out of the rest.
     """
     if side is None:
         side = measured_side(measured, stick_threshold, float(simulated.time_s[0]),
                              simulated.provenance.get("drive", "constant"), t_start)
     m, s = side.metrics, _metrics(simulated, stick_threshold, side.t0, side.skip)
-    rel = [relative_error(s[k], m[k]) for k in MATCHED]
+    if keys is None:
+        keys = MATCHED_RIG if simulated.provenance.get("drive") == "rig" else MATCHED
+    rel = [relative_error(s[k], m[k]) for k in keys]
     mis = float(np.sqrt(np.mean(np.square(rel))))
     mm = side.cycle
     ms = _loop(simulated, stick_threshold, side.t0, side.grid)
@@ -760,8 +997,7 @@ def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVE
     stick_threshold : float
         Bit speed at or below which the bit counts as stuck [rad/s] (:func:`stick_threshold`).
     drives : iterable of str
-        Drives tried, from :data:`DRIVES`. ``measured`` is dropped when the record's top speed
-        has excluded samples (no complete drive signal).
+        Drives tried, from :data:`DRIVES` (``rig``: :func:`calibrate_rig`).
     preset : str
         Engine preset of the rig.
     log : callable, optional
@@ -782,8 +1018,6 @@ def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVE
     for d in drives:
         if d not in DRIVES:
             raise ValueError(f"drives: unknown drive {d!r} (use {', '.join(DRIVES)})")
-    if "measured" in drives and not record.valid("top_speed").all():
-        drives = tuple(d for d in drives if d != "measured")  # no complete drive signal
     op = operating_point(record)
     cache = {}
 
@@ -937,3 +1171,187 @@ def select_model(record: Record, laws: dict, stick_threshold: float, *, drives=D
     name, drive = min(scores, key=lambda k: scores[k]["prediction_half_mismatch"])
     cal = calibrate(record, laws[name], stick_threshold, drives=(drive,), preset=preset, log=log, threads=threads)
     return Selection({f"{k[0]}, {k[1]}": v for k, v in scores.items()}, name, cal)
+
+
+def droop_estimate(record: Record) -> tuple:
+    """The open-loop motor's characteristic read off a record: the least-squares line of the
+    reliable top speed on the measured torque, Omega_top = Omega_0 - T / c_m (sample 175: 18.1 rad/s
+    and c_m = 0.225 N m s/rad). A start for :func:`calibrate_rig`, not a result: the measured torque
+    is the bit's, not the top's.
+
+    Parameters
+    ----------
+    record : Record
+        A cleaned record with top speed and torque.
+
+    Returns
+    -------
+    tuple of float
+        (Omega_0 [rad/s], c_m [N m s/rad]); (mean top speed x 2, 0.25) when the line does not droop.
+    """
+    ok = reliable_top_speed(record) & record.valid("torque_on_bit")
+    om = record.top_speed[ok]
+    if ok.sum() > 10:
+        slope, icpt = np.polyfit(record.torque_on_bit[ok], om, 1)
+        if slope < 0:
+            return float(icpt), float(-1.0 / slope)
+    return float(2.0 * np.mean(om)) if om.size else 16.8, 0.25
+
+
+def _metric_noise(record: Record, stick_threshold: float, keys: tuple, blocks: int = 4) -> np.ndarray:
+    """Relative standard error of each metric over ``record``: the spread of the metric between
+    ``blocks`` consecutive blocks, divided by sqrt(blocks) and by the metric's magnitude (at least 1 %)."""
+    t = record.time_s
+    edges = np.linspace(t[0], t[-1], blocks + 1)
+    vals = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        piece = record.select(a, b)
+        try:
+            m = _metrics(piece, stick_threshold, float(piece.time_s[0]), np.zeros(len(piece), bool))
+            vals.append([m.get(k, np.nan) for k in keys])
+        except (ValueError, RuntimeError):
+            continue
+    v = np.asarray(vals, float)
+    if v.shape[0] < 2:
+        return np.full(len(keys), 0.05)
+    sd = np.nanstd(v, axis=0, ddof=1) / np.sqrt(v.shape[0])
+    mag = np.maximum(np.abs(np.nanmean(v, axis=0)), 1e-12)
+    return np.maximum(np.nan_to_num(sd / mag, nan=0.05), 0.01)
+
+
+def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: str = "thesis-rig", starts: int = 6,
+                  evaluations: int = 160, seed: int = 175, log=None, threads: int = 0) -> Calibration:
+    """Calibrate the rig modelled whole (the ``rig`` drive) on a cleaned calibration part.
+
+    The parameters of :data:`RIG_PARAMETERS`, each inside its physical range (a logistic map of
+    the range, so that no value outside it is tried), minimize the mismatch over
+    :data:`MATCHED_RIG` (:func:`compare`; the regular cycle's SS, stick fraction, cycle frequency,
+    bit-speed p95, torque p5 and p95, the top speed's standard deviation and mean, the WOB's
+    standard deviation). The mismatch jumps where cycles appear and vanish, so the search is a
+    Nelder-Mead from ``starts`` points: the first from the record's droop line
+    (:func:`droop_estimate`) and mid-range values, the others drawn uniformly in the ranges from
+    ``seed`` (the result depends on the seed, never on the thread count); the best is polished once
+    more from its own point.
+
+    95 % intervals: the relative errors are linearized around the optimum (central differences at
+    5 % of each range) and weighted by each metric's own sampling uncertainty, the spread of the
+    metric between four blocks of the part (:func:`_metric_noise`); a parameter the metrics do not
+    determine gets no interval.
+
+    Parameters
+    ----------
+    record : Record
+        The cleaned calibration part (with top speed, bit speed, torque and WOB).
+    law : dict
+        Engine bit-rock law identified on it (the measured-WOB fit suits: the WOB is a state here).
+    stick_threshold : float
+        Bit speed at or below which the bit counts as stuck [rad/s].
+    preset : str
+        Engine preset of the rig.
+    starts : int
+        Nelder-Mead starts (at least 1).
+    evaluations : int
+        Simulations per start.
+    seed : int
+        Seed of the random starts.
+    log : callable, optional
+        Called with one progress line (str) per start.
+    threads : int
+        Starts run at once (0: one per core).
+
+    Returns
+    -------
+    Calibration
+        ``per_drive["rig"]`` holds the parameters, their intervals, the mismatch and the
+        evaluations.
+    """
+    names = list(RIG_PARAMETERS)
+    lo = np.array([RIG_PARAMETERS[k][0] for k in names])
+    hi = np.array([RIG_PARAMETERS[k][1] for k in names])
+    op = operating_point(record)
+
+    def params(x):
+        return dict(zip(names, lo + (hi - lo) / (1.0 + np.exp(-np.clip(x, -30, 30)))))
+
+    def internal(p):
+        u = np.clip((np.array([p[k] for k in names]) - lo) / (hi - lo), 1e-6, 1 - 1e-6)
+        return np.log(u / (1 - u))
+
+    def model_of(p):
+        return RigModel(law, p["damping_ratio"], "rig", p["motor_slope_nms_rad"], p["motor_inertia_kg_m2"],
+                        preset=preset, command_rad_s=p["command_rad_s"], jack_gain_n_rad=p["jack_gain_n_rad"],
+                        jack_relaxation_s=p["jack_relaxation_s"], platform_damping=p["platform_damping"],
+                        gj_factor=p["gj_factor"])
+
+    side = measured_side(record, stick_threshold, float(record.time_s[0]), "rig")
+
+    def comparison(p):
+        return compare(record, simulate_model(model_of(p), record), stick_threshold, side=side, keys=MATCHED_RIG)
+
+    def cost(x):
+        try:
+            return comparison(params(x)).mismatch
+        except (ValueError, RuntimeError):  # diverged, unstable step
+            return math.inf
+
+    om0, cm0 = droop_estimate(record)
+    first = {"damping_ratio": 0.04, "motor_slope_nms_rad": float(np.clip(cm0, lo[1], hi[1])),
+             "motor_inertia_kg_m2": 0.015, "command_rad_s": float(np.clip(om0, lo[3], hi[3])),
+             "jack_gain_n_rad": 150.0, "jack_relaxation_s": 0.2, "platform_damping": 0.7, "gj_factor": 1.05}
+    rng = np.random.default_rng(seed)
+    x0s = [internal(first)] + [internal(dict(zip(names, lo + (hi - lo) * rng.uniform(0.1, 0.9, len(names)))))
+                               for _ in range(max(starts, 1) - 1)]
+
+    def search(x0):
+        return optimize.minimize(cost, x0, method="Nelder-Mead",
+                                 options={"maxfev": evaluations, "xatol": 1e-3, "fatol": 1e-4, "adaptive": True})
+
+    workers = threads if threads > 0 else (os.cpu_count() or 1)
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        results = list(pool.map(search, x0s))
+    for i, r in enumerate(results):
+        if log:
+            log(f"rig calibration (whole rig): start {i + 1} of {len(results)}: mismatch {r.fun:.3f} "
+                f"after {r.nfev} simulations")
+    best = min(results, key=lambda r: (r.fun, results.index(r)))
+    polish = search(best.x)
+    if polish.fun < best.fun:
+        best = polish
+    p = params(best.x)
+    cmp = comparison(p)
+    # 95 % intervals from the linearized relative errors weighted by the metrics' own noise
+    sigma = _metric_noise(record, stick_threshold, MATCHED_RIG)
+
+    def residuals(q):
+        c = compare(record, simulate_model(model_of(q), record), stick_threshold, side=side, keys=MATCHED_RIG)
+        return np.array([relative_error(c.simulated[k], c.measured[k]) for k in MATCHED_RIG])
+
+    intervals = {}
+    try:
+        J = np.empty((len(MATCHED_RIG), len(names)))
+        for j, k in enumerate(names):
+            h = 0.05 * (hi[j] - lo[j])
+            up, dn = dict(p), dict(p)
+            up[k], dn[k] = min(p[k] + h, hi[j]), max(p[k] - h, lo[j])
+            J[:, j] = (residuals(up) - residuals(dn)) / (up[k] - dn[k])
+        A = J / sigma[:, None]
+        cov = np.linalg.pinv(A.T @ A, rcond=1e-10)
+        for j, k in enumerate(names):
+            sd = math.sqrt(cov[j, j]) if cov[j, j] > 0 else math.inf
+            if math.isfinite(sd) and sd < (hi[j] - lo[j]):  # determined by the metrics
+                intervals[k] = [float(max(p[k] - 1.96 * sd, lo[j])), float(min(p[k] + 1.96 * sd, hi[j]))]
+    except (ValueError, RuntimeError, np.linalg.LinAlgError):
+        intervals = {}
+    model = model_of(p)
+    model.intervals = intervals
+    per = {"rig": {"damping_ratio": p["damping_ratio"], **{k: float(v) for k, v in p.items()},
+                   "mismatch": cmp.mismatch, "evaluations": int(sum(r.nfev for r in results) + polish.nfev),
+                   "intervals": intervals, "metric_noise": dict(zip(MATCHED_RIG, map(float, sigma)))}}
+    model.calibration = {"window_s": [float(record.time_s[0]), float(record.time_s[-1])], "operating_point": op,
+                         "command_rad_s": p["command_rad_s"], "mismatch": cmp.mismatch,
+                         "matched": list(MATCHED_RIG), "stick_threshold_rad_s": float(stick_threshold),
+                         "per_drive": per}
+    if log:
+        log("rig calibration (whole rig): mismatch %.3f; " % cmp.mismatch
+            + ", ".join(f"{k} {v:.4g}" for k, v in p.items()))
+    return Calibration(model, cmp, per)

@@ -95,6 +95,57 @@ def rig_lowpass(x, fs_hz: float, cutoff_hz: float = 10.0, order: int = 2) -> np.
     return y
 
 
+def platform_response(x, fs_hz: float, natural_hz: float = 20.0, damping: float = 0.5) -> np.ndarray:
+    """What the rig's torque load cell reads of a contact torque: the platform's second-order response.
+
+    The rock holder sits on a platform free to rotate, held by a rod on a cantilever load cell
+    (thesis section 5.3.1); "20 Hz is the first natural frequency for platform set plus electrical
+    jack set". The contact torque T drives the platform (J_p, c_p, k_p) and the cell reads its
+    spring force y = k_p phi_p:
+
+        y'' + 2 zeta w_n y' + w_n^2 y = w_n^2 T,        w_n = 2 pi natural_hz
+
+    (unit gain at rest), discretized by the bilinear transform (at 1 kHz it places 20 Hz 0.13 %
+    low), started at rest on the first value. The 10 Hz acquisition filter
+    (:func:`rig_lowpass`) comes after it.
+
+    Parameters
+    ----------
+    x : array_like
+        Uniformly sampled contact torque [N m]; must be all finite.
+    fs_hz : float
+        Sampling rate [Hz], above 2 natural_hz.
+    natural_hz : float
+        The platform's natural frequency [Hz] (the rig's: 20).
+    damping : float
+        Its damping ratio zeta [-], positive.
+
+    Returns
+    -------
+    ndarray
+        The load cell's reading [N m], same length.
+
+    Raises
+    ------
+    ValueError
+        For a non-positive rate or damping, a natural frequency outside (0, fs/2) or a
+        non-finite sample.
+    """
+    x = np.asarray(x, float)
+    if not (np.isfinite(fs_hz) and fs_hz > 0):
+        raise ValueError(f"fs_hz = {fs_hz!r}: must be a positive sampling rate")
+    if not (0 < natural_hz < fs_hz / 2):
+        raise ValueError(f"natural_hz = {natural_hz!r}: must lie in (0, fs/2 = {fs_hz / 2:g}) Hz")
+    if not (np.isfinite(damping) and damping > 0):
+        raise ValueError(f"damping = {damping!r}: must be a positive damping ratio")
+    if not np.all(np.isfinite(x)):
+        raise ValueError("platform_response: the signal has non-finite values")
+    wn = 2.0 * np.pi * natural_hz
+    b, a = sps.bilinear([wn * wn], [1.0, 2.0 * damping * wn, wn * wn], fs=fs_hz)
+    y, _ = sps.lfilter(b, a, x, zi=sps.lfilter_zi(b, a) * x[0])
+    return y
+
+
 def savgol_length(window_s: float, dt: float, size: int, minimum: int = 1) -> int:
     """Odd Savitzky-Golay window length [samples] for ``window_s`` seconds (at least ``minimum``),
     shortened to the longest odd length that fits ``size`` samples.
