@@ -37,17 +37,27 @@ def test_analyze_sample175_from_the_command_line(tmp_path, capsys):
     assert "measured_wob" in S["identification"]
     assert S["psd"]["fit"]["f0_hz"] > 0 and S["psd"]["thesis_field"]["a"] == -3.13
     rig = S["rig"]
-    assert len(rig["selection"]) == 6  # two sticking laws x three drives, scored on data they did not see
     drives = {c["drive"] for c in rig["cases"]}
-    assert "constant" in drives and rig["cases"][0]["label"].startswith("preset law")
-    assert rig["recommended"]["mismatch"] < 0.15
+    assert {"constant", "motor", "measured", "rig"} <= drives and rig["cases"][0]["label"].startswith("preset law")
+    diagnosis = next(c for c in rig["cases"] if c["drive"] == "measured")
+    assert "diagnosis" in diagnosis["label"] and not diagnosis["predictive"]
+    # the answer is the rig modelled whole: self-contained, every parameter inside its physical range
+    assert rig["recommended"]["drive"] == "rig" and rig["recommended"]["predictive"]
+    assert rig["recommended"]["mismatch"] < 0.25
+    for name, p in rig["parameters"].items():
+        assert p["range"][0] <= p["value"] <= p["range"][1], name
+    assert rig["parameters"]["damping_ratio"]["value"] <= 0.1  # a steel bar, not an effective 0.69
     (held,) = rig["held_out"]
     assert held["window_s"][0] >= 20.0
-    for k in ("ss", "stick_fraction", "cycle_frequency_hz"):
-        assert abs(held["metrics"][k]["relative_error"]) < 0.15, (k, held["metrics"][k])
+    # predicted from the motor command and the jack's slow WOB trend only (loose: any local optimum of the
+    # calibration; benchmarks/rig_whole.py prints the figures)
+    for k in ("ss", "torque_p95", "top_speed_std", "wob_std"):
+        assert abs(held["metrics"][k]["relative_error"]) < 0.25, (k, held["metrics"][k])
+    assert held["metrics"]["stalls"]["measured"]["count"] == 1  # 28.05 s, 1.43 s: counted apart
     assert 0 < held["short_horizon_error"] < 1.0
     model = json.loads((out / "model.json").read_text())
     assert model["format"] == "drillpy.rig_model" and model["config"]["law"]["a0"] > 0
+    assert model["drive"] == "rig" and model["predictive"] and model["config"]["axial"]["type"] == "jack"
 
 
 def test_analyze_a_csv_without_top_speed(tmp_path):

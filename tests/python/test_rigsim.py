@@ -102,14 +102,23 @@ def test_sample175_model_calibrated_on_0_20_s_predicts_20_40_s():
                                                                                           pred.measured[k])
 
 
-def test_simulate_rig_refuses_incomplete_drives(window):
-    rec, _ = window
+def test_measured_drive_interpolates_an_artifact_stretch_and_leaves_it_out_of_the_comparison(window):
+    # a top-speed stretch the cleaning excludes is neither a refusal nor fed in as if measured: the drive
+    # interpolates over it from the reliable samples and the comparison leaves those samples out
+    rec, thr = window
     bad = rec.take(np.arange(len(rec)))
     bad.top_speed[100:400] = np.nan
     cleaned, _ = clean(bad)
     assert (cleaned.flags["top_speed"] & Flag.UNRELIABLE).any()
-    with pytest.raises(ValueError, match="excluded samples"):
-        rigsim.simulate_rig(cleaned)
+    drive = rigsim.drive_series(cleaned)
+    ok = rigsim.reliable_top_speed(cleaned)
+    assert np.all(np.isfinite(drive)) and not ok[100:400].any()
+    idx = np.arange(len(cleaned))
+    assert np.allclose(drive[100:400], np.interp(idx[100:400], idx[ok], cleaned.top_speed[ok]))
+    sim = rigsim.simulate_rig(cleaned, drive="measured")
+    assert np.all(np.isfinite(sim.bit_speed))
+    side = rigsim.measured_side(cleaned, thr, float(cleaned.time_s[0]), "measured")
+    assert side.skip[100:400].all() and side.skip.sum() == (~ok).sum()
     with pytest.raises(ValueError, match="drive = 'motor'"):
         rigsim.simulate_rig(rec, drive="motor")
     with pytest.raises(ValueError, match="motor_slope_nms_rad"):

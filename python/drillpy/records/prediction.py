@@ -131,7 +131,9 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
 
     The rig model is expressed as a loop model (the motor drive as the ``motor`` variant of
     ``top_drive_dynamics``, the measured drive as its ``measured`` variant) at the record's
-    operating point, restarted from the measured bit speed, acceleration, torque and top speed
+    operating point (the whole rig as its motor, string and law: the horizons' engine has no jack
+    state and no platform, so its WOB is the record's mean over each horizon of 0.25 s, and the
+    torque is the contact torque), restarted from the measured bit speed, acceleration, torque and top speed
     at the start of every horizon and integrated over it; E = sqrt(mean of the per-horizon
     normalized squared errors), 0 perfect, 1 as far off as the record's own spread.
 
@@ -161,7 +163,7 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
     data = loop.prepare(record, cfg, opt)
     cfg = analysis_config(stripped(cfg), data.dt)
     effects = {}
-    if model.drive == "motor":
+    if model.drive in ("motor", "rig"):
         effects["top_drive_dynamics"] = {"variant": "motor", "droop_rad_s_per_nm": 1.0 / model.motor_slope_nms_rad,
                                          "inertia_kg_m2": model.motor_inertia_kg_m2, "command_rad_s": command}
     elif model.drive == "measured":

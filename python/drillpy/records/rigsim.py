@@ -48,7 +48,8 @@ from drillpy.model.simulation import simulate, simulate_many
 MATCHED = ("ss", "stick_fraction", "cycle_frequency_hz", "bit_speed_p95", "torque_p5", "torque_p95",
            "top_speed_std")
 #: What the whole rig model also predicts (the others take the WOB and the mean top speed as given).
-MATCHED_RIG = MATCHED + ("wob_std", "mean_top_speed")
+MATCHED_RIG = ("ss", "stick_fraction", "median_period_s", "bit_speed_p95", "torque_p5", "torque_p95", "top_speed_std",
+               "wob_std", "mean_top_speed")
 DRIVES = ("constant", "measured", "motor", "rig")
 #: The drives whose inputs are constants or slow signals: the candidates of a predictive model.
 PREDICTIVE_DRIVES = ("constant", "motor", "rig")
@@ -83,13 +84,15 @@ RIG_PARAMETERS = {
                                          "overdamped and flagged"),
     "gj_factor": (0.97, 1.15, "-", "the bar's GJ / L: 1.70 m (Table 5.1) or 1.53 m (section 5.1) gives x 1 to "
                                    "x 1.11, and the 2.5 mm radius +-0.02 mm +-3 %"),
+    "bit_inertia_factor": (1.0, 1.4, "-", "Table 5.1's 9.33e-3 kg m^2 is the disk alone; the chuck, the mandrel and "
+                                          "the masonry bit below it add to it (section 5.1)"),
 }
 
 
 def rig_config(law: dict | None = None, damping_ratio: float | None = None, *, preset: str = "thesis-rig",
                duration_s: float | None = None, top_speed: float | None = None,
                wob: float | None = None, motor: tuple | None = None, axial: tuple | None = None,
-               gj_factor: float = 1.0) -> dict:
+               gj_factor: float = 1.0, bit_inertia_factor: float = 1.0) -> dict:
     """The rig preset with another law, modal damping ratio and/or top drive (normalized by the engine).
 
     Parameters
@@ -117,6 +120,8 @@ def rig_config(law: dict | None = None, damping_ratio: float | None = None, *, p
         force ``wob``; None: the WOB is the input.
     gj_factor : float
         Factor on every section's Young's modulus (the GJ within the geometry's tolerance).
+    bit_inertia_factor : float
+        Factor on the inertia lumped at the bit (the disk of Table 5.1, and what it carries).
 
     Returns
     -------
@@ -145,6 +150,10 @@ def rig_config(law: dict | None = None, damping_ratio: float | None = None, *, p
     if gj_factor != 1.0:
         for sec in cfg["string"]["sections"]:
             sec["youngs_modulus_pa"] = float(sec["youngs_modulus_pa"]) * float(gj_factor)
+    if bit_inertia_factor != 1.0:
+        for li in cfg["string"].get("lumped_inertias", []):
+            if li["node"] == -1:
+                li["inertia_kg_m2"] = float(li["inertia_kg_m2"]) * float(bit_inertia_factor)
     return normalize(cfg)
 
 
@@ -265,6 +274,8 @@ class RigModel:
         The ``rig`` drive's platform damping ratio at :data:`PLATFORM_HZ` [-].
     gj_factor : float
         Factor on the bar's GJ (``rig`` drive; 1 for the others).
+    bit_inertia_factor : float
+        Factor on the inertia at the bit (``rig`` drive; 1 for the others).
     intervals : dict
         Parameter name -> [low, high], a 95 % interval (``rig`` drive: :func:`calibrate_rig`).
     """
@@ -280,6 +291,7 @@ class RigModel:
     jack_relaxation_s: float | None = None
     platform_damping: float | None = None
     gj_factor: float = 1.0
+    bit_inertia_factor: float = 1.0
     intervals: dict = field(default_factory=dict)
 
     def __post_init__(self):
@@ -289,7 +301,7 @@ class RigModel:
             raise ValueError(f"damping_ratio = {self.damping_ratio!r}: must be a positive number")
         need = {"motor": ("motor_slope_nms_rad", "motor_inertia_kg_m2"),
                 "rig": ("motor_slope_nms_rad", "motor_inertia_kg_m2", "command_rad_s", "jack_relaxation_s",
-                        "platform_damping", "gj_factor")}.get(self.drive, ())
+                        "platform_damping", "gj_factor", "bit_inertia_factor")}.get(self.drive, ())
         for k in need:
             v = getattr(self, k)
             if v is None or not (math.isfinite(v) and v > 0):
@@ -355,7 +367,8 @@ class RigModel:
         """
         return rig_config(self.law, self.damping_ratio, preset=self.preset, duration_s=duration_s,
                           top_speed=top_speed, wob=wob, motor=self.motor, axial=self.axial,
-                          gj_factor=self.gj_factor if self.drive == "rig" else 1.0)
+                          gj_factor=self.gj_factor if self.drive == "rig" else 1.0,
+                          bit_inertia_factor=self.bit_inertia_factor if self.drive == "rig" else 1.0)
 
     def to_dict(self, top_speed: float | None = None, wob: float | None = None) -> dict:
         """``model.json``: the engine configuration (at the calibration's operating point) and the drive.
@@ -384,7 +397,8 @@ class RigModel:
                "calibration": self.calibration}
         if self.drive == "rig":
             out["rig"] = {"platform_hz": PLATFORM_HZ, "platform_damping": self.platform_damping,
-                          "gj_factor": self.gj_factor, "wob_trend_hz": WOB_TREND_HZ,
+                          "gj_factor": self.gj_factor, "bit_inertia_factor": self.bit_inertia_factor,
+                          "wob_trend_hz": WOB_TREND_HZ,
                           "parameters": self.parameters()}
         return out
 
@@ -428,6 +442,7 @@ class RigModel:
                 extra = {"command_rad_s": cfg["operation"]["top_speed_rad_s"], "jack_gain_n_rad": ax.get("gain_n_rad"),
                          "jack_relaxation_s": ax.get("relaxation_s"), "platform_damping": rig.get("platform_damping"),
                          "gj_factor": rig.get("gj_factor", 1.0),
+                         "bit_inertia_factor": rig.get("bit_inertia_factor", 1.0),
                          "intervals": {k: v.get("ci95") for k, v in (rig.get("parameters") or {}).items()
                                        if v.get("ci95") is not None}}
             return cls(law=cfg["law"], damping_ratio=float(damp["ratios"][0]), drive=drive,
@@ -1219,19 +1234,20 @@ def _metric_noise(record: Record, stick_threshold: float, keys: tuple, blocks: i
     return np.maximum(np.nan_to_num(sd / mag, nan=0.05), 0.01)
 
 
-def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: str = "thesis-rig", starts: int = 6,
-                  evaluations: int = 160, seed: int = 175, log=None, threads: int = 0) -> Calibration:
+def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: str = "thesis-rig", screen: int = 64,
+                  starts: int = 4, evaluations: int = 200, seed: int = 175, log=None, threads: int = 0) -> Calibration:
     """Calibrate the rig modelled whole (the ``rig`` drive) on a cleaned calibration part.
 
     The parameters of :data:`RIG_PARAMETERS`, each inside its physical range (a logistic map of
     the range, so that no value outside it is tried), minimize the mismatch over
     :data:`MATCHED_RIG` (:func:`compare`; the regular cycle's SS, stick fraction, cycle frequency,
     bit-speed p95, torque p5 and p95, the top speed's standard deviation and mean, the WOB's
-    standard deviation). The mismatch jumps where cycles appear and vanish, so the search is a
-    Nelder-Mead from ``starts`` points: the first from the record's droop line
-    (:func:`droop_estimate`) and mid-range values, the others drawn uniformly in the ranges from
-    ``seed`` (the result depends on the seed, never on the thread count); the best is polished once
-    more from its own point.
+    standard deviation). The mismatch jumps where cycles appear and vanish, so the search screens
+    ``screen`` points, a start from the record's droop line (:func:`droop_estimate`) and typical
+    values and others scattered around it (normal, sd 0.7 in the logistic coordinates, from
+    ``seed``: most of the ranges' corners stall the rig or stop the cycle, where the mismatch is
+    flat), and runs a Nelder-Mead from the ``starts`` best; the best result is polished once more
+    from its own point. The result depends on the seed, never on the thread count.
 
     95 % intervals: the relative errors are linearized around the optimum (central differences at
     5 % of each range) and weighted by each metric's own sampling uncertainty, the spread of the
@@ -1248,8 +1264,10 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
         Bit speed at or below which the bit counts as stuck [rad/s].
     preset : str
         Engine preset of the rig.
+    screen : int
+        Points screened for the starts (at least 1).
     starts : int
-        Nelder-Mead starts (at least 1).
+        Nelder-Mead starts, the best screened points (at least 1).
     evaluations : int
         Simulations per start.
     seed : int
@@ -1281,7 +1299,7 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
         return RigModel(law, p["damping_ratio"], "rig", p["motor_slope_nms_rad"], p["motor_inertia_kg_m2"],
                         preset=preset, command_rad_s=p["command_rad_s"], jack_gain_n_rad=p["jack_gain_n_rad"],
                         jack_relaxation_s=p["jack_relaxation_s"], platform_damping=p["platform_damping"],
-                        gj_factor=p["gj_factor"])
+                        gj_factor=p["gj_factor"], bit_inertia_factor=p["bit_inertia_factor"])
 
     side = measured_side(record, stick_threshold, float(record.time_s[0]), "rig")
 
@@ -1297,16 +1315,20 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     om0, cm0 = droop_estimate(record)
     first = {"damping_ratio": 0.04, "motor_slope_nms_rad": float(np.clip(cm0, lo[1], hi[1])),
              "motor_inertia_kg_m2": 0.015, "command_rad_s": float(np.clip(om0, lo[3], hi[3])),
-             "jack_gain_n_rad": 150.0, "jack_relaxation_s": 0.2, "platform_damping": 0.7, "gj_factor": 1.05}
+             "jack_gain_n_rad": 150.0, "jack_relaxation_s": 0.2, "platform_damping": 0.7, "gj_factor": 1.05,
+             "bit_inertia_factor": 1.05}
     rng = np.random.default_rng(seed)
-    x0s = [internal(first)] + [internal(dict(zip(names, lo + (hi - lo) * rng.uniform(0.1, 0.9, len(names)))))
-                               for _ in range(max(starts, 1) - 1)]
+    scatter = [internal(first)] + [internal(first) + rng.normal(0.0, 0.7, len(names)) for _ in range(screen - 1)]
+    workers = threads if threads > 0 else (os.cpu_count() or 1)
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        screened = list(pool.map(cost, scatter))
+    order = sorted(range(len(scatter)), key=lambda i: (screened[i], i))
+    x0s = [scatter[i] for i in order[:max(starts, 1)]]
 
     def search(x0):
         return optimize.minimize(cost, x0, method="Nelder-Mead",
                                  options={"maxfev": evaluations, "xatol": 1e-3, "fatol": 1e-4, "adaptive": True})
 
-    workers = threads if threads > 0 else (os.cpu_count() or 1)
     with ThreadPoolExecutor(max_workers=workers) as pool:
         results = list(pool.map(search, x0s))
     for i, r in enumerate(results):

@@ -482,34 +482,46 @@ def _held_out(full: Record, cal: Record, min_s: float) -> list:
     return out
 
 
+#: The metrics of the rig's tables: those of the predictive targets (issue 28) and the stalls.
+METRIC_ROWS = ("ss", "stick_fraction", "cycle_frequency_hz", "median_period_s", "torque_p5", "torque_p95",
+               "top_speed_std", "wob_std", "mean_top_speed")
+
+
 def _metric_row(cmp: rigsim.RigComparison) -> dict:
     m, s = cmp.measured, cmp.simulated
-    return {k: {"measured": m[k], "simulated": s[k], "relative_error": rigsim.relative_error(s[k], m[k])}
-            for k in ("ss", "stick_fraction", "cycle_frequency_hz", "torque_p5", "torque_p95", "top_speed_std")}
+    row = {k: {"measured": m[k], "simulated": s[k], "relative_error": rigsim.relative_error(s[k], m[k])}
+           for k in METRIC_ROWS}
+    row["stalls"] = {"measured": m["stalls"], "simulated": s["stalls"]}
+    return row
 
 
 def _rig_section(rec: Record, thr: float, fits_by: dict, preset: str, log, held: list) -> tuple:
-    """The rig model: the identified law that can stick (the non-regularized Eq. 5.1/5.3 with the
-    lower BIC), its damping and top drive calibrated on ``rec`` (:func:`drillpy.records.rigsim.calibrate`),
-    every drive's best case simulated for the figures, and the prediction of the held-out pieces."""
+    """The rig model: the rig modelled whole and self-contained (:func:`drillpy.records.rigsim.calibrate_rig`:
+    motor, jack, platform, with the identified sticking law) as the predictive answer, the simpler
+    drives (constant, motor, and the measured top speed as a diagnosis) calibrated beside it
+    (:func:`drillpy.records.rigsim.calibrate`) for comparison, and the prediction of the held-out pieces."""
     from drillpy.records.prediction import short_horizon_error
-    fits = fits_by["constant_wob"]
-    sticky = [f for f in fits if f.name.startswith("polynomial")] or fits
     base = load_config(preset=preset)
-    sel = rigsim.select_model(rec, {f.name: f.law for f in sticky}, thr, preset=preset, log=log)
-    law_fit = next(f for f in sticky if f.name == sel.law_name)
+
+    def sticky(fits):
+        return [f for f in fits if f.name.startswith("polynomial")] or list(fits)
+    # the WOB is a state of the whole rig model: its law is the one identified with the WOB scaling
+    wob_fits = sticky(fits_by.get("measured_wob") or fits_by["constant_wob"])
+    law_w = min(wob_fits, key=lambda f: f.bic)
+    law_c = min(sticky(fits_by["constant_wob"]), key=lambda f: f.bic)
     out = {"preset": preset, "preset_law": base["law"], "preset_damping": base["damping"], "cases": [],
-           "law": law_fit.name, "selection": sel.scores,
-           "law_rule": "among the identified non-regularized laws (Eqs. 5.1, 5.3: they stick at their static torque) "
-                       "and the three top drives, the pair whose model calibrated on the first half of the part "
-                       "predicts its second half best (rigsim.select_model), recalibrated on the whole part"}
+           "law": law_w.name,
+           "law_rule": "the non-regularized law (Eqs. 5.1, 5.3: it sticks at its static torque) with the lower BIC, "
+                       "identified with the torque scaled by the measured WOB (the whole rig's WOB is a state, "
+                       "and the law scales with it)"}
     sims = {}
 
     def case(label, model):
         sim = rigsim.simulate_model(model, rec)
         cmp = rigsim.compare(rec, sim, thr)
         out["cases"].append({"label": label, "law": model.law, "damping_ratio": model.damping_ratio,
-                             "drive": model.drive, "measured": cmp.measured, "simulated": cmp.simulated,
+                             "drive": model.drive, "predictive": model.drive in rigsim.PREDICTIVE_DRIVES,
+                             "measured": cmp.measured, "simulated": cmp.simulated,
                              "mismatch": cmp.mismatch, "loop_rms_nm": cmp.loop_rms_nm})
         sims[label] = (sim, cmp)
         log(f"rig: {label}: mismatch {cmp.mismatch:.3f}, SS {cmp.simulated['ss']:.3f} "
@@ -519,26 +531,28 @@ def _rig_section(rec: Record, thr: float, fits_by: dict, preset: str, log, held:
 
     z0 = base["damping"]["ratios"][0]
     case(f"preset law, zeta {z0:g}, constant top speed", rigsim.RigModel(base["law"], z0, "constant", preset=preset))
-    cal = sel.calibration
-    per = dict(cal.per_drive)
-    if "constant" not in per:  # the constant-drive simulation always runs (the thesis's clamped top)
-        per["constant"] = rigsim.calibrate(rec, law_fit.law, thr, drives=("constant",), preset=preset).per_drive["constant"]
-    for drive, b in per.items():
-        m = rigsim.RigModel(law_fit.law, b["damping_ratio"], drive, b.get("motor_slope_nms_rad"),
+    simple = rigsim.calibrate(rec, law_c.law, thr, drives=("constant", "motor", "measured"), preset=preset, log=log)
+    for drive, b in simple.per_drive.items():
+        m = rigsim.RigModel(law_c.law, b["damping_ratio"], drive, b.get("motor_slope_nms_rad"),
                             b.get("motor_inertia_kg_m2"), preset=preset)
         extra = (f", c_m {m.motor_slope_nms_rad:.3g}, J_m {m.motor_inertia_kg_m2:.3g}" if drive == "motor" else "")
-        case(f"{law_fit.name}, {drive} drive, zeta {m.damping_ratio:.3g}{extra}"
-             + (" (calibrated model)" if drive == cal.model.drive else ""), m)
+        note = " (diagnosis: fed the measured top speed, which carries the cycle)" if drive == "measured" else ""
+        case(f"{law_c.name}, {drive} drive, zeta {m.damping_ratio:.3g}{extra}{note}", m)
+    cal = rigsim.calibrate_rig(rec, law_w.law, thr, preset=preset, log=log)
     model = cal.model
-    out["calibration"] = cal.summary()
-    out["recommended"] = {"law": model.law, "law_name": law_fit.name, "damping_ratio": model.damping_ratio,
-                          "drive": model.drive, "motor_slope_nms_rad": model.motor_slope_nms_rad,
-                          "motor_inertia_kg_m2": model.motor_inertia_kg_m2, "mismatch": cal.comparison.mismatch,
-                          "rule": "damping ratio and top drive (constant, measured or motor) whose simulation matches "
-                                  "the record's SS, stick fraction, cycle frequency, bit-speed p95, torque p5/p95 and "
-                                  "top-speed fluctuation best (rigsim.calibrate)"}
-    log(f"rig: calibrated model: {law_fit.name}, {model.drive} drive, damping ratio {model.damping_ratio:.3g} "
-        f"(mismatch {cal.comparison.mismatch:.3f})")
+    case(f"{law_w.name}, the rig modelled whole (motor, jack, platform), zeta {model.damping_ratio:.3g} "
+         "(calibrated model)", model)
+    out["simple_drives"] = simple.summary()["per_drive"]
+    out["calibration"] = {"mismatch": cal.comparison.mismatch, "matched": list(rigsim.MATCHED_RIG),
+                          "per_drive": cal.per_drive}
+    out["parameters"] = model.parameters()
+    out["recommended"] = {"law": model.law, "law_name": law_w.name, "damping_ratio": model.damping_ratio,
+                          "drive": model.drive, "predictive": True, "mismatch": cal.comparison.mismatch,
+                          "rule": "the rig modelled whole (rigsim.calibrate_rig): every parameter inside its physical "
+                                  "range, inputs the motor command and the jack's slow WOB trend only"}
+    flags = [f"{k}: {v['flag']}" for k, v in out["parameters"].items() if v["flag"]]
+    log(f"rig: calibrated model: {law_w.name}, the rig modelled whole, damping ratio {model.damping_ratio:.3g} "
+        f"(mismatch {cal.comparison.mismatch:.3f})" + ("; flagged: " + "; ".join(flags) if flags else ""))
     out["calibration_metrics"] = _metric_row(cal.comparison)
     out["held_out"] = []
     for piece in held:
@@ -686,56 +700,72 @@ def render_report(S: dict) -> str:
             L += [f"Skipped: {rg['skipped']}.", ""]
         else:
             L += [f"Preset `{rg['preset']}` (one elastic mode, first frequency 2.89 Hz) with the identified "
-                  f"{rg['law']} law ({rg['law_rule']}). Simulated bit speed, top speed and torque pass through the "
-                  "rig's 10 Hz filter; the first 2 s are discarded. Mismatch = rms relative error over SS, stick "
-                  "fraction, cycle frequency, 95th percentile of the bit speed, 5th and 95th percentiles of the torque "
-                  "and the standard deviation of the top speed. The constant drive turns at the record's mean top "
-                  "speed over its reliable samples; the motor's command reproduces that mean.", "",
-                  "Model selection (rigsim.select_model): each candidate calibrated on the first half of the part, "
-                  "scored predicting the second half:", "",
-                  "| law, drive | mismatch, first half (calibration) | mismatch, second half (prediction) |",
-                  "|---|---:|---:|"]
-            for k, v in rg["selection"].items():
-                L.append(f"| {k} | {v['calibration_half_mismatch']:.3f} | {_f(v['prediction_half_mismatch'])} |")
-            L += ["", "Calibration of the chosen pair on the whole part (damping ratio and top drive, rigsim.calibrate):", "",
-                  "| drive | damping ratio | c_m [N m s/rad] | J_m [kg m^2] | mismatch |", "|---|---:|---:|---:|---:|"]
-            for d, b in rg["calibration"]["per_drive"].items():
-                L.append(f"| {d} | {b['damping_ratio']:.3g} | {_f(b.get('motor_slope_nms_rad'), '.3g')} | "
-                         f"{_f(b.get('motor_inertia_kg_m2'), '.3g')} | {b['mismatch']:.3f} |")
+                  f"{rg['law']} law ({rg['law_rule']}). Simulated bit speed, top speed, torque and WOB pass through "
+                  "the rig's 10 Hz filter; the first 2 s are discarded. Stalls (stick phases of at least "
+                  f"{rigsim.STALL_MIN_S:g} s) are counted apart and left out of the regular metrics. Mismatch = rms "
+                  "relative error over SS, stick fraction, cycle frequency, 95th percentile of the bit speed, 5th and "
+                  "95th percentiles of the torque and the standard deviation of the top speed (the whole rig: the "
+                  "median period instead of the Welch peak, and the WOB's standard deviation and the mean top speed, "
+                  "which it predicts).", "",
+                  "**The calibrated model is the rig modelled whole** (`rigsim.calibrate_rig`): the open-loop motor "
+                  "(its command, the rig's speed setting, calibrated and then held; 8 N m limit), the bar and disk, "
+                  "the electrical jack's WOB as a state on the record's slow WOB trend (below "
+                  f"{rigsim.WOB_TREND_HZ:g} Hz), the torque platform's {rigsim.PLATFORM_HZ:g} Hz response and the "
+                  "10 Hz filter. Its inputs are constants and that slow trend: it predicts the cycle. The `measured` "
+                  "drive is a diagnosis only (it is fed the measured top speed, which carries the cycle).", "",
+                  "| parameter | value | 95 % interval | physical range | source of the range | flag |",
+                  "|---|---:|---|---|---|---|"]
+            for k, v in rg["parameters"].items():
+                ci = "n/a" if v["ci95"] is None else f"[{v['ci95'][0]:.4g}, {v['ci95'][1]:.4g}]"
+                L.append(f"| {k} [{v['unit']}] | {v['value']:.4g} | {ci} | [{v['range'][0]:g}, {v['range'][1]:g}] | "
+                         f"{v['source']} | {v['flag'] or ''} |")
+            L += ["", "The simpler drives, calibrated on the same part (damping ratio and top drive, rigsim.calibrate):",
+                  "", "| drive | damping ratio | c_m [N m s/rad] | J_m [kg m^2] | mismatch |", "|---|---:|---:|---:|---:|"]
+            for d, b in rg["simple_drives"].items():
+                L.append(f"| {d}{' (diagnosis)' if d == 'measured' else ''} | {b['damping_ratio']:.3g} | "
+                         f"{_f(b.get('motor_slope_nms_rad'), '.3g')} | {_f(b.get('motor_inertia_kg_m2'), '.3g')} | "
+                         f"{b['mismatch']:.3f} |")
             L += ["",
                   "| case | SS | cycle freq. [Hz] | median period [s] | stick fraction | bit speed p95 [RPM] | "
-                  "torque p5 [N m] | torque p95 [N m] | torque min-max [N m] | mismatch | loop rms [N m] |",
+                  "torque p5 [N m] | torque p95 [N m] | WOB sd [N] | mismatch | loop rms [N m] |",
                   "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
             m = rg["cases"][0]["measured"]
             L.append(f"| **measured** | {m['ss']:.3f} | {m['cycle_frequency_hz']:.2f} | {m['median_period_s']:.3f} | "
                      f"{m['stick_fraction']:.3f} | {m['bit_speed_p95'] * RPM:.1f} | {m['torque_p5']:.2f} | "
-                     f"{m['torque_p95']:.2f} | {m['torque_min']:.2f}-{m['torque_max']:.2f} | | |")
+                     f"{m['torque_p95']:.2f} | {_f(m['wob_std'], '.1f')} | | |")
             for cs in rg["cases"]:
                 s = cs["simulated"]
                 L.append(f"| {cs['label']} | {s['ss']:.3f} | {s['cycle_frequency_hz']:.2f} | {s['median_period_s']:.3f} | "
                          f"{s['stick_fraction']:.3f} | {s['bit_speed_p95'] * RPM:.1f} | {s['torque_p5']:.2f} | "
-                         f"{s['torque_p95']:.2f} | {s['torque_min']:.2f}-{s['torque_max']:.2f} | {cs['mismatch']:.3f} | "
+                         f"{s['torque_p95']:.2f} | {_f(s['wob_std'], '.1f')} | {cs['mismatch']:.3f} | "
                          f"{_f(cs['loop_rms_nm'])} |")
             rec_ = rg["recommended"]
-            L += ["", f"Calibrated rig model ({rec_['rule']}): {rec_['law_name']} law, {rec_['drive']} drive, modal "
-                  f"damping ratio {rec_['damping_ratio']:.3g}; written as `model.json` (apply it to any record with "
+            L += ["", f"Calibrated rig model ({rec_['rule']}): {rec_['law_name']} law, modal damping ratio "
+                  f"{rec_['damping_ratio']:.3g}; written as `model.json` (apply it to any record with "
                   "`drillpy predict model.json RECORD`).", ""]
             if rg.get("held_out"):
                 L += ["### Prediction of the held-out parts (never used by the fits)", "",
                       "| window [s] | SS meas. / pred. | stick fraction meas. / pred. | cycle freq. [Hz] meas. / pred. | "
-                      "torque p5-p95 [N m] meas. / pred. | short-horizon E |", "|---|---|---|---|---|---:|"]
+                      "torque p5-p95 [N m] meas. / pred. | top speed sd [rad/s] meas. / pred. | WOB sd [N] meas. / "
+                      "pred. | stalls meas. / pred. | short-horizon E |", "|---|---|---|---|---|---|---|---|---:|"]
                 for h in rg["held_out"]:
                     w = f"{h['window_s'][0]:.1f}-{h['window_s'][1]:.1f}"
                     if "skipped" in h:
-                        L.append(f"| {w} | not predicted: {h['skipped']} | | | | |")
+                        L.append(f"| {w} | not predicted: {h['skipped']} | | | | | | | |")
                         continue
                     m = h["metrics"]
 
                     def mp(k, fmt=".3f"):
                         return f"{_f(m[k]['measured'], fmt)} / {_f(m[k]['simulated'], fmt)} ({100 * m[k]['relative_error']:+.0f} %)"
+
+                    def st(d):
+                        return f"{d['count']}" + (" (" + ", ".join(f"{x:.2f} s" for x in d["durations_s"]) + ")"
+                                                  if d["count"] else "")
                     L.append(f"| {w} | {mp('ss')} | {mp('stick_fraction')} | {mp('cycle_frequency_hz', '.2f')} | "
                              f"{m['torque_p5']['measured']:.2f}-{m['torque_p95']['measured']:.2f} / "
                              f"{m['torque_p5']['simulated']:.2f}-{m['torque_p95']['simulated']:.2f} | "
+                             f"{mp('top_speed_std', '.2f')} | {mp('wob_std', '.1f')} | "
+                             f"{st(m['stalls']['measured'])} / {st(m['stalls']['simulated'])} | "
                              f"{_f(h['short_horizon_error'])} |")
                 L.append("")
             L += ["![rig time series](rig_time_series.png)", "", "![rig loops](rig_loops.png)", ""]

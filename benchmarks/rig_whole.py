@@ -1,0 +1,89 @@
+"""The rig modelled whole on sample 175: calibrated on one half, predicting the other (issue 28's targets).
+
+    PYTHONPATH=python python3 benchmarks/rig_whole.py [--record FILE.mat] [--split 20]
+
+Runs ``drillpy analyze --calibrate 0:SPLIT`` and ``--calibrate SPLIT:END`` (the rig modelled whole,
+``rigsim.calibrate_rig``: motor, jack, platform, bar and disk, its inputs the motor command and the
+jack's slow WOB trend only) and prints, for each direction:
+
+* the targets on the predicted half: SS, regular stick fraction, cycle frequency (Welch peak) and
+  median period, torque p5 and p95, top-speed standard deviation, WOB standard deviation, each
+  measured / predicted (relative error), the stalls of both, the short-horizon E;
+* the same metrics of the calibration half itself offered as the prediction ("persistence"): how
+  far the record's two halves differ by themselves, which no model driven by constants and the
+  slow WOB trend can follow unless the trend explains it;
+* the parameters with their 95 % intervals, physical ranges and flags.
+
+About 2 x 50 s on one core. Every number of docs/records.md section 3 comes from this script.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
+KEYS = ("ss", "stick_fraction", "cycle_frequency_hz", "median_period_s", "torque_p5", "torque_p95",
+        "top_speed_std", "wob_std", "mean_top_speed")
+
+
+def analyze(record: str, t0: float, t1: float, out: Path) -> dict:
+    """``drillpy analyze --calibrate T0:T1`` into ``out``; its summary.json."""
+    cmd = [sys.executable, "-m", "drillpy", "analyze", record, "--calibrate", f"{t0:g}:{t1:g}", "--out", str(out)]
+    env = {"PYTHONPATH": str(REPO / "python")}
+    import os
+    subprocess.run(cmd, check=True, env={**os.environ, **env}, stdout=subprocess.DEVNULL)
+    return json.loads((out / "summary.json").read_text())
+
+
+def rel(a: float, b: float) -> str:
+    return f"{100 * (a - b) / abs(b):+.1f} %" if b else "n/a"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--record", default=str(SAMPLE175))
+    ap.add_argument("--split", type=float, default=20.0)
+    ap.add_argument("--end", type=float, default=40.0)
+    a = ap.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        for (c0, c1) in ((0.0, a.split), (a.split, a.end)):
+            S = analyze(a.record, c0, c1, Path(tmp) / f"cal{c0:g}")
+            rg = S["rig"]
+            cal = rg["calibration_metrics"]
+            print(f"\n== calibrated on {c0:g}-{c1:g} s (mismatch {rg['calibration']['mismatch']:.3f}) ==")
+            for h in rg["held_out"]:
+                if "skipped" in h:
+                    print(f"  {h['window_s']}: not predicted: {h['skipped']}")
+                    continue
+                m = h["metrics"]
+                print(f"  predicting {h['window_s'][0]:.1f}-{h['window_s'][1]:.1f} s: short-horizon E "
+                      f"{h['short_horizon_error']:.3f}, long-run mismatch {h['mismatch']:.3f}")
+                print(f"  {'metric':22s} {'measured':>9s} {'predicted':>10s} {'error':>9s}   "
+                      f"{'persistence':>11s} {'error':>9s}")
+                within = 0
+                for k in KEYS:
+                    mk, sk, pk = m[k]["measured"], m[k]["simulated"], cal[k]["measured"]
+                    within += k not in ("median_period_s", "mean_top_speed") and abs(sk - mk) <= 0.1 * abs(mk)
+                    print(f"  {k:22s} {mk:9.3f} {sk:10.3f} {rel(sk, mk):>9s}   {pk:11.3f} {rel(pk, mk):>9s}")
+                st = m["stalls"]
+                print(f"  stalls: measured {st['measured']['count']} {st['measured']['durations_s']}, "
+                      f"predicted {st['simulated']['count']} {st['simulated']['durations_s']}")
+                print(f"  targets within 10 %: {within} of 7")
+            print("  parameters (value, 95 % interval, range, flag):")
+            for k, v in rg["parameters"].items():
+                ci = "n/a" if v["ci95"] is None else f"[{v['ci95'][0]:.4g}, {v['ci95'][1]:.4g}]"
+                print(f"    {k:22s} {v['value']:10.4g} {ci:24s} [{v['range'][0]:g}, {v['range'][1]:g}] {v['unit']}"
+                      + (f"  FLAG: {v['flag']}" if v["flag"] else ""))
+            diag = next((c for c in rg["cases"] if c["drive"] == "measured"), None)
+            if diag:
+                print(f"  diagnosis (measured top speed fed in): damping ratio {diag['damping_ratio']:.3g}, "
+                      f"mismatch {diag['mismatch']:.3f} on the calibration part")
+
+
+if __name__ == "__main__":
+    main()
