@@ -153,3 +153,83 @@ def test_simulate_models_takes_one_drive_without_a_motor(window):
     with pytest.raises(ValueError, match="drives = constant, measured"):
         rigsim.simulate_models([rigsim.RigModel(law, 0.1, "constant"), rigsim.RigModel(law, 0.1, "measured")], rec)
     assert rigsim.simulate_models([], rec) == []
+
+
+# ------------------------------------------------------------------------------ the rig modelled whole
+def _identified_law(rec, thr):
+    from drillpy.records import identification as ident
+    from drillpy.records import signals as sig
+    cyc = sig.segment_cycles(rec.bit_speed, rec.dt, thr, valid=rec.valid())
+    acc = sig.derivative(rec.bit_speed, rec.dt)
+    d = ident.FitData.from_arrays(rec.bit_speed, acc, rec.torque_on_bit, cyc.branch_labels(len(rec)),
+                                  cyc.cycle_id(len(rec)), wob=rec.wob, every=10, cycles=cyc)
+    return ident.fit_law("polynomial", d).law
+
+
+@pytest.fixture(scope="module")
+def whole_rig_truth(tmp_path_factory):
+    """A 24 s record of the independent whole-rig simulator (benchmarks/whole_rig.py: 10 lumped segments,
+    an exponential Stribeck law with static-friction ageing, an RGD-like cut under a drooping jack, a
+    20 Hz platform on a one-way load cell, quantized encoders, noise and glitches): not drillpy's model."""
+    whole_rig = pytest.importorskip("whole_rig")
+    from drillpy.records.io import read_record
+    path = tmp_path_factory.mktemp("whole") / "truth.mat"
+    whole_rig.write_mat(whole_rig.simulate({"jack_steps": []}, duration=24.0, seed=5), str(path))
+    rec, _ = clean(read_record(path))
+    return rec, rigsim.stick_threshold(rec)
+
+
+def test_whole_rig_model_is_self_contained_and_its_wob_rises_while_stuck(window):
+    # the rig drive's inputs are the motor command and the slow WOB trend: its WOB channel is its own state,
+    # above its mean while the bit sticks and below it in the fast slip (Figs. 5.6-5.7)
+    rec, thr = window
+    law = _identified_law(rec, thr)
+    m = rigsim.RigModel(law, 0.05, "rig", 0.2, 0.02, command_rad_s=19.0, jack_gain_n_rad=150.0,
+                        jack_relaxation_s=0.15, platform_damping=0.6, gj_factor=1.0, bit_inertia_factor=1.05)
+    sim = rigsim.simulate_model(m, rec)
+    assert sim.provenance["command_rad_s"] == 19.0  # its own command, not the record's mean speed
+    v, w = sim.bit_speed[2000:], sim.wob[2000:]
+    assert np.std(w) > 20.0 and np.std(rigsim.wob_trend(rec, 500.0)) < np.std(rec.wob)
+    stuck, fast = v <= thr, v > 1.5 * np.mean(v)
+    assert stuck.any() and np.mean(w[stuck]) > np.mean(w) > np.mean(w[fast])
+    back = rigsim.RigModel.from_dict(json.loads(json.dumps(jsonable(m.to_dict()))))
+    for k in rigsim.RIG_PARAMETERS:
+        assert getattr(back, k) == pytest.approx(getattr(m, k)), k
+    assert back.drive == "rig" and m.to_dict()["predictive"]
+    with pytest.raises(ValueError, match="platform_damping"):
+        rigsim.RigModel(law, 0.05, "rig", 0.2, 0.02, command_rad_s=19.0, jack_gain_n_rad=150.0,
+                        jack_relaxation_s=0.15, platform_damping=None)
+
+
+def test_whole_rig_calibration_on_an_independent_truth_stays_physical_and_predicts(whole_rig_truth):
+    # calibrated on the truth's first half, within the physical ranges, the second half predicted from the
+    # motor command and the WOB trend alone (the default budget: about 15 s; with a quarter of it the search
+    # missed the stick-slip basin on this record)
+    rec, thr = whole_rig_truth
+    cal, hold = rec.select(0.0, 12.0), rec.select(12.001, 24.0)
+    law = _identified_law(cal, thr)
+    c = rigsim.calibrate_rig(cal, law, thr)
+    assert c.comparison.mismatch < 0.2
+    for k, p in c.model.parameters().items():
+        assert p["range"][0] <= p["value"] <= p["range"][1], k
+    assert c.model.damping_ratio <= 0.1
+    pred = rigsim.compare(hold, rigsim.simulate_model(c.model, hold), thr)
+    for k in ("ss", "top_speed_std", "wob_std", "mean_top_speed"):
+        assert abs(rigsim.relative_error(pred.simulated[k], pred.measured[k])) < 0.3, (k, pred.simulated[k],
+                                                                                         pred.measured[k])
+
+
+def test_stalls_are_counted_apart_from_the_regular_cycle():
+    # a 1.43 s stall at 28.05 s in sample 175 (the open-loop motor cannot overcome the stuck bit): counted,
+    # and left out of the regular stick fraction
+    rec, _ = sample175_cleaned()
+    thr = rigsim.stick_threshold(rec)
+    part = rec.select(20.0, 40.0)
+    found = rigsim.stalls(part.bit_speed, part.dt, thr, valid=part.valid("bit_speed"))
+    assert len(found) == 1
+    (a, k), = found
+    assert part.time_s[a] == pytest.approx(28.05, abs=0.05) and k * part.dt == pytest.approx(1.43, abs=0.05)
+    m = rigsim.compare(part, part, thr).measured
+    assert m["stalls"]["count"] == 1
+    raw_stick = float(np.mean(part.bit_speed[part.valid("bit_speed")] <= thr))
+    assert m["stick_fraction"] < raw_stick - 0.05  # the regular cycle's stick fraction

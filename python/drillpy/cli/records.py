@@ -203,6 +203,7 @@ def cmd_predict(a: argparse.Namespace) -> int:
         predicted (SS, stick fraction, cycle frequency [Hz], torque p5-p95 [N m]) as JSON or text.
     """
     from drillpy.records.prediction import describe, load_model, predict_record, write_prediction
+    from drillpy.records.rigsim import STALL_MIN_S
     for name in ("t0", "t1"):
         if getattr(a, name) is not None:
             validate.number("--" + name, getattr(a, name), unit="s")
@@ -223,6 +224,14 @@ def cmd_predict(a: argparse.Namespace) -> int:
         tq = lr["torque_p05_p95_nm"]
         print(f"  torque p5-p95 [N m]: measured {tq['measured'][0]:.2f}-{tq['measured'][1]:.2f}, predicted "
               f"{tq['predicted'][0]:.2f}-{tq['predicted'][1]:.2f}")
+        for k, unit in (("top_speed_std_rad_s", "rad/s"), ("wob_std_n", "N")):
+            print(f"  {k}: measured {lr[k]['measured']:.3g}, predicted {lr[k]['predicted']:.3g} "
+                  f"({100 * lr[k]['relative_error']:+.1f} %)" if lr[k]["measured"] is not None else f"  {k}: no data")
+        st = lr["stalls"]
+        print(f"  stalls (stick phases of at least {STALL_MIN_S:g} s, left out of the metrics above): measured "
+              + ", ".join([str(st["measured"]["count"])] + [f"{d:.2f} s" for d in st["measured"]["durations_s"]])
+              + "; predicted " + ", ".join([str(st["predicted"]["count"])]
+                                           + [f"{d:.2f} s" for d in st["predicted"]["durations_s"]]))
     return 0
 
 

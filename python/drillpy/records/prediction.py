@@ -78,7 +78,11 @@ class Prediction:
                          "torque_p05_p95_nm": {"measured": [m["torque_p5"], m["torque_p95"]],
                                                "predicted": [s["torque_p5"], s["torque_p95"]]},
                          "mean_top_speed_rad_s": pair("mean_top_speed"),
-                         "top_speed_std_rad_s": pair("top_speed_std"), "mismatch": self.comparison.mismatch},
+                         "top_speed_std_rad_s": pair("top_speed_std"), "wob_std_n": pair("wob_std"),
+                         "median_period_s": pair("median_period_s"),
+                         "stalls": {"measured": m["stalls"], "predicted": s["stalls"]},
+                         "mismatch": self.comparison.mismatch},
+            "predictive": getattr(self.model, "drive", None) in (None, *rigsim.PREDICTIVE_DRIVES),
             "model": describe(self.model), "command_rad_s": self.simulated.provenance.get("command_rad_s"),
             "operating_point": self.simulated.provenance.get("operating_point"),
             "record": {"source": str(self.measured.provenance.get("source")),
@@ -102,7 +106,10 @@ def describe(model) -> str:
     """
     if isinstance(model, loop.LoopModel):
         return f"loop model: effects {', '.join(model.effects) or 'none'}, damping ratios {model.damping_ratios}"
-    return f"rig model: {model.drive} drive, damping ratio {model.damping_ratio:.3g}"
+    if model.drive == "rig":
+        return f"rig model: the rig modelled whole (motor, jack, platform), damping ratio {model.damping_ratio:.3g}"
+    note = " (a diagnosis: fed the measured top speed)" if model.drive == "measured" else ""
+    return f"rig model: {model.drive} drive{note}, damping ratio {model.damping_ratio:.3g}"
 
 
 def _loop_model_at(model: "loop.LoopModel", record: Record, data) -> "loop.LoopModel":
