@@ -30,6 +30,20 @@ def test_rig_lowpass_is_the_10hz_second_order_butterworth():
         sig.rig_lowpass(np.array([1.0, np.nan, 2.0]), fs)
 
 
+def test_platform_response_is_the_20hz_second_order_mode():
+    # unit gain at rest, 1 / (2 zeta) at its natural frequency (the bilinear map shifts it by 0.13 %),
+    # 1 / ((f / f_n)^2 - 1) above it (at 100 Hz the map warps the frequency by 3 %)
+    fs = 1000.0
+    t = np.arange(0, 6, 1 / fs)
+    assert np.allclose(sig.platform_response(np.full(t.size, 2.5), fs, 20.0, 0.3), 2.5)
+    for f, gain in ((1.0, 1.0), (20.0, 1.0 / (2 * 0.3)), (100.0, 1.0 / ((100 / 20) ** 2 - 1))):
+        y = sig.platform_response(np.sin(2 * np.pi * f * t), fs, 20.0, 0.3)
+        assert np.max(np.abs(y[t > 4])) == pytest.approx(gain, rel=0.03 if f < 100 else 0.1), f  # warped at 100 Hz
+    for bad, match in (({"damping": 0.0}, "damping"), ({"natural_hz": 600.0}, "natural_hz")):
+        with pytest.raises(ValueError, match=match):
+            sig.platform_response(np.ones(10), fs, **bad)
+
+
 def test_derivative_of_a_sine():
     dt = 1e-3
     t = np.arange(0, 2, dt)
