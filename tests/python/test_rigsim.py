@@ -185,7 +185,8 @@ def test_whole_rig_model_is_self_contained_and_its_wob_rises_while_stuck(window)
     rec, thr = window
     law = _identified_law(rec, thr)
     m = rigsim.RigModel(law, 0.05, "rig", 0.2, 0.02, command_rad_s=19.0, jack_gain_n_rad=150.0,
-                        jack_relaxation_s=0.15, platform_damping=0.6, gj_factor=1.0, bit_inertia_factor=1.05)
+                        jack_relaxation_s=0.15, platform_damping=0.6, gj_factor=1.0, bit_inertia_factor=1.05,
+                        coupling_stiffness_nm_rad=30.0)
     sim = rigsim.simulate_model(m, rec)
     assert sim.provenance["command_rad_s"] == 19.0  # its own command, not the record's mean speed
     v, w = sim.bit_speed[2000:], sim.wob[2000:]
@@ -233,3 +234,15 @@ def test_stalls_are_counted_apart_from_the_regular_cycle():
     assert m["stalls"]["count"] == 1
     raw_stick = float(np.mean(part.bit_speed[part.valid("bit_speed")] <= thr))
     assert m["stick_fraction"] < raw_stick - 0.05  # the regular cycle's stick fraction
+
+
+def test_coupling_is_a_spring_in_series_with_the_bar():
+    # a coupling as stiff as the bar (3.08 N m/rad) halves the series stiffness: f1 = 2.89 / sqrt(2) Hz;
+    # a very stiff one leaves the Table 5.1 rig
+    law = load_config(preset="thesis-rig")["law"]
+    k_bar = 3.08  # G J_p / L of the 1.7 m bar of radius 2.5 mm
+    soft = rigsim.rig_config(law, 0.05, coupling_stiffness=k_bar)
+    assert soft["string"]["sections"][0]["name"] == "coupling"
+    assert natural_frequencies(soft, 1)[0] == pytest.approx(2.89 / np.sqrt(2), rel=0.01)
+    stiff = rigsim.rig_config(law, 0.05, coupling_stiffness=1e5)
+    assert natural_frequencies(stiff, 1)[0] == pytest.approx(2.89, abs=0.01)

@@ -54,6 +54,8 @@ DRIVES = ("constant", "measured", "motor", "rig")
 #: The drives whose inputs are constants or slow signals: the candidates of a predictive model.
 PREDICTIVE_DRIVES = ("constant", "motor", "rig")
 
+#: Length of the coupling section between the drive and the bar (rig_config) [m].
+COUPLING_LENGTH_M = 0.01
 #: The rig's platform (rock holder and jack) natural frequency [Hz], thesis section 5.3.1.
 PLATFORM_HZ = 20.0
 #: The rig motor's torque limit [N m], thesis section 5.1 ("up to 300 RPM and 8 N m").
@@ -86,13 +88,18 @@ RIG_PARAMETERS = {
                                    "x 1.11, and the 2.5 mm radius +-0.02 mm +-3 %"),
     "bit_inertia_factor": (1.0, 1.4, "-", "Table 5.1's 9.33e-3 kg m^2 is the disk alone; the chuck, the mandrel and "
                                           "the masonry bit below it add to it (section 5.1)"),
+    "coupling_stiffness_nm_rad": (2.0, 300.0, "N m/rad", "the shaft coupling between the motor and the bar (not in "
+                                                         "Table 5.1): elastomer jaw couplings for 5-8 mm shafts are a "
+                                                         "few to a few tens of N m/rad; 300 is rigid next to the "
+                                                         "bar's 3.08"),
 }
 
 
 def rig_config(law: dict | None = None, damping_ratio: float | None = None, *, preset: str = "thesis-rig",
                duration_s: float | None = None, top_speed: float | None = None,
                wob: float | None = None, motor: tuple | None = None, axial: tuple | None = None,
-               gj_factor: float = 1.0, bit_inertia_factor: float = 1.0) -> dict:
+               gj_factor: float = 1.0, bit_inertia_factor: float = 1.0,
+               coupling_stiffness: float | None = None) -> dict:
     """The rig preset with another law, modal damping ratio and/or top drive (normalized by the engine).
 
     Parameters
@@ -122,6 +129,10 @@ def rig_config(law: dict | None = None, damping_ratio: float | None = None, *, p
         Factor on every section's Young's modulus (the GJ within the geometry's tolerance).
     bit_inertia_factor : float
         Factor on the inertia lumped at the bit (the disk of Table 5.1, and what it carries).
+    coupling_stiffness : float, optional
+        Torsional stiffness [N m/rad] of a massless coupling between the top drive and the bar: a
+        1 cm section of the bar's steel at the top whose G J / L is this (its inertia, about 1e-13
+        kg m^2, is negligible); None: the bar is clamped to the drive.
 
     Returns
     -------
@@ -154,6 +165,17 @@ def rig_config(law: dict | None = None, damping_ratio: float | None = None, *, p
         for li in cfg["string"].get("lumped_inertias", []):
             if li["node"] == -1:
                 li["inertia_kg_m2"] = float(li["inertia_kg_m2"]) * float(bit_inertia_factor)
+    if coupling_stiffness is not None:
+        top = cfg["string"]["sections"][0]
+        E, nu, L = float(top["youngs_modulus_pa"]), float(top["poisson_ratio"]), COUPLING_LENGTH_M
+        G = E / (2.0 * (1.0 + nu))
+        r = (2.0 * float(coupling_stiffness) * L / (math.pi * G)) ** 0.25  # G pi r^4 / 2 / L = k_c
+        cfg["string"]["sections"].insert(0, {"name": "coupling", "length_m": L, "outer_radius_m": r,
+                                             "inner_radius_m": 0.0, "youngs_modulus_pa": E, "poisson_ratio": nu,
+                                             "density_kg_m3": float(top["density_kg_m3"]), "elements": 1})
+        for li in cfg["string"].get("lumped_inertias", []):
+            if li["node"] >= 0:
+                li["node"] += 1  # the coupling's element comes first
     return normalize(cfg)
 
 
@@ -276,6 +298,8 @@ class RigModel:
         Factor on the bar's GJ (``rig`` drive; 1 for the others).
     bit_inertia_factor : float
         Factor on the inertia at the bit (``rig`` drive; 1 for the others).
+    coupling_stiffness_nm_rad : float or None
+        Stiffness of the coupling between the motor and the bar [N m/rad] (``rig`` drive).
     intervals : dict
         Parameter name -> [low, high], a 95 % interval (``rig`` drive: :func:`calibrate_rig`).
     """
@@ -292,6 +316,7 @@ class RigModel:
     platform_damping: float | None = None
     gj_factor: float = 1.0
     bit_inertia_factor: float = 1.0
+    coupling_stiffness_nm_rad: float | None = None
     intervals: dict = field(default_factory=dict)
 
     def __post_init__(self):
@@ -301,7 +326,8 @@ class RigModel:
             raise ValueError(f"damping_ratio = {self.damping_ratio!r}: must be a positive number")
         need = {"motor": ("motor_slope_nms_rad", "motor_inertia_kg_m2"),
                 "rig": ("motor_slope_nms_rad", "motor_inertia_kg_m2", "command_rad_s", "jack_relaxation_s",
-                        "platform_damping", "gj_factor", "bit_inertia_factor")}.get(self.drive, ())
+                        "platform_damping", "gj_factor", "bit_inertia_factor",
+                        "coupling_stiffness_nm_rad")}.get(self.drive, ())
         for k in need:
             v = getattr(self, k)
             if v is None or not (math.isfinite(v) and v > 0):
@@ -368,7 +394,8 @@ class RigModel:
         return rig_config(self.law, self.damping_ratio, preset=self.preset, duration_s=duration_s,
                           top_speed=top_speed, wob=wob, motor=self.motor, axial=self.axial,
                           gj_factor=self.gj_factor if self.drive == "rig" else 1.0,
-                          bit_inertia_factor=self.bit_inertia_factor if self.drive == "rig" else 1.0)
+                          bit_inertia_factor=self.bit_inertia_factor if self.drive == "rig" else 1.0,
+                          coupling_stiffness=self.coupling_stiffness_nm_rad if self.drive == "rig" else None)
 
     def to_dict(self, top_speed: float | None = None, wob: float | None = None) -> dict:
         """``model.json``: the engine configuration (at the calibration's operating point) and the drive.
@@ -398,6 +425,7 @@ class RigModel:
         if self.drive == "rig":
             out["rig"] = {"platform_hz": PLATFORM_HZ, "platform_damping": self.platform_damping,
                           "gj_factor": self.gj_factor, "bit_inertia_factor": self.bit_inertia_factor,
+                          "coupling_stiffness_nm_rad": self.coupling_stiffness_nm_rad,
                           "wob_trend_hz": WOB_TREND_HZ,
                           "parameters": self.parameters()}
         return out
@@ -443,6 +471,7 @@ class RigModel:
                          "jack_relaxation_s": ax.get("relaxation_s"), "platform_damping": rig.get("platform_damping"),
                          "gj_factor": rig.get("gj_factor", 1.0),
                          "bit_inertia_factor": rig.get("bit_inertia_factor", 1.0),
+                         "coupling_stiffness_nm_rad": rig.get("coupling_stiffness_nm_rad"),
                          "intervals": {k: v.get("ci95") for k, v in (rig.get("parameters") or {}).items()
                                        if v.get("ci95") is not None}}
             return cls(law=cfg["law"], damping_ratio=float(damp["ratios"][0]), drive=drive,
@@ -1299,7 +1328,8 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
         return RigModel(law, p["damping_ratio"], "rig", p["motor_slope_nms_rad"], p["motor_inertia_kg_m2"],
                         preset=preset, command_rad_s=p["command_rad_s"], jack_gain_n_rad=p["jack_gain_n_rad"],
                         jack_relaxation_s=p["jack_relaxation_s"], platform_damping=p["platform_damping"],
-                        gj_factor=p["gj_factor"], bit_inertia_factor=p["bit_inertia_factor"])
+                        gj_factor=p["gj_factor"], bit_inertia_factor=p["bit_inertia_factor"],
+                        coupling_stiffness_nm_rad=p["coupling_stiffness_nm_rad"])
 
     side = measured_side(record, stick_threshold, float(record.time_s[0]), "rig")
 
@@ -1316,7 +1346,7 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     first = {"damping_ratio": 0.04, "motor_slope_nms_rad": float(np.clip(cm0, lo[1], hi[1])),
              "motor_inertia_kg_m2": 0.015, "command_rad_s": float(np.clip(om0, lo[3], hi[3])),
              "jack_gain_n_rad": 150.0, "jack_relaxation_s": 0.2, "platform_damping": 0.7, "gj_factor": 1.05,
-             "bit_inertia_factor": 1.05}
+             "bit_inertia_factor": 1.05, "coupling_stiffness_nm_rad": 30.0}
     rng = np.random.default_rng(seed)
     scatter = [internal(first)] + [internal(first) + rng.normal(0.0, 0.7, len(names)) for _ in range(screen - 1)]
     workers = threads if threads > 0 else (os.cpu_count() or 1)
