@@ -1279,9 +1279,10 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     from its own point. The result depends on the seed, never on the thread count.
 
     95 % intervals: the relative errors are linearized around the optimum (central differences at
-    5 % of each range) and weighted by each metric's own sampling uncertainty, the spread of the
-    metric between four blocks of the part (:func:`_metric_noise`); a parameter the metrics do not
-    determine gets no interval.
+    6 % of each range) and weighted by each metric's own sampling uncertainty, the spread of the
+    metric between four blocks of the part (:func:`_metric_noise`). A parameter gets no interval when
+    the metrics do not determine it, or when its slope at 2 % of the range differs from the one at
+    6 % by more than half (a cycle or a stall appears in between: no local linearization holds).
 
     Parameters
     ----------
@@ -1380,18 +1381,27 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
 
     intervals = {}
     try:
-        J = np.empty((len(MATCHED_RIG), len(names)))
-        for j, k in enumerate(names):
-            h = 0.05 * (hi[j] - lo[j])
+        def slope(j, k, frac):
+            h = frac * (hi[j] - lo[j])
             up, dn = dict(p), dict(p)
             up[k], dn[k] = min(p[k] + h, hi[j]), max(p[k] - h, lo[j])
-            J[:, j] = (residuals(up) - residuals(dn)) / (up[k] - dn[k])
-        A = J / sigma[:, None]
-        cov = np.linalg.pinv(A.T @ A, rcond=1e-10)
+            return (residuals(up) - residuals(dn)) / (up[k] - dn[k])
+
+        cols, kept = [], []
         for j, k in enumerate(names):
-            sd = math.sqrt(cov[j, j]) if cov[j, j] > 0 else math.inf
-            if math.isfinite(sd) and sd < (hi[j] - lo[j]):  # determined by the metrics
-                intervals[k] = [float(max(p[k] - 1.96 * sd, lo[j])), float(min(p[k] + 1.96 * sd, hi[j]))]
+            fine, coarse = slope(j, k, 0.02), slope(j, k, 0.06)
+            # a metric that jumps (a cycle or a stall appearing) between the two steps: no local slope
+            if np.linalg.norm(fine - coarse) <= 0.5 * max(np.linalg.norm(coarse), 1e-12):
+                cols.append(coarse)
+                kept.append(j)
+        if cols:
+            A = np.column_stack(cols) / sigma[:, None]
+            cov = np.linalg.pinv(A.T @ A, rcond=1e-10)
+            for c, j in enumerate(kept):
+                k = names[j]
+                sd = math.sqrt(cov[c, c]) if cov[c, c] > 0 else math.inf
+                if math.isfinite(sd) and sd < (hi[j] - lo[j]):  # determined by the metrics
+                    intervals[k] = [float(max(p[k] - 1.96 * sd, lo[j])), float(min(p[k] + 1.96 * sd, hi[j]))]
     except (ValueError, RuntimeError, np.linalg.LinAlgError):
         intervals = {}
     model = model_of(p)
