@@ -10,13 +10,14 @@ docstring numpydoc cannot parse fails the build (scripts/test.sh runs it). The g
 """
 from __future__ import annotations
 
-import os
 import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-if os.environ.get("DRILLPY_DOCS_INSTALLED") != "1":  # the working tree's package (with its built engine)
+# The working tree's package when its engine is built there (scripts/dev-build.sh), else the
+# installed one (scripts/test.sh installs the wheel; a fresh clone has no engine in python/drillpy).
+if list((ROOT / "python" / "drillpy").glob("_core*.so")):
     sys.path.insert(0, str(ROOT / "python"))
 
 import drillpy  # noqa: E402
