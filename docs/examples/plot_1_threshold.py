@@ -21,7 +21,7 @@ print(drillpy.natural_frequencies(cfg, 3))  # [Hz], the first three modes of the
 run = drillpy.simulate(cfg, top_speed=12.0)
 print(f"SS = {run.severity:.2f}, {len(run.stick_durations)} stick phases after the transient")
 
-fig, ax = plt.subplots(figsize=(7, 3))
+fig, ax = plt.subplots(figsize=(7, 3.2), layout="constrained")
 ax.plot(run.t, run.bit_speed, lw=0.8, label="bit")
 ax.axhline(12.0, color="k", ls="--", lw=0.8, label="top (imposed)")
 ax.set(xlabel="time [s]", ylabel="speed [rad/s]", title="stick-slip at 12 rad/s")
@@ -34,7 +34,7 @@ ss = drillpy.sweep_severity(cfg, speeds, progress=False)
 threshold = drillpy.severity_threshold(speeds, ss)
 print(f"SS > 0.5 below {threshold:.2f} rad/s")
 
-fig, ax = plt.subplots(figsize=(7, 3))
+fig, ax = plt.subplots(figsize=(7, 3.2), layout="constrained")
 ax.plot(speeds, ss, "o-")
 ax.axhline(0.5, color="k", lw=0.8)
 ax.axvline(threshold, color="r", ls="--", lw=0.8)

@@ -25,7 +25,7 @@ t, eta = drillpy.generate(drillpy.THESIS_PSD, dt=eta_dt, duration=2000.0, seed=1
 f, s = drillpy.periodogram(eta[0], eta_dt)
 print(f"std of eta: {eta[0].std():.4f} (model {np.sqrt(drillpy.THESIS_PSD.integral()):.4f})")
 
-fig, ax = plt.subplots(figsize=(7, 3))
+fig, ax = plt.subplots(figsize=(7, 3.2), layout="constrained")
 ax.loglog(f[1:], s[1:], lw=0.5, label="periodogram of one realization")
 ax.loglog(f[1:], drillpy.THESIS_PSD(f[1:]), "k", label="Eq. (4.4)")
 ax.set(xlabel="frequency [Hz]", ylabel="PSD [1/Hz]")
@@ -39,7 +39,7 @@ for v, m, p in zip(speeds, study.mean, study.p_exceed):
     print(f"{v:5.1f} rad/s: mean SS {m:5.2f}, P(SS > 0.5) = {p:.2f}")
 print(f"P(SS > 0.5) <= 5 % from {study.p05_speed} rad/s; deterministic threshold {study.deterministic_threshold:.2f} rad/s")
 
-fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 3))
+fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 3.4), layout="constrained")
 a1.fill_between(speeds, study.q05, study.q95, alpha=0.3, label="5-95 %")
 a1.plot(speeds, study.mean, "o-", label="mean")
 a1.plot(speeds, study.deterministic, "k--", label="deterministic")

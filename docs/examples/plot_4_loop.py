@@ -36,7 +36,7 @@ print("fitted:", res.final.model.effects)
 # corrected model's, each horizon restarted from the record's state at its start.
 data = res.data
 test = np.flatnonzero(data.is_test)[:6]
-fig, ax = plt.subplots(figsize=(9, 3.5))
+fig, ax = plt.subplots(figsize=(9, 3.8), layout="constrained")
 for k, h in enumerate(test):
     idx = data.horizon_samples[h]
     ax.plot(data.t[idx], data.v_meas[idx], "k", lw=1.2, label="record" if k == 0 else None)

@@ -30,7 +30,7 @@ for name, drive in drives.items():
 
 # %%
 # Bit speed and the motor's torque with each drive.
-fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 5), sharex=True)
+fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 5), sharex=True, layout="constrained")
 for name, run in runs.items():
     a1.plot(run.t, run.bit_speed, lw=0.7, label=name)
     a2.plot(run.t, run.top_torque / 1e3, lw=0.7, label=name)
