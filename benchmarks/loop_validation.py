@@ -10,7 +10,9 @@ E before -> after the first step -> final, the long-run metrics (SS, stick fract
 frequency: record, baseline, final) and the unexplained fraction.
 
 Pass rules: ``clean``: nothing added; ``single``/``noise``: that effect named first with E after
-<= 0.6 E before; ``half``: named first (the summary counts them: "most" is the target); ``two``:
+it <= 0.6 E before the loop (the calibrated declared model's: a recalibration step inside the GJ
+tolerance may come first, decided on a margin the rounding can tip, and the effect is measured
+against the null class, not against whichever member of it the path reached); ``half``: named first (the summary counts them: "most" is the target); ``two``:
 both found; ``outside``: nothing misnamed (nothing added, or the listed acceptable name);
 ``confounded``: a bit viscous torque under a constant top speed, -c_v v = c_v (Omega - v) - c_v Omega,
 is exactly a string damping plus a constant torque that the restart state absorbs into the twist:
@@ -121,7 +123,7 @@ def _run(case: Case, truth_gj: bool) -> dict:
         ok = not added
     elif case.kind in ("single", "noise"):
         named = first is not None and (first["effect"] in truth or first["effect"] in case.acceptable)
-        ok = named and first["error_after"] <= 0.6 * first["error_before"]
+        ok = named and first["error_after"] <= 0.6 * res.baseline.E_test
     elif case.kind == "half":
         ok = first is not None and (first["effect"] in truth or first["effect"] in case.acceptable)
     elif case.kind == "two":

@@ -33,9 +33,13 @@ STEP_KEYS = {"action", "effect", "error_before", "error_after", "evidence", "lon
 def test_validation_case_passes(case):
     """The fast subset of benchmarks/loop_validation.py (the table of docs/loop.md): truths away from
     the declared model; clean: nothing added; single: named first with E after <= 0.6 E before; two:
-    both found; outside the catalogue: nothing misnamed."""
+    both found; outside the catalogue: nothing misnamed. "E before" is the calibrated declared model's
+    (the baseline), whatever the path: case 18 recalibrates the GJ first or not as the rounding goes
+    (a 1 % better calibration error decides it). On OpenBLAS's Sandybridge kernel with one thread:
+    E 0.0963, recalibrated 0.0897, static_friction 0.0542 (0.604 x the step's own "before", 0.563 x
+    the baseline); SkylakeX with two: 0.1040, 0.0996, 0.0522 (0.524 x, 0.502 x)."""
     r = run_case(case)
-    assert r["ok"], r
+    assert r["ok"], {k: r[k] for k in ("found", "removed", "baseline", "first_after", "final", "params")}
     assert r["truth"]["modes"] == 3 and r["truth"]["damping_ratio"] != 0.05  # not the declared model
 
 

@@ -76,15 +76,26 @@ def test_model_file_keeps_the_calibrated_gj():
     assert back.engine_config() == m.engine_config()
 
 
-def test_calibration_restarts_until_the_cost_stops_falling():
-    """On the independent rig's record with a 4.5 N m break-away (benchmarks/independent_rig.py, a
-    Tucker-Wang law and 8 lumped segments, no drillpy code), the static-friction candidate's least
-    squares stopped on the step tolerance short of convergence: a second calibration from its result
-    lowered the error by more than 1 %. With the restarts a second calibration gains less than
-    0.5 %."""
+def test_calibration_restarts_until_the_cost_stops_falling(monkeypatch):
+    """The restarts of ``fit_dynamic`` on the independent rig's record with a 4.5 N m break-away
+    (benchmarks/independent_rig.py, a Tucker-Wang law and 8 lumped segments, no drillpy code), the
+    static-friction candidate from its law refitted with the measured break-away.
+
+    The premise is built, not hoped for: whether one least-squares call stops short on the kinks
+    of this residual depends on the floating-point path (one CPU's call stopped 4 % above its
+    restart, another's did not move). Here the first call runs with ``ftol = 1``, which scipy's
+    trust region meets at its first step with a reduction ratio above 0.25 (dF < 1 * F for any
+    F > 0): a tolerance stop (status 2) after one step, by construction. The restarts must then
+    resume from that call's result with the rest of the budget, go on while a restart lowers the
+    cost by ``RESTART_GAIN``, stop when one does not (or the budget, the count or a non-tolerance
+    exit ends them), and return the best call's parameters. The numerical fact: one step from the
+    start leaves E_cal 1 % under the start's, while every full calibration of this candidate lands
+    at least 4 % under it (0.149 and 0.146 here, by either path), so the restarts must gain more
+    than RESTART_GAIN (1 %) over the single step."""
     rig = pytest.importorskip("independent_rig")
     import tempfile
     import os
+    import numpy as np
     import drillpy
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "static.csv")
@@ -100,21 +111,48 @@ def test_calibration_restarts_until_the_cost_stops_falling():
     c.effects["static_friction"] = dict(d["params"])
     start = F.fit_law(c, data)
     names = [F.LAW, F.DAMPING, "static_friction"]
+    budget = opt.nfev_per_parameter * F._pack(start, data, names)[0].size
 
-    def twice(restarts):
-        old = F.RESTARTS
-        F.RESTARTS = restarts
-        try:
-            once, _ = F.fit_dynamic(start, data, names, opt)
-            again, _ = F.fit_dynamic(once, data, names, opt)
-        finally:
-            F.RESTARTS = old
-        return F.e_train(once, data, 0), F.e_train(again, data, 0)
+    least_squares = F.optimize.least_squares
+    calls = []
 
-    e1, e2 = twice(0)
-    assert e2 < 0.99 * e1, (e1, e2)  # the premise: one least-squares call stops short
-    e1, e2 = twice(F.RESTARTS)
-    assert e2 > 0.995 * e1, (e1, e2)
+    def first_call_one_step(fun, x0, **kw):
+        if not calls:
+            kw = dict(kw, ftol=1.0)  # stops at its first good step: short of convergence by construction
+        r = least_squares(fun, x0, **kw)
+        calls.append((np.array(x0, copy=True), kw["max_nfev"], r))
+        return r
+
+    monkeypatch.setattr(F.optimize, "least_squares", first_call_one_step)
+
+    def fit(restarts):
+        calls.clear()
+        monkeypatch.setattr(F, "RESTARTS", restarts)
+        fitted, _ = F.fit_dynamic(start, data, names, opt)
+        return F.e_train(fitted, data, 0), list(calls)
+
+    restarts, e_start = F.RESTARTS, F.e_train(start, data, 0)
+    e_one, one = fit(0)
+    assert len(one) == 1 and one[0][2].status == 2 and one[0][2].nfev < budget  # the premise
+    assert e_one == pytest.approx(np.sqrt(2.0 * one[0][2].cost), rel=1e-9)  # E_cal is sqrt(2 cost)
+    assert e_one < e_start
+
+    e_all, seq = fit(restarts)
+    assert seq[0][2].x.tolist() == one[0][2].x.tolist()  # the same first call
+    assert len(seq) >= 2  # a tolerance stop with budget left is restarted ...
+    used, best, gained = 0, seq[0][2], True
+    for i, (x0, max_nfev, r) in enumerate(seq):
+        assert max_nfev == budget - used  # ... within the same budget ...
+        if i:
+            assert gained  # only after a restart that gained RESTART_GAIN (or the first call) ...
+            assert x0.tolist() == best.x.tolist()  # ... from the best result so far
+            gained = r.cost < (1.0 - F.RESTART_GAIN) * best.cost
+        used += r.nfev
+        best = r if r.cost < best.cost else best
+    # they stopped when a restart gained less, or the budget, the count or a non-tolerance exit ended them
+    assert not gained or used >= budget or seq[-1][2].status not in (2, 3) or len(seq) == restarts + 1
+    assert e_all == pytest.approx(np.sqrt(2.0 * best.cost), rel=1e-9)  # the best call's parameters returned
+    assert e_all < (1.0 - F.RESTART_GAIN) * e_one, (e_start, e_one, e_all)  # the restarts recover the stop
 
 
 def test_a_gj_tolerance_out_of_range_is_refused():

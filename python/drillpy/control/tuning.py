@@ -15,6 +15,7 @@ controller with a low integral gain, ZTorque with a long torque filter) can leav
 with the top barely turning, and SS (Eq. 3.4: the bit speed's range over twice the mean *top*
 speed) is then small although nothing is drilled. Such a run counts as a failure (its SS is
 replaced by +inf in the tables the probabilities are computed from; the mean SS uses the raw SS).
+
     score = P + mean SS / (4 N)          (N runs in the window)
 
 The tie-break makes the score informative where P is flat (every run in or out of stick-slip)

@@ -1,4 +1,4 @@
-"""Statistics across samples, section 5.3 of the thesis: ``drillpy analyze REC1 REC2 ... --out DIR``.
+"""Statistics across samples, section 5.3 of the thesis (``drillpy analyze`` given several records).
 
 Every sample (a record, or a window of one) goes through the single-record pipeline of
 :func:`drillpy.reports.analysis.analyze_record` up to the identification: read

@@ -123,7 +123,7 @@ class Result:
     figures : list of str
         Paths of the figures written.
     seconds : dict
-        Chapter (``"3"``...``"6"``) -> wall time of its studies [s].
+        Chapter (``"3"`` to ``"6"``) -> wall time of its studies [s].
     """
     rows: list = field(default_factory=list)
     figures: list = field(default_factory=list)

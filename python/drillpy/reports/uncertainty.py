@@ -1,10 +1,12 @@
 """The chapter-6 study with figures and the thesis's conclusions checked on measured widths.
 
 :func:`chapter6_study` computes, on a configuration such as ``thesis-ch6`` (a :class:`Chapter6Study`):
+
   * Craig-Bampton natural frequencies versus the full FE model as modes per substructure grow;
   * SM_full, SM_CB1 and SM_CB2 at delta = 0.1 (Figs. 6.1-6.3);
   * SM_CB2 case studies 1-7 (Tables 6.1-6.7, Figs. 6.4-6.12);
   * Conv2 (Eq. C.2) versus samples (Fig. C.2) and versus DP and BHA modes (Figs. C.3-C.4);
+
 :func:`drillpy.figures.frf.chapter6_figures` draws it, :func:`write_chapter6` writes ``summary.json``
 and :func:`chapter6_report` composes the three. :func:`conclusions` turns envelope widths (dB,
 averaged over frequency bands) into a verdict on each conclusion of section 6.6.

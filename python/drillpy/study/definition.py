@@ -163,7 +163,7 @@ def _engine(key: str):
 
 
 def compute_block(study: Study, lo: int, hi: int, threads: int = 0) -> dict:
-    """The results of tasks ``lo .. hi - 1`` of a study (along its task dimension).
+    """The results of tasks ``range(lo, hi)`` of a study (along its task dimension).
 
     Parameters
     ----------

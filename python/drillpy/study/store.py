@@ -145,7 +145,7 @@ def _has_group(path: Path, group: str | None) -> bool:
 
 
 def write_block(study: Study, path, lo: int, values: dict, group: str | None = None) -> None:
-    """Write the results of tasks ``lo .. lo + n - 1``, then flag them done.
+    """Write the results of tasks ``range(lo, lo + n)``, then flag them done.
 
     Parameters
     ----------

@@ -353,7 +353,7 @@ def frf_envelope(cfg: dict, model: str = "SM_CB2", delta=None, case: int | None 
 def frf_samples(cfg: dict, model: str = "SM_CB2", delta=None, case: int | None = None, *,
                 samples: int = 2500, seed: int = 1, first_sample: int = 0, freq_hz=None, nodes=None,
                 progress: bool = True, threads: int = 0) -> tuple[np.ndarray, np.ndarray]:
-    """Per-sample acceleration FRF of samples ``first_sample .. first_sample + samples - 1``
+    """Per-sample acceleration FRF of samples ``range(first_sample, first_sample + samples)``
     (section 6.6): the inputs of :func:`envelope_from_samples`, computed in chunks.
 
     Sample i is realization i of ``model`` from (seed, i) only, so chunks stacked in sample order
