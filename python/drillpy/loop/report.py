@@ -90,7 +90,7 @@ def evidence_json(res: LoopResult) -> dict:
     Returns
     -------
     dict
-        ``metric``; ``record`` (source, samples, rates [Hz], span, calibration and validation
+        ``metric``; ``decision`` (which data fitted, decided, and measure the final E); ``record`` (source, samples, rates [Hz], span, calibration and validation
         parts [s], cleaning, stick threshold [rad/s], sd of bit speed [rad/s] and torque [N m],
         horizon [s] and counts); ``options``; ``engine_dt_s`` [s]; ``baseline`` and ``final``
         (errors, validation RMSE, law residual RMSE [N m], parameters, k); ``adequacy``,
@@ -103,7 +103,7 @@ def evidence_json(res: LoopResult) -> dict:
                 "law_rmse_calibration_nm": e.law_rmse_train, "law_rmse_validation_nm": e.law_rmse_test,
                 "parameters": e.model.parameters(), "k": e.model.k}
 
-    return {"metric": res.metric(),
+    return {"metric": res.metric(), "decision": res.decision(),
             "record": {"source": d.source, "samples": int(d.t.size), "sample_rate_hz": 1.0 / d.dt,
                        "record_rate_hz": d.record_rate_hz, "decimation": d.decimation,
                        "span_s": [float(d.t[0]), float(d.t[-1])], "calibration_s": [float(d.t[0]), d.t_split],
@@ -281,7 +281,12 @@ def render_report(res: LoopResult, files: dict) -> str:
           f"t-test of the per-horizon log error ratio over the validation horizons (effective number from their "
           f"autocorrelation) with p < {o.alpha:g} / (candidates in the round) (Bonferroni); BIC on the calibration "
           f"part lower by more than {o.min_delta_bic:g} (n_eff = residual samples / autocorrelation time). Among the "
-          "candidates that pass, the one with the lowest validation error is added and the model is refitted.", ""]
+          "candidates that pass, the one with the lowest validation error is added and the model is refitted; the "
+          f"refitted model must itself lower E by {100 * o.min_gain:g} % against the current model, or the next "
+          "candidate is tried. A direct measurement (static friction's break-away torques) only proposes a "
+          "candidate; a recalibration proposed by the calibration part must lower E on the validation part.",
+          f"- **Which data decide**: {res.decision()['decided_on']}. **The final E** is measured on the "
+          f"{res.decision()['final_error_on']}.", ""]
     a = res.adequacy
     L += ["## Baseline", "",
           f"- declared effects: {', '.join(res.declared) or 'none'}; calibrated modal damping ratios "

@@ -20,7 +20,7 @@ from .discovery import discover, library, residual_structure
 from .effects import CATALOGUE
 from .evidence import adequacy, evidence, law_evidence
 from .fitting import RESTART_GAIN, calibrate, e_train, fit_candidate, null_candidate, parameter_evidence, refit
-from .longrun import cycle_damage, cycle_miss, long_run, stick_collapse
+from .longrun import cycle_damage, long_run, stick_collapse
 from .model import STIFFNESS, Evaluation, LoopModel, equation_residual, evaluate
 from .options import LoopOptions
 
@@ -40,8 +40,9 @@ class LoopResult:
         The model after the last step (the baseline when nothing was added or removed).
     steps : list of dict
         Every step in order: ``action`` (``"add"``/``"remove"``, or ``"recalibrate"``: the
-        calibration replaced by a ``string_stiffness`` fit inside the GJ tolerance, decided on the
-        calibration error, :func:`_null_class`), ``effect``, ``error_before``,
+        calibration replaced by a ``string_stiffness`` fit inside the GJ tolerance, proposed by the
+        calibration error, :func:`_null_class`, and accepted when it lowers the validation error),
+        ``effect``, ``error_before``,
         ``error_after`` (E, validation part [-]), ``evidence``, ``long_run`` (measured / before /
         after), and the Evaluations ``before``, ``candidate``, ``after``.
     rounds : list of list
@@ -96,6 +97,32 @@ class LoopResult:
                 f"{d.sigma_T:.4g} N m); predictions restarted every {self.options.horizon_s:g} s from the measured "
                 "state")
 
+    def decision(self) -> dict:
+        """Which data fitted the models, which decided the steps, and which the final error is
+        measured on (``loop.json`` -> ``decision``; docs/loop.md, "Which data decide").
+
+        Returns
+        -------
+        dict
+            ``fitted_on``, ``decided_on``, ``final_error_on``: one sentence each, with the parts'
+            time ranges [s] and horizon counts.
+        """
+        d, o = self.data, self.options
+        cal = f"calibration part (t < {d.t_split:.3f} s, {int((~d.is_test).sum())} horizons)"
+        val = f"validation part (t >= {d.t_split:.3f} s, {int(d.is_test.sum())} horizons)"
+        return {
+            "fitted_on": f"{cal}: every model's parameters, the null candidate's and the candidates'; nothing is "
+                         "fitted on the validation part",
+            "decided_on": f"{val}: an effect is added only if, refitted, it lowers E there by min_gain "
+                          f"({100 * o.min_gain:g} %) against the current model (and passes the guard against the null "
+                          "candidate); a direct measurement only proposes a candidate; a recalibration (proposed by a "
+                          "lower calibration error) must lower E there; a declared or added effect is removed when it "
+                          f"does not lower E there by {100 * o.min_gain:g} % (the simpler model: E may rise by less)",
+            "final_error_on": f"{val}, the data that decided the steps: the final E is the selected model's error on "
+                              "its selection data, an optimistic estimate of its error elsewhere; an out-of-sample "
+                              "error is the model's on data the loop never saw (drillpy predict model.json OTHER_RECORD)",
+        }
+
     @property
     def removed(self) -> list:
         """Effects removed by a backward step, in order."""
@@ -109,7 +136,7 @@ class LoopResult:
         return self.discovery.get("unexplained_fraction")
 
     def loop_json(self) -> dict:
-        """The content of ``loop.json`` (docs/loop.md): metric, baseline error and adequacy,
+        """The content of ``loop.json`` (docs/loop.md): metric, decision data, baseline error and adequacy,
         declared and removed effects, long runs, steps, final error and effects, unexplained
         fraction, discovered terms, the final model's parameters and the plausibility ``warnings``.
 
@@ -119,7 +146,8 @@ class LoopResult:
             JSON-ready apart from NumPy scalars and non-finite numbers (:func:`dumps` handles them).
         """
         keys = ("action", "effect", "error_before", "error_after", "evidence", "long_run")
-        return {"metric": self.metric(), "baseline_error": self.baseline.E_test, "adequacy": self.adequacy,
+        return {"metric": self.metric(), "decision": self.decision(), "baseline_error": self.baseline.E_test,
+                "adequacy": self.adequacy,
                 "declared": self.declared, "removed": self.removed, "baseline_long_run": self.baseline_long_run,
                 "steps": [{k: s[k] for k in keys} for s in self.steps],
                 "final_error": self.final.E_test, "final_effects": list(self.final.model.effects),
@@ -207,30 +235,44 @@ def _backward(cur: Evaluation, cur_lr: dict, data: LoopData, opt: LoopOptions, k
         cur, cur_lr = red, lr
 
 
-#: A directly measured effect must lower the sum of the long run's relative SS and stick-fraction
-#: errors by at least this.
-DIRECT_LONG_RUN_GAIN = 0.02
-
-
-def _direct(effect, cur: Evaluation, cur_lr: dict, cand: Evaluation, e: dict, data: LoopData,
-            opt: LoopOptions) -> None:
+def _direct(effect, cur: Evaluation, e: dict, data: LoopData) -> None:
     """An effect measured directly on the record (its ``direct`` hook, e.g. the break-away torques
-    of the stick phases) whose short-horizon evidence is weak is added when its direct measurement is
-    significant, it costs the predictions at most ``min_gain``, and it brings the long run's stick
-    fraction and SS closer to the record's (the limit cycle is the evidence: by
-    :data:`DIRECT_LONG_RUN_GAIN` at least)."""
+    of the stick phases) is *proposed* by that measurement: the candidate is started from the
+    measured value (:func:`.fitting.fit_candidate`), and the measurement is recorded in its evidence
+    (``e["direct"]``). It never replaces the validation test (issue 29): a candidate the guard
+    refuses stays refused, with the measurement named among the reasons."""
     d = effect.direct(cur.model, data)
-    if not d or not d["significant"] or e["relative_gain"] < -opt.min_gain or not opt.long_run or not cur_lr \
-            or "error" in cur_lr:
+    if not d or not d["significant"]:
         return
-    lr = long_run(cand.model, data)
-    if "error" in lr:
-        return
-    if cycle_miss(lr) < cycle_miss(cur_lr) - DIRECT_LONG_RUN_GAIN:
-        e["accepted"] = True
-        e["direct"] = d["detail"]
-        e["reasons"] = [f"measured directly: {d['detail']}; long-run SS and stick-fraction errors "
-                        f"{cycle_miss(cur_lr):.2f} -> {cycle_miss(lr):.2f}"]
+    e["direct"] = d["detail"]
+    if not e["accepted"]:
+        e["reasons"] = e["reasons"] + [f"proposed by its direct measurement ({d['detail']}), but a direct "
+                                       "measurement does not replace the validation test"]
+
+
+def step_gate(before: float, after: float, margin: float) -> str | None:
+    """The test every model-changing step of the loop must pass on the data that decide it, the
+    validation part (docs/loop.md, "Which data decide"): the step's model must lower E from
+    ``before`` to ``after`` <= (1 - ``margin``) ``before``. Returns None when it does, else the
+    reason it does not.
+
+    Parameters
+    ----------
+    before, after : float
+        E on the validation part of the current model and of the model after the step [-].
+    margin : float
+        The relative decrease asked [-]: ``min_gain`` for an added effect, :data:`RECALIBRATION_GAIN`
+        for a recalibration.
+
+    Returns
+    -------
+    str or None
+        None: the step lowers E by the margin; else why it is refused.
+    """
+    if math.isfinite(after) and after <= (1.0 - margin) * before and (margin > 0 or after < before):
+        return None
+    return (f"the step's model does not lower the validation error by {100 * margin:g} % "
+            f"({before:.4f} -> {after:.4f}" + (f", {100 * (1 - after / before):+.1f} %)" if before > 0 else ")"))
 
 
 #: An addition whose stick phases vanish (:func:`.longrun.stick_collapse`) is still made, and flagged,
@@ -259,19 +301,27 @@ def marginal(name: str, e: dict, opt: LoopOptions) -> str | None:
     Returns
     -------
     str or None
-        "marginal: ..." when the validation gain is below :data:`MARGIN_FACTOR` x ``min_gain`` (an
-        effect added on its direct measurement, below ``min_gain``, says so), else None.
+        "marginal: ..." when the validation gain is below :data:`MARGIN_FACTOR` x ``min_gain``, else
+        None. (No effect is added below ``min_gain``: a direct measurement no longer stands in for
+        the validation test, :func:`step_gate`.)
     """
     g = float(e.get("relative_gain", 0.0))
     if g >= MARGIN_FACTOR * opt.min_gain:
         return None
-    why = "added on its direct measurement" if g < opt.min_gain else f"the {100 * opt.min_gain:.0f} % asked is passed by little"
+    why = f"the {100 * opt.min_gain:.0f} % asked is passed by little"
     return (f"marginal: {name} lowers the validation error by {100 * g:.1f} % ({why}; below "
             f"{100 * MARGIN_FACTOR * opt.min_gain:.0f} % a decision can tip with the rounding or the record)")
 
 
 #: At most this many recalibrations from a ``string_stiffness`` fit inside the GJ tolerance (:func:`_null_class`).
 RECALIBRATIONS = 2
+
+#: The validation margin a recalibration must pass (:func:`step_gate`; 0: it must lower E, by any
+#: amount). A recalibration adds no parameter: it is the same model at another optimum of the
+#: calibration, proposed by the calibration part (E_cal lower by :data:`~.fitting.RESTART_GAIN`); the
+#: validation part must agree that it predicts better. The guard's ``min_gain`` protects against
+#: an added parameter fitting noise, which a recalibration cannot do (docs/loop.md).
+RECALIBRATION_GAIN = 0.0
 
 
 def _null_class(fit, null_m: LoopModel, cur_lr: dict, data: LoopData, opt: LoopOptions, log):
@@ -303,7 +353,7 @@ def _null_class(fit, null_m: LoopModel, cur_lr: dict, data: LoopData, opt: LoopO
     note = (f"recalibrated: the string_stiffness fit lies inside the declared GJ tolerance (x {f:.4f}) and calibrates "
             f"better than the null candidate (E_cal {e_null:.4f} -> {e_alt:.4f}): a model of the null class from "
             "other starts, its calibration replaces the current one and the round is fitted again from it")
-    log(f"  {note}")
+    log(f"  proposed by the calibration part: {note}")
     return alt, lr, note, {"calibration_error_before": e_null, "calibration_error_after": e_alt, "gj_factor": f}
 
 
@@ -313,14 +363,21 @@ def _recalibration(fit, null: Evaluation, cur: Evaluation, cur_lr: dict, data: L
     model of the null class (:func:`_null_class`), or None. Its evidence is taken against the null
     candidate, with the calibration errors and the factor; like the Evaluations ``before``,
     ``candidate`` and ``after``, ``after_long_run`` (the recalibrated model's whole long run) stays
-    out of ``loop.json``."""
+    out of ``loop.json``. The calibration part proposes it; it is accepted (``evidence["accepted"]``)
+    only when it also lowers the validation error (:func:`step_gate` at :data:`RECALIBRATION_GAIN`),
+    else the returned step is refused (``accepted`` False, with the reason) and the loop records it
+    in the round's evidence instead of taking it."""
     better = _null_class(fit, null.model, cur_lr, data, opt, log)
     if better is None:
         return None
     alt, lr, note, cal = better
     new = evaluate(alt, data, opt.threads)
-    e = dict(evidence(null, new, data, 1, opt), accepted=True, reasons=[note], **cal,
+    veto = step_gate(cur.E_test, new.E_test, RECALIBRATION_GAIN)
+    reasons = [note] + ([f"refused: {veto}"] if veto else [])
+    e = dict(evidence(null, new, data, 1, opt), accepted=veto is None, reasons=reasons, **cal,
              parameters={"gj_factor": {"value": cal["gj_factor"], "ci95": None, "at_bound": False, "unit": "-"}})
+    if veto:
+        log(f"  the recalibration is refused by the validation part: {veto}")
     return {"action": "recalibrate", "effect": STIFFNESS, "error_before": cur.E_test, "error_after": new.E_test,
             "evidence": e, "long_run": _pair(cur_lr, lr), "before": cur, "candidate": new, "after": new,
             "after_long_run": lr}
@@ -518,6 +575,11 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
                     fits[name] = err
             step = _recalibration(fits.get(STIFFNESS), null, cur, cur_lr, data, opt, log) \
                 if recalibrated < RECALIBRATIONS else None
+            refused_recal = None
+            if step is not None and not step["evidence"]["accepted"]:
+                # proposed by the calibration part, refused by the validation part: kept in the round's evidence
+                refused_recal = {k: step[k] for k in ("error_before", "error_after", "evidence")}
+                step = None
             if step is not None:
                 recalibrated += 1
                 steps.append(step)
@@ -542,8 +604,10 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
                     if why:
                         e["accepted"] = False
                         e["reasons"] = e["reasons"] + why
-                    elif not e["accepted"]:
-                        _direct(CATALOGUE[name], cur, cur_lr, ev, e, data, opt)
+                    else:
+                        _direct(CATALOGUE[name], cur, e, data)
+                    if name == STIFFNESS and refused_recal is not None:
+                        e["recalibration"] = refused_recal
                 except (ValueError, RuntimeError) as err:  # a candidate the engine refuses is not evidence
                     ev, e = None, {"accepted": False, "reasons": [f"fit failed: {err}"]}
                 results.append((name, ev, e))
@@ -563,6 +627,12 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
                     m2, lr2, held = _hold_damping(nm, lr, data, opt, log)
                     if held:
                         new, lr = evaluate(m2, data, th), lr2
+                gate = step_gate(cur.E_test, new.E_test, opt.min_gain)
+                if gate:  # the refitted step must itself lower E by the guard's margin (issue 29)
+                    e["accepted"] = False
+                    e["reasons"] = e["reasons"] + [f"refitted: {gate}"]
+                    log(f"  {name}: rejected, refitted {gate}")
+                    continue
                 damage = cycle_damage(cur_lr, lr) if opt.long_run else None
                 collapse = stick_collapse(cur_lr, lr) if opt.long_run and not damage else None
                 gain = (cur.E_test - new.E_test) / cur.E_test
@@ -580,6 +650,8 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
                     continue
                 chosen = (name, ev, e, new, lr, held)
                 break
+            # the round's record with the refusals after the refit (the gate, the long run) in it
+            rounds[-1] = [{"effect": n, **e} for n, _, e in results]
             if chosen is None:
                 log("no candidate beats the null candidate with significant, physical parameters: stop")
                 break

@@ -211,8 +211,9 @@ class Effect:
         the short-horizon fit, or None when the effect has none (default).
 
         When the measurement is significant the candidate is started from the measured value (an
-        effect may hold it there through :meth:`free`), and a candidate whose short-horizon
-        evidence is weak may be added on the long run's evidence (docs/loop.md, "direct evidence").
+        effect may hold it there through :meth:`free`) and the measurement is recorded in its
+        evidence; it proposes the candidate but never replaces the validation test (docs/loop.md,
+        "direct evidence"; issue 29).
 
         Parameters
         ----------
