@@ -1,0 +1,56 @@
+"""The rig modelled whole on the independent whole-rig truth (benchmarks/whole_rig.py), not on its own model.
+
+    PYTHONPATH=python python3 benchmarks/rig_whole_truth.py [--seed 5] [--duration 24]
+
+Writes a record of the whole-rig truth (no jack steps, so no stall), calibrates ``rigsim.calibrate_rig``
+(default budget) on its first half with the law identified there, predicts the second half, and prints
+each metric measured / predicted and the calibrated parameters next to the truth's. About 20 s.
+The figures of docs/records.md section 3 on the independent truth come from this script.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "python"))
+sys.path.insert(0, str(REPO / "benchmarks"))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seed", type=int, default=5)
+    ap.add_argument("--duration", type=float, default=24.0)
+    a = ap.parse_args()
+    import whole_rig
+    from drillpy.records import identification as ident
+    from drillpy.records import rigsim
+    from drillpy.records import signals as sig
+    from drillpy.records.cleaning import clean
+    from drillpy.records.io import read_record
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "truth.mat"
+        whole_rig.write_mat(whole_rig.simulate({"jack_steps": []}, duration=a.duration, seed=a.seed), str(path))
+        rec, _ = clean(read_record(path))
+    thr = rigsim.stick_threshold(rec)
+    h = 0.5 * a.duration
+    cal, hold = rec.select(0.0, h), rec.select(h + rec.dt, a.duration)
+    cyc = sig.segment_cycles(cal.bit_speed, cal.dt, thr, valid=cal.valid())
+    d = ident.FitData.from_arrays(cal.bit_speed, sig.derivative(cal.bit_speed, cal.dt), cal.torque_on_bit,
+                                  cyc.branch_labels(len(cal)), cyc.cycle_id(len(cal)), wob=cal.wob, every=10,
+                                  cycles=cyc)
+    c = rigsim.calibrate_rig(cal, ident.fit_law("polynomial", d).law, thr)
+    pred = rigsim.compare(hold, rigsim.simulate_model(c.model, hold), thr)
+    print(f"calibrated on 0-{h:g} s: mismatch {c.comparison.mismatch:.3f}; predicting {h:g}-{a.duration:g} s:")
+    for k in rigsim.MATCHED_RIG + ("cycle_frequency_hz",):
+        m, s = pred.measured[k], pred.simulated[k]
+        print(f"  {k:22s} {m:9.3f} {s:9.3f} {100 * rigsim.relative_error(s, m):+7.1f} %")
+    print("parameters (truth: c_m 0.22 N m s/rad, J_m 0.013 kg m^2, damping 0.02, platform damping 0.05):")
+    for k, v in c.model.parameters().items():
+        print(f"  {k:26s} {v['value']:.4g}" + (f"  FLAG: {v['flag']}" if v["flag"] else ""))
+
+
+if __name__ == "__main__":
+    main()
