@@ -1406,7 +1406,7 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
         intervals = {}
     model = model_of(p)
     model.intervals = intervals
-    per = {"rig": {"damping_ratio": p["damping_ratio"], **{k: float(v) for k, v in p.items()},
+    per = {"rig": {**{k: float(v) for k, v in p.items()},
                    "mismatch": cmp.mismatch, "evaluations": int(sum(r.nfev for r in results) + polish.nfev),
                    "intervals": intervals, "metric_noise": dict(zip(MATCHED_RIG, map(float, sigma)))}}
     model.calibration = {"window_s": [float(record.time_s[0]), float(record.time_s[-1])], "operating_point": op,
