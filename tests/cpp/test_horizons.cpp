@@ -16,7 +16,7 @@ using namespace drill;
 namespace {
 
 struct LongRun {
-  std::vector<double> v, a, T, top, t;
+  std::vector<double> v, a, T, top, t, wob;
   std::vector<ModelState> states;  ///< state at every recorded step
 };
 
@@ -32,6 +32,7 @@ LongRun long_run(const Simulation& sim, double duration) {
     r.T.push_back(s.torque_on_bit);
     r.top.push_back(s.top_speed);
     r.t.push_back(s.t);
+    r.wob.push_back(s.wob);
   });
   return r;
 }
@@ -123,6 +124,48 @@ TEST(Horizons, RestartedHorizonsReproduceTheLongRun) {
     EXPECT_GT(vmax - vmin, 5.0) << "motor " << motor;  // an oscillating bit
     EXPECT_LT(err, 1e-6) << "motor " << motor;  // the same steps from the same states
   }
+}
+
+TEST(Horizons, TheJacksWobStateRestartsTheHorizons) {
+  // drill/axial.hpp: the WOB is a state; a horizon started from the long run's WOB follows it, one
+  // started at the set force (the state unknown, NaN) does not
+  Config c = rig(false);
+  c.axial.kind = Axial::Kind::jack;
+  c.axial.gain = 130.0;
+  c.axial.relaxation = 0.1;
+  const Simulation sim(c);
+  const double dt = sim.config().sim.dt;
+  const LongRun lr = long_run(sim, 6.0);
+  const int stride = 10, samples = 200;
+  double err[2] = {0.0, 0.0}, wmin = HUGE_VAL, wmax = -HUGE_VAL;
+  for (int known = 0; known < 2; ++known) {
+    std::vector<HorizonStart> starts;
+    for (long k = 20; k < 28; ++k) {
+      const long i = k * samples * stride;
+      HorizonStart h;
+      h.index = i / stride;
+      h.bit_speed = lr.v[i];
+      h.bit_accel = lr.a[i];
+      h.torque = lr.T[i];
+      h.top_speed = lr.top[i];
+      if (known) h.wob = lr.wob[i];
+      starts.push_back(h);
+    }
+    HorizonInputs hin;
+    hin.dt = stride * dt;
+    hin.samples = samples;
+    const HorizonResult r = predict_horizons(sim, starts, hin);
+    for (std::size_t h = 0; h < starts.size(); ++h)
+      for (int j = 0; j < samples; ++j) {
+        const long i = (starts[h].index + j + 1) * stride;
+        err[known] = std::max(err[known], std::fabs(r.bit_speed(h, j) - lr.v[i]));
+        wmin = std::min(wmin, lr.wob[i]);
+        wmax = std::max(wmax, lr.wob[i]);
+      }
+  }
+  EXPECT_GT(wmax - wmin, 20.0);  // the WOB swings with the cycle [N]
+  EXPECT_LT(err[1], 1e-6);       // the same steps from the same states
+  EXPECT_GT(err[0], 1e-2);       // the WOB state matters [rad/s]
 }
 
 TEST(Horizons, StringFrictionIsPartOfTheRestartStateButNotOfTheReportedTorque) {

@@ -15,7 +15,7 @@ from drillpy.loop.model import LoopModel
 
 def test_catalogue_has_the_nine_named_effects_with_their_descriptions():
     assert set(NAMES) >= {"string_stiffness", "static_friction", "string_friction", "top_drive_dynamics"}
-    assert len(NAMES) == 9
+    assert len(NAMES) == 10
     for name in NAMES:
         e = CATALOGUE[name]
         assert isinstance(e, Effect) and e.name == name and e.level in ("law", "dynamic")

@@ -42,6 +42,9 @@ struct HorizonStart {
   // recorded (filtered) channels and their rates: the initial states of the sensor filters
   double y_bit_speed = 0.0, dy_bit_speed = 0.0, y_torque = 0.0, dy_torque = 0.0, y_top_speed = 0.0,
          dy_top_speed = 0.0;
+  /// the WOB state [N] of an axial jack (drill/axial.hpp), the recorded WOB at the restart; NaN:
+  /// the set force at the horizon's start (without an axial model it is not read)
+  double wob = NAN;
 };
 
 /// Inputs shared by all horizons, sampled on the record's grid (empty vectors: the configuration's
@@ -145,6 +148,7 @@ inline HorizonResult predict_horizons(const Simulation& sim, const std::vector<H
     s0 = in.top_drive.is_motor() && !std::isfinite(st.top_accel)
              ? integ.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, in.top_drive, in.top_speed.at(0.0))
              : integ.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, st.top_accel);
+    s0.wob = st.wob;
     const double fc = c.sensor_lowpass_hz, dt = c.sim.dt;
     return HorizonSensors{&st, in.bit_viscous, stride, static_cast<Eigen::Index>(h), &r,
                           LowPass2(fc, dt), LowPass2(fc, dt), LowPass2(fc, dt)};

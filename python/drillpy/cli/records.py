@@ -263,6 +263,9 @@ def _add_loop(sub) -> argparse.ArgumentParser:
     s.add_argument("--gj-tolerance", type=float, default=0.03,
                    help="relative tolerance of the declared string GJ, within which it is calibrated like the "
                         "damping; a mismatch beyond it is string_stiffness (0: GJ held as declared)")
+    s.add_argument("--wob-input", choices=("auto", "measured", "trend"), default="auto",
+                   help="the WOB the law takes: the recorded one where it is an input, its trend below 0.5 Hz where "
+                        "the record shows it is a response of the rotation (auto, the default), or forced")
     s.add_argument("--json", action="store_true", help="print the errors and the effects found as JSON")
     s.add_argument("--no-progress", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_loop)
@@ -290,7 +293,8 @@ def cmd_loop(a: argparse.Namespace) -> int:
     opt = LoopOptions(horizon_s=a.horizon, calibration_fraction=a.calibration_fraction, rate_hz=a.rate,
                       min_gain=a.min_gain, alpha=a.alpha, min_delta_bic=a.min_delta_bic, max_steps=a.max_steps,
                       effects=effects, threads=a.threads, dt_s=a.dt, batched=not a.scalar,
-                      law_knot=not a.thesis_knot, gj_tolerance=a.gj_tolerance)
+                      law_knot=not a.thesis_knot, gj_tolerance=a.gj_tolerance,
+                      wob_input=a.wob_input)
     from drillpy.progress import log_progress
     with log_progress(((r"  null candidate", "candidates"), (r"  candidate ", "candidates"), (r"  remove ", "backward")),
                       "loop", enabled=not a.no_progress, echo=None if a.json else print, count=True) as log:

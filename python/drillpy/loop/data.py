@@ -2,6 +2,7 @@
 into a calibration and a validation part (:class:`LoopData`, :func:`prepare`)."""
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -12,7 +13,7 @@ from scipy import signal as sps
 from drillpy.records import signals
 from drillpy.records.cleaning import CleaningOptions, clean
 from drillpy.records.io import Record, read_record
-from drillpy.records.rigsim import reliable_top_speed
+from drillpy.records.rigsim import WOB_TREND_HZ, reliable_top_speed, wob_trend
 from .options import LoopOptions
 
 #: Channels the cleaning searches for spikes: the encoders (the load cells' torque and WOB drop
@@ -21,6 +22,13 @@ ENCODER_CHANNELS = ("bit_speed", "top_speed")
 #: The first horizon starts this late [s]: the sensors' delay sqrt(2)/omega_c is at most 0.11 s
 #: (cutoffs from 2 Hz), and restarts are placed that much before a horizon.
 FIRST_START_S = 0.12
+#: The WOB is a response of the string's rotation, not an input, when its part above
+#: :data:`drillpy.records.rigsim.WOB_TREND_HZ` correlates with the bit's angle deficit at least this
+#: well (the best lag within :data:`RESPONSE_LAG_S`): sample 175 gives 0.81, the synthetic truths,
+#: whose WOB is an exogenous band-limited input, at most 0.18 (``tests/python/test_loop_wob.py``).
+RESPONSE_R = 0.5
+#: Lags searched for the WOB-response correlation [s]: the rig's WOB leads the deficit by about 35 ms.
+RESPONSE_LAG_S = 0.1
 
 
 @dataclass
@@ -98,6 +106,13 @@ class LoopData:
         Step the horizons in SIMD lockstep (``LoopOptions.batched``).
     law_knot : bool
         Calibrate a polynomial law's low-speed knot (``LoopOptions.law_knot``).
+    wob_response : dict or None
+        :func:`wob_response` of the record (None without a WOB channel), with ``"input"``: the WOB
+        the law takes, ``"measured"`` (the recorded WOB, an input) or ``"trend"`` (its slow part
+        below 0.5 Hz: the recorded WOB is a response of the rotation and carries the cycle).
+    wob_measured : numpy.ndarray or None
+        The recorded WOB on the analysis grid [N] when the law takes its trend (the WOB state a
+        restart starts from); None otherwise.
     """
     source: str
     t: np.ndarray
@@ -125,6 +140,8 @@ class LoopData:
     record: Record | None = None  #: the cleaned record at its own rate (the long-run check)
     batched: bool = True
     law_knot: bool = True
+    wob_response: dict | None = None
+    wob_measured: np.ndarray | None = None
 
     @property
     def horizon_samples(self) -> np.ndarray:
@@ -145,6 +162,59 @@ class LoopData:
 def _savgol_set(x: np.ndarray, dt: float, window_s: float, orders) -> list:
     n = signals.savgol_length(window_s, dt, x.size, minimum=7)
     return [sps.savgol_filter(x, n, 4, deriv=k, delta=dt, mode="interp") for k in orders]
+
+
+def wob_response(rec: Record) -> dict | None:
+    """Whether the recorded WOB is an input of the torsional dynamics or a response of them.
+
+    The part of the WOB above :data:`~drillpy.records.rigsim.WOB_TREND_HZ` is correlated with the
+    part of the bit's angle deficit -int (v - mean v) dt above the same frequency (second-order
+    Butterworth, zero phase) at the best lag within +-:data:`RESPONSE_LAG_S`. On the test rig the
+    jack's feed compresses the axial compliance while the bit lags its steady rotation (the WOB
+    rises while stuck and falls in slip, thesis Figs. 5.6-5.7; ``drill/axial.hpp``): the
+    correlation is high and the WOB per radian of deficit positive. An exogenous WOB (a hook-load
+    variation, the synthetic truths' band-limited input) shows no such correlation.
+
+    Parameters
+    ----------
+    rec : Record
+        A cleaned record with bit speed and WOB.
+
+    Returns
+    -------
+    dict or None
+        ``{"correlation", "lag_s", "gain_n_rad", "response"}``: the correlation at the best lag (a
+        positive lag: the WOB follows the deficit), the regression slope of the WOB's fast part on the
+        deficit's [N/rad] and whether the WOB is a response (correlation at least :data:`RESPONSE_R`
+        and a positive slope); a correlation of 0 when the WOB or the deficit has no part above the
+        trend's frequency. None without a WOB channel or when the record is too short for the filter
+        (under five periods of the trend's frequency).
+    """
+    if rec.wob is None or rec.bit_speed is None:
+        return None
+    ok = rec.valid("bit_speed", "wob") & np.isfinite(rec.bit_speed) & np.isfinite(rec.wob)
+    fs = rec.sample_rate_hz
+    if ok.sum() < 10 or len(rec) * rec.dt < 5.0 / WOB_TREND_HZ or WOB_TREND_HZ >= 0.5 * fs:
+        return None
+    i = np.arange(len(rec))
+    v, w = np.interp(i, i[ok], rec.bit_speed[ok]), np.interp(i, i[ok], rec.wob[ok])
+    b, a = sps.butter(2, WOB_TREND_HZ / (0.5 * fs), "high")
+    deficit = sps.filtfilt(b, a, -np.cumsum(v - v.mean()) * rec.dt)
+    wh = sps.filtfilt(b, a, w)
+    if not (np.std(wh[ok]) > 1e-9 * (1.0 + abs(float(np.mean(w)))) and np.std(deficit[ok]) > 0):
+        return {"correlation": 0.0, "lag_s": 0.0, "gain_n_rad": 0.0, "response": False}  # no fast part to follow
+    m = int(round(RESPONSE_LAG_S * fs))
+    core = ok.copy()
+    core[:m], core[len(core) - m:] = False, False
+    best = (-np.inf, 0)
+    for k in range(-m, m + 1, max(1, int(round(0.002 * fs)))):
+        d = np.roll(deficit, k)  # d[j] = deficit[j - k]: the WOB follows the deficit by k samples
+        r = float(np.corrcoef(d[core], wh[core])[0, 1])
+        best = max(best, (r, k))
+    r, k = best
+    d = np.roll(deficit, k)
+    gain = float(np.polyfit(d[core], wh[core], 1)[0])
+    return {"correlation": r, "lag_s": k / fs, "gain_n_rad": gain, "response": bool(r >= RESPONSE_R and gain > 0)}
 
 
 def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopData:
@@ -184,6 +254,14 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopDat
     for need in ("bit_speed", "torque_on_bit"):
         raw.channel(need)
     rec, rep = clean(raw, CleaningOptions(spike_channels=ENCODER_CHANNELS))
+    wresp = wob_response(rec)
+    wob_meas = None
+    if wresp is not None:
+        mode = opt.wob_input if opt.wob_input != "auto" else ("trend" if wresp["response"] else "measured")
+        wresp["input"] = mode
+        if mode == "trend":  # the law takes the WOB known beforehand: the jack's slow trend
+            wob_meas = rec.wob
+            rec = dataclasses.replace(rec, wob=wob_trend(rec, float(np.nanmean(rec.wob))))
     names = ["bit_speed", "torque_on_bit"] + [c for c in ("top_speed", "wob") if getattr(rec, c) is not None]
     valid = rec.valid(*names)
     if valid.sum() < 10:
@@ -238,6 +316,8 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopDat
     sv, sT = float(np.std(v_meas[train])), float(np.std(T_meas[train]))
     top_meas = filled(rec.top_speed)[::q] if has_top else None
     top_ok = (reliable_top_speed(rec)[::q] & ok) if has_top else None
+    if wob_meas is not None:
+        wob_meas = _savgol_set(filled(wob_meas), rec.dt, opt.derivative_window_s, (0,))[0][::q]
     if not (sv > 0 and sT > 0):
         raise ValueError("record: the bit speed or the torque on bit is constant over the calibration part")
     every = max(1, int(round(0.01 / dt)))  # law fits on 100 Hz: the channels are smooth at that scale
@@ -250,7 +330,7 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopDat
         raise ValueError(f"record: only {law_train.size} slip samples in the calibration part to fit the law")
     return LoopData(str(rec.provenance.get("source", "record")), t, dt, ch, v_meas, T_meas, ok, has_top, has_wob, thr,
                     t_split, starts, is_test, L, sv, sT, top_meas, top_ok, law_train, law_test, rep.lines(), q, fs, rec,
-                    opt.batched, opt.law_knot)
+                    opt.batched, opt.law_knot, wresp, wob_meas)
 
 
 

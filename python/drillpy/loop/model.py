@@ -216,7 +216,12 @@ def sensor_delay(model: LoopModel) -> float:
     return sum(CATALOGUE[n].delay_s(p) for n, p in model.effects.items())
 
 
-def _wob_input(model: LoopModel, w, n: int) -> np.ndarray:
+def _wob_input(model: LoopModel, w, n: int, recorded=None) -> np.ndarray:
+    """The WOB the law takes at each sample [N]: the recorded WOB ``recorded`` where an effect makes
+    the WOB a state (``Effect.wob_state``: the law then sees the state, which the load cells record),
+    else the first effect's ``wob_input`` of the law's WOB channel ``w``, else the constant W_0."""
+    if recorded is not None and any(CATALOGUE[n_].wob_state for n_ in model.effects):
+        return np.asarray(recorded, float)
     for name, p in model.effects.items():
         x = CATALOGUE[name].wob_input(p, model, w)
         if x is not None:
@@ -258,7 +263,9 @@ def state_channels(model: LoopModel, data: LoopData) -> dict:
     w = at("W") if data.has_wob else None
     if w is not None:
         out["W"] = w
-    out["W_eff"] = _wob_input(model, w, t.size)
+    rec = (np.interp(t + tau, t, data.wob_measured) if tau > 0 else data.wob_measured) \
+        if data.wob_measured is not None else w
+    out["W_eff"] = _wob_input(model, w, t.size, rec)
     return out
 
 
@@ -293,7 +300,7 @@ def law_channels(model: LoopModel, data: LoopData) -> dict:
     w = undo("W") if data.has_wob else None
     if w is not None:
         out["W"] = w
-    out["W_eff"] = _wob_input(model, w, data.t.size)
+    out["W_eff"] = _wob_input(model, w, data.t.size, data.wob_measured if data.wob_measured is not None else w)
     return out
 
 
@@ -330,8 +337,9 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
     The effects act through their prediction hooks: the top boundary
     (:meth:`~drillpy.loop.effects.base.Effect.top_state`; otherwise the ideal drive at
     ``model.top_speed``), the law's WOB series (``wob_input``), the torque fluctuation's forecast
-    (``eta``) and the restart torque's correction (``restart_torque``). The horizons are integrated
-    in parallel by the engine (``_core.predict_horizons``).
+    (``eta``), the restart torque's correction (``restart_torque``) and the WOB state of an axial
+    model (``restart_wob``). The horizons are integrated in parallel by the engine
+    (``_core.predict_horizons``).
 
     Parameters
     ----------
@@ -379,12 +387,18 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
         ytop, dytop = ch["top"][idx], ch["top1"][idx]
     else:
         ytop, dytop = om, dom
+    w0 = None
+    for name, p in model.effects.items():
+        x = CATALOGUE[name].restart_wob(p, model, data, chs, idx)
+        if x is not None:
+            w0 = x
     starts = _core.HorizonStart.from_arrays(
         index=idx.tolist(), bit_speed=chs["v"][idx], bit_accel=chs["a"][idx], torque=T0, top_speed=om, top_accel=dom,
         y_bit_speed=ch["v"][idx], dy_bit_speed=ch["v1"][idx], y_torque=ch["T"][idx], dy_torque=ch["T1"][idx],
-        y_top_speed=ytop, dy_top_speed=dytop)
-    wob_series = chs["W_eff"] if any(CATALOGUE[n].wob_input(p, model, chs.get("W")) is not None
-                                     for n, p in model.effects.items()) else None
+        y_top_speed=ytop, dy_top_speed=dytop, wob=w0)
+    # the law's WOB input series (an axial model's set force: never the recorded state itself)
+    wob_series = _wob_input(model, chs.get("W"), data.t.size) if any(
+        CATALOGUE[n].wob_input(p, model, chs.get("W")) is not None for n, p in model.effects.items()) else None
     # the batched SIMD integrator unless the options ask for the scalar reference one (LoopOptions.batched)
     r = _core.predict_horizons(sim, starts, data.dt, data.L + D, top_speed=top_series, wob=wob_series, eta=eta,
                                threads=threads, batched=data.batched)

@@ -8,6 +8,9 @@ from .effects.string_stiffness import MARGIN as GJ_TOLERANCE
 from drillpy import validate
 from drillpy.records.stick import STICK_FRACTION
 
+#: Values of :attr:`LoopOptions.wob_input`.
+WOB_INPUTS = ("auto", "measured", "trend")
+
 
 @dataclass
 class LoopOptions:
@@ -73,6 +76,12 @@ class LoopOptions:
         the law's own low-speed shape, which the thesis ties to 1 % and 5 % of the mean bit speed.
         A law that rises after the break-away (Tucker-Wang's, Eq. 3.1) then needs no effect to
         stand in for it (docs/loop.md). False keeps the thesis's tie.
+    wob_input : str
+        The WOB the law takes: ``"auto"`` (default) decides from the record
+        (:func:`drillpy.loop.data.wob_response`): the recorded WOB where it is an input of the
+        torsional dynamics, its slow trend below 0.5 Hz where its fast part is a response of them
+        (the test rig's jack: the recorded WOB carries the stick-slip cycle, and a model fed it would
+        be given the answer it should predict); ``"measured"`` or ``"trend"`` force one.
     gj_tolerance : float
         Relative tolerance of the declared string GJ (0.03: a bar radius known to +-0.75 %, the
         ``string_stiffness`` margin): the GJ is calibrated within 1 +- it like the damping (a value
@@ -99,6 +108,7 @@ class LoopOptions:
     blas_threads: int = 1
     law_knot: bool = True
     gj_tolerance: float = GJ_TOLERANCE
+    wob_input: str = "auto"
 
     def validate(self) -> None:
         """Check every option (ranges, types, known effect names).
@@ -124,6 +134,8 @@ class LoopOptions:
         validate.number("gj_tolerance", self.gj_tolerance, lo=0.0, hi=0.5, hi_closed=False)
         validate.integer("max_steps", self.max_steps, 0)
         validate.integer("blas_threads", self.blas_threads, 0)
+        if self.wob_input not in WOB_INPUTS:
+            raise ValueError(f"wob_input = {self.wob_input!r}: use one of {', '.join(WOB_INPUTS)}")
         for e in self.effects:
             if e not in NAMES:
                 raise ValueError(f"effects: unknown effect {e!r} (known: {', '.join(NAMES)})")

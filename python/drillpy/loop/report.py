@@ -123,8 +123,8 @@ def evidence_json(res: LoopResult) -> dict:
 def model_config(res: LoopResult) -> dict:
     """The final model as an engine configuration (drillpy simulate / drillsim can run it).
 
-    The effects that act through the record's inputs (the WOB coupling, the torque fluctuation, the
-    kinematic top drive) are not in it: a configuration cannot carry a recorded series.
+    The effects that act through the record's inputs (the WOB coupling, the torque fluctuation) are
+    not in it: a configuration cannot carry a recorded series.
 
     Parameters
     ----------
@@ -188,14 +188,11 @@ def reading(name: str, p: dict) -> str:
     """
     e = CATALOGUE[name]
     if name == "top_drive_dynamics":
-        if p.get("variant") == "motor":
-            c = 1.0 / p["droop_rad_s_per_nm"]
-            txt = (f"the top drive gives way: a motor with droop {p['droop_rad_s_per_nm'] * RPM:.3g} RPM per N m "
-                   f"(c_m = {c:.3g} N m s/rad), inertia {p['inertia_kg_m2']:.3g} kg m^2 (time constant "
-                   f"{p['inertia_kg_m2'] / c:.3g} s), no-load speed {p['command_rad_s'] * RPM:.1f} RPM, stall torque "
-                   f"{c * p['command_rad_s']:.2f} N m")
-        else:
-            txt = "the top follows the measured top speed (kinematic drive) better than any constant"
+        c = 1.0 / p["droop_rad_s_per_nm"]
+        txt = (f"the top drive gives way: a motor with droop {p['droop_rad_s_per_nm'] * RPM:.3g} RPM per N m "
+               f"(c_m = {c:.3g} N m s/rad), inertia {p['inertia_kg_m2']:.3g} kg m^2 (time constant "
+               f"{p['inertia_kg_m2'] / c:.3g} s), no-load speed {p['command_rad_s'] * RPM:.1f} RPM, stall torque "
+               f"{c * p['command_rad_s']:.2f} N m")
     elif name == "sensor_lag":
         fc = p["lowpass_hz"]
         txt = (f"the recorded channels went through a low-pass at {fc:.3g} Hz (group delay "

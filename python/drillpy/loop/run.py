@@ -147,7 +147,7 @@ class LoopResult:
         """
         keys = ("action", "effect", "error_before", "error_after", "evidence", "long_run")
         return {"metric": self.metric(), "decision": self.decision(), "baseline_error": self.baseline.E_test,
-                "adequacy": self.adequacy,
+                "adequacy": self.adequacy, "wob_input": self.data.wob_response,
                 "declared": self.declared, "removed": self.removed, "baseline_long_run": self.baseline_long_run,
                 "steps": [{k: s[k] for k in keys} for s in self.steps],
                 "final_error": self.final.E_test, "final_effects": list(self.final.model.effects),
@@ -526,6 +526,14 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
     emit(warns)
     data = prepare(raw, cfg, opt)
     notes = []
+    wr = data.wob_response
+    if wr is not None and wr["input"] == "trend":
+        note = (f"the recorded WOB is a response of the rotation, not an input: its part above 0.5 Hz follows the "
+                f"bit's angle deficit (correlation {wr['correlation']:.2f} at a lag of {1e3 * wr['lag_s']:.0f} ms, "
+                f"{wr['gain_n_rad']:.0f} N/rad); the law takes its trend below 0.5 Hz, the WOB known beforehand "
+                "(--wob-input measured feeds the recorded one: a diagnosis, not a prediction)")
+        notes.append(note)
+        log(note)
     if cfg["rom"]["modes"] > 1:
         notes.append(f"the model keeps {cfg['rom']['modes']} modes: the restart state puts the first mode in "
                      "motion and the others in quasi-static equilibrium (exact only with one mode)")
@@ -561,6 +569,7 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
         recalibrated = 0
         for _ in range(opt.max_steps + RECALIBRATIONS):
             cands = [e for e in opt.effects if e not in tried and all(c in data.channels() for c in CATALOGUE[e].needs)
+                     and CATALOGUE[e].applicable(data)
                      and not (cur.model.damping_held and "damping" in CATALOGUE[e].confounded_with)]
             if not cands or sum(s["action"] == "add" for s in steps) >= opt.max_steps:
                 break

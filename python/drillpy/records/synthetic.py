@@ -280,6 +280,8 @@ def synthetic_record(effects=(), *, duration_s: float = 12.0, seed: int = 0, fs_
     c_v = cfg["operation"].get("bit_viscous_nms", 0.0)
     tq = res.torque_on_bit[keep] - c_v * vb  # the load cell sees the contact torque
     w = np.interp(res.t[keep], np.arange(wob.size) * sdt, wob)
+    if cfg.get("axial", {}).get("type") == "jack":  # the load cells read the jack's WOB state
+        w = res.wob[keep]
     chans = {"bit_speed": vb, "top_speed": res.top_speed[keep], "torque_on_bit": tq, "wob": w}
     for f in truth.post:
         chans = f(chans, fs_hz)

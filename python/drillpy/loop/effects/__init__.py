@@ -8,8 +8,8 @@ effect                  level   model change (parameters)
 ======================= ======= ===================================================================
 ``bit_hysteresis``      law     H = beta1 tanh(beta2 a) sign(v), Eqs. (3.2)-(3.3), (5.3)
 ``wob_coupling``        law     the law at the measured WOB, W_eff = W_0 (1 + k (W(t)/W_0 - 1))
-``top_drive_dynamics``  dynamic open-loop motor J_m Omega' = c_m (Omega_c - Omega) - T_top, or the
-                                top driven by its measured speed
+``top_drive_dynamics``  dynamic open-loop motor J_m Omega' = c_m (Omega_c - Omega) - T_top
+``axial_jack``          dynamic the WOB a state, W' = g (Omega_f - v) - (W - W_s) / tau (the rig's jack)
 ``sensor_lag``          dynamic second-order Butterworth low-pass on the recorded channels (f_c)
 ``torque_fluctuation``  dynamic T = T_law (1 + eta), eta coloured, forecast from the record's past
 ``viscous_damping``     dynamic extra viscous torque c_v v on the bit, outside the torque sensor
@@ -28,7 +28,7 @@ import importlib
 
 from .base import Effect, Param
 
-NAMES = ("bit_hysteresis", "wob_coupling", "top_drive_dynamics", "sensor_lag", "torque_fluctuation",
+NAMES = ("bit_hysteresis", "wob_coupling", "top_drive_dynamics", "axial_jack", "sensor_lag", "torque_fluctuation",
          "viscous_damping", "string_stiffness", "static_friction", "string_friction")
 CATALOGUE: dict = {n: importlib.import_module(f".{n}", __name__).EFFECT for n in NAMES}
 

@@ -12,7 +12,8 @@ An effect is a named change of the declared model with its own parameters. Its m
   carries it: :meth:`Effect.declared` and :meth:`Effect.strip`;
 * how it changes a prediction restarted from the record (only the effects that act through the
   record's inputs or the sensors override these): :meth:`Effect.delay_s`, :meth:`Effect.undo`,
-  :meth:`Effect.top_state`, :meth:`Effect.wob_input`, :meth:`Effect.eta`, :meth:`Effect.restart_torque`;
+  :meth:`Effect.top_state`, :meth:`Effect.wob_input`, :meth:`Effect.eta`, :meth:`Effect.restart_torque`,
+  :meth:`Effect.restart_wob`;
 * what is physically implausible about a fit: :meth:`Effect.flags`;
 * how the synthetic generator puts it into a record: :meth:`Effect.inject`.
 
@@ -111,6 +112,9 @@ class Effect:
     confounded_with : tuple of str
         What it cannot be told from in some conditions (``"damping"``: not a candidate while the
         damping ratios are held by the limit cycle).
+    wob_state : bool
+        True: the effect makes the WOB a state of the model (the law's WOB in the law fit is then
+        the recorded WOB, and the restarts start the state from it, :meth:`restart_wob`).
     reshapes_law : bool
         True: the effect rewrites part of the law (e.g. its static branch), so a candidate is also
         started from the law refitted on the law residual with it.
@@ -130,6 +134,9 @@ class Effect:
     #: law refitted on the law residual with it as well as from the current law (which, without the
     #: effect, may have bent to mimic it)
     reshapes_law: bool = False
+    #: the effect makes the WOB a state of the model (an axial model): the law then sees the state,
+    #: whose measurement is the recorded WOB, in the law fit and at the restarts
+    wob_state: bool = False
 
     # ------------------------------------------------------------------ parameters and fits
     def free(self, p: dict) -> tuple:
@@ -205,6 +212,22 @@ class Effect:
             Parameter dicts (name -> value in the :class:`Param`'s unit).
         """
         raise NotImplementedError(self.name)
+
+    def applicable(self, data) -> bool:
+        """Whether the record shows the effect's precondition, so that it is a candidate (default:
+        True; the channels of :attr:`needs` are checked apart).
+
+        Parameters
+        ----------
+        data : LoopData
+            The record on the analysis grid.
+
+        Returns
+        -------
+        bool
+            False keeps the effect out of the candidates on this record.
+        """
+        return True
 
     def direct(self, model, data) -> dict | None:
         """A direct measurement of the effect from the record's calibration part, independent of
@@ -440,6 +463,30 @@ class Effect:
         numpy.ndarray or None
             Torque [N m] added to the restart state's torque on bit, one value per restart; None
             (default) when the effect needs no correction.
+        """
+        return None
+
+    def restart_wob(self, p: dict, model, data, chs: dict, idx):
+        """The WOB state [N] at the restarts ``idx`` of an effect that makes the WOB a state of the
+        model (an axial model), or None (default: the WOB is an input).
+
+        Parameters
+        ----------
+        p : dict
+            The effect's parameter values (name -> value).
+        model : LoopModel
+            The model being predicted.
+        data : LoopData
+            The record on the analysis grid.
+        chs : dict
+            State channels (:func:`drillpy.loop.model.state_channels`).
+        idx : array_like of int
+            Restart sample indices (one per horizon).
+
+        Returns
+        -------
+        numpy.ndarray or None
+            WOB [N], one value per restart; None (default).
         """
         return None
 

@@ -14,51 +14,31 @@ STEADY_TOP = 0.01
 
 
 class TopDriveDynamics(Effect):
-    """The top does not turn at the constant speed the ideal drive assumes. Two variants
-    (``p["variant"]``):
+    """The top does not turn at the constant speed the ideal drive assumes: an open-loop motor
+    J_m Omega' = c_m (Omega_c - Omega) - T_top (``drill/topdrive.hpp``), parameters
+    ``droop_rad_s_per_nm`` 1/c_m [rad/s per N m], ``inertia_kg_m2`` J_m [kg m^2] (bounded below by the
+    modified-Euler stability bound of Eq. A.7 at the engine step, times :data:`RESOLVED`) and
+    ``command_rad_s`` Omega_c [rad/s] (``p["variant"]`` is ``"motor"``).
 
-    * ``"motor"``: an open-loop motor J_m Omega' = c_m (Omega_c - Omega) - T_top
-      (``drill/topdrive.hpp``), parameters ``droop_rad_s_per_nm`` 1/c_m [rad/s per N m],
-      ``inertia_kg_m2`` J_m [kg m^2] (bounded below by the modified-Euler stability bound of
-      Eq. A.7 at the engine step, times :data:`RESOLVED`) and ``command_rad_s`` Omega_c [rad/s];
-    * ``"measured"``: the kinematic drive, the top follows its measured speed (no parameter).
+    A kinematic drive, the top following its measured speed, is not a candidate: the measured top
+    speed of an open-loop motor carries the stick-slip cycle, so a model fed it would be given the
+    answer it should predict (``drillpy analyze`` keeps such a model as a diagnosis only).
 
-    Needs a top-speed channel; flagged when the recorded top speed is steady (:data:`STEADY_TOP`).
+    Needs a top-speed channel (the restarts' top speed); flagged when the recorded top speed is
+    steady (:data:`STEADY_TOP`).
     """
     name = "top_drive_dynamics"
     params = (Param("droop_rad_s_per_nm", "rad/s per N m", "1/c_m: speed lost per N m of top torque", 1e-3, 1e3, "log"),
               Param("inertia_kg_m2", "kg m^2", "J_m: motor and drive-train inertia (lower bound: 4 x the inertia at "
                     "which the modified-Euler stability bound of Eq. A.7 meets the engine step)", 1e-6, 10.0, "log"),
               Param("command_rad_s", "rad/s", "Omega_c: no-load (commanded) speed", 0.0, float("inf")))
-    change = ("J_m Omega' = c_m (Omega_c - Omega) - T_top (drill/topdrive.hpp), started at the measured top speed; "
-              "variant `measured`: the top follows the measured top speed")
+    change = "J_m Omega' = c_m (Omega_c - Omega) - T_top (drill/topdrive.hpp), started at the measured top speed"
     signature = ("a bit-speed residual that follows the top speed's departure from the constant the model assumed "
                  "(the string is wound up or unwound from above)")
     reading = ("the rig's open-loop DC motor gives way under load: its speed drops 40-60 % and oscillates with the "
                "stick-slip cycle (section 5.3.2); it stalls when the bit sticks at a torque it cannot overcome")
     needs = ("top_speed",)
     defaults = {"slope_nms_rad": 0.25, "inertia_kg_m2": 0.02}
-
-    def free(self, p):
-        """All three parameters for the motor variant, none for the kinematic one; see
-        :meth:`Effect.free`.
-
-        Parameters
-        ----------
-        p : dict
-            The effect's values; ``p["variant"]`` is ``"motor"`` or ``"measured"``.
-        """
-        return self.params if p.get("variant") == "motor" else ()
-
-    def count(self, p):
-        """3 for the motor variant, 0 for the kinematic one; see :meth:`Effect.count`.
-
-        Parameters
-        ----------
-        p : dict
-            The effect's values (``p["variant"]``).
-        """
-        return 3 if p.get("variant") == "motor" else 0
 
     def flags(self, p, data, model=None):
         """Flag a recorded top speed whose standard deviation is below :data:`STEADY_TOP` (1 %) of
@@ -102,12 +82,13 @@ class TopDriveDynamics(Effect):
     def starts(self, model, data):
         """Motor starts: the motor equation J_m Omega' + c_m Omega - c_m Omega_c = -T_top is linear in
         (J_m, c_m, c_m Omega_c) given the top speed, its rate and the string's top torque of the states
-        read off the record (least squares over the calibration part), plus a few droops; and the
-        kinematic variant (the top at its measured speed).
+        read off the record (least squares over the calibration part), plus a few droops.
 
         The droop starts are 1 and 4 rad/s per N m and the quasi-static fit Omega = Omega_c -
         T_top / c_m, with motor time constants J_m / c_m of 0.01-0.05 s; every motor inertia is at
-        least 1.5 x :data:`RESOLVED` x the stability floor. See :meth:`Effect.starts`.
+        least 1.5 x :data:`RESOLVED` x the stability floor. The string's top torque at the restart
+        states is the engine's (``_core.top_torque_from_bit``) with the top at its measured speed and
+        rate. See :meth:`Effect.starts`.
 
         Parameters
         ----------
@@ -119,14 +100,11 @@ class TopDriveDynamics(Effect):
         Returns
         -------
         list of dict
-            ``{"variant": "measured"}`` first, then ``{"variant": "motor", "droop_rad_s_per_nm",
-            "inertia_kg_m2", "command_rad_s"}`` sets.
+            ``{"variant": "motor", "droop_rad_s_per_nm", "inertia_kg_m2", "command_rad_s"}`` sets.
         """
         from .. import model as M
         from drillpy import _core
-        m = model.copy()
-        m.effects[self.name] = {"variant": "measured"}
-        chs = M.state_channels(m, data)
+        chs = M.state_channels(model, data)
         tr = np.flatnonzero(data.valid & (data.t < data.t_split))
         sim = M.simulation(model.engine_config())
         cv = model.effects.get("viscous_damping", {}).get("bit_viscous_nms", 0.0)
@@ -137,7 +115,7 @@ class TopDriveDynamics(Effect):
         ttop = np.asarray(_core.top_torque_from_bit(sim, v, chs["a"][i], total, top, dtop))
         jmin = 1.5 * RESOLVED * M.motor_inertia_floor(model)
         mean_top, mean_t = float(np.mean(top)), float(np.mean(ttop))
-        starts = [{"variant": "measured"}]
+        starts = []
         A = np.column_stack([dtop, top, -np.ones(i.size)])
         (J, c, c_om), *_ = np.linalg.lstsq(A, -ttop, rcond=None)
         if J > jmin and c > 0:
@@ -182,10 +160,8 @@ class TopDriveDynamics(Effect):
         cfg.pop("top_drive", None)
 
     def configure(self, cfg, p, model):
-        """Motor variant: a ``"motor"`` top drive (slope c_m = 1 / droop [N m s/rad], inertia J_m
-        [kg m^2]) commanded at Omega_c (``operation.top_speed_rad_s`` [rad/s]); the kinematic
-        variant leaves the configuration as is (its top speed is a series, :meth:`top_state`). See
-        :meth:`Effect.configure`.
+        """A ``"motor"`` top drive (slope c_m = 1 / droop [N m s/rad], inertia J_m [kg m^2])
+        commanded at Omega_c (``operation.top_speed_rad_s`` [rad/s]). See :meth:`Effect.configure`.
 
         Parameters
         ----------
@@ -196,32 +172,27 @@ class TopDriveDynamics(Effect):
         model : LoopModel or None
             Not used.
         """
-        if p.get("variant") == "motor":
-            cfg["top_drive"] = {"type": "motor", "slope_nms_rad": 1.0 / p["droop_rad_s_per_nm"],
-                                "inertia_kg_m2": p["inertia_kg_m2"]}
-            cfg["operation"]["top_speed_rad_s"] = float(p["command_rad_s"])
+        cfg["top_drive"] = {"type": "motor", "slope_nms_rad": 1.0 / p["droop_rad_s_per_nm"],
+                            "inertia_kg_m2": p["inertia_kg_m2"]}
+        cfg["operation"]["top_speed_rad_s"] = float(p["command_rad_s"])
 
     def top_state(self, p, model, chs, idx):
-        """The measured top speed [rad/s] at the restarts; motor variant: its rate left NaN (the
-        engine takes it from the motor equation, not the noisy record) and no series; kinematic
-        variant: the measured rate [rad/s^2] and the measured top speed as the driving series. See
+        """The measured top speed [rad/s] at the restarts, its rate left NaN (the engine takes it
+        from the motor equation, not the noisy record) and no driving series. See
         :meth:`Effect.top_state`.
 
         Parameters
         ----------
         p : dict
-            The effect's values (``p["variant"]``).
+            The effect's values (not read).
         model : LoopModel
             Not used.
         chs : dict
-            State channels (``top`` [rad/s], ``dtop`` [rad/s^2]).
+            State channels (``top`` [rad/s]).
         idx : array_like of int
             Restart sample indices.
         """
-        om, dom = chs["top"][idx], chs["dtop"][idx]
-        if p.get("variant") == "motor":  # its rate from the motor equation, not the noisy record
-            return om, np.full(len(idx), np.nan), None
-        return om, dom, chs["top"]
+        return chs["top"][idx], np.full(len(idx), np.nan), None
 
     def inject(self, truth, p):
         """Give the truth a motor top drive, its command raised above the declared top speed by the

@@ -1,0 +1,91 @@
+"""The loop's test of whether the recorded WOB is an input or a response of the rotation
+(:func:`drillpy.loop.data.wob_response`): on the test rig the jack makes the WOB follow the bit's
+angle deficit, and a model fed that WOB would be given the stick-slip cycle it should predict."""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from drillpy.loop import LoopOptions, run_loop
+from drillpy.loop.data import RESPONSE_R, prepare, wob_response
+from drillpy.model.config import load_config
+from drillpy.records.cleaning import clean
+from drillpy.records.io import read_record
+from drillpy.records.synthetic import declared_config, synthetic_record
+
+rig = pytest.importorskip("whole_rig")
+
+
+def test_the_rig_wob_is_a_response_of_the_rotation(testrig_record):
+    r = wob_response(clean(read_record(testrig_record))[0])
+    # the jack's WOB rises as the bit falls behind its steady rotation (thesis Figs. 5.6-5.7)
+    assert r["response"] and r["correlation"] > 0.7
+    assert 80.0 < r["gain_n_rad"] < 200.0          # N per rad of deficit (k_ax d / 2 pi of drill/axial.hpp)
+    assert abs(r["lag_s"]) < 0.1
+
+
+def test_an_independent_jack_gives_a_response_and_a_constant_wob_none(tmp_path):
+    on = tmp_path / "jack.mat"
+    rig.write_mat(rig.simulate({"jack_steps": []}, duration=24.0, seed=5), str(on))
+    assert wob_response(clean(read_record(on))[0])["response"]
+    off = tmp_path / "constant.mat"
+    rig.write_mat(rig.simulate({}, set(rig.ELEMENTS) - {"axial", "noise", "artifacts"}, duration=24.0, seed=5), str(off))
+    r = wob_response(clean(read_record(off))[0])
+    assert not r["response"]
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_an_exogenous_wob_is_an_input(seed):
+    # the synthetic truths' WOB is a band-limited input that drives the torque (wob_coupling)
+    r = wob_response(synthetic_record(("wob_coupling",), seed=seed, duration_s=24.0))
+    assert not r["response"] and abs(r["correlation"]) < RESPONSE_R
+
+
+def test_the_loop_feeds_the_law_the_trend_of_a_response(testrig_record):
+    cfg = load_config(preset="thesis-rig")
+    rec = read_record(testrig_record)
+    auto = prepare(rec, cfg, LoopOptions())
+    fed = prepare(rec, cfg, LoopOptions(wob_input="measured"))
+    assert auto.wob_response["input"] == "trend" and fed.wob_response["input"] == "measured"
+    f = np.fft.rfftfreq(auto.t.size, auto.dt)
+    band = (f > 2.0) & (f < 3.5)                     # the stick-slip cycle (2.6-2.9 Hz)
+    power = [(np.abs(np.fft.rfft(d.ch["W"] - d.ch["W"].mean())) ** 2)[band].sum() for d in (auto, fed)]
+    assert power[0] < 1e-2 * power[1]                # the cycle is gone from the law's WOB
+    assert np.allclose(auto.wob_measured, fed.ch["W"])  # the recorded WOB is kept as the restart state
+    assert abs(auto.ch["W"].mean() - fed.ch["W"].mean()) < 1.0  # the same operating point [N]
+
+
+def test_wob_input_is_validated():
+    with pytest.raises(ValueError, match="wob_input = 'state'"):
+        LoopOptions(wob_input="state").validate()
+
+
+def _jack_config(base: dict, gain: float = 130.0, tau: float = 0.1) -> dict:
+    cfg = json.loads(json.dumps(base))
+    cfg["axial"] = {"type": "jack", "gain_n_rad": gain, "relaxation_s": tau}
+    return cfg
+
+
+@pytest.fixture(scope="module")
+def jack_record():
+    # a noise-free record of the declared model with the jack: its WOB is the axial state
+    return synthetic_record({"axial_jack": {"gain_n_rad": 130.0, "relaxation_s": 0.1}}, duration_s=12.0, seed=3,
+                            fs_hz=1000.0, noise=0.0, nuisance=False)
+
+
+def test_the_loop_calibrates_a_declared_jack_and_predicts_its_own_record(jack_record):
+    """The jack's WOB is a state restarted from the record (restart_wob) and relaxed towards the
+    trend (wob_input): the model with it predicts its own record, the same model without it does not."""
+    opt = LoopOptions(rate_hz=1000.0, dt_s=1e-4, max_steps=0, long_run=False, discovery=False, backward=False)
+    quiet = dict(log=lambda *a: None)
+    with_jack = run_loop(jack_record, _jack_config(declared_config(), 90.0, 0.2), opt, **quiet)
+    assert with_jack.data.wob_response["input"] == "trend"   # the record's WOB follows the bit's deficit
+    p = with_jack.baseline.model.effects["axial_jack"]
+    # calibrated from 90 N/rad and 0.2 s: one stick-slip frequency pins the steady WOB per rad/s of
+    # speed deficit, g tau (13 N s/rad), better than g and tau apart (g 175-186, tau 0.065 s)
+    assert p["gain_n_rad"] * p["relaxation_s"] == pytest.approx(13.0, rel=0.15)
+    without = run_loop(jack_record, declared_config(), opt, **quiet)
+    assert with_jack.baseline.E_test < 0.05
+    assert without.baseline.E_test > 3 * with_jack.baseline.E_test
