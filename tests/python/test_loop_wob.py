@@ -3,12 +3,14 @@
 angle deficit, and a model fed that WOB would be given the stick-slip cycle it should predict."""
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
 import pytest
 
-from drillpy.loop import LoopOptions, run_loop
+from drillpy.loop import LoopModel, LoopOptions, run_loop
+from drillpy.loop.effects import stripped
 from drillpy.loop.data import RESPONSE_R, prepare, wob_response
 from drillpy.model.config import load_config
 from drillpy.records.cleaning import clean
@@ -89,3 +91,21 @@ def test_the_loop_calibrates_a_declared_jack_and_predicts_its_own_record(jack_re
     without = run_loop(jack_record, declared_config(), opt, **quiet)
     assert with_jack.baseline.E_test < 0.05
     assert without.baseline.E_test > 3 * with_jack.baseline.E_test
+    # the model file carries the intervals and says what it takes from a record
+    d = with_jack.baseline.model.to_dict()
+    lo, hi = d["intervals"]["axial_jack"]["gain_n_rad"]["ci95"]
+    assert lo < p["gain_n_rad"] < hi
+    assert d["predictive"] and d["wob_input"] == "trend" and "trend" in d["inputs"]["wob"]
+
+
+def test_a_model_fed_a_wob_that_responds_to_the_rotation_is_a_diagnosis():
+    cfg = stripped(load_config(preset="thesis-rig"))
+    fed = LoopModel(cfg, dict(cfg["law"]), 8.5, 557.1, {"wob_coupling": {"gain": 1.0}}, wob_input="measured",
+                    wob_is_response=True)
+    assert not fed.predictive
+    assert LoopModel.from_dict(fed.to_dict()).predictive is False
+    for m in (dataclasses.replace(fed, wob_input="trend"), dataclasses.replace(fed, wob_is_response=False),
+              dataclasses.replace(fed, effects={})):
+        assert m.predictive
+    kinematic = dataclasses.replace(fed, effects={"top_drive_dynamics": {"variant": "measured"}})
+    assert not kinematic.predictive

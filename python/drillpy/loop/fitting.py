@@ -473,7 +473,9 @@ def refit(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
     a = _calibrate(law, data, opt)
     b = _calibrate(own, data, opt)
     best = a if e_train(a[0], data, opt.threads) < e_train(b[0], data, opt.threads) else b
-    return _finish(best[0], data), best[1]
+    m = _finish(best[0], data)
+    m.intervals = best[1]
+    return m, best[1]
 
 
 def null_candidate(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
@@ -522,7 +524,9 @@ def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:
     om = float(np.mean(data.ch["top"][tr])) if data.has_top else float(cfg["operation"]["top_speed_rad_s"])
     w0 = float(np.mean(data.ch["W"][tr])) if data.has_wob else float(cfg["operation"]["wob_n"])
     base = stripped(cfg)
-    m = LoopModel(base, dict(base["law"]), om, w0, declared_effects(cfg), gj_tolerance=opt.gj_tolerance)
+    wr = data.wob_response
+    m = LoopModel(base, dict(base["law"]), om, w0, declared_effects(cfg), gj_tolerance=opt.gj_tolerance,
+                  wob_input=wr["input"] if wr else "measured", wob_is_response=bool(wr and wr["response"]))
     return refit(m, data, opt)
 
 

@@ -61,6 +61,15 @@ class LoopModel:
     gj_factor : float
         The calibrated GJ over the declared GJ, within the tolerance (1 when held or when
         ``string_stiffness``, which then carries the whole factor, is an effect).
+    intervals : dict
+        The last calibration's 95 % intervals of the effects' parameters (effect -> parameter ->
+        ``{"value", "ci95", "at_bound"}``; :func:`drillpy.loop.fitting.fit_dynamic`).
+    wob_input : str
+        The law's WOB channel: ``"measured"`` (the recorded WOB) or ``"trend"`` (its 0.5 Hz trend,
+        where the record showed the WOB is a response of the rotation; ``LoopOptions.wob_input``).
+    wob_is_response : bool
+        The calibration record's WOB was a response of the rotation
+        (:func:`drillpy.loop.data.wob_response`).
     """
     cfg: dict
     law: dict
@@ -71,6 +80,19 @@ class LoopModel:
     damping_held: bool = False  #: the damping ratios are set by the limit cycle, not fitted (run._hold_damping)
     gj_tolerance: float = 0.0   #: relative tolerance of the declared GJ, within which it is calibrated
     gj_factor: float = 1.0      #: calibrated GJ over the declared GJ (within the tolerance)
+    intervals: dict = field(default_factory=dict)  #: 95 % intervals of the effects' parameters
+    wob_input: str = "measured"  #: the law's WOB channel: the recorded WOB or its trend
+    wob_is_response: bool = False  #: the calibration record's WOB responded to the rotation
+
+    @property
+    def predictive(self) -> bool:
+        """True when the model takes from a record only what is known beforehand: no top speed fed
+        from the record (the kinematic drive) and no recorded WOB fed to the law where that WOB is a
+        response of the rotation (it then carries the stick-slip cycle)."""
+        if self.effects.get("top_drive_dynamics", {}).get("variant") == "measured":
+            return False
+        feeds = any(CATALOGUE[n].wob_input(p, self, np.zeros(1)) is not None for n, p in self.effects.items())
+        return not (self.wob_is_response and self.wob_input == "measured" and feeds)
 
     def copy(self) -> "LoopModel":
         """A deep copy (configuration, law and effects' parameter dicts included)."""
@@ -113,10 +135,15 @@ class LoopModel:
     def to_dict(self) -> dict:
         """``model.json``: the engine configuration with every effect applied, the effects and the
         operating point (read back by :meth:`from_dict` and by ``drillpy predict``)."""
-        return {"format": "drillpy.loop_model", "version": 1, "config": self.engine_config(),
+        return {"format": "drillpy.loop_model", "version": 1, "predictive": self.predictive,
+                "inputs": {"top_speed": "the record's mean top speed (ideal drive) or the motor's command",
+                           "wob": "the record's WOB trend below 0.5 Hz (a response of the rotation)"
+                           if self.wob_input == "trend" else "the recorded WOB (an input)"},
+                "config": self.engine_config(),
                 "base_config": self.cfg, "law": self.law, "top_speed_rad_s": self.top_speed, "wob_n": self.wob,
-                "effects": self.effects, "n_law": self.n_law, "damping_held": self.damping_held,
-                "gj_tolerance": self.gj_tolerance, "gj_factor": self.gj_factor}
+                "effects": self.effects, "intervals": self.intervals, "n_law": self.n_law,
+                "damping_held": self.damping_held, "gj_tolerance": self.gj_tolerance, "gj_factor": self.gj_factor,
+                "wob_input": self.wob_input, "wob_is_response": self.wob_is_response}
 
     @classmethod
     def from_dict(cls, d: dict) -> "LoopModel":
@@ -148,7 +175,9 @@ class LoopModel:
                 raise ValueError(f"model: effects {sorted(unknown)} are not in the catalogue")
             return cls(d["base_config"], d["law"], float(d["top_speed_rad_s"]), float(d["wob_n"]), eff,
                        int(d.get("n_law", 0)), bool(d.get("damping_held", False)),
-                       float(d.get("gj_tolerance", 0.0)), float(d.get("gj_factor", 1.0)))
+                       float(d.get("gj_tolerance", 0.0)), float(d.get("gj_factor", 1.0)),
+                       dict(d.get("intervals", {})), str(d.get("wob_input", "measured")),
+                       bool(d.get("wob_is_response", False)))
         except KeyError as e:
             raise ValueError(f"model: lacks {e}") from None
 

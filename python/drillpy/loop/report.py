@@ -187,7 +187,9 @@ def reading(name: str, p: dict) -> str:
         ms) followed by the effect's reading on the rig.
     """
     e = CATALOGUE[name]
-    if name == "top_drive_dynamics":
+    if name == "top_drive_dynamics" and p.get("variant") == "measured":
+        txt = "the top follows the measured top speed (kinematic drive: a diagnosis, fed the cycle it should predict)"
+    elif name == "top_drive_dynamics":
         c = 1.0 / p["droop_rad_s_per_nm"]
         txt = (f"the top drive gives way: a motor with droop {p['droop_rad_s_per_nm'] * RPM:.3g} RPM per N m "
                f"(c_m = {c:.3g} N m s/rad), inertia {p['inertia_kg_m2']:.3g} kg m^2 (time constant "

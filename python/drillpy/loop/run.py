@@ -383,6 +383,9 @@ def _recalibration(fit, null: Evaluation, cur: Evaluation, cur_lr: dict, data: L
             "after_long_run": lr}
 
 
+#: A steel string's (bar's) modal damping ratio above this is implausible: the final model is flagged
+#: (a structural damping of a few per cent; the whole-rig model's range, ``rigsim.RIG_PARAMETERS``).
+PLAUSIBLE_DAMPING = 0.1
 #: Rounds of the damping hold: search, refit, and again while the refit model has left the cycle.
 HOLD_ROUNDS = 3
 
@@ -681,6 +684,13 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
             if opt.backward:
                 cur, cur_lr, rem = _backward(cur, cur_lr, data, opt, (name,), log, len(steps))
                 steps += rem
+    high = [z for z in (cur.model.damping_ratios or []) if z > PLAUSIBLE_DAMPING]
+    if high:
+        note = (f"the final model's damping ratios {[round(z, 3) for z in high]} exceed the {PLAUSIBLE_DAMPING:g} a steel "
+                "string's modal damping can reach: an element the catalogue lacks (or one refused) stands in for them, "
+                "not a property of the string")
+        notes.append(note)
+        log(note)
     disc = _discovery(cur.model, data, log) if opt.discovery else {}
     return LoopResult(data, base, cur, steps, rounds, opt, cfg, notes, declared, adeq, base_lr, disc, last, warns)
 

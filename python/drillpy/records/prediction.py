@@ -82,7 +82,7 @@ class Prediction:
                          "median_period_s": pair("median_period_s"),
                          "stalls": {"measured": m["stalls"], "predicted": s["stalls"]},
                          "mismatch": self.comparison.mismatch},
-            "predictive": getattr(self.model, "drive", None) in (None, *rigsim.PREDICTIVE_DRIVES),
+            "predictive": self.model.predictive,
             "model": describe(self.model), "command_rad_s": self.simulated.provenance.get("command_rad_s"),
             "operating_point": self.simulated.provenance.get("operating_point"),
             "record": {"source": str(self.measured.provenance.get("source")),
@@ -105,7 +105,8 @@ def describe(model) -> str:
         ``"loop model: effects <names>, damping ratios <ratios>"``.
     """
     if isinstance(model, loop.LoopModel):
-        return f"loop model: effects {', '.join(model.effects) or 'none'}, damping ratios {model.damping_ratios}"
+        note = "" if model.predictive else " (a diagnosis: fed a recorded channel that carries the cycle)"
+        return f"loop model{note}: effects {', '.join(model.effects) or 'none'}, damping ratios {model.damping_ratios}"
     if model.drive == "rig":
         return f"rig model: the rig modelled whole (motor, jack, platform), damping ratio {model.damping_ratio:.3g}"
     note = " (a diagnosis: fed the measured top speed)" if model.drive == "measured" else ""
@@ -124,7 +125,8 @@ def _loop_model_at(model: "loop.LoopModel", record: Record, data) -> "loop.LoopM
 
 
 def _loop_prediction(model: "loop.LoopModel", rec: Record, thr: float, horizon_s: float, threads: int) -> tuple:
-    opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads)
+    # the law takes the same kind of WOB as in the calibration (the recorded WOB, or its trend)
+    opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads, wob_input=model.wob_input)
     data = loop.prepare(rec, model.engine_config(), opt)
     m = _loop_model_at(model, rec, data)
     sim = simulate_record(m, data)
@@ -137,12 +139,12 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
     """E of docs/loop.md over every horizon of ``record`` (restarted from the measured state).
 
     The rig model is expressed as a loop model (the motor drive as the ``motor`` variant of
-    ``top_drive_dynamics``, the measured drive as its ``measured`` variant) at the record's
-    operating point (the whole rig as its motor, string and law: the horizons' engine has no jack
-    state and no platform, so its WOB is the record's mean over each horizon of 0.25 s, and the
-    torque is the contact torque), restarted from the measured bit speed, acceleration, torque and top speed
-    at the start of every horizon and integrated over it; E = sqrt(mean of the per-horizon
-    normalized squared errors), 0 perfect, 1 as far off as the record's own spread.
+    ``top_drive_dynamics``, the measured drive as its ``measured`` variant, the whole rig's jack as
+    ``axial_jack``: its WOB state restarted from the recorded WOB and relaxed towards the WOB's
+    trend) at the record's operating point, restarted from the measured bit speed, acceleration,
+    torque and top speed at the start of every horizon and integrated over it. The horizons have no
+    platform and no motor torque limit: the torque they predict is the contact torque. E = sqrt(mean
+    of the per-horizon normalized squared errors), 0 perfect, 1 as far off as the record's own spread.
 
     Parameters
     ----------
@@ -175,6 +177,8 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
                                          "inertia_kg_m2": model.motor_inertia_kg_m2, "command_rad_s": command}
     elif model.drive == "measured":
         effects["top_drive_dynamics"] = {"variant": "measured"}
+    if model.drive == "rig" and model.jack_gain_n_rad is not None:
+        effects["axial_jack"] = {"gain_n_rad": model.jack_gain_n_rad, "relaxation_s": model.jack_relaxation_s}
     lm = loop.LoopModel(cfg, dict(model.law), op["top_speed_rad_s"], wob, effects)
     ev = loop.evaluate(lm, data, threads)
     return float(math.sqrt(np.mean(ev.e_h)))

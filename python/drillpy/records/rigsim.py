@@ -397,6 +397,12 @@ class RigModel:
                           bit_inertia_factor=self.bit_inertia_factor if self.drive == "rig" else 1.0,
                           coupling_stiffness=self.coupling_stiffness_nm_rad if self.drive == "rig" else None)
 
+    @property
+    def predictive(self) -> bool:
+        """True when the drive takes from a record only constants or slow signals
+        (:data:`PREDICTIVE_DRIVES`); the measured-top-speed drive is a diagnosis."""
+        return self.drive in PREDICTIVE_DRIVES
+
     def to_dict(self, top_speed: float | None = None, wob: float | None = None) -> dict:
         """``model.json``: the engine configuration (at the calibration's operating point) and the drive.
 
@@ -419,7 +425,7 @@ class RigModel:
         if top_speed is None and self.drive == "rig":
             om = self.command_rad_s
         out = {"format": "drillpy.rig_model", "version": 1, "drive": self.drive,
-               "predictive": self.drive in PREDICTIVE_DRIVES,
+               "predictive": self.predictive,
                "config": self.config(om, wob if wob is not None else op.get("wob_n")),
                "calibration": self.calibration}
         if self.drive == "rig":

@@ -3,7 +3,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from drillpy.records.rigsim import RIG_PARAMETERS
+
 from .base import Effect, Param
+
+_G, _TAU = RIG_PARAMETERS["jack_gain_n_rad"], RIG_PARAMETERS["jack_relaxation_s"]
 
 
 class AxialJack(Effect):
@@ -17,16 +21,19 @@ class AxialJack(Effect):
     :func:`drillpy.loop.data.wob_response`) on the jack's time scale tau. The law takes this W.
 
     Parameters ``gain_n_rad`` g [N/rad] (WOB per radian of lag: the axial stiffness times the depth of
-    cut per revolution over 2 pi; 1-5000) and ``relaxation_s`` tau [s] (0.005-5). The restarts start
+    cut per revolution over 2 pi; 1-1000) and ``relaxation_s`` tau [s] (0.02-3), the ranges of the
+    whole-rig model (:data:`drillpy.records.rigsim.RIG_PARAMETERS`, with their sources). The restarts start
     the state at the recorded WOB (:meth:`restart_wob`). Needs a WOB channel, and is a candidate only
     where the record's WOB is a response of the rotation (:meth:`applicable`). The horizons of a model
     with it run on the scalar integrator (the batched one has no axial state): the same decisions on
     either path.
     """
     name = "axial_jack"
-    params = (Param("gain_n_rad", "N/rad", "g: WOB gained per radian the bit lags its steady rotation", 1.0, 5000.0,
-                    "log"),
-              Param("relaxation_s", "s", "tau: time constant of the jack's return to its set force", 0.005, 5.0,
+    # the ranges of the whole-rig model (drillpy.records.rigsim.RIG_PARAMETERS, with their sources); the
+    # gain fitted in ln from 1 N/rad
+    params = (Param("gain_n_rad", "N/rad", "g: WOB gained per radian the bit lags its steady rotation",
+                    max(_G[0], 1.0), _G[1], "log"),
+              Param("relaxation_s", "s", "tau: time constant of the jack's return to its set force", _TAU[0], _TAU[1],
                     "log"))
     change = ("W' = g (Omega_f - v) - (W - W_s) / tau, the WOB a state (drill/axial.hpp) started at the recorded WOB; "
               "the law takes it")
@@ -40,8 +47,9 @@ class AxialJack(Effect):
 
     def starts(self, model, data):
         """The gain the record's WOB shows per radian of the bit's angle deficit
-        (``data.wob_response["gain_n_rad"]``, else 130 N/rad, sample 175's order) at half, once and
-        twice its value, each with tau of 0.05 s and 0.3 s; see :meth:`Effect.starts`.
+        (``data.wob_response["gain_n_rad"]`` when between 2 and 500 N/rad, else 130 N/rad, sample
+        175's order) at half, once and twice its value, each with tau of 0.05 s and 0.3 s; see
+        :meth:`Effect.starts`.
 
         Parameters
         ----------
@@ -52,7 +60,7 @@ class AxialJack(Effect):
         """
         wr = data.wob_response or {}
         g = float(wr.get("gain_n_rad", 0.0))
-        g = g if 1.0 < g < 5000.0 else self.defaults["gain_n_rad"]
+        g = g if 2.0 < g < 500.0 else self.defaults["gain_n_rad"]
         return [{"gain_n_rad": f * g, "relaxation_s": tau} for f in (0.5, 1.0, 2.0) for tau in (0.05, 0.3)]
 
     def applicable(self, data):

@@ -20,9 +20,10 @@ class TopDriveDynamics(Effect):
     modified-Euler stability bound of Eq. A.7 at the engine step, times :data:`RESOLVED`) and
     ``command_rad_s`` Omega_c [rad/s] (``p["variant"]`` is ``"motor"``).
 
-    A kinematic drive, the top following its measured speed, is not a candidate: the measured top
-    speed of an open-loop motor carries the stick-slip cycle, so a model fed it would be given the
-    answer it should predict (``drillpy analyze`` keeps such a model as a diagnosis only).
+    The kinematic variant ``"measured"`` (the top following its measured speed, no parameter) is not
+    a candidate of the loop: the measured top speed of an open-loop motor carries the stick-slip
+    cycle, so a model fed it is given the answer it should predict. It expresses ``drillpy
+    analyze``'s diagnosis model (the measured-top-speed drive) for its short-horizon error.
 
     Needs a top-speed channel (the restarts' top speed); flagged when the recorded top speed is
     steady (:data:`STEADY_TOP`).
@@ -39,6 +40,26 @@ class TopDriveDynamics(Effect):
                "stick-slip cycle (section 5.3.2); it stalls when the bit sticks at a torque it cannot overcome")
     needs = ("top_speed",)
     defaults = {"slope_nms_rad": 0.25, "inertia_kg_m2": 0.02}
+
+    def free(self, p):
+        """The three motor parameters; none for the kinematic variant; see :meth:`Effect.free`.
+
+        Parameters
+        ----------
+        p : dict
+            The effect's values (``p["variant"]``).
+        """
+        return () if p.get("variant") == "measured" else self.params
+
+    def count(self, p):
+        """3 for the motor, 0 for the kinematic variant; see :meth:`Effect.count`.
+
+        Parameters
+        ----------
+        p : dict
+            The effect's values (``p["variant"]``).
+        """
+        return len(self.free(p))
 
     def flags(self, p, data, model=None):
         """Flag a recorded top speed whose standard deviation is below :data:`STEADY_TOP` (1 %) of
@@ -161,7 +182,9 @@ class TopDriveDynamics(Effect):
 
     def configure(self, cfg, p, model):
         """A ``"motor"`` top drive (slope c_m = 1 / droop [N m s/rad], inertia J_m [kg m^2])
-        commanded at Omega_c (``operation.top_speed_rad_s`` [rad/s]). See :meth:`Effect.configure`.
+        commanded at Omega_c (``operation.top_speed_rad_s`` [rad/s]); the kinematic variant leaves
+        the configuration as is (its top speed is a series, :meth:`top_state`). See
+        :meth:`Effect.configure`.
 
         Parameters
         ----------
@@ -172,26 +195,31 @@ class TopDriveDynamics(Effect):
         model : LoopModel or None
             Not used.
         """
+        if p.get("variant") == "measured":
+            return
         cfg["top_drive"] = {"type": "motor", "slope_nms_rad": 1.0 / p["droop_rad_s_per_nm"],
                             "inertia_kg_m2": p["inertia_kg_m2"]}
         cfg["operation"]["top_speed_rad_s"] = float(p["command_rad_s"])
 
     def top_state(self, p, model, chs, idx):
-        """The measured top speed [rad/s] at the restarts, its rate left NaN (the engine takes it
-        from the motor equation, not the noisy record) and no driving series. See
-        :meth:`Effect.top_state`.
+        """The measured top speed [rad/s] at the restarts; for the motor its rate left NaN (the
+        engine takes it from the motor equation, not the noisy record) and no driving series; for the
+        kinematic variant the measured rate [rad/s^2] and the measured top speed as the driving
+        series. See :meth:`Effect.top_state`.
 
         Parameters
         ----------
         p : dict
-            The effect's values (not read).
+            The effect's values (``p["variant"]``).
         model : LoopModel
             Not used.
         chs : dict
-            State channels (``top`` [rad/s]).
+            State channels (``top`` [rad/s], ``dtop`` [rad/s^2]).
         idx : array_like of int
             Restart sample indices.
         """
+        if p.get("variant") == "measured":
+            return chs["top"][idx], chs["dtop"][idx], chs["top"]
         return chs["top"][idx], np.full(len(idx), np.nan), None
 
     def inject(self, truth, p):
