@@ -168,3 +168,22 @@ def test_a_static_torque_not_above_the_sliding_law_is_flagged():
     assert eff.flags({"static_torque_nm": 1.01 * ABOVE_SLIDING * peak}, data, m) == []
     assert eff.flags({"static_torque_nm": 4.5}, data, m) == []
     assert eff.flags({"static_torque_nm": 1.2}, data) == []  # no model: nothing to compare with
+
+
+def test_a_motor_behind_a_coupling_round_trips_through_the_configuration():
+    """The motor candidate's rotor turns the string through a shaft coupling: configure() inserts
+    the coupling section (rigsim.add_coupling), declared() reads k_c back, stripped() removes it."""
+    cfg = stripped(load_config(preset="thesis-rig"))
+    m = LoopModel(cfg, dict(cfg["law"]), 8.5, 557.1)
+    p = {"variant": "motor", "droop_rad_s_per_nm": 4.0, "inertia_kg_m2": 0.019, "command_rad_s": 17.3,
+         "coupling_stiffness_nm_rad": 41.0}
+    m.effects["top_drive_dynamics"] = p
+    eng = normalize(m.engine_config())
+    assert eng["string"]["sections"][0]["name"] == "coupling"
+    assert len(eng["string"]["sections"]) == len(cfg["string"]["sections"]) + 1
+    back = declared_effects(eng)["top_drive_dynamics"]
+    for k, v in p.items():
+        assert back[k] == (v if isinstance(v, str) else pytest.approx(v)), k
+    assert normalize(stripped(eng))["string"] == normalize(cfg)["string"]
+    assert CATALOGUE["top_drive_dynamics"].count(p) == 4
+    assert CATALOGUE["top_drive_dynamics"].count({k: v for k, v in p.items() if k != "coupling_stiffness_nm_rad"}) == 3

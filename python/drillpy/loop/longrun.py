@@ -47,7 +47,7 @@ def simulate_record(model: LoopModel, data: LoopData) -> Record:
     -------
     Record
         Simulated bit speed, top speed [rad/s] and torque on bit [N m] on the record's time grid,
-        the WOB at W_0 [N].
+        the WOB [N] (the jack's state with ``axial_jack``, else W_0).
     """
     rec = data.record
     t, dt = rec.time_s, rec.dt
@@ -89,7 +89,9 @@ def simulate_record(model: LoopModel, data: LoopData) -> Record:
     chans["torque_on_bit"] = chans["torque_on_bit"] - cfg["operation"].get("bit_viscous_nms", 0.0) * chans["bit_speed"]
     for name, p in model.effects.items():
         chans = CATALOGUE[name].measure(p, chans, 1.0 / dt)
-    return Record(time_s=t[:n], wob=np.full(n, model.wob), **chans,
+    # the WOB the law saw: the jack's state (axial), else the constant W_0
+    w_out = res.wob[keep][:n] if cfg.get("axial", {}).get("type") == "jack" else np.full(n, model.wob)
+    return Record(time_s=t[:n], wob=w_out, **chans,
                   units={"time": "s", "bit_speed": "rad_s", "top_speed": "rad_s", "torque_on_bit": "Nm", "wob": "N"},
                   provenance={"source": "simulation", "format": "drillpy.simulate",
                               "drive": "measured" if top is not None else "model"})

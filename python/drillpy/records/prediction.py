@@ -175,6 +175,8 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
     if model.drive in ("motor", "rig"):
         effects["top_drive_dynamics"] = {"variant": "motor", "droop_rad_s_per_nm": 1.0 / model.motor_slope_nms_rad,
                                          "inertia_kg_m2": model.motor_inertia_kg_m2, "command_rad_s": command}
+        if model.drive == "rig" and model.coupling_stiffness_nm_rad is not None:
+            effects["top_drive_dynamics"]["coupling_stiffness_nm_rad"] = model.coupling_stiffness_nm_rad
     elif model.drive == "measured":
         effects["top_drive_dynamics"] = {"variant": "measured"}
     if model.drive == "rig" and model.jack_gain_n_rad is not None:

@@ -166,17 +166,56 @@ def rig_config(law: dict | None = None, damping_ratio: float | None = None, *, p
             if li["node"] == -1:
                 li["inertia_kg_m2"] = float(li["inertia_kg_m2"]) * float(bit_inertia_factor)
     if coupling_stiffness is not None:
-        top = cfg["string"]["sections"][0]
-        E, nu, L = float(top["youngs_modulus_pa"]), float(top["poisson_ratio"]), COUPLING_LENGTH_M
-        G = E / (2.0 * (1.0 + nu))
-        r = (2.0 * float(coupling_stiffness) * L / (math.pi * G)) ** 0.25  # G pi r^4 / 2 / L = k_c
-        cfg["string"]["sections"].insert(0, {"name": "coupling", "length_m": L, "outer_radius_m": r,
-                                             "inner_radius_m": 0.0, "youngs_modulus_pa": E, "poisson_ratio": nu,
-                                             "density_kg_m3": float(top["density_kg_m3"]), "elements": 1})
-        for li in cfg["string"].get("lumped_inertias", []):
-            if li["node"] >= 0:
-                li["node"] += 1  # the coupling's element comes first
+        add_coupling(cfg, coupling_stiffness)
     return normalize(cfg)
+
+
+def add_coupling(cfg: dict, stiffness: float) -> None:
+    """Put a massless shaft coupling of torsional stiffness ``stiffness`` [N m/rad] between the top
+    drive and the string: a first section named ``"coupling"``, :data:`COUPLING_LENGTH_M` long, of
+    the top section's material, whose G J / L is the stiffness (its inertia is negligible).
+
+    Parameters
+    ----------
+    cfg : dict
+        Engine configuration, modified in place (the lumped inertias' node indices shift by one).
+    stiffness : float
+        k_c [N m/rad], positive.
+    """
+    top = cfg["string"]["sections"][0]
+    E, nu, L = float(top["youngs_modulus_pa"]), float(top["poisson_ratio"]), COUPLING_LENGTH_M
+    G = E / (2.0 * (1.0 + nu))
+    r = (2.0 * float(stiffness) * L / (math.pi * G)) ** 0.25  # G pi r^4 / 2 / L = k_c
+    cfg["string"]["sections"].insert(0, {"name": "coupling", "length_m": L, "outer_radius_m": r,
+                                         "inner_radius_m": 0.0, "youngs_modulus_pa": E, "poisson_ratio": nu,
+                                         "density_kg_m3": float(top["density_kg_m3"]), "elements": 1})
+    for li in cfg["string"].get("lumped_inertias", []):
+        if li["node"] >= 0:
+            li["node"] += 1  # the coupling's element comes first
+
+
+def remove_coupling(cfg: dict) -> float | None:
+    """Take the shaft coupling of :func:`add_coupling` out of a configuration.
+
+    Parameters
+    ----------
+    cfg : dict
+        Engine configuration, modified in place.
+
+    Returns
+    -------
+    float or None
+        Its stiffness k_c [N m/rad], or None when the configuration has no coupling section.
+    """
+    secs = cfg["string"]["sections"]
+    if not secs or secs[0].get("name") != "coupling":
+        return None
+    c = secs.pop(0)
+    G = float(c["youngs_modulus_pa"]) / (2.0 * (1.0 + float(c["poisson_ratio"])))
+    for li in cfg["string"].get("lumped_inertias", []):
+        if li["node"] >= 1:
+            li["node"] -= 1
+    return G * math.pi * float(c["outer_radius_m"]) ** 4 / 2.0 / float(c["length_m"])
 
 
 def reliable_top_speed(record: Record) -> np.ndarray:

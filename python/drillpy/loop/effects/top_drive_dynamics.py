@@ -3,7 +3,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from drillpy.records.rigsim import RIG_PARAMETERS, add_coupling, remove_coupling
+
 from .base import Effect, Param
+
+#: The coupling's range (the whole-rig model's, with its source: rigsim.RIG_PARAMETERS); at the upper
+#: bound the coupling is rigid next to the rig's bar (3.08 N m/rad), which is no coupling.
+COUPLING = RIG_PARAMETERS["coupling_stiffness_nm_rad"]
 
 #: The motor inertia is bounded below by this multiple of the modified-Euler stability floor (Eq. A.7):
 #: at the floor the coupled motor mode has 10 steps per period; at 4 x, about 20 (it is resolved).
@@ -18,7 +24,13 @@ class TopDriveDynamics(Effect):
     J_m Omega' = c_m (Omega_c - Omega) - T_top (``drill/topdrive.hpp``), parameters
     ``droop_rad_s_per_nm`` 1/c_m [rad/s per N m], ``inertia_kg_m2`` J_m [kg m^2] (bounded below by the
     modified-Euler stability bound of Eq. A.7 at the engine step, times :data:`RESOLVED`) and
-    ``command_rad_s`` Omega_c [rad/s] (``p["variant"]`` is ``"motor"``).
+    ``command_rad_s`` Omega_c [rad/s] (``p["variant"]`` is ``"motor"``), the rotor turning the string
+    through a shaft coupling of stiffness ``coupling_stiffness_nm_rad`` k_c [N m/rad] (a massless
+    spring in series, :func:`drillpy.records.rigsim.add_coupling`; 2-300 N m/rad, the whole-rig
+    model's range; at 300 it is rigid next to the rig's bar and only flagged). The candidate fits the
+    four together: a motor without inertia fits the short horizons (the top speed follows the torque)
+    but damps the cycle away, and the coupling lets the bar's top follow the torque while the rotor's
+    inertia shields the mode. A motor declared without a coupling keeps three parameters.
 
     The kinematic variant ``"measured"`` (the top following its measured speed, no parameter) is not
     a candidate of the loop: the measured top speed of an open-loop motor carries the stick-slip
@@ -32,7 +44,9 @@ class TopDriveDynamics(Effect):
     params = (Param("droop_rad_s_per_nm", "rad/s per N m", "1/c_m: speed lost per N m of top torque", 1e-3, 1e3, "log"),
               Param("inertia_kg_m2", "kg m^2", "J_m: motor and drive-train inertia (lower bound: 4 x the inertia at "
                     "which the modified-Euler stability bound of Eq. A.7 meets the engine step)", 1e-6, 10.0, "log"),
-              Param("command_rad_s", "rad/s", "Omega_c: no-load (commanded) speed", 0.0, float("inf")))
+              Param("command_rad_s", "rad/s", "Omega_c: no-load (commanded) speed", 0.0, float("inf")),
+              Param("coupling_stiffness_nm_rad", "N m/rad", "k_c: shaft coupling between the rotor and the string",
+                    COUPLING[0], COUPLING[1], "log", binding=False))
     change = "J_m Omega' = c_m (Omega_c - Omega) - T_top (drill/topdrive.hpp), started at the measured top speed"
     signature = ("a bit-speed residual that follows the top speed's departure from the constant the model assumed "
                  "(the string is wound up or unwound from above)")
@@ -42,17 +56,21 @@ class TopDriveDynamics(Effect):
     defaults = {"slope_nms_rad": 0.25, "inertia_kg_m2": 0.02}
 
     def free(self, p):
-        """The three motor parameters; none for the kinematic variant; see :meth:`Effect.free`.
+        """The motor's parameters (the coupling's when ``p`` has one); none for the kinematic
+        variant; see :meth:`Effect.free`.
 
         Parameters
         ----------
         p : dict
             The effect's values (``p["variant"]``).
         """
-        return () if p.get("variant") == "measured" else self.params
+        if p.get("variant") == "measured":
+            return ()
+        return tuple(q for q in self.params if q.name in p)
 
     def count(self, p):
-        """3 for the motor, 0 for the kinematic variant; see :meth:`Effect.count`.
+        """4 for the motor behind a coupling, 3 without, 0 for the kinematic variant; see
+        :meth:`Effect.count`.
 
         Parameters
         ----------
@@ -103,7 +121,9 @@ class TopDriveDynamics(Effect):
     def starts(self, model, data):
         """Motor starts: the motor equation J_m Omega' + c_m Omega - c_m Omega_c = -T_top is linear in
         (J_m, c_m, c_m Omega_c) given the top speed, its rate and the string's top torque of the states
-        read off the record (least squares over the calibration part), plus a few droops.
+        read off the record (least squares over the calibration part), plus a few droops, each
+        behind a coupling of 30 N m/rad (the rotor's inertia then at least 0.02 kg m^2) and behind a
+        nearly rigid one.
 
         The droop starts are 1 and 4 rad/s per N m and the quasi-static fit Omega = Omega_c -
         T_top / c_m, with motor time constants J_m / c_m of 0.01-0.05 s; every motor inertia is at
@@ -151,7 +171,10 @@ class TopDriveDynamics(Effect):
         for droop in (1.0, 4.0):
             starts.append({"variant": "motor", "droop_rad_s_per_nm": droop, "inertia_kg_m2": max(0.05 / droop, jmin),
                            "command_rad_s": mean_top + droop * mean_t})
-        return starts
+        # each behind a soft and a stiff coupling; the rotor's inertia at least 0.02 kg m^2 behind the
+        # soft one (the order that shields the rig's 3 Hz mode from the motor's damping)
+        return [dict(s, coupling_stiffness_nm_rad=k, inertia_kg_m2=max(s["inertia_kg_m2"], j))
+                for s in starts for k, j in ((30.0, 0.02), (COUPLING[1] * 0.99, 0.0))]
 
     def declared(self, cfg):
         """The motor variant when ``cfg["top_drive"]`` is a motor (droop 1 / ``slope_nms_rad``,
@@ -166,12 +189,17 @@ class TopDriveDynamics(Effect):
         td = cfg.get("top_drive", {"type": "ideal"})
         if td.get("type") != "motor":
             return None
-        return {"variant": "motor", "droop_rad_s_per_nm": 1.0 / float(td["slope_nms_rad"]),
-                "inertia_kg_m2": float(td["inertia_kg_m2"]), "command_rad_s": float(cfg["operation"]["top_speed_rad_s"])}
+        p = {"variant": "motor", "droop_rad_s_per_nm": 1.0 / float(td["slope_nms_rad"]),
+             "inertia_kg_m2": float(td["inertia_kg_m2"]), "command_rad_s": float(cfg["operation"]["top_speed_rad_s"])}
+        secs = cfg["string"]["sections"]
+        if secs and secs[0].get("name") == "coupling":
+            c = {"string": {"sections": [dict(secs[0])], "lumped_inertias": []}}
+            p["coupling_stiffness_nm_rad"] = remove_coupling(c)
+        return p
 
     def strip(self, cfg):
-        """Remove ``top_drive`` (the ideal drive at ``operation.top_speed_rad_s``); see
-        :meth:`Effect.strip`.
+        """Remove ``top_drive`` (the ideal drive at ``operation.top_speed_rad_s``) and a coupling
+        section; see :meth:`Effect.strip`.
 
         Parameters
         ----------
@@ -179,10 +207,12 @@ class TopDriveDynamics(Effect):
             Engine configuration, modified in place.
         """
         cfg.pop("top_drive", None)
+        remove_coupling(cfg)
 
     def configure(self, cfg, p, model):
         """A ``"motor"`` top drive (slope c_m = 1 / droop [N m s/rad], inertia J_m [kg m^2])
-        commanded at Omega_c (``operation.top_speed_rad_s`` [rad/s]); the kinematic variant leaves
+        commanded at Omega_c (``operation.top_speed_rad_s`` [rad/s]), behind the coupling section of
+        stiffness k_c when ``p`` has one; the kinematic variant leaves
         the configuration as is (its top speed is a series, :meth:`top_state`). See
         :meth:`Effect.configure`.
 
@@ -200,6 +230,8 @@ class TopDriveDynamics(Effect):
         cfg["top_drive"] = {"type": "motor", "slope_nms_rad": 1.0 / p["droop_rad_s_per_nm"],
                             "inertia_kg_m2": p["inertia_kg_m2"]}
         cfg["operation"]["top_speed_rad_s"] = float(p["command_rad_s"])
+        if "coupling_stiffness_nm_rad" in p:
+            add_coupling(cfg, p["coupling_stiffness_nm_rad"])
 
     def top_state(self, p, model, chs, idx):
         """The measured top speed [rad/s] at the restarts; for the motor its rate left NaN (the
