@@ -256,30 +256,31 @@ def test_long_run_check_rejects_a_step_that_breaks_the_measured_cycle():
     assert cycle_damage(_lr(0.2, 0.0, (0.2, 0.0)), _lr(1.0, 0.5, (0.2, 0.0))) is None
 
 
-def test_sample175_corrected_model_stick_slips_like_the_record(tmp_path):
-    """The loop on the measured record (first 40 s; calibration 0-20 s, errors on 20-40 s): the
-    declared hysteresis is removed, the WOB coupling is added, the held-out error falls, the
-    baseline's damping is held where the declared model stick-slips, the corrected model's limit
-    cycle matches the record's SS, stick fraction and cycle frequency within 15 %, and the
-    break-away torque of the stick phases is measured with its interval (docs/loop.md)."""
+def test_sample175_wob_is_a_response_and_nothing_fed_the_cycle_is_credited(tmp_path):
+    """The loop on the measured record (first 40 s at 250 Hz; calibration 0-20 s, decisions on 20-40 s):
+    the recorded WOB follows the bit's angle deficit, so the law takes its trend and the WOB coupling
+    that the recorded WOB's cycle made look strong is not added; the baseline's damping is held where
+    the declared model stick-slips and flagged as above a steel bar's; the break-away torque of the
+    stick phases is measured with its interval (docs/loop.md; at 1000 Hz the jack is added, at 250 Hz
+    it is not credited, p 0.1)."""
     out = tmp_path / "s175"
     p = run_cli("loop", str(sample175_path()), "--preset", "thesis-rig", "--out", str(out), "--rate", "250")
     assert p.returncode == 0, p.stderr
     js = json.loads((out / "loop.json").read_text())
     assert set(js) == LOOP_KEYS
-    assert js["declared"] == ["bit_hysteresis"] and js["removed"] == ["bit_hysteresis"]
-    assert "wob_coupling" in js["final_effects"]
-    assert js["adequacy"]["adequate"] and js["final_error"] < 0.95 * js["baseline_error"]
-    last = js["steps"][-1]["long_run"]
-    for k in ("ss", "stick_fraction", "cycle_frequency_hz"):
-        assert abs(last["after"][k] / last["measured"][k] - 1.0) < 0.15, (k, last)
-    assert js["baseline_long_run"]["model"]["stick_fraction"] > 0.05  # damping held on the cycle
+    w = js["wob_input"]
+    assert w["input"] == "trend" and w["response"] and w["correlation"] > 0.7
+    assert js["declared"] == ["bit_hysteresis"] and "wob_coupling" not in js["final_effects"]
+    assert js["adequacy"]["adequate"]
+    assert all(s["error_after"] <= s["error_before"] for s in js["steps"] if s["action"] == "add")
+    assert js["baseline_long_run"]["model"]["stick_fraction"] > 0.03  # damping held on the cycle
     ev = json.loads((out / "evidence.json").read_text())
     sf = [c for r in ev["rounds"] for c in r if c["effect"] == "static_friction"]
     t_s = sf[-1]["parameters"]["static_torque_nm"]
     assert t_s["source"] == "stick phases" and 2.5 < t_s["ci95"][0] < t_s["value"] < t_s["ci95"][1] < 3.2
     assert ev["record"]["calibration_s"][1] == pytest.approx(20.0, abs=0.01)
     assert any("held" in n for n in ev["notes"])  # the limit cycle sets the damping
+    assert any("exceed the 0.1" in n for n in ev["notes"])  # and it is more than a steel bar's
     assert ev["discovery"]["balanced"] is False  # the encoders' twist does not follow the torque
     head, d = _predictions(out / "predictions.csv")
     assert d.shape[0] == 10000 and np.isfinite(d[d[:, 11] == 1, 5]).all()

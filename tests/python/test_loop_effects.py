@@ -187,3 +187,5 @@ def test_a_motor_behind_a_coupling_round_trips_through_the_configuration():
     assert normalize(stripped(eng))["string"] == normalize(cfg)["string"]
     assert CATALOGUE["top_drive_dynamics"].count(p) == 4
     assert CATALOGUE["top_drive_dynamics"].count({k: v for k, v in p.items() if k != "coupling_stiffness_nm_rad"}) == 3
+    rigid = dict(p, coupling_stiffness_nm_rad=299.9)  # at its rigid bound: the three-parameter motor
+    assert CATALOGUE["top_drive_dynamics"].count(rigid) == 3

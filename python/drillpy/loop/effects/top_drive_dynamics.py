@@ -69,15 +69,18 @@ class TopDriveDynamics(Effect):
         return tuple(q for q in self.params if q.name in p)
 
     def count(self, p):
-        """4 for the motor behind a coupling, 3 without, 0 for the kinematic variant; see
-        :meth:`Effect.count`.
+        """4 for the motor behind a compliant coupling, 3 without one or behind a coupling fitted at
+        its rigid bound (within 1 % of 300 N m/rad: the three-parameter motor, whose BIC it then
+        has), 0 for the kinematic variant; see :meth:`Effect.count`.
 
         Parameters
         ----------
         p : dict
             The effect's values (``p["variant"]``).
         """
-        return len(self.free(p))
+        k = p.get("coupling_stiffness_nm_rad")
+        rigid = k is not None and k >= 0.99 * COUPLING[1]
+        return len(self.free(p)) - int(rigid)
 
     def flags(self, p, data, model=None):
         """Flag a recorded top speed whose standard deviation is below :data:`STEADY_TOP` (1 %) of
