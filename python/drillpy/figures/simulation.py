@@ -17,13 +17,15 @@ RPM = 30.0 / np.pi  # rad/s -> RPM
 
 
 def _save(fig, path: str | Path) -> Path:
-    """Lay out ``fig``, write it to ``path`` (130 dpi, parent folders created, the drillpy version as
-    the image's ``Software`` metadata), close it; return the path."""
+    """Lay out ``fig``, write it to ``path`` atomically (130 dpi, parent folders created, the drillpy
+    version as the image's ``Software`` metadata), close it; return the path."""
     from drillpy import __version__
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.tight_layout()
-    fig.savefig(path, dpi=130, metadata={"Software": f"drillpy {__version__}"})
+    from drillpy.outputs import replacing
+    with replacing(path) as tmp:  # whole or not at all
+        fig.savefig(tmp, dpi=130, metadata={"Software": f"drillpy {__version__}"}, format=path.suffix[1:] or "png")
     plt.close(fig)
     return path
 

@@ -52,6 +52,7 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
 from drillpy.records import identification as ident
 from drillpy.records import signals as sig
 from drillpy.records.cleaning import CleaningOptions, clean
@@ -520,7 +521,7 @@ def analyze_samples(records, out_dir: str | Path, options: SampleOptions | None 
     S["figures"] = [boxplot(out / "fig5_4_boxplot.png", samples).name]
     prov = provenance()
     write_json(out / "samples.json", {**S, "provenance": prov})
-    (out / "samples.md").write_text(with_markdown_footer(render_samples(S), prov))
+    write_text((out / "samples.md"), with_markdown_footer(render_samples(S), prov))
     log(f"acceptance: {len(acc['accepted'])} of {len(table)} samples accepted "
         f"({', '.join(acc['accepted']) or 'none'}); validates the rig: {acc['validates']}")
     log(f"samples.json, samples.md and fig5_4_boxplot.png written to {out}")

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
 from drillpy.control.comparison import compare_drives, json_ready, nominal_index
 from drillpy.control.episode import run_episode
 from drillpy.control.tuning import FACTOR_RANGE, TUNABLE, UNITS, Window, controlled_drive, tune
@@ -295,7 +296,7 @@ def write_control(study: ControlStudy, out_dir) -> dict:
     prov = provenance(seed=study.tuning_window.seed, samples=study.tuning_window.samples,
                       validation_seed=study.validation_window.seed, validation_samples=study.validation_window.samples)
     js["figures"] = [p.name for p in control_figures(study, out)]
-    (out / "control.json").write_text(dumps({**js, "provenance": prov}))
-    (out / "report.md").write_text(with_markdown_footer(report_text(study), prov))
+    write_text((out / "control.json"), dumps({**js, "provenance": prov}))
+    write_text((out / "report.md"), with_markdown_footer(report_text(study), prov))
     return js
 

@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
 from drillpy.model.config import load_config, with_overrides
 from drillpy.provenance import provenance, with_markdown_footer
 from drillpy.jsonio import dumps
@@ -625,8 +626,8 @@ def reproduce(chapters, out_dir, options: Options | None = None, record=None) ->
         res.figures += figs
         res.seconds[c] = round(time.perf_counter() - t0, 1)
     prov = provenance(seed=o.seed, quick=o.quick)
-    (out / "table.md").write_text(with_markdown_footer(render_table(res, o), prov))
-    (out / "reproduce.json").write_text(dumps({**res.as_dict(), "quick": o.quick, "seed": o.seed, "provenance": prov}))
+    write_text((out / "table.md"), with_markdown_footer(render_table(res, o), prov))
+    write_text((out / "reproduce.json"), dumps({**res.as_dict(), "quick": o.quick, "seed": o.seed, "provenance": prov}))
     return res
 
 

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
 from drillpy.uncertainty.frf import band_widths, cb_frequencies, conv2_vs_modes, default_frequencies, frf_envelope
 from drillpy.model.simulation import natural_frequencies
 from drillpy.provenance import provenance
@@ -313,7 +314,7 @@ def write_chapter6(study: Chapter6Study, out_dir, **options) -> dict:
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "summary.json").write_text(dumps({**study.summary, "provenance": provenance(**options)}))
+    write_text((out / "summary.json"), dumps({**study.summary, "provenance": provenance(**options)}))
     return study.summary
 
 
@@ -398,7 +399,7 @@ def write_envelope(out_dir, env, title: str, summary: dict, cfg: dict, **options
     out.mkdir(parents=True, exist_ok=True)
     for p, label in enumerate(env.labels):
         frf_plots.envelope_plot(out / f"frf_point{p + 1}.png", {title: env}, p, f"{title}: {label}")
-    (out / "envelope.json").write_text(dumps({**summary, "config": cfg, "provenance": provenance(**options)}, indent=None))
+    write_text((out / "envelope.json"), dumps({**summary, "config": cfg, "provenance": provenance(**options)}, indent=None))
     return out
 
 
@@ -533,5 +534,5 @@ def write_robust_severity(out_dir, speeds, studies: dict, summary: dict, cfg: di
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     frf_plots.severity_bands_plot(out / "severity_bands.png", speeds, studies)
-    (out / "robust_ss.json").write_text(dumps({**summary, "config": cfg, "provenance": provenance(**options)}))
+    write_text((out / "robust_ss.json"), dumps({**summary, "config": cfg, "provenance": provenance(**options)}))
     return out
