@@ -217,6 +217,8 @@ def _short_run(cfg: dict) -> None:
     json.dumps(r.config, allow_nan=False)
 
 
+# a plausibility warning is an answer, not an error (test_config_plausibility.py checks them)
+@pytest.mark.filterwarnings("ignore::drillpy.model.plausibility.ImplausibleConfiguration")
 @settings(FUZZ, max_examples=_examples(150))
 @given(mutated_configs())
 def test_mutated_configuration_parses_or_names_the_field(case):
@@ -299,6 +301,8 @@ def overrides(draw):
     return kw
 
 
+# a plausibility warning is an answer, not an error (test_config_plausibility.py checks them)
+@pytest.mark.filterwarnings("ignore::drillpy.model.plausibility.ImplausibleConfiguration")
 @settings(FUZZ, max_examples=_examples(150))
 @given(st.sampled_from(PRESETS), overrides())
 def test_python_overrides_run_or_name_the_argument(preset, kw):

@@ -294,7 +294,8 @@ def add_model_args(p: argparse.ArgumentParser) -> None:
     c = p.add_argument_group("controlled top drive (docs/control.md)")
     c.add_argument("--controller", choices=["stiff", "pi", "soft_speed", "z_torque"],
                    help="a top drive with inertia driven by this speed controller (tuned from the string's "
-                        "properties unless --kp/--ki are given) instead of the configuration's top drive")
+                        "properties unless --kp/--ki are given; pi: the stiff drive's pole placement) instead of "
+                        "the configuration's top drive")
     c.add_argument("--drive-inertia", type=float, metavar="J",
                    help="rotor and gearbox inertia of the controlled top drive [kg m^2] (needed with --controller "
                         "unless the configuration's drive has one)")
@@ -337,8 +338,12 @@ def controlled_drive(a: argparse.Namespace, base: dict) -> dict | None:
         raise ValueError(f"--controller = {a.controller}: give --drive-inertia, the top drive's inertia [kg m^2] "
                          "(the configuration's drive has none)")
     from drillpy.control.tuning import controlled_drive as drive
+    from drillpy.control.tuning import nominal_pi_gains
     keys = {"kp_nms_rad": a.kp, "ki_nm_rad": a.ki, "sample_time_s": a.sample_time}
-    return drive(a.controller, inertia, a.torque_limit, {k: v for k, v in keys.items() if v is not None})
+    given = {k: v for k, v in keys.items() if v is not None}
+    if a.controller == "pi":  # the tuning the help promises for the gains not given
+        given = {**nominal_pi_gains(base, inertia), **given}
+    return drive(a.controller, inertia, a.torque_limit, given)
 
 
 def add_study_args(p: argparse.ArgumentParser) -> None:
@@ -470,6 +475,37 @@ def removed_on_failure(out):
 
 
 
+@contextlib.contextmanager
+def plausibility_lines():
+    """Context manager: each distinct plausibility warning of a configuration
+    (:class:`drillpy.model.plausibility.ImplausibleConfiguration`) printed once on stderr as
+    ``drillpy: warning: <field> = <value> <unit>: outside the plausible <range> (<source>)...``; other
+    warnings as Python shows them.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        The context.
+    """
+    import warnings
+
+    from drillpy.model.plausibility import ImplausibleConfiguration
+    seen: set = set()
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", ImplausibleConfiguration)
+        shown = warnings.showwarning
+
+        def show(message, category, filename, lineno, file=None, line=None):
+            if not issubclass(category, ImplausibleConfiguration):
+                return shown(message, category, filename, lineno, file, line)
+            if str(message) not in seen:
+                seen.add(str(message))
+                from tqdm import tqdm
+                tqdm.write(f"drillpy: warning: {message}", file=sys.stderr)
+        warnings.showwarning = show
+        yield
+
+
 # Order of the subcommands in ``drillpy --help`` (unchanged from the single-module CLI).
 COMMANDS = ("report", "modes", "simulate", "sweep", "map", "convergence", "analyze", "predict", "frf",
             "frf-report", "robust-ss", "reproduce", "mc", "mc-merge", "loop", "control")
@@ -527,9 +563,10 @@ def main(argv: list[str] | None = None) -> int:
             check_output_folder(out)
         from drillpy.outputs import folder_lock
         # the command line recorded in every output; a failed command leaves no folder it created; one
-        # command at a time writes into a folder
+        # command at a time writes into a folder; each plausibility warning printed once
         with contextlib.ExitStack() as stack:
             stack.enter_context(running_command(argv))
+            stack.enter_context(plausibility_lines())
             if out:
                 stack.enter_context(removed_on_failure(out))
                 stack.enter_context(folder_lock(out))

@@ -63,6 +63,8 @@ def engine_config(config) -> "_core.Config":
     ----------
     config : dict or _core.Config
         A configuration (the JSON schema shared with drillsim); a ``_core.Config`` is returned as is.
+        A dict is checked for implausible values first
+        (:func:`drillpy.model.plausibility.warn_config`: warnings, not errors).
 
     Returns
     -------
@@ -76,6 +78,8 @@ def engine_config(config) -> "_core.Config":
     """
     if isinstance(config, _core.Config):
         return config
+    from drillpy.model import plausibility
+    plausibility.warn_config(config)  # values the engine accepts but no string has (a unit mix-up, usually)
     return _core.Config(to_json_text(config))
 
 

@@ -64,10 +64,34 @@ class ConfigWarning:
     message: str
 
 
-def _check(field: str, key: str, value, hint: str = "") -> list:
+def _number(value) -> float | None:
+    """``value`` as a float, None when it is not a real number (the engine names that error)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    return float(value)
+
+
+def check_value(field: str, key: str, value, hint: str = "") -> list:
+    """The warning of one value outside its range of :data:`RANGES` (empty when inside, or NaN).
+
+    Parameters
+    ----------
+    field : str
+        The field named.
+    key : str
+        Its range in :data:`RANGES`.
+    value : float
+        The value, in the range's unit.
+    hint : str
+        The likely cause, appended to the message.
+
+    Returns
+    -------
+    list of ConfigWarning
+    """
     lo, hi, unit, source = RANGES[key]
-    v = float(value)
-    if lo <= v <= hi or math.isnan(v):
+    v = _number(value)
+    if v is None or lo <= v <= hi or math.isnan(v):
         return []
     msg = (f"{field} = {v:g} {unit}: outside the plausible {lo:g}-{hi:g} {unit} ({source})"
            + (f"; {hint}" if hint else ""))
@@ -88,10 +112,12 @@ def check_speed(field: str, speed_rad_s: float) -> list:
     -------
     list of ConfigWarning
     """
-    v = float(speed_rad_s)
+    v = _number(speed_rad_s)
+    if v is None or not v > 0:  # not a number, zero, negative or NaN: the engine's error, not a warning
+        return []
     hint = (f"if {v:g} was meant in RPM, it is {v / RPM:.3g} rad/s: give the unit (e.g. 120rpm)"
             if RANGES["top_speed_rad_s"][0] <= v / RPM <= RANGES["top_speed_rad_s"][1] else "")
-    return _check(field, "top_speed_rad_s", v, hint)
+    return check_value(field, "top_speed_rad_s", v, hint)
 
 
 def check_config(cfg: dict) -> list:
@@ -109,25 +135,32 @@ def check_config(cfg: dict) -> list:
         operating top speed and WOB, and the sign of the law's static torque scale (``b0``, ``c0``).
     """
     out = []
-    sections = cfg.get("string", {}).get("sections", [])
+    def block(x, key, kind=dict):  # a malformed block is the engine's error: nothing to check here
+        v = x.get(key) if isinstance(x, dict) else None
+        return v if isinstance(v, kind) else kind()
+    sections = block(block(cfg, "string"), "sections", list)
     for i, s in enumerate(sections):
+        if not isinstance(s, dict):
+            continue
         for key, hint in (("outer_radius_m", "a radius in mm or inches typed as metres?"),
                           ("youngs_modulus_pa", "a modulus in GPa typed as Pa?"),
                           ("density_kg_m3", "a density in g/cm^3 typed as kg/m^3?")):
             if key in s:
-                out += _check(f"string.sections[{i}].{key}", key, s[key], hint)
-    total = sum(float(s.get("length_m", 0.0)) for s in sections)
-    if sections:
-        out += _check("string.sections[*].length_m (total)", "string_length_m", total)
-    op = cfg.get("operation", {})
+                out += check_value(f"string.sections[{i}].{key}", key, s[key], hint)
+    lengths = [_number(s.get("length_m")) for s in sections if isinstance(s, dict)]
+    if lengths and None not in lengths:
+        out += check_value("string.sections[*].length_m (total)", "string_length_m", sum(lengths))
+    op = block(cfg, "operation")
     if "top_speed_rad_s" in op:
         out += check_speed("operation.top_speed_rad_s", op["top_speed_rad_s"])
-    if "wob_n" in op:
-        out += _check("operation.wob_n", "wob_n", op["wob_n"], "a WOB in kN, klbf or kg typed as N?")
-    law = cfg.get("law", {})
+    wob = _number(op.get("wob_n"))
+    if wob is not None and wob >= 0:  # a negative WOB is the engine's error, not a warning
+        out += check_value("operation.wob_n", "wob_n", wob, "a WOB in kN, klbf or kg typed as N?")
+    law = block(cfg, "law")
     for key in ("b0", "c0"):
-        if key in law and float(law[key]) < 0:
-            out += _check(f"law.{key}", "law_scale", law[key])
+        v = _number(law.get(key))
+        if v is not None and v < 0:
+            out += check_value(f"law.{key}", "law_scale", v)
     return out
 
 
