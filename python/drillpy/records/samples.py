@@ -518,7 +518,8 @@ def analyze_samples(records, out_dir: str | Path, options: SampleOptions | None 
                     "on its mean cycle; per-cycle SS Eq. (3.4) over cycles with a reliable top speed")}
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    S["figures"] = [boxplot(out / "fig5_4_boxplot.png", samples).name]
+    boxplot(out / "fig5_4_boxplot.png", samples)
+    S["figures"] = ["fig5_4_boxplot.png"]
     prov = provenance()
     write_json(out / "samples.json", {**S, "provenance": prov})
     write_text((out / "samples.md"), with_markdown_footer(render_samples(S), prov))
@@ -539,7 +540,7 @@ def _spread(x) -> dict:
             "min": float(np.min(x)), "max": float(np.max(x))}
 
 
-def boxplot(path, samples: list) -> Path:
+def boxplot(path, samples: list):
     """Fig. 5.4: box plot of the per-cycle SS (Eq. 3.4), one box per sample, SS = 0.5 marked.
 
     SS below 0.5 is the thesis's stable region (section 3.3). A sample without a cycle with SS
@@ -554,8 +555,8 @@ def boxplot(path, samples: list) -> Path:
 
     Returns
     -------
-    Path
-        The file written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     from drillpy.figures.simulation import _save, plt
     fig, ax = plt.subplots(figsize=(max(5.0, 0.9 * len(samples) + 2.5), 4.2))
