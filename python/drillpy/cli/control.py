@@ -132,7 +132,7 @@ def cmd_control(a: argparse.Namespace) -> int:
                                                         for c, t in js["tunings"].items()},
                     "drives": {k: {key: r[key] for key in ("p_window", "p_vs_reference", "stalled_fraction", "mean_ss",
                                                            "deterministic_threshold_rad_s", "p05_speed_rad_s",
-                                                           "p05_interval")}
+                                                           "p05_interval", "p05_precision_warning")}
                                for k, r in js["comparison"].items()},
                     "episode_speed_rad_s": js["episode_speed_rad_s"], "episodes": js["episodes"]})
         return 0
@@ -142,8 +142,11 @@ def cmd_control(a: argparse.Namespace) -> int:
                                          for k, v in t.gains.items()))
     for label, r in study.comparison.items():
         pw, p05 = r["p_window"], r["p05_speed_rad_s"]
-        print(f"{label:18s} P(SS > 0.5 or stalled) = {pw['value']:.3f} [{pw['low']:.3f}, {pw['high']:.3f}]  "
-              f"5 % speed " + (f"{p05:.2f} rad/s" if p05 is not None else r["p05_reading"]))
+        print(f"{label:18s} P(SS > 0.5 or stalled) = {pw['value']:.3f} [{pw['low']:.3f}, {pw['high']:.3f}] "
+              f"(90 % Wilson, {pw['trials']} samples)  5 % speed "
+              + (f"{p05:.2f} rad/s" if p05 is not None else r["p05_reading"]))
+        if p05 is not None and r["p05_precision_warning"]:
+            print(f"drillpy: warning: {label}: {r['p05_precision_warning']}", file=sys.stderr)
     print(f"report.md, control.json and figures written to {a.out}")
     return 0
 

@@ -17,6 +17,7 @@ from drillpy.outputs import write_text
 from drillpy import validate
 from drillpy.cli import add_model_args, add_study_args, add_wob_arg, integer, model_config, parse_grid, print_json
 from drillpy.jsonio import jsonable
+from drillpy.uncertainty.binomial import wilson_interval
 
 
 def add_uncertainty_args(p: argparse.ArgumentParser, samples: int, out: str) -> None:
@@ -259,11 +260,14 @@ def cmd_robust_ss(a: argparse.Namespace) -> int:
     else:
         for label, st in studies.items():
             print(f"{label}:")
-            for v, m, lo, hi, p in zip(speeds, st.mean, st.q05, st.q95, st.p_stick_slip):
-                print(f"  {v:7.2f} rad/s  SS mean {m:.3f}  5-95 % [{lo:.3f}, {hi:.3f}]  P(SS > 0.5) {p:.2f}")
+            p_lo, p_hi = wilson_interval(np.clip(st.p_stick_slip, 0.0, 1.0), st.ss.shape[0])
+            for v, m, lo, hi, p, a_, b_ in zip(speeds, st.mean, st.q05, st.q95, st.p_stick_slip, p_lo, p_hi):
+                print(f"  {v:7.2f} rad/s  SS mean {m:.3f}  5-95 % [{lo:.3f}, {hi:.3f}]  P(SS > 0.5) {p:.2f} "
+                      f"[90 % Wilson {a_:.2f}, {b_:.2f}]")
             p05 = res[label].get("p05_speed_rad_s")
             print("  P(SS > 0.5) <= 5 % from", "no crossing in range" if p05 is None else f"{p05:.2f} rad/s",
                   _robust_speed_text(res[label]))
+            _precision_warning(res[label])
     return 0
 
 
@@ -375,11 +379,11 @@ def cmd_mc_merge(a: argparse.Namespace) -> int:
         print(f"{len(a.chunks)} chunks merged: samples {study.first_sample}-{study.first_sample + n - 1}, "
               f"seed {study.seed}")
         for r in res["speeds"]:
-            print(f"{r['top_speed_rad_s']:8.3f} rad/s  mean SS = {r['mean_ss']:.3f}  "
-                  f"[q05 {r['q05']:.3f}, q95 {r['q95']:.3f}]  P(SS > 0.5) = {r['p_ss_gt_0_5']:.3f}")
+            print(_mc_row(r))
         p05 = res["p05_speed_rad_s"]
         print("P(SS > 0.5) <= 5 % from", "no crossing in range" if p05 is None else f"{p05:.2f} rad/s",
               _robust_speed_text(res))
+        _precision_warning(res)
         if a.out:
             print(f"mc.json, mc_samples.json and figures written to {a.out}")
     return 0
@@ -497,8 +501,7 @@ def cmd_mc(a: argparse.Namespace) -> int:
                  f"shared {res['warmup_s']:g}-s deterministic warm start, then {res['duration_s']:g} s with eta, SS "
                  f"after {res['transient_s']:g} s (Algorithm 1 literally: --warmup 0 --duration 300 --transient 200)"))
         for r in res["speeds"]:
-            print(f"{r['top_speed_rad_s']:8.3f} rad/s  mean SS = {r['mean_ss']:.3f}  "
-                  f"[q05 {r['q05']:.3f}, q95 {r['q95']:.3f}]  P(SS > 0.5) = {r['p_ss_gt_0_5']:.3f}")
+            print(_mc_row(r))
         p05 = res["p05_speed_rad_s"]
         print("P(SS > 0.5) <= 5 % from", "no crossing in range" if p05 is None else f"{p05:.2f} rad/s",
               _robust_speed_text(res),
@@ -506,9 +509,23 @@ def cmd_mc(a: argparse.Namespace) -> int:
               "no crossing" if res["deterministic_threshold_rad_s"] is None
               else f"{res['deterministic_threshold_rad_s']:.2f} rad/s by grid interpolation; the model's "
                    "threshold is drillpy sweep's)")
+        _precision_warning(res)
         if a.out:
             print(f"figures and mc.json written to {a.out}")
     return 0
+
+
+def _mc_row(r: dict) -> str:
+    """One speed of an ``mc`` summary: mean SS, its 5-95 % band, P(SS > 0.5) with its 90 % Wilson interval."""
+    lo, hi = r["p_ss_gt_0_5_wilson90"]
+    return (f"{r['top_speed_rad_s']:8.3f} rad/s  mean SS = {r['mean_ss']:.3f}  [q05 {r['q05']:.3f}, q95 {r['q95']:.3f}]  "
+            f"P(SS > 0.5) = {r['p_ss_gt_0_5']:.3f} [90 % Wilson {lo:.3f}, {hi:.3f}]")
+
+
+def _precision_warning(res: dict) -> None:
+    """Print the warning of a 5 % speed whose precision the grid limits (stderr, one line)."""
+    if res.get("p05_speed_precision_warning"):
+        print(f"drillpy: warning: {res['p05_speed_precision_warning']}", file=sys.stderr)
 
 
 def _robust_speed_text(res: dict) -> str:

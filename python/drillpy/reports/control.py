@@ -236,7 +236,8 @@ def report_text(study: ControlStudy) -> str:
             lines.append(f"| {name} | {key} [{UNITS[key]}] | {t.nominal[key]:.4g} | {t.gains[key]:.4g} | "
                          f"{t.factors[key]:.3g}{bound} | {band} | {t.nominal_p:.3f} -> {t.p_stick_slip:.3f} |")
     lines += ["", "## The drives on new samples", "",
-              "P = P(SS > 0.5 or stalled) over the whole window (90 % bootstrap interval); a run is stalled when "
+              "P = P(SS > 0.5 or stalled) over the whole window (90 % Wilson interval, the samples as trials); a run "
+              "is stalled when "
               "its mean bit speed is below half the command (the bit stuck, SS then small). The difference to the "
               "stiff drive is paired (same samples). Threshold: the speed below which the deterministic SS > 0.5 "
               "(or the run stalls) at the nominal WOB; 5 % speed: the lowest speed from which P <= 5 % "
