@@ -84,3 +84,23 @@ def test_pi_without_gains_is_the_tuning_its_help_promises(capsys):
     w1 = drive_gains(drillpy.with_overrides(FIELD, top_drive={"type": "controlled", "inertia_kg_m2": 2000.0,
                                                               "controller": {"type": "stiff"}}))["omega1_rad_s"]
     assert g["kp_nms_rad"] == pytest.approx(2 * 2000.0 * 20 * w1) and g["ki_nm_rad"] == pytest.approx(2000.0 * (20 * w1) ** 2)
+
+
+@pytest.mark.parametrize("option, value, blamed", [("--dt", "1e-12", "a time step below 1 us"),
+                                                   ("--duration", "1e300", "a duration over 100 days")])
+def test_too_many_steps_names_the_time_step_with_the_duration(capsys, option, value, blamed):
+    assert main(["simulate", "--preset", "thesis-rig", option, value]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("drillpy: error: simulation.dt_s = ") and "simulation.duration_s = " in err
+    assert blamed in err and err.count("\n") == 1
+
+
+def test_a_record_without_a_stick_phase_is_not_called_stick_slip(tmp_path):
+    from drillpy.records.io import Record
+    from drillpy.reports.analysis import AnalysisOptions, compute_analysis
+    run = drillpy.simulate(drillpy.load_config(preset="thesis-rig"), top_speed=20.0)  # SS 0.77, the bit never stops
+    assert run.stick_fraction == 0.0 and run.severity > 0.5
+    rec = Record(time_s=run.t, bit_speed=run.bit_speed, top_speed=run.top_speed, torque_on_bit=run.torque_on_bit)
+    res = compute_analysis(rec, AnalysisOptions(simulate=False, folds=0), log=lambda *a: None)
+    (w,) = [w for w in res.summary["warnings"] if w["code"] == "no_stick"]
+    assert "not stick-slip" in w["message"] and res.summary["severity"]["stick_fraction"] == 0.0

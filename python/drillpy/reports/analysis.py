@@ -310,6 +310,16 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
         side = rigsim.measured_side(rec, thr, float(rec.time_s[0]), "constant")
         S["severity"].update(ss=side.metrics["ss"], stick_fraction=side.metrics["stick_fraction"],
                              from_s=side.t0, stalls=side.metrics["stalls"]["count"])
+    after = ok & (rec.time_s >= (side.t0 if side is not None else rec.time_s[0]))  # the measured side's window
+    if not np.any(v[after] <= thr):  # the bit never stops: oscillation, not stick-slip; say so before the numbers
+        w = plausibility.PlausibilityWarning(
+            "no_stick", "bit_speed",
+            f"bit_speed: the bit never falls to the stick threshold ({thr * RPM:.3g} RPM, 5 % of the median top "
+            "speed): the cycles below are torsional oscillations without a stick phase, not stick-slip, and the "
+            "laws' static torque is not identified (their evidence rests on slip samples only)",
+            0.0, (math.ulp(0.0), 1.0), "-")
+        plausibility.emit([w])
+        S["warnings"].append(w.as_dict())
     S["torque_statistics"] = sig.sample_statistics(tq[ok])  # Table 5.2
     S["torque_statistics"]["thesis_table_5_2_mean_cv_samples_11_20"] = 0.329
     if rec.wob is not None:

@@ -25,6 +25,10 @@ THESIS_FREQUENCIES_HZ = [0.13, 0.42, 0.74, 1.07, 1.41]
 #: docs/presets.md): printed only beside that configuration, never beside another one.
 THESIS_THRESHOLD_RAD_S = 16.0
 THESIS_THRESHOLD_PRESET = "thesis-ch4"
+#: Section 4.2.1's periodic regime at 16 rad/s and the preset whose converged run reproduces it (3 cycles;
+#: README): printed only beside that configuration.
+THESIS_PERIODIC_REGIME = "3-cycle, stick (1.34, 2.53, 2.48) s, slip (5.4, 6.28, 6.41) s"
+THESIS_PERIODIC_PRESET = "thesis-field"
 MODEL_BETA1 = {"model 1 (reversible, beta1 = 0)": 0.0, "model 2 (beta1 = 0.14)": 0.14,
                "model 3 (beta1 = 0.56)": 0.56}
 
@@ -160,7 +164,8 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
         ``top_speed_rad_s``, ``severity``, ``stick_fraction``, ``stick_durations_s`` and
         ``slip_durations_s`` [s], ``period_cycles`` (stick-slip cycles per period, 0 when not
         periodic), ``period_stick_s`` and ``period_slip_s`` [s] (``reference_run`` also has
-        ``modes``, ``scheme`` and ``duration_s``); for a hysteretic law ``stability_maps`` with
+        ``modes``, ``scheme``, ``duration_s`` and, for the configuration that reproduces it,
+        ``thesis_periodic_regime``); for a hysteretic law ``stability_maps`` with
         ``top_speeds_rpm``, ``wobs_kn``, ``severity`` (label -> map) and ``conclusions``
         (:func:`map_conclusions`).
     """
@@ -190,6 +195,9 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
     ref = simulate(ref_cfg, op_speed)
     summary["reference_run"] = {**_run_summary(ref, op_speed), "modes": n_free, "scheme": "bdf2",
                                 "duration_s": duration}
+    from drillpy.model.config import load_config
+    if cfg == load_config(preset=THESIS_PERIODIC_PRESET):
+        summary["reference_run"]["thesis_periodic_regime"] = THESIS_PERIODIC_REGIME
     t_end = ref.t[-1]
     plotting.time_series_plot(out / "time_series.png", ref.t, ref.bit_speed, ref.torque_on_bit,
                          ref.top_speed, t_window=(max(0.0, t_end - 60.0), t_end),
@@ -217,10 +225,9 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
 def print_field_summary(s: dict) -> None:
     """Print a field-report summary beside the thesis's numbers, one finding per line.
 
-    Prints the natural frequencies [Hz], the SS > 0.5 threshold [rad/s] of Fig. 4.8, SS, stick
-    fraction and periodic regime of the preset run and of the converged reference (with the
-    thesis's 3-cycle stick (1.34, 2.53, 2.48) s and slip (5.4, 6.28, 6.41) s of section 4.2.1)
-    and, when present, the stable fractions and the two section-3.3 verdicts of the stability
+    Prints the natural frequencies [Hz], the SS > 0.5 threshold (:func:`drillpy.model.threshold.format_threshold`,
+    Fig. 4.8's value only beside ``thesis-ch4``), SS, stick fraction and periodic regime of the preset run
+    and of the converged reference (section 4.2.1's regime only beside ``thesis-field``) and, when present, the stable fractions and the two section-3.3 verdicts of the stability
     maps.
 
     Parameters
@@ -238,7 +245,8 @@ def print_field_summary(s: dict) -> None:
               f"fraction = {r['stick_fraction']:.3f}, periodic over {r['period_cycles']} cycle(s)")
         if r["period_cycles"]:
             print(f"  stick durations {r['period_stick_s']} s, slip durations {r['period_slip_s']} s")
-    print("  thesis (section 4.2.1): 3-cycle, stick (1.34, 2.53, 2.48) s, slip (5.4, 6.28, 6.41) s")
+    if s["reference_run"].get("thesis_periodic_regime"):
+        print(f"  thesis (section 4.2.1): {s['reference_run']['thesis_periodic_regime']}")
     if "stability_maps" in s:
         c = s["stability_maps"]["conclusions"]
         for label in MODEL_BETA1:

@@ -9,7 +9,6 @@ approximation or a bootstrap of the runs.
 from __future__ import annotations
 
 import numpy as np
-from scipy.stats import norm
 
 from drillpy import validate
 
@@ -36,6 +35,7 @@ def wilson_interval(p, n: int, confidence: float = 0.9) -> tuple[np.ndarray, np.
     ValueError
         Naming ``n``, ``confidence`` or ``p`` when out of range.
     """
+    from scipy.stats import norm  # here: importing drillpy's command line loads no SciPy
     validate.integer("n", n, 1)
     validate.fraction("confidence", confidence, closed=False)
     p = np.asarray(p, dtype=float)
