@@ -140,7 +140,7 @@ DRILLPY_ARGS = [
     ("simulate --top-speed abc", ["simulate", "--preset", "thesis-rig", "--top-speed", "abc"], "abc"),
     ("simulate --top-speed nan", ["simulate", "--preset", "thesis-rig", "--top-speed", "nan"], "nan"),
     ("simulate --top-speed inf", ["simulate", "--preset", "thesis-rig", "--top-speed", "inf"], "inf"),
-    ("simulate --wob-kn -3", ["simulate", "--preset", "thesis-rig", "--wob-kn", "-3"], "-3"),
+    ("simulate --wob -3kN", ["simulate", "--preset", "thesis-rig", "--wob", "-3kN"], "-3"),
     ("simulate --elements 0", ["simulate", "--preset", "thesis-rig", "--elements", "0"], "elements"),
     ("simulate --modes 0", ["simulate", "--preset", "thesis-rig", "--modes", "0"], "modes"),
     ("simulate --modes 2.5", ["simulate", "--preset", "thesis-rig", "--modes", "2.5"], "2.5"),

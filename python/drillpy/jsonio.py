@@ -12,6 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
+
 __all__ = ["jsonable", "dumps", "write_json"]
 
 
@@ -80,5 +82,5 @@ def write_json(path, o, indent: int | None = 2) -> Path:
         The path written.
     """
     p = Path(path)
-    p.write_text(dumps(o, indent))
+    write_text(p, dumps(o, indent))
     return p

@@ -68,3 +68,10 @@ def test_malformed_json_file(tmp_path):
         drillpy.load_config(path=p)
     with pytest.raises(ValueError, match="no such file"):
         drillpy.load_config(path=tmp_path / "missing.json")
+
+
+def test_a_json_nested_beyond_the_reader_names_the_file(tmp_path):
+    p = tmp_path / "deep.json"
+    p.write_text("[" * 200_000 + "]" * 200_000)  # issue 31: a recursion error named nothing
+    with pytest.raises(ValueError, match=r"config = '.*deep\.json': JSON nested too deep"):
+        drillpy.load_config(path=p)

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from conftest import run_cli
 
-from drillpy.control.comparison import compare_drives, wilson_band
+from drillpy.control.comparison import compare_drives, p_window
+from drillpy.uncertainty.binomial import wilson_interval
 from drillpy.control.episode import motor_torque, run_episode
 from drillpy.control.tuning import (FACTOR_RANGE, STALL_FRACTION, Window, bootstrap_p, controlled_drive, drive_gains,
                                     score, tune, window_severity)
@@ -92,8 +93,14 @@ def test_motor_torque_is_the_interval_mean_of_the_drive_equation():
 
 
 def test_wilson_band_and_bootstrap():
-    lo, hi = wilson_band(np.array([0.0, 0.5, 1.0]), 40)
+    from scipy.stats import binomtest
+    lo, hi = wilson_interval(np.array([0.0, 0.5, 1.0]), 40)
     assert lo[0] == 0.0 and 0.0 < hi[0] < 0.1 and lo[1] < 0.5 < hi[1] and hi[2] == 1.0
+    for k, n in ((0, 9), (3, 18), (18, 18)):  # SciPy's Wilson interval, to rounding
+        ci = binomtest(k, n).proportion_ci(0.9, method="wilson")
+        assert np.allclose(wilson_interval(k / n, n), (ci.low, ci.high), atol=1e-12)
+    none = p_window(np.zeros((1, 9, 2)))  # no stick-slip in 9 samples: P <= 0.23, not [0, 0]
+    assert none["value"] == 0.0 and none["low"] == 0.0 and none["high"] == pytest.approx(0.2311, abs=1e-4)
     rng = np.random.default_rng(0)
     ss = rng.uniform(0, 1, (1, 200, 3))
     b = bootstrap_p(ss, 200, 1)

@@ -54,7 +54,11 @@ def test_sweep_json_crossings_on_the_preset():
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
     falling = [c for c in d["crossings"] if c["direction"] == "falling"]
-    assert falling and falling[-1]["speed_rad_s"] == pytest.approx(d["threshold_rad_s"])
+    # the threshold is the bisection's, inside the grid cell of the last falling crossing (issue 31)
+    lo, hi = d["threshold_bracket_rad_s"]
+    cell = np.floor(falling[-1]["speed_rad_s"])
+    assert d["threshold_method"] == "bisection" and cell <= lo < d["threshold_rad_s"] < hi <= cell + 1.0
+    assert hi - lo <= 2 * 0.02 and d["threshold_rpm"] == pytest.approx(d["threshold_rad_s"] * 30 / np.pi)
 
 
 def test_time_format_follows_the_step():

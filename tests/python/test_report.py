@@ -2,6 +2,7 @@
 import json
 
 import numpy as np
+import pytest
 
 import drillpy
 from drillpy.reports.preset import field_report, map_conclusions
@@ -17,6 +18,12 @@ def test_field_report_writes_figures_and_summary(tmp_path):
     np.testing.assert_allclose(back["frequencies_hz"], [0.13, 0.42, 0.74, 1.07, 1.41], atol=0.005)
     assert 14.0 < back["sweep"]["threshold_rad_s"] < 26.0
     assert s["sweep"]["threshold_rad_s"] == back["sweep"]["threshold_rad_s"]  # the return is what was written
+    # one answer: the bisection's, with its precision and RPM; the thesis's 16 rad/s belongs to thesis-ch4,
+    # its 3-cycle regime of section 4.2.1 to this preset
+    sw = back["sweep"]
+    assert sw["threshold_method"] == "bisection" and sw["threshold_precision_rad_s"] <= 0.02
+    assert sw["threshold_rpm"] == pytest.approx(sw["threshold_rad_s"] * 30 / np.pi) and sw["thesis_threshold_rad_s"] is None
+    assert back["reference_run"]["thesis_periodic_regime"].startswith("3-cycle")
     m = back["stability_maps"]["severity"]
     assert len(m) == 3 and np.array(m["model 1 (reversible, beta1 = 0)"]).shape == (3, 3)
 

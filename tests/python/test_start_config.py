@@ -21,7 +21,7 @@ def _short_rig(**kw) -> dict:
 
 def test_saved_simulate_config_repeats_the_run_in_drillsim(drillsim, tmp_path):
     out = tmp_path / "py"
-    r = run_cli("simulate", "--preset", "thesis-rig", "--top-speed", "5", "--wob-kn", "0.3", "--start", "steady",
+    r = run_cli("simulate", "--preset", "thesis-rig", "--top-speed", "5", "--wob", "0.3kN", "--start", "steady",
                 "--out", str(out), "--json")
     assert r.returncode == 0, r.stderr
     py = json.loads((out / "summary.json").read_text())

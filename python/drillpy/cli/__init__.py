@@ -72,20 +72,28 @@ class _Parser(argparse.ArgumentParser):
 MAX_GRID_POINTS = 100_000
 
 
-def parse_grid(text: str, name: str) -> np.ndarray:
-    """Parse a grid option: ``start:stop:num`` (inclusive linspace) or a comma-separated list.
+def parse_grid(text: str, name: str, quantity: str | None = None, default_unit: str | None = None,
+               to: str | None = None) -> np.ndarray:
+    """Parse a grid option: ``start:stop:num`` (inclusive linspace) or a comma-separated list,
+    with an optional trailing unit for a physical quantity (``"50:160:23rpm"``, ``"20,45klbf"``).
 
     Parameters
     ----------
     text : str
-        The option's value, e.g. ``"6:27:22"`` or ``"8,14,20"`` (units those of the option).
+        The option's value, e.g. ``"6:27:22"`` or ``"8,14,20"``.
     name : str
         Option named in the error message, e.g. ``"--speeds"``.
+    quantity : str, optional
+        A quantity of :data:`drillpy.units.UNITS` (``"speed"``, ``"force"``): the grid is returned in SI.
+    default_unit : str, optional
+        Unit of a grid typed without one (default the SI unit).
+    to : str, optional
+        Unit of the result (default the SI unit).
 
     Returns
     -------
     ndarray
-        The grid values (float).
+        The grid values (float; SI, or ``to``, when ``quantity`` is given).
 
     Raises
     ------
@@ -94,6 +102,10 @@ def parse_grid(text: str, name: str) -> np.ndarray:
         that is not finite or more than :data:`MAX_GRID_POINTS` points.
     """
     bad = f"{name} = {text!r}: use start:stop:num or a comma-separated list"
+    if quantity is not None:
+        from drillpy import units
+        number, unit = units.split_unit(text, quantity)
+        return units.grid_in_si(parse_grid(number, name), unit, quantity, default_unit, to)
     try:
         if ":" in text:
             a, b, n = text.split(":")
@@ -149,6 +161,68 @@ def integer(name: str) -> Callable[[str], int]:
     return convert
 
 
+def quantity(name: str, kind: str, default_unit: str | None = None) -> Callable[[str], float]:
+    """A ``type=`` function for a physical value with an optional unit suffix (``120rpm``, ``45klbf``).
+
+    Parameters
+    ----------
+    name : str
+        Option named in the error message, e.g. ``"--top-speed"``.
+    kind : str
+        A quantity of :data:`drillpy.units.UNITS` (``"speed"``, ``"force"``, ``"torque"``).
+    default_unit : str, optional
+        Unit of a plain number (default the SI unit: rad/s, N, N m).
+
+    Returns
+    -------
+    callable
+        ``convert(text) -> float`` in SI; raises :class:`OptionError` naming the option and the value.
+    """
+    from drillpy import units
+
+    def convert(text: str) -> float:
+        try:
+            return units.parse_quantity(text, kind, name, default_unit)
+        except ValueError as e:
+            raise OptionError(str(e)) from None
+    convert.__name__ = name
+    return convert
+
+
+def renamed(new: str, why: str) -> type:
+    """An argparse action for a removed option: using it is an error naming its replacement.
+
+    Parameters
+    ----------
+    new : str
+        The option to use instead.
+    why : str
+        What the replacement means.
+
+    Returns
+    -------
+    type
+        An ``argparse.Action`` subclass raising :class:`OptionError`.
+    """
+    class Renamed(argparse.Action):
+        def __call__(self, parser, namespace, values, option_string=None):
+            raise OptionError(f"{option_string} = {values}: renamed {new} ({why})")
+    return Renamed
+
+
+def add_wob_arg(p: argparse.ArgumentParser) -> None:
+    """Add ``--wob``: the weight on bit of every run, with an optional unit (``200kN``, ``45klbf``; plain: N).
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        A simulation command's parser; :func:`model_config` applies it (``operation.wob_n``).
+    """
+    p.add_argument("--wob", type=quantity("--wob", "force"),
+                   help="weight on bit of the runs: a number in N or with a unit (200kN, 45klbf, 10000lbf); "
+                        "default the configuration's operation.wob_n")
+
+
 #: Most OpenMP threads ``--threads`` takes.
 MAX_THREADS = 1024
 
@@ -198,7 +272,12 @@ def add_model_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--modes", type=int, help="elastic modes kept in the reduced-order model")
     p.add_argument("--law", choices=["hysteretic", "tucker_wang"], help="thesis bit-rock law parameter set")
     p.add_argument("--beta1", type=float, help="hysteresis amplitude of Eq. (3.3)")
-    p.add_argument("--speed-unit", choices=["rad_s", "rpm"], help="speed unit of the law parameters")
+    p.add_argument("--law-speed-unit", choices=["rad_s", "rpm"],
+                   help="unit in which the bit-rock law's parameters (b0..b5, c0, alpha) read speeds; not the unit "
+                        "of the speeds you type (give those a suffix: --top-speed 120rpm)")
+    p.add_argument("--speed-unit", action=renamed("--law-speed-unit", "it sets the unit of the law's parameters, "
+                                                  "not of the speeds typed: give a speed its unit, e.g. "
+                                                  "--top-speed 120rpm"), help=argparse.SUPPRESS)
     p.add_argument("--scheme", choices=["modified_euler", "bdf2"], help="time integration scheme")
     p.add_argument("--acceleration", choices=["implicit", "lagged"],
                    help="bit acceleration in Eq. (3.3): the step's own (implicit, default) or the last "
@@ -215,13 +294,15 @@ def add_model_args(p: argparse.ArgumentParser) -> None:
     c = p.add_argument_group("controlled top drive (docs/control.md)")
     c.add_argument("--controller", choices=["stiff", "pi", "soft_speed", "z_torque"],
                    help="a top drive with inertia driven by this speed controller (tuned from the string's "
-                        "properties unless --kp/--ki are given) instead of the configuration's top drive")
+                        "properties unless --kp/--ki are given; pi: the stiff drive's pole placement) instead of "
+                        "the configuration's top drive")
     c.add_argument("--drive-inertia", type=float, metavar="J",
                    help="rotor and gearbox inertia of the controlled top drive [kg m^2] (needed with --controller "
                         "unless the configuration's drive has one)")
     c.add_argument("--kp", type=float, help="proportional gain [N m s/rad] (overrides the tuning)")
     c.add_argument("--ki", type=float, help="integral gain [N m/rad] (overrides the tuning)")
-    c.add_argument("--torque-limit", type=float, help="motor torque limit [N m]")
+    c.add_argument("--torque-limit", type=quantity("--torque-limit", "torque"),
+                   help="motor torque limit: N m or with a unit (50kNm, 36900ft-lbf)")
     c.add_argument("--sample-time", type=float, help="controller sample time [s] (zero-order hold; default continuous)")
 
 
@@ -257,8 +338,12 @@ def controlled_drive(a: argparse.Namespace, base: dict) -> dict | None:
         raise ValueError(f"--controller = {a.controller}: give --drive-inertia, the top drive's inertia [kg m^2] "
                          "(the configuration's drive has none)")
     from drillpy.control.tuning import controlled_drive as drive
+    from drillpy.control.tuning import nominal_pi_gains
     keys = {"kp_nms_rad": a.kp, "ki_nm_rad": a.ki, "sample_time_s": a.sample_time}
-    return drive(a.controller, inertia, a.torque_limit, {k: v for k, v in keys.items() if v is not None})
+    given = {k: v for k, v in keys.items() if v is not None}
+    if a.controller == "pi":  # the tuning the help promises for the gains not given
+        given = {**nominal_pi_gains(base, inertia), **given}
+    return drive(a.controller, inertia, a.torque_limit, given)
 
 
 def add_study_args(p: argparse.ArgumentParser) -> None:
@@ -316,11 +401,12 @@ def model_config(a: argparse.Namespace) -> dict:
     -------
     dict
         The preset or JSON file with the given overrides applied (validated by the library),
-        ``--start`` included (``simulation.start``).
+        ``--start`` included (``simulation.start``) and ``--wob`` (``operation.wob_n``) for the commands
+        that have it (:func:`add_wob_arg`).
     """
     base = load_config(preset=a.preset) if a.preset else load_config(path=a.config)
     return with_overrides(base, elements=a.elements, modes=a.modes, law=a.law, beta1=a.beta1,
-                          speed_unit=a.speed_unit, scheme=a.scheme, acceleration=a.acceleration, dt=a.dt,
+                          speed_unit=a.law_speed_unit, wob=getattr(a, "wob", None), scheme=a.scheme, acceleration=a.acceleration, dt=a.dt,
                           duration=a.duration, transient=a.transient, start=a.start,
                           top_drive=controlled_drive(a, base))
 
@@ -349,7 +435,9 @@ def check_output_folder(out: str) -> None:
 
 def removed_on_failure(out):
     """Context manager: if its block raises, remove the first folder of ``out`` that did not exist
-    on entry (with what this run wrote in it); a folder that existed before is never removed.
+    on entry (with what this run wrote in it); a folder that existed before is never removed, nor one
+    interrupted (Ctrl-C) with a study store in it (``study.zarr``: its finished blocks are kept and the
+    same command resumes them).
 
     Parameters
     ----------
@@ -369,11 +457,53 @@ def removed_on_failure(out):
     def guard():
         try:
             yield
-        except BaseException:
+        except KeyboardInterrupt:
             if first_new is not None and first_new.is_dir():
+                from drillpy.study.store import STORE_NAME
+                if any(first_new.rglob(STORE_NAME)):
+                    print(f"drillpy: the finished blocks are kept in {out}: the same command resumes them",
+                          file=sys.stderr)
+                else:
+                    shutil.rmtree(first_new, ignore_errors=True)
+            raise
+        except BaseException as e:
+            from drillpy.outputs import FolderBusy
+            if first_new is not None and first_new.is_dir() and not isinstance(e, FolderBusy):  # busy: not ours
                 shutil.rmtree(first_new, ignore_errors=True)
             raise
     return guard()
+
+
+
+@contextlib.contextmanager
+def plausibility_lines():
+    """Context manager: each distinct plausibility warning of a configuration
+    (:class:`drillpy.model.plausibility.ImplausibleConfiguration`) printed once on stderr as
+    ``drillpy: warning: <field> = <value> <unit>: outside the plausible <range> (<source>)...``; other
+    warnings as Python shows them.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        The context.
+    """
+    import warnings
+
+    from drillpy.model.plausibility import ImplausibleConfiguration
+    seen: set = set()
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", ImplausibleConfiguration)
+        shown = warnings.showwarning
+
+        def show(message, category, filename, lineno, file=None, line=None):
+            if not issubclass(category, ImplausibleConfiguration):
+                return shown(message, category, filename, lineno, file, line)
+            if str(message) not in seen:
+                seen.add(str(message))
+                from tqdm import tqdm
+                tqdm.write(f"drillpy: warning: {message}", file=sys.stderr)
+        warnings.showwarning = show
+        yield
 
 
 # Order of the subcommands in ``drillpy --help`` (unchanged from the single-module CLI).
@@ -415,9 +545,10 @@ def main(argv: list[str] | None = None) -> int:
     int
         Exit status: 0 on success, 2 after a one-line ``drillpy: error: ...`` on stderr (bad input,
         failed run, unreadable file), 130 when interrupted. argparse's own usage errors exit with 2
-        after one line too (:class:`_Parser`). A ``--out`` that cannot be a folder is refused before
-        any work, and a failed command removes the output folder it created
-        (:func:`removed_on_failure`).
+        after one line too (:class:`_Parser`). A ``--out`` that cannot be a folder (or is empty) is
+        refused before any work, a failed command removes the output folder it created
+        (:func:`removed_on_failure`), and a folder another command is writing into is refused
+        (:func:`drillpy.outputs.folder_lock`).
     """
     from drillpy.provenance import running_command
     parser = build_parser()
@@ -427,9 +558,18 @@ def main(argv: list[str] | None = None) -> int:
         out = getattr(args, "out", None)
         out = out if isinstance(out, str) else None
         if out is not None:
+            if not out.strip():
+                raise ValueError(f"--out = {out!r}: an empty folder name (give a folder, e.g. --out results/run1)")
             check_output_folder(out)
-        # the command line recorded in every output; a failed command leaves no folder it created
-        with running_command(argv), removed_on_failure(out) if out else contextlib.nullcontext():
+        from drillpy.outputs import folder_lock
+        # the command line recorded in every output; a failed command leaves no folder it created; one
+        # command at a time writes into a folder; each plausibility warning printed once
+        with contextlib.ExitStack() as stack:
+            stack.enter_context(running_command(argv))
+            stack.enter_context(plausibility_lines())
+            if out:
+                stack.enter_context(removed_on_failure(out))
+                stack.enter_context(folder_lock(out))
             return args.func(args)
     except (OptionError, ValueError, RuntimeError, OSError) as e:
         print(f"drillpy: error: {e}", file=sys.stderr)

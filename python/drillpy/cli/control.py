@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from drillpy.cli import integer, parse_grid, print_json, threads_option
+from drillpy.cli import integer, parse_grid, print_json, quantity, threads_option
 from drillpy.model.config import load_config, with_overrides
 
 
@@ -28,13 +28,17 @@ def _add_control(sub) -> argparse.ArgumentParser:
     src.add_argument("--config", help="JSON configuration file (e.g. a loop's model.json)")
     s.add_argument("--drive-inertia", type=float, required=True, metavar="J",
                    help="rotor and gearbox inertia of the top drive [kg m^2]")
-    s.add_argument("--torque-limit", type=float, help="motor torque limit [N m] (default: none)")
+    s.add_argument("--torque-limit", type=quantity("--torque-limit", "torque"),
+                   help="motor torque limit: N m or with a unit (50kNm, 36900ft-lbf; default: none)")
     s.add_argument("--controllers", default="soft_speed,z_torque",
                    help="controllers to tune, comma-separated (soft_speed, z_torque)")
-    s.add_argument("--speeds", help="top speeds of the operating window [rad/s], start:stop:num or list "
-                                    "(default: the configuration's speed x 0.5:1.25:6)")
-    s.add_argument("--wobs-kn", help="WOBs of the operating window [kN], start:stop:num or list "
-                                     "(default: the configuration's WOB x 0.8, 1, 1.2)")
+    s.add_argument("--speeds", help="top speeds of the operating window, start:stop:num or list, in rad/s or with "
+                                    "a unit (60:180:6rpm; default: the configuration's speed x 0.5:1.25:6)")
+    w = s.add_mutually_exclusive_group()
+    w.add_argument("--wobs-kn", help="WOBs of the operating window, start:stop:num or list, in kN or with a unit "
+                                     "(30:50:3klbf; default: the configuration's WOB x 0.8, 1, 1.2)")
+    w.add_argument("--wob", type=quantity("--wob", "force"),
+                   help="one WOB for the whole window: N or with a unit (200kN, 45klbf)")
     s.add_argument("--samples", type=integer("samples"), default=16, help="tuning samples per (speed, WOB)")
     s.add_argument("--validation-samples", type=integer("validation_samples"), default=48,
                    help="new samples of the comparison per (speed, WOB)")
@@ -59,8 +63,8 @@ def _add_control(sub) -> argparse.ArgumentParser:
     return s
 
 
-def _grid(text, default, scale: float, name: str):
-    return default if text is None else parse_grid(text, name) * scale
+def _grid(text, default, name: str, kind: str, unit: str | None = None):
+    return default if text is None else parse_grid(text, name, kind, unit)
 
 
 def cmd_control(a: argparse.Namespace) -> int:
@@ -101,8 +105,9 @@ def cmd_control(a: argparse.Namespace) -> int:
     if a.seed == 2**64 - 1:
         raise ValueError(f"--seed = {a.seed}: must be below 2^64 - 1 (the comparison uses seed + 1)")
     op = cfg["operation"]
-    speeds = _grid(a.speeds, op["top_speed_rad_s"] * np.linspace(0.5, 1.25, 6), 1.0, "--speeds")
-    wobs = _grid(a.wobs_kn, op["wob_n"] * np.array([0.8, 1.0, 1.2]), 1e3, "--wobs-kn")
+    speeds = _grid(a.speeds, op["top_speed_rad_s"] * np.linspace(0.5, 1.25, 6), "--speeds", "speed")
+    wobs = (np.array([a.wob]) if a.wob is not None
+            else _grid(a.wobs_kn, op["wob_n"] * np.array([0.8, 1.0, 1.2]), "--wobs-kn", "force", "kN"))
     from drillpy.uncertainty.process import THESIS_PSD, scaled_to_std
     psd = THESIS_PSD
     if a.eta_std is not None:
@@ -127,7 +132,7 @@ def cmd_control(a: argparse.Namespace) -> int:
                                                         for c, t in js["tunings"].items()},
                     "drives": {k: {key: r[key] for key in ("p_window", "p_vs_reference", "stalled_fraction", "mean_ss",
                                                            "deterministic_threshold_rad_s", "p05_speed_rad_s",
-                                                           "p05_interval")}
+                                                           "p05_interval", "p05_precision_warning")}
                                for k, r in js["comparison"].items()},
                     "episode_speed_rad_s": js["episode_speed_rad_s"], "episodes": js["episodes"]})
         return 0
@@ -137,8 +142,11 @@ def cmd_control(a: argparse.Namespace) -> int:
                                          for k, v in t.gains.items()))
     for label, r in study.comparison.items():
         pw, p05 = r["p_window"], r["p05_speed_rad_s"]
-        print(f"{label:18s} P(SS > 0.5 or stalled) = {pw['value']:.3f} [{pw['low']:.3f}, {pw['high']:.3f}]  "
-              f"5 % speed " + (f"{p05:.2f} rad/s" if p05 is not None else r["p05_reading"]))
+        print(f"{label:18s} P(SS > 0.5 or stalled) = {pw['value']:.3f} [{pw['low']:.3f}, {pw['high']:.3f}] "
+              f"(90 % Wilson, {pw['trials']} samples)  5 % speed "
+              + (f"{p05:.2f} rad/s" if p05 is not None else r["p05_reading"]))
+        if p05 is not None and r["p05_precision_warning"]:
+            print(f"drillpy: warning: {label}: {r['p05_precision_warning']}", file=sys.stderr)
     print(f"report.md, control.json and figures written to {a.out}")
     return 0
 

@@ -10,7 +10,9 @@ from pathlib import Path
 
 import numpy as np
 
-from drillpy.cli import add_model_args, add_study_args, model_config, parse_grid, print_json, study_severity
+from drillpy.outputs import replacing, write_text
+from drillpy.cli import (add_model_args, add_study_args, add_wob_arg, model_config, parse_grid, print_json, quantity,
+                         renamed, study_severity)
 from drillpy.jsonio import jsonable
 from drillpy.model.config import with_overrides
 
@@ -88,8 +90,10 @@ def _add_simulate(sub) -> argparse.ArgumentParser:
     """Register ``drillpy simulate`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("simulate", help="one run: time series and stick-slip metrics")
     add_model_args(s)
-    s.add_argument("--top-speed", type=float, help="top-drive speed [rad/s]")
-    s.add_argument("--wob-kn", type=float, help="weight on bit [kN]")
+    s.add_argument("--top-speed", type=quantity("--top-speed", "speed"),
+                   help="top-drive speed: rad/s or with a unit (120rpm)")
+    add_wob_arg(s)
+    s.add_argument("--wob-kn", action=renamed("--wob", "a WOB with its unit, e.g. --wob 200kN"), help=argparse.SUPPRESS)
     s.add_argument("--out", help="folder for series.csv, summary.json and a figure")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_simulate)
@@ -97,7 +101,7 @@ def _add_simulate(sub) -> argparse.ArgumentParser:
 
 
 def cmd_simulate(a: argparse.Namespace) -> int:
-    """Run one simulation at ``--top-speed`` [rad/s] and ``--wob-kn`` [kN]; print its stick-slip metrics.
+    """Run one simulation at ``--top-speed`` and ``--wob`` (SI or with a unit); print its stick-slip metrics.
 
     With ``--out`` writes ``series.csv`` (time series, SI units), ``time_series.png`` and
     ``summary.json`` (the summary with the effective configuration). ``series.csv`` holds the data's
@@ -121,7 +125,7 @@ def cmd_simulate(a: argparse.Namespace) -> int:
     from drillpy.model.simulation import simulate
     from drillpy.provenance import header, provenance
     # the effective configuration (overrides, operating point and start) is the one saved
-    cfg = with_overrides(model_config(a), top_speed=a.top_speed, wob=None if a.wob_kn is None else a.wob_kn * 1e3)
+    cfg = with_overrides(model_config(a), top_speed=a.top_speed)
     r = simulate(cfg)
     summary = r.summary()  # drill/run_summary.hpp: the keys drillsim writes
     if a.out:
@@ -130,11 +134,12 @@ def cmd_simulate(a: argparse.Namespace) -> int:
         cols = np.column_stack([r.t, r.bit_speed, r.bit_accel, r.bit_angle, r.torque_on_bit,
                                 r.top_torque, r.top_speed])
         prov = provenance(start=r.config.get("simulation", {}).get("start", a.start) or "rest")  # the start used
-        np.savetxt(out / "series.csv", cols, delimiter=",", comments="", fmt=[_time_format(r.t)] + ["%.7g"] * 6,
-                   header=header(prov) + "\ntime_s,bit_speed_rad_s,bit_accel_rad_s2,bit_angle_rad,torque_on_bit_Nm,"
-                          "top_torque_Nm,top_speed_rad_s")
+        with replacing(out / "series.csv") as tmp:
+            np.savetxt(tmp, cols, delimiter=",", comments="", fmt=[_time_format(r.t)] + ["%.7g"] * 6,
+                       header=header(prov) + "\ntime_s,bit_speed_rad_s,bit_accel_rad_s2,bit_angle_rad,torque_on_bit_Nm,"
+                              "top_torque_Nm,top_speed_rad_s")
         plotting.time_series_plot(out / "time_series.png", r.t, r.bit_speed, r.torque_on_bit, r.top_speed)
-        (out / "summary.json").write_text(dumps({**summary, "config": r.config, "provenance": prov}, indent=2))
+        write_text((out / "summary.json"), dumps({**summary, "config": r.config, "provenance": prov}, indent=2))
     print(dumps(summary, indent=None) if a.json else
           f"SS = {r.severity:.3f}, stick fraction = {r.stick_fraction:.3f}, "
           f"periodic over {r.period_cycles} cycle(s)")
@@ -169,18 +174,22 @@ def _add_sweep(sub) -> argparse.ArgumentParser:
     """Register ``drillpy sweep`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("sweep", help="SS versus top speed (Fig. 4.8)")
     add_model_args(s)
-    s.add_argument("--speeds", default="6:27:22", help="top speeds [rad/s], start:stop:num or list")
+    s.add_argument("--speeds", default="6:27:22",
+                   help="top speeds, start:stop:num or list, in rad/s or with a unit (50:160:23rpm)")
+    add_wob_arg(s)
     s.add_argument("--out", help="folder for the figure, sweep.json and study.zarr")
     add_study_args(s)
-    s.add_argument("--refine", type=float, metavar="TOL", help="locate the threshold by bisection to TOL [rad/s]")
+    s.add_argument("--refine", type=float, metavar="TOL", default=0.02,
+                   help="half-width of the threshold's bisection bracket [rad/s] (default 0.02)")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_sweep)
     return s
 
 
 def cmd_sweep(a: argparse.Namespace) -> int:
-    """SS versus top speed [rad/s], the speed below which SS > 0.5 (optionally by bisection) and
-    every crossing of SS through 0.5 with its direction (``crossings``: ``"falling"``, stick-slip
+    """SS versus top speed [rad/s], the threshold below which SS > 0.5 by bisection
+    (:func:`drillpy.model.threshold.stick_slip_threshold`, ``--refine`` its precision) and every other
+    crossing of SS through 0.5 with its direction (``crossings``: ``"falling"``, stick-slip
     below the speed; ``"rising"``, stick-slip above it).
 
     Parameters
@@ -194,36 +203,30 @@ def cmd_sweep(a: argparse.Namespace) -> int:
         Exit status 0; prints the sweep as JSON or one line per speed and the threshold; with
         ``--out`` :func:`drillpy.reports.preset.write_sweep` writes the figure and ``sweep.json``.
     """
-    from drillpy.model.simulation import severity_crossings, severity_threshold, sweep_severity
+    from drillpy.model.simulation import severity_crossings, sweep_severity
+    from drillpy.model.threshold import format_threshold, stick_slip_threshold
     from drillpy.reports.preset import write_sweep
     cfg = model_config(a)
-    speeds = parse_grid(a.speeds, "--speeds")
+    speeds = parse_grid(a.speeds, "--speeds", "speed")
     from drillpy.study import Study
     ss = study_severity(lambda: Study("sweep", cfg, tuple(speeds.tolist()), options={"start": a.start}), a,
                         lambda: sweep_severity(cfg, speeds, progress=not a.no_progress, threads=a.threads,
                                                start=a.start))
-    thr = severity_threshold(speeds, ss)
+    thr = stick_slip_threshold(cfg, speeds, ss, tol=a.refine, threads=a.threads, start=a.start)
     crossings = severity_crossings(speeds, ss)
-    res = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.tolist(), "threshold_rad_s": thr,
-           "crossings": crossings}
-    if a.refine is not None and thr is not None:
-        from drillpy.model.simulation import refine_threshold
-        r = refine_threshold(cfg, speeds, ss, tol=a.refine, threads=a.threads, start=a.start)
-        thr = r.threshold
-        res.update(threshold_rad_s=r.threshold, threshold_precision_rad_s=r.precision,
-                   threshold_bracket_rad_s=[r.below, r.above], refinement_runs=[list(e) for e in r.evaluations])
+    res = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.tolist(), **thr, "crossings": crossings}
     if a.out:
-        write_sweep(a.out, speeds, ss, thr, jsonable(res), cfg, start=a.start)  # NaN written as null
+        write_sweep(a.out, speeds, ss, thr["threshold_rad_s"], jsonable(res), cfg, start=a.start)  # NaN as null
     if a.json:
         print_json(res)
     else:
         for s, v in zip(speeds, ss):
             print(f"{s:8.3f} rad/s  SS = {v:.3f}")
-        if thr is not None:
-            print("SS > 0.5 below",
-                  f"{thr:.3f} +- {res['threshold_precision_rad_s']:.3f} rad/s (bisection)"
-                  if "threshold_precision_rad_s" in res else f"{thr:.2f} rad/s (linear interpolation on the grid)")
-        for c in crossings:
+        print(format_threshold(thr))
+        # the last falling crossing is the threshold, answered by the bisection: not printed twice
+        falling = [i for i, c in enumerate(crossings) if c["direction"] == "falling"]
+        others = [c for i, c in enumerate(crossings) if thr["threshold_rad_s"] is None or i != falling[-1]]
+        for c in others:
             print(f"SS crosses 0.5 {c['direction']} at {c['speed_rad_s']:.2f} rad/s: stick-slip "
                   f"{'below' if c['direction'] == 'falling' else 'above'} it (linear interpolation on the grid)")
         if not crossings:
@@ -235,8 +238,10 @@ def _add_map(sub) -> argparse.ArgumentParser:
     """Register ``drillpy map`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("map", help="stability map over top speed x WOB (Figs. 3.11-3.12)")
     add_model_args(s)
-    s.add_argument("--speeds-rpm", default="50:160:23", help="top speeds [RPM]")
-    s.add_argument("--wobs-kn", default="22:267:12", help="weights on bit [kN]")
+    s.add_argument("--speeds-rpm", default="50:160:23",
+                   help="top speeds, start:stop:num or list, in RPM or with a unit (5:17:13rad/s)")
+    s.add_argument("--wobs-kn", default="22:267:12",
+                   help="weights on bit, start:stop:num or list, in kN or with a unit (5:60:12klbf)")
     s.add_argument("--out", help="folder for the figure, map.json and study.zarr")
     add_study_args(s)
     s.add_argument("--json", action="store_true")
@@ -261,8 +266,8 @@ def cmd_map(a: argparse.Namespace) -> int:
     from drillpy.model.simulation import stability_map
     from drillpy.reports.preset import write_map
     cfg = model_config(a)
-    sp = parse_grid(a.speeds_rpm, "--speeds-rpm")
-    w = parse_grid(a.wobs_kn, "--wobs-kn")
+    sp = parse_grid(a.speeds_rpm, "--speeds-rpm", "speed", "rpm", to="rpm")  # the map's axes: RPM and kN
+    w = parse_grid(a.wobs_kn, "--wobs-kn", "force", "kN", to="kN")
     from drillpy.study import Study
     speeds, wobs = sp * np.pi / 30.0, w * 1e3
     m = study_severity(lambda: Study("map", cfg, tuple(speeds.tolist()), wobs=tuple(wobs.tolist()),

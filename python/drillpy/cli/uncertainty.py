@@ -13,9 +13,11 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
 from drillpy import validate
-from drillpy.cli import add_model_args, add_study_args, integer, model_config, parse_grid, print_json
+from drillpy.cli import add_model_args, add_study_args, add_wob_arg, integer, model_config, parse_grid, print_json
 from drillpy.jsonio import jsonable
+from drillpy.uncertainty.binomial import wilson_interval
 
 
 def add_uncertainty_args(p: argparse.ArgumentParser, samples: int, out: str) -> None:
@@ -201,7 +203,9 @@ def _add_robust_ss(sub) -> argparse.ArgumentParser:
                                             "source of uncertainty)")
     add_study_args(s)
     s.add_argument("--delta", type=float, default=0.1, help="dispersion of every SM_CB2 matrix")
-    s.add_argument("--speeds", default="6:27:8", help="top speeds [rad/s], start:stop:num or list")
+    s.add_argument("--speeds", default="6:27:8",
+                   help="top speeds, start:stop:num or list, in rad/s or with a unit (60:250:8rpm)")
+    add_wob_arg(s)
     s.add_argument("--bit-rock", action="store_true",
                    help="add the stochastic bit-rock law: eta with the thesis PSD (Eqs. 4.1-4.4)")
     s.add_argument("--eta-npy", help="eta(t) of Eq. (4.1), one row per sample (.npy), for bit-rock uncertainty")
@@ -233,7 +237,7 @@ def cmd_robust_ss(a: argparse.Namespace) -> int:
     cfg = cb_config(a, controller=True)
     if a.bit_rock and a.eta_npy:
         raise ValueError("--bit-rock and --eta-npy: give one source of eta")
-    speeds = parse_grid(a.speeds, "--speeds")
+    speeds = parse_grid(a.speeds, "--speeds", "speed")
     client = cluster = None
     if a.out or a.scheduler != "local":
         from drillpy.study.run import open_client, parse_scheduler
@@ -256,11 +260,14 @@ def cmd_robust_ss(a: argparse.Namespace) -> int:
     else:
         for label, st in studies.items():
             print(f"{label}:")
-            for v, m, lo, hi, p in zip(speeds, st.mean, st.q05, st.q95, st.p_stick_slip):
-                print(f"  {v:7.2f} rad/s  SS mean {m:.3f}  5-95 % [{lo:.3f}, {hi:.3f}]  P(SS > 0.5) {p:.2f}")
+            p_lo, p_hi = wilson_interval(np.clip(st.p_stick_slip, 0.0, 1.0), st.ss.shape[0])
+            for v, m, lo, hi, p, a_, b_ in zip(speeds, st.mean, st.q05, st.q95, st.p_stick_slip, p_lo, p_hi):
+                print(f"  {v:7.2f} rad/s  SS mean {m:.3f}  5-95 % [{lo:.3f}, {hi:.3f}]  P(SS > 0.5) {p:.2f} "
+                      f"[90 % Wilson {a_:.2f}, {b_:.2f}]")
             p05 = res[label].get("p05_speed_rad_s")
             print("  P(SS > 0.5) <= 5 % from", "no crossing in range" if p05 is None else f"{p05:.2f} rad/s",
                   _robust_speed_text(res[label]))
+            _precision_warning(res[label])
     return 0
 
 
@@ -307,7 +314,9 @@ def add_mc(sub) -> argparse.ArgumentParser:
                    help="integer seed; sample i depends only on (seed, i)")
     s.add_argument("--first-sample", type=integer("first_sample"), default=0,
                    help="index of the first sample (chunked runs)")
-    s.add_argument("--speeds", default="6:27:22", help="top speeds [rad/s], start:stop:num or list")
+    s.add_argument("--speeds", default="6:27:22",
+                   help="top speeds, start:stop:num or list, in rad/s or with a unit (60:250:22rpm)")
+    add_wob_arg(s)
     s.add_argument("--warmup", type=float, help="deterministic start-up shared by all samples [s] "
                                                 "(default 100)")
     s.add_argument("--eta-dt", type=float, default=0.05, help="sampling step of eta [s]")
@@ -370,11 +379,11 @@ def cmd_mc_merge(a: argparse.Namespace) -> int:
         print(f"{len(a.chunks)} chunks merged: samples {study.first_sample}-{study.first_sample + n - 1}, "
               f"seed {study.seed}")
         for r in res["speeds"]:
-            print(f"{r['top_speed_rad_s']:8.3f} rad/s  mean SS = {r['mean_ss']:.3f}  "
-                  f"[q05 {r['q05']:.3f}, q95 {r['q95']:.3f}]  P(SS > 0.5) = {r['p_ss_gt_0_5']:.3f}")
+            print(_mc_row(r))
         p05 = res["p05_speed_rad_s"]
         print("P(SS > 0.5) <= 5 % from", "no crossing in range" if p05 is None else f"{p05:.2f} rad/s",
               _robust_speed_text(res))
+        _precision_warning(res)
         if a.out:
             print(f"mc.json, mc_samples.json and figures written to {a.out}")
     return 0
@@ -458,7 +467,7 @@ def cmd_mc(a: argparse.Namespace) -> int:
     from drillpy.reports.uncertainty import robust_speed_summary
     from drillpy.uncertainty import montecarlo as mcm
     cfg = model_config(a)
-    speeds = parse_grid(a.speeds, "--speeds")
+    speeds = parse_grid(a.speeds, "--speeds", "speed")
     psd = psd_option(a)
     durations = dict(warmup=mcm.WARMUP_S if a.warmup is None else a.warmup,
                      duration=mcm.DURATION_S if a.duration is None else a.duration,
@@ -478,7 +487,7 @@ def cmd_mc(a: argparse.Namespace) -> int:
         **{k: study.settings[k + "_s"] for k in ("warmup", "duration", "transient")}).severity))
     if a.out and a.no_figures:
         write_samples(study, a.out)
-        Path(a.out, "mc.json").write_text(dumps({**res, "config": study.config, "provenance": provenance(
+        write_text(Path(a.out, "mc.json"), dumps({**res, "config": study.config, "provenance": provenance(
             seed=study.seed, samples=int(study.severity.shape[0]), first_sample=study.first_sample)}))
     elif a.out:
         res["figures"] = write_figures(study, cfg, a.out, psd=psd, eta_dt=a.eta_dt,
@@ -492,17 +501,31 @@ def cmd_mc(a: argparse.Namespace) -> int:
                  f"shared {res['warmup_s']:g}-s deterministic warm start, then {res['duration_s']:g} s with eta, SS "
                  f"after {res['transient_s']:g} s (Algorithm 1 literally: --warmup 0 --duration 300 --transient 200)"))
         for r in res["speeds"]:
-            print(f"{r['top_speed_rad_s']:8.3f} rad/s  mean SS = {r['mean_ss']:.3f}  "
-                  f"[q05 {r['q05']:.3f}, q95 {r['q95']:.3f}]  P(SS > 0.5) = {r['p_ss_gt_0_5']:.3f}")
+            print(_mc_row(r))
         p05 = res["p05_speed_rad_s"]
         print("P(SS > 0.5) <= 5 % from", "no crossing in range" if p05 is None else f"{p05:.2f} rad/s",
               _robust_speed_text(res),
-              "(deterministic SS < 0.5 from",
+              "(eta = 0 with this study's warm start: SS < 0.5 from",
               "no crossing" if res["deterministic_threshold_rad_s"] is None
-              else f"{res['deterministic_threshold_rad_s']:.2f} rad/s)")
+              else f"{res['deterministic_threshold_rad_s']:.2f} rad/s by grid interpolation; the model's "
+                   "threshold is drillpy sweep's)")
+        _precision_warning(res)
         if a.out:
             print(f"figures and mc.json written to {a.out}")
     return 0
+
+
+def _mc_row(r: dict) -> str:
+    """One speed of an ``mc`` summary: mean SS, its 5-95 % band, P(SS > 0.5) with its 90 % Wilson interval."""
+    lo, hi = r["p_ss_gt_0_5_wilson90"]
+    return (f"{r['top_speed_rad_s']:8.3f} rad/s  mean SS = {r['mean_ss']:.3f}  [q05 {r['q05']:.3f}, q95 {r['q95']:.3f}]  "
+            f"P(SS > 0.5) = {r['p_ss_gt_0_5']:.3f} [90 % Wilson {lo:.3f}, {hi:.3f}]")
+
+
+def _precision_warning(res: dict) -> None:
+    """Print the warning of a 5 % speed whose precision the grid limits (stderr, one line)."""
+    if res.get("p05_speed_precision_warning"):
+        print(f"drillpy: warning: {res['p05_speed_precision_warning']}", file=sys.stderr)
 
 
 def _robust_speed_text(res: dict) -> str:

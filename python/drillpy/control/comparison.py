@@ -22,6 +22,8 @@ import numpy as np
 
 from drillpy.jsonio import jsonable
 from drillpy.control.tuning import Window, bootstrap_p, score, stalled_fraction, window_severity
+from drillpy.reports.uncertainty import grid_limit
+from drillpy.uncertainty.binomial import wilson_interval
 from drillpy.model.simulation import severity_threshold
 from drillpy.uncertainty.robust_speed import bootstrap_interval, exceedance, p_speed
 
@@ -29,27 +31,26 @@ from drillpy.uncertainty.robust_speed import bootstrap_interval, exceedance, p_s
 STALLED_SS = 1e3
 
 
-def wilson_band(p: np.ndarray, n: int, confidence: float = 0.9) -> tuple[np.ndarray, np.ndarray]:
-    """Wilson score interval of binomial proportions (SciPy's ``binomtest(...).proportion_ci``).
+def p_window(ss: np.ndarray, confidence: float = 0.9) -> dict:
+    """P(SS > 0.5 or stalled) over a window with its Wilson interval, the samples (rows of every cell,
+    drawn independently) as the binomial trials: 0 of 9 is P <= 0.23 at 90 %, never [0, 0].
 
     Parameters
     ----------
-    p : numpy.ndarray
-        Observed proportions (of ``n`` trials each).
-    n : int
-        Trials per proportion.
+    ss : numpy.ndarray
+        SS [-], shape (n_wobs, samples, n_speeds).
     confidence : float
-        Confidence level (default 90 %, two-sided).
+        Level of the interval.
 
     Returns
     -------
-    tuple of numpy.ndarray
-        Lower and upper bounds.
+    dict
+        ``value``, ``low``, ``high``, ``confidence``, ``trials`` (the samples) and ``method`` (``"wilson"``).
     """
-    from scipy.stats import binomtest
-
-    cis = [binomtest(int(round(x * n)), n).proportion_ci(confidence, method="wilson") for x in np.asarray(p, float)]
-    return np.array([c.low for c in cis]), np.array([c.high for c in cis])
+    value = score(ss)[1]
+    low, high = wilson_interval(value, ss.shape[1], confidence)
+    return {"value": value, "low": float(low), "high": float(high), "confidence": confidence,
+            "trials": int(ss.shape[1]), "method": "wilson"}
 
 
 def nominal_index(window: Window, wob: float) -> int:
@@ -97,9 +98,11 @@ def compare_drives(cfg: dict, drives: dict, window: Window, *, reference: str, v
     -------
     dict
         Per label: ``map`` (SS, n_wobs x n_speeds), ``deterministic_threshold_rad_s`` (None: no
-        crossing), ``p_window`` and ``p_vs_reference`` (:func:`drillpy.control.tuning.bootstrap_p`),
+        crossing), ``p_window`` (:func:`p_window`, Wilson) and ``p_vs_reference``
+        (:func:`drillpy.control.tuning.bootstrap_p`, paired),
         ``mean_ss`` (runs that did not stall), ``stalled_fraction``, ``p_by_speed``, ``p_band`` (low, high), ``p05_speed_rad_s`` and
-        ``p05_interval``, ``p05_reading``, ``nominal_row`` (the nominal WOB's row); plus ``severity`` (the validation SS tables, not JSON).
+        ``p05_interval``, ``p05_precision_warning`` (:func:`drillpy.reports.uncertainty.grid_limit`, None when the
+        samples, not the grid, set the interval), ``p05_reading``, ``nominal_row`` (the nominal WOB's row); plus ``severity`` (the validation SS tables, not JSON).
     """
     if reference not in drives:
         raise ValueError(f"reference = {reference!r}: not one of the drives ({', '.join(drives)})")
@@ -115,14 +118,15 @@ def compare_drives(cfg: dict, drives: dict, window: Window, *, reference: str, v
         det = window_severity(cfg, drive, window, seed=validation_seed, threads=threads, deterministic=True)[:, 0]
         at = np.minimum(ss[k], STALLED_SS)  # the engine's statistics take finite SS; a stall stays above 0.5
         p = exceedance(at)
-        low, high = wilson_band(p, at.shape[0])
+        low, high = wilson_interval(p, at.shape[0])
         p05 = p_speed(at, window.speeds)
+        iv = bootstrap_interval(at, window.speeds, resamples=bootstrap, seed=validation_seed)
         out[label] = {
             "map": det, "deterministic_threshold_rad_s": severity_threshold(window.speeds, np.minimum(det[k], STALLED_SS)),
-            "p_window": bootstrap_p(ss, bootstrap, validation_seed),
+            "p_window": p_window(ss),
             "p_vs_reference": bootstrap_p(ss, bootstrap, validation_seed, reference=tables[reference]),
             "mean_ss": score(ss)[2], "stalled_fraction": stalled_fraction(ss), "p_by_speed": p, "p_band": (low, high), "p05_speed_rad_s": p05,
-            "p05_interval": bootstrap_interval(at, window.speeds, resamples=bootstrap, seed=validation_seed),
+            "p05_interval": iv, "p05_precision_warning": grid_limit(iv, window.speeds),
             "p05_reading": _p05_reading(p, window.speeds, p05), "nominal_row": k, "severity": ss}
     return out
 

@@ -87,6 +87,27 @@ def controlled_drive(controller: str, inertia: float, torque_limit: float | None
     return {"type": "controlled", "inertia_kg_m2": inertia, "controller": ctl}
 
 
+def nominal_pi_gains(cfg: dict, inertia: float) -> dict:
+    """The gains of a ``pi`` controller left untuned: the ``stiff`` drive's pole placement on the string
+    (kp = 2 J w_b, ki = J w_b^2, w_b = 20 w_1; docs/control.md).
+
+    Parameters
+    ----------
+    cfg : dict
+        The configuration (its string sets w_1).
+    inertia : float
+        Drive inertia J [kg m^2].
+
+    Returns
+    -------
+    dict
+        ``kp_nms_rad`` [N m s/rad] and ``ki_nm_rad`` [N m/rad].
+    """
+    from drillpy.model.config import with_overrides
+    g = drive_gains(with_overrides(cfg, top_drive=controlled_drive("stiff", inertia)))
+    return {"kp_nms_rad": g["kp_nms_rad"], "ki_nm_rad": g["ki_nm_rad"]}
+
+
 def drive_gains(cfg: dict) -> dict:
     """The gains the engine resolves for the configuration's controlled drive.
 

@@ -1,7 +1,7 @@
 """Every figure, one module per area (Agg backend: files only). Figures take the result objects
 that the compute functions return; none of them computes a study.
 
-Naming: a ``*_plot`` function draws one figure, writes one PNG and returns its path; a
+Naming: a ``*_plot`` function draws one figure, writes one PNG (unless its path is None) and returns its matplotlib Figure; a
 ``*_figures`` function draws every figure of one result object into an output folder:
 
 * :mod:`~drillpy.figures.simulation`: deterministic runs (time series, SS curves, stability maps);

@@ -30,14 +30,17 @@ def control_figures(study: "ControlStudy", out_dir) -> list:
         The files written.
     """
     out = Path(out_dir)
-    paths = [maps_plot(out / "maps.png", study), p_vs_speed_plot(out / "p_vs_speed.png", study),
-             episode_plot(out / "episode.png", study)]
+    paths = [out / "maps.png", out / "p_vs_speed.png", out / "episode.png"]
+    maps_plot(paths[0], study)
+    p_vs_speed_plot(paths[1], study)
+    episode_plot(paths[2], study)
     for name, t in study.tunings.items():
-        paths.append(tuning_plot(out / f"tuning_{name}.png", name, t))
+        paths.append(out / f"tuning_{name}.png")
+        tuning_plot(paths[-1], name, t)
     return paths
 
 
-def maps_plot(path, study: "ControlStudy") -> Path:
+def maps_plot(path, study: "ControlStudy") -> plt.Figure:
     """Deterministic SS over (top speed, WOB) for every drive, with the SS = 0.5 contour; stalled
     runs marked with a red cross.
 
@@ -50,10 +53,12 @@ def maps_plot(path, study: "ControlStudy") -> Path:
 
     Returns
     -------
-    Path
-        The file written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     labels = list(study.comparison)
+    if study.validation_window.wobs.size == 1 or study.validation_window.speeds.size == 1:
+        return _curves(path, study, labels)
     cols = min(3, len(labels))
     rows = math.ceil(len(labels) / cols)
     sp, wb = study.validation_window.speeds, study.validation_window.wobs / 1e3
@@ -79,7 +84,29 @@ def maps_plot(path, study: "ControlStudy") -> Path:
     return _save(fig, path)
 
 
-def p_vs_speed_plot(path, study: "ControlStudy") -> Path:
+def _curves(path, study: "ControlStudy", labels: list) -> plt.Figure:
+    """The map of a window with one WOB (or one speed): SS versus the other axis, one curve per drive
+    (a one-row map would be shaded blank)."""
+    sp, wb = study.validation_window.speeds, study.validation_window.wobs / 1e3
+    one_wob = wb.size == 1
+    x = sp if one_wob else wb
+    fig, ax = plt.subplots(figsize=(7.5, 4.5))
+    for k, label in enumerate(labels):
+        m = np.asarray(study.comparison[label]["map"], float).ravel()
+        ax.plot(x, m, "o-", color=f"C{k}", label=label)
+        stalled = ~np.isfinite(m)
+        if stalled.any():
+            ax.plot(x[stalled], np.full(stalled.sum(), 0.5), "x", color=f"C{k}", ms=9, label=f"{label}: stalled")
+    ax.axhline(0.5, color="k", ls="--", lw=0.8, label="SS = 0.5")
+    ax.set_xlabel("top speed [rad/s]" if one_wob else "WOB [kN]")
+    ax.set_ylabel("deterministic SS [-]")
+    ax.set_title(f"WOB {wb[0]:g} kN" if one_wob else f"top speed {sp[0]:g} rad/s")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return _save(fig, path)
+
+
+def p_vs_speed_plot(path, study: "ControlStudy") -> plt.Figure:
     """P(SS > 0.5) versus top speed at the nominal WOB for every drive, with Wilson 90 % bands.
 
     Parameters
@@ -91,8 +118,8 @@ def p_vs_speed_plot(path, study: "ControlStudy") -> Path:
 
     Returns
     -------
-    Path
-        The file written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, ax = plt.subplots(figsize=(7.5, 4.5))
     sp = study.validation_window.speeds
@@ -110,7 +137,7 @@ def p_vs_speed_plot(path, study: "ControlStudy") -> Path:
     return _save(fig, path)
 
 
-def episode_plot(path, study: "ControlStudy") -> Path:
+def episode_plot(path, study: "ControlStudy") -> plt.Figure:
     """Bit speed, top speed and motor torque of the episode with each drive.
 
     Parameters
@@ -122,8 +149,8 @@ def episode_plot(path, study: "ControlStudy") -> Path:
 
     Returns
     -------
-    Path
-        The file written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
     t_end = study.config["simulation"]["duration_s"]
@@ -146,7 +173,7 @@ def episode_plot(path, study: "ControlStudy") -> Path:
     return _save(fig, path)
 
 
-def tuning_plot(path, name: str, tuning) -> Path:
+def tuning_plot(path, name: str, tuning) -> plt.Figure:
     """The score of every evaluated gain pair (log factors of the nominal tuning), the optimum marked.
 
     Parameters
@@ -160,8 +187,8 @@ def tuning_plot(path, name: str, tuning) -> Path:
 
     Returns
     -------
-    Path
-        The file written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     keys = list(tuning.gains)
     x = np.array([[10 ** e["log10_factors"][k] for k in keys] for e in tuning.evaluations])

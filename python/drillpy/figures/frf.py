@@ -3,7 +3,7 @@ Craig-Bampton frequency convergence, and SS bands under structural uncertainty.
 
 :func:`chapter6_figures` draws every figure of a :class:`drillpy.reports.uncertainty.Chapter6Study`;
 the ``*_plot`` functions draw one figure each from results already computed, write one PNG and
-return its path. FRFs are in dB re 1 rad/s^2 per N m, frequencies in Hz.
+return its matplotlib Figure. FRFs are in dB re 1 rad/s^2 per N m, frequencies in Hz.
 """
 from __future__ import annotations
 
@@ -42,26 +42,29 @@ def chapter6_figures(study: "Chapter6Study", out_dir) -> list:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     labels = study.point_labels
-    paths = [cb_convergence_plot(out / "cb_frequency_convergence.png", study.cb_modes, study.cb_rel_errors)]
+    paths = []
+
+    def draw(name, plot, *args):  # every *_plot returns its figure: keep the file's path
+        plot(out / name, *args)
+        paths.append(out / name)
+    draw("cb_frequency_convergence.png", cb_convergence_plot, study.cb_modes, study.cb_rel_errors)
     for p in range(3):
-        paths.append(envelope_plot(out / f"fig6_{p + 1}_models_point{p + 1}.png", study.models, p,
-                                   f"SM_full / SM_CB1 / SM_CB2, delta = 0.1: {labels[p]} (Fig. 6.{p + 1})"))
+        draw(f"fig6_{p + 1}_models_point{p + 1}.png", envelope_plot, study.models, p,
+             f"SM_full / SM_CB1 / SM_CB2, delta = 0.1: {labels[p]} (Fig. 6.{p + 1})")
     fig_no = 4
     for group in FIGURE_PAIRS.values():
         envs = {f"case {c}: {CASE_TITLES[c].split(' (')[0]}": study.cases[c] for c in group}
         for p in range(3):
-            paths.append(envelope_plot(out / f"fig6_{fig_no}_cases{''.join(map(str, group))}_point{p + 1}.png",
-                                       envs, p,
-                                       f"SM_CB2 cases {', '.join(map(str, group))}: {labels[p]} (Fig. 6.{fig_no})"))
+            draw(f"fig6_{fig_no}_cases{''.join(map(str, group))}_point{p + 1}.png", envelope_plot, envs, p,
+                 f"SM_CB2 cases {', '.join(map(str, group))}: {labels[p]} (Fig. 6.{fig_no})")
             fig_no += 1
-    paths.append(conv2_samples_plot(out / "figC_2_conv2_samples.png", study.models["SM_CB2"]))
+    draw("figC_2_conv2_samples.png", conv2_samples_plot, study.models["SM_CB2"])
     for k, (name, curves) in enumerate(study.conv2_curves.items()):
-        paths.append(conv2_modes_plot(out / f"figC_{3 + k}_conv2_modes_{name}.png", study.conv2_modes, curves,
-                                      name, labels))
+        draw(f"figC_{3 + k}_conv2_modes_{name}.png", conv2_modes_plot, study.conv2_modes, curves, name, labels)
     return paths
 
 
-def envelope_plot(path, envelopes: dict, point: int, title: str = "") -> Path:
+def envelope_plot(path, envelopes: dict, point: int, title: str = "") -> plt.Figure:
     """Statistical envelopes at one observation point, one shaded band per entry of
     ``envelopes``, with the sample mean and the nominal model.
 
@@ -78,8 +81,8 @@ def envelope_plot(path, envelopes: dict, point: int, title: str = "") -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, ax = plt.subplots(figsize=(7.2, 4.2))
     first = next(iter(envelopes.values()))
@@ -100,7 +103,7 @@ def envelope_plot(path, envelopes: dict, point: int, title: str = "") -> Path:
     return _save(fig, path)
 
 
-def conv2_samples_plot(path, env, title: str = "") -> Path:
+def conv2_samples_plot(path, env, title: str = "") -> plt.Figure:
     """Conv2(n_s) of Eq. (C.2) versus the number of samples (Fig. C.2), one curve per point,
     relative to its final value.
 
@@ -115,8 +118,8 @@ def conv2_samples_plot(path, env, title: str = "") -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     c = env.conv2()
     n = np.arange(1, c.shape[0] + 1)
@@ -131,7 +134,7 @@ def conv2_samples_plot(path, env, title: str = "") -> Path:
     return _save(fig, path)
 
 
-def conv2_modes_plot(path, modes, curves: dict, substructure: str, labels) -> Path:
+def conv2_modes_plot(path, modes, curves: dict, substructure: str, labels) -> plt.Figure:
     """Conv2 (Eq. C.2) versus the fixed-interface modes of one substructure (Figs. C.3-C.4), one
     panel per observation point.
 
@@ -150,8 +153,8 @@ def conv2_modes_plot(path, modes, curves: dict, substructure: str, labels) -> Pa
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     n_points = len(labels)
     fig, axes = plt.subplots(1, n_points, figsize=(4.2 * n_points, 3.8), squeeze=False)
@@ -167,7 +170,7 @@ def conv2_modes_plot(path, modes, curves: dict, substructure: str, labels) -> Pa
     return _save(fig, path)
 
 
-def cb_convergence_plot(path, modes, rel_errors) -> Path:
+def cb_convergence_plot(path, modes, rel_errors) -> plt.Figure:
     """Relative error of the Craig-Bampton natural frequencies against the full FE model.
 
     Parameters
@@ -181,8 +184,8 @@ def cb_convergence_plot(path, modes, rel_errors) -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, ax = plt.subplots(figsize=(6.4, 4.0))
     e = np.asarray(rel_errors)
@@ -196,7 +199,7 @@ def cb_convergence_plot(path, modes, rel_errors) -> Path:
     return _save(fig, path)
 
 
-def severity_bands_plot(path, speeds, studies: dict, level: float = 0.5, title: str = "") -> Path:
+def severity_bands_plot(path, speeds, studies: dict, level: float = 0.5, title: str = "") -> plt.Figure:
     """SS versus top speed: sample mean and 5-95 % band of each uncertainty source (top), and the
     band width q95 - q05 of each source (bottom).
 
@@ -215,8 +218,8 @@ def severity_bands_plot(path, speeds, studies: dict, level: float = 0.5, title: 
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, (ax, aw) = plt.subplots(2, 1, figsize=(7.0, 6.4), sharex=True, gridspec_kw={"height_ratios": [3, 2]})
     for (label, st), color in zip(studies.items(), ("k",) + COLORS):

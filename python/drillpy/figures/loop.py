@@ -2,7 +2,7 @@
 before/after overlays, torque-speed loops, errors per step.
 
 :func:`loop_figures` draws every figure of a :class:`drillpy.loop.LoopResult`; each ``*_plot``
-function draws one figure from it, writes one PNG and returns its path. Speeds are plotted in RPM,
+function draws one figure from it, writes one PNG (unless its path is None) and returns its matplotlib Figure. Speeds are plotted in RPM,
 torques in N m, times in s; the residuals and signatures of the signature figure are normalized by
 the channels' standard deviations (the metric's units).
 """
@@ -45,10 +45,12 @@ def loop_figures(res: "LoopResult", out_dir) -> dict:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     plots = {"signature": signature_plot, "overlay": overlay_plot, "loops": loops_plot, "errors": errors_plot}
-    return {k: plots[k](out / name, res) for k, name in LOOP_FIGURES.items()}
+    for k, name in LOOP_FIGURES.items():
+        plots[k](out / name, res)
+    return {k: out / name for k, name in LOOP_FIGURES.items()}
 
 
-def _signature_row(axs, res: "LoopResult", before, after, name: str, accepted: bool):
+def _signature_row(axs, res: "LoopResult", before, after, name: str, status: str):
     d = res.data
     from drillpy.loop.data import measured
     Yv, YT = measured(d)
@@ -71,7 +73,7 @@ def _signature_row(axs, res: "LoopResult", before, after, name: str, accepted: b
     R, S = np.r_[rv[tr].ravel(), rT[tr].ravel()], np.r_[sv[tr].ravel(), sT[tr].ravel()]
     frac = float((R @ S) ** 2 / ((R @ R) * (S @ S))) if (S @ S) > 0 else 0.0
     ax.set_title(f"{name}: explains {100 * frac:.0f} % of the calibration residual "
-                 f"({'added' if accepted else 'rejected'})", fontsize=9)
+                 f"({status})", fontsize=9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=6, markerscale=3, loc="upper left")
     ax = axs[1]
@@ -96,7 +98,7 @@ def _signature_row(axs, res: "LoopResult", before, after, name: str, accepted: b
     ax.legend(fontsize=7)
 
 
-def signature_plot(path, res: "LoopResult") -> Path:
+def signature_plot(path, res: "LoopResult") -> plt.Figure:
     """Residual versus signature (normalized by the channels' standard deviations) for every step
     and the best rejected candidate of the last round; right: both over time on the validation
     part (bit speed [RPM] or torque [N m]).
@@ -110,19 +112,19 @@ def signature_plot(path, res: "LoopResult") -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
-    rows = [(s["before"], s["candidate"], s["effect"], True) for s in res.steps]
+    rows = [(s["before"], s["candidate"], s["effect"], STEP_ACTIONS[s["action"]][1]) for s in res.steps]
     last = res.last_round
     if last:
         name, ev = min(last.items(), key=lambda kv: kv[1].E_test)
-        rows.append((res.final, ev, name, False))
+        rows.append((res.final, ev, name, "rejected"))
     if not rows:
-        rows = [(res.final, res.final, "(no candidate)", False)]
+        rows = [(res.final, res.final, "(no candidate)", "rejected")]
     fig, axes = plt.subplots(len(rows), 2, figsize=(12, 4.2 * len(rows)), squeeze=False)
-    for axs, (b, a, n, ok) in zip(axes, rows):
-        _signature_row(axs, res, b, a, n, ok)
+    for axs, (b, a, n, status) in zip(axes, rows):
+        _signature_row(axs, res, b, a, n, status)
     return _save(fig, path)
 
 
@@ -132,7 +134,7 @@ def _window(res: "LoopResult", seconds: float = 2.5) -> np.ndarray:
     return te[: max(1, int(round(seconds / (d.L * d.dt))))]
 
 
-def overlay_plot(path, res: "LoopResult") -> Path:
+def overlay_plot(path, res: "LoopResult") -> plt.Figure:
     """Measured, baseline and final predictions of bit speed [RPM] and torque [N m] on a window
     of the validation part, and the per-horizon error [-] over the whole record.
 
@@ -145,8 +147,8 @@ def overlay_plot(path, res: "LoopResult") -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     d = res.data
     hs = d.horizon_samples
@@ -164,7 +166,7 @@ def overlay_plot(path, res: "LoopResult") -> Path:
                            "declared model, calibrated (no effect added: final = baseline)") if j == 0 else None)
             if res.steps:
                 ax.plot(t, getattr(res.final, key)[h] * scale, color=C_FINAL, lw=1,
-                        label="final (+ " + ", ".join(s["effect"] for s in res.steps) + ")" if j == 0 else None)
+                        label="final (" + ", ".join(step_label(s) for s in res.steps) + ")" if j == 0 else None)
             ax.axvline(d.t[d.starts[h]], color="0.85", lw=0.6)
         ax.set_ylabel(unit)
         ax.grid(alpha=0.3)
@@ -186,7 +188,7 @@ def overlay_plot(path, res: "LoopResult") -> Path:
     return _save(fig, path)
 
 
-def loops_plot(path, res: "LoopResult") -> Path:
+def loops_plot(path, res: "LoopResult") -> plt.Figure:
     """Torque on bit [N m] versus bit speed [RPM] on the validation part: measured, baseline, final.
 
     Parameters
@@ -198,8 +200,8 @@ def loops_plot(path, res: "LoopResult") -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     d = res.data
     te = d.is_test
@@ -217,7 +219,29 @@ def loops_plot(path, res: "LoopResult") -> Path:
     return _save(fig, path)
 
 
-def errors_plot(path, res: "LoopResult") -> Path:
+#: a loop step's action -> (sign, participle) of its label
+STEP_ACTIONS = {"add": ("+", "added"), "remove": ("-", "removed"), "recalibrate": ("~", "recalibrated")}
+
+
+def step_label(step: dict) -> str:
+    """The label of a loop step from its action: ``"+ bit_hysteresis (added)"``, ``"- bit_hysteresis
+    (removed)"``, ``"~ string_stiffness (recalibrated)"``.
+
+    Parameters
+    ----------
+    step : dict
+        A step of :attr:`drillpy.loop.LoopResult.steps` (``action``, ``effect``).
+
+    Returns
+    -------
+    str
+        The label.
+    """
+    sign, done = STEP_ACTIONS[step["action"]]
+    return f"{sign} {step['effect']} ({done})"
+
+
+def errors_plot(path, res: "LoopResult") -> plt.Figure:
     """Validation and calibration error E [-] after each step, and every candidate of every round.
 
     Parameters
@@ -229,12 +253,12 @@ def errors_plot(path, res: "LoopResult") -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.2))
     ev = [res.baseline] + [s["after"] for s in res.steps]
-    labels = ["baseline"] + [f"+ {s['effect']}" for s in res.steps]
+    labels = ["baseline"] + [step_label(s) for s in res.steps]
     x = np.arange(len(ev))
     ax = axes[0]
     ax.bar(x - 0.2, [e.E_train for e in ev], 0.4, color="0.6", label="calibration part")

@@ -42,18 +42,22 @@ def analysis_figures(result: "RecordAnalysis", out_dir) -> list:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     r, rec = result, result.record
-    paths = [record_time_series_plot(out / "time_series.png", r.raw, rec, r.cleaning),
-             cleaning_plot(out / "cleaning.png", r.raw, rec, r.cleaning),
-             cycle_plot(out / "cycle.png", rec, r.cycles, r.shown_cycle),
-             loops_plot(out / "loops.png", rec, r.branch, r.mean_cycle, r.mean_cycle_wob),
-             cycle_statistics_plot(out / "cycle_statistics.png", r.cycle_stats, r.stick_threshold_rad_s),
-             laws_plot(out / "laws.png", rec, r.branch, r.accel_rad_s2, r.mean_cycle, r.fits["constant_wob"],
-                       "laws fitted at constant WOB (sample set: slip phases of valid cycles)"),
-             eta_psd_plot(out / "psd.png", r.eta, r.freq_hz, r.periodogram, r.psd_fit.model, THESIS_PSD,
-                          list(r.psd_band_hz))]
+    paths = []
+
+    def draw(name, plot, *args):  # every *_plot returns its figure: keep the file's path
+        plot(out / name, *args)
+        paths.append(out / name)
+    draw("time_series.png", record_time_series_plot, r.raw, rec, r.cleaning)
+    draw("cleaning.png", cleaning_plot, r.raw, rec, r.cleaning)
+    draw("cycle.png", cycle_plot, rec, r.cycles, r.shown_cycle)
+    draw("loops.png", loops_plot, rec, r.branch, r.mean_cycle, r.mean_cycle_wob)
+    draw("cycle_statistics.png", cycle_statistics_plot, r.cycle_stats, r.stick_threshold_rad_s)
+    draw("laws.png", laws_plot, rec, r.branch, r.accel_rad_s2, r.mean_cycle, r.fits["constant_wob"],
+         "laws fitted at constant WOB (sample set: slip phases of valid cycles)")
+    draw("psd.png", eta_psd_plot, r.eta, r.freq_hz, r.periodogram, r.psd_fit.model, THESIS_PSD, list(r.psd_band_hz))
     if r.simulations:
-        paths.append(rig_time_series_plot(out / "rig_time_series.png", rec, r.simulations))
-        paths.append(rig_loops_plot(out / "rig_loops.png", r.simulations))
+        draw("rig_time_series.png", rig_time_series_plot, rec, r.simulations)
+        draw("rig_loops.png", rig_loops_plot, r.simulations)
     return paths
 
 
@@ -66,7 +70,7 @@ def _artifact_spans(ax, rec, report, alpha=0.25):
             done.add((a.start_s, a.end_s))
 
 
-def record_time_series_plot(path, raw, rec, report, title="") -> Path:
+def record_time_series_plot(path, raw, rec, report, title="") -> plt.Figure:
     """Fig. 5.5: bit and top speed, torque on bit and WOB of the whole record; raw top speed in
     light red where cleaning changed it, artifact spans shaded.
 
@@ -85,8 +89,8 @@ def record_time_series_plot(path, raw, rec, report, title="") -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     n = 1 + (rec.torque_on_bit is not None) + (rec.wob is not None)
     fig, axes = plt.subplots(n, 1, figsize=(11, 2.4 * n + 0.6), sharex=True)
@@ -117,7 +121,7 @@ def record_time_series_plot(path, raw, rec, report, title="") -> Path:
     return _save(fig, path)
 
 
-def cleaning_plot(path, raw, rec, report) -> Path:
+def cleaning_plot(path, raw, rec, report) -> plt.Figure:
     """Raw versus cleaned channel around the largest artifact stretch and the first spike.
 
     Parameters
@@ -131,8 +135,8 @@ def cleaning_plot(path, raw, rec, report) -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     arts = [a for a in report.artifacts if a.kind in ("oscillation", "spike", "nonfinite", "gap", "time")]
     show = sorted(arts, key=lambda a: -a.samples)[:1] + [a for a in arts if a.kind == "spike"][:1]
@@ -164,7 +168,7 @@ def cleaning_plot(path, raw, rec, report) -> Path:
     return _save(fig, path)
 
 
-def cycle_plot(path, rec, cycles, j, window_s=3.0) -> Path:
+def cycle_plot(path, rec, cycles, j, window_s=3.0) -> plt.Figure:
     """Figs. 5.6-5.7: a window of ``window_s`` around cycle j (bit and top speed, torque, WOB) and
     the cycle itself: bit speed versus time, torque versus bit speed, WOB versus bit speed (red
     dot: start of the cycle; arrows: direction).
@@ -184,8 +188,8 @@ def cycle_plot(path, rec, cycles, j, window_s=3.0) -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     t = rec.time_s
     a, b = cycles.start[j], cycles.end[j]
@@ -248,7 +252,7 @@ def _arrow_path(ax, x, y, color):
                     arrowprops=dict(arrowstyle="->", color="r", lw=1.2))
 
 
-def loops_plot(path, rec, labels, mc, mcw=None) -> Path:
+def loops_plot(path, rec, labels, mc, mcw=None) -> plt.Figure:
     """Torque (and WOB) versus bit speed over all valid cycles with the mean cycle per branch
     (Fig. 3.5): thin lines, red on the accelerating branch, cyan on the decelerating one.
 
@@ -267,8 +271,8 @@ def loops_plot(path, rec, labels, mc, mcw=None) -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     v = rec.bit_speed * RPM
     panels = [("torque on bit [N m]", rec.torque_on_bit, mc)]
@@ -291,7 +295,7 @@ def loops_plot(path, rec, labels, mc, mcw=None) -> Path:
     return _save(fig, path)
 
 
-def cycle_statistics_plot(path, cst, stick_threshold) -> Path:
+def cycle_statistics_plot(path, cst, stick_threshold) -> plt.Figure:
     """Per-cycle period, stick duration and SS versus the cycle's start time.
 
     Parameters
@@ -306,8 +310,8 @@ def cycle_statistics_plot(path, cst, stick_threshold) -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     keys = [("period_s", "period [s]"), ("stick_s", "stick duration [s]")]
     if "ss" in cst:
@@ -327,7 +331,7 @@ def cycle_statistics_plot(path, cst, stick_threshold) -> Path:
     return _save(fig, path)
 
 
-def laws_plot(path, rec, labels, accel, mc, fits, subtitle="") -> Path:
+def laws_plot(path, rec, labels, accel, mc, fits, subtitle="") -> plt.Figure:
     """Fitted laws over the data: slip samples (grey), mean cycle branches, and each law; the
     hysteretic laws are drawn twice, at the mean acceleration of each branch.
 
@@ -350,8 +354,8 @@ def laws_plot(path, rec, labels, accel, mc, fits, subtitle="") -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     v = rec.bit_speed * RPM
     m = labels != 0
@@ -382,7 +386,7 @@ def laws_plot(path, rec, labels, accel, mc, fits, subtitle="") -> Path:
     return _save(fig, path)
 
 
-def eta_psd_plot(path, eta, f, p, model, thesis, band) -> Path:
+def eta_psd_plot(path, eta, f, p, model, thesis, band) -> plt.Figure:
     """eta_exp(t) over 5 s and its periodogram with the log-binned average, the fitted PSD model
     (Eq. 4.4) over the fit band and the thesis's field model.
 
@@ -401,8 +405,8 @@ def eta_psd_plot(path, eta, f, p, model, thesis, band) -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     from drillpy.records.signals import log_binned
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 7.5))
@@ -452,7 +456,7 @@ def _case_axes(n, rows_per_case, size):
     return fig, blocks
 
 
-def rig_time_series_plot(path, rec, sims, window_s=2.0) -> Path:
+def rig_time_series_plot(path, rec, sims, window_s=2.0) -> plt.Figure:
     """Measured versus simulated bit speed and torque on bit over a window after the start-up,
     one block of two panels per simulated case.
 
@@ -469,8 +473,8 @@ def rig_time_series_plot(path, rec, sims, window_s=2.0) -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     t = rec.time_s
     t0 = t[0] + 0.75 * (t[-1] - t[0])
@@ -495,7 +499,7 @@ def rig_time_series_plot(path, rec, sims, window_s=2.0) -> Path:
     return _save(fig, path)
 
 
-def rig_loops_plot(path, sims) -> Path:
+def rig_loops_plot(path, sims) -> plt.Figure:
     """Torque versus bit speed: mean cycle per branch, measured versus simulated, per case.
 
     Parameters
@@ -507,8 +511,8 @@ def rig_loops_plot(path, sims) -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, blocks = _case_axes(len(sims), 1, (6.2, 4.2))
     for k, ((label, (sim, cmp)), (ax,)) in enumerate(zip(sims.items(), blocks)):
@@ -539,7 +543,7 @@ def _wrap(s, width=48):
     return "\n".join(textwrap.wrap(s, width))
 
 
-def prediction_overlay_plot(path, rec, sim, stick_threshold, label, window_s=3.0) -> Path:
+def prediction_overlay_plot(path, rec, sim, stick_threshold, label, window_s=3.0) -> plt.Figure:
     """A model's prediction of a record it was not calibrated on: bit speed, top speed and torque
     on bit over the whole record (top) and over a window in its middle (bottom), measured and
     simulated, with the stick threshold.
@@ -559,8 +563,8 @@ def prediction_overlay_plot(path, rec, sim, stick_threshold, label, window_s=3.0
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, axes = plt.subplots(3, 1, figsize=(9.0, 7.5))
     t, ts = rec.time_s, sim.time_s

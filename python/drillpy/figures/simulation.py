@@ -1,7 +1,7 @@
 """Figures of deterministic simulations: time series, SS versus top speed, stability maps.
 
 Matplotlib with the Agg backend (files only, no screen needed); axes carry units. Every ``*_plot``
-function draws one figure from results already computed, writes one PNG and returns its path.
+function draws one figure from results already computed, writes one PNG (unless its path is None) and returns its matplotlib Figure.
 """
 from __future__ import annotations
 
@@ -16,19 +16,25 @@ import numpy as np  # noqa: E402
 RPM = 30.0 / np.pi  # rad/s -> RPM
 
 
-def _save(fig, path: str | Path) -> Path:
-    """Lay out ``fig``, write it to ``path`` (130 dpi, parent folders created, the drillpy version as
-    the image's ``Software`` metadata), close it; return the path."""
+def _save(fig, path):
+    """Lay out ``fig`` and return it; with a ``path``, write it there atomically first (130 dpi, parent
+    folders created, the drillpy version as the image's ``Software`` metadata) and close it (a closed
+    figure still displays and saves). Every ``*_plot`` of :mod:`drillpy.figures` ends here, so each
+    returns its :class:`matplotlib.figure.Figure`, and ``path=None`` draws without writing."""
     from drillpy import __version__
+    fig.tight_layout()
+    if path is None:
+        return fig
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130, metadata={"Software": f"drillpy {__version__}"})
+    from drillpy.outputs import replacing
+    with replacing(path) as tmp:  # whole or not at all
+        fig.savefig(tmp, dpi=130, metadata={"Software": f"drillpy {__version__}"}, format=path.suffix[1:] or "png")
     plt.close(fig)
-    return path
+    return fig
 
 
-def severity_plot(path, speeds, ss, threshold=None, level=0.5, title="", extra=None) -> Path:
+def severity_plot(path, speeds, ss, threshold=None, level=0.5, title="", extra=None) -> plt.Figure:
     """SS versus top speed (Fig. 4.8).
 
     Parameters
@@ -50,8 +56,8 @@ def severity_plot(path, speeds, ss, threshold=None, level=0.5, title="", extra=N
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, ax = plt.subplots(figsize=(6.4, 4.0))
     ax.plot(speeds, ss, "k.-", label="SS (deterministic)")
@@ -68,7 +74,7 @@ def severity_plot(path, speeds, ss, threshold=None, level=0.5, title="", extra=N
     return _save(fig, path)
 
 
-def stability_map_plot(path, speeds_rpm, wobs_kn, maps: dict, vmax=None) -> Path:
+def stability_map_plot(path, speeds_rpm, wobs_kn, maps: dict, vmax=None) -> plt.Figure:
     """One panel per model: SS over top speed x WOB (Figs. 3.11-3.12), shared colour scale, the
     contour SS = 0.5 in white.
 
@@ -88,8 +94,8 @@ def stability_map_plot(path, speeds_rpm, wobs_kn, maps: dict, vmax=None) -> Path
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     n = len(maps)
     vmax = vmax or max(float(np.nanmax(m)) for m in maps.values())
@@ -105,7 +111,7 @@ def stability_map_plot(path, speeds_rpm, wobs_kn, maps: dict, vmax=None) -> Path
     return _save(fig, path)
 
 
-def time_series_plot(path, t, bit_speed, torque_on_bit, top_speed=None, t_window=None, title="") -> Path:
+def time_series_plot(path, t, bit_speed, torque_on_bit, top_speed=None, t_window=None, title="") -> plt.Figure:
     """Bit speed and torque on bit versus time (Figs. 4.6, 5.5).
 
     Parameters
@@ -125,8 +131,8 @@ def time_series_plot(path, t, bit_speed, torque_on_bit, top_speed=None, t_window
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.0, 5.0), sharex=True)
     sel = slice(None) if t_window is None else (t >= t_window[0]) & (t <= t_window[1])

@@ -2,7 +2,7 @@
 
 :func:`stochastic_figures` draws every figure of a
 :class:`drillpy.reports.stochastic.StochasticAnalysis`; the ``*_plot`` functions draw one figure
-each from results already computed, write one PNG and return its path.
+each from results already computed, write one PNG (unless the path is None) and return the matplotlib Figure.
 """
 from __future__ import annotations
 
@@ -39,21 +39,23 @@ def stochastic_figures(result: "StochasticAnalysis", out_dir) -> list:
     out.mkdir(parents=True, exist_ok=True)
     r, psd = result, result.psd
     sto = r.stochastic
-    return [
-        psd_fit_plot(out / "psd_fit.png", r.freq_hz, r.periodogram, r.psd_fit.model, S_welch=r.welch_psd,
-                     f_welch=r.welch_freq_hz, target=psd if hasattr(psd, "f0") else None,
-                     title=f"PSD of a generated {r.fit_record_s:g}-s eta record (Figs. 4.2-4.3)"),
-        eta_realizations_plot(out / "eta_realizations.png", r.eta_t_s, r.eta, t_max=200.0),
-        time_series_plot(out / "stochastic_response.png", sto.t, sto.bit_speed, sto.torque_on_bit, sto.top_speed,
-                         t_window=r.window_s, title=f"One realization at {r.top_speed_rad_s:g} rad/s (Fig. 4.5)"),
-        deterministic_vs_stochastic_plot(out / "deterministic_vs_stochastic.png", r.deterministic, sto, r.window_s),
-        phase_pdf_plot(out / "phase_pdfs.png", r.phases),
-        severity_band_plot(out / "severity_band.png", r.study),
-        conv1_plot(out / "conv1.png", r.study.conv1)]
+    paths = [out / n for n in ("psd_fit.png", "eta_realizations.png", "stochastic_response.png",
+                               "deterministic_vs_stochastic.png", "phase_pdfs.png", "severity_band.png", "conv1.png")]
+    psd_fit_plot(paths[0], r.freq_hz, r.periodogram, r.psd_fit.model, S_welch=r.welch_psd, f_welch=r.welch_freq_hz,
+                 target=psd if hasattr(psd, "f0") else None,
+                 title=f"PSD of a generated {r.fit_record_s:g}-s eta record (Figs. 4.2-4.3)")
+    eta_realizations_plot(paths[1], r.eta_t_s, r.eta, t_max=200.0)
+    time_series_plot(paths[2], sto.t, sto.bit_speed, sto.torque_on_bit, sto.top_speed, t_window=r.window_s,
+                     title=f"One realization at {r.top_speed_rad_s:g} rad/s (Fig. 4.5)")
+    deterministic_vs_stochastic_plot(paths[3], r.deterministic, sto, r.window_s)
+    phase_pdf_plot(paths[4], r.phases)
+    severity_band_plot(paths[5], r.study)
+    conv1_plot(paths[6], r.study.conv1)
+    return paths
 
 
 def psd_fit_plot(path, f, S_raw, fit_model, *, S_welch=None, f_welch=None, target=None,
-                 zoom=(0.03, 3.0), title="") -> Path:
+                 zoom=(0.03, 3.0), title="") -> plt.Figure:
     """Raw (Schuster) periodogram with the fitted Eq. (4.4) model (Figs. 4.2-4.3): full range
     and a zoom around f0.
 
@@ -76,8 +78,8 @@ def psd_fit_plot(path, f, S_raw, fit_model, *, S_welch=None, f_welch=None, targe
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, axes = plt.subplots(1, 2, figsize=(11.0, 4.2))
     pos = f > 0
@@ -107,7 +109,7 @@ def psd_fit_plot(path, f, S_raw, fit_model, *, S_welch=None, f_welch=None, targe
     return _save(fig, path)
 
 
-def eta_realizations_plot(path, t, eta, t_max=None) -> Path:
+def eta_realizations_plot(path, t, eta, t_max=None) -> plt.Figure:
     """Independent realizations of eta(t) (Fig. 4.4).
 
     Parameters
@@ -123,8 +125,8 @@ def eta_realizations_plot(path, t, eta, t_max=None) -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, ax = plt.subplots(figsize=(7.0, 3.6))
     sel = slice(None) if t_max is None else t <= t_max
@@ -138,7 +140,7 @@ def eta_realizations_plot(path, t, eta, t_max=None) -> Path:
     return _save(fig, path)
 
 
-def deterministic_vs_stochastic_plot(path, det, sto, t_window) -> Path:
+def deterministic_vs_stochastic_plot(path, det, sto, t_window) -> plt.Figure:
     """Bit and top speed of the deterministic and the stochastic model side by side (Fig. 4.6).
 
     Parameters
@@ -152,8 +154,8 @@ def deterministic_vs_stochastic_plot(path, det, sto, t_window) -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, axes = plt.subplots(1, 2, figsize=(11.0, 3.8), sharey=True)
     for ax, r, label in zip(axes, (det, sto), ("deterministic", "stochastic")):
@@ -168,7 +170,7 @@ def deterministic_vs_stochastic_plot(path, det, sto, t_window) -> Path:
     return _save(fig, path)
 
 
-def phase_pdf_plot(path, study) -> Path:
+def phase_pdf_plot(path, study) -> plt.Figure:
     """PDFs of the random stick and slip durations with the deterministic values (Fig. 4.7).
 
     Parameters
@@ -180,8 +182,8 @@ def phase_pdf_plot(path, study) -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, axes = plt.subplots(1, 2, figsize=(11.0, 3.8))
     for ax, x, d, name in zip(axes, (study.stick, study.slip),
@@ -204,7 +206,7 @@ def phase_pdf_plot(path, study) -> Path:
     return _save(fig, path)
 
 
-def severity_band_plot(path, study, level=0.5, prob=0.05) -> Path:
+def severity_band_plot(path, study, level=0.5, prob=0.05) -> plt.Figure:
     """Mean SS with the 90 % band, the deterministic curve and P(SS > level) (Fig. 4.9).
 
     Parameters
@@ -220,8 +222,8 @@ def severity_band_plot(path, study, level=0.5, prob=0.05) -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.0, 6.4), sharex=True,
                                  gridspec_kw={"height_ratios": [2, 1]})
@@ -253,7 +255,7 @@ def severity_band_plot(path, study, level=0.5, prob=0.05) -> Path:
     return _save(fig, path)
 
 
-def conv1_plot(path, conv1) -> Path:
+def conv1_plot(path, conv1) -> plt.Figure:
     """Convergence function n_s -> Conv1(n_s) of Eq. (C.1) (Fig. C.1).
 
     Parameters
@@ -265,8 +267,8 @@ def conv1_plot(path, conv1) -> Path:
 
     Returns
     -------
-    Path
-        The PNG written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, ax = plt.subplots(figsize=(6.4, 3.8))
     n = np.arange(1, len(conv1) + 1)

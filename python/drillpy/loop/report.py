@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
 from drillpy.model.config import normalize
 from .effects import CATALOGUE
 from .run import LoopResult, dumps
@@ -66,7 +67,8 @@ def write_predictions(path, res: LoopResult, prov: dict | None = None) -> Path:
     def i(x):
         return "" if not np.isfinite(x) else str(int(x))
 
-    with open(path, "w", newline="") as fh:
+    from drillpy.outputs import replacing
+    with replacing(path) as tmp, open(tmp, "w", newline="") as fh:
         fh.write(header(prov) + "\r\n")  # csv.writer's line ending
         w = csv.writer(fh)
         w.writerow(["time_s", "bit_speed_rad_s", "torque_on_bit_Nm", "top_speed_rad_s", "top_speed_measured",
@@ -394,13 +396,13 @@ def write_loop(res: LoopResult, out, files: dict | None = None) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     js = res.loop_json()
     prov = provenance()
-    (out / "loop.json").write_text(dumps({**js, "provenance": prov}))
-    (out / "evidence.json").write_text(dumps({**evidence_json(res), "provenance": prov}))
-    (out / "model.json").write_text(dumps(res.final.model.to_dict()))
-    (out / "config.json").write_text(dumps(model_config(res)))
+    write_text((out / "loop.json"), dumps({**js, "provenance": prov}))
+    write_text((out / "evidence.json"), dumps({**evidence_json(res), "provenance": prov}))
+    write_text((out / "model.json"), dumps(res.final.model.to_dict()))
+    write_text((out / "config.json"), dumps(model_config(res)))
     write_predictions(out / "predictions.csv", res, prov)
     report = render_report(res, {k: Path(v).name for k, v in (files or {}).items()})
-    (out / "report.md").write_text(with_markdown_footer(report, prov))
+    write_text((out / "report.md"), with_markdown_footer(report, prov))
     return js
 
 

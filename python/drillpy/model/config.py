@@ -63,6 +63,8 @@ def engine_config(config) -> "_core.Config":
     ----------
     config : dict or _core.Config
         A configuration (the JSON schema shared with drillsim); a ``_core.Config`` is returned as is.
+        A dict is checked for implausible values first
+        (:func:`drillpy.model.plausibility.warn_config`: warnings, not errors).
 
     Returns
     -------
@@ -76,7 +78,28 @@ def engine_config(config) -> "_core.Config":
     """
     if isinstance(config, _core.Config):
         return config
+    from drillpy.model import plausibility
+    plausibility.warn_config(config)  # values the engine accepts but no string has (a unit mix-up, usually)
+    _check_steps(config)
     return _core.Config(to_json_text(config))
+
+
+#: Most time steps of a run (the engine's limit, ``drill/integrator.hpp``).
+MAX_STEPS = 2e9
+
+
+def _check_steps(config: dict) -> None:
+    """Refuse a run of more than :data:`MAX_STEPS` steps naming the time step with the duration (the
+    engine names the duration alone, which misleads when the step is the value typed wrong)."""
+    sim = config.get("simulation") if isinstance(config, dict) else None
+    dt, duration = (sim.get("dt_s"), sim.get("duration_s")) if isinstance(sim, dict) else (None, None)
+    if not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (dt, duration)):
+        return  # missing or not a number: the engine's checks name it
+    if dt > 0 and duration > 0 and duration / dt >= MAX_STEPS:
+        hint = ("; a time step below 1 us: in ms or us typed as s?" if dt < 1e-6 else
+                "; a duration over 100 days: in ms typed as s?" if duration > 8.64e6 else "")
+        raise ValueError(f"simulation.dt_s = {dt:g} with simulation.duration_s = {duration:g}: {duration / dt:.3g} "
+                         f"steps, at most {MAX_STEPS:.0e}{hint}")
 
 
 def normalize(config: dict) -> dict:
@@ -136,6 +159,8 @@ def read_json(path, field: str):
         return json.loads(p.read_text(), object_pairs_hook=unique)
     except json.JSONDecodeError as e:
         raise ValueError(f"{field} = {str(p)!r}: malformed JSON: {e}") from None
+    except RecursionError:  # e.g. 200 000 nested arrays: no configuration is nested so deep
+        raise ValueError(f"{field} = {str(p)!r}: JSON nested too deep to be a configuration") from None
 
 
 def load_config(preset: str | None = None, path: str | Path | None = None,

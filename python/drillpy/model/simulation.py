@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from drillpy import _core, validate
+from drillpy.model import plausibility
 from drillpy.model.config import engine_config, to_json_text, with_overrides
 from drillpy.progress import progress_bar
 
@@ -158,6 +159,11 @@ def simulate(cfg: "dict | _core.Config", top_speed: float | None = None, wob: fl
             validate.number(name, v, unit=unit)
     if top_speed is not None:  # a run's own speed bypasses the configuration's check (Config.validate)
         validate.positive("operation.top_speed_rad_s", top_speed, "rad/s")
+        plausibility.warn(plausibility.check_speed("top_speed", top_speed))
+    if wob is not None:  # so does its own WOB: the configuration's check (the engine's message) and warning
+        if wob < 0:
+            engine_config(with_overrides(cfg if isinstance(cfg, dict) else cfg.to_dict(), wob=wob))
+        plausibility.warn(plausibility.check_value("wob", "wob_n", wob, "a WOB in kN, klbf or kg typed as N?"))
     if start is not None:
         _check_start(start)
         cfg = _with_start(cfg, start)
@@ -303,6 +309,7 @@ def sweep_severity(cfg: "dict | _core.Config", speeds, wobs=None, *, progress: b
     _check_start(start)
     sp = _grid(speeds, "speeds")
     wb = None if wobs is None else _grid(wobs, "wobs")
+    plausibility.warn(plausibility.check_speed("speeds (highest)", float(np.max(sp))))
     sim = _engine(cfg)
     total = sp.size * (1 if wb is None else wb.size)
     with progress_bar(total, "SS sweep", progress) as cb:
@@ -395,6 +402,7 @@ def refine_threshold(cfg: dict, speeds, severities, *, level: float = 0.5, tol: 
     """
     sp, ss = np.asarray(speeds, float), np.asarray(severities, float)
     validate.positive("tol", tol, "rad/s")
+    _no_nan(sp, ss)
     order = np.argsort(sp)
     sp, ss = sp[order], ss[order]
     k = [i for i in range(sp.size - 1) if ss[i] > level >= ss[i + 1]]
@@ -417,6 +425,15 @@ def refine_threshold(cfg: dict, speeds, severities, *, level: float = 0.5, tol: 
     return RefinedThreshold(0.5 * (lo + hi), 0.5 * (hi - lo), lo, hi, evals)
 
 
+def _no_nan(speeds, severities) -> None:
+    sp, ss = np.asarray(speeds, float).ravel(), np.asarray(severities, float).ravel()
+    bad = np.flatnonzero(np.isnan(ss))
+    if bad.size:
+        at = f" at {sp[bad[0]]:g} rad/s" if sp.size == ss.size else ""
+        raise ValueError(f"severities[{bad[0]}] = nan{at}: SS is not a number ({bad.size} of {ss.size}; a failed "
+                         "run?): a crossing cannot be located through it")
+
+
 def severity_threshold(speeds, severities, level: float = 0.5) -> float | None:
     """The top speed below which SS > ``level``, by linear interpolation on the grid.
 
@@ -433,7 +450,13 @@ def severity_threshold(speeds, severities, level: float = 0.5) -> float | None:
     -------
     float or None
         The crossing [rad/s]; None without one.
+
+    Raises
+    ------
+    ValueError
+        Naming the first NaN SS and its speed (a crossing through a missing value is no answer).
     """
+    _no_nan(speeds, severities)
     v = _core.severity_threshold(list(map(float, speeds)), list(map(float, severities)), level)
     return None if math.isnan(v) else v
 
@@ -470,6 +493,7 @@ def severity_crossings(speeds, severities, level: float = 0.5) -> list[dict]:
     sp, ss = np.asarray(speeds, float).ravel(), np.asarray(severities, float).ravel()
     if sp.size != ss.size:
         raise ValueError(f"severities has {ss.size} values for {sp.size} speeds: one per speed needed")
+    _no_nan(sp, ss)
     order = np.argsort(sp, kind="stable")
     sp, ss = sp[order], ss[order]
     out = []

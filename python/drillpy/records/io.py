@@ -33,6 +33,8 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
+
 CHANNELS = ("bit_speed", "top_speed", "torque_on_bit", "wob")
 SI_UNITS = {"time": "s", "bit_speed": "rad_s", "top_speed": "rad_s", "torque_on_bit": "Nm",
             "wob": "N"}
@@ -570,7 +572,7 @@ def write_csv(record: Record, path: str | Path, speed_unit: str = "rad_s",
     data = np.column_stack([a for _, a in cols])
     for row in data:
         lines.append(",".join("" if not np.isfinite(x) else repr(float(x)) for x in row))
-    p.write_text("\n".join(lines) + "\n")
+    write_text(p, "\n".join(lines) + "\n")
     return p
 
 

@@ -279,6 +279,7 @@ def write_prediction(pred: Prediction, out_dir: str | Path) -> list:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     write_json(out / "summary.json", {**pred.summary(), "provenance": provenance()})
-    fig = figs.prediction_overlay_plot(out / "overlay.png", pred.measured, pred.simulated, pred.stick_threshold,
+    fig = out / "overlay.png"
+    figs.prediction_overlay_plot(fig, pred.measured, pred.simulated, pred.stick_threshold,
                                   describe(pred.model))
     return ["summary.json", fig.name]

@@ -52,6 +52,7 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
 from drillpy.records import identification as ident
 from drillpy.records import signals as sig
 from drillpy.records.cleaning import CleaningOptions, clean
@@ -517,10 +518,11 @@ def analyze_samples(records, out_dir: str | Path, options: SampleOptions | None 
                     "on its mean cycle; per-cycle SS Eq. (3.4) over cycles with a reliable top speed")}
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    S["figures"] = [boxplot(out / "fig5_4_boxplot.png", samples).name]
+    boxplot(out / "fig5_4_boxplot.png", samples)
+    S["figures"] = ["fig5_4_boxplot.png"]
     prov = provenance()
     write_json(out / "samples.json", {**S, "provenance": prov})
-    (out / "samples.md").write_text(with_markdown_footer(render_samples(S), prov))
+    write_text((out / "samples.md"), with_markdown_footer(render_samples(S), prov))
     log(f"acceptance: {len(acc['accepted'])} of {len(table)} samples accepted "
         f"({', '.join(acc['accepted']) or 'none'}); validates the rig: {acc['validates']}")
     log(f"samples.json, samples.md and fig5_4_boxplot.png written to {out}")
@@ -538,7 +540,7 @@ def _spread(x) -> dict:
             "min": float(np.min(x)), "max": float(np.max(x))}
 
 
-def boxplot(path, samples: list) -> Path:
+def boxplot(path, samples: list):
     """Fig. 5.4: box plot of the per-cycle SS (Eq. 3.4), one box per sample, SS = 0.5 marked.
 
     SS below 0.5 is the thesis's stable region (section 3.3). A sample without a cycle with SS
@@ -553,8 +555,8 @@ def boxplot(path, samples: list) -> Path:
 
     Returns
     -------
-    Path
-        The file written.
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     from drillpy.figures.simulation import _save, plt
     fig, ax = plt.subplots(figsize=(max(5.0, 0.9 * len(samples) + 2.5), 4.2))

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
 from drillpy.figures import records as figs
 from drillpy.jsonio import dumps
 from drillpy.provenance import provenance, with_markdown_footer
@@ -254,10 +255,8 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
         if not (math.isfinite(c0) and math.isfinite(c1) and c0 < c1):
             raise ValueError(f"calibrate = {opt.calibrate!r}: needs T0 < T1 [s]")
         rec = full.select(c0, c1)
-    if raw.top_speed is not None:
-        thr = opt.stick_fraction * abs(float(np.nanmedian(rec.top_speed[rec.valid("top_speed")])))
-    else:
-        thr = rep.stick_threshold_rad_s
+    # one stick rule (rigsim.stick_threshold: a fraction of the median reliable top speed) for every number
+    thr = rigsim.stick_threshold(rec, opt.stick_fraction) if raw.top_speed is not None else rep.stick_threshold_rad_s
     S: dict = {"record": {"source": rec.provenance.get("source"), "format": rec.provenance.get("format"),
                           "channels": list(rec.channels), "units_in_file": rec.units,
                           "n_samples": len(rec), "duration_s": rec.duration_s,
@@ -304,6 +303,23 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
                      "mean_top_speed_rpm": top_mean * RPM, "mean_bit_speed_rpm": float(np.mean(v[ok])) * RPM,
                      "max_bit_speed_rpm": float(np.max(v[ok])) * RPM, "min_bit_speed_rpm": float(np.min(v[ok])) * RPM,
                      "stick_fraction": float(np.mean(v[ok] <= thr))}
+    side = None
+    if rec.top_speed is not None:
+        # the one measured side: the record's SS and stick fraction are the numbers every comparison of a
+        # simulation with it uses (from 2 s, the simulations' start-up, stalls counted apart)
+        side = rigsim.measured_side(rec, thr, float(rec.time_s[0]), "constant")
+        S["severity"].update(ss=side.metrics["ss"], stick_fraction=side.metrics["stick_fraction"],
+                             from_s=side.t0, stalls=side.metrics["stalls"]["count"])
+    after = ok & (rec.time_s >= (side.t0 if side is not None else rec.time_s[0]))  # the measured side's window
+    if not np.any(v[after] <= thr):  # the bit never stops: oscillation, not stick-slip; say so before the numbers
+        w = plausibility.PlausibilityWarning(
+            "no_stick", "bit_speed",
+            f"bit_speed: the bit never falls to the stick threshold ({thr * RPM:.3g} RPM, 5 % of the median top "
+            "speed): the cycles below are torsional oscillations without a stick phase, not stick-slip, and the "
+            "laws' static torque is not identified (their evidence rests on slip samples only)",
+            0.0, (math.ulp(0.0), 1.0), "-")
+        plausibility.emit([w])
+        S["warnings"].append(w.as_dict())
     S["torque_statistics"] = sig.sample_statistics(tq[ok])  # Table 5.2
     S["torque_statistics"]["thesis_table_5_2_mean_cv_samples_11_20"] = 0.329
     if rec.wob is not None:
@@ -313,7 +329,9 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
         f"{c['period_s']['median']:.3f} s median; dominant frequency {c['dominant_frequency_hz']:.2f} Hz")
     if S["severity"]["ss"] is not None:
         log(f"SS = {S['severity']['ss']:.3f} (Eq. 3.4, mean top speed {top_mean * RPM:.1f} RPM); per cycle "
-            f"{c['ss']['mean']:.3f} +/- {c['ss']['std']:.3f}; stick fraction {S['severity']['stick_fraction']:.3f}")
+            f"{c['ss']['mean']:.3f} +/- {c['ss']['std']:.3f}; stick fraction {S['severity']['stick_fraction']:.3f} "
+            f"(measured from {S['severity']['from_s']:g} s, {S['severity']['stalls']} stall(s) apart: the "
+            "measured side of every comparison below)")
 
     # ---------------------------------------------------------------- mean cycle and eta
     mc = sig.mean_cycle(v, tq, acc, lab)
@@ -367,7 +385,7 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
     sims, model = {}, None
     if opt.simulate and rec.top_speed is not None and rigsim.reliable_top_speed(rec).sum() >= 10:
         held = _held_out(full, rec, opt.min_holdout_s) if opt.calibrate is not None else []
-        S["rig"], sims, model = _rig_section(rec, thr, fits_by, opt.preset, log, held)
+        S["rig"], sims, model = _rig_section(rec, thr, side, fits_by, opt.preset, log, held)
     elif opt.simulate:
         S["rig"] = {"skipped": "the record has no top-speed channel with reliable samples to set the rig's speed"}
 
@@ -404,13 +422,13 @@ def write_analysis(result: RecordAnalysis, out_dir: str | Path, figures=(), log=
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     if result.model is not None:
-        (out / "model.json").write_text(dumps(result.model.to_dict()))
+        write_text((out / "model.json"), dumps(result.model.to_dict()))
         log(f"rig model written to {out / 'model.json'} (apply it to any record: drillpy predict)")
     S = {**result.summary, "figures": [Path(f).name for f in figures],
          "shown_cycle_s": [float(x) for x in result.shown_cycle_s]}
     prov = provenance()
-    (out / "summary.json").write_text(dumps({**S, "provenance": prov}))
-    (out / "report.md").write_text(with_markdown_footer(render_report(S), prov))
+    write_text((out / "summary.json"), dumps({**S, "provenance": prov}))
+    write_text((out / "report.md"), with_markdown_footer(render_report(S), prov))
     log(f"report.md, summary.json and {len(S['figures'])} figures written to {out}")
     return S
 
@@ -495,11 +513,12 @@ def _metric_row(cmp: rigsim.RigComparison) -> dict:
     return row
 
 
-def _rig_section(rec: Record, thr: float, fits_by: dict, preset: str, log, held: list) -> tuple:
+def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log, held: list) -> tuple:
     """The rig model: the rig modelled whole and self-contained (:func:`drillpy.records.rigsim.calibrate_rig`:
     motor, jack, platform, with the identified sticking law) as the predictive answer, the simpler
     drives (constant, motor, and the measured top speed as a diagnosis) calibrated beside it
-    (:func:`drillpy.records.rigsim.calibrate`) for comparison, and the prediction of the held-out pieces."""
+    (:func:`drillpy.records.rigsim.calibrate`) for comparison, and the prediction of the held-out pieces.
+    Every case is compared with the same measured side ``side`` (:func:`drillpy.records.rigsim.measured_side`)."""
     from drillpy.records.prediction import short_horizon_error
     base = load_config(preset=preset)
 
@@ -518,7 +537,7 @@ def _rig_section(rec: Record, thr: float, fits_by: dict, preset: str, log, held:
 
     def case(label, model):
         sim = rigsim.simulate_model(model, rec)
-        cmp = rigsim.compare(rec, sim, thr)
+        cmp = rigsim.compare(rec, sim, thr, side=side)
         out["cases"].append({"label": label, "law": model.law, "damping_ratio": model.damping_ratio,
                              "drive": model.drive, "predictive": model.drive in rigsim.PREDICTIVE_DRIVES,
                              "measured": cmp.measured, "simulated": cmp.simulated,

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
 from drillpy.control.comparison import compare_drives, json_ready, nominal_index
 from drillpy.control.episode import run_episode
 from drillpy.control.tuning import FACTOR_RANGE, TUNABLE, UNITS, Window, controlled_drive, tune
@@ -235,7 +236,8 @@ def report_text(study: ControlStudy) -> str:
             lines.append(f"| {name} | {key} [{UNITS[key]}] | {t.nominal[key]:.4g} | {t.gains[key]:.4g} | "
                          f"{t.factors[key]:.3g}{bound} | {band} | {t.nominal_p:.3f} -> {t.p_stick_slip:.3f} |")
     lines += ["", "## The drives on new samples", "",
-              "P = P(SS > 0.5 or stalled) over the whole window (90 % bootstrap interval); a run is stalled when "
+              "P = P(SS > 0.5 or stalled) over the whole window (90 % Wilson interval, the samples as trials); a run "
+              "is stalled when "
               "its mean bit speed is below half the command (the bit stuck, SS then small). The difference to the "
               "stiff drive is paired (same samples). Threshold: the speed below which the deterministic SS > 0.5 "
               "(or the run stalls) at the nominal WOB; 5 % speed: the lowest speed from which P <= 5 % "
@@ -295,7 +297,7 @@ def write_control(study: ControlStudy, out_dir) -> dict:
     prov = provenance(seed=study.tuning_window.seed, samples=study.tuning_window.samples,
                       validation_seed=study.validation_window.seed, validation_samples=study.validation_window.samples)
     js["figures"] = [p.name for p in control_figures(study, out)]
-    (out / "control.json").write_text(dumps({**js, "provenance": prov}))
-    (out / "report.md").write_text(with_markdown_footer(report_text(study), prov))
+    write_text((out / "control.json"), dumps({**js, "provenance": prov}))
+    write_text((out / "report.md"), with_markdown_footer(report_text(study), prov))
     return js
 

@@ -12,15 +12,23 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
 from drillpy.figures import simulation as plotting
 from drillpy.model.config import with_overrides
 from drillpy.provenance import provenance
-from drillpy.model.simulation import (natural_frequencies, severity_threshold, simulate, stability_map,
-                                      sweep_severity)
+from drillpy.model.simulation import natural_frequencies, simulate, stability_map, sweep_severity
+from drillpy.model.threshold import format_threshold, stick_slip_threshold
 from drillpy.jsonio import dumps
 
 THESIS_FREQUENCIES_HZ = [0.13, 0.42, 0.74, 1.07, 1.41]
+#: Fig. 4.8's threshold [rad/s] and the preset that reproduces it (WOB 200 kN, all 100 modes;
+#: docs/presets.md): printed only beside that configuration, never beside another one.
 THESIS_THRESHOLD_RAD_S = 16.0
+THESIS_THRESHOLD_PRESET = "thesis-ch4"
+#: Section 4.2.1's periodic regime at 16 rad/s and the preset whose converged run reproduces it (3 cycles;
+#: README): printed only beside that configuration.
+THESIS_PERIODIC_REGIME = "3-cycle, stick (1.34, 2.53, 2.48) s, slip (5.4, 6.28, 6.41) s"
+THESIS_PERIODIC_PRESET = "thesis-field"
 MODEL_BETA1 = {"model 1 (reversible, beta1 = 0)": 0.0, "model 2 (beta1 = 0.14)": 0.14,
                "model 3 (beta1 = 0.56)": 0.56}
 
@@ -89,13 +97,32 @@ def _run_summary(run, top_speed: float) -> dict:
             "period_slip_s": run.period_slip.round(3).tolist()}
 
 
+def thesis_threshold(cfg: dict) -> float | None:
+    """Fig. 4.8's threshold [rad/s] when ``cfg`` is exactly the configuration that reproduces it
+    (:data:`THESIS_THRESHOLD_PRESET`, no override), else None.
+
+    Parameters
+    ----------
+    cfg : dict
+        A configuration.
+
+    Returns
+    -------
+    float or None
+        :data:`THESIS_THRESHOLD_RAD_S` or None.
+    """
+    from drillpy.model.config import load_config
+    return THESIS_THRESHOLD_RAD_S if cfg == load_config(preset=THESIS_THRESHOLD_PRESET) else None
+
+
 def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=None,
                  map_wobs_kn=None, progress: bool = True, threads: int = 0) -> dict:
     """Run the main job on a preset (``drillpy report``) and write its figures and summary.
 
     Computes, in order: the first five natural frequencies of the clamped string (Eq. 2.7),
     compared with the thesis's (0.13, 0.42, 0.74, 1.07, 1.41) Hz of section 4.2.1; SS (Eq. 3.4)
-    versus the top-drive speed with the speed below which SS > 0.5 (Fig. 4.8; thesis 16 rad/s);
+    versus the top-drive speed with the speed below which SS > 0.5 by bisection
+    (:func:`drillpy.model.threshold.stick_slip_threshold`; Fig. 4.8's 16 rad/s belongs to ``thesis-ch4``);
     one run at the configuration's operating top speed with the preset's own settings and one
     converged reference at that speed (all free modes, BDF2, at least 400 s with the first half
     discarded) with their stick/slip phases and periodic regime (Fig. 4.6, section 4.2.1); and,
@@ -131,12 +158,14 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
     dict
         The summary written to ``summary.json``: ``preset`` (name), ``config``,
         ``frequencies_hz`` and ``thesis_frequencies_hz`` [Hz]; ``sweep`` with
-        ``top_speeds_rad_s`` [rad/s], ``severity`` [-], ``threshold_rad_s`` (None without a
-        crossing) and ``thesis_threshold_rad_s`` [rad/s]; ``run`` and ``reference_run`` with
+        ``top_speeds_rad_s`` [rad/s], ``severity`` [-], the threshold's keys of
+        :func:`drillpy.model.threshold.stick_slip_threshold` and ``thesis_threshold_rad_s`` [rad/s]
+        (None unless the configuration is :func:`thesis_threshold`'s); ``run`` and ``reference_run`` with
         ``top_speed_rad_s``, ``severity``, ``stick_fraction``, ``stick_durations_s`` and
         ``slip_durations_s`` [s], ``period_cycles`` (stick-slip cycles per period, 0 when not
         periodic), ``period_stick_s`` and ``period_slip_s`` [s] (``reference_run`` also has
-        ``modes``, ``scheme`` and ``duration_s``); for a hysteretic law ``stability_maps`` with
+        ``modes``, ``scheme``, ``duration_s`` and, for the configuration that reproduces it,
+        ``thesis_periodic_regime``); for a hysteretic law ``stability_maps`` with
         ``top_speeds_rpm``, ``wobs_kn``, ``severity`` (label -> map) and ``conclusions``
         (:func:`map_conclusions`).
     """
@@ -150,11 +179,12 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
 
     speeds = np.arange(6.0, 28.0) if speeds is None else np.asarray(speeds, float)
     ss = sweep_severity(cfg, speeds, progress=progress, threads=threads)
-    thr = severity_threshold(speeds, ss)
-    summary["sweep"] = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.round(4).tolist(),
-                        "threshold_rad_s": thr, "thesis_threshold_rad_s": THESIS_THRESHOLD_RAD_S}
-    plotting.severity_plot(out / "severity_vs_top_speed.png", speeds, ss, thr,
-                            title=f"{cfg.get('name')}: SS vs top speed (Fig. 4.8)")
+    thr = stick_slip_threshold(cfg, speeds, ss, threads=threads)
+    thesis = thesis_threshold(cfg)
+    summary["sweep"] = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.round(4).tolist(), **thr,
+                        "thesis_threshold_rad_s": thesis}
+    plotting.severity_plot(out / "severity_vs_top_speed.png", speeds, ss, thr["threshold_rad_s"],
+                           title=f"{cfg.get('name')}: SS vs top speed" + (" (Fig. 4.8)" if thesis else ""))
 
     op_speed = cfg["operation"]["top_speed_rad_s"]
     summary["run"] = _run_summary(simulate(cfg, op_speed), op_speed)
@@ -165,6 +195,9 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
     ref = simulate(ref_cfg, op_speed)
     summary["reference_run"] = {**_run_summary(ref, op_speed), "modes": n_free, "scheme": "bdf2",
                                 "duration_s": duration}
+    from drillpy.model.config import load_config
+    if cfg == load_config(preset=THESIS_PERIODIC_PRESET):
+        summary["reference_run"]["thesis_periodic_regime"] = THESIS_PERIODIC_REGIME
     t_end = ref.t[-1]
     plotting.time_series_plot(out / "time_series.png", ref.t, ref.bit_speed, ref.torque_on_bit,
                          ref.top_speed, t_window=(max(0.0, t_end - 60.0), t_end),
@@ -185,17 +218,16 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
             "severity": {k: v.round(4).tolist() for k, v in maps.items()},
             "conclusions": map_conclusions(sp_rpm, w_kn, maps),
         }
-    (out / "summary.json").write_text(dumps({**summary, "provenance": provenance()}))
+    write_text((out / "summary.json"), dumps({**summary, "provenance": provenance()}))
     return summary
 
 
 def print_field_summary(s: dict) -> None:
     """Print a field-report summary beside the thesis's numbers, one finding per line.
 
-    Prints the natural frequencies [Hz], the SS > 0.5 threshold [rad/s] of Fig. 4.8, SS, stick
-    fraction and periodic regime of the preset run and of the converged reference (with the
-    thesis's 3-cycle stick (1.34, 2.53, 2.48) s and slip (5.4, 6.28, 6.41) s of section 4.2.1)
-    and, when present, the stable fractions and the two section-3.3 verdicts of the stability
+    Prints the natural frequencies [Hz], the SS > 0.5 threshold (:func:`drillpy.model.threshold.format_threshold`,
+    Fig. 4.8's value only beside ``thesis-ch4``), SS, stick fraction and periodic regime of the preset run
+    and of the converged reference (section 4.2.1's regime only beside ``thesis-field``) and, when present, the stable fractions and the two section-3.3 verdicts of the stability
     maps.
 
     Parameters
@@ -205,15 +237,16 @@ def print_field_summary(s: dict) -> None:
     """
     print(f"natural frequencies [Hz]: {s['frequencies_hz']}  (thesis {s['thesis_frequencies_hz']})")
     sw = s["sweep"]
-    thr = "none in range" if sw["threshold_rad_s"] is None else f"{sw['threshold_rad_s']:.2f} rad/s"
-    print(f"SS > 0.5 below {thr}  (thesis {sw['thesis_threshold_rad_s']} rad/s)")
+    thesis = sw.get("thesis_threshold_rad_s")
+    print(format_threshold(sw) + (f"  (thesis Fig. 4.8: {thesis} rad/s)" if thesis is not None else ""))
     for key, label in (("run", "preset"), ("reference_run", "all modes, BDF2")):
         r = s[key]
         print(f"run at {r['top_speed_rad_s']} rad/s ({label}): SS = {r['severity']:.3f}, stick "
               f"fraction = {r['stick_fraction']:.3f}, periodic over {r['period_cycles']} cycle(s)")
         if r["period_cycles"]:
             print(f"  stick durations {r['period_stick_s']} s, slip durations {r['period_slip_s']} s")
-    print("  thesis (section 4.2.1): 3-cycle, stick (1.34, 2.53, 2.48) s, slip (5.4, 6.28, 6.41) s")
+    if s["reference_run"].get("thesis_periodic_regime"):
+        print(f"  thesis (section 4.2.1): {s['reference_run']['thesis_periodic_regime']}")
     if "stability_maps" in s:
         c = s["stability_maps"]["conclusions"]
         for label in MODEL_BETA1:
@@ -260,7 +293,7 @@ def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, 
     start = start or cfg.get("simulation", {}).get("start", "rest")  # the start used
     # the grid run, in the configuration: drillsim --job sweep on it repeats the sweep
     cfg = {**cfg, "sweep": {"top_speeds_rad_s": [float(v) for v in speeds], "wobs_n": []}}
-    (out / "sweep.json").write_text(dumps({**summary, "config": cfg, "provenance": provenance(start=start)}))
+    write_text((out / "sweep.json"), dumps({**summary, "config": cfg, "provenance": provenance(start=start)}))
     return out
 
 
@@ -299,5 +332,5 @@ def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict,
     start = start or cfg.get("simulation", {}).get("start", "rest")  # the start used
     cfg = {**cfg, "sweep": {"top_speeds_rad_s": [float(v) * np.pi / 30.0 for v in speeds_rpm],
                             "wobs_n": [float(w) * 1e3 for w in wobs_kn]}}  # the grid run [rad/s, N]
-    (out / "map.json").write_text(dumps({**summary, "config": cfg, "provenance": provenance(start=start)}))
+    write_text((out / "map.json"), dumps({**summary, "config": cfg, "provenance": provenance(start=start)}))
     return out

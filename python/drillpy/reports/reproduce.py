@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
 from drillpy.model.config import load_config, with_overrides
 from drillpy.provenance import provenance, with_markdown_footer
 from drillpy.jsonio import dumps
@@ -199,9 +200,11 @@ def chapter3(out: Path, o: Options) -> tuple[list, list]:
         labels = list(maps)
         vmax = max(float(np.max(m)) for m in maps.values())
         sfx = "" if acc == "implicit" else "_lagged"
-        f1 = plotting.stability_map_plot(out / f"fig3_11{sfx}.png", sp_rpm, w_kn,
+        f1 = out / f"fig3_11{sfx}.png"
+        plotting.stability_map_plot(f1, sp_rpm, w_kn,
                                      {k: maps[k] for k in labels[:2]}, vmax=vmax)
-        f2 = plotting.stability_map_plot(out / f"fig3_12{sfx}.png", sp_rpm, w_kn, {labels[2]: maps[labels[2]]}, vmax=vmax)
+        f2 = out / f"fig3_12{sfx}.png"
+        plotting.stability_map_plot(f2, sp_rpm, w_kn, {labels[2]: maps[labels[2]]}, vmax=vmax)
         figs += [str(f1), str(f2)]
         c = map_conclusions(sp_rpm, w_kn, maps)
         frac = [c[k]["stable_fraction_all"] for k in labels]
@@ -274,7 +277,8 @@ def chapter4(out: Path, o: Options) -> tuple[list, list]:
     ss = sweep_severity(cfg, speeds, progress=o.progress, threads=o.threads)
     ref = refine_threshold(cfg, speeds, ss, tol=0.02 if not o.quick else 0.1, threads=o.threads)
     thr = None if ref is None else ref.threshold
-    fig = plotting.severity_plot(out / "fig4_8.png", speeds, ss, thr,
+    fig = out / "fig4_8.png"
+    plotting.severity_plot(fig, speeds, ss, thr,
                                   title="thesis-ch4 (WOB 200 kN, 100 modes): SS vs top speed (Fig. 4.8)")
     figs.append(str(fig))
     rows.append(Row("4", "top speed below which SS > 0.5 [rad/s] (Fig. 4.8), thesis-ch4", "16",
@@ -303,7 +307,8 @@ def chapter4(out: Path, o: Options) -> tuple[list, list]:
                         "reported", None, "reading",
                         "SS > 0.5 at every speed" if r2 is None and s2.min() > 0.5 else ""))
     if extra:
-        fig = plotting.severity_plot(out / "fig4_8_readings.png", speeds, ss, thr, extra=extra,
+        fig = out / "fig4_8_readings.png"
+        plotting.severity_plot(fig, speeds, ss, thr, extra=extra,
                                       title="Fig. 4.8 under the readings of the thesis's ambiguities")
         figs.append(str(fig))
 
@@ -315,7 +320,8 @@ def chapter4(out: Path, o: Options) -> tuple[list, list]:
         err = _cycle_error(run.period_stick, run.period_slip) if run.period_cycles == 3 else math.inf
         name = "thesis-ch4" if c3["operation"]["wob_n"] == 200e3 else "thesis-field with 100 modes (245 kN)"
         if kind == "target":
-            fig = plotting.time_series_plot(out / "fig4_6.png", run.t, run.bit_speed, run.torque_on_bit, run.top_speed,
+            fig = out / "fig4_6.png"
+            plotting.time_series_plot(fig, run.t, run.bit_speed, run.torque_on_bit, run.top_speed,
                                        t_window=(340.0, 400.0),
                                        title=f"{name}, {speed:g} rad/s (Fig. 4.6, last 60 s)")
             figs.append(str(fig))
@@ -361,9 +367,11 @@ def _fig49(out: Path, o: Options, cfg: dict) -> tuple[list, list]:
     sev, sp = (st.severity, st.speeds) if ref is None else (ref.severity, ref.speeds)
     p05 = p_speed(sev, sp)
     boot = bootstrap_interval(sev, sp, seed=o.seed)
-    fig = ps.severity_band_plot(out / "fig4_9.png", st)
+    fig = out / "fig4_9.png"
+    ps.severity_band_plot(fig, st)
     figs.append(str(fig))
-    figc = ps.conv1_plot(out / "figC_1.png", st.conv1)
+    figc = out / "figC_1.png"
+    ps.conv1_plot(figc, st.conv1)
     figs.append(str(figc))
     setting = (f"{samples} samples, Algorithm 1 from rest, {proto['duration']:g} s runs ({proto['transient']:g} s "
                f"discarded), eta with the shape of Eq. (4.4) and std {st.eta_std:.4f} (+-20 % as +-3 sigma)")
@@ -399,7 +407,8 @@ def _fig49(out: Path, o: Options, cfg: dict) -> tuple[list, list]:
     # Fig. 4.7: stick and slip durations of the stochastic model at the speed of the 3-cycle regime
     ph = phase_study(cfg, THREE_CYCLE_SPEED_RAD_S, seed=o.seed, cycles=750 if not o.quick else 60, psd=psd,
                      threads=o.threads, progress=o.progress)
-    fig = ps.phase_pdf_plot(out / "fig4_7.png", ph)
+    fig = out / "fig4_7.png"
+    ps.phase_pdf_plot(fig, ph)
     figs.append(str(fig))
     modes = [_pdf_mode(ph.stick), _pdf_mode(ph.slip)]
     dist = [min(abs(m - d) for d in ds) if len(ds) and m is not None else math.inf
@@ -625,8 +634,8 @@ def reproduce(chapters, out_dir, options: Options | None = None, record=None) ->
         res.figures += figs
         res.seconds[c] = round(time.perf_counter() - t0, 1)
     prov = provenance(seed=o.seed, quick=o.quick)
-    (out / "table.md").write_text(with_markdown_footer(render_table(res, o), prov))
-    (out / "reproduce.json").write_text(dumps({**res.as_dict(), "quick": o.quick, "seed": o.seed, "provenance": prov}))
+    write_text((out / "table.md"), with_markdown_footer(render_table(res, o), prov))
+    write_text((out / "reproduce.json"), dumps({**res.as_dict(), "quick": o.quick, "seed": o.seed, "provenance": prov}))
     return res
 
 

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
 from drillpy.uncertainty.montecarlo import (ETA_DT_S, PhaseStudy, StochasticStudy, merge_studies, phase_study,
                                             stochastic_run)
 from drillpy.uncertainty.process import THESIS_PSD, Psd, PsdFit, fit_eta, generate, welch
@@ -167,7 +168,7 @@ def write_stochastic(result: StochasticAnalysis, out_dir) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     js = {**result.study.summary(), "figures": result.info, "config": result.study.config}
     prov = provenance(seed=result.study.seed, samples=int(result.study.severity.shape[0]))
-    (out / "mc.json").write_text(dumps({**js, "provenance": prov}))
+    write_text((out / "mc.json"), dumps({**js, "provenance": prov}))
     write_samples(result.study, out)
     return js
 
@@ -194,7 +195,7 @@ def write_samples(study: StochasticStudy, out_dir) -> Path:
     out.mkdir(parents=True, exist_ok=True)
     prov = provenance(seed=study.seed, samples=int(study.severity.shape[0]), first_sample=study.first_sample)
     path = out / SAMPLES_FILE
-    path.write_text(dumps({**study.samples_dict(), "provenance": prov}, indent=None))
+    write_text(path, dumps({**study.samples_dict(), "provenance": prov}, indent=None))
     return path
 
 
@@ -257,7 +258,7 @@ def merge_outputs(chunks, out_dir=None) -> StochasticStudy:
         out.mkdir(parents=True, exist_ok=True)
         prov = provenance(seed=study.seed, samples=int(study.severity.shape[0]),
                           chunks=[str(c) for c in chunks])
-        (out / "mc.json").write_text(dumps({**study.summary(), "config": study.config, "provenance": prov}))
+        write_text((out / "mc.json"), dumps({**study.summary(), "config": study.config, "provenance": prov}))
         write_samples(study, out)
         severity_band_plot(out / "severity_band.png", study)
         conv1_plot(out / "conv1.png", study.conv1)

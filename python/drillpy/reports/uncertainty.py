@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from drillpy.outputs import write_text
 from drillpy.uncertainty.frf import band_widths, cb_frequencies, conv2_vs_modes, default_frequencies, frf_envelope
 from drillpy.model.simulation import natural_frequencies
 from drillpy.provenance import provenance
@@ -313,7 +314,7 @@ def write_chapter6(study: Chapter6Study, out_dir, **options) -> dict:
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "summary.json").write_text(dumps({**study.summary, "provenance": provenance(**options)}))
+    write_text((out / "summary.json"), dumps({**study.summary, "provenance": provenance(**options)}))
     return study.summary
 
 
@@ -398,7 +399,7 @@ def write_envelope(out_dir, env, title: str, summary: dict, cfg: dict, **options
     out.mkdir(parents=True, exist_ok=True)
     for p, label in enumerate(env.labels):
         frf_plots.envelope_plot(out / f"frf_point{p + 1}.png", {title: env}, p, f"{title}: {label}")
-    (out / "envelope.json").write_text(dumps({**summary, "config": cfg, "provenance": provenance(**options)}, indent=None))
+    write_text((out / "envelope.json"), dumps({**summary, "config": cfg, "provenance": provenance(**options)}, indent=None))
     return out
 
 
@@ -423,7 +424,8 @@ def robust_speed_summary(severity, speeds, refine: float | None, seed: int, eval
     -------
     dict
         ``p05_speed_bracket_rad_s``, ``p05_speed_rad_s`` and ``refinement_speeds_rad_s`` when refined
-        to a crossing; ``p05_speed_bootstrap`` (90 % interval over the samples) with two or more samples.
+        to a crossing; ``p05_speed_bootstrap`` (90 % interval over the samples) with two or more samples, and
+        ``p05_speed_precision_warning`` when the grid limits its precision (:func:`grid_limit`).
     """
     from drillpy.uncertainty.robust_speed import bootstrap_interval, p_speed, refine_p_speed
     out = {}
@@ -435,8 +437,41 @@ def robust_speed_summary(severity, speeds, refine: float | None, seed: int, eval
             out["p05_speed_rad_s"] = p_speed(severity, speeds)
             out["refinement_speeds_rad_s"] = [float(x) for x in r.speeds]
     if severity.shape[0] >= 2:
-        out["p05_speed_bootstrap"] = bootstrap_interval(severity, speeds, seed=seed)
+        out["p05_speed_bootstrap"] = b = bootstrap_interval(severity, speeds, seed=seed)
+        note = grid_limit(b, speeds)
+        if note:
+            out["p05_speed_precision_warning"] = note
     return out
+
+
+def grid_limit(interval: dict, speeds) -> str | None:
+    """The warning due when the grid, not the samples, limits the precision of the 5 % speed: its
+    bootstrap interval is narrower than the grid spacing where it lies (the resamples all cross
+    P = 5 % in the same grid cell, and the linear interpolation in that cell decides the rest).
+
+    Parameters
+    ----------
+    interval : dict
+        :func:`drillpy.uncertainty.robust_speed.bootstrap_interval` (``low``, ``high`` [rad/s]).
+    speeds : array_like
+        The grid [rad/s] (with any refinement speeds).
+
+    Returns
+    -------
+    str or None
+        The warning, None when the interval spans a grid spacing or more (or there is none).
+    """
+    lo, hi = interval["low"], interval["high"]
+    sp = np.unique(np.asarray(speeds, float))
+    if not (lo == lo and hi == hi) or sp.size < 2:
+        return None
+    k = int(np.clip(np.searchsorted(sp, lo, side="right") - 1, 0, sp.size - 2))
+    spacing = float(sp[k + 1] - sp[k])
+    if hi - lo >= spacing:
+        return None
+    return (f"the 90 % bootstrap interval of the 5 % speed ({lo:.2f}-{hi:.2f} rad/s) is narrower than the grid "
+            f"spacing there ({spacing:.3g} rad/s): the grid, not the samples, limits its precision; --refine TOL "
+            "locates it by bisection on the same samples")
 
 
 def robust_severity(cfg: dict, speeds, samples: int, *, delta: float = 0.1, eta_psd=None, eta=None,
@@ -533,5 +568,5 @@ def write_robust_severity(out_dir, speeds, studies: dict, summary: dict, cfg: di
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     frf_plots.severity_bands_plot(out / "severity_bands.png", speeds, studies)
-    (out / "robust_ss.json").write_text(dumps({**summary, "config": cfg, "provenance": provenance(**options)}))
+    write_text((out / "robust_ss.json"), dumps({**summary, "config": cfg, "provenance": provenance(**options)}))
     return out

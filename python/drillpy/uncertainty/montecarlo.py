@@ -106,12 +106,15 @@ class StochasticStudy:
         dict
             The preset name, sample count, seed, first sample, :attr:`settings`, ``eta_std``,
             one row per speed (``top_speed_rad_s``, ``mean_ss``, ``q05``, ``q95``,
-            ``p_ss_gt_0_5`` and, if computed, ``deterministic_ss``), ``p05_speed_rad_s``,
+            ``p_ss_gt_0_5`` with its 90 % Wilson interval over the samples ``p_ss_gt_0_5_wilson90`` and,
+            if computed, ``deterministic_ss``), ``p05_speed_rad_s``,
             ``deterministic_threshold_rad_s`` and ``conv1_final`` (Conv1 at the last sample).
         """
+        from drillpy.uncertainty.binomial import wilson_interval
+        low, high = wilson_interval(np.clip(self.p_exceed, 0.0, 1.0), int(self.severity.shape[0]))
         rows = [{"top_speed_rad_s": float(s), "mean_ss": float(m), "q05": float(a), "q95": float(b),
-                 "p_ss_gt_0_5": float(p)}
-                for s, m, a, b, p in zip(self.speeds, self.mean, self.q05, self.q95, self.p_exceed)]
+                 "p_ss_gt_0_5": float(p), "p_ss_gt_0_5_wilson90": [float(lo), float(hi)]}
+                for s, m, a, b, p, lo, hi in zip(self.speeds, self.mean, self.q05, self.q95, self.p_exceed, low, high)]
         if self.deterministic is not None:
             for r, d in zip(rows, self.deterministic):
                 r["deterministic_ss"] = float(d)
