@@ -10,6 +10,10 @@
 // (horizons.hpp) and the damping scans of several configurations (run_many.hpp). Other runs (motor or controlled
 // drive, bdf2, the lagged acceleration, dense damping) are refused by supports() and stay on
 // Integrator, which is also the reference of this path.
+// The exact modal scheme (exact_modal.hpp) runs here too, on the same inputs: its lanes share
+// Integrator::run_exact_lanes with the scalar path (plain loops over the lanes, vectorized by the
+// compiler at the baseline instruction set), so a run's bits are the scalar path's, whatever its
+// batch, lane, thread count or chunking.
 //
 // Library: Google Highway (Debian libhwy-dev). One source gives the kernel for every x86 target
 // (SSSE3, SSE4, AVX2, AVX-512) compiled with the baseline flags, with Highway's runtime dispatch
@@ -89,8 +93,9 @@ class BatchedIntegrator {
   /// Whether the batched path can run these inputs (see the header's scope); otherwise use Integrator.
   bool supports(const Inputs& in) const {
     const SimOptions& o = in_.opt_;
-    return o.scheme == Scheme::modified_euler && o.acceleration == Acceleration::implicit && in_.diag_damping_ &&
-           in.top_drive.kind == TopDrive::Kind::ideal && !in.axial.active();
+    const bool scheme = (o.scheme == Scheme::modified_euler && o.acceleration == Acceleration::implicit) ||
+                        o.scheme == Scheme::exact_modal;
+    return scheme && in_.diag_damping_ && in.top_drive.kind == TopDrive::Kind::ideal && !in.axial.active();
   }
 
   /// Whether `other` can step in lockstep with this integrator's runs with its own damping: the
@@ -134,12 +139,62 @@ class BatchedIntegrator {
     if (diverged_at) std::fill(diverged_at, diverged_at + n, NAN);
     const std::size_t N = width();
     for (std::size_t b = 0; b < n; b += N)
-      run_vector(in + b, start + b, model.data() + b, std::min(N, n - b), obs + b, out.data() + b,
+      if (in_.opt_.scheme == Scheme::exact_modal)
+        run_exact(in + b, start + b, model.data() + b, std::min(N, n - b), obs + b, out.data() + b,
+                  diverged_at ? diverged_at + b : nullptr);
+      else
+        run_vector(in + b, start + b, model.data() + b, std::min(N, n - b), obs + b, out.data() + b,
                  diverged_at ? diverged_at + b : nullptr);
     return out;
   }
 
  private:
+  /// One batch of the exact modal scheme: Integrator::run_exact_lanes on width() lanes, each with
+  /// its model's coefficients (its own modal damping), the padding lanes repeating the first run.
+  template <class Observer>
+  void run_exact(const Inputs* in, const ModelState* const* start, const Integrator* const* model, std::size_t n,
+                 Observer* obs, ModelState* out, double* diverged_at) const {
+    const Integrator& I = in_;
+    const std::size_t N = width();
+    const int m = static_cast<int>(I.w2_.size());
+    std::vector<double> z(m * N), p(m * N), c(N);
+    std::vector<const Inputs*> lane(N);
+    std::vector<const ExactModal*> em(N);
+    for (std::size_t l = 0; l < N; ++l) {
+      const std::size_t r = l < n ? l : 0;
+      lane[l] = &in[r];
+      em[l] = &model[r]->em_;
+      c[l] = model[r]->em_.c;
+      const ModelState s0 = start[r] ? *start[r] : I.initial_state(in[r].top_speed.at(0.0));
+      require(s0.q.size() == I.V_.rows() && s0.qdot.size() == I.V_.rows(), "initial_state", s0.q.size(),
+              "has the wrong size (the model has " + show(I.V_.rows()) + " coordinates)");
+      const Eigen::VectorXd zl = I.Vinv_ * s0.q, pl = I.Vinv_ * s0.qdot;
+      for (int j = 0; j < m; ++j) {
+        z[j * N + l] = zl(j);
+        p[j * N + l] = pl(j);
+      }
+    }
+    const std::vector<double> coef = exact_modal_lanes(em.data(), N);
+    I.run_exact_lanes(
+        lane.data(), N, coef.data(), c.data(), z.data(), p.data(),
+        [&](std::size_t l, long i, double t, double v, double a, double T, double om) {
+          if (l < n)
+            obs[l](static_cast<const StepState&>(StepState{i, t, v, a, NAN, T, NAN, om, NAN, in[l].wob.at(t)}));
+        },
+        [&](std::size_t l, double t) {
+          if (!diverged_at) Integrator::diverged(t);
+          if (l < n) diverged_at[l] = t;
+        });
+    for (std::size_t l = 0; l < n; ++l) {
+      Eigen::VectorXd zl(m), pl(m);
+      for (int j = 0; j < m; ++j) {
+        zl(j) = z[j * N + l];
+        pl(j) = p[j * N + l];
+      }
+      out[l] = I.to_model(zl, pl);
+    }
+  }
+
   template <class Observer>
   void run_vector(const Inputs* in, const ModelState* const* start, const Integrator* const* model, std::size_t n,
                   Observer* obs, ModelState* out, double* diverged_at) const {

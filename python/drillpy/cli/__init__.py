@@ -199,7 +199,7 @@ def add_model_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--law", choices=["hysteretic", "tucker_wang"], help="thesis bit-rock law parameter set")
     p.add_argument("--beta1", type=float, help="hysteresis amplitude of Eq. (3.3)")
     p.add_argument("--speed-unit", choices=["rad_s", "rpm"], help="speed unit of the law parameters")
-    p.add_argument("--scheme", choices=["modified_euler", "bdf2"], help="time integration scheme")
+    p.add_argument("--scheme", choices=["modified_euler", "bdf2", "exact_modal"], help="time integration scheme")
     p.add_argument("--acceleration", choices=["implicit", "lagged"],
                    help="bit acceleration in Eq. (3.3): the step's own (implicit, default) or the last "
                         "step's backward difference (lagged, modified Euler only)")
