@@ -60,7 +60,7 @@ struct BatchStepArgs {
   const double *w2 = nullptr, *bit = nullptr;                   ///< omega^2, bit [modes]
   const double* top_load = nullptr;                             ///< load of the top's acceleration [modes]
   double *z = nullptr, *p = nullptr, *f = nullptr;              ///< modal state and forces [modes][lanes]
-  double* a_guess = nullptr;                                    ///< Newton's start, carried over [lanes]
+  double* a_guess = nullptr;  ///< the last three solutions of Eq. (A.1), Newton's start, carried over [3][lanes]
   const double *bit_viscous = nullptr, *string_friction = nullptr;  ///< [lanes]
   /// Omega, dOmega/dt, W / W_ref, the static torque at W, eta [count + 1][lanes]
   const double *om = nullptr, *domega = nullptr, *wob_scale = nullptr, *static_torque = nullptr, *eta = nullptr;
@@ -204,7 +204,7 @@ class BatchedIntegrator {
     const double dt = I.opt_.dt;
     const long last = I.opt_.steps();
     constexpr long block = 256;
-    std::vector<double> z(m * N), p(m * N), f(m * N), negd(m * N), a_guess(N, 0.0), cv(N), sf(N);
+    std::vector<double> z(m * N), p(m * N), f(m * N), negd(m * N), a_guess(3 * N, 0.0), cv(N), sf(N);
     std::vector<double> om((block + 1) * N), dom((block + 1) * N), ws((block + 1) * N), st((block + 1) * N);
     std::vector<double> eta((block + 1) * N), v(block * N), a(block * N), T(block * N);
     for (std::size_t l = 0; l < N; ++l) {
@@ -286,7 +286,7 @@ class BatchedIntegrator {
             if (!diverged_at) Integrator::diverged(t);
             diverged_at[l] = t;
             for (int j = 0; j < m; ++j) z[j * N + l] = p[j * N + l] = 0.0;  // a finite lane: no Newton spin on NaN
-            a_guess[l] = 0.0;
+            a_guess[l] = a_guess[N + l] = a_guess[2 * N + l] = 0.0;
             break;
           }
           obs[l](static_cast<const StepState&>(StepState{i, t, v[k], a[k], NAN, T[k], NAN, om[k], NAN, in[l].wob.at(t)}));

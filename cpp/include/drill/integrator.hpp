@@ -646,8 +646,9 @@ class Integrator {
   /// the end torque that holds it there, T_req = (w + Omega_i+1) / c, is within the static capacity
   /// (the law's static torque times 1 + eta, plus the string friction); a moving bit that would
   /// reverse (or land at rest) comes to rest when the capacity can hold it.
+  /// `guess` starts the Newton iteration.
   void exact_bit(double w, double c, double om0, double om1, double v0, double wob, double eta, double cv,
-                 double Tsf, double t1, double& x, double& T, double& fric) const {
+                 double Tsf, double t1, double guess, double& x, double& T, double& fric) const {
     const double dt = opt_.dt;
     const double Ts = (1.0 + eta) * law_.static_torque(wob), cap = Ts + Tsf;
     const bool at_rest = cap > 0.0 && std::fabs(v0) <= rest_tolerance(om0);
@@ -655,7 +656,7 @@ class Integrator {
     bool stuck = at_rest && std::fabs(T_req) <= cap;
     fric = 0.0;
     if (!stuck) {
-      x = solve_bit(w, c, om1, 1.0 / dt, (om1 - v0) / dt, wob, eta, cv, Tsf, v0 - om0, t1, T);
+      x = solve_bit(w, c, om1, 1.0 / dt, (om1 - v0) / dt, wob, eta, cv, Tsf, guess, t1, T);
       const double v1 = om1 + x, sv = sign(v0);
       const bool lands = v0 * v1 <= 0.0 || std::fabs(v1) <= rest_tolerance(om1);
       stuck = cap > 0.0 && !at_rest && lands && (std::fabs(T_req) <= cap || sf == sv);
@@ -683,6 +684,7 @@ class Integrator {
     const int m = static_cast<int>(w2_.size());
     const std::size_t mN = static_cast<std::size_t>(m) * N;
     std::vector<double> zs(mN), ps(mN), w(N), v(N), T0(N), T1(N), om0(N), om1(N), dom(N), x(N), T(N), fr(N);
+    std::vector<double> x1(N), x2(N);  // the relative bit speeds of the last two steps (Newton's start)
     std::vector<char> live(N, 1);
     auto drop = [&](std::size_t l, double t) {
       fail(l, t);
@@ -703,6 +705,7 @@ class Integrator {
         continue;
       }
       emit(l, 0L, 0.0, v[l], 0.0, e.T - x0.string_friction * sign(v[l]), om0[l]);
+      x1[l] = x2[l] = v[l] - om0[l];
     }
     for (long i = 0; i < n; ++i) {
       const double t0 = i * dt, t1 = (i + 1) * dt;
@@ -717,8 +720,9 @@ class Integrator {
         T1[l] = 0.0;
         if (!live[l]) continue;
         try {
+          // Newton starts from the line through the last two relative bit speeds, extrapolated
           exact_bit(w[l], c[l], om0[l], om1[l], v[l], r.wob.at(t1), r.eta.at(t1), r.bit_viscous, r.string_friction,
-                    t1, x[l], T[l], fr[l]);
+                    t1, 2.0 * x1[l] - x2[l], x[l], T[l], fr[l]);
         } catch (const std::runtime_error&) {
           x[l] = NAN;
         }
@@ -734,6 +738,8 @@ class Integrator {
         }
         const double v1 = om1[l] + x[l], a = (v1 - v[l]) / dt;
         emit(l, i + 1, t1, v1, a, fr[l] != 0.0 ? T[l] - fr[l] : T[l], om1[l]);
+        x2[l] = x1[l];
+        x1[l] = x[l];
         v[l] = v1;
         T0[l] = T[l];
       }
