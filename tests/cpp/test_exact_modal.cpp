@@ -164,33 +164,45 @@ TEST(ExactModal, SeverityConvergesToAFineStepBdf2ReferenceAtATenTimesLargerStep)
 }
 
 TEST(ExactModal, TheStickConditionHoldsOnTheRig) {
-  // the test rig with a static torque (Eq. 5.1 with a0 > 0) and string friction: true stick
-  // phases (zero speed, no backward motion) with the torque on bit within the static capacity.
-  Config c = rig_with_stick(BitRockLaw::Kind::polynomial);
-  c.sim.scheme = Scheme::exact_modal;
-  c.sim.duration = 20.0;
-  const Simulation sim(c);
-  const Inputs in = sim.inputs();
-  const double Ts = c.law.static_torque(c.wob), Tsf = c.string_friction;
-  long stuck = 0, breaks = 0, n = 0;
-  double vmin = 1e9, Tmax = 0.0, prev = 1.0;
-  sim.integrator().run(in, [&](const StepState& s) {
-    if (s.t < 5.0) return;
-    ++n;
-    vmin = std::min(vmin, s.bit_speed);
-    if (s.bit_speed == 0.0) {
-      ++stuck;
-      Tmax = std::max(Tmax, std::fabs(s.torque_on_bit));
-    } else if (prev == 0.0) {
-      ++breaks;
-    }
-    prev = s.bit_speed;
-  });
+  // the test rig with a static torque (Eq. 5.1 with a0 > 0) and string friction, 20 s at 0.1 ms:
+  // true stick phases (zero speed, no backward motion) with the torque on bit within the static
+  // torque, and the phases of BDF2's run (the same break-aways; a torque interpolated linearly
+  // over a stuck step alternated from step to step and broke away 6x as often).
+  struct Phases {
+    long stuck = 0, breaks = 0, n = 0;
+    double vmin = 1e9, Tmax = 0.0;
+  };
+  auto phases = [](Scheme s) {
+    Config c = rig_with_stick(BitRockLaw::Kind::polynomial);
+    c.sim.scheme = s;
+    c.sim.duration = 20.0;
+    const Simulation sim(c);
+    Phases ph;
+    double prev = 1.0;
+    sim.integrator().run(sim.inputs(), [&](const StepState& st) {
+      if (st.t < 5.0) return;
+      ++ph.n;
+      ph.vmin = std::min(ph.vmin, st.bit_speed);
+      if (st.bit_speed == 0.0) {
+        ++ph.stuck;
+        ph.Tmax = std::max(ph.Tmax, std::fabs(st.torque_on_bit));
+      } else if (prev == 0.0) {
+        ++ph.breaks;
+      }
+      prev = st.bit_speed;
+    });
+    return ph;
+  };
+  const Config c = rig_with_stick(BitRockLaw::Kind::polynomial);
+  const double Ts = c.law.static_torque(c.wob);
   ASSERT_GT(Ts, 0.0);
-  EXPECT_GT(breaks, 3) << "a stick-slip limit cycle";
-  EXPECT_GT(stuck, n / 20);
-  EXPECT_GT(vmin, -1e-9) << "no backward motion";
-  EXPECT_LE(Tmax, Ts * (1.0 + 1e-12)) << "the contact takes at most the static torque (Tsf = " << Tsf << ")";
+  const Phases em = phases(Scheme::exact_modal), ref = phases(Scheme::bdf2);
+  EXPECT_GT(em.breaks, 20) << "a stick-slip limit cycle";
+  EXPECT_GT(em.stuck, 1000);
+  EXPECT_GT(em.vmin, -1e-9) << "no backward motion";
+  EXPECT_LE(em.Tmax, Ts * (1.0 + 1e-12)) << "the contact takes at most the static torque";
+  EXPECT_EQ(em.breaks, ref.breaks);
+  EXPECT_NEAR(static_cast<double>(em.stuck), static_cast<double>(ref.stuck), 0.05 * ref.stuck);
 }
 
 TEST(ExactModal, RefusesDenseDampingAndIsRefusedWhereOnlyModifiedEulerRuns) {
@@ -277,7 +289,7 @@ TEST(ExactModal, ADampingScanHasTheScalarBitsWithADampingPerLane) {
   std::vector<std::unique_ptr<Simulation>> owned;
   std::vector<const Simulation*> sims;
   std::vector<Inputs> in;
-  for (double z : {0.02, 0.1, 0.3, 0.7, 1.0, 1.5}) {  // under-, over-damped
+  for (double z : {0.02, 0.1, 0.3, 0.7, 0.95, 1.0}) {  // up to critical damping
     Config c = rig_with_stick(BitRockLaw::Kind::polynomial_hysteretic);
     c.sim.scheme = Scheme::exact_modal;
     c.damping.kind = DampingSpec::Kind::modal;

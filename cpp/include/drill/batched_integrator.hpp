@@ -157,7 +157,7 @@ class BatchedIntegrator {
     const Integrator& I = in_;
     const std::size_t N = width();
     const int m = static_cast<int>(I.w2_.size());
-    std::vector<double> z(m * N), p(m * N), c(N);
+    std::vector<double> z(m * N), p(m * N), c(N), c0(N);
     std::vector<const Inputs*> lane(N);
     std::vector<const ExactModal*> em(N);
     for (std::size_t l = 0; l < N; ++l) {
@@ -165,6 +165,7 @@ class BatchedIntegrator {
       lane[l] = &in[r];
       em[l] = &model[r]->em_;
       c[l] = model[r]->em_.c;
+      c0[l] = model[r]->em_.c0;
       const ModelState s0 = start[r] ? *start[r] : I.initial_state(in[r].top_speed.at(0.0));
       require(s0.q.size() == I.V_.rows() && s0.qdot.size() == I.V_.rows(), "initial_state", s0.q.size(),
               "has the wrong size (the model has " + show(I.V_.rows()) + " coordinates)");
@@ -176,7 +177,7 @@ class BatchedIntegrator {
     }
     const std::vector<double> coef = exact_modal_lanes(em.data(), N);
     I.run_exact_lanes(
-        lane.data(), N, coef.data(), c.data(), z.data(), p.data(),
+        lane.data(), N, coef.data(), c.data(), c0.data(), z.data(), p.data(),
         [&](std::size_t l, long i, double t, double v, double a, double T, double om) {
           if (l < n)
             obs[l](static_cast<const StepState&>(StepState{i, t, v, a, NAN, T, NAN, om, NAN, in[l].wob.at(t)}));

@@ -22,7 +22,10 @@
 // is the scalar equation x + c T(Omega_i+1 + x, (Omega_i+1 + x - v_i) / dt) = w for x = v_i+1 - Omega_i+1,
 // solved by Integrator::solve_bit's safeguarded Newton. The stick condition of Eqs. (5.1), (5.3) is
 // the BDF2 step's (Integrator::exact_bit): a bit at rest stays at rest while the torque that keeps
-// it there at the step's end, (w + Omega_i+1) / c, is within the static capacity.
+// it there at the step's end is within the static capacity. Over a step that starts and ends at
+// rest the torque is held constant (T_i = T_i+1 = the holding torque): interpolated linearly, the
+// holding torque of one step would depend on the last one's with a factor near -1, a torque that
+// alternates from step to step and lets the bit break away and stick again every other step.
 //
 // The propagation below is written for runs in lanes (structure of arrays, [modes][lanes]): the
 // scalar path is one lane, the batched path (batched_integrator.hpp) one lane per run of a batch.
@@ -48,6 +51,7 @@ struct ExactModal {
   int modes = 0;
   std::vector<double> k;  ///< [modes][kinds]
   double c = 0.0;         ///< sum_j bit_j hp1_j: dv_i+1 / dT_i+1 = -c
+  double c0 = 0.0;        ///< sum_j bit_j hp0_j: dv_i+1 / dT_i = -c0
 
   double at(int j, Kind q) const { return k[static_cast<std::size_t>(j) * kinds + q]; }
 
@@ -85,7 +89,10 @@ struct ExactModal {
       r[hz1] = P[6] * bit(j);
       r[hp1] = P[7] * bit(j);
     }
-    for (int j = 0; j < e.modes; ++j) e.c += bit(j) * e.at(j, hp1);
+    for (int j = 0; j < e.modes; ++j) {
+      e.c += bit(j) * e.at(j, hp1);
+      e.c0 += bit(j) * e.at(j, hp0);
+    }
     return e;
   }
 };
@@ -124,16 +131,17 @@ inline void exact_modal_free(int m, std::size_t N, const double* coef, const dou
   }
 }
 
-/// The step's end: z, p = zs, ps with the response to the end torque T1 [lanes].
+/// The step's end: z, p = zs, ps with the response to the end torque T1 [lanes] and to dT0, a change
+/// of the start torque (T1 - T0 where the torque is held over the step, 0 elsewhere) [lanes].
 inline void exact_modal_close(int m, std::size_t N, const double* coef, const double* zs, const double* ps,
-                              const double* T1, double* z, double* p) {
+                              const double* T1, const double* dT0, double* z, double* p) {
   constexpr int K = ExactModal::kinds;
   for (int j = 0; j < m; ++j) {
     const double* c = coef + static_cast<std::size_t>(j) * K * N;
     const std::size_t o = static_cast<std::size_t>(j) * N;
     for (std::size_t l = 0; l < N; ++l) {
-      z[o + l] = zs[o + l] - c[ExactModal::hz1 * N + l] * T1[l];
-      p[o + l] = ps[o + l] - c[ExactModal::hp1 * N + l] * T1[l];
+      z[o + l] = zs[o + l] - c[ExactModal::hz1 * N + l] * T1[l] - c[ExactModal::hz0 * N + l] * dT0[l];
+      p[o + l] = ps[o + l] - c[ExactModal::hp1 * N + l] * T1[l] - c[ExactModal::hp0 * N + l] * dT0[l];
     }
   }
 }

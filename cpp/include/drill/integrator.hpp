@@ -626,7 +626,7 @@ class Integrator {
     const Inputs* lane = &in;
     double theta_top = 0.0, om_prev = in.top_speed.at(0.0);
     run_exact_lanes(
-        &lane, 1, em_.k.data(), &em_.c, z.data(), p.data(),
+        &lane, 1, em_.k.data(), &em_.c, &em_.c0, z.data(), p.data(),
         [&](std::size_t, long i, double t, double v, double a, double T, double om) {
           theta_top += 0.5 * opt_.dt * (om_prev + om);
           if (i == 0) theta_top = 0.0;
@@ -640,28 +640,35 @@ class Integrator {
 
   /// Eqs. (3.3), (5.1), (5.3) at the end of an exact modal step (exact_modal.hpp): the relative bit
   /// speed x = v_i+1 - Omega_i+1, the total torque T_i+1 and its string-friction part, from the free
-  /// relative speed w, the compliance c (v_i+1 = Omega_i+1 + w - c T_i+1), the top speeds at both
-  /// ends of the step and the bit speed v0 at its start. The bit acceleration in the law is Eq.
-  /// (A.1)'s (v_i+1 - v_i) / dt. Stick condition as in run_bdf2: a bit at rest stays at rest while
-  /// the end torque that holds it there, T_req = (w + Omega_i+1) / c, is within the static capacity
-  /// (the law's static torque times 1 + eta, plus the string friction); a moving bit that would
-  /// reverse (or land at rest) comes to rest when the capacity can hold it.
-  /// `guess` starts the Newton iteration.
-  void exact_bit(double w, double c, double om0, double om1, double v0, double wob, double eta, double cv,
-                 double Tsf, double t1, double guess, double& x, double& T, double& fric) const {
+  /// relative speed w, the compliances c and c0 (v_i+1 = Omega_i+1 + w - c T_i+1, w holding -c0 T_i),
+  /// the start torque T0, the top speeds at both ends of the step and the bit speed v0 at its start.
+  /// The bit acceleration in the law is Eq. (A.1)'s (v_i+1 - v_i) / dt. Stick condition as in
+  /// run_bdf2: a bit at rest stays at rest while the torque that holds it there over the step,
+  /// held constant (T_i = T_i+1 = (w + c0 T0 + Omega_i+1) / (c + c0)), is within the static capacity
+  /// (the law's static torque times 1 + eta, plus the string friction); `hold` is then true. A moving
+  /// bit that would reverse (or land at rest) comes to rest when the capacity can hold the end torque
+  /// T_req = (w + Omega_i+1) / c. `guess` starts the Newton iteration.
+  void exact_bit(double w, double c, double c0, double T0, double om0, double om1, double v0, double wob,
+                 double eta, double cv, double Tsf, double t1, double guess, double& x, double& T, double& fric,
+                 bool& hold) const {
     const double dt = opt_.dt;
     const double Ts = (1.0 + eta) * law_.static_torque(wob), cap = Ts + Tsf;
     const bool at_rest = cap > 0.0 && std::fabs(v0) <= rest_tolerance(om0);
-    const double T_req = (w + om1) / c, sf = sign(T_req);
-    bool stuck = at_rest && std::fabs(T_req) <= cap;
+    const double T_hold = (w + c0 * T0 + om1) / (c + c0);
+    hold = at_rest && std::fabs(T_hold) <= cap;
     fric = 0.0;
-    if (!stuck) {
-      x = solve_bit(w, c, om1, 1.0 / dt, (om1 - v0) / dt, wob, eta, cv, Tsf, guess, t1, T);
-      const double v1 = om1 + x, sv = sign(v0);
-      const bool lands = v0 * v1 <= 0.0 || std::fabs(v1) <= rest_tolerance(om1);
-      stuck = cap > 0.0 && !at_rest && lands && (std::fabs(T_req) <= cap || sf == sv);
-      if (Tsf > 0.0) fric = Tsf * sign(v1);
+    if (hold) {
+      x = -om1;
+      T = T_hold;
+      if (Tsf > 0.0) fric = string_share(T_hold, Ts, Tsf);
+      return;
     }
+    const double T_req = (w + om1) / c, sf = sign(T_req);
+    x = solve_bit(w, c, om1, 1.0 / dt, (om1 - v0) / dt, wob, eta, cv, Tsf, guess, t1, T);
+    const double v1 = om1 + x, sv = sign(v0);
+    const bool lands = v0 * v1 <= 0.0 || std::fabs(v1) <= rest_tolerance(om1);
+    const bool stuck = cap > 0.0 && !at_rest && lands && (std::fabs(T_req) <= cap || sf == sv);
+    if (Tsf > 0.0) fric = Tsf * sign(v1);
     if (stuck) {
       x = -om1;
       T = T_req;
@@ -677,14 +684,15 @@ class Integrator {
   /// fail(l, t) is called when lane l's bit speed or torque is non-finite at t (it throws, or
   /// returns and the lane is dropped: its state set to zero, emit no longer called for it).
   template <class Emit, class Fail>
-  void run_exact_lanes(const Inputs* const* in, std::size_t N, const double* coef, const double* c, double* z,
-                       double* p, Emit&& emit, Fail&& fail) const {
+  void run_exact_lanes(const Inputs* const* in, std::size_t N, const double* coef, const double* c,
+                       const double* c0, double* z, double* p, Emit&& emit, Fail&& fail) const {
     const double dt = opt_.dt;
     const long n = opt_.steps();
     const int m = static_cast<int>(w2_.size());
     const std::size_t mN = static_cast<std::size_t>(m) * N;
     std::vector<double> zs(mN), ps(mN), w(N), v(N), T0(N), T1(N), om0(N), om1(N), dom(N), x(N), T(N), fr(N);
     std::vector<double> x1(N), x2(N);  // the relative bit speeds of the last two steps (Newton's start)
+    std::vector<double> dT0(N);        // T_i+1 - T_i where the torque is held over the step (exact_bit)
     std::vector<char> live(N, 1);
     auto drop = [&](std::size_t l, double t) {
       fail(l, t);
@@ -717,19 +725,21 @@ class Integrator {
       exact_modal_free(m, N, coef, bit_.data(), z, p, dom.data(), T0.data(), zs.data(), ps.data(), w.data());
       for (std::size_t l = 0; l < N; ++l) {
         const Inputs& r = *in[l];
-        T1[l] = 0.0;
+        T1[l] = dT0[l] = 0.0;
         if (!live[l]) continue;
+        bool hold = false;
         try {
           // Newton starts from the line through the last two relative bit speeds, extrapolated
-          exact_bit(w[l], c[l], om0[l], om1[l], v[l], r.wob.at(t1), r.eta.at(t1), r.bit_viscous, r.string_friction,
-                    t1, 2.0 * x1[l] - x2[l], x[l], T[l], fr[l]);
+          exact_bit(w[l], c[l], c0[l], T0[l], om0[l], om1[l], v[l], r.wob.at(t1), r.eta.at(t1), r.bit_viscous,
+                    r.string_friction, t1, 2.0 * x1[l] - x2[l], x[l], T[l], fr[l], hold);
         } catch (const std::runtime_error&) {
           x[l] = NAN;
         }
         if (!std::isfinite(x[l]) || !std::isfinite(T[l])) continue;
         T1[l] = T[l];
+        if (hold) dT0[l] = T[l] - T0[l];
       }
-      exact_modal_close(m, N, coef, zs.data(), ps.data(), T1.data(), z, p);
+      exact_modal_close(m, N, coef, zs.data(), ps.data(), T1.data(), dT0.data(), z, p);
       for (std::size_t l = 0; l < N; ++l) {
         if (!live[l]) continue;
         if (!std::isfinite(x[l]) || !std::isfinite(T[l])) {
