@@ -260,7 +260,9 @@ TEST(Integrator, StuckBitBreaksAwayWhenTheStringTorqueReachesTheStaticTorque) {
       if (s.step > 0 && T_exact < Ts) worst_T = std::max(worst_T, std::fabs(s.torque_on_bit - T_exact));
     }, &start);
     EXPECT_LT(worst_v, 1e-9) << to_string(sch);
-    EXPECT_LT(worst_T, (sch == Scheme::bdf2 ? 1e-3 : 1e-9) * Ts) << to_string(sch);
+    // exact_modal holds a stuck step's torque constant over the step: off by half a step of the
+    // torque's rise here (BDF2 is off by the same order)
+    EXPECT_LT(worst_T, (sch == Scheme::modified_euler ? 1e-9 : 1e-3) * Ts) << to_string(sch);
     EXPECT_NEAR(t_move, t_b, 2.5 * o.dt) << to_string(sch);
   }
 }
@@ -342,7 +344,7 @@ void expect_stick_and_break_away(const BitRockLaw& law, double Ts, double Tsf, c
     }, &start);
     EXPECT_GT(stuck_steps, 100) << what << " " << to_string(sch);
     EXPECT_LT(worst_v, 1e-9) << what << " " << to_string(sch);
-    EXPECT_LT(worst_T, (sch == Scheme::bdf2 ? 1e-3 : 1e-9) * (Ts + Tsf)) << what << " " << to_string(sch);
+    EXPECT_LT(worst_T, (sch == Scheme::modified_euler ? 1e-9 : 1e-3) * (Ts + Tsf)) << what << " " << to_string(sch);
     EXPECT_NEAR(t_move, t_b, 2.5 * o.dt) << what << " " << to_string(sch);
   }
 }
