@@ -93,7 +93,8 @@ def main() -> int:
         by = {(s, dt): res[k * len(speeds):(k + 1) * len(speeds)] for k, (s, dt) in enumerate(variants)}
         ref = by[("bdf2", a.ref_dt * 1e-3)]
         print(f"\n## {m} modes ({len(cfgs)} runs, {wall:.0f} s wall on {a.threads} threads)\n")
-        print("Reference (BDF2): speed [rad/s] | SS | mean stick [s] | mean slip [s] | period [cycles]")
+        print("Reference (BDF2):\n")
+        print("| speed [rad/s] | SS | mean stick [s] | mean slip [s] | period [cycles] |")
         print("|---|---|---|---|---|")
         for v, r in zip(speeds, ref):
             print(f"| {v:g} | {r.severity:.4f} | {_mean(r.stick_durations):.3f} | {_mean(r.slip_durations):.3f} | "
