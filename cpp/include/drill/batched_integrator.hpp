@@ -67,6 +67,16 @@ struct BatchStepArgs {
   double *v = nullptr, *a = nullptr, *T = nullptr;  ///< bit speed, acceleration, torque on bit [count][lanes]
 };
 
+/// Arguments of the exact modal scheme's modal kernels (exact_modal_free and exact_modal_close of
+/// exact_modal.hpp on one vector of lanes): [modes][lanes] state, [(mode kinds + kind)][lanes]
+/// coefficients, [lanes] per-run values.
+struct ExactLaneArgs {
+  int modes = 0;
+  const double *coef = nullptr, *bit = nullptr;
+  double *z = nullptr, *p = nullptr, *zs = nullptr, *ps = nullptr, *w = nullptr;
+  const double *dom = nullptr, *T0 = nullptr, *T1 = nullptr, *dT0 = nullptr;
+};
+
 }  // namespace drill
 
 #undef HWY_TARGET_INCLUDE
@@ -80,6 +90,8 @@ namespace drill {
 
 HWY_EXPORT(BatchLanes);
 HWY_EXPORT(BatchSteps);
+HWY_EXPORT(ExactFree);
+HWY_EXPORT(ExactClose);
 
 class BatchedIntegrator {
  public:
@@ -176,8 +188,30 @@ class BatchedIntegrator {
       }
     }
     const std::vector<double> coef = exact_modal_lanes(em.data(), N);
+    // the modal loops on the host's vectors (the scalar loops' operations, in their order)
+    ExactLaneArgs ka;
+    ka.modes = m;
+    ka.coef = coef.data();
+    ka.bit = I.bit_.data();
+    ka.z = z.data();
+    ka.p = p.data();
+    auto free = [&](const double* dom, const double* T0, double* zs, double* ps, double* w) {
+      ka.dom = dom;
+      ka.T0 = T0;
+      ka.zs = zs;
+      ka.ps = ps;
+      ka.w = w;
+      HWY_DYNAMIC_DISPATCH(ExactFree)(ka);
+    };
+    auto close = [&](const double* zs, const double* ps, const double* T1, const double* dT0) {
+      ka.zs = const_cast<double*>(zs);
+      ka.ps = const_cast<double*>(ps);
+      ka.T1 = T1;
+      ka.dT0 = dT0;
+      HWY_DYNAMIC_DISPATCH(ExactClose)(ka);
+    };
     I.run_exact_lanes(
-        lane.data(), N, coef.data(), c.data(), c0.data(), z.data(), p.data(),
+        lane.data(), N, coef.data(), c.data(), c0.data(), z.data(), p.data(), free, close,
         [&](std::size_t l, long i, double t, double v, double a, double T, double om) {
           if (l < n)
             obs[l](static_cast<const StepState&>(StepState{i, t, v, a, NAN, T, NAN, om, NAN, in[l].wob.at(t)}));

@@ -226,6 +226,48 @@ inline void BatchSteps(const BatchStepArgs& a) {
   hn::StoreU(a3, d, a.a_guess + 2 * N);
 }
 
+/// exact_modal_free (exact_modal.hpp) on one vector of lanes: the same operations in the same order.
+inline void ExactFree(const ExactLaneArgs& a) {
+  using namespace batched_detail;
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  constexpr int K = ExactModal::kinds;
+  const V dom = hn::LoadU(d, a.dom), T0 = hn::LoadU(d, a.T0);
+  V w = hn::Zero(d);
+  for (int j = 0; j < a.modes; ++j) {
+    const double* c = a.coef + static_cast<std::size_t>(j) * K * N;
+    const std::size_t o = static_cast<std::size_t>(j) * N;
+    const V z = hn::LoadU(d, a.z + o), p = hn::LoadU(d, a.p + o);
+    const V zn = hn::LoadU(d, c + ExactModal::zz * N) * z + hn::LoadU(d, c + ExactModal::zp * N) * p +
+                 hn::LoadU(d, c + ExactModal::ez * N) * dom - hn::LoadU(d, c + ExactModal::hz0 * N) * T0;
+    const V pn = hn::LoadU(d, c + ExactModal::pz * N) * z + hn::LoadU(d, c + ExactModal::pp * N) * p +
+                 hn::LoadU(d, c + ExactModal::ep * N) * dom - hn::LoadU(d, c + ExactModal::hp0 * N) * T0;
+    hn::StoreU(zn, d, a.zs + o);
+    hn::StoreU(pn, d, a.ps + o);
+    w = w + hn::Set(d, a.bit[j]) * pn;
+  }
+  hn::StoreU(w, d, a.w);
+}
+
+/// exact_modal_close (exact_modal.hpp) on one vector of lanes.
+inline void ExactClose(const ExactLaneArgs& a) {
+  using namespace batched_detail;
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  constexpr int K = ExactModal::kinds;
+  const V T1 = hn::LoadU(d, a.T1), dT0 = hn::LoadU(d, a.dT0);
+  for (int j = 0; j < a.modes; ++j) {
+    const double* c = a.coef + static_cast<std::size_t>(j) * K * N;
+    const std::size_t o = static_cast<std::size_t>(j) * N;
+    hn::StoreU(hn::LoadU(d, a.zs + o) - hn::LoadU(d, c + ExactModal::hz1 * N) * T1 -
+                   hn::LoadU(d, c + ExactModal::hz0 * N) * dT0,
+               d, a.z + o);
+    hn::StoreU(hn::LoadU(d, a.ps + o) - hn::LoadU(d, c + ExactModal::hp1 * N) * T1 -
+                   hn::LoadU(d, c + ExactModal::hp0 * N) * dT0,
+               d, a.p + o);
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace drill
 HWY_AFTER_NAMESPACE();

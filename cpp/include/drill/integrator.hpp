@@ -625,8 +625,15 @@ class Integrator {
   ModelState run_exact(const Inputs& in, Observer& obs, Eigen::VectorXd& z, Eigen::VectorXd& p) const {
     const Inputs* lane = &in;
     double theta_top = 0.0, om_prev = in.top_speed.at(0.0);
+    const int m = static_cast<int>(w2_.size());
     run_exact_lanes(
         &lane, 1, em_.k.data(), &em_.c, &em_.c0, z.data(), p.data(),
+        [&](const double* dom, const double* T0, double* zs, double* ps, double* w) {
+          exact_modal_free(m, 1, em_.k.data(), bit_.data(), z.data(), p.data(), dom, T0, zs, ps, w);
+        },
+        [&](const double* zs, const double* ps, const double* T1, const double* dT0) {
+          exact_modal_close(m, 1, em_.k.data(), zs, ps, T1, dT0, z.data(), p.data());
+        },
         [&](std::size_t, long i, double t, double v, double a, double T, double om) {
           theta_top += 0.5 * opt_.dt * (om_prev + om);
           if (i == 0) theta_top = 0.0;
@@ -683,9 +690,12 @@ class Integrator {
   /// initial state (its torque the law's at zero acceleration), after the step's state is in z, p.
   /// fail(l, t) is called when lane l's bit speed or torque is non-finite at t (it throws, or
   /// returns and the lane is dropped: its state set to zero, emit no longer called for it).
-  template <class Emit, class Fail>
+  /// free(dom, T0, zs, ps, w) and close(zs, ps, T1, dT0) are exact_modal_free and exact_modal_close on these
+  /// lanes (the batched path passes its vector kernels: the same operations in the same order).
+  template <class Free, class Close, class Emit, class Fail>
   void run_exact_lanes(const Inputs* const* in, std::size_t N, const double* coef, const double* c,
-                       const double* c0, double* z, double* p, Emit&& emit, Fail&& fail) const {
+                       const double* c0, double* z, double* p, Free&& free, Close&& close, Emit&& emit,
+                       Fail&& fail) const {
     const double dt = opt_.dt;
     const long n = opt_.steps();
     const int m = static_cast<int>(w2_.size());
@@ -722,7 +732,7 @@ class Integrator {
         om1[l] = in[l]->top_speed.at(t1);
         dom[l] = (om1[l] - om0[l]) / dt;  // the top's acceleration averaged over the step
       }
-      exact_modal_free(m, N, coef, bit_.data(), z, p, dom.data(), T0.data(), zs.data(), ps.data(), w.data());
+      free(dom.data(), T0.data(), zs.data(), ps.data(), w.data());
       for (std::size_t l = 0; l < N; ++l) {
         const Inputs& r = *in[l];
         T1[l] = dT0[l] = 0.0;
@@ -739,7 +749,7 @@ class Integrator {
         T1[l] = T[l];
         if (hold) dT0[l] = T[l] - T0[l];
       }
-      exact_modal_close(m, N, coef, zs.data(), ps.data(), T1.data(), dT0.data(), z, p);
+      close(zs.data(), ps.data(), T1.data(), dT0.data());
       for (std::size_t l = 0; l < N; ++l) {
         if (!live[l]) continue;
         if (!std::isfinite(x[l]) || !std::isfinite(T[l])) {
