@@ -11,9 +11,10 @@
 // drive, bdf2, the lagged acceleration, dense damping) are refused by supports() and stay on
 // Integrator, which is also the reference of this path.
 // The exact modal scheme (exact_modal.hpp) runs here too, on the same inputs: its lanes share
-// Integrator::run_exact_lanes with the scalar path (plain loops over the lanes, vectorized by the
-// compiler at the baseline instruction set), so a run's bits are the scalar path's, whatever its
-// batch, lane, thread count or chunking.
+// Integrator::run_exact_lanes with the scalar path (the bit's equation solved lane by lane by the
+// scalar code), its modal loops are ExactFree and ExactClose (batched_kernel-inl.hpp: the scalar
+// loops' products and sums in their order, on the host's vectors), so a run's bits are the scalar
+// path's, whatever its batch, lane, thread count or chunking.
 //
 // Library: Google Highway (Debian libhwy-dev). One source gives the kernel for every x86 target
 // (SSSE3, SSE4, AVX2, AVX-512) compiled with the baseline flags, with Highway's runtime dispatch
