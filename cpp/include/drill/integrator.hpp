@@ -671,7 +671,7 @@ class Integrator {
       return;
     }
     const double T_req = (w + om1) / c, sf = sign(T_req);
-    x = solve_bit(w, c, om1, 1.0 / dt, (om1 - v0) / dt, wob, eta, cv, Tsf, guess, t1, T);
+    x = exact_newton(w, c, om1, v0, wob, eta, cv, Tsf, guess, t1, T);
     const double v1 = om1 + x, sv = sign(v0);
     const bool lands = v0 * v1 <= 0.0 || std::fabs(v1) <= rest_tolerance(om1);
     const bool stuck = cap > 0.0 && !at_rest && lands && (std::fabs(T_req) <= cap || sf == sv);
@@ -681,6 +681,31 @@ class Integrator {
       T = T_req;
       fric = Tsf > 0.0 ? string_share(T_req, Ts, Tsf) : 0.0;
     }
+  }
+
+  /// x + c T(Omega_i+1 + x, (Omega_i+1 + x - v0) / dt) = w for x (exact_bit), T receiving the torque:
+  /// Newton from `guess`, stopping on a step below the tolerance with the torque linearized to it
+  /// (as run_euler's solve of Eq. A.1: one evaluation of the law fewer than solve_bit's test on the
+  /// residual); solve_bit's safeguarded iteration from the last iterate where 8 Newton steps do not
+  /// converge, the derivative is not positive or a step crosses v = 0 (the jump of the law).
+  double exact_newton(double w, double c, double om1, double v0, double wob, double eta, double cv, double Tsf,
+                      double guess, double t1, double& T) const {
+    const double ca = 1.0 / opt_.dt, a0 = (om1 - v0) / opt_.dt;
+    const double tol = 1e-12 * (1.0 + std::fabs(om1) + std::fabs(w));
+    double x = guess;
+    for (int it = 0; it < 8; ++it) {
+      const TorqueEval e = total_torque(om1 + x, ca * x + a0, wob, eta, cv, Tsf);
+      const double F = x + c * e.T - w, dT = e.dT_dv + e.dT_da * ca, dF = 1.0 + c * dT;
+      if (!(dF > 0.0) || !std::isfinite(F) || !std::isfinite(dF)) break;
+      const double xn = x - F / dF;
+      if (sign(om1 + xn) != sign(om1 + x)) break;
+      if (std::fabs(xn - x) <= tol) {
+        T = e.T + dT * (xn - x);
+        return xn;
+      }
+      x = xn;
+    }
+    return solve_bit(w, c, om1, ca, a0, wob, eta, cv, Tsf, x, t1, T);
   }
 
   /// The exact modal scheme (exact_modal.hpp) on N runs in lanes (the scalar path: N = 1; the
