@@ -20,7 +20,7 @@
 // step's own forward difference (v_i+1 - v_i) / dt (Eq. A.1), and T_i+1 = T_law(v_i+1, a_i+1) (Eqs.
 // 3.1-3.3, 5.1, 5.3, times (1 + eta) of Eq. 4.1, plus the viscous torque and the string friction)
 // is the scalar equation x + c T(Omega_i+1 + x, (Omega_i+1 + x - v_i) / dt) = w for x = v_i+1 - Omega_i+1,
-// solved by Integrator::solve_bit's safeguarded Newton. The stick condition of Eqs. (5.1), (5.3) is
+// solved by Newton (Integrator::exact_newton, with solve_bit's safeguarded iteration as its fallback). The stick condition of Eqs. (5.1), (5.3) is
 // the BDF2 step's (Integrator::exact_bit): a bit at rest stays at rest while the torque that keeps
 // it there at the step's end is within the static capacity. Over a step that starts and ends at
 // rest the torque is held constant (T_i = T_i+1 = the holding torque): interpolated linearly, the
