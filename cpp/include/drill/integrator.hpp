@@ -687,7 +687,8 @@ class Integrator {
   /// Newton from `guess`, stopping on a step below the tolerance with the torque linearized to it
   /// (as run_euler's solve of Eq. A.1: one evaluation of the law fewer than solve_bit's test on the
   /// residual); solve_bit's safeguarded iteration from the last iterate where 8 Newton steps do not
-  /// converge, the derivative is not positive or a step crosses v = 0 (the jump of the law).
+  /// converge, the derivative is not positive, an iterate is at v = 0 or a step crosses it (the jump
+  /// of the law).
   double exact_newton(double w, double c, double om1, double v0, double wob, double eta, double cv, double Tsf,
                       double guess, double t1, double& T) const {
     const double ca = 1.0 / opt_.dt, a0 = (om1 - v0) / opt_.dt;
@@ -698,7 +699,7 @@ class Integrator {
       const double F = x + c * e.T - w, dT = e.dT_dv + e.dT_da * ca, dF = 1.0 + c * dT;
       if (!(dF > 0.0) || !std::isfinite(F) || !std::isfinite(dF)) break;
       const double xn = x - F / dF;
-      if (sign(om1 + xn) != sign(om1 + x)) break;
+      if (om1 + x == 0.0 || sign(om1 + xn) != sign(om1 + x)) break;  // at rest the law is set-valued
       if (std::fabs(xn - x) <= tol) {
         T = e.T + dT * (xn - x);
         return xn;
