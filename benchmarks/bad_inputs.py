@@ -33,6 +33,13 @@ RECORD = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
 TIMEOUT_S = 300
 
 
+def _tree_env() -> dict:
+    """The environment of a drillpy subprocess: the in-tree build when there is one, else the installed drillpy."""
+    if any((REPO / "python" / "drillpy").glob("_core*")):
+        return {**os.environ, "PYTHONPATH": str(REPO / "python")}
+    return dict(os.environ)
+
+
 def _drillsim() -> str:
     for c in (os.environ.get("DRILLSIM"), shutil.which("drillsim"), REPO / "build" / "dev" / "drillsim",
               REPO / "build" / "ctest" / "drillsim"):
@@ -296,7 +303,7 @@ def _run(argv, timeout=TIMEOUT_S):
     t0 = time.perf_counter()
     try:
         r = subprocess.run(argv, capture_output=True, text=True, timeout=timeout,
-                           env={**os.environ, "PYTHONPATH": str(REPO / "python")})
+                           env=_tree_env())
         return r.returncode, r.stdout, r.stderr, time.perf_counter() - t0
     except subprocess.TimeoutExpired:
         return None, "", "timeout", time.perf_counter() - t0
@@ -307,7 +314,8 @@ def main() -> int:
     ap.add_argument("--only", help="run the entries whose label contains this word")
     ap.add_argument("--list", action="store_true", help="print every entry with its outcome")
     args = ap.parse_args()
-    sys.path.insert(0, str(REPO / "python"))
+    if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
+        sys.path.insert(0, str(REPO / "python"))
     drillsim = _drillsim()
     tmp = Path(tempfile.mkdtemp(prefix="bad_inputs_"))
     base = _base_config()

@@ -19,7 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))
+if any((Path(__file__).resolve().parents[1] / "python" / "drillpy").glob("_core*")):
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))  # in-tree build, else the installed drillpy
 
 TARGETS = {20: 1.8, 100: 1.5}
 

@@ -25,7 +25,9 @@ import sys
 import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))
+if any((Path(__file__).resolve().parents[1] / "python" / "drillpy").glob("_core*")):
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))  # in-tree build, else the installed drillpy
 
 DRIVES = {
     "ideal": None,

@@ -26,7 +26,8 @@ from pathlib import Path
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO / "python"))
+if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
+    sys.path.insert(0, str(REPO / "python"))
 sys.path.insert(0, str(REPO / "benchmarks"))
 
 from rig_calibration_part import SAMPLE175, calibration_part  # noqa: E402

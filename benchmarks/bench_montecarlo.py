@@ -19,7 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))
+if any((Path(__file__).resolve().parents[1] / "python" / "drillpy").glob("_core*")):
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))  # in-tree build, else the installed drillpy
 
 from drillpy.model.config import load_config  # noqa: E402
 from drillpy.uncertainty.montecarlo import DURATION_S, TRANSIENT_S, WARMUP_S, stochastic_study  # noqa: E402

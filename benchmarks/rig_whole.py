@@ -34,8 +34,9 @@ KEYS = ("ss", "stick_fraction", "cycle_frequency_hz", "median_period_s", "torque
 def analyze(record: str, t0: float, t1: float, out: Path) -> dict:
     """``drillpy analyze --calibrate T0:T1`` into ``out``; its summary.json."""
     cmd = [sys.executable, "-m", "drillpy", "analyze", record, "--calibrate", f"{t0:g}:{t1:g}", "--out", str(out)]
-    env = {"PYTHONPATH": str(REPO / "python")}
     import os
+    # the in-tree build when there is one, else the installed drillpy
+    env = {"PYTHONPATH": str(REPO / "python")} if any((REPO / "python" / "drillpy").glob("_core*")) else {}
     subprocess.run(cmd, check=True, env={**os.environ, **env}, stdout=subprocess.DEVNULL)
     return json.loads((out / "summary.json").read_text())
 

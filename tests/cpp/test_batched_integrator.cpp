@@ -93,6 +93,9 @@ TEST(BatchedIntegrator, ARunHasTheSameBitsAloneAndInEveryLane) {
   Config tw = batch_field(3.0);
   tw.law = thesis_tucker_wang();  // Eq. (3.1)
   expect_lane_independent(tw);
+  Config em = batch_field(3.0);
+  em.sim.scheme = Scheme::exact_modal;  // exact_modal.hpp: the lanes of Integrator::run_exact_lanes
+  expect_lane_independent(em);
 }
 
 TEST(BatchedIntegrator, AVX2AndAVX512GiveTheSameBits) {

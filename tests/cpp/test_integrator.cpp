@@ -174,7 +174,7 @@ TEST(Integrator, Bdf2SticksWithoutChatteringWhileModifiedEulerChatters) {
   const ModalROM rom = build_modal_rom(c.string, 100, c.damping);
   Inputs in;
   in.top_speed = Signal::constant(10.0);
-  for (Scheme sch : {Scheme::bdf2, Scheme::modified_euler}) {
+  for (Scheme sch : {Scheme::bdf2, Scheme::exact_modal, Scheme::modified_euler}) {
     SimOptions o;
     o.scheme = sch;
     o.duration = 120;
@@ -186,7 +186,7 @@ TEST(Integrator, Bdf2SticksWithoutChatteringWhileModifiedEulerChatters) {
       if (s.bit_speed < 0.5) ++stuck;
     });
     ASSERT_GT(stuck, 1000) << to_string(sch) << ": the bit should stick at 10 rad/s";
-    if (sch == Scheme::bdf2) EXPECT_GT(vmin, -1e-3);  // stick is a true zero-speed phase
+    if (sch != Scheme::modified_euler) EXPECT_GT(vmin, -1e-3) << to_string(sch);  // stick is a true zero-speed phase
     else EXPECT_LT(vmin, -0.05);                      // the explicit torque chatters around zero
     (void)vmax_stuck;
   }
@@ -243,7 +243,7 @@ TEST(Integrator, StuckBitBreaksAwayWhenTheStringTorqueReachesTheStaticTorque) {
   Inputs in;
   in.top_speed = Signal::constant(Om);
   in.wob = Signal::constant(500.0);
-  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2}) {
+  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2, Scheme::exact_modal}) {
     SimOptions o;
     o.scheme = sch;
     o.dt = 1e-4;
@@ -260,7 +260,9 @@ TEST(Integrator, StuckBitBreaksAwayWhenTheStringTorqueReachesTheStaticTorque) {
       if (s.step > 0 && T_exact < Ts) worst_T = std::max(worst_T, std::fabs(s.torque_on_bit - T_exact));
     }, &start);
     EXPECT_LT(worst_v, 1e-9) << to_string(sch);
-    EXPECT_LT(worst_T, (sch == Scheme::bdf2 ? 1e-3 : 1e-9) * Ts) << to_string(sch);
+    // exact_modal holds a stuck step's torque constant over the step: off by half a step of the
+    // torque's rise here (BDF2 is off by the same order)
+    EXPECT_LT(worst_T, (sch == Scheme::modified_euler ? 1e-9 : 1e-3) * Ts) << to_string(sch);
     EXPECT_NEAR(t_move, t_b, 2.5 * o.dt) << to_string(sch);
   }
 }
@@ -271,7 +273,7 @@ TEST(Integrator, StaticTorqueAboveKineticTorqueGivesTrueStickPhasesCappedByTheSt
   Inputs in;
   in.top_speed = Signal::constant(5.0);
   in.wob = Signal::constant(500.0);
-  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2}) {
+  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2, Scheme::exact_modal}) {
     SimOptions o;
     o.scheme = sch;
     o.dt = 1e-4;
@@ -320,7 +322,7 @@ void expect_stick_and_break_away(const BitRockLaw& law, double Ts, double Tsf, c
   in.top_speed = Signal::constant(Om);
   in.wob = Signal::constant(500.0);
   in.string_friction = Tsf;
-  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2}) {
+  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2, Scheme::exact_modal}) {
     SimOptions o;
     o.scheme = sch;
     o.dt = 1e-4;
@@ -342,7 +344,7 @@ void expect_stick_and_break_away(const BitRockLaw& law, double Ts, double Tsf, c
     }, &start);
     EXPECT_GT(stuck_steps, 100) << what << " " << to_string(sch);
     EXPECT_LT(worst_v, 1e-9) << what << " " << to_string(sch);
-    EXPECT_LT(worst_T, (sch == Scheme::bdf2 ? 1e-3 : 1e-9) * (Ts + Tsf)) << what << " " << to_string(sch);
+    EXPECT_LT(worst_T, (sch == Scheme::modified_euler ? 1e-9 : 1e-3) * (Ts + Tsf)) << what << " " << to_string(sch);
     EXPECT_NEAR(t_move, t_b, 2.5 * o.dt) << what << " " << to_string(sch);
   }
 }
@@ -376,7 +378,7 @@ TEST(Integrator, SteadySlipStringTorqueIsTheReportedTorqueOnBitPlusTheStringFric
   in.top_speed = Signal::constant(Om);
   in.wob = Signal::constant(500.0);
   in.string_friction = Tsf;
-  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2}) {
+  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2, Scheme::exact_modal}) {
     SimOptions o;
     o.scheme = sch;
     o.dt = 1e-4;
@@ -405,7 +407,7 @@ TEST(Integrator, ZeroStringFrictionLeavesRunsBitIdentical) {
   // against the previous headers on rig, field and motor runs); here: the default and an explicit
   // 0, from Inputs and from a configuration with and without the key, step for step.
   const ModalROM rom = rig_rom(0.05);
-  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2}) {
+  for (Scheme sch : {Scheme::modified_euler, Scheme::bdf2, Scheme::exact_modal}) {
     SimOptions o;
     o.scheme = sch;
     o.dt = 1e-4;

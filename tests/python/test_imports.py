@@ -29,3 +29,23 @@ def test_every_public_name_resolves():
     for name in drillpy.__all__:
         assert getattr(drillpy, name) is not None, name
     assert drillpy.simulate.__module__ == "drillpy.model.simulation"
+
+
+def _modules_after(code: str) -> set:
+    out = subprocess.run([sys.executable, "-c", code + "\nimport sys\nprint(' '.join(sys.modules))"],
+                         capture_output=True, text=True, check=True).stdout.split()
+    return set(out)
+
+
+def test_mc_import_path_loads_no_heavy_module():
+    # what `drillpy mc` imports before its engine runs (cli/uncertainty.py's cmd_mc): scipy.signal
+    # alone took 0.8 s of a 5 s run (issue 33); the figures load matplotlib and scipy.stats when drawn
+    code = ("from drillpy.cli import uncertainty\n"
+            "from drillpy.jsonio import dumps\n"
+            "from drillpy.provenance import provenance\n"
+            "from drillpy.reports.stochastic import write_figures, write_samples\n"
+            "from drillpy.reports.uncertainty import robust_speed_summary\n"
+            "from drillpy.uncertainty import montecarlo, process, robust_speed, structural")
+    heavy = ("scipy.signal", "scipy.stats", "scipy.optimize", "scipy.special", "scipy.integrate", "matplotlib")
+    loaded = _modules_after(code)
+    assert not {m for m in loaded if m.split(".")[0] == "matplotlib" or m.startswith(heavy)}

@@ -10,6 +10,11 @@
 // (horizons.hpp) and the damping scans of several configurations (run_many.hpp). Other runs (motor or controlled
 // drive, bdf2, the lagged acceleration, dense damping) are refused by supports() and stay on
 // Integrator, which is also the reference of this path.
+// The exact modal scheme (exact_modal.hpp) runs here too, on the same inputs: its lanes share
+// Integrator::run_exact_lanes with the scalar path (the bit's equation solved lane by lane by the
+// scalar code), its modal loops are ExactFree and ExactClose (batched_kernel-inl.hpp: the scalar
+// loops' products and sums in their order, on the host's vectors), so a run's bits are the scalar
+// path's, whatever its batch, lane, thread count or chunking.
 //
 // Library: Google Highway (Debian libhwy-dev). One source gives the kernel for every x86 target
 // (SSSE3, SSE4, AVX2, AVX-512) compiled with the baseline flags, with Highway's runtime dispatch
@@ -56,11 +61,21 @@ struct BatchStepArgs {
   const double *w2 = nullptr, *bit = nullptr;                   ///< omega^2, bit [modes]
   const double* top_load = nullptr;                             ///< load of the top's acceleration [modes]
   double *z = nullptr, *p = nullptr, *f = nullptr;              ///< modal state and forces [modes][lanes]
-  double* a_guess = nullptr;                                    ///< Newton's start, carried over [lanes]
+  double* a_guess = nullptr;  ///< the last three solutions of Eq. (A.1), Newton's start, carried over [3][lanes]
   const double *bit_viscous = nullptr, *string_friction = nullptr;  ///< [lanes]
   /// Omega, dOmega/dt, W / W_ref, the static torque at W, eta [count + 1][lanes]
   const double *om = nullptr, *domega = nullptr, *wob_scale = nullptr, *static_torque = nullptr, *eta = nullptr;
   double *v = nullptr, *a = nullptr, *T = nullptr;  ///< bit speed, acceleration, torque on bit [count][lanes]
+};
+
+/// Arguments of the exact modal scheme's modal kernels (exact_modal_free and exact_modal_close of
+/// exact_modal.hpp on one vector of lanes): [modes][lanes] state, [(mode kinds + kind)][lanes]
+/// coefficients, [lanes] per-run values.
+struct ExactLaneArgs {
+  int modes = 0;
+  const double *coef = nullptr, *bit = nullptr;
+  double *z = nullptr, *p = nullptr, *zs = nullptr, *ps = nullptr, *w = nullptr;
+  const double *dom = nullptr, *T0 = nullptr, *T1 = nullptr, *dT0 = nullptr;
 };
 
 }  // namespace drill
@@ -76,6 +91,8 @@ namespace drill {
 
 HWY_EXPORT(BatchLanes);
 HWY_EXPORT(BatchSteps);
+HWY_EXPORT(ExactFree);
+HWY_EXPORT(ExactClose);
 
 class BatchedIntegrator {
  public:
@@ -89,8 +106,9 @@ class BatchedIntegrator {
   /// Whether the batched path can run these inputs (see the header's scope); otherwise use Integrator.
   bool supports(const Inputs& in) const {
     const SimOptions& o = in_.opt_;
-    return o.scheme == Scheme::modified_euler && o.acceleration == Acceleration::implicit && in_.diag_damping_ &&
-           in.top_drive.kind == TopDrive::Kind::ideal && !in.axial.active();
+    const bool scheme = (o.scheme == Scheme::modified_euler && o.acceleration == Acceleration::implicit) ||
+                        o.scheme == Scheme::exact_modal;
+    return scheme && in_.diag_damping_ && in.top_drive.kind == TopDrive::Kind::ideal && !in.axial.active();
   }
 
   /// Whether `other` can step in lockstep with this integrator's runs with its own damping: the
@@ -134,12 +152,85 @@ class BatchedIntegrator {
     if (diverged_at) std::fill(diverged_at, diverged_at + n, NAN);
     const std::size_t N = width();
     for (std::size_t b = 0; b < n; b += N)
-      run_vector(in + b, start + b, model.data() + b, std::min(N, n - b), obs + b, out.data() + b,
+      if (in_.opt_.scheme == Scheme::exact_modal)
+        run_exact(in + b, start + b, model.data() + b, std::min(N, n - b), obs + b, out.data() + b,
+                  diverged_at ? diverged_at + b : nullptr);
+      else
+        run_vector(in + b, start + b, model.data() + b, std::min(N, n - b), obs + b, out.data() + b,
                  diverged_at ? diverged_at + b : nullptr);
     return out;
   }
 
  private:
+  /// One batch of the exact modal scheme: Integrator::run_exact_lanes on width() lanes, each with
+  /// its model's coefficients (its own modal damping), the padding lanes repeating the first run.
+  template <class Observer>
+  void run_exact(const Inputs* in, const ModelState* const* start, const Integrator* const* model, std::size_t n,
+                 Observer* obs, ModelState* out, double* diverged_at) const {
+    const Integrator& I = in_;
+    const std::size_t N = width();
+    const int m = static_cast<int>(I.w2_.size());
+    std::vector<double> z(m * N), p(m * N), c(N), c0(N);
+    std::vector<const Inputs*> lane(N);
+    std::vector<const ExactModal*> em(N);
+    for (std::size_t l = 0; l < N; ++l) {
+      const std::size_t r = l < n ? l : 0;
+      lane[l] = &in[r];
+      em[l] = &model[r]->em_;
+      c[l] = model[r]->em_.c;
+      c0[l] = model[r]->em_.c0;
+      const ModelState s0 = start[r] ? *start[r] : I.initial_state(in[r].top_speed.at(0.0));
+      require(s0.q.size() == I.V_.rows() && s0.qdot.size() == I.V_.rows(), "initial_state", s0.q.size(),
+              "has the wrong size (the model has " + show(I.V_.rows()) + " coordinates)");
+      const Eigen::VectorXd zl = I.Vinv_ * s0.q, pl = I.Vinv_ * s0.qdot;
+      for (int j = 0; j < m; ++j) {
+        z[j * N + l] = zl(j);
+        p[j * N + l] = pl(j);
+      }
+    }
+    const std::vector<double> coef = exact_modal_lanes(em.data(), N);
+    // the modal loops on the host's vectors (the scalar loops' operations, in their order)
+    ExactLaneArgs ka;
+    ka.modes = m;
+    ka.coef = coef.data();
+    ka.bit = I.bit_.data();
+    ka.z = z.data();
+    ka.p = p.data();
+    auto free = [&](const double* dom, const double* T0, double* zs, double* ps, double* w) {
+      ka.dom = dom;
+      ka.T0 = T0;
+      ka.zs = zs;
+      ka.ps = ps;
+      ka.w = w;
+      HWY_DYNAMIC_DISPATCH(ExactFree)(ka);
+    };
+    auto close = [&](const double* zs, const double* ps, const double* T1, const double* dT0) {
+      ka.zs = const_cast<double*>(zs);
+      ka.ps = const_cast<double*>(ps);
+      ka.T1 = T1;
+      ka.dT0 = dT0;
+      HWY_DYNAMIC_DISPATCH(ExactClose)(ka);
+    };
+    I.run_exact_lanes(
+        lane.data(), N, coef.data(), c.data(), c0.data(), z.data(), p.data(), free, close,
+        [&](std::size_t l, long i, double t, double v, double a, double T, double om) {
+          if (l < n)
+            obs[l](static_cast<const StepState&>(StepState{i, t, v, a, NAN, T, NAN, om, NAN, in[l].wob.at(t)}));
+        },
+        [&](std::size_t l, double t) {
+          if (!diverged_at) Integrator::diverged(t);
+          if (l < n) diverged_at[l] = t;
+        });
+    for (std::size_t l = 0; l < n; ++l) {
+      Eigen::VectorXd zl(m), pl(m);
+      for (int j = 0; j < m; ++j) {
+        zl(j) = z[j * N + l];
+        pl(j) = p[j * N + l];
+      }
+      out[l] = I.to_model(zl, pl);
+    }
+  }
+
   template <class Observer>
   void run_vector(const Inputs* in, const ModelState* const* start, const Integrator* const* model, std::size_t n,
                   Observer* obs, ModelState* out, double* diverged_at) const {
@@ -149,7 +240,7 @@ class BatchedIntegrator {
     const double dt = I.opt_.dt;
     const long last = I.opt_.steps();
     constexpr long block = 256;
-    std::vector<double> z(m * N), p(m * N), f(m * N), negd(m * N), a_guess(N, 0.0), cv(N), sf(N);
+    std::vector<double> z(m * N), p(m * N), f(m * N), negd(m * N), a_guess(3 * N, 0.0), cv(N), sf(N);
     std::vector<double> om((block + 1) * N), dom((block + 1) * N), ws((block + 1) * N), st((block + 1) * N);
     std::vector<double> eta((block + 1) * N), v(block * N), a(block * N), T(block * N);
     for (std::size_t l = 0; l < N; ++l) {
@@ -231,7 +322,7 @@ class BatchedIntegrator {
             if (!diverged_at) Integrator::diverged(t);
             diverged_at[l] = t;
             for (int j = 0; j < m; ++j) z[j * N + l] = p[j * N + l] = 0.0;  // a finite lane: no Newton spin on NaN
-            a_guess[l] = 0.0;
+            a_guess[l] = a_guess[N + l] = a_guess[2 * N + l] = 0.0;
             break;
           }
           obs[l](static_cast<const StepState&>(StepState{i, t, v[k], a[k], NAN, T[k], NAN, om[k], NAN, in[l].wob.at(t)}));

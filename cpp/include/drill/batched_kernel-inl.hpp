@@ -109,7 +109,8 @@ inline void BatchSteps(const BatchStepArgs& a) {
   const double k = law.beta2 * a.speed_factor;                   // r.k of at_speed
   const V kv = hn::Set(d, k);
   const bool hysteresis = k != 0.0;
-  V a_guess = hn::LoadU(d, a.a_guess);
+  // the accelerations of the last three solves of Eq. (A.1) (a1 the latest), as Integrator::run_euler keeps them
+  V a1 = hn::LoadU(d, a.a_guess), a2 = hn::LoadU(d, a.a_guess + N), a3 = hn::LoadU(d, a.a_guess + 2 * N);
   // the modal sums of the first step: v = Omega + bit . p, f = -D p - w2 z - top_load dOmega/dt
   // (the last term where dOmega/dt != 0), alpha = bit . f
   V bp = zero, bf = zero;
@@ -146,10 +147,12 @@ inline void BatchSteps(const BatchStepArgs& a) {
         const M m_up = hn::And(branch, kv * up > hn::Set(d, 19.1));
         const M m_dn = hn::AndNot(m_up, hn::And(branch, kv * dn < hn::Set(d, -19.1)));
         M active = hn::AndNot(hn::Or(m_up, m_dn), branch);
-        V x = a_guess, Tn = hn::Set(d, NAN);
+        // Newton's start: run_euler's parabola through the last three solutions extrapolated to this step
+        const V guess = hn::Set(d, 3.0) * (a1 - a2) + a3;
+        V x = guess, Tn = hn::Set(d, NAN);
         if (!hn::AllFalse(d, active)) {
           V lo = StdMin(up, dn), hi = StdMax(up, dn);
-          x = StdMin(StdMax(a_guess, lo), hi);
+          x = StdMin(StdMax(guess, lo), hi);
           const V tol = hn::Set(d, 1e-9) * (one + hn::Abs(alpha));
           const V width_tol = hn::Set(d, 1e-15) * (one + hn::Abs(alpha));
           V dx_old = hn::Set(d, HUGE_VAL);
@@ -174,7 +177,9 @@ inline void BatchSteps(const BatchStepArgs& a) {
         }
         acc = hn::IfThenElse(m_up, up, hn::IfThenElse(m_dn, dn, hn::IfThenElse(branch, x, acc)));
         T = hn::IfThenElse(m_up, T_up, hn::IfThenElse(m_dn, T_dn, hn::IfThenElse(branch, Tn, T)));
-        a_guess = hn::IfThenElse(branch, acc, a_guess);
+        a3 = hn::IfThenElse(branch, a2, a3);
+        a2 = hn::IfThenElse(branch, a1, a2);
+        a1 = hn::IfThenElse(branch, acc, a1);
       }
     }
     // the stick condition (Integrator::stick_euler) where the static capacity is positive
@@ -216,7 +221,51 @@ inline void BatchSteps(const BatchStepArgs& a) {
       bf = bf + bj * f;
     }
   }
-  hn::StoreU(a_guess, d, a.a_guess);
+  hn::StoreU(a1, d, a.a_guess);
+  hn::StoreU(a2, d, a.a_guess + N);
+  hn::StoreU(a3, d, a.a_guess + 2 * N);
+}
+
+/// exact_modal_free (exact_modal.hpp) on one vector of lanes: the same operations in the same order.
+inline void ExactFree(const ExactLaneArgs& a) {
+  using namespace batched_detail;
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  constexpr int K = ExactModal::kinds;
+  const V dom = hn::LoadU(d, a.dom), T0 = hn::LoadU(d, a.T0);
+  V w = hn::Zero(d);
+  for (int j = 0; j < a.modes; ++j) {
+    const double* c = a.coef + static_cast<std::size_t>(j) * K * N;
+    const std::size_t o = static_cast<std::size_t>(j) * N;
+    const V z = hn::LoadU(d, a.z + o), p = hn::LoadU(d, a.p + o);
+    const V zn = hn::LoadU(d, c + ExactModal::zz * N) * z + hn::LoadU(d, c + ExactModal::zp * N) * p +
+                 hn::LoadU(d, c + ExactModal::ez * N) * dom - hn::LoadU(d, c + ExactModal::hz0 * N) * T0;
+    const V pn = hn::LoadU(d, c + ExactModal::pz * N) * z + hn::LoadU(d, c + ExactModal::pp * N) * p +
+                 hn::LoadU(d, c + ExactModal::ep * N) * dom - hn::LoadU(d, c + ExactModal::hp0 * N) * T0;
+    hn::StoreU(zn, d, a.zs + o);
+    hn::StoreU(pn, d, a.ps + o);
+    w = w + hn::Set(d, a.bit[j]) * pn;
+  }
+  hn::StoreU(w, d, a.w);
+}
+
+/// exact_modal_close (exact_modal.hpp) on one vector of lanes.
+inline void ExactClose(const ExactLaneArgs& a) {
+  using namespace batched_detail;
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  constexpr int K = ExactModal::kinds;
+  const V T1 = hn::LoadU(d, a.T1), dT0 = hn::LoadU(d, a.dT0);
+  for (int j = 0; j < a.modes; ++j) {
+    const double* c = a.coef + static_cast<std::size_t>(j) * K * N;
+    const std::size_t o = static_cast<std::size_t>(j) * N;
+    hn::StoreU(hn::LoadU(d, a.zs + o) - hn::LoadU(d, c + ExactModal::hz1 * N) * T1 -
+                   hn::LoadU(d, c + ExactModal::hz0 * N) * dT0,
+               d, a.z + o);
+    hn::StoreU(hn::LoadU(d, a.ps + o) - hn::LoadU(d, c + ExactModal::hp1 * N) * T1 -
+                   hn::LoadU(d, c + ExactModal::hp0 * N) * dT0,
+               d, a.p + o);
+  }
 }
 
 }  // namespace HWY_NAMESPACE

@@ -35,7 +35,7 @@
 //   "sensors": {"lowpass_hz": 10}                  (measurement chain of recorded channels: second-
 //                                                   order Butterworth low-pass; 0 = ideal sensors;
 //                                                   used when a model is compared with a record),
-//   "simulation": {"scheme": "modified_euler", "acceleration": "implicit" | "lagged" (Eq. 3.3's bit
+//   "simulation": {"scheme": "modified_euler" | "bdf2" | "exact_modal" (integrator.hpp), "acceleration": "implicit" | "lagged" (Eq. 3.3's bit
 //                  acceleration, integrator.hpp), "dt_s": 5.12e-4, "duration_s": 200,
 //                  "transient_s": 100, "output_stride": 20,
 //                  "start": "rest" | "rigid" | "steady" (initial state, Simulation::start_state)},
@@ -481,7 +481,8 @@ inline std::vector<Block> make_blocks() {
             .def(d.sensor_lowpass_hz)}},
       {"simulation",
        "time integration",
-       {text("scheme", "integrator", {to_string(Scheme::modified_euler), to_string(Scheme::bdf2)})
+       {text("scheme", "integrator",
+             {to_string(Scheme::modified_euler), to_string(Scheme::bdf2), to_string(Scheme::exact_modal)})
             .def(to_string(d.sim.scheme)),
         text("acceleration", "bit acceleration in Eq. (3.3); lagged: modified_euler only",
              {to_string(Acceleration::implicit), to_string(Acceleration::lagged)})

@@ -33,30 +33,40 @@
 //    with the torque on bit implicit: the scalar equation for the new bit speed is solved by a
 //    safeguarded Newton iteration, and the bit acceleration in Eq. (3.3) is the BDF2 derivative
 //    of the bit speed at the new step. No stability bound; no chattering at stick.
+//  * exact_modal (exact_modal.hpp): each mode's linear part integrated exactly over the step (its
+//    2x2 propagator and the exact response to a forcing linear over the step), the bit torque
+//    implicit at the step's end with Eq. (A.1)'s forward-difference acceleration in Eq. (3.3) and
+//    the stick condition of the bdf2 step. No stability bound; diagonal modal damping only.
 #pragma once
 
 #include <Eigen/Dense>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "drill/axial.hpp"
 #include "drill/bitrock.hpp"
 #include "drill/errors.hpp"
+#include "drill/exact_modal.hpp"
 #include "drill/modal.hpp"
 #include "drill/signal.hpp"
 #include "drill/topdrive.hpp"
 
 namespace drill {
 
-enum class Scheme { modified_euler, bdf2 };
+enum class Scheme { modified_euler, bdf2, exact_modal };
 
 inline Scheme parse_scheme(const std::string& s) {
   if (s == "modified_euler") return Scheme::modified_euler;
   if (s == "bdf2") return Scheme::bdf2;
-  throw std::invalid_argument("simulation.scheme = \"" + s + "\": unknown scheme (use modified_euler or bdf2)");
+  if (s == "exact_modal") return Scheme::exact_modal;
+  throw std::invalid_argument("simulation.scheme = \"" + s +
+                              "\": unknown scheme (use modified_euler, bdf2 or exact_modal)");
 }
-inline std::string to_string(Scheme s) { return s == Scheme::bdf2 ? "bdf2" : "modified_euler"; }
+inline std::string to_string(Scheme s) {
+  return s == Scheme::bdf2 ? "bdf2" : s == Scheme::exact_modal ? "exact_modal" : "modified_euler";
+}
 
 /// The bit acceleration in the hysteretic term of Eq. (3.3). `implicit`: the one the step itself
 /// produces (Eq. A.1's forward difference, solved with the torque; BDF2's derivative with bdf2).
@@ -163,6 +173,10 @@ class Integrator {
       require(opt_.dt < bound, "simulation.dt_s", opt_.dt,
               "exceeds the modified-Euler stability bound dt < pi / (5 omega_max) = " + show(bound) +
                   " s (Eq. A.7, omega_max = " + show(omega_max_) + " rad/s of the retained modes)");
+    } else if (opt_.scheme == Scheme::exact_modal) {
+      require(diag_damping_, "simulation.scheme", to_string(opt_.scheme),
+              "needs a damping that is diagonal in the modal basis (modal or Rayleigh damping)");
+      em_ = ExactModal::build(w2_, d_, bit_, top_load_, opt_.dt);
     } else {
       prepare_implicit(opt_.dt, be_);
       prepare_implicit(2.0 * opt_.dt / 3.0, bdf_);
@@ -267,6 +281,7 @@ class Integrator {
             "has the wrong size (the model has " + show(V_.rows()) + " coordinates)");
     Eigen::VectorXd z = Vinv_ * s0.q, p = Vinv_ * s0.qdot;
     if (opt_.scheme == Scheme::bdf2) return run_bdf2(in, obs, z, p);
+    if (opt_.scheme == Scheme::exact_modal) return run_exact(in, obs, z, p);
     if (in.top_drive.is_controlled()) return run_euler<true>(in, obs, z, p, s0);
     return run_euler<false>(in, obs, z, p, s0);
   }
@@ -605,6 +620,178 @@ class Integrator {
     return x;
   }
 
+  /// The exact modal scheme on one run: run_exact_lanes with one lane.
+  template <class Observer>
+  ModelState run_exact(const Inputs& in, Observer& obs, Eigen::VectorXd& z, Eigen::VectorXd& p) const {
+    const Inputs* lane = &in;
+    double theta_top = 0.0, om_prev = in.top_speed.at(0.0);
+    const int m = static_cast<int>(w2_.size());
+    run_exact_lanes(
+        &lane, 1, em_.k.data(), &em_.c, &em_.c0, z.data(), p.data(),
+        [&](const double* dom, const double* T0, double* zs, double* ps, double* w) {
+          exact_modal_free(m, 1, em_.k.data(), bit_.data(), z.data(), p.data(), dom, T0, zs, ps, w);
+        },
+        [&](const double* zs, const double* ps, const double* T1, const double* dT0) {
+          exact_modal_close(m, 1, em_.k.data(), zs, ps, T1, dT0, z.data(), p.data());
+        },
+        [&](std::size_t, long i, double t, double v, double a, double T, double om) {
+          theta_top += 0.5 * opt_.dt * (om_prev + om);
+          if (i == 0) theta_top = 0.0;
+          om_prev = om;
+          obs(static_cast<const StepState&>(
+              StepState{i, t, v, a, theta_top + bit_.dot(z), T, top_torque_.dot(z), om, NAN, in.wob.at(t)}));
+        },
+        [](std::size_t, double t) { diverged(t); });
+    return to_model(z, p);
+  }
+
+  /// Eqs. (3.3), (5.1), (5.3) at the end of an exact modal step (exact_modal.hpp): the relative bit
+  /// speed x = v_i+1 - Omega_i+1, the total torque T_i+1 and its string-friction part, from the free
+  /// relative speed w, the compliances c and c0 (v_i+1 = Omega_i+1 + w - c T_i+1, w holding -c0 T_i),
+  /// the start torque T0, the top speeds at both ends of the step and the bit speed v0 at its start.
+  /// The bit acceleration in the law is Eq. (A.1)'s (v_i+1 - v_i) / dt. Stick condition as in
+  /// run_bdf2: a bit at rest stays at rest while the torque that holds it there over the step,
+  /// held constant (T_i = T_i+1 = (w + c0 T0 + Omega_i+1) / (c + c0)), is within the static capacity
+  /// (the law's static torque times 1 + eta, plus the string friction); `hold` is then true. A moving
+  /// bit that would reverse (or land at rest) comes to rest when the capacity can hold the end torque
+  /// T_req = (w + Omega_i+1) / c. `guess` starts the Newton iteration.
+  void exact_bit(double w, double c, double c0, double T0, double om0, double om1, double v0, double wob,
+                 double eta, double cv, double Tsf, double t1, double guess, double& x, double& T, double& fric,
+                 bool& hold) const {
+    const double dt = opt_.dt;
+    const double Ts = (1.0 + eta) * law_.static_torque(wob), cap = Ts + Tsf;
+    const bool at_rest = cap > 0.0 && std::fabs(v0) <= rest_tolerance(om0);
+    const double T_hold = (w + c0 * T0 + om1) / (c + c0);
+    hold = at_rest && std::fabs(T_hold) <= cap;
+    fric = 0.0;
+    if (hold) {
+      x = -om1;
+      T = T_hold;
+      if (Tsf > 0.0) fric = string_share(T_hold, Ts, Tsf);
+      return;
+    }
+    const double T_req = (w + om1) / c, sf = sign(T_req);
+    x = exact_newton(w, c, om1, v0, wob, eta, cv, Tsf, guess, t1, T);
+    const double v1 = om1 + x, sv = sign(v0);
+    const bool lands = v0 * v1 <= 0.0 || std::fabs(v1) <= rest_tolerance(om1);
+    const bool stuck = cap > 0.0 && !at_rest && lands && (std::fabs(T_req) <= cap || sf == sv);
+    if (Tsf > 0.0) fric = Tsf * sign(v1);
+    if (stuck) {
+      x = -om1;
+      T = T_req;
+      fric = Tsf > 0.0 ? string_share(T_req, Ts, Tsf) : 0.0;
+    }
+  }
+
+  /// x + c T(Omega_i+1 + x, (Omega_i+1 + x - v0) / dt) = w for x (exact_bit), T receiving the torque:
+  /// Newton from `guess`, stopping on a step below the tolerance with the torque linearized to it
+  /// (as run_euler's solve of Eq. A.1: one evaluation of the law fewer than solve_bit's test on the
+  /// residual); solve_bit's safeguarded iteration from the last iterate where 8 Newton steps do not
+  /// converge, the derivative is not positive, an iterate is at v = 0 or a step crosses it (the jump
+  /// of the law).
+  double exact_newton(double w, double c, double om1, double v0, double wob, double eta, double cv, double Tsf,
+                      double guess, double t1, double& T) const {
+    const double ca = 1.0 / opt_.dt, a0 = (om1 - v0) / opt_.dt;
+    const double tol = 1e-12 * (1.0 + std::fabs(om1) + std::fabs(w));
+    double x = guess;
+    for (int it = 0; it < 8; ++it) {
+      const TorqueEval e = total_torque(om1 + x, ca * x + a0, wob, eta, cv, Tsf);
+      const double F = x + c * e.T - w, dT = e.dT_dv + e.dT_da * ca, dF = 1.0 + c * dT;
+      if (!(dF > 0.0) || !std::isfinite(F) || !std::isfinite(dF)) break;
+      const double xn = x - F / dF;
+      if (om1 + x == 0.0 || sign(om1 + xn) != sign(om1 + x)) break;  // at rest the law is set-valued
+      if (std::fabs(xn - x) <= tol) {
+        T = e.T + dT * (xn - x);
+        return xn;
+      }
+      x = xn;
+    }
+    return solve_bit(w, c, om1, ca, a0, wob, eta, cv, Tsf, x, t1, T);
+  }
+
+  /// The exact modal scheme (exact_modal.hpp) on N runs in lanes (the scalar path: N = 1; the
+  /// batched path: one run per lane): in[l] the lane's inputs, coef its coefficients
+  /// [(j kinds + kind) N + l] and c[l] its compliance, z and p its modal state [modes][lanes] (the
+  /// final state on return). emit(l, i, t, v, a, T_bit, Omega) is called at every step, i = 0 the
+  /// initial state (its torque the law's at zero acceleration), after the step's state is in z, p.
+  /// fail(l, t) is called when lane l's bit speed or torque is non-finite at t (it throws, or
+  /// returns and the lane is dropped: its state set to zero, emit no longer called for it).
+  /// free(dom, T0, zs, ps, w) and close(zs, ps, T1, dT0) are exact_modal_free and exact_modal_close on these
+  /// lanes (the batched path passes its vector kernels: the same operations in the same order).
+  template <class Free, class Close, class Emit, class Fail>
+  void run_exact_lanes(const Inputs* const* in, std::size_t N, const double* coef, const double* c,
+                       const double* c0, double* z, double* p, Free&& free, Close&& close, Emit&& emit,
+                       Fail&& fail) const {
+    const double dt = opt_.dt;
+    const long n = opt_.steps();
+    const int m = static_cast<int>(w2_.size());
+    const std::size_t mN = static_cast<std::size_t>(m) * N;
+    std::vector<double> zs(mN), ps(mN), w(N), v(N), T0(N), T1(N), om0(N), om1(N), dom(N), x(N), T(N), fr(N);
+    std::vector<double> x1(N), x2(N);  // the relative bit speeds of the last two steps (Newton's start)
+    std::vector<double> dT0(N);        // T_i+1 - T_i where the torque is held over the step (exact_bit)
+    std::vector<char> live(N, 1);
+    auto drop = [&](std::size_t l, double t) {
+      fail(l, t);
+      live[l] = 0;
+      for (int j = 0; j < m; ++j) z[j * N + l] = p[j * N + l] = 0.0;
+      v[l] = T0[l] = 0.0;
+    };
+    exact_modal_dot(m, N, bit_.data(), p, v.data());
+    for (std::size_t l = 0; l < N; ++l) {
+      const Inputs& x0 = *in[l];
+      om0[l] = x0.top_speed.at(0.0);
+      v[l] = om0[l] + v[l];
+      const double wob = x0.wob.at(0.0);
+      const TorqueEval e = total_torque(v[l], 0.0, wob, x0.eta.at(0.0), x0.bit_viscous, x0.string_friction);
+      T0[l] = e.T;
+      if (!std::isfinite(v[l]) || !std::isfinite(e.T)) {
+        drop(l, 0.0);
+        continue;
+      }
+      emit(l, 0L, 0.0, v[l], 0.0, e.T - x0.string_friction * sign(v[l]), om0[l]);
+      x1[l] = x2[l] = v[l] - om0[l];
+    }
+    for (long i = 0; i < n; ++i) {
+      const double t0 = i * dt, t1 = (i + 1) * dt;
+      for (std::size_t l = 0; l < N; ++l) {
+        om0[l] = in[l]->top_speed.at(t0);
+        om1[l] = in[l]->top_speed.at(t1);
+        dom[l] = (om1[l] - om0[l]) / dt;  // the top's acceleration averaged over the step
+      }
+      free(dom.data(), T0.data(), zs.data(), ps.data(), w.data());
+      for (std::size_t l = 0; l < N; ++l) {
+        const Inputs& r = *in[l];
+        T1[l] = dT0[l] = 0.0;
+        if (!live[l]) continue;
+        bool hold = false;
+        try {
+          // Newton starts from the line through the last two relative bit speeds, extrapolated
+          exact_bit(w[l], c[l], c0[l], T0[l], om0[l], om1[l], v[l], r.wob.at(t1), r.eta.at(t1), r.bit_viscous,
+                    r.string_friction, t1, 2.0 * x1[l] - x2[l], x[l], T[l], fr[l], hold);
+        } catch (const std::runtime_error&) {
+          x[l] = NAN;
+        }
+        if (!std::isfinite(x[l]) || !std::isfinite(T[l])) continue;
+        T1[l] = T[l];
+        if (hold) dT0[l] = T[l] - T0[l];
+      }
+      close(zs.data(), ps.data(), T1.data(), dT0.data());
+      for (std::size_t l = 0; l < N; ++l) {
+        if (!live[l]) continue;
+        if (!std::isfinite(x[l]) || !std::isfinite(T[l])) {
+          drop(l, t1);
+          continue;
+        }
+        const double v1 = om1[l] + x[l], a = (v1 - v[l]) / dt;
+        emit(l, i + 1, t1, v1, a, fr[l] != 0.0 ? T[l] - fr[l] : T[l], om1[l]);
+        x2[l] = x1[l];
+        x1[l] = x[l];
+        v[l] = v1;
+        T0[l] = T[l];
+      }
+    }
+  }
+
   [[noreturn]] static void diverged(double t) { throw std::runtime_error(divergence(t)); }
 
   BitRockLaw law_;
@@ -614,6 +801,7 @@ class Integrator {
   double omega_max_ = 0.0;
   bool diag_damping_ = true;
   Implicit be_, bdf_;
+  ExactModal em_;  ///< the exact modal scheme's step (exact_modal.hpp)
 };
 
 }  // namespace drill

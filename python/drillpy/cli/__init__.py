@@ -278,7 +278,7 @@ def add_model_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--speed-unit", action=renamed("--law-speed-unit", "it sets the unit of the law's parameters, "
                                                   "not of the speeds typed: give a speed its unit, e.g. "
                                                   "--top-speed 120rpm"), help=argparse.SUPPRESS)
-    p.add_argument("--scheme", choices=["modified_euler", "bdf2"], help="time integration scheme")
+    p.add_argument("--scheme", choices=["modified_euler", "bdf2", "exact_modal"], help="time integration scheme")
     p.add_argument("--acceleration", choices=["implicit", "lagged"],
                    help="bit acceleration in Eq. (3.3): the step's own (implicit, default) or the last "
                         "step's backward difference (lagged, modified Euler only)")

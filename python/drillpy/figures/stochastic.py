@@ -10,7 +10,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.stats import gaussian_kde
 
 from drillpy.figures.simulation import _save, plt, time_series_plot
 
@@ -192,6 +191,8 @@ def phase_pdf_plot(path, study) -> plt.Figure:
         if x.size >= 2 and np.ptp(x) > 0:
             grid = np.linspace(x.min() - 0.1 * np.ptp(x), x.max() + 0.1 * np.ptp(x), 400)
             ax.hist(x, bins=40, density=True, color="0.85", label=f"{x.size} phases")
+            from scipy.stats import gaussian_kde  # imported when drawn, off the import path of `drillpy mc`
+
             ax.plot(grid, gaussian_kde(x)(grid), "k", lw=1.5, label="kernel density")
         for k, v in enumerate(d):
             ax.axvline(v, color="r", ls="-", lw=1.2,

@@ -261,7 +261,7 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
     speed_unit : str, optional
         Speed unit of the law's parameters (``rad_s`` or ``rpm``).
     scheme : str, optional
-        Time integrator (``modified_euler`` or ``bdf2``).
+        Time integrator (``modified_euler``, ``bdf2`` or ``exact_modal``).
     acceleration : str, optional
         Bit acceleration in Eq. (3.3): ``implicit`` or ``lagged`` (``drill/integrator.hpp``).
     dt : float, optional

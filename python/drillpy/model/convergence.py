@@ -142,3 +142,51 @@ def convergence_report(cfg: dict) -> dict:
     return {"space": space_study(cfg),
             "time_slip": time_study(cfg, 30.0, 10.0, rigid_start=True),
             "time_stick_slip": time_study(cfg, 16.0, 20.0, rigid_start=False)}
+
+
+def branch_check(cfg: dict, top_speed: float | None = None, *, dt: float | None = None, rel_tol: float = 0.05,
+                 threads: int = 0) -> dict:
+    """Whether a run's regime depends on its time step: the run at ``dt`` and at ``dt / 2``.
+
+    Next to the stick-slip threshold the field model is bistable (docs/numerics.md): a large step
+    of the exact modal scheme can put a run on the other branch (stick-slip instead of a small
+    limit cycle, or the reverse). Both runs are made (in parallel); the run is flagged when one
+    sticks and the other does not, when their periods differ in cycles, or when their SS (Eq. 3.4)
+    differ by more than ``rel_tol`` relative.
+
+    Parameters
+    ----------
+    cfg : dict
+        The configuration (any scheme; the check is meant for ``exact_modal`` at a large step).
+    top_speed : float, optional
+        Top speed [rad/s] (default: the configuration's).
+    dt : float, optional
+        The step to check [s] (default: the configuration's ``simulation.dt_s``).
+    rel_tol : float
+        Relative SS difference that flags the run.
+    threads : int
+        OpenMP threads (0: the default).
+
+    Returns
+    -------
+    dict
+        ``dt_s`` (dt, dt / 2), ``severity``, ``stick_fraction`` and ``period_cycles`` of both runs,
+        ``relative_difference`` of their SS and ``flagged``.
+    """
+    from drillpy.model.simulation import simulate_many
+
+    c = normalize(copy.deepcopy(cfg))
+    step = float(c["simulation"]["dt_s"] if dt is None else dt)
+    speed = float(c["operation"]["top_speed_rad_s"] if top_speed is None else top_speed)
+    cfgs = [with_overrides(c, dt=h, top_speed=speed) for h in (step, step / 2)]
+    res, err = simulate_many(cfgs, record=False, threads=threads)
+    for e in err:
+        if e:
+            raise RuntimeError(e)
+    ss = [float(r.severity) for r in res]
+    stick = [float(r.stick_fraction) for r in res]
+    cycles = [int(r.period_cycles) for r in res]
+    rel = abs(ss[0] - ss[1]) / max(abs(ss[1]), 1e-12)
+    flagged = (stick[0] > 0) != (stick[1] > 0) or cycles[0] != cycles[1] or rel > rel_tol
+    return {"top_speed_rad_s": speed, "dt_s": [step, step / 2], "severity": ss, "stick_fraction": stick,
+            "period_cycles": cycles, "relative_difference": rel, "flagged": bool(flagged)}

@@ -16,7 +16,6 @@ import copy
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import trapezoid
 
 from drillpy import _core, validate
 from drillpy.model.config import engine_config
@@ -28,6 +27,13 @@ CASE_TITLES = {1: "mass uncertainty (Table 6.1)", 2: "damping uncertainty (Table
                3: "stiffness uncertainty (Table 6.3)", 4: "DP uncertainty (Table 6.4)",
                5: "BHA uncertainty (Table 6.5)", 6: "inner-DOF uncertainty (Table 6.6)",
                7: "interface-DOF uncertainty (Table 6.7)"}
+
+
+def _trapezoid(*args, **kwargs):
+    """scipy.integrate.trapezoid, imported when used (off the import path of `drillpy mc`)."""
+    from scipy.integrate import trapezoid
+
+    return trapezoid(*args, **kwargs)
 
 
 def default_frequencies(n: int = 1000, f_min_hz: float = 0.01, f_max_hz: float = 10.0) -> np.ndarray:
@@ -504,7 +510,7 @@ def band_widths(env: FRFEnvelope, bands_hz) -> np.ndarray:
         if sel.sum() < 2:
             raise ValueError(f"band [{lo}, {hi}] Hz holds fewer than two grid frequencies")
         fr = env.freq_hz[sel]
-        out.append(trapezoid(env.width_db[sel], fr, axis=0) / (fr[-1] - fr[0]))
+        out.append(_trapezoid(env.width_db[sel], fr, axis=0) / (fr[-1] - fr[0]))
     return np.asarray(out)
 
 

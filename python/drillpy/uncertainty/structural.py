@@ -16,13 +16,19 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import trapezoid
 
 from drillpy import _core, validate
 from drillpy.uncertainty.frf import stochastic_model
 from drillpy.uncertainty.montecarlo import ETA_DT_S
 from drillpy.uncertainty.process import psd_on_grid
 from drillpy.progress import progress_bar
+
+
+def _trapezoid(*args, **kwargs):
+    """scipy.integrate.trapezoid, imported when used (off the import path of `drillpy mc`)."""
+    from scipy.integrate import trapezoid
+
+    return trapezoid(*args, **kwargs)
 
 
 @dataclass
@@ -78,7 +84,7 @@ class SeverityStudy:
                 "mean_ss": self.mean.round(4).tolist(), "q05_ss": self.q05.round(4).tolist(),
                 "q95_ss": self.q95.round(4).tolist(), "p_ss_above_0_5": self.p_stick_slip.round(4).tolist(),
                 "p05_speed_rad_s": self.p05_speed,
-                "band_width_integral": float(trapezoid(self.band_width, self.speeds)) if self.speeds.size > 1 else 0.0}
+                "band_width_integral": float(_trapezoid(self.band_width, self.speeds)) if self.speeds.size > 1 else 0.0}
 
 
 def severity_study(cfg: dict, speeds, samples: int, *, model: str = "SM_CB2", delta=0.1, case=None,
