@@ -381,11 +381,11 @@ class HorizonStart:
     Where one prediction horizon starts (drill/horizons.hpp): the model's state read off the record and the recorded channels that start the sensor filters.
     """
     @staticmethod
-    def from_arrays(*, index: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], bit_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], bit_accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], torque: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], top_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], top_accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], y_bit_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], dy_bit_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], y_torque: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], dy_torque: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], y_top_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], dy_top_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> list[HorizonStart]:
+    def from_arrays(*, index: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], bit_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], bit_accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], torque: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], top_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], top_accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], y_bit_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], dy_bit_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], y_torque: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], dy_torque: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], y_top_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], dy_top_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], wob: typing.Any = None) -> list[HorizonStart]:
         """
-        One HorizonStart per horizon from arrays with one entry per horizon (units of the fields).
+        One HorizonStart per horizon from arrays with one entry per horizon (units of the fields; wob: the axial jack's WOB state [N], None: the set force).
         """
-    def __init__(self, *, index: typing.SupportsInt | typing.SupportsIndex, bit_speed: typing.SupportsFloat | typing.SupportsIndex, bit_accel: typing.SupportsFloat | typing.SupportsIndex, torque: typing.SupportsFloat | typing.SupportsIndex, top_speed: typing.SupportsFloat | typing.SupportsIndex, top_accel: typing.SupportsFloat | typing.SupportsIndex, y_bit_speed: typing.SupportsFloat | typing.SupportsIndex, dy_bit_speed: typing.SupportsFloat | typing.SupportsIndex, y_torque: typing.SupportsFloat | typing.SupportsIndex, dy_torque: typing.SupportsFloat | typing.SupportsIndex, y_top_speed: typing.SupportsFloat | typing.SupportsIndex, dy_top_speed: typing.SupportsFloat | typing.SupportsIndex) -> None:
+    def __init__(self, *, index: typing.SupportsInt | typing.SupportsIndex, bit_speed: typing.SupportsFloat | typing.SupportsIndex, bit_accel: typing.SupportsFloat | typing.SupportsIndex, torque: typing.SupportsFloat | typing.SupportsIndex, top_speed: typing.SupportsFloat | typing.SupportsIndex, top_accel: typing.SupportsFloat | typing.SupportsIndex, y_bit_speed: typing.SupportsFloat | typing.SupportsIndex, dy_bit_speed: typing.SupportsFloat | typing.SupportsIndex, y_torque: typing.SupportsFloat | typing.SupportsIndex, dy_torque: typing.SupportsFloat | typing.SupportsIndex, y_top_speed: typing.SupportsFloat | typing.SupportsIndex, dy_top_speed: typing.SupportsFloat | typing.SupportsIndex, wob: typing.SupportsFloat | typing.SupportsIndex = ...) -> None:
         ...
     def __repr__(self) -> str:
         ...
@@ -433,6 +433,11 @@ class HorizonStart:
     def torque(self) -> float:
         """
         Torque on bit of the model state [N m].
+        """
+    @property
+    def wob(self) -> float:
+        """
+        WOB state of an axial jack at the restart [N] (drill/axial.hpp; NaN: the set force).
         """
     @property
     def y_bit_speed(self) -> float:
