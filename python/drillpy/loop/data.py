@@ -25,7 +25,7 @@ FIRST_START_S = 0.12
 #: The WOB is a response of the string's rotation, not an input, when its part above
 #: :data:`drillpy.records.rigsim.WOB_TREND_HZ` correlates with the bit's angle deficit at least this
 #: well (the best lag within :data:`RESPONSE_LAG_S`): sample 175 gives 0.81, the synthetic truths,
-#: whose WOB is an exogenous band-limited input, at most 0.18 (``tests/python/test_loop_wob.py``).
+#: whose WOB is an exogenous band-limited input, below it (``tests/python/test_loop_wob.py``).
 RESPONSE_R = 0.5
 #: Lags searched for the WOB-response correlation [s]: the rig's WOB leads the deficit by about 35 ms.
 RESPONSE_LAG_S = 0.1
