@@ -246,3 +246,16 @@ def test_coupling_is_a_spring_in_series_with_the_bar():
     assert natural_frequencies(soft, 1)[0] == pytest.approx(2.89 / np.sqrt(2), rel=0.01)
     stiff = rigsim.rig_config(law, 0.05, coupling_stiffness=1e5)
     assert natural_frequencies(stiff, 1)[0] == pytest.approx(2.89, abs=0.01)
+
+
+def test_a_coupling_section_is_not_checked_as_a_bar():
+    """The coupling of rigsim.add_coupling is a 1 cm section whose radius sets its stiffness (under a
+    millimetre for a few N m/rad): the plausibility check of bar radii does not apply to it."""
+    from drillpy.model.config import load_config
+    from drillpy.model.plausibility import check_config
+    cfg = load_config(preset="thesis-rig")
+    rigsim.add_coupling(cfg, 2.0)
+    assert cfg["string"]["sections"][0]["outer_radius_m"] < 1e-3
+    assert check_config(cfg) == []
+    cfg["string"]["sections"][0]["name"] = "bar"   # the same section as a bar is flagged
+    assert any("outer_radius_m" in w.field for w in check_config(cfg))

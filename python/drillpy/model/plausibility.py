@@ -131,7 +131,9 @@ def check_config(cfg: dict) -> list:
     Returns
     -------
     list of ConfigWarning
-        Checks: each section's outer radius, Young's modulus and density, the string's total length, the
+        Checks: each section's outer radius, Young's modulus and density (except a section named
+        ``"coupling"``, the shaft coupling of :func:`drillpy.records.rigsim.add_coupling`, whose radius
+        only sets its stiffness), the string's total length, the
         operating top speed and WOB, and the sign of the law's static torque scale (``b0``, ``c0``).
     """
     out = []
@@ -141,6 +143,8 @@ def check_config(cfg: dict) -> list:
     sections = block(block(cfg, "string"), "sections", list)
     for i, s in enumerate(sections):
         if not isinstance(s, dict):
+            continue
+        if s.get("name") == "coupling":  # a shaft coupling (rigsim.add_coupling): its radius sets k_c, not a bar's
             continue
         for key, hint in (("outer_radius_m", "a radius in mm or inches typed as metres?"),
                           ("youngs_modulus_pa", "a modulus in GPa typed as Pa?"),
