@@ -169,6 +169,22 @@ def case_control_grid_threshold(tmp):
 
 
 # ------------------------------------------------------------------------------------------ 3. units
+def case_field_units_in_figures(tmp):
+    r = run("simulate", "--preset", "thesis-rig", "--duration", "2", "--transient", "1", "--out", tmp / "field_fig",
+            "--figure-units", "field")
+    if crashed(r) or r.returncode:
+        return "crash", crashed(r) or r.stderr[-150:]
+    from drillpy.figures.simulation import severity_plot, stability_map_plot, time_series_plot
+    import numpy as np
+    t = np.linspace(0.0, 1.0, 3)
+    labels = [severity_plot(None, [10.0, 20.0], [1.0, 0.1], units="field").axes[0].get_xlabel(),
+              *(ax.get_ylabel() for ax in time_series_plot(None, t, t, 1e4 * t, units="field").axes),
+              stability_map_plot(None, [60.0, 90.0], [200.0, 250.0], {"m": np.ones((2, 2))},
+                                 units="field").axes[0].get_ylabel()]
+    want = ["top-drive speed [RPM]", "speed [RPM]", "torque on bit [kft-lbf]", "weight on bit [klbf]"]
+    return ("ok", "; ".join(labels)) if labels == want else ("unclear", str(labels))
+
+
 def case_speed_unit_renamed(tmp):
     return clear_error(run("simulate", "--preset", "thesis-field", "--top-speed", "160", "--speed-unit", "rpm"),
                        "--law-speed-unit")
@@ -461,6 +477,7 @@ CASES = [
     ("--speed-unit: an error naming --law-speed-unit", case_speed_unit_renamed),
     ("--top-speed 160rpm --wob 45klbf: the SI run", case_units_are_si),
     ("--wob on sweep and mc", case_wob_everywhere),
+    ("--figure-units field: RPM, klbf and kft-lbf on the axes", case_field_units_in_figures),
     ("Ctrl-C during mc --out NEWDIR: blocks kept, rerun resumes", case_ctrl_c_mc_new_dir),
     ("two simulates into one --out: one clear error, outputs of one run", case_two_simulates),
     ("two mcs into one --out: one clear error", case_two_mcs),
