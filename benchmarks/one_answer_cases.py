@@ -154,7 +154,37 @@ def case_control_binomial(tmp):
     return "unclear", f"{rows}"
 
 
+def case_control_grid_threshold(tmp):
+    if not (tmp / "control" / "control.json").is_file():
+        case_control_binomial(tmp)
+    js = json.loads((tmp / "control" / "control.json").read_text())
+    report = (tmp / "control" / "report.md").read_text()
+    cells = {k: (r["deterministic_threshold_rad_s"], r.get("deterministic_threshold_grid_rad_s"))
+             for k, r in js["comparison"].items()}
+    labelled = all((c is None) if t is None else (c == [14.0, 20.0] and f"{t:.2f} (grid 14-20)" in report)
+                   for t, c in cells.values())
+    if labelled and "deterministic threshold, grid value [rad/s]" in report:
+        return "ok", "; ".join(f"{k} {'none' if t is None else f'{t:.2f} (grid 14-20)'}" for k, (t, c) in cells.items())
+    return "unclear", str(cells)[:150]
+
+
 # ------------------------------------------------------------------------------------------ 3. units
+def case_field_units_in_figures(tmp):
+    r = run("simulate", "--preset", "thesis-rig", "--duration", "2", "--transient", "1", "--out", tmp / "field_fig",
+            "--figure-units", "field")
+    if crashed(r) or r.returncode:
+        return "crash", crashed(r) or r.stderr[-150:]
+    from drillpy.figures.simulation import severity_plot, stability_map_plot, time_series_plot
+    import numpy as np
+    t = np.linspace(0.0, 1.0, 3)
+    labels = [severity_plot(None, [10.0, 20.0], [1.0, 0.1], units="field").axes[0].get_xlabel(),
+              *(ax.get_ylabel() for ax in time_series_plot(None, t, t, 1e4 * t, units="field").axes),
+              stability_map_plot(None, [60.0, 90.0], [200.0, 250.0], {"m": np.ones((2, 2))},
+                                 units="field").axes[0].get_ylabel()]
+    want = ["top-drive speed [RPM]", "speed [RPM]", "torque on bit [kft-lbf]", "weight on bit [klbf]"]
+    return ("ok", "; ".join(labels)) if labels == want else ("unclear", str(labels))
+
+
 def case_speed_unit_renamed(tmp):
     return clear_error(run("simulate", "--preset", "thesis-field", "--top-speed", "160", "--speed-unit", "rpm"),
                        "--law-speed-unit")
@@ -379,13 +409,60 @@ def case_analyze_without_stick(tmp):
 def case_deep_json(tmp):
     deep = tmp / "deep.json"
     deep.write_text("[" * 200_000 + "]" * 200_000)
+    t0 = time.perf_counter()
     r = run("simulate", "--config", deep, timeout=120)
-    verdict = clear_error(r, "nested too deep")
-    return verdict if len(r.stderr) < 1000 else ("unclear", f"{len(r.stderr)}-byte message")
+    took = time.perf_counter() - t0  # the interpreter's start included
+    verdict = clear_error(r, f"config = '{deep}': JSON nested too deep: more than 64 levels")
+    if len(r.stderr) >= 1000 or took > 5.0:
+        return "unclear", f"{took:.1f} s, {len(r.stderr)}-byte message"
+    return verdict
 
 
 def case_tiny_dt(tmp):
-    return clear_error(run("simulate", "--preset", "thesis-rig", "--dt", "1e-12"), "dt")
+    return clear_error(run("simulate", "--preset", "thesis-rig", "--dt", "1e-12"),
+                       "simulation.dt_s = 1e-12 with simulation.duration_s = 40")
+
+
+def drillsim_path() -> Path | None:
+    """drillsim of this checkout's development build, else the one on PATH."""
+    import shutil
+    built = REPO / "build" / "dev" / "drillsim"
+    found = str(built) if built.is_file() else shutil.which("drillsim")
+    return Path(found) if found else None
+
+
+def drillsim_error(argv, needle: str, *, within_s: float) -> tuple:
+    """A drillsim refusal: exit 2, one short ``drillsim: error:`` line holding ``needle``, within ``within_s``."""
+    exe = drillsim_path()
+    if exe is None:
+        return "crash", "drillsim not built (scripts/dev-build.sh)"
+    t0 = time.perf_counter()
+    r = subprocess.run([str(exe), *map(str, argv)], capture_output=True, text=True, timeout=TIMEOUT_S)
+    took = time.perf_counter() - t0
+    if r.returncode < 0:
+        return "crash", f"signal {-r.returncode}"
+    if r.returncode == 0:
+        return "silent", "accepted"
+    one = r.stderr.count("\n") == 1 and r.stderr.startswith("drillsim: error:") and len(r.stderr) < 300
+    if r.returncode == 2 and one and needle in r.stderr and took < within_s:
+        return "ok", f"{took:.2f} s: {r.stderr.strip()[:150]}"
+    return "unclear", f"{took:.1f} s, exit {r.returncode}, {len(r.stderr)} bytes: {r.stderr.strip()[:120]}"
+
+
+def case_drillsim_deep_json(tmp):
+    deep = tmp / "deep_drillsim.json"
+    deep.write_text("[" * 200_000 + "]" * 200_000)
+    return drillsim_error(["--config", deep, "--out", tmp / "deep_out"],
+                          f"--config {deep}: JSON nested too deep: more than 64 levels", within_s=1.0)
+
+
+def case_drillsim_tiny_dt(tmp):
+    import drillpy
+    cfg = drillpy.load_config(preset="thesis-rig")
+    cfg["simulation"]["dt_s"] = 1e-12
+    (tmp / "tiny_dt.json").write_text(json.dumps(cfg))
+    return drillsim_error(["--config", tmp / "tiny_dt.json", "--out", tmp / "tiny_dt_out"],
+                          "simulation.dt_s = 1e-12 with simulation.duration_s = 40", within_s=5.0)
 
 
 CASES = [
@@ -396,9 +473,11 @@ CASES = [
     ("analyze sample 175: one measured stick fraction everywhere", case_analyze_one_measured_side),
     ("mc: a grid-limited interval is said to be one", case_mc_grid_limit),
     ("control: P(SS > 0.5) with a binomial (Wilson) interval, never [p, p]", case_control_binomial),
+    ("control: the deterministic threshold labelled a grid value with its cell", case_control_grid_threshold),
     ("--speed-unit: an error naming --law-speed-unit", case_speed_unit_renamed),
     ("--top-speed 160rpm --wob 45klbf: the SI run", case_units_are_si),
     ("--wob on sweep and mc", case_wob_everywhere),
+    ("--figure-units field: RPM, klbf and kft-lbf on the axes", case_field_units_in_figures),
     ("Ctrl-C during mc --out NEWDIR: blocks kept, rerun resumes", case_ctrl_c_mc_new_dir),
     ("two simulates into one --out: one clear error, outputs of one run", case_two_simulates),
     ("two mcs into one --out: one clear error", case_two_mcs),
@@ -417,7 +496,9 @@ CASES = [
     ("--controller pi without gains: runs with the promised tuning", case_pi_without_gains),
     ("analyze on a record without a stick phase: said to be no stick-slip", case_analyze_without_stick),
     ("a tiny dt: an error naming dt", case_tiny_dt),
-    ("a 200 000-deep JSON array as --config: one short error naming the file", case_deep_json),
+    ("a 200 000-deep JSON array as --config: one short error naming the file, in under 5 s", case_deep_json),
+    ("drillsim: a 200 000-deep JSON array: one short error naming the file, in under 1 s", case_drillsim_deep_json),
+    ("drillsim: a tiny dt: an error naming dt_s with duration_s", case_drillsim_tiny_dt),
 ]
 
 

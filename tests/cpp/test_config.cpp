@@ -2,6 +2,9 @@
 // JSON Schema written from the parser's table of keys.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
+
 #include "drill/config.hpp"
 #include "drill/config_schema.hpp"
 #include "drill/presets.hpp"
@@ -283,4 +286,51 @@ TEST(Config, SchemaKeyIsAcceptedAndIgnored) {
   EXPECT_EQ(to_json(parse_config(j)), to_json(preset("thesis-field")));
   j["$schema"] = 3;
   EXPECT_TRUE(mentions(parse_error_of(j.dump()), "config.$schema = 3: must be a string"));
+}
+
+namespace {
+int nesting_depth(const json& j) {  // levels of arrays and objects (a scalar: 0)
+  int d = 0;
+  if (j.is_structured())
+    for (const auto& v : j) d = std::max(d, nesting_depth(v));
+  return j.is_structured() ? d + 1 : 0;
+}
+}  // namespace
+
+TEST(Config, NestingBeyondTheLimitIsRefusedAtOnceInOneShortLine) {
+  for (const auto& name : preset_names()) EXPECT_LE(nesting_depth(preset_json(name)), 4) << name;  // the "(... has 4)"
+  const std::string ok = std::string(max_json_depth, '[') + std::string(max_json_depth, ']');
+  EXPECT_EQ(nesting_depth(parse_json_text(ok)), max_json_depth);  // the limit itself is read
+  const std::string expected = "--config deep.json: JSON nested too deep: more than 64 levels of arrays and objects"
+                               " (a configuration has 4)";
+  for (const std::size_t n : {std::size_t(max_json_depth) + 1, std::size_t(200000)}) {
+    const std::string deep = std::string(n, '[') + std::string(n, ']');
+    const auto t0 = std::chrono::steady_clock::now();
+    std::string e = "no error";
+    try {
+      parse_json_text(deep, "--config deep.json");
+    } catch (const std::invalid_argument& x) {
+      e = x.what();
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(e, expected) << n;
+    EXPECT_LT(seconds, 5.0) << n;  // was 67 s for 200 000 levels (a path string rebuilt per level)
+  }
+  // objects count as levels too, and the whole-config parser refuses the same way
+  std::string objs;
+  for (int k = 0; k < 70; ++k) objs += "{\"a\": ";
+  objs += "1" + std::string(70, '}');
+  EXPECT_EQ(parse_error_of(objs),
+            "config: JSON nested too deep: more than 64 levels of arrays and objects (a configuration has 4)");
+}
+
+TEST(Config, TooManyTimeStepsNamesTheTimeStepAndTheDuration) {
+  std::string e = parse_error_of(with("/simulation/dt_s", 1e-12));
+  EXPECT_EQ(e, "simulation.dt_s = 1e-12 with simulation.duration_s = 200: 2e+14 steps, at most 2e+09; "
+               "a time step below 1 us: in ms or us typed as s?");
+  e = parse_error_of(with("/simulation/duration_s", 1e300));
+  EXPECT_EQ(e, "simulation.dt_s = 0.000512 with simulation.duration_s = 1e+300: 1.95e+303 steps, at most 2e+09; "
+               "a duration over 100 days: in ms typed as s?");
+  e = parse_error_of(with("/simulation/duration_s", 2e6));  // both plausible alone: no hint
+  EXPECT_EQ(e, "simulation.dt_s = 0.000512 with simulation.duration_s = 2000000: 3.91e+09 steps, at most 2e+09");
 }

@@ -1,5 +1,6 @@
 """The drillpy and drillsim commands: outputs, exit codes and one-line errors."""
 import json
+import time
 
 import numpy as np
 import pytest
@@ -99,6 +100,29 @@ def test_drillsim_help_version_and_config_errors(drillsim, tmp_path):
     r = subprocess.run([drillsim, "--config", str(tmp_path / "c.json"), "--out", str(tmp_path / "o")],
                        capture_output=True, text=True)
     assert r.returncode == 2 and r.stderr == "drillsim: error: string.sections: missing or not an array\n"
+
+
+def test_drillsim_refuses_a_deeply_nested_config_at_once_in_one_short_line(drillsim, tmp_path):
+    deep = tmp_path / "deep.json"
+    deep.write_text("[" * 200_000 + "]" * 200_000)  # issue 31: 67 s and a 400 KB line before
+    t0 = time.perf_counter()
+    r = subprocess.run([drillsim, "--config", str(deep), "--out", str(tmp_path / "o")], capture_output=True, text=True)
+    assert time.perf_counter() - t0 < 5.0
+    assert r.returncode == 2 and r.stderr == (f"drillsim: error: --config {deep}: JSON nested too deep: more than 64 "
+                                              "levels of arrays and objects (a configuration has 4)\n")
+    assert not (tmp_path / "o").exists()
+
+
+def test_drillsim_too_many_steps_names_the_time_step_and_the_duration(drillsim, tmp_path):
+    import drillpy
+    cfg = drillpy.load_config(preset="thesis-rig")
+    cfg["simulation"]["dt_s"] = 1e-12
+    (tmp_path / "c.json").write_text(json.dumps(cfg))
+    r = subprocess.run([drillsim, "--config", str(tmp_path / "c.json"), "--out", str(tmp_path / "o")],
+                       capture_output=True, text=True)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1
+    assert r.stderr.startswith("drillsim: error: simulation.dt_s = 1e-12 with simulation.duration_s = "), r.stderr
+    assert "a time step below 1 us" in r.stderr
 
 
 def test_drillsim_progress_changes_no_number(drillsim, tmp_path):

@@ -1,5 +1,6 @@
 """Configurations: presets, overrides, and errors that name the field and the value."""
 import json
+import time
 
 import pytest
 
@@ -70,8 +71,28 @@ def test_malformed_json_file(tmp_path):
         drillpy.load_config(path=tmp_path / "missing.json")
 
 
-def test_a_json_nested_beyond_the_reader_names_the_file(tmp_path):
+@pytest.mark.parametrize("levels", [65, 200_000])
+def test_a_json_nested_beyond_the_limit_is_refused_at_once_naming_the_file(tmp_path, levels):
     p = tmp_path / "deep.json"
-    p.write_text("[" * 200_000 + "]" * 200_000)  # issue 31: a recursion error named nothing
-    with pytest.raises(ValueError, match=r"config = '.*deep\.json': JSON nested too deep"):
+    p.write_text("[" * levels + "]" * levels)  # issue 31: a recursion error named nothing
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError) as e:
         drillpy.load_config(path=p)
+    assert time.perf_counter() - t0 < 5.0
+    assert str(e.value) == (f"config = {str(p)!r}: JSON nested too deep: more than 64 levels of arrays and objects "
+                            "(a configuration has 4)")
+
+
+def test_the_nesting_limit_is_the_engines(tmp_path):
+    from drillpy import _core
+    from drillpy.model.config import MAX_JSON_DEPTH
+    p = tmp_path / "limit.json"
+    p.write_text("[" * MAX_JSON_DEPTH + "]" * MAX_JSON_DEPTH)  # deep as allowed: refused as a configuration
+    with pytest.raises(ValueError) as e:
+        drillpy.load_config(path=p)
+    assert "nested too deep" not in str(e.value)
+    with pytest.raises(ValueError, match=f"^config: JSON nested too deep: more than {MAX_JSON_DEPTH} levels"):
+        _core.Config("[" * (MAX_JSON_DEPTH + 1) + "]" * (MAX_JSON_DEPTH + 1))
+    with pytest.raises(ValueError) as e:
+        _core.Config("[" * MAX_JSON_DEPTH + "]" * MAX_JSON_DEPTH)
+    assert "nested too deep" not in str(e.value)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from conftest import run_cli
 
-from drillpy.control.comparison import compare_drives, p_window
+from drillpy.control.comparison import compare_drives, grid_threshold, p_window
 from drillpy.uncertainty.binomial import wilson_interval
 from drillpy.control.episode import motor_torque, run_episode
 from drillpy.control.tuning import (FACTOR_RANGE, STALL_FRACTION, Window, bootstrap_p, controlled_drive, drive_gains,
@@ -77,6 +77,19 @@ def test_stalled_runs_enter_the_comparison_as_stick_slip():
     assert np.isinf(g["map"][0, 0]) and np.all(np.isinf(g["severity"][0, :, 0]))
     assert g["p_by_speed"][0] == 1.0 and g["stalled_fraction"] >= 0.5
     assert g["deterministic_threshold_rad_s"] is not None and g["deterministic_threshold_rad_s"] > 6.0
+    assert g["deterministic_threshold_grid_rad_s"] == [6.0, 20.0]  # a grid value, known to its cell
+    assert g["deterministic_threshold_method"] == "grid interpolation"
+
+
+def test_the_deterministic_threshold_is_labelled_a_grid_value_with_its_cell():
+    t = grid_threshold([20.0, 8.0, 12.0, 16.0], [0.1, 1.2, 0.8, 0.3])  # falls through 0.5 between 12 and 16
+    assert t["value"] == pytest.approx(14.4) and t["grid_cell"] == [12.0, 16.0]
+    assert t["method"] == "grid interpolation"
+    assert grid_threshold([8.0, 12.0], [0.2, 0.1]) == {"value": None, "grid_cell": None,
+                                                      "method": "grid interpolation"}
+    from drillpy.reports.control import _grid_threshold_text
+    assert _grid_threshold_text({"deterministic_threshold_rad_s": t["value"],
+                                 "deterministic_threshold_grid_rad_s": t["grid_cell"]}) == "14.40 (grid 12-16)"
 
 
 def test_motor_torque_is_the_interval_mean_of_the_drive_equation():
@@ -163,6 +176,10 @@ def test_control_command_writes_its_report(tmp_path):
     assert js["torque_limit_nm"] == 50000
     for name in ("maps.png", "p_vs_speed.png", "episode.png", "tuning_z_torque.png", "report.md"):
         assert (out / name).stat().st_size > 1000
+    assert "deterministic threshold, grid value [rad/s]" in (out / "report.md").read_text()
+    for d in res["drives"].values():  # the grid cell beside every threshold found
+        thr, cell = d["deterministic_threshold_rad_s"], d["deterministic_threshold_grid_rad_s"]
+        assert (cell is None) if thr is None else (cell == [10.0, 18.0])
     for e in js["episodes"].values():  # the motor torque demanded, against the limit
         assert e["peak_motor_torque_nm"] > e["mean_motor_torque_nm"] > 0
         assert e["within_limit"] in (True, None)

@@ -839,9 +839,17 @@ inline Config parse_config(const json& j) {
   return c;
 }
 
+/// Deepest nesting of arrays and objects parse_json_text reads: a configuration nests 4 levels
+/// (the damping pairs), so deeper text is not one; refusing it at this depth keeps a hostile
+/// file (200 000 nested arrays) from costing minutes and a message as long as the file.
+inline constexpr int max_json_depth = 64;
+
 /// Parse JSON text, refusing a key repeated in an object (plain parsing keeps the last one
-/// silently): std::invalid_argument("<path>.<key>: duplicate key ..."). Syntax errors become
-/// std::invalid_argument naming the position.
+/// silently): std::invalid_argument("<path>.<key>: duplicate key ..."), and nesting deeper than
+/// max_json_depth: std::invalid_argument("<what>: JSON nested too deep: ..."), raised by the
+/// parser's callback as it opens level max_json_depth + 1 (nothing deeper is read). Syntax errors
+/// become std::invalid_argument naming the position. `what` names the text in the messages
+/// (e.g. "config", or "--config FILE").
 inline json parse_json_text(const std::string& text, const std::string& what = "config") {
   struct Frame {
     std::string path;
@@ -860,6 +868,9 @@ inline json parse_json_text(const std::string& text, const std::string& what = "
     switch (ev) {
       case json::parse_event_t::object_start:
       case json::parse_event_t::array_start:
+        if (stack.size() >= static_cast<std::size_t>(max_json_depth))
+          throw std::invalid_argument(what + ": JSON nested too deep: more than " + std::to_string(max_json_depth) +
+                                      " levels of arrays and objects (a configuration has 4)");
         stack.push_back({child_path(), ev == json::parse_event_t::array_start, {}});
         break;
       case json::parse_event_t::object_end:

@@ -41,6 +41,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -87,11 +88,23 @@ struct SimOptions {
   Acceleration acceleration = Acceleration::implicit;  ///< bit acceleration in Eq. (3.3)
   double dt = 5.12e-4;      ///< time step [s] (the thesis's 0.512 ms)
   double duration = 100.0;  ///< simulated time [s]
+  static constexpr double max_steps = 2e9;  ///< most time steps of a run (a step count fits a long)
+  /// Refusals name the field and value; too many steps names both dt_s and duration_s (either can
+  /// be the one typed in the wrong unit), with a hint when one is outside any real run.
   void validate() const {
     require_positive(dt, "simulation.dt_s");
     require_positive(duration, "simulation.duration_s");
     require(duration >= dt, "simulation.duration_s", duration, "must be at least one time step (simulation.dt_s = " + show(dt) + ")");
-    require(duration / dt < 2e9, "simulation.duration_s", duration, "needs more than 2e9 steps");
+    if (!(duration / dt < max_steps)) {  // either value may be the one typed wrong: name both
+      std::ostringstream os;
+      os.precision(3);
+      os << duration / dt;
+      const std::string hint = dt < 1e-6         ? "; a time step below 1 us: in ms or us typed as s?"
+                               : duration > 8.64e6 ? "; a duration over 100 days: in ms typed as s?"
+                                                   : "";
+      throw std::invalid_argument("simulation.dt_s = " + show(dt) + " with simulation.duration_s = " + show(duration) +
+                                  ": " + os.str() + " steps, at most 2e+09" + hint);
+    }
     require(acceleration == Acceleration::implicit || scheme == Scheme::modified_euler, "simulation.acceleration",
             to_string(acceleration), "is implemented for simulation.scheme = modified_euler only");
   }

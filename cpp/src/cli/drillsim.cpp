@@ -177,7 +177,7 @@ int run(int argc, char** argv) {
     if (!f) throw std::invalid_argument("--config: cannot read " + config_path);
     std::stringstream ss;
     ss << f.rdbuf();
-    cfg = parse_config_text(ss.str());
+    cfg = parse_config(parse_json_text(ss.str(), "--config " + config_path));  // JSON errors name the file
   }
   const Simulation sim(cfg);
   fs::create_directories(out);

@@ -210,6 +210,19 @@ def renamed(new: str, why: str) -> type:
     return Renamed
 
 
+def add_figure_units_arg(p: argparse.ArgumentParser) -> None:
+    """Add ``--figure-units si|field``: the units of the figure's axes (the files stay SI).
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        A command that writes a figure with ``--out``.
+    """
+    p.add_argument("--figure-units", choices=("si", "field"), default="si",
+                   help="axes of the figure: si (rad/s, N m; maps in RPM and kN) or field (RPM, klbf, kft-lbf); "
+                        "the written data stay SI")
+
+
 def add_wob_arg(p: argparse.ArgumentParser) -> None:
     """Add ``--wob``: the weight on bit of every run, with an optional unit (``200kN``, ``45klbf``; plain: N).
 

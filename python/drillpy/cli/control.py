@@ -131,7 +131,8 @@ def cmd_control(a: argparse.Namespace) -> int:
                                                         "at_bound": t["at_bound"]}
                                                         for c, t in js["tunings"].items()},
                     "drives": {k: {key: r[key] for key in ("p_window", "p_vs_reference", "stalled_fraction", "mean_ss",
-                                                           "deterministic_threshold_rad_s", "p05_speed_rad_s",
+                                                           "deterministic_threshold_rad_s",
+                                                           "deterministic_threshold_grid_rad_s", "p05_speed_rad_s",
                                                            "p05_interval", "p05_precision_warning")}
                                for k, r in js["comparison"].items()},
                     "episode_speed_rad_s": js["episode_speed_rad_s"], "episodes": js["episodes"]})

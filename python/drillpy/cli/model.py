@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from drillpy.outputs import replacing, write_text
-from drillpy.cli import (add_model_args, add_study_args, add_wob_arg, model_config, parse_grid, print_json, quantity,
+from drillpy.cli import (add_figure_units_arg, add_model_args, add_study_args, add_wob_arg, model_config, parse_grid, print_json, quantity,
                          renamed, study_severity)
 from drillpy.jsonio import jsonable
 from drillpy.model.config import with_overrides
@@ -95,6 +95,7 @@ def _add_simulate(sub) -> argparse.ArgumentParser:
     add_wob_arg(s)
     s.add_argument("--wob-kn", action=renamed("--wob", "a WOB with its unit, e.g. --wob 200kN"), help=argparse.SUPPRESS)
     s.add_argument("--out", help="folder for series.csv, summary.json and a figure")
+    add_figure_units_arg(s)
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_simulate)
     return s
@@ -138,7 +139,8 @@ def cmd_simulate(a: argparse.Namespace) -> int:
             np.savetxt(tmp, cols, delimiter=",", comments="", fmt=[_time_format(r.t)] + ["%.7g"] * 6,
                        header=header(prov) + "\ntime_s,bit_speed_rad_s,bit_accel_rad_s2,bit_angle_rad,torque_on_bit_Nm,"
                               "top_torque_Nm,top_speed_rad_s")
-        plotting.time_series_plot(out / "time_series.png", r.t, r.bit_speed, r.torque_on_bit, r.top_speed)
+        plotting.time_series_plot(out / "time_series.png", r.t, r.bit_speed, r.torque_on_bit, r.top_speed,
+                                  units=a.figure_units)
         write_text((out / "summary.json"), dumps({**summary, "config": r.config, "provenance": prov}, indent=2))
     print(dumps(summary, indent=None) if a.json else
           f"SS = {r.severity:.3f}, stick fraction = {r.stick_fraction:.3f}, "
@@ -178,6 +180,7 @@ def _add_sweep(sub) -> argparse.ArgumentParser:
                    help="top speeds, start:stop:num or list, in rad/s or with a unit (50:160:23rpm)")
     add_wob_arg(s)
     s.add_argument("--out", help="folder for the figure, sweep.json and study.zarr")
+    add_figure_units_arg(s)
     add_study_args(s)
     s.add_argument("--refine", type=float, metavar="TOL", default=0.02,
                    help="half-width of the threshold's bisection bracket [rad/s] (default 0.02)")
@@ -216,7 +219,8 @@ def cmd_sweep(a: argparse.Namespace) -> int:
     crossings = severity_crossings(speeds, ss)
     res = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.tolist(), **thr, "crossings": crossings}
     if a.out:
-        write_sweep(a.out, speeds, ss, thr["threshold_rad_s"], jsonable(res), cfg, start=a.start)  # NaN as null
+        write_sweep(a.out, speeds, ss, thr["threshold_rad_s"], jsonable(res), cfg, start=a.start,
+                    figure_units=a.figure_units)  # NaN as null
     if a.json:
         print_json(res)
     else:
@@ -243,6 +247,7 @@ def _add_map(sub) -> argparse.ArgumentParser:
     s.add_argument("--wobs-kn", default="22:267:12",
                    help="weights on bit, start:stop:num or list, in kN or with a unit (5:60:12klbf)")
     s.add_argument("--out", help="folder for the figure, map.json and study.zarr")
+    add_figure_units_arg(s)
     add_study_args(s)
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_map)
@@ -275,7 +280,7 @@ def cmd_map(a: argparse.Namespace) -> int:
                                                 start=a.start))
     res = {"top_speeds_rpm": sp.tolist(), "wobs_kn": w.tolist(), "severity": m.tolist()}
     if a.out:
-        write_map(a.out, sp, w, m, jsonable(res), cfg, start=a.start)  # NaN written as null
+        write_map(a.out, sp, w, m, jsonable(res), cfg, start=a.start, figure_units=a.figure_units)  # NaN written as null
     if a.json:
         print_json(res)
     else:

@@ -53,6 +53,33 @@ def p_window(ss: np.ndarray, confidence: float = 0.9) -> dict:
             "trials": int(ss.shape[1]), "method": "wilson"}
 
 
+def grid_threshold(speeds, severities) -> dict:
+    """The deterministic threshold as the control study reads it: the highest falling SS = 0.5
+    crossing interpolated linearly on the window's speed grid, with the two grid speeds around it
+    (its precision is that cell, not a bisection's: SS jumps at the threshold).
+
+    Parameters
+    ----------
+    speeds : array_like
+        The window's top speeds [rad/s].
+    severities : array_like
+        The deterministic SS at those speeds (a stall as :data:`STALLED_SS`).
+
+    Returns
+    -------
+    dict
+        ``value`` [rad/s] (None: no crossing in the window), ``grid_cell`` (the grid speeds around it
+        [rad/s], None without a crossing), ``method`` (``"grid interpolation"``).
+    """
+    value = severity_threshold(speeds, severities)
+    cell = None
+    if value is not None:
+        sp = np.unique(np.asarray(speeds, float))
+        k = int(np.clip(np.searchsorted(sp, value, side="right") - 1, 0, sp.size - 2))
+        cell = [float(sp[k]), float(sp[k + 1])]
+    return {"value": value, "grid_cell": cell, "method": "grid interpolation"}
+
+
 def nominal_index(window: Window, wob: float) -> int:
     """Index of the window's WOB closest to ``wob``.
 
@@ -98,7 +125,8 @@ def compare_drives(cfg: dict, drives: dict, window: Window, *, reference: str, v
     -------
     dict
         Per label: ``map`` (SS, n_wobs x n_speeds), ``deterministic_threshold_rad_s`` (None: no
-        crossing), ``p_window`` (:func:`p_window`, Wilson) and ``p_vs_reference``
+        crossing) read off the speed grid (:func:`grid_threshold`) with ``deterministic_threshold_grid_rad_s``
+        (the grid speeds around it) and ``deterministic_threshold_method``, ``p_window`` (:func:`p_window`, Wilson) and ``p_vs_reference``
         (:func:`drillpy.control.tuning.bootstrap_p`, paired),
         ``mean_ss`` (runs that did not stall), ``stalled_fraction``, ``p_by_speed``, ``p_band`` (low, high), ``p05_speed_rad_s`` and
         ``p05_interval``, ``p05_precision_warning`` (:func:`drillpy.reports.uncertainty.grid_limit`, None when the
@@ -121,8 +149,10 @@ def compare_drives(cfg: dict, drives: dict, window: Window, *, reference: str, v
         low, high = wilson_interval(p, at.shape[0])
         p05 = p_speed(at, window.speeds)
         iv = bootstrap_interval(at, window.speeds, resamples=bootstrap, seed=validation_seed)
+        thr = grid_threshold(window.speeds, np.minimum(det[k], STALLED_SS))
         out[label] = {
-            "map": det, "deterministic_threshold_rad_s": severity_threshold(window.speeds, np.minimum(det[k], STALLED_SS)),
+            "map": det, "deterministic_threshold_rad_s": thr["value"],
+            "deterministic_threshold_grid_rad_s": thr["grid_cell"], "deterministic_threshold_method": thr["method"],
             "p_window": p_window(ss),
             "p_vs_reference": bootstrap_p(ss, bootstrap, validation_seed, reference=tables[reference]),
             "mean_ss": score(ss)[2], "stalled_fraction": stalled_fraction(ss), "p_by_speed": p, "p_band": (low, high), "p05_speed_rad_s": p05,

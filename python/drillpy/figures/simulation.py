@@ -15,6 +15,26 @@ import numpy as np  # noqa: E402
 
 RPM = 30.0 / np.pi  # rad/s -> RPM
 
+#: Units of the figures' axes (``units=`` of every plot here; ``--figure-units`` of the commands):
+#: quantity -> unit, a unit of :data:`drillpy.units.UNITS`. ``si`` is the SI one (the stability map
+#: keeps the thesis's RPM and kN), ``field`` the one a drilling engineer reads on the rig.
+FIGURE_UNITS = {"si": {"speed": "rad/s", "force": "kN", "torque": "N m"},
+                "field": {"speed": "rpm", "force": "klbf", "torque": "kft-lbf"}}
+_LABEL = {"rad/s": "rad/s", "rpm": "RPM", "kn": "kN", "klbf": "klbf", "n m": "N m", "kft-lbf": "kft-lbf"}
+
+
+def _unit(units: str, quantity: str) -> str:
+    """The axis unit of ``quantity`` in the figure units ``units`` (``si`` or ``field``)."""
+    if units not in FIGURE_UNITS:
+        raise ValueError(f"units = {units!r}: use one of {', '.join(FIGURE_UNITS)}")
+    return FIGURE_UNITS[units][quantity]
+
+
+def _convert(values, quantity: str, unit: str, source: str | None = None):
+    """SI ``values`` (or values in ``source``) in ``unit`` (:func:`drillpy.units.grid_in_si`)."""
+    from drillpy.units import grid_in_si
+    return grid_in_si(np.asarray(values, float), source, quantity, to=unit)
+
 
 def _save(fig, path):
     """Lay out ``fig`` and return it; with a ``path``, write it there atomically first (130 dpi, parent
@@ -34,7 +54,7 @@ def _save(fig, path):
     return fig
 
 
-def severity_plot(path, speeds, ss, threshold=None, level=0.5, title="", extra=None) -> plt.Figure:
+def severity_plot(path, speeds, ss, threshold=None, level=0.5, title="", extra=None, units="si") -> plt.Figure:
     """SS versus top speed (Fig. 4.8).
 
     Parameters
@@ -53,20 +73,24 @@ def severity_plot(path, speeds, ss, threshold=None, level=0.5, title="", extra=N
         Figure title (default: a generic one).
     extra : list of (str, array_like, array_like), optional
         Further curves: label, speeds [rad/s], SS [-].
+    units : str
+        Axis units (:data:`FIGURE_UNITS`): ``si`` (rad/s) or ``field`` (RPM); the data stay in rad/s.
 
     Returns
     -------
     matplotlib.figure.Figure
         The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
+    u = _unit(units, "speed")
     fig, ax = plt.subplots(figsize=(6.4, 4.0))
-    ax.plot(speeds, ss, "k.-", label="SS (deterministic)")
+    ax.plot(_convert(speeds, "speed", u), ss, "k.-", label="SS (deterministic)")
     for label, sp, s in extra or []:
-        ax.plot(sp, s, ".-", label=label)
+        ax.plot(_convert(sp, "speed", u), s, ".-", label=label)
     ax.axhline(level, color="r", ls="--", label=f"stability threshold SS = {level}")
     if threshold is not None:
-        ax.axvline(threshold, color="r", ls=":", label=f"SS > {level} below {threshold:.1f} rad/s")
-    ax.set_xlabel("top-drive speed [rad/s]")
+        thr = float(_convert(threshold, "speed", u))
+        ax.axvline(thr, color="r", ls=":", label=f"SS > {level} below {thr:.1f} {_LABEL[u]}")
+    ax.set_xlabel(f"top-drive speed [{_LABEL[u]}]")
     ax.set_ylabel("stick-slip severity SS [-]")
     ax.set_title(title or "Stick-slip severity versus top speed")
     ax.grid(alpha=0.3)
@@ -74,7 +98,7 @@ def severity_plot(path, speeds, ss, threshold=None, level=0.5, title="", extra=N
     return _save(fig, path)
 
 
-def stability_map_plot(path, speeds_rpm, wobs_kn, maps: dict, vmax=None) -> plt.Figure:
+def stability_map_plot(path, speeds_rpm, wobs_kn, maps: dict, vmax=None, units="si") -> plt.Figure:
     """One panel per model: SS over top speed x WOB (Figs. 3.11-3.12), shared colour scale, the
     contour SS = 0.5 in white.
 
@@ -91,6 +115,8 @@ def stability_map_plot(path, speeds_rpm, wobs_kn, maps: dict, vmax=None) -> plt.
         strip without the SS = 0.5 contour.
     vmax : float, optional
         Upper end of the colour scale [-] (default: the largest SS of all maps).
+    units : str
+        Axis units (:data:`FIGURE_UNITS`): ``si`` keeps the thesis's RPM and kN, ``field`` draws RPM and klbf.
 
     Returns
     -------
@@ -99,19 +125,22 @@ def stability_map_plot(path, speeds_rpm, wobs_kn, maps: dict, vmax=None) -> plt.
     """
     n = len(maps)
     vmax = vmax or max(float(np.nanmax(m)) for m in maps.values())
+    wu = _unit(units, "force")
+    wobs = _convert(wobs_kn, "force", wu, source="kN")
     fig, axes = plt.subplots(1, n, figsize=(4.6 * n, 4.0), squeeze=False)
     for ax, (label, m) in zip(axes[0], maps.items()):
-        pc = ax.pcolormesh(speeds_rpm, wobs_kn, m, shading="nearest", cmap="jet", vmin=0, vmax=vmax)
+        pc = ax.pcolormesh(speeds_rpm, wobs, m, shading="nearest", cmap="jet", vmin=0, vmax=vmax)
         if min(np.shape(m)) >= 2:  # a contour needs a 2-D grid (a map of one speed or one WOB is a strip)
-            ax.contour(speeds_rpm, wobs_kn, m, levels=[0.5], colors="w", linewidths=1.5)
+            ax.contour(speeds_rpm, wobs, m, levels=[0.5], colors="w", linewidths=1.5)
         ax.set_xlabel("top-drive speed [RPM]")
-        ax.set_ylabel("weight on bit [kN]")
+        ax.set_ylabel(f"weight on bit [{_LABEL[wu.lower()]}]")
         ax.set_title(label, fontsize=10)
         fig.colorbar(pc, ax=ax, label="SS [-]")
     return _save(fig, path)
 
 
-def time_series_plot(path, t, bit_speed, torque_on_bit, top_speed=None, t_window=None, title="") -> plt.Figure:
+def time_series_plot(path, t, bit_speed, torque_on_bit, top_speed=None, t_window=None, title="",
+                     units="si") -> plt.Figure:
     """Bit speed and torque on bit versus time (Figs. 4.6, 5.5).
 
     Parameters
@@ -128,24 +157,31 @@ def time_series_plot(path, t, bit_speed, torque_on_bit, top_speed=None, t_window
         Time window shown [s] (default: all).
     title : str
         Figure title.
+    units : str
+        Axis units (:data:`FIGURE_UNITS`): ``si`` (rad/s, N m or kN m) or ``field`` (RPM, kft-lbf).
 
     Returns
     -------
     matplotlib.figure.Figure
         The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
+    su, tu = _unit(units, "speed"), _unit(units, "torque")
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.0, 5.0), sharex=True)
     sel = slice(None) if t_window is None else (t >= t_window[0]) & (t <= t_window[1])
-    a1.plot(t[sel], bit_speed[sel], "b", lw=0.8, label="bit")
+    a1.plot(t[sel], _convert(bit_speed, "speed", su)[sel], "b", lw=0.8, label="bit")
     if top_speed is not None:
-        a1.plot(t[sel], top_speed[sel], "k--", lw=0.8, label="top drive")
-    a1.set_ylabel("speed [rad/s]")
+        a1.plot(t[sel], _convert(top_speed, "speed", su)[sel], "k--", lw=0.8, label="top drive")
+    a1.set_ylabel(f"speed [{_LABEL[su]}]")
     a1.legend(fontsize=8, loc="upper right")
     a1.grid(alpha=0.3)
     tob = np.asarray(torque_on_bit)[sel]
-    kilo = np.nanmax(np.abs(tob)) > 1e3 if tob.size else False
-    a2.plot(t[sel], tob / 1e3 if kilo else tob, "m", lw=0.8)
-    a2.set_ylabel("torque on bit [kN m]" if kilo else "torque on bit [N m]")
+    if tu == "N m":
+        kilo = np.nanmax(np.abs(tob)) > 1e3 if tob.size else False
+        a2.plot(t[sel], tob / 1e3 if kilo else tob, "m", lw=0.8)
+        a2.set_ylabel("torque on bit [kN m]" if kilo else "torque on bit [N m]")
+    else:
+        a2.plot(t[sel], _convert(tob, "torque", tu), "m", lw=0.8)
+        a2.set_ylabel(f"torque on bit [{_LABEL[tu]}]")
     a2.set_xlabel("time [s]")
     a2.grid(alpha=0.3)
     if title:

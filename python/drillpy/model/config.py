@@ -80,26 +80,7 @@ def engine_config(config) -> "_core.Config":
         return config
     from drillpy.model import plausibility
     plausibility.warn_config(config)  # values the engine accepts but no string has (a unit mix-up, usually)
-    _check_steps(config)
     return _core.Config(to_json_text(config))
-
-
-#: Most time steps of a run (the engine's limit, ``drill/integrator.hpp``).
-MAX_STEPS = 2e9
-
-
-def _check_steps(config: dict) -> None:
-    """Refuse a run of more than :data:`MAX_STEPS` steps naming the time step with the duration (the
-    engine names the duration alone, which misleads when the step is the value typed wrong)."""
-    sim = config.get("simulation") if isinstance(config, dict) else None
-    dt, duration = (sim.get("dt_s"), sim.get("duration_s")) if isinstance(sim, dict) else (None, None)
-    if not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (dt, duration)):
-        return  # missing or not a number: the engine's checks name it
-    if dt > 0 and duration > 0 and duration / dt >= MAX_STEPS:
-        hint = ("; a time step below 1 us: in ms or us typed as s?" if dt < 1e-6 else
-                "; a duration over 100 days: in ms typed as s?" if duration > 8.64e6 else "")
-        raise ValueError(f"simulation.dt_s = {dt:g} with simulation.duration_s = {duration:g}: {duration / dt:.3g} "
-                         f"steps, at most {MAX_STEPS:.0e}{hint}")
 
 
 def normalize(config: dict) -> dict:
@@ -123,6 +104,25 @@ def normalize(config: dict) -> dict:
     return engine_config(config).to_dict()
 
 
+#: Deepest nesting of arrays and objects a JSON file may have (the engine's ``max_json_depth``,
+#: ``drill/config.hpp``): a configuration nests 4 levels, so deeper text is not one.
+MAX_JSON_DEPTH = 64
+
+
+def _nesting_depth(value, limit: int) -> int:
+    """Levels of lists and dicts in ``value`` (a scalar: 0), counted without recursion; stops at
+    the first level past ``limit``."""
+    deepest, stack = 0, [(value, 1)]
+    while stack:
+        v, d = stack.pop()
+        if isinstance(v, (dict, list)):
+            deepest = max(deepest, d)
+            if d > limit:
+                break
+            stack.extend((c, d + 1) for c in (v.values() if isinstance(v, dict) else v))
+    return deepest
+
+
 def read_json(path, field: str):
     """The JSON content of a file.
 
@@ -142,7 +142,8 @@ def read_json(path, field: str):
     ------
     ValueError
         ``"<field> = '<path>': no such file"``, ``"...: malformed JSON: ..."`` or
-        ``"...: duplicate key 'k' in a JSON object"`` (plain JSON parsing would keep the last value silently).
+        ``"...: duplicate key 'k' in a JSON object"`` (plain JSON parsing would keep the last value silently),
+        or ``"...: JSON nested too deep: more than 64 levels ..."`` (:data:`MAX_JSON_DEPTH`, as the engine).
     """
     p = Path(path)
     if not p.is_file():
@@ -155,12 +156,17 @@ def read_json(path, field: str):
                 raise ValueError(f"{field} = {str(p)!r}: duplicate key {k!r} in a JSON object")
             out[k] = v
         return out
+    too_deep = (f"{field} = {str(p)!r}: JSON nested too deep: more than {MAX_JSON_DEPTH} levels of arrays and "
+                f"objects" + (" (a configuration has 4)" if field == "config" else ""))
     try:
-        return json.loads(p.read_text(), object_pairs_hook=unique)
+        data = json.loads(p.read_text(), object_pairs_hook=unique)
     except json.JSONDecodeError as e:
         raise ValueError(f"{field} = {str(p)!r}: malformed JSON: {e}") from None
-    except RecursionError:  # e.g. 200 000 nested arrays: no configuration is nested so deep
-        raise ValueError(f"{field} = {str(p)!r}: JSON nested too deep to be a configuration") from None
+    except RecursionError:  # e.g. 200 000 nested arrays: Python's parser gives up at once
+        raise ValueError(too_deep) from None
+    if _nesting_depth(data, MAX_JSON_DEPTH) > MAX_JSON_DEPTH:
+        raise ValueError(too_deep)
+    return data
 
 
 def load_config(preset: str | None = None, path: str | Path | None = None,

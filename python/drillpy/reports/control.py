@@ -196,9 +196,12 @@ def summary(study: ControlStudy) -> dict:
             "config": study.config}
 
 
-def _speed_text(r: dict, key: str) -> str:
-    v = r[key]
-    return f"{v:.2f}" if v is not None else "none in window"
+def _grid_threshold_text(r: dict) -> str:
+    """The deterministic threshold with the grid cell it was interpolated in (its precision)."""
+    v, cell = r["deterministic_threshold_rad_s"], r.get("deterministic_threshold_grid_rad_s")
+    if v is None:
+        return "none in window"
+    return f"{v:.2f} (grid {cell[0]:.4g}-{cell[1]:.4g})" if cell else f"{v:.2f}"
 
 
 def report_text(study: ControlStudy) -> str:
@@ -240,9 +243,11 @@ def report_text(study: ControlStudy) -> str:
               "is stalled when "
               "its mean bit speed is below half the command (the bit stuck, SS then small). The difference to the "
               "stiff drive is paired (same samples). Threshold: the speed below which the deterministic SS > 0.5 "
-              "(or the run stalls) at the nominal WOB; 5 % speed: the lowest speed from which P <= 5 % "
+              "(or the run stalls) at the nominal WOB, interpolated linearly between the two grid speeds in brackets "
+              "(a grid value: SS jumps at the threshold, so it is known to that cell, not to its digits; drillpy sweep "
+              "bisects the model's threshold); 5 % speed: the lowest speed from which P <= 5 % "
               "(section 4.2.2) with its 90 % bootstrap interval.", "",
-              "| drive | P window | P - P(stiff) | stalled runs | mean SS | deterministic threshold [rad/s] | "
+              "| drive | P window | P - P(stiff) | stalled runs | mean SS | deterministic threshold, grid value [rad/s] | "
               "5 % speed [rad/s] |",
               "|---|---|---|---|---|---|---|"]
     for label, r in c.items():
@@ -252,7 +257,7 @@ def report_text(study: ControlStudy) -> str:
         lines.append(f"| {label} | {pw['value']:.3f} [{pw['low']:.3f}, {pw['high']:.3f}] | "
                      f"{pd['value']:+.3f} [{pd['low']:+.3f}, {pd['high']:+.3f}] | {r['stalled_fraction']:.3f} | "
                      f"{r['mean_ss']:.3f} | "
-                     f"{_speed_text(r, 'deterministic_threshold_rad_s')} | {p05} |")
+                     f"{_grid_threshold_text(r)} | {p05} |")
     t0 = study.config["simulation"]["transient_s"]
     lines += ["", f"## Stick-slip episode at {study.episode_speed:.4g} rad/s (nominal WOB)", "",
               "| drive | SS | stick fraction | peak motor torque [N m] | mean motor torque [N m] | within limit |",

@@ -259,7 +259,7 @@ def print_field_summary(s: dict) -> None:
 
 
 def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, summary: dict, cfg: dict,
-                start: str | None = None) -> Path:
+                start: str | None = None, figure_units: str = "si") -> Path:
     """Write the outputs of an SS sweep (``drillpy sweep --out``).
 
     Parameters
@@ -280,6 +280,8 @@ def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, 
     start : str, optional
         Initial state of the runs (``rest``, ``rigid``, ``steady``), recorded in the provenance
         (default: the configuration's ``simulation.start``, else ``rest``).
+    figure_units : str
+        Axes of the figure (:data:`drillpy.figures.simulation.FIGURE_UNITS`: ``si`` or ``field``).
 
     Returns
     -------
@@ -289,7 +291,7 @@ def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, 
     from drillpy.figures import simulation as plotting
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    plotting.severity_plot(out / "severity_vs_top_speed.png", speeds, severity, threshold)
+    plotting.severity_plot(out / "severity_vs_top_speed.png", speeds, severity, threshold, units=figure_units)
     start = start or cfg.get("simulation", {}).get("start", "rest")  # the start used
     # the grid run, in the configuration: drillsim --job sweep on it repeats the sweep
     cfg = {**cfg, "sweep": {"top_speeds_rad_s": [float(v) for v in speeds], "wobs_n": []}}
@@ -298,7 +300,7 @@ def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, 
 
 
 def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict, cfg: dict,
-              start: str | None = None) -> Path:
+              start: str | None = None, figure_units: str = "si") -> Path:
     """Write the outputs of a stability map (``drillpy map --out``).
 
     Parameters
@@ -319,6 +321,8 @@ def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict,
     start : str, optional
         Initial state of the runs (``rest``, ``rigid``, ``steady``), recorded in the provenance
         (default: the configuration's ``simulation.start``, else ``rest``).
+    figure_units : str
+        Axes of the figure (:data:`drillpy.figures.simulation.FIGURE_UNITS`: ``si`` or ``field``).
 
     Returns
     -------
@@ -328,7 +332,8 @@ def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict,
     from drillpy.figures import simulation as plotting
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    plotting.stability_map_plot(out / "stability_map.png", speeds_rpm, wobs_kn, {cfg["law"]["type"]: severity})
+    plotting.stability_map_plot(out / "stability_map.png", speeds_rpm, wobs_kn, {cfg["law"]["type"]: severity},
+                                units=figure_units)
     start = start or cfg.get("simulation", {}).get("start", "rest")  # the start used
     cfg = {**cfg, "sweep": {"top_speeds_rad_s": [float(v) * np.pi / 30.0 for v in speeds_rpm],
                             "wobs_n": [float(w) * 1e3 for w in wobs_kn]}}  # the grid run [rad/s, N]
