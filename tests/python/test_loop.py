@@ -275,9 +275,10 @@ def test_sample175_wob_is_a_response_and_nothing_fed_the_cycle_is_credited(tmp_p
     assert all(s["error_after"] <= s["error_before"] for s in js["steps"] if s["action"] == "add")
     assert js["baseline_long_run"]["model"]["stick_fraction"] > 0.03  # damping held on the cycle
     ev = json.loads((out / "evidence.json").read_text())
-    sf = [c for r in ev["rounds"] for c in r if c["effect"] == "static_friction"]
-    t_s = sf[-1]["parameters"]["static_torque_nm"]
-    assert t_s["source"] == "stick phases" and 2.5 < t_s["ci95"][0] < t_s["value"] < t_s["ci95"][1] < 3.2
+    # the break-away torques of the stick phases, measured directly (whatever the rounds decide after)
+    measured = [c["parameters"]["static_torque_nm"] for r in ev["rounds"] for c in r
+                if c["effect"] == "static_friction" and c["parameters"]["static_torque_nm"].get("source") == "stick phases"]
+    assert measured and all(2.5 < t["ci95"][0] < t["value"] < t["ci95"][1] < 3.2 for t in measured)
     assert ev["record"]["calibration_s"][1] == pytest.approx(20.0, abs=0.01)
     assert any("held" in n for n in ev["notes"])  # the limit cycle sets the damping
     assert any("exceed the 0.1" in n for n in ev["notes"])  # and it is more than a steel bar's
