@@ -14,24 +14,13 @@
 #include "drill/montecarlo.hpp"
 #include "drill/presets.hpp"
 #include "drill/process.hpp"
-#include "drill/rng.hpp"
 #include "drill/simulation.hpp"
 #include "rig_with_stick.hpp"
+#include "varied_runs.hpp"
 
 using namespace drill;
 
 namespace {
-
-/// Every step's bit speed, acceleration and torque on bit.
-struct BatchTrace {
-  std::vector<double> v, a, T;
-  void operator()(const StepState& s) {
-    v.push_back(s.bit_speed);
-    a.push_back(s.bit_accel);
-    T.push_back(s.torque_on_bit);
-  }
-  bool operator==(const BatchTrace& o) const { return v == o.v && a == o.a && T == o.T; }
-};
 
 Config batch_field(double duration) {
   Config c = preset("thesis-field");
@@ -41,30 +30,8 @@ Config batch_field(double duration) {
   return c;
 }
 
-/// n distinct runs: speeds across the stick-slip band, every other one with an eta realization,
-/// every third one with a sampled top speed and WOB (ramps between the samples).
-std::vector<Inputs> batch_inputs(const Simulation& sim, std::size_t n) {
-  const Config& c = sim.config();
-  const GaussianProcess proc = GaussianProcess::from_psd(PsdModel(), 0.05, c.sim.duration);
-  std::vector<Inputs> in;
-  for (std::size_t k = 0; k < n; ++k) {
-    Inputs x = sim.inputs(c.top_speed * (0.3 + 0.15 * static_cast<double>(k)), c.wob * (1.0 - 0.02 * k));
-    if (k % 2 == 1) {
-      RandomStream rng(11, k, MonteCarlo::eta_stream);
-      x.eta = proc.signal(rng);
-    }
-    if (k % 3 == 2) {
-      const double om = x.top_speed.value, w = x.wob.value, dt = c.sim.duration / 4.0;
-      x.top_speed = Signal::sampled({om, 1.4 * om, 0.7 * om, om, 1.2 * om}, 0.0, dt);
-      x.wob = Signal::sampled({w, 0.8 * w, 1.1 * w}, 0.2 * dt, dt);
-    }
-    in.push_back(x);
-  }
-  return in;
-}
-
-std::vector<BatchTrace> run_batched(const BatchedIntegrator& b, const std::vector<Inputs>& in) {
-  std::vector<BatchTrace> tr(in.size());
+std::vector<StepTrace> run_batched(const BatchedIntegrator& b, const std::vector<Inputs>& in) {
+  std::vector<StepTrace> tr(in.size());
   const std::vector<const ModelState*> start(in.size(), nullptr);
   b.run(in.data(), start.data(), in.size(), tr.data());
   return tr;
@@ -74,13 +41,13 @@ void expect_lane_independent(const Config& c) {
   const Simulation sim(c);
   const BatchedIntegrator b(sim.integrator());
   const std::size_t w = BatchedIntegrator::width();
-  std::vector<Inputs> in = batch_inputs(sim, w + 3);  // a full batch and a partial one
-  const BatchTrace alone = run_batched(b, {in[0]}).front();
+  std::vector<Inputs> in = varied_inputs(sim, w + 3);  // a full batch and a partial one
+  const StepTrace alone = run_batched(b, {in[0]}).front();
   ASSERT_EQ(alone.v.size(), static_cast<std::size_t>(c.sim.steps() + 1));
   for (std::size_t pos = 0; pos < in.size(); ++pos) {
     std::vector<Inputs> batch = in;
     std::swap(batch[0], batch[pos]);  // run 0 in lane pos % w of batch pos / w
-    const std::vector<BatchTrace> tr = run_batched(b, batch);
+    const std::vector<StepTrace> tr = run_batched(b, batch);
     EXPECT_TRUE(tr[pos] == alone) << "lane position " << pos;
   }
 }
@@ -103,13 +70,13 @@ TEST(BatchedIntegrator, AVX2AndAVX512GiveTheSameBits) {
   if (!(have & HWY_AVX2) || !(have & HWY_AVX3)) GTEST_SKIP() << "this host lacks AVX2 or AVX-512";
   const Simulation sim(batch_field(3.0));
   const BatchedIntegrator b(sim.integrator());
-  const std::vector<Inputs> in = batch_inputs(sim, 8);
+  const std::vector<Inputs> in = varied_inputs(sim, 8);
   ASSERT_EQ(BatchedIntegrator::width(), 8u);
-  const std::vector<BatchTrace> wide = run_batched(b, in);
+  const std::vector<StepTrace> wide = run_batched(b, in);
   hwy::SetSupportedTargetsForTest(HWY_AVX2 | HWY_SSE4 | HWY_SSSE3 | HWY_EMU128);
   hwy::GetChosenTarget().Update(hwy::SupportedTargets());
   const std::size_t narrow_width = BatchedIntegrator::width();
-  const std::vector<BatchTrace> narrow = run_batched(b, in);
+  const std::vector<StepTrace> narrow = run_batched(b, in);
   hwy::SetSupportedTargetsForTest(0);
   hwy::GetChosenTarget().Update(hwy::SupportedTargets());
   EXPECT_EQ(narrow_width, 4u);
@@ -123,10 +90,10 @@ TEST(BatchedIntegrator, ReproducesTheScalarBitsWithoutExpLogOnOneMode) {
   // through the stick condition and the string friction.
   const Simulation sim(rig_with_stick(BitRockLaw::Kind::polynomial));
   const BatchedIntegrator b(sim.integrator());
-  const std::vector<Inputs> in = batch_inputs(sim, 5);
-  const std::vector<BatchTrace> tr = run_batched(b, in);
+  const std::vector<Inputs> in = varied_inputs(sim, 5);
+  const std::vector<StepTrace> tr = run_batched(b, in);
   for (std::size_t k = 0; k < in.size(); ++k) {
-    BatchTrace ref;
+    StepTrace ref;
     sim.integrator().run(in[k], ref);
     EXPECT_TRUE(tr[k] == ref) << "run " << k;
   }
@@ -145,7 +112,7 @@ TEST(BatchedIntegrator, AgreesWithTheScalarReferenceToTheStatedTolerance) {
   const std::vector<double> scalar = sim.sweep_severity(sp, {}, nullptr, 0, std::nullopt, false);
   for (std::size_t k = 0; k < sp.size(); ++k) EXPECT_NEAR(batched[k] / scalar[k], 1.0, 1e-4) << sp[k];
   const BatchedIntegrator b(sim.integrator());
-  const std::vector<Inputs> in = batch_inputs(sim, 6);
+  const std::vector<Inputs> in = varied_inputs(sim, 6);
   std::vector<PhaseObserver> ph;
   for (const Inputs& x : in) ph.emplace_back(c.transient, 0.05 * x.top_speed.value);
   const std::vector<const ModelState*> start(in.size(), nullptr);

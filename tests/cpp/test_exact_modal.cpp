@@ -20,6 +20,7 @@
 #include "drill/run_many.hpp"
 #include "drill/simulation.hpp"
 #include "rig_with_stick.hpp"
+#include "varied_runs.hpp"
 
 using namespace drill;
 
@@ -36,17 +37,6 @@ std::pair<double, double> em_exact_ramp(double w2, double d, double z0, double p
   return {z, p};
 }
 
-/// Every step's bit speed, acceleration and torque on bit.
-struct EmTrace {
-  std::vector<double> v, a, T;
-  void operator()(const StepState& s) {
-    v.push_back(s.bit_speed);
-    a.push_back(s.bit_accel);
-    T.push_back(s.torque_on_bit);
-  }
-  bool operator==(const EmTrace& o) const { return v == o.v && a == o.a && T == o.T; }
-};
-
 Config em_field(int modes, double duration) {
   Config c = preset("thesis-field");
   c.modes = modes;
@@ -56,30 +46,8 @@ Config em_field(int modes, double duration) {
   return c;
 }
 
-/// n distinct runs of a simulation: speeds across the stick-slip band, every other one with an
-/// eta realization, every third one with a sampled top speed and WOB.
-std::vector<Inputs> em_inputs(const Simulation& sim, std::size_t n) {
-  const Config& c = sim.config();
-  const GaussianProcess proc = GaussianProcess::from_psd(PsdModel(), 0.05, c.sim.duration);
-  std::vector<Inputs> in;
-  for (std::size_t k = 0; k < n; ++k) {
-    Inputs x = sim.inputs(c.top_speed * (0.3 + 0.15 * static_cast<double>(k)), c.wob * (1.0 - 0.02 * k));
-    if (k % 2 == 1) {
-      RandomStream rng(11, k, MonteCarlo::eta_stream);
-      x.eta = proc.signal(rng);
-    }
-    if (k % 3 == 2) {
-      const double om = x.top_speed.value, w = x.wob.value, dt = c.sim.duration / 4.0;
-      x.top_speed = Signal::sampled({om, 1.4 * om, 0.7 * om, om, 1.2 * om}, 0.0, dt);
-      x.wob = Signal::sampled({w, 0.8 * w, 1.1 * w}, 0.2 * dt, dt);
-    }
-    in.push_back(x);
-  }
-  return in;
-}
-
-std::vector<EmTrace> em_batched(const BatchedIntegrator& b, const std::vector<Inputs>& in) {
-  std::vector<EmTrace> tr(in.size());
+std::vector<StepTrace> em_batched(const BatchedIntegrator& b, const std::vector<Inputs>& in) {
+  std::vector<StepTrace> tr(in.size());
   const std::vector<const ModelState*> start(in.size(), nullptr);
   b.run(in.data(), start.data(), in.size(), tr.data());
   return tr;
@@ -248,13 +216,13 @@ TEST(ExactModal, TheBatchedPathHasTheScalarBitsInEveryLane) {
     const BatchedIntegrator b(sim.integrator());
     ASSERT_TRUE(b.supports(sim.inputs()));
     const std::size_t w = BatchedIntegrator::width();
-    const std::vector<Inputs> in = em_inputs(sim, w + 3);
-    std::vector<EmTrace> scalar(in.size());
+    const std::vector<Inputs> in = varied_inputs(sim, w + 3);
+    std::vector<StepTrace> scalar(in.size());
     for (std::size_t k = 0; k < in.size(); ++k) sim.integrator().run(in[k], scalar[k]);
     for (std::size_t pos = 0; pos < in.size(); pos += 3) {
       std::vector<Inputs> batch = in;
       std::swap(batch[0], batch[pos]);
-      const std::vector<EmTrace> tr = em_batched(b, batch);
+      const std::vector<StepTrace> tr = em_batched(b, batch);
       for (std::size_t k = 0; k < in.size(); ++k) {
         const std::size_t orig = k == 0 ? pos : k == pos ? 0 : k;
         EXPECT_TRUE(tr[k] == scalar[orig]) << "run " << orig << " in position " << k;
