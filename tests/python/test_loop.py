@@ -25,7 +25,7 @@ from drillpy.records.io import Record, write_csv
 from drillpy.records.synthetic import declared_config, synthetic_record
 
 LOOP_KEYS = {"metric", "decision", "warnings", "baseline_error", "steps", "final_error", "parameters", "declared", "removed", "final_effects",
-             "unexplained_fraction", "discovered_terms", "adequacy", "baseline_long_run", "provenance",
+             "confusable", "unexplained_fraction", "discovered_terms", "adequacy", "baseline_long_run", "provenance",
              "wob_input"}
 STEP_KEYS = {"action", "effect", "error_before", "error_after", "evidence", "long_run"}
 

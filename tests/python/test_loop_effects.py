@@ -11,6 +11,7 @@ import pytest
 from drillpy.model.config import load_config, normalize
 from drillpy.loop.effects import CATALOGUE, NAMES, Effect, declared_effects, stripped
 from drillpy.loop.model import LoopModel
+from drillpy.loop.report import reading
 
 
 def test_catalogue_has_the_nine_named_effects_with_their_descriptions():
@@ -189,3 +190,6 @@ def test_a_motor_behind_a_coupling_round_trips_through_the_configuration():
     assert CATALOGUE["top_drive_dynamics"].count({k: v for k, v in p.items() if k != "coupling_stiffness_nm_rad"}) == 3
     rigid = dict(p, coupling_stiffness_nm_rad=299.9)  # at its rigid bound: the three-parameter motor
     assert CATALOGUE["top_drive_dynamics"].count(rigid) == 3
+    droop = dict(p, inertia_kg_m2=1.005e-6)  # inertia at its lower bound: a quasi-static droop, J_m no freedom
+    assert CATALOGUE["top_drive_dynamics"].count(droop) == 3
+    assert "no inertia the record resolves" in reading("top_drive_dynamics", droop)

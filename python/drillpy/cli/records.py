@@ -301,7 +301,7 @@ def cmd_loop(a: argparse.Namespace) -> int:
         js = loop_record(a.record, a.out, preset=a.preset, config_path=a.config, options=opt, log=log)
     if a.json:
         print_json({k: js[k] for k in ("metric", "baseline_error", "final_error", "declared", "removed",
-                                       "final_effects", "unexplained_fraction", "warnings")} |
+                                       "final_effects", "confusable", "unexplained_fraction", "warnings")} |
                    {"added": [s["effect"] for s in js["steps"] if s["action"] == "add"]})
     return 0
 

@@ -1,6 +1,6 @@
 """The outputs of ``drillpy loop``: ``loop.json``, ``evidence.json``, ``predictions.csv``,
 ``model.json``, ``config.json`` and ``report.md`` (:func:`write_loop`); the figures are drawn by
-:mod:`drillpy.figures.loop`. :func:`write_outputs` draws and writes both.
+:mod:`drillpy.figures.loop` (``run.loop_record`` calls both).
 """
 from __future__ import annotations
 
@@ -13,8 +13,8 @@ import numpy as np
 from drillpy.outputs import write_text
 from drillpy.model.config import normalize
 from .effects import CATALOGUE
+from .effects.top_drive_dynamics import quasi_static
 from .run import LoopResult, dumps
-from drillpy.figures import loop as _loop_figures
 from drillpy.reports.text import number_text as _f
 from drillpy.records.io import RPM
 from drillpy.records.plausibility import markdown
@@ -193,10 +193,14 @@ def reading(name: str, p: dict) -> str:
         txt = "the top follows the measured top speed (kinematic drive: a diagnosis, fed the cycle it should predict)"
     elif name == "top_drive_dynamics":
         c = 1.0 / p["droop_rad_s_per_nm"]
+        inertia = ("no inertia the record resolves (fitted at its lower bound: a quasi-static droop; a rotor's "
+                   "real inertia is not that small, so the coupling or the drive train shields it)"
+                   if quasi_static(p) else
+                   f"inertia {p['inertia_kg_m2']:.3g} kg m^2 (time constant {p['inertia_kg_m2'] / c:.3g} s)")
+        k = p.get("coupling_stiffness_nm_rad")
         txt = (f"the top drive gives way: a motor with droop {p['droop_rad_s_per_nm'] * RPM:.3g} RPM per N m "
-               f"(c_m = {c:.3g} N m s/rad), inertia {p['inertia_kg_m2']:.3g} kg m^2 (time constant "
-               f"{p['inertia_kg_m2'] / c:.3g} s), no-load speed {p['command_rad_s'] * RPM:.1f} RPM, stall torque "
-               f"{c * p['command_rad_s']:.2f} N m")
+               f"(c_m = {c:.3g} N m s/rad), {inertia}, no-load speed {p['command_rad_s'] * RPM:.1f} RPM, stall "
+               f"torque {c * p['command_rad_s']:.2f} N m" + (f", behind a coupling of {k:.3g} N m/rad" if k else ""))
     elif name == "sensor_lag":
         fc = p["lowpass_hz"]
         txt = (f"the recorded channels went through a low-pass at {fc:.3g} Hz (group delay "
@@ -305,7 +309,8 @@ def render_report(res: LoopResult, files: dict) -> str:
           "|---|---|---|---:|---:|---:|---:|---:|---|---|"]
     for k, s in enumerate(res.steps, 1):
         e = s["evidence"]
-        L.append(f"| {k} | {s['action']} | `{s['effect']}` | {s['error_before']:.4f} | {s['error_after']:.4f} | "
+        alt = "".join(f" or `{r['effect']}`" for r in e.get("rivals", []) if r["verdict"] == "confusable")
+        L.append(f"| {k} | {s['action']} | `{s['effect']}`{alt} | {s['error_before']:.4f} | {s['error_after']:.4f} | "
                  f"{100 * (1 - s['error_after'] / s['error_before']):.1f} % | {e['p_value']:.2g} | {e['delta_bic']:.1f} | "
                  f"{_params(e.get('parameters', {}))} | {_lr((s.get('long_run') or {}).get('after'))} |")
     if not res.steps:
@@ -319,7 +324,9 @@ def render_report(res: LoopResult, files: dict) -> str:
     if added:
         L += ["### Physical reading", ""]
         for s in added:
-            L.append(f"- **{s['effect']}**: {reading(s['effect'], s['after'].model.effects[s['effect']])}")
+            L.append(f"- **{s['effect']}**: {reading(s['effect'], s['after'].model.effects[s['effect']])}"
+                     + (f" **Not told apart from a rival**: {s['evidence']['confusable']}."
+                        if s["evidence"].get("confusable") else ""))
         L.append("")
     disc = res.discovery
     if disc.get("terms") is not None:
@@ -404,23 +411,3 @@ def write_loop(res: LoopResult, out, files: dict | None = None) -> dict:
     report = render_report(res, {k: Path(v).name for k, v in (files or {}).items()})
     write_text((out / "report.md"), with_markdown_footer(report, prov))
     return js
-
-
-def write_outputs(res: LoopResult, out: Path) -> dict:
-    """Draw the figures of a loop run and write its files into ``out``.
-
-    :func:`drillpy.figures.loop.loop_figures` -> :func:`write_loop`.
-
-    Parameters
-    ----------
-    res : LoopResult
-        A finished loop run.
-    out : str or Path
-        Output folder (created if missing).
-
-    Returns
-    -------
-    dict
-        The content of ``loop.json``.
-    """
-    return write_loop(res, out, _loop_figures.loop_figures(res, out))

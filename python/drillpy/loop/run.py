@@ -23,6 +23,7 @@ from .fitting import RESTART_GAIN, calibrate, e_train, fit_candidate, null_candi
 from .longrun import cycle_damage, long_run, stick_collapse
 from .model import STIFFNESS, Evaluation, LoopModel, equation_residual, evaluate
 from .options import LoopOptions
+from .rivals import confusable_note, rivals
 
 
 @dataclass
@@ -129,6 +130,13 @@ class LoopResult:
         return [s["effect"] for s in self.steps if s["action"] == "remove"]
 
     @property
+    def confusable(self) -> list:
+        """The added effects the record cannot tell from a rival (:mod:`.rivals`): per such step
+        ``{"named": effect, "or": [rivals], "note": ...}``, in order."""
+        return [{"named": s["effect"], "or": [r["effect"] for r in s["evidence"]["rivals"] if r["verdict"] == "confusable"],
+                 "note": s["evidence"]["confusable"]} for s in self.steps if s["evidence"].get("confusable")]
+
+    @property
     def unexplained_fraction(self) -> float | None:
         """Fraction of the final model's equation residual the discovery step leaves unexplained
         [-] (None when the step did not run; where the bit's equation does not balance on the
@@ -151,6 +159,7 @@ class LoopResult:
                 "declared": self.declared, "removed": self.removed, "baseline_long_run": self.baseline_long_run,
                 "steps": [{k: s[k] for k in keys} for s in self.steps],
                 "final_error": self.final.E_test, "final_effects": list(self.final.model.effects),
+                "confusable": self.confusable,
                 "unexplained_fraction": self.unexplained_fraction,
                 "discovered_terms": self.discovery.get("terms", []), "parameters": self.final.model.parameters(),
                 "warnings": [w.as_dict() for w in self.warnings]}
@@ -676,6 +685,15 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
                 log(f"  {margin}")
             if held:
                 e["damping"] = held
+            rv = rivals(name, results, new, data, opt, th, log)
+            if rv:
+                e["rivals"] = rv
+                note = confusable_note(name, rv)
+                if note:
+                    e["confusable"] = note
+                    notes.append(note)
+                    log(f"  {note}")
+                    tried.update(r["effect"] for r in rv if r["verdict"] == "confusable")
             steps.append({"action": "add", "effect": name, "error_before": cur.E_test, "error_after": new.E_test,
                           "evidence": e, "long_run": _pair(cur_lr, lr), "before": cur, "candidate": ev, "after": new})
             log(f"step {len(steps)}: add {name}: validation error {cur.E_test:.4f} -> {new.E_test:.4f}")

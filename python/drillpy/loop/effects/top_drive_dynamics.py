@@ -14,9 +14,26 @@ COUPLING = RIG_PARAMETERS["coupling_stiffness_nm_rad"]
 #: The motor inertia is bounded below by this multiple of the modified-Euler stability floor (Eq. A.7):
 #: at the floor the coupled motor mode has 10 steps per period; at 4 x, about 20 (it is resolved).
 RESOLVED = 4.0
+#: The motor inertia's range [kg m^2] (its lower end also raised to the engine's resolution, :meth:`TopDriveDynamics.bounds`).
+INERTIA_RANGE = (1e-6, 10.0)
 #: A top speed whose standard deviation is below this fraction of its mean is steady: no drive model
 #: can be credited with explaining it (the encoder's noise on the rig is about 0.6 % of 8.5 rad/s).
 STEADY_TOP = 0.01
+
+
+def quasi_static(p: dict) -> bool:
+    """True when the motor's inertia was fitted at the lower bound of its range (within 1 %): the
+    record resolves no inertia, the motor acts as a speed droop Omega = Omega_c - T / c_m (through
+    the coupling, a spring in series with the droop's damper), and J_m is no free parameter (not
+    counted, flagged; the motor is then credited on its droop, command and coupling).
+
+    Parameters
+    ----------
+    p : dict
+        The effect's values.
+    """
+    j = p.get("inertia_kg_m2")
+    return p.get("variant", "motor") == "motor" and j is not None and j <= 1.01 * INERTIA_RANGE[0]
 
 
 class TopDriveDynamics(Effect):
@@ -43,7 +60,8 @@ class TopDriveDynamics(Effect):
     name = "top_drive_dynamics"
     params = (Param("droop_rad_s_per_nm", "rad/s per N m", "1/c_m: speed lost per N m of top torque", 1e-3, 1e3, "log"),
               Param("inertia_kg_m2", "kg m^2", "J_m: motor and drive-train inertia (lower bound: 4 x the inertia at "
-                    "which the modified-Euler stability bound of Eq. A.7 meets the engine step)", 1e-6, 10.0, "log"),
+                    "which the modified-Euler stability bound of Eq. A.7 meets the engine step)", *INERTIA_RANGE, "log",
+                    binding=False),
               Param("command_rad_s", "rad/s", "Omega_c: no-load (commanded) speed", 0.0, float("inf")),
               Param("coupling_stiffness_nm_rad", "N m/rad", "k_c: shaft coupling between the rotor and the string",
                     COUPLING[0], COUPLING[1], "log", binding=False))
@@ -71,7 +89,8 @@ class TopDriveDynamics(Effect):
     def count(self, p):
         """4 for the motor behind a compliant coupling, 3 without one or behind a coupling fitted at
         its rigid bound (within 1 % of 300 N m/rad: the three-parameter motor, whose BIC it then
-        has), 0 for the kinematic variant; see :meth:`Effect.count`.
+        has), one less for a quasi-static motor (:func:`quasi_static`: its inertia at the lower
+        bound carries no freedom), 0 for the kinematic variant; see :meth:`Effect.count`.
 
         Parameters
         ----------
@@ -80,7 +99,7 @@ class TopDriveDynamics(Effect):
         """
         k = p.get("coupling_stiffness_nm_rad")
         rigid = k is not None and k >= 0.99 * COUPLING[1]
-        return len(self.free(p)) - int(rigid)
+        return len(self.free(p)) - int(rigid) - int(quasi_static(p))
 
     def flags(self, p, data, model=None):
         """Flag a recorded top speed whose standard deviation is below :data:`STEADY_TOP` (1 %) of
