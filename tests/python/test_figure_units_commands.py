@@ -39,7 +39,7 @@ def labels(fig) -> list:
 def run(drawn, *args) -> dict:
     """Run a command in this process; returns the figures it wrote."""
     drawn.clear()
-    assert main([*args, "--no-progress"]) == 0
+    assert main(list(args)) == 0
     return dict(drawn)
 
 
@@ -60,7 +60,7 @@ def files(tmp_path_factory):
 
 
 def test_report_draws_its_sweep_series_and_maps_in_field_units(drawn, tmp_path):
-    args = ["report", "--preset", "thesis-rig", "--duration", "3", "--transient", "1"]
+    args = ["report", "--preset", "thesis-rig", "--duration", "3", "--transient", "1", "--no-progress"]
     si = run(drawn, *args, "--out", str(tmp_path / "si"))
     field = run(drawn, *args, "--out", str(tmp_path / "field"), "--figure-units", "field")
     assert si["severity_vs_top_speed.png"].axes[0].get_xlabel() == "top-drive speed [rad/s]"
@@ -73,7 +73,7 @@ def test_report_draws_its_sweep_series_and_maps_in_field_units(drawn, tmp_path):
 
 
 MC = ["mc", "--preset", "thesis-field", "--modes", "8", "--speeds", "10,16", "--samples", "3", "--warmup", "10",
-      "--duration", "20", "--transient", "5"]
+      "--duration", "20", "--transient", "5", "--no-progress"]
 
 
 def test_mc_and_mc_merge_draw_speeds_in_rpm_on_request(drawn, tmp_path):
@@ -85,7 +85,7 @@ def test_mc_and_mc_merge_draw_speeds_in_rpm_on_request(drawn, tmp_path):
                                                                                           16 * 30 / np.pi])
     assert "speed [RPM]" in labels(field["deterministic_vs_stochastic.png"])
     assert "torque on bit [kft-lbf]" in labels(field["stochastic_response.png"])
-    assert "torque on bit [N m]" in labels(si["stochastic_response.png"])
+    assert "torque on bit [kN m]" in labels(si["stochastic_response.png"])  # SI: kN m above 1000 N m
     merged = run(drawn, "mc-merge", str(tmp_path / "field"), "--out", str(tmp_path / "merged"), "--figure-units",
                  "field")
     assert merged["severity_band.png"].axes[1].get_xlabel() == "top-drive speed [RPM]"
@@ -95,7 +95,7 @@ def test_control_draws_speeds_wob_and_motor_torque_in_field_units(drawn, files, 
     args = ["control", "--config", str(files / "field.json"), "--drive-inertia", "2000", "--speeds", "10,24",
             "--wobs-kn", "200,245", "--samples", "2", "--validation-samples", "2", "--grid", "2", "--refine", "0",
             "--bootstrap", "20", "--warmup", "10", "--duration", "20", "--transient", "5", "--controllers",
-            "z_torque"]
+            "z_torque", "--no-progress"]
     si = run(drawn, *args, "--out", str(tmp_path / "si"))
     field = run(drawn, *args, "--out", str(tmp_path / "field"), "--figure-units", "field")
     assert labels(si["maps.png"])[:2] == ["top speed [rad/s]", "WOB [kN]"]
@@ -109,7 +109,7 @@ def test_control_draws_speeds_wob_and_motor_torque_in_field_units(drawn, files, 
 
 def test_robust_ss_draws_speeds_in_rpm_on_request(drawn, tmp_path):
     args = ["robust-ss", "--preset", "thesis-ch6", "--samples", "2", "--speeds", "8,12", "--duration", "0.1",
-            "--transient", "0"]
+            "--transient", "0", "--no-progress"]
     assert run(drawn, *args, "--out", str(tmp_path / "si"))["severity_bands.png"].axes[1].get_xlabel() == \
         "top-drive speed [rad/s]"
     field = run(drawn, *args, "--out", str(tmp_path / "field"), "--figure-units", "field")
@@ -117,11 +117,11 @@ def test_robust_ss_draws_speeds_in_rpm_on_request(drawn, tmp_path):
 
 
 def test_analyze_draws_torque_and_wob_in_field_units(drawn, files, tmp_path):
-    args = ["analyze", str(files / "rec.csv"), "--no-sim", "--folds", "0"]
+    args = ["analyze", str(files / "rec.csv"), "--no-sim", "--folds", "0", "--no-progress"]
     si = run(drawn, *args, "--out", str(tmp_path / "si"))
     field = run(drawn, *args, "--out", str(tmp_path / "field"), "--figure-units", "field")
-    assert labels(si["time_series.png"]) == ["speed [RPM]", "torque on bit [N m]", "WOB [N]", "time [s]"]
-    assert labels(field["time_series.png"]) == ["speed [RPM]", "torque on bit [ft-lbf]", "WOB [lbf]", "time [s]"]
+    assert labels(si["time_series.png"]) == ["speed [RPM]", "torque on bit [N m]", "time [s]", "WOB [N]"]
+    assert labels(field["time_series.png"]) == ["speed [RPM]", "torque on bit [ft-lbf]", "time [s]", "WOB [lbf]"]
     assert "torque on bit [ft-lbf]" in labels(field["cycle.png"]) and "WOB [lbf]" in labels(field["cycle.png"])
     assert labels(field["loops.png"])[:2] == ["bit speed [RPM]", "torque on bit [ft-lbf]"]
     assert labels(field["laws.png"]) == ["bit speed [RPM]", "torque on bit [ft-lbf]"]
@@ -137,12 +137,29 @@ def test_predict_draws_its_overlay_torque_in_ft_lbf_on_request(drawn, files, tmp
     assert field["overlay.png"].axes[2].get_ylabel() == "torque on bit [ft-lbf]"
 
 
-def test_loop_draws_torque_in_ft_lbf_on_request(drawn, files, tmp_path):
-    args = ["loop", str(files / "rec.csv"), "--preset", "thesis-rig", "--max-steps", "0", "--json"]
-    assert "torque on bit [N m]" in labels(run(drawn, *args, "--out", str(tmp_path / "si"))["loops.png"])
-    field = run(drawn, *args, "--out", str(tmp_path / "field"), "--figure-units", "field")
-    assert "torque on bit [ft-lbf]" in labels(field["loops.png"])
-    assert "torque on bit [ft-lbf]" in labels(field["overlay.png"])
+def test_loop_passes_figure_units_to_its_figures(monkeypatch, tmp_path):
+    """``drillpy loop --figure-units field`` reaches loop_figures (the loop itself replaced by a stub: a run
+    takes minutes), and loops_plot then draws the torque in ft-lbf."""
+    from types import SimpleNamespace
+
+    from drillpy.figures import loop as loop_figs
+    from drillpy.loop import report, run as loop_run
+    seen = []
+    monkeypatch.setattr(loop_run, "run_loop", lambda record, cfg, options, log: "result")
+    monkeypatch.setattr(report, "write_loop", lambda res, out, files: {})
+    monkeypatch.setattr(loop_figs, "loop_figures", lambda res, out, units="si": seen.append(units) or {})
+    for extra in ([], ["--figure-units", "field"]):
+        assert main(["loop", "rec.csv", "--preset", "thesis-rig", "--out", str(tmp_path / "o"), "--no-progress",
+                     *extra]) == 0
+    assert seen == ["si", "field"]
+    d = SimpleNamespace(is_test=np.array([False, True]), starts=np.array([0, 2]),
+                        horizon_samples=np.array([[0, 1], [2, 3]]), v_meas=np.arange(4.0), T_meas=np.arange(4.0) + 1)
+    pred = SimpleNamespace(v=np.ones((2, 2)), T=np.full((2, 2), 2.0))
+    res = SimpleNamespace(data=d, baseline=pred, final=pred)
+    assert loop_figs.loops_plot(None, res).axes[0].get_ylabel() == "torque on bit [N m]"
+    fig = loop_figs.loops_plot(None, res, units="field")
+    assert fig.axes[0].get_ylabel() == "torque on bit [ft-lbf]"
+    np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), [3.0 / 1.3558179483314004, 4.0 / 1.3558179483314004])
 
 
 @pytest.mark.parametrize("command", ["report", "mc", "mc-merge", "control", "robust-ss", "analyze", "predict",
