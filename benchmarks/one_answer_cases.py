@@ -154,18 +154,34 @@ def case_control_binomial(tmp):
     return "unclear", f"{rows}"
 
 
-def case_control_grid_threshold(tmp):
+def case_control_one_threshold(tmp):
+    """control's deterministic threshold is sweep's bisection (same configuration, drive and WOB), printed
+    with its +- and RPM; no grid interpolation left."""
     if not (tmp / "control" / "control.json").is_file():
         case_control_binomial(tmp)
-    js = json.loads((tmp / "control" / "control.json").read_text())
+    comp = json.loads((tmp / "control" / "control.json").read_text())["comparison"]
     report = (tmp / "control" / "report.md").read_text()
-    cells = {k: (r["deterministic_threshold_rad_s"], r.get("deterministic_threshold_grid_rad_s"))
-             for k, r in js["comparison"].items()}
-    labelled = all((c is None) if t is None else (c == [14.0, 20.0] and f"{t:.2f} (grid 14-20)" in report)
-                   for t, c in cells.values())
-    if labelled and "deterministic threshold, grid value [rad/s]" in report:
-        return "ok", "; ".join(f"{k} {'none' if t is None else f'{t:.2f} (grid 14-20)'}" for k, (t, c) in cells.items())
-    return "unclear", str(cells)[:150]
+    if "grid value" in report or any("deterministic_threshold_grid_rad_s" in r for r in comp.values()):
+        return "unclear", "a grid value is still reported"
+    found = []
+    for label, extra in (("ideal", []), ("stiff", ["--controller", "stiff", "--drive-inertia", "2000",
+                                                    "--torque-limit", "50kNm"])):
+        r = run("sweep", "--preset", "thesis-field", "--speeds", "14,20", "--wob", "245kN", "--json", "--no-progress",
+                *extra)
+        if crashed(r) or r.returncode:
+            return "crash", crashed(r) or r.stderr[-150:]
+        sw, ctl = json.loads(r.stdout), comp[label]["deterministic_threshold"]
+        if sw["threshold_rad_s"] is None or ctl["threshold_rad_s"] is None:
+            return "unclear", f"{label}: sweep {sw['threshold_rad_s']}, control {ctl['threshold_rad_s']}"
+        if abs(sw["threshold_rad_s"] - ctl["threshold_rad_s"]) > (sw["threshold_precision_rad_s"]
+                                                                 + ctl["threshold_precision_rad_s"]):
+            return "unclear", f"{label}: sweep {sw['threshold_rad_s']:.3f}, control {ctl['threshold_rad_s']:.3f}"
+        text = (f"{ctl['threshold_rad_s']:.2f} +- {ctl['threshold_precision_rad_s']:.2f} "
+                f"({ctl['threshold_rpm']:.1f} +- {ctl['threshold_precision_rpm']:.1f} RPM)")
+        if text not in report:
+            return "unclear", f"{label}: {text!r} not in report.md"
+        found.append(f"{label} {ctl['threshold_rad_s']:.2f} (sweep {sw['threshold_rad_s']:.2f})")
+    return "ok", "; ".join(found) + " rad/s, +- and RPM in report.md"
 
 
 # ------------------------------------------------------------------------------------------ 3. units
@@ -183,6 +199,53 @@ def case_field_units_in_figures(tmp):
                                  units="field").axes[0].get_ylabel()]
     want = ["top-drive speed [RPM]", "speed [RPM]", "torque on bit [kft-lbf]", "weight on bit [klbf]"]
     return ("ok", "; ".join(labels)) if labels == want else ("unclear", str(labels))
+
+
+#: the commands that write figures with speeds, WOB or torques on their axes
+FIGURE_COMMANDS = ("report", "simulate", "sweep", "map", "mc", "mc-merge", "robust-ss", "control", "analyze",
+                   "predict", "loop")
+
+
+def case_figure_units_on_every_command(tmp):
+    """Every figure-writing command takes --figure-units; the plots of report/mc/control/robust-ss/analyze
+    label their axes in field units when asked, SI by default."""
+    missing = []
+    for cmd in FIGURE_COMMANDS:
+        r = run(cmd, "--help")
+        if crashed(r) or r.returncode:
+            return "crash", crashed(r) or r.stderr[-150:]
+        if "--figure-units" not in r.stdout:
+            missing.append(cmd)
+    if missing:
+        return "silent", f"no --figure-units on {', '.join(missing)}"
+    import numpy as np
+
+    from drillpy.figures import control, frf, records, stochastic
+    sp = np.array([10.0, 20.0])
+    st = SimpleNamespace(speeds=sp, q05=sp * 0, q95=sp * 0 + 1, mean=sp * 0 + 0.5, severity=np.ones((2, 2)),
+                         deterministic=None, p_exceed=sp * 0, p05_speed=None, deterministic_threshold=15.0)
+    ctl = SimpleNamespace(comparison={"ideal": {"map": np.array([[1.2, 0.1], [1.3, 0.2]])}},
+                          validation_window=SimpleNamespace(speeds=sp, wobs=np.array([200e3, 245e3])))
+    from drillpy.records.cleaning import clean
+    from drillpy.records.io import read_mat
+    raw = read_mat(RECORD)
+    rec, rep = clean(raw)
+
+    def draw(units):
+        return [stochastic.severity_band_plot(None, st, units=units).axes[1].get_xlabel(),
+                frf.severity_bands_plot(None, sp, {"d": SimpleNamespace(ss=np.ones((1, 2)))}, units=units
+                                        ).axes[1].get_xlabel(),
+                *(control.maps_plot(None, ctl, units).axes[0].get_xlabel(),
+                  control.maps_plot(None, ctl, units).axes[0].get_ylabel()),
+                records.record_time_series_plot(None, raw, rec, rep, units=units).axes[1].get_ylabel()]
+    field, si = draw("field"), draw("si")
+    want = ["top-drive speed [RPM]", "top-drive speed [RPM]", "top speed [RPM]", "WOB [klbf]",
+            "torque on bit [ft-lbf]"]
+    want_si = ["top-drive speed [rad/s]", "top-drive speed [rad/s]", "top speed [rad/s]", "WOB [kN]",
+               "torque on bit [N m]"]
+    if field == want and si == want_si:
+        return "ok", f"{len(FIGURE_COMMANDS)} commands take it; " + "; ".join(field)
+    return "unclear", f"field {field}; si {si}"
 
 
 def case_speed_unit_renamed(tmp):
@@ -473,11 +536,12 @@ CASES = [
     ("analyze sample 175: one measured stick fraction everywhere", case_analyze_one_measured_side),
     ("mc: a grid-limited interval is said to be one", case_mc_grid_limit),
     ("control: P(SS > 0.5) with a binomial (Wilson) interval, never [p, p]", case_control_binomial),
-    ("control: the deterministic threshold labelled a grid value with its cell", case_control_grid_threshold),
+    ("control: the deterministic threshold is sweep's bisection, with +- and RPM", case_control_one_threshold),
     ("--speed-unit: an error naming --law-speed-unit", case_speed_unit_renamed),
     ("--top-speed 160rpm --wob 45klbf: the SI run", case_units_are_si),
     ("--wob on sweep and mc", case_wob_everywhere),
     ("--figure-units field: RPM, klbf and kft-lbf on the axes", case_field_units_in_figures),
+    ("--figure-units on every figure command, field units on their plots' axes", case_figure_units_on_every_command),
     ("Ctrl-C during mc --out NEWDIR: blocks kept, rerun resumes", case_ctrl_c_mc_new_dir),
     ("two simulates into one --out: one clear error, outputs of one run", case_two_simulates),
     ("two mcs into one --out: one clear error", case_two_mcs),

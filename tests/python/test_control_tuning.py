@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from conftest import run_cli
 
-from drillpy.control.comparison import compare_drives, grid_threshold, p_window
+from drillpy.control.comparison import compare_drives, drive_threshold, p_window
 from drillpy.uncertainty.binomial import wilson_interval
 from drillpy.control.episode import motor_torque, run_episode
 from drillpy.control.tuning import (FACTOR_RANGE, STALL_FRACTION, Window, bootstrap_p, controlled_drive, drive_gains,
@@ -76,20 +76,51 @@ def test_stalled_runs_enter_the_comparison_as_stick_slip():
     g = comp["giving_way"]
     assert np.isinf(g["map"][0, 0]) and np.all(np.isinf(g["severity"][0, :, 0]))
     assert g["p_by_speed"][0] == 1.0 and g["stalled_fraction"] >= 0.5
-    assert g["deterministic_threshold_rad_s"] is not None and g["deterministic_threshold_rad_s"] > 6.0
-    assert g["deterministic_threshold_grid_rad_s"] == [6.0, 20.0]  # a grid value, known to its cell
-    assert g["deterministic_threshold_method"] == "grid interpolation"
+    assert g["deterministic_threshold"]["threshold_method"] == "bisection"  # SS's threshold, as drillpy sweep's
 
 
-def test_the_deterministic_threshold_is_labelled_a_grid_value_with_its_cell():
-    t = grid_threshold([20.0, 8.0, 12.0, 16.0], [0.1, 1.2, 0.8, 0.3])  # falls through 0.5 between 12 and 16
-    assert t["value"] == pytest.approx(14.4) and t["grid_cell"] == [12.0, 16.0]
-    assert t["method"] == "grid interpolation"
-    assert grid_threshold([8.0, 12.0], [0.2, 0.1]) == {"value": None, "grid_cell": None,
-                                                      "method": "grid interpolation"}
-    from drillpy.reports.control import _grid_threshold_text
-    assert _grid_threshold_text({"deterministic_threshold_rad_s": t["value"],
-                                 "deterministic_threshold_grid_rad_s": t["grid_cell"]}) == "14.40 (grid 12-16)"
+def test_the_deterministic_threshold_is_the_sweeps_bisection_with_its_precision_and_rpm():
+    """Issue 31: one threshold per string, drive and WOB: control's is drillpy sweep's bisection, printed
+    with its +- and its RPM equivalent (no grid interpolation)."""
+    from drillpy.reports.control import _threshold_text
+    cfg = with_overrides(FIELD, duration=60.0, transient=30.0)
+    t = drive_threshold(cfg, None, 245e3, [10.0, 24.0])
+    assert t["threshold_method"] == "bisection" and 10.0 < t["threshold_rad_s"] < 24.0
+    assert t["threshold_precision_rad_s"] <= 0.02 and t["threshold_rpm"] == pytest.approx(
+        t["threshold_rad_s"] * 30 / np.pi)
+    lo, hi = t["threshold_bracket_rad_s"]
+    assert hi - lo <= 0.04 + 1e-12
+    assert _threshold_text({"deterministic_threshold": t}) == (
+        f"{t['threshold_rad_s']:.2f} +- {t['threshold_precision_rad_s']:.2f} "
+        f"({t['threshold_rpm']:.1f} +- {t['threshold_precision_rpm']:.1f} RPM)")
+    assert _threshold_text({"deterministic_threshold": drive_threshold(cfg, None, 245e3, [24.0, 30.0])}) == \
+        "none in window"
+
+
+def test_control_and_sweep_give_one_threshold(tmp_path):
+    """The same configuration, drive and WOB: drillpy control's deterministic threshold equals drillpy
+    sweep's bisection within the bisection's precision (the ideal drive and the stiff PI)."""
+    cfg = tmp_path / "short.json"
+    cfg.write_text(json.dumps(with_overrides(FIELD, duration=60.0, transient=30.0)))
+    r = run_cli("control", "--config", str(cfg), "--drive-inertia", "2000", "--torque-limit", "50000", "--speeds",
+                "10,24", "--wob", "245kN", "--samples", "2", "--validation-samples", "2", "--grid", "2", "--refine",
+                "0", "--bootstrap", "20", "--warmup", "10", "--duration", "20", "--transient", "5", "--controllers",
+                "z_torque", "--out", str(tmp_path / "ctl"), "--no-progress")
+    assert r.returncode == 0, r.stderr
+    drives = json.loads((tmp_path / "ctl" / "control.json").read_text())["comparison"]
+    sweep = ["sweep", "--config", str(cfg), "--wob", "245kN", "--json", "--no-progress"]
+    for label, extra in (("ideal", []), ("stiff", ["--controller", "stiff", "--drive-inertia", "2000",
+                                                    "--torque-limit", "50000"])):
+        s = run_cli(*sweep, "--speeds", "10,14,18,22,26", *extra)  # another grid: the same threshold
+        assert s.returncode == 0, s.stderr
+        sw, ctl = json.loads(s.stdout), drives[label]["deterministic_threshold"]
+        assert ctl["threshold_rad_s"] is not None and sw["threshold_rad_s"] is not None, label
+        assert abs(ctl["threshold_rad_s"] - sw["threshold_rad_s"]) <= (
+            ctl["threshold_precision_rad_s"] + sw["threshold_precision_rad_s"]), (label, ctl, sw)
+    ideal = drives["ideal"]["deterministic_threshold"]
+    assert (f"deterministic at WOB 245 kN: SS > 0.5 below {ideal['threshold_rad_s']:.2f} +- "
+            f"{ideal['threshold_precision_rad_s']:.2f} rad/s ({ideal['threshold_rpm']:.1f} +- "
+            f"{ideal['threshold_precision_rpm']:.1f} RPM, bisection)") in r.stdout
 
 
 def test_motor_torque_is_the_interval_mean_of_the_drive_equation():
@@ -176,10 +207,11 @@ def test_control_command_writes_its_report(tmp_path):
     assert js["torque_limit_nm"] == 50000
     for name in ("maps.png", "p_vs_speed.png", "episode.png", "tuning_z_torque.png", "report.md"):
         assert (out / name).stat().st_size > 1000
-    assert "deterministic threshold, grid value [rad/s]" in (out / "report.md").read_text()
-    for d in res["drives"].values():  # the grid cell beside every threshold found
-        thr, cell = d["deterministic_threshold_rad_s"], d["deterministic_threshold_grid_rad_s"]
-        assert (cell is None) if thr is None else (cell == [10.0, 18.0])
+    assert "deterministic threshold, bisection [rad/s]" in (out / "report.md").read_text()
+    for d in res["drives"].values():  # the bisection's precision beside every threshold found
+        t = d["deterministic_threshold"]
+        assert t["threshold_rad_s"] == d["deterministic_threshold_rad_s"] and t["threshold_method"] == "bisection"
+        assert t["threshold_rad_s"] is None or t["threshold_precision_rad_s"] <= 0.02
     for e in js["episodes"].values():  # the motor torque demanded, against the limit
         assert e["peak_motor_torque_nm"] > e["mean_motor_torque_nm"] > 0
         assert e["within_limit"] in (True, None)

@@ -219,8 +219,8 @@ def add_figure_units_arg(p: argparse.ArgumentParser) -> None:
         A command that writes a figure with ``--out``.
     """
     p.add_argument("--figure-units", choices=("si", "field"), default="si",
-                   help="axes of the figure: si (rad/s, N m; maps in RPM and kN) or field (RPM, klbf, kft-lbf); "
-                        "the written data stay SI")
+                   help="axes of the figures: si (rad/s, kN, N m; maps in RPM and kN; records in RPM, N, N m) or "
+                        "field (RPM, klbf, kft-lbf; records in RPM, lbf, ft-lbf); the written data stay SI")
 
 
 def add_wob_arg(p: argparse.ArgumentParser) -> None:

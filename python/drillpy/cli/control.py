@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from drillpy.cli import integer, parse_grid, print_json, quantity, threads_option
+from drillpy.cli import add_figure_units_arg, integer, parse_grid, print_json, quantity, threads_option
 from drillpy.model.config import load_config, with_overrides
 
 
@@ -57,6 +57,7 @@ def _add_control(sub) -> argparse.ArgumentParser:
                         "+-3 sigma; docs/stochastic.md); default the thesis's PSD")
     s.add_argument("--threads", type=threads_option, default=0, help="OpenMP threads (0: default)")
     s.add_argument("--out", required=True, help="folder for control.json, report.md and the figures")
+    add_figure_units_arg(s)
     s.add_argument("--no-progress", action="store_true", help="no progress lines on stderr")
     s.add_argument("--json", action="store_true", help="print control.json's summary as one JSON line")
     s.set_defaults(func=cmd_control)
@@ -85,6 +86,7 @@ def cmd_control(a: argparse.Namespace) -> int:
 
     from drillpy import validate
     from drillpy.control.tuning import Window
+    from drillpy.model.threshold import format_threshold
     from drillpy.reports.control import REFERENCE, control_study, write_control
     cfg = load_config(preset=a.preset) if a.preset else load_config(path=a.config)
     cfg = with_overrides(cfg)
@@ -125,14 +127,14 @@ def cmd_control(a: argparse.Namespace) -> int:
                           controllers=controllers, grid=a.grid, refine_evaluations=a.refine,
                           bootstrap=a.bootstrap, factor_range=tuple(factor_range), threads=a.threads,
                           progress=progress)
-    js = write_control(study, a.out)
+    js = write_control(study, a.out, figure_units=a.figure_units)
     if a.json:
         print_json({"reference": REFERENCE, "tunings": {c: {"gains": t["gains"], "factors": t["factors"],
                                                         "at_bound": t["at_bound"]}
                                                         for c, t in js["tunings"].items()},
                     "drives": {k: {key: r[key] for key in ("p_window", "p_vs_reference", "stalled_fraction", "mean_ss",
                                                            "deterministic_threshold_rad_s",
-                                                           "deterministic_threshold_grid_rad_s", "p05_speed_rad_s",
+                                                           "deterministic_threshold", "p05_speed_rad_s",
                                                            "p05_interval", "p05_precision_warning")}
                                for k, r in js["comparison"].items()},
                     "episode_speed_rad_s": js["episode_speed_rad_s"], "episodes": js["episodes"]})
@@ -141,11 +143,13 @@ def cmd_control(a: argparse.Namespace) -> int:
         print(f"{c}: tuned " + ", ".join(f"{k} = {v:.4g} ({t.factors[k]:.3g} x nominal"
                                          + (", on the search bound)" if k in t.at_bound else ")")
                                          for k, v in t.gains.items()))
+    wob_kn = float(study.validation_window.wobs[next(iter(study.comparison.values()))["nominal_row"]]) / 1e3
     for label, r in study.comparison.items():
         pw, p05 = r["p_window"], r["p05_speed_rad_s"]
         print(f"{label:18s} P(SS > 0.5 or stalled) = {pw['value']:.3f} [{pw['low']:.3f}, {pw['high']:.3f}] "
               f"(90 % Wilson, {pw['trials']} samples)  5 % speed "
               + (f"{p05:.2f} rad/s" if p05 is not None else r["p05_reading"]))
+        print(f"{'':18s} deterministic at WOB {wob_kn:g} kN: {format_threshold(r['deterministic_threshold'])}")
         if p05 is not None and r["p05_precision_warning"]:
             print(f"drillpy: warning: {label}: {r['p05_precision_warning']}", file=sys.stderr)
     print(f"report.md, control.json and figures written to {a.out}")

@@ -22,6 +22,7 @@ def _add_report(sub) -> argparse.ArgumentParser:
     s = sub.add_parser("report", help="main job: deterministic analysis with figures")
     add_model_args(s)
     s.add_argument("--out", default="results", help="output folder")
+    add_figure_units_arg(s)
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_report)
     return s
@@ -41,7 +42,8 @@ def cmd_report(a: argparse.Namespace) -> int:
         Exit status 0; prints the summary (without its configuration) as JSON or as text.
     """
     from drillpy.reports.preset import field_report, print_field_summary
-    s = field_report(model_config(a), a.out, progress=not a.no_progress, threads=a.threads)
+    s = field_report(model_config(a), a.out, progress=not a.no_progress, threads=a.threads,
+                     figure_units=a.figure_units)
     if a.json:
         print_json({k: v for k, v in s.items() if k != "config"})
     else:

@@ -10,7 +10,7 @@ import json
 import math
 
 from drillpy import validate
-from drillpy.cli import print_json, threads_option
+from drillpy.cli import add_figure_units_arg, print_json, threads_option
 from drillpy.cli import removed_on_failure as _removed_on_failure
 
 
@@ -24,6 +24,7 @@ def _add_analyze(sub) -> argparse.ArgumentParser:
                    help="rig MATLAB file or drillpy CSV (see README: CSV format), a folder of them, or FILE@T0:T1 "
                         "(the window T0 <= t < T1 [s] of a file as one sample)")
     s.add_argument("--out", required=True, help="output folder")
+    add_figure_units_arg(s)
     s.add_argument("--t0", type=float, help="start of the analysed window [s] (every record)")
     s.add_argument("--t1", type=float, help="end of the analysed window [s] (every record)")
     s.add_argument("--cycle-at", type=float, help="time [s] inside the cycle shown in cycle.png (one record)")
@@ -113,7 +114,7 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
         cal = None if a.calibrate is None else time_window(a.calibrate, "--calibrate")
         opt = AnalysisOptions(t0=t0, t1=t1, cycle_at_s=a.cycle_at, folds=5 if a.folds is None else a.folds,
                               psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim, calibrate=cal)
-        s = analyze_record(items[0][1], a.out, opt, log=log)
+        s = analyze_record(items[0][1], a.out, opt, log=log, figure_units=a.figure_units)
         if a.json:
             keys = ("warnings", "cleaning", "cycles", "severity", "torque_statistics", "psd", "identification", "rig")
             print(json.dumps(jsonable({k: s[k] for k in keys if k in s}), default=str, allow_nan=False))
@@ -179,6 +180,7 @@ def _add_predict(sub) -> argparse.ArgumentParser:
     s.add_argument("model", help="model.json written by drillpy analyze")
     s.add_argument("record", help="rig MATLAB file or drillpy CSV")
     s.add_argument("--out", help="folder for summary.json and overlay.png")
+    add_figure_units_arg(s)
     s.add_argument("--t0", type=float, help="start of the predicted window [s]")
     s.add_argument("--t1", type=float, help="end of the predicted window [s]")
     s.add_argument("--horizon", type=float, default=0.25, help="short-horizon length [s] (docs/loop.md)")
@@ -211,7 +213,7 @@ def cmd_predict(a: argparse.Namespace) -> int:
     model = load_model(a.model)
     pred = predict_record(model, a.record, t0=a.t0, t1=a.t1, horizon_s=a.horizon, threads=a.threads)
     if a.out:
-        write_prediction(pred, a.out)
+        write_prediction(pred, a.out, a.figure_units)
     s = pred.summary()
     if a.json:
         print_json({k: s[k] for k in ("short_horizon_error", "long_run")})
@@ -244,6 +246,7 @@ def _add_loop(sub) -> argparse.ArgumentParser:
     src.add_argument("--preset", help="declared model: a built-in configuration (e.g. thesis-rig)")
     src.add_argument("--config", help="declared model: a JSON configuration file")
     s.add_argument("--out", required=True, help="output folder (loop.json, predictions.csv, report.md, figures)")
+    add_figure_units_arg(s)
     s.add_argument("--horizon", type=float, default=0.25, help="prediction horizon between restarts [s]")
     s.add_argument("--calibration-fraction", type=float, default=0.5,
                    help="fraction of the record (from its start) used to calibrate; the rest validates")
@@ -298,7 +301,8 @@ def cmd_loop(a: argparse.Namespace) -> int:
     from drillpy.progress import log_progress
     with log_progress(((r"  null candidate", "candidates"), (r"  candidate ", "candidates"), (r"  remove ", "backward")),
                       "loop", enabled=not a.no_progress, echo=None if a.json else print, count=True) as log:
-        js = loop_record(a.record, a.out, preset=a.preset, config_path=a.config, options=opt, log=log)
+        js = loop_record(a.record, a.out, preset=a.preset, config_path=a.config, options=opt, log=log,
+                         figure_units=a.figure_units)
     if a.json:
         print_json({k: js[k] for k in ("metric", "baseline_error", "final_error", "declared", "removed",
                                        "final_effects", "confusable", "unexplained_fraction", "warnings")} |

@@ -15,7 +15,7 @@ import numpy as np
 
 from drillpy.outputs import write_text
 from drillpy import validate
-from drillpy.cli import add_model_args, add_study_args, add_wob_arg, integer, model_config, parse_grid, print_json
+from drillpy.cli import add_figure_units_arg, add_model_args, add_study_args, add_wob_arg, integer, model_config, parse_grid, print_json
 from drillpy.jsonio import jsonable
 from drillpy.uncertainty.binomial import wilson_interval
 
@@ -212,6 +212,7 @@ def _add_robust_ss(sub) -> argparse.ArgumentParser:
     s.add_argument("--eta-dt", type=float, default=0.05, help="sampling step of eta [s]")
     s.add_argument("--refine", type=float, metavar="TOL",
                    help="locate each 5 %% speed by bisection to TOL [rad/s] (same samples at new speeds)")
+    add_figure_units_arg(s)
     s.set_defaults(func=cmd_robust_ss)
     return s
 
@@ -254,7 +255,7 @@ def cmd_robust_ss(a: argparse.Namespace) -> int:
             cluster.close()
     if a.out:
         write_robust_severity(a.out, speeds, studies, jsonable(res), cfg, seed=a.seed, delta=a.delta, samples=a.samples,
-                              bit_rock=a.bit_rock or None, eta_npy=a.eta_npy)
+                              bit_rock=a.bit_rock or None, eta_npy=a.eta_npy, figure_units=a.figure_units)
     if a.json:
         print_json(res)
     else:
@@ -338,6 +339,7 @@ def add_mc(sub) -> argparse.ArgumentParser:
     add_study_args(s)
     s.add_argument("--no-figures", action="store_true",
                    help="with --out, write mc.json and mc_samples.json only (chunks of a study to merge)")
+    add_figure_units_arg(s)
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_mc)
     return s
@@ -348,6 +350,7 @@ def _add_mc_merge(sub) -> argparse.ArgumentParser:
     s = sub.add_parser("mc-merge", help="merge chunks of one Monte Carlo study run with --first-sample")
     s.add_argument("chunks", nargs="+", help="output folders of drillpy mc --out (or their mc_samples.json)")
     s.add_argument("--out", help="folder for the merged mc.json, mc_samples.json and Figs. 4.9 and C.1")
+    add_figure_units_arg(s)
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_mc_merge)
     return s
@@ -369,7 +372,7 @@ def cmd_mc_merge(a: argparse.Namespace) -> int:
     from drillpy.jsonio import dumps
     from drillpy.reports.stochastic import merge_outputs
     from drillpy.reports.uncertainty import robust_speed_summary
-    study = merge_outputs(a.chunks, a.out)
+    study = merge_outputs(a.chunks, a.out, a.figure_units)
     res = study.summary()
     res.update(robust_speed_summary(study.severity, study.speeds, None, study.seed, None))
     if a.json:
@@ -491,7 +494,7 @@ def cmd_mc(a: argparse.Namespace) -> int:
             seed=study.seed, samples=int(study.severity.shape[0]), first_sample=study.first_sample)}))
     elif a.out:
         res["figures"] = write_figures(study, cfg, a.out, psd=psd, eta_dt=a.eta_dt,
-                                       threads=a.threads, progress=not a.no_progress)
+                                       threads=a.threads, progress=not a.no_progress, figure_units=a.figure_units)
     if a.json:
         print_json(res)
     else:

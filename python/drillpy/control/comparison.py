@@ -5,16 +5,18 @@ For every drive (the ideal drive of the thesis, the stiff PI, the nominal and tu
 ZTorque controllers):
 
 * the deterministic stability map SS(WOB, speed) (eta = 0 with the Monte Carlo's warm start and
-  durations, Fig. 4.8's curve per WOB) and the speed below which SS > 0.5 at the nominal WOB (the
-  thesis's 16 rad/s for the ideal drive);
+  durations, Fig. 4.8's curve per WOB) and the speed below which SS > 0.5 at the nominal WOB, by
+  ``drillpy sweep``'s bisection (:func:`drive_threshold`: one threshold per string, drive and WOB
+  across the commands);
 * on validation samples (a seed the tuning never saw, the same samples for every drive: common
   random numbers): P(SS > 0.5 or stalled) over the window with its bootstrap interval, the paired
   difference to the reference drive, the same per speed at the nominal WOB with a Wilson 90 %
   band, and the 5 % speed (the lowest speed from which P <= 5 %, section 4.2.2) with its bootstrap
   interval (:mod:`drillpy.uncertainty.robust_speed`).
 
-A stalled run (:data:`drillpy.control.tuning.STALL_FRACTION`) counts as stick-slip everywhere: its
-SS is +inf in the tables, so the thresholds and probabilities see it.
+A stalled run (:data:`drillpy.control.tuning.STALL_FRACTION`) counts as stick-slip in the maps and
+the probabilities: its SS is +inf in the tables. The deterministic threshold is SS's (as ``drillpy
+sweep`` reads it); the map marks the stalls.
 """
 from __future__ import annotations
 
@@ -24,7 +26,7 @@ from drillpy.jsonio import jsonable
 from drillpy.control.tuning import Window, bootstrap_p, score, stalled_fraction, window_severity
 from drillpy.reports.uncertainty import grid_limit
 from drillpy.uncertainty.binomial import wilson_interval
-from drillpy.model.simulation import severity_threshold
+from drillpy.model.config import with_overrides
 from drillpy.uncertainty.robust_speed import bootstrap_interval, exceedance, p_speed
 
 #: SS a stalled run enters the crossings with (a large finite stand-in for +inf)
@@ -53,31 +55,38 @@ def p_window(ss: np.ndarray, confidence: float = 0.9) -> dict:
             "trials": int(ss.shape[1]), "method": "wilson"}
 
 
-def grid_threshold(speeds, severities) -> dict:
-    """The deterministic threshold as the control study reads it: the highest falling SS = 0.5
-    crossing interpolated linearly on the window's speed grid, with the two grid speeds around it
-    (its precision is that cell, not a bisection's: SS jumps at the threshold).
+def drive_threshold(cfg: dict, drive: dict | None, wob: float, speeds, *, threads: int = 0) -> dict:
+    """The deterministic threshold of a drive at one WOB: ``drillpy sweep``'s definition
+    (:func:`drillpy.model.threshold.stick_slip_threshold`), so the same string, drive and WOB give one
+    threshold in every command. The runs are the configuration's (its duration, transient and start,
+    no warm start), the sweep on the window's speeds, then bisection to
+    :data:`drillpy.model.threshold.DEFAULT_TOL_RAD_S`.
 
     Parameters
     ----------
+    cfg : dict
+        The configuration.
+    drive : dict or None
+        The ``top_drive`` block (None: the configuration's own drive).
+    wob : float
+        Weight on bit [N].
     speeds : array_like
-        The window's top speeds [rad/s].
-    severities : array_like
-        The deterministic SS at those speeds (a stall as :data:`STALLED_SS`).
+        The window's top speeds [rad/s]: the grid the bisection starts from.
+    threads : int
+        OpenMP threads (0: the default).
 
     Returns
     -------
     dict
-        ``value`` [rad/s] (None: no crossing in the window), ``grid_cell`` (the grid speeds around it
-        [rad/s], None without a crossing), ``method`` (``"grid interpolation"``).
+        :func:`drillpy.model.threshold.stick_slip_threshold`'s keys (``threshold_rad_s``, its
+        ``threshold_precision_rad_s``, ``threshold_rpm``, ...; ``threshold_rad_s`` None when SS does not
+        fall through 0.5 in the window).
     """
-    value = severity_threshold(speeds, severities)
-    cell = None
-    if value is not None:
-        sp = np.unique(np.asarray(speeds, float))
-        k = int(np.clip(np.searchsorted(sp, value, side="right") - 1, 0, sp.size - 2))
-        cell = [float(sp[k]), float(sp[k + 1])]
-    return {"value": value, "grid_cell": cell, "method": "grid interpolation"}
+    from drillpy.model.simulation import sweep_severity
+    from drillpy.model.threshold import stick_slip_threshold
+    c = with_overrides(cfg, wob=float(wob), top_drive=drive)
+    return stick_slip_threshold(c, speeds, sweep_severity(c, speeds, progress=False, threads=threads),
+                                threads=threads)
 
 
 def nominal_index(window: Window, wob: float) -> int:
@@ -125,8 +134,8 @@ def compare_drives(cfg: dict, drives: dict, window: Window, *, reference: str, v
     -------
     dict
         Per label: ``map`` (SS, n_wobs x n_speeds), ``deterministic_threshold_rad_s`` (None: no
-        crossing) read off the speed grid (:func:`grid_threshold`) with ``deterministic_threshold_grid_rad_s``
-        (the grid speeds around it) and ``deterministic_threshold_method``, ``p_window`` (:func:`p_window`, Wilson) and ``p_vs_reference``
+        crossing) at the nominal WOB by bisection with ``deterministic_threshold`` (:func:`drive_threshold`:
+        its precision, RPM equivalent, bracket and runs), ``p_window`` (:func:`p_window`, Wilson) and ``p_vs_reference``
         (:func:`drillpy.control.tuning.bootstrap_p`, paired),
         ``mean_ss`` (runs that did not stall), ``stalled_fraction``, ``p_by_speed``, ``p_band`` (low, high), ``p05_speed_rad_s`` and
         ``p05_interval``, ``p05_precision_warning`` (:func:`drillpy.reports.uncertainty.grid_limit`, None when the
@@ -149,10 +158,9 @@ def compare_drives(cfg: dict, drives: dict, window: Window, *, reference: str, v
         low, high = wilson_interval(p, at.shape[0])
         p05 = p_speed(at, window.speeds)
         iv = bootstrap_interval(at, window.speeds, resamples=bootstrap, seed=validation_seed)
-        thr = grid_threshold(window.speeds, np.minimum(det[k], STALLED_SS))
+        thr = drive_threshold(cfg, drive, window.wobs[k], window.speeds, threads=threads)
         out[label] = {
-            "map": det, "deterministic_threshold_rad_s": thr["value"],
-            "deterministic_threshold_grid_rad_s": thr["grid_cell"], "deterministic_threshold_method": thr["method"],
+            "map": det, "deterministic_threshold_rad_s": thr["threshold_rad_s"], "deterministic_threshold": thr,
             "p_window": p_window(ss),
             "p_vs_reference": bootstrap_p(ss, bootstrap, validation_seed, reference=tables[reference]),
             "mean_ss": score(ss)[2], "stalled_fraction": stalled_fraction(ss), "p_by_speed": p, "p_band": (low, high), "p05_speed_rad_s": p05,

@@ -8,13 +8,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from drillpy.figures.simulation import _save, plt
+from drillpy.figures.simulation import _save, in_units, plt
 
 if TYPE_CHECKING:
     from drillpy.reports.control import ControlStudy
 
 
-def control_figures(study: "ControlStudy", out_dir) -> list:
+def control_figures(study: "ControlStudy", out_dir, units: str = "si") -> list:
     """Every figure of a control study, written to ``out_dir``.
 
     Parameters
@@ -23,6 +23,9 @@ def control_figures(study: "ControlStudy", out_dir) -> list:
         What :func:`drillpy.reports.control.control_study` returned.
     out_dir : str or Path
         Output folder.
+    units : str
+        Axis units (:data:`drillpy.figures.simulation.FIGURE_UNITS`): ``si`` (rad/s, kN, kN m) or
+        ``field`` (RPM, klbf, kft-lbf).
 
     Returns
     -------
@@ -31,16 +34,16 @@ def control_figures(study: "ControlStudy", out_dir) -> list:
     """
     out = Path(out_dir)
     paths = [out / "maps.png", out / "p_vs_speed.png", out / "episode.png"]
-    maps_plot(paths[0], study)
-    p_vs_speed_plot(paths[1], study)
-    episode_plot(paths[2], study)
+    maps_plot(paths[0], study, units)
+    p_vs_speed_plot(paths[1], study, units)
+    episode_plot(paths[2], study, units)
     for name, t in study.tunings.items():
         paths.append(out / f"tuning_{name}.png")
         tuning_plot(paths[-1], name, t)
     return paths
 
 
-def maps_plot(path, study: "ControlStudy") -> plt.Figure:
+def maps_plot(path, study: "ControlStudy", units: str = "si") -> plt.Figure:
     """Deterministic SS over (top speed, WOB) for every drive, with the SS = 0.5 contour; stalled
     runs marked with a red cross.
 
@@ -50,6 +53,8 @@ def maps_plot(path, study: "ControlStudy") -> plt.Figure:
         PNG file.
     study : ControlStudy
         The control study.
+    units : str
+        Axis units: ``si`` (rad/s, kN) or ``field`` (RPM, klbf).
 
     Returns
     -------
@@ -58,10 +63,10 @@ def maps_plot(path, study: "ControlStudy") -> plt.Figure:
     """
     labels = list(study.comparison)
     if study.validation_window.wobs.size == 1 or study.validation_window.speeds.size == 1:
-        return _curves(path, study, labels)
+        return _curves(path, study, labels, units)
     cols = min(3, len(labels))
     rows = math.ceil(len(labels) / cols)
-    sp, wb = study.validation_window.speeds, study.validation_window.wobs / 1e3
+    (sp, su), (wb, wu) = _window_axes(study, units)
     fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.4 * rows), squeeze=False)
     finite = [r["map"][np.isfinite(r["map"])] for r in study.comparison.values()]
     vmax = max([1.0] + [float(np.max(f)) for f in finite if f.size])
@@ -76,18 +81,24 @@ def maps_plot(path, study: "ControlStudy") -> plt.Figure:
             ax.plot(sp[isp], wb[iw], "rx", ms=8, label="stalled")
             ax.legend(fontsize=7)
         ax.set_title(label)
-        ax.set_xlabel("top speed [rad/s]")
-        ax.set_ylabel("WOB [kN]")
+        ax.set_xlabel(f"top speed [{su}]")
+        ax.set_ylabel(f"WOB [{wu}]")
         fig.colorbar(im, ax=ax, label="SS [-]")
     for ax in list(axes.flat)[len(labels):]:
         ax.set_visible(False)
     return _save(fig, path)
 
 
-def _curves(path, study: "ControlStudy", labels: list) -> plt.Figure:
+def _window_axes(study: "ControlStudy", units: str) -> tuple:
+    """The window's speeds and WOBs in the figure units, each with its unit label."""
+    w = study.validation_window
+    return in_units(w.speeds, "speed", units), in_units(w.wobs, "force", units)
+
+
+def _curves(path, study: "ControlStudy", labels: list, units: str = "si") -> plt.Figure:
     """The map of a window with one WOB (or one speed): SS versus the other axis, one curve per drive
     (a one-row map would be shaded blank)."""
-    sp, wb = study.validation_window.speeds, study.validation_window.wobs / 1e3
+    (sp, su), (wb, wu) = _window_axes(study, units)
     one_wob = wb.size == 1
     x = sp if one_wob else wb
     fig, ax = plt.subplots(figsize=(7.5, 4.5))
@@ -98,15 +109,15 @@ def _curves(path, study: "ControlStudy", labels: list) -> plt.Figure:
         if stalled.any():
             ax.plot(x[stalled], np.full(stalled.sum(), 0.5), "x", color=f"C{k}", ms=9, label=f"{label}: stalled")
     ax.axhline(0.5, color="k", ls="--", lw=0.8, label="SS = 0.5")
-    ax.set_xlabel("top speed [rad/s]" if one_wob else "WOB [kN]")
+    ax.set_xlabel(f"top speed [{su}]" if one_wob else f"WOB [{wu}]")
     ax.set_ylabel("deterministic SS [-]")
-    ax.set_title(f"WOB {wb[0]:g} kN" if one_wob else f"top speed {sp[0]:g} rad/s")
+    ax.set_title(f"WOB {wb[0]:.4g} {wu}" if one_wob else f"top speed {sp[0]:.4g} {su}")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     return _save(fig, path)
 
 
-def p_vs_speed_plot(path, study: "ControlStudy") -> plt.Figure:
+def p_vs_speed_plot(path, study: "ControlStudy", units: str = "si") -> plt.Figure:
     """P(SS > 0.5) versus top speed at the nominal WOB for every drive, with Wilson 90 % bands.
 
     Parameters
@@ -115,6 +126,8 @@ def p_vs_speed_plot(path, study: "ControlStudy") -> plt.Figure:
         PNG file.
     study : ControlStudy
         The control study.
+    units : str
+        Axis units: ``si`` (rad/s, kN) or ``field`` (RPM, klbf).
 
     Returns
     -------
@@ -122,22 +135,21 @@ def p_vs_speed_plot(path, study: "ControlStudy") -> plt.Figure:
         The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, ax = plt.subplots(figsize=(7.5, 4.5))
-    sp = study.validation_window.speeds
+    (sp, su), (wb, wu) = _window_axes(study, units)
     for label, r in study.comparison.items():
         (line,) = ax.plot(sp, r["p_by_speed"], "o-", label=label, ms=3)
         ax.fill_between(sp, r["p_band"][0], r["p_band"][1], color=line.get_color(), alpha=0.15)
     ax.axhline(0.05, color="k", ls=":", lw=1, label="5 %")
     k = next(iter(study.comparison.values()))["nominal_row"]
-    ax.set_title(f"P(SS > 0.5 or stalled) at WOB {study.validation_window.wobs[k] / 1e3:g} kN, "
-                 f"{study.validation_window.samples} new samples")
-    ax.set_xlabel("top speed [rad/s]")
+    ax.set_title(f"P(SS > 0.5 or stalled) at WOB {wb[k]:.4g} {wu}, {study.validation_window.samples} new samples")
+    ax.set_xlabel(f"top speed [{su}]")
     ax.set_ylabel("P(SS > 0.5 or stalled) [-]")
     ax.set_ylim(-0.02, 1.02)
     ax.legend(fontsize=8)
     return _save(fig, path)
 
 
-def episode_plot(path, study: "ControlStudy") -> plt.Figure:
+def episode_plot(path, study: "ControlStudy", units: str = "si") -> plt.Figure:
     """Bit speed, top speed and motor torque of the episode with each drive.
 
     Parameters
@@ -146,6 +158,8 @@ def episode_plot(path, study: "ControlStudy") -> plt.Figure:
         PNG file.
     study : ControlStudy
         The control study.
+    units : str
+        Axis units: ``si`` (rad/s, kN m) or ``field`` (RPM, kft-lbf).
 
     Returns
     -------
@@ -158,19 +172,32 @@ def episode_plot(path, study: "ControlStudy") -> plt.Figure:
     for label, e in study.episodes.items():
         w = e.t >= t_start
         wm = e.t_motor >= t_start
-        axes[0].plot(e.t[w], e.bit_speed[w], lw=0.8, label=f"{label} (SS {e.severity:.2f})")
-        axes[1].plot(e.t[w], e.top_speed[w], lw=0.8, label=label)
-        axes[2].plot(e.t_motor[wm], e.motor_torque[wm] / 1e3, lw=0.8, label=label)
+        axes[0].plot(e.t[w], _speed(e.bit_speed[w], units)[0], lw=0.8, label=f"{label} (SS {e.severity:.2f})")
+        axes[1].plot(e.t[w], _speed(e.top_speed[w], units)[0], lw=0.8, label=label)
+        axes[2].plot(e.t_motor[wm], _torque(e.motor_torque[wm], units)[0], lw=0.8, label=label)
     if study.torque_limit is not None:
-        axes[2].axhline(study.torque_limit / 1e3, color="r", ls="--", lw=1, label="torque limit")
-    axes[0].set_ylabel("bit speed [rad/s]")
-    axes[1].set_ylabel("top speed [rad/s]")
-    axes[2].set_ylabel("motor torque [kN m]")
+        axes[2].axhline(_torque(study.torque_limit, units)[0], color="r", ls="--", lw=1, label="torque limit")
+    su, tu = _speed(0.0, units)[1], _torque(0.0, units)[1]
+    axes[0].set_ylabel(f"bit speed [{su}]")
+    axes[1].set_ylabel(f"top speed [{su}]")
+    axes[2].set_ylabel(f"motor torque [{tu}]")
     axes[2].set_xlabel("time [s]")
-    axes[0].set_title(f"Top speed command {study.episode_speed:g} rad/s")
+    axes[0].set_title(f"Top speed command {_speed(study.episode_speed, units)[0]:.4g} {su}")
     for ax in axes:
         ax.legend(fontsize=7, loc="upper right")
     return _save(fig, path)
+
+
+def _speed(values, units: str) -> tuple:
+    """Speeds [rad/s] in the figure units, with the unit's label."""
+    return in_units(values, "speed", units)
+
+
+def _torque(values, units: str) -> tuple:
+    """Motor torques [N m] in the figure units (kN m in SI), with the unit's label."""
+    if units == "si":
+        return np.asarray(values, float) / 1e3, "kN m"
+    return in_units(values, "torque", units)
 
 
 def tuning_plot(path, name: str, tuning) -> plt.Figure:

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from drillpy.figures.simulation import _save, plt
+from drillpy.figures.simulation import _save, in_units, plt
 
 if TYPE_CHECKING:
     from drillpy.reports.uncertainty import Chapter6Study
@@ -199,7 +199,7 @@ def cb_convergence_plot(path, modes, rel_errors) -> plt.Figure:
     return _save(fig, path)
 
 
-def severity_bands_plot(path, speeds, studies: dict, level: float = 0.5, title: str = "") -> plt.Figure:
+def severity_bands_plot(path, speeds, studies: dict, level: float = 0.5, title: str = "", units: str = "si") -> plt.Figure:
     """SS versus top speed: sample mean and 5-95 % band of each uncertainty source (top), and the
     band width q95 - q05 of each source (bottom).
 
@@ -215,12 +215,15 @@ def severity_bands_plot(path, speeds, studies: dict, level: float = 0.5, title: 
         Stability threshold of SS [-].
     title : str
         Figure title.
+    units : str
+        Axis units (:data:`drillpy.figures.simulation.FIGURE_UNITS`): ``si`` (rad/s) or ``field`` (RPM).
 
     Returns
     -------
     matplotlib.figure.Figure
         The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
+    speeds, su = in_units(speeds, "speed", units)
     fig, (ax, aw) = plt.subplots(2, 1, figsize=(7.0, 6.4), sharex=True, gridspec_kw={"height_ratios": [3, 2]})
     for (label, st), color in zip(studies.items(), ("k",) + COLORS):
         if st.ss.shape[0] == 1:
@@ -234,7 +237,7 @@ def severity_bands_plot(path, speeds, studies: dict, level: float = 0.5, title: 
     ax.set_title(title or "SS under structural (SM_CB2) and bit-rock uncertainty", fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    aw.set_xlabel("top-drive speed [rad/s]")
+    aw.set_xlabel(f"top-drive speed [{su}]")
     aw.set_ylabel("band width q95 - q05 [-]")
     aw.grid(alpha=0.3)
     aw.legend(fontsize=7)

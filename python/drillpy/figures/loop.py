@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from drillpy.figures.simulation import _save, plt
+from drillpy.figures.simulation import _save, in_units, plt
 from drillpy.records.io import RPM
 
 if TYPE_CHECKING:
@@ -26,7 +26,7 @@ LOOP_FIGURES = {"signature": "residual_signature.png", "overlay": "overlay.png",
                 "errors": "errors.png"}
 
 
-def loop_figures(res: "LoopResult", out_dir) -> dict:
+def loop_figures(res: "LoopResult", out_dir, units: str = "si") -> dict:
     """Every figure of a loop run, written to ``out_dir``.
 
     Parameters
@@ -35,6 +35,9 @@ def loop_figures(res: "LoopResult", out_dir) -> dict:
         What :func:`drillpy.loop.run_loop` returned.
     out_dir : str or Path
         Output folder (created if missing).
+    units : str
+        Axis unit of the torques (:data:`drillpy.figures.simulation.FIGURE_UNITS`): ``si`` (N m) or
+        ``field`` (ft-lbf); speeds stay in RPM.
 
     Returns
     -------
@@ -45,8 +48,9 @@ def loop_figures(res: "LoopResult", out_dir) -> dict:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     plots = {"signature": signature_plot, "overlay": overlay_plot, "loops": loops_plot, "errors": errors_plot}
+    with_units = {"overlay", "loops"}
     for k, name in LOOP_FIGURES.items():
-        plots[k](out / name, res)
+        plots[k](out / name, res, **({"units": units} if k in with_units else {}))
     return {k: out / name for k, name in LOOP_FIGURES.items()}
 
 
@@ -134,7 +138,7 @@ def _window(res: "LoopResult", seconds: float = 2.5) -> np.ndarray:
     return te[: max(1, int(round(seconds / (d.L * d.dt))))]
 
 
-def overlay_plot(path, res: "LoopResult") -> plt.Figure:
+def overlay_plot(path, res: "LoopResult", units: str = "si") -> plt.Figure:
     """Measured, baseline and final predictions of bit speed [RPM] and torque [N m] on a window
     of the validation part, and the per-horizon error [-] over the whole record.
 
@@ -144,6 +148,9 @@ def overlay_plot(path, res: "LoopResult") -> plt.Figure:
         PNG written.
     res : LoopResult
         A finished loop run (:func:`drillpy.loop.run_loop`).
+
+    units : str
+        Axis unit of the torque: ``si`` (N m) or ``field`` (ft-lbf).
 
     Returns
     -------
@@ -156,8 +163,9 @@ def overlay_plot(path, res: "LoopResult") -> plt.Figure:
     w = _window(res)
     t0, t1 = d.t[d.starts[w[0]]], d.t[hs[w[-1]][-1]]
     sel = (d.t >= t0) & (d.t <= t1)
+    tscale, tu = in_units(1.0, "record_torque", units)
     for ax, meas, key, scale, unit in ((axes[0], d.v_meas, "v", RPM, "bit speed [RPM]"),
-                                       (axes[1], d.T_meas, "T", 1.0, "torque on bit [N m]")):
+                                       (axes[1], d.T_meas, "T", float(tscale), f"torque on bit [{tu}]")):
         ax.plot(d.t[sel], meas[sel] * scale, color=C_MEAS, lw=1.2, label="measured")
         for j, h in enumerate(w):
             t = d.t[hs[h]]
@@ -188,7 +196,7 @@ def overlay_plot(path, res: "LoopResult") -> plt.Figure:
     return _save(fig, path)
 
 
-def loops_plot(path, res: "LoopResult") -> plt.Figure:
+def loops_plot(path, res: "LoopResult", units: str = "si") -> plt.Figure:
     """Torque on bit [N m] versus bit speed [RPM] on the validation part: measured, baseline, final.
 
     Parameters
@@ -197,6 +205,9 @@ def loops_plot(path, res: "LoopResult") -> plt.Figure:
         PNG written.
     res : LoopResult
         A finished loop run (:func:`drillpy.loop.run_loop`).
+
+    units : str
+        Axis unit of the torque: ``si`` (N m) or ``field`` (ft-lbf).
 
     Returns
     -------
@@ -207,15 +218,16 @@ def loops_plot(path, res: "LoopResult") -> plt.Figure:
     te = d.is_test
     from drillpy.loop.data import measured
     Yv, YT = measured(d)
+    tscale, tu = in_units(1.0, "record_torque", units)
     fig, axes = plt.subplots(1, 3, figsize=(13, 4.2), sharex=True, sharey=True)
     for ax, (v, T, lab, col) in zip(axes, ((Yv, YT, "measured", C_MEAS), (res.baseline.v, res.baseline.T, "baseline", C_BASE),
                                            (res.final.v, res.final.T, "final", C_FINAL))):
         for h in np.flatnonzero(te):
-            ax.plot(v[h] * RPM, T[h], color=col, lw=0.4, alpha=0.5)
+            ax.plot(v[h] * RPM, T[h] * tscale, color=col, lw=0.4, alpha=0.5)
         ax.set_title(f"{lab} (validation horizons)", fontsize=10)
         ax.set_xlabel("bit speed [RPM]")
         ax.grid(alpha=0.3)
-    axes[0].set_ylabel("torque on bit [N m]")
+    axes[0].set_ylabel(f"torque on bit [{tu}]")
     return _save(fig, path)
 
 

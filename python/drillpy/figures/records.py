@@ -1,6 +1,7 @@
 """Figures of measured records and their analysis (Figs. 3.5, 4.3, 5.5-5.7 and the rig comparison).
 
-Speeds are plotted in RPM, torques in N m, WOB in N, times in s (inputs in SI: rad/s, N m, N, s).
+Speeds are plotted in RPM, torques in N m, WOB in N (``units="field"``: ft-lbf and lbf), times in s
+(inputs in SI: rad/s, N m, N, s).
 :func:`analysis_figures` draws every figure of a :class:`drillpy.reports.analysis.RecordAnalysis`;
 each ``*_plot`` function draws one figure from results already computed, writes one PNG and returns
 its path (Agg backend via :mod:`drillpy.figures.simulation`).
@@ -12,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from drillpy.figures.simulation import _save, plt
+from drillpy.figures.simulation import _save, in_units, plt
 from drillpy.records.io import RPM, Flag
 
 if TYPE_CHECKING:
@@ -22,7 +23,7 @@ C_BIT, C_TOP, C_TQ, C_WOB = "tab:blue", "0.25", "tab:purple", "tab:green"
 C_UP, C_LO, C_ALL = "tab:red", "tab:cyan", "k"
 
 
-def analysis_figures(result: "RecordAnalysis", out_dir) -> list:
+def analysis_figures(result: "RecordAnalysis", out_dir, units: str = "si") -> list:
     """Every figure of a record's analysis, written to ``out_dir``.
 
     Parameters
@@ -31,6 +32,8 @@ def analysis_figures(result: "RecordAnalysis", out_dir) -> list:
         What :func:`drillpy.reports.analysis.compute_analysis` returned.
     out_dir : str or Path
         Output folder (created if missing).
+    units : str
+        Axis units of torque and WOB: ``si`` (N m, N) or ``field`` (ft-lbf, lbf); speeds in RPM.
 
     Returns
     -------
@@ -44,21 +47,41 @@ def analysis_figures(result: "RecordAnalysis", out_dir) -> list:
     r, rec = result, result.record
     paths = []
 
-    def draw(name, plot, *args):  # every *_plot returns its figure: keep the file's path
-        plot(out / name, *args)
+    def draw(name, plot, *args, **kwargs):  # every *_plot returns its figure: keep the file's path
+        plot(out / name, *args, **kwargs)
         paths.append(out / name)
-    draw("time_series.png", record_time_series_plot, r.raw, rec, r.cleaning)
+    draw("time_series.png", record_time_series_plot, r.raw, rec, r.cleaning, units=units)
     draw("cleaning.png", cleaning_plot, r.raw, rec, r.cleaning)
-    draw("cycle.png", cycle_plot, rec, r.cycles, r.shown_cycle)
-    draw("loops.png", loops_plot, rec, r.branch, r.mean_cycle, r.mean_cycle_wob)
+    draw("cycle.png", cycle_plot, rec, r.cycles, r.shown_cycle, units=units)
+    draw("loops.png", loops_plot, rec, r.branch, r.mean_cycle, r.mean_cycle_wob, units=units)
     draw("cycle_statistics.png", cycle_statistics_plot, r.cycle_stats, r.stick_threshold_rad_s)
     draw("laws.png", laws_plot, rec, r.branch, r.accel_rad_s2, r.mean_cycle, r.fits["constant_wob"],
-         "laws fitted at constant WOB (sample set: slip phases of valid cycles)")
+         "laws fitted at constant WOB (sample set: slip phases of valid cycles)", units=units)
     draw("psd.png", eta_psd_plot, r.eta, r.freq_hz, r.periodogram, r.psd_fit.model, THESIS_PSD, list(r.psd_band_hz))
     if r.simulations:
-        draw("rig_time_series.png", rig_time_series_plot, rec, r.simulations)
-        draw("rig_loops.png", rig_loops_plot, r.simulations)
+        draw("rig_time_series.png", rig_time_series_plot, rec, r.simulations, units=units)
+        draw("rig_loops.png", rig_loops_plot, r.simulations, units=units)
     return paths
+
+
+def _tq(values, units: str):
+    """A record's torques [N m] in the figure units (N m or ft-lbf)."""
+    return in_units(values, "record_torque", units)[0]
+
+
+def _wob(values, units: str):
+    """A record's WOB [N] in the figure units (N or lbf)."""
+    return in_units(values, "record_force", units)[0]
+
+
+def _labels(units: str) -> tuple:
+    """The torque and WOB units' labels of the figure units (``N m``, ``N`` or ``ft-lbf``, ``lbf``)."""
+    return in_units(0.0, "record_torque", units)[1], in_units(0.0, "record_force", units)[1]
+
+
+def _rmse_label(fit, units: str) -> str:
+    """A law's legend entry: its name and RMSE in the figure's torque unit."""
+    return f"{fit.name} (RMSE {float(_tq(fit.rmse, units)):.3f} {_labels(units)[0]})"
 
 
 def _artifact_spans(ax, rec, report, alpha=0.25):
@@ -70,7 +93,7 @@ def _artifact_spans(ax, rec, report, alpha=0.25):
             done.add((a.start_s, a.end_s))
 
 
-def record_time_series_plot(path, raw, rec, report, title="") -> plt.Figure:
+def record_time_series_plot(path, raw, rec, report, title="", units="si") -> plt.Figure:
     """Fig. 5.5: bit and top speed, torque on bit and WOB of the whole record; raw top speed in
     light red where cleaning changed it, artifact spans shaded.
 
@@ -87,11 +110,16 @@ def record_time_series_plot(path, raw, rec, report, title="") -> plt.Figure:
     title : str
         Figure title.
 
+    units : str
+        Axis units of torque and WOB (:data:`drillpy.figures.simulation.FIGURE_UNITS`): ``si`` (N m, N)
+        or ``field`` (ft-lbf, lbf); speeds stay in RPM.
+
     Returns
     -------
     matplotlib.figure.Figure
         The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
+    tu, wu = _labels(units)
     n = 1 + (rec.torque_on_bit is not None) + (rec.wob is not None)
     fig, axes = plt.subplots(n, 1, figsize=(11, 2.4 * n + 0.6), sharex=True)
     axes = np.atleast_1d(axes)
@@ -108,12 +136,12 @@ def record_time_series_plot(path, raw, rec, report, title="") -> plt.Figure:
     ax.legend(fontsize=8, loc="lower left", ncol=3)
     k = 1
     if rec.torque_on_bit is not None:
-        axes[k].plot(rec.time_s, rec.torque_on_bit, color=C_TQ, lw=0.5)
-        axes[k].set_ylabel("torque on bit [N m]")
+        axes[k].plot(rec.time_s, _tq(rec.torque_on_bit, units), color=C_TQ, lw=0.5)
+        axes[k].set_ylabel(f"torque on bit [{tu}]")
         k += 1
     if rec.wob is not None:
-        axes[k].plot(rec.time_s, rec.wob, color=C_WOB, lw=0.5)
-        axes[k].set_ylabel("WOB [N]")
+        axes[k].plot(rec.time_s, _wob(rec.wob, units), color=C_WOB, lw=0.5)
+        axes[k].set_ylabel(f"WOB [{wu}]")
     for a in axes:
         a.grid(alpha=0.3)
     axes[-1].set_xlabel("time [s]")
@@ -168,7 +196,7 @@ def cleaning_plot(path, raw, rec, report) -> plt.Figure:
     return _save(fig, path)
 
 
-def cycle_plot(path, rec, cycles, j, window_s=3.0) -> plt.Figure:
+def cycle_plot(path, rec, cycles, j, window_s=3.0, units="si") -> plt.Figure:
     """Figs. 5.6-5.7: a window of ``window_s`` around cycle j (bit and top speed, torque, WOB) and
     the cycle itself: bit speed versus time, torque versus bit speed, WOB versus bit speed (red
     dot: start of the cycle; arrows: direction).
@@ -186,12 +214,19 @@ def cycle_plot(path, rec, cycles, j, window_s=3.0) -> plt.Figure:
     window_s : float
         Length of the window on the left [s].
 
+    units : str
+        Axis units of torque and WOB (:data:`drillpy.figures.simulation.FIGURE_UNITS`): ``si`` (N m, N)
+        or ``field`` (ft-lbf, lbf); speeds stay in RPM.
+
     Returns
     -------
     matplotlib.figure.Figure
         The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     t = rec.time_s
+    tu, wu = _labels(units)
+    tq = _tq(rec.torque_on_bit, units)
+    wob = None if rec.wob is None else _wob(rec.wob, units)
     a, b = cycles.start[j], cycles.end[j]
     tc = 0.5 * (t[a] + t[b])
     m = (t >= tc - window_s / 2) & (t <= tc + window_s / 2)
@@ -205,12 +240,12 @@ def cycle_plot(path, rec, cycles, j, window_s=3.0) -> plt.Figure:
     ax1.set_ylabel("speed [RPM]")
     ax1.legend(fontsize=8, loc="upper right")
     ax2 = fig.add_subplot(gs[1, 0], sharex=ax1)
-    ax2.plot(t[m], rec.torque_on_bit[m], color=C_TQ, lw=1)
-    ax2.set_ylabel("torque on bit [N m]")
+    ax2.plot(t[m], tq[m], color=C_TQ, lw=1)
+    ax2.set_ylabel(f"torque on bit [{tu}]")
     ax3 = fig.add_subplot(gs[2, 0], sharex=ax1)
     if has_w:
-        ax3.plot(t[m], rec.wob[m], color=C_WOB, lw=1)
-    ax3.set_ylabel("WOB [N]")
+        ax3.plot(t[m], wob[m], color=C_WOB, lw=1)
+    ax3.set_ylabel(f"WOB [{wu}]")
     ax3.set_xlabel("time [s]")
     for ax in (ax1, ax2, ax3):
         ax.axvspan(t[a], t[b], color="gold", alpha=0.25, lw=0)
@@ -226,13 +261,13 @@ def cycle_plot(path, rec, cycles, j, window_s=3.0) -> plt.Figure:
     ax4.set_ylabel("bit speed [RPM]")
     ax4.set_title("(a) bit speed", fontsize=10)
     ax5 = fig.add_subplot(gs[:2, 2])
-    _arrow_path(ax5, v, rec.torque_on_bit[sl], C_TQ)
-    ax5.set_ylabel("torque on bit [N m]")
+    _arrow_path(ax5, v, tq[sl], C_TQ)
+    ax5.set_ylabel(f"torque on bit [{tu}]")
     ax5.set_title("(b) torque vs bit speed", fontsize=10)
     ax6 = fig.add_subplot(gs[2, 2], sharex=ax5)
     if has_w:
-        _arrow_path(ax6, v, rec.wob[sl], C_WOB)
-    ax6.set_ylabel("WOB [N]")
+        _arrow_path(ax6, v, wob[sl], C_WOB)
+    ax6.set_ylabel(f"WOB [{wu}]")
     ax6.set_xlabel("bit speed [RPM]")
     ax6.set_title("(c) WOB vs bit speed", fontsize=10)
     for ax in (ax4, ax5, ax6):
@@ -252,7 +287,7 @@ def _arrow_path(ax, x, y, color):
                     arrowprops=dict(arrowstyle="->", color="r", lw=1.2))
 
 
-def loops_plot(path, rec, labels, mc, mcw=None) -> plt.Figure:
+def loops_plot(path, rec, labels, mc, mcw=None, units="si") -> plt.Figure:
     """Torque (and WOB) versus bit speed over all valid cycles with the mean cycle per branch
     (Fig. 3.5): thin lines, red on the accelerating branch, cyan on the decelerating one.
 
@@ -269,23 +304,28 @@ def loops_plot(path, rec, labels, mc, mcw=None) -> plt.Figure:
     mcw : MeanCycle, optional
         Mean cycle of the WOB [N] (a second panel).
 
+    units : str
+        Axis units of torque and WOB (:data:`drillpy.figures.simulation.FIGURE_UNITS`): ``si`` (N m, N)
+        or ``field`` (ft-lbf, lbf); speeds stay in RPM.
+
     Returns
     -------
     matplotlib.figure.Figure
         The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     v = rec.bit_speed * RPM
-    panels = [("torque on bit [N m]", rec.torque_on_bit, mc)]
+    tu, wu = _labels(units)
+    panels = [(f"torque on bit [{tu}]", rec.torque_on_bit, mc, _tq)]
     if rec.wob is not None and mcw is not None:
-        panels.append(("WOB [N]", rec.wob, mcw))
+        panels.append((f"WOB [{wu}]", rec.wob, mcw, _wob))
     fig, axes = plt.subplots(1, len(panels), figsize=(6.5 * len(panels), 4.8), squeeze=False)
-    for ax, (lab, y, m) in zip(axes[0], panels):
+    for ax, (lab, y, m, conv) in zip(axes[0], panels):
         for s, col in ((1, C_UP), (-1, C_LO)):
-            yy = np.where(labels == s, y, np.nan)
+            yy = np.where(labels == s, conv(y, units), np.nan)
             ax.plot(v, yy, color=col, lw=0.25, alpha=0.35)
-        ax.plot(m.speed * RPM, m.upper, color="darkred", lw=2.2, label="mean, accelerating (upper) branch")
-        ax.plot(m.speed * RPM, m.lower, color="navy", lw=2.2, label="mean, decelerating (lower) branch")
-        ax.plot(m.speed * RPM, m.all, color=C_ALL, lw=2, ls="--",
+        ax.plot(m.speed * RPM, conv(m.upper, units), color="darkred", lw=2.2, label="mean, accelerating (upper) branch")
+        ax.plot(m.speed * RPM, conv(m.lower, units), color="navy", lw=2.2, label="mean, decelerating (lower) branch")
+        ax.plot(m.speed * RPM, conv(m.all, units), color=C_ALL, lw=2, ls="--",
                 label="mean of all cycles" + (" (T_hys of Eq. 4.2)" if m is mc else ""))
         ax.set_xlabel("bit speed [RPM]")
         ax.set_ylabel(lab)
@@ -331,7 +371,7 @@ def cycle_statistics_plot(path, cst, stick_threshold) -> plt.Figure:
     return _save(fig, path)
 
 
-def laws_plot(path, rec, labels, accel, mc, fits, subtitle="") -> plt.Figure:
+def laws_plot(path, rec, labels, accel, mc, fits, subtitle="", units="si") -> plt.Figure:
     """Fitted laws over the data: slip samples (grey), mean cycle branches, and each law; the
     hysteretic laws are drawn twice, at the mean acceleration of each branch.
 
@@ -352,17 +392,22 @@ def laws_plot(path, rec, labels, accel, mc, fits, subtitle="") -> plt.Figure:
     subtitle : str
         Second line of the title.
 
+    units : str
+        Axis units of torque and WOB (:data:`drillpy.figures.simulation.FIGURE_UNITS`): ``si`` (N m, N)
+        or ``field`` (ft-lbf, lbf); speeds stay in RPM.
+
     Returns
     -------
     matplotlib.figure.Figure
         The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     v = rec.bit_speed * RPM
+    tu = _labels(units)[0]
     m = labels != 0
     fig, ax = plt.subplots(figsize=(9, 5.5))
-    ax.plot(v[m][::5], rec.torque_on_bit[m][::5], ".", color="0.8", ms=1.5, label="slip samples")
-    ax.plot(mc.speed * RPM, mc.upper, color="darkred", lw=2.5, alpha=0.5, label="data: accelerating branch")
-    ax.plot(mc.speed * RPM, mc.lower, color="navy", lw=2.5, alpha=0.5, label="data: decelerating branch")
+    ax.plot(v[m][::5], _tq(rec.torque_on_bit[m][::5], units), ".", color="0.8", ms=1.5, label="slip samples")
+    ax.plot(mc.speed * RPM, _tq(mc.upper, units), color="darkred", lw=2.5, alpha=0.5, label="data: accelerating branch")
+    ax.plot(mc.speed * RPM, _tq(mc.lower, units), color="navy", lw=2.5, alpha=0.5, label="data: decelerating branch")
     sp = mc.speed[1:]
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for k, f in enumerate(fits):
@@ -371,14 +416,14 @@ def laws_plot(path, rec, labels, accel, mc, fits, subtitle="") -> plt.Figure:
         if hyst:
             up = np.interp(sp, mc.speed, np.nan_to_num(mc.accel_upper))
             lo = np.interp(sp, mc.speed, np.nan_to_num(mc.accel_lower))
-            ax.plot(sp * RPM, f.predict(sp, up), color=col, lw=1.6, label=f"{f.name} (RMSE {f.rmse:.3f} N m)")
-            ax.plot(sp * RPM, f.predict(sp, lo), color=col, lw=1.6, ls="--")
+            ax.plot(sp * RPM, _tq(f.predict(sp, up), units), color=col, lw=1.6, label=_rmse_label(f, units))
+            ax.plot(sp * RPM, _tq(f.predict(sp, lo), units), color=col, lw=1.6, ls="--")
         else:
-            ax.plot(sp * RPM, f.predict(sp, 0.0), color=col, lw=1.6, label=f"{f.name} (RMSE {f.rmse:.3f} N m)")
-    hi = np.nanpercentile(rec.torque_on_bit[m], 99.5)
+            ax.plot(sp * RPM, _tq(f.predict(sp, 0.0), units), color=col, lw=1.6, label=_rmse_label(f, units))
+    hi = np.nanpercentile(_tq(rec.torque_on_bit[m], units), 99.5)
     ax.set_ylim(0, hi * 1.1)
     ax.set_xlabel("bit speed [RPM]")
-    ax.set_ylabel("torque on bit [N m]")
+    ax.set_ylabel(f"torque on bit [{tu}]")
     ax.set_title("Fitted bit-rock laws (hysteretic: solid accelerating, dashed decelerating)\n" + subtitle,
                  fontsize=10)
     ax.grid(alpha=0.3)
@@ -456,7 +501,7 @@ def _case_axes(n, rows_per_case, size):
     return fig, blocks
 
 
-def rig_time_series_plot(path, rec, sims, window_s=2.0) -> plt.Figure:
+def rig_time_series_plot(path, rec, sims, window_s=2.0, units="si") -> plt.Figure:
     """Measured versus simulated bit speed and torque on bit over a window after the start-up,
     one block of two panels per simulated case.
 
@@ -471,12 +516,17 @@ def rig_time_series_plot(path, rec, sims, window_s=2.0) -> plt.Figure:
     window_s : float
         Length of the window shown [s], starting at 75 % of the record.
 
+    units : str
+        Axis units of torque and WOB (:data:`drillpy.figures.simulation.FIGURE_UNITS`): ``si`` (N m, N)
+        or ``field`` (ft-lbf, lbf); speeds stay in RPM.
+
     Returns
     -------
     matplotlib.figure.Figure
         The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     t = rec.time_s
+    tu = _labels(units)[0]
     t0 = t[0] + 0.75 * (t[-1] - t[0])
     m = (t >= t0) & (t <= t0 + window_s)
     fig, blocks = _case_axes(len(sims), 2, (7.0, 5.0))
@@ -485,11 +535,11 @@ def rig_time_series_plot(path, rec, sims, window_s=2.0) -> plt.Figure:
         a1.plot(t[m], rec.bit_speed[m] * RPM, color=C_BIT, lw=1.2, label="measured bit speed")
         a1.plot(sim.time_s[ms], sim.bit_speed[ms] * RPM, "r", lw=1.2, label="simulated bit speed")
         a1.plot(sim.time_s[ms], sim.top_speed[ms] * RPM, color=C_TOP, lw=0.7, label="top speed (drive)")
-        a2.plot(t[m], rec.torque_on_bit[m], color=C_BIT, lw=1.2, label="measured")
-        a2.plot(sim.time_s[ms], sim.torque_on_bit[ms], "r", lw=1.2, label="simulated")
+        a2.plot(t[m], _tq(rec.torque_on_bit[m], units), color=C_BIT, lw=1.2, label="measured")
+        a2.plot(sim.time_s[ms], _tq(sim.torque_on_bit[ms], units), "r", lw=1.2, label="simulated")
         a1.set_title(label + f"  (mismatch {cmp.mismatch:.3f})", fontsize=9)
         a1.set_ylabel("speed [RPM]")
-        a2.set_ylabel("torque on bit [N m]")
+        a2.set_ylabel(f"torque on bit [{tu}]")
         a2.set_xlabel("time [s]")
         for a in (a1, a2):
             a.grid(alpha=0.3)
@@ -499,7 +549,7 @@ def rig_time_series_plot(path, rec, sims, window_s=2.0) -> plt.Figure:
     return _save(fig, path)
 
 
-def rig_loops_plot(path, sims) -> plt.Figure:
+def rig_loops_plot(path, sims, units="si") -> plt.Figure:
     """Torque versus bit speed: mean cycle per branch, measured versus simulated, per case.
 
     Parameters
@@ -509,29 +559,34 @@ def rig_loops_plot(path, sims) -> plt.Figure:
     sims : dict
         Case label -> (simulated Record, RigComparison with the mean cycles [N m over rad/s]).
 
+    units : str
+        Axis units of torque and WOB (:data:`drillpy.figures.simulation.FIGURE_UNITS`): ``si`` (N m, N)
+        or ``field`` (ft-lbf, lbf); speeds stay in RPM.
+
     Returns
     -------
     matplotlib.figure.Figure
         The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
+    tu = _labels(units)[0]
     fig, blocks = _case_axes(len(sims), 1, (6.2, 4.2))
     for k, ((label, (sim, cmp)), (ax,)) in enumerate(zip(sims.items(), blocks)):
         mm, ms = cmp.mean_cycle_measured, cmp.mean_cycle_simulated
         if mm is not None:
-            ax.plot(mm.speed * RPM, mm.upper, color="darkred", lw=2, label="measured, accelerating")
-            ax.plot(mm.speed * RPM, mm.lower, color="navy", lw=2, label="measured, decelerating")
+            ax.plot(mm.speed * RPM, _tq(mm.upper, units), color="darkred", lw=2, label="measured, accelerating")
+            ax.plot(mm.speed * RPM, _tq(mm.lower, units), color="navy", lw=2, label="measured, decelerating")
         if ms is not None:
-            ax.plot(ms.speed * RPM, ms.upper, color="darkred", lw=1.4, ls="--", label="simulated, accelerating")
-            ax.plot(ms.speed * RPM, ms.lower, color="navy", lw=1.4, ls="--", label="simulated, decelerating")
-            extra = f"loop rms {cmp.loop_rms_nm:.3f} N m"
+            ax.plot(ms.speed * RPM, _tq(ms.upper, units), color="darkred", lw=1.4, ls="--", label="simulated, accelerating")
+            ax.plot(ms.speed * RPM, _tq(ms.lower, units), color="navy", lw=1.4, ls="--", label="simulated, decelerating")
+            extra = f"loop rms {float(_tq(cmp.loop_rms_nm, units)):.3f} {tu}"
         else:
             m = sim.time_s >= sim.time_s[0] + 2.0
-            ax.plot(sim.bit_speed[m] * RPM, sim.torque_on_bit[m], ".", color="0.5", ms=1,
+            ax.plot(sim.bit_speed[m] * RPM, _tq(sim.torque_on_bit[m], units), ".", color="0.5", ms=1,
                     label="simulated (no stick-slip cycle)")
             extra = "simulation: no stick-slip cycle"
         ax.set_title(_wrap(label, 70) + "\n" + extra, fontsize=9)
         ax.set_xlabel("bit speed [RPM]")
-        ax.set_ylabel("torque on bit [N m]")
+        ax.set_ylabel(f"torque on bit [{tu}]")
         ax.grid(alpha=0.3)
         if k == 0:
             ax.legend(fontsize=7)
@@ -543,7 +598,7 @@ def _wrap(s, width=48):
     return "\n".join(textwrap.wrap(s, width))
 
 
-def prediction_overlay_plot(path, rec, sim, stick_threshold, label, window_s=3.0) -> plt.Figure:
+def prediction_overlay_plot(path, rec, sim, stick_threshold, label, window_s=3.0, units="si") -> plt.Figure:
     """A model's prediction of a record it was not calibrated on: bit speed, top speed and torque
     on bit over the whole record (top) and over a window in its middle (bottom), measured and
     simulated, with the stick threshold.
@@ -560,6 +615,10 @@ def prediction_overlay_plot(path, rec, sim, stick_threshold, label, window_s=3.0
         What the prediction is (in the title).
     window_s : float
         Length of the middle window [s].
+
+    units : str
+        Axis units of torque and WOB (:data:`drillpy.figures.simulation.FIGURE_UNITS`): ``si`` (N m, N)
+        or ``field`` (ft-lbf, lbf); speeds stay in RPM.
 
     Returns
     -------
@@ -581,9 +640,9 @@ def prediction_overlay_plot(path, rec, sim, stick_threshold, label, window_s=3.0
     axes[0].set_title(f"prediction ({label})", fontsize=9)
     sel = (t >= tm) & (t <= tm + window_s)
     sels = (ts >= tm) & (ts <= tm + window_s)
-    axes[2].plot(t[sel], rec.torque_on_bit[sel], color=C_BIT, lw=1.0, label="measured")
-    axes[2].plot(ts[sels], sim.torque_on_bit[sels], "r", lw=1.0, label="predicted")
-    axes[2].set_ylabel("torque on bit [N m]")
+    axes[2].plot(t[sel], _tq(rec.torque_on_bit[sel], units), color=C_BIT, lw=1.0, label="measured")
+    axes[2].plot(ts[sels], _tq(sim.torque_on_bit[sels], units), "r", lw=1.0, label="predicted")
+    axes[2].set_ylabel(f"torque on bit [{_labels(units)[0]}]")
     axes[2].set_xlabel("time [s]")
     axes[2].grid(alpha=0.3)
     axes[2].legend(fontsize=7)

@@ -15,12 +15,19 @@ import numpy as np  # noqa: E402
 
 RPM = 30.0 / np.pi  # rad/s -> RPM
 
-#: Units of the figures' axes (``units=`` of every plot here; ``--figure-units`` of the commands):
-#: quantity -> unit, a unit of :data:`drillpy.units.UNITS`. ``si`` is the SI one (the stability map
-#: keeps the thesis's RPM and kN), ``field`` the one a drilling engineer reads on the rig.
-FIGURE_UNITS = {"si": {"speed": "rad/s", "force": "kN", "torque": "N m"},
-                "field": {"speed": "rpm", "force": "klbf", "torque": "kft-lbf"}}
-_LABEL = {"rad/s": "rad/s", "rpm": "RPM", "kn": "kN", "klbf": "klbf", "n m": "N m", "kft-lbf": "kft-lbf"}
+#: Units of the figures' axes (``units=`` of every plot of :mod:`drillpy.figures`; ``--figure-units``
+#: of the commands): figure quantity -> unit, a unit of :data:`drillpy.units.UNITS`. ``si`` is the SI
+#: one (the stability map keeps the thesis's RPM and kN), ``field`` the one a drilling engineer reads
+#: on the rig. ``record_force`` and ``record_torque`` are a measured record's WOB and torque (rig scale:
+#: N and N m, or lbf and ft-lbf); ``length`` a depth or a string length.
+FIGURE_UNITS = {"si": {"speed": "rad/s", "force": "kN", "torque": "N m", "record_force": "N",
+                       "record_torque": "N m", "length": "m"},
+                "field": {"speed": "rpm", "force": "klbf", "torque": "kft-lbf", "record_force": "lbf",
+                          "record_torque": "ft-lbf", "length": "ft"}}
+_LABEL = {"rad/s": "rad/s", "rpm": "RPM", "kn": "kN", "klbf": "klbf", "n m": "N m", "kft-lbf": "kft-lbf",
+          "n": "N", "lbf": "lbf", "ft-lbf": "ft-lbf", "m": "m", "ft": "ft"}
+#: figure quantity -> quantity of :data:`drillpy.units.UNITS`
+_KIND = {"record_force": "force", "record_torque": "torque"}
 
 
 def _unit(units: str, quantity: str) -> str:
@@ -33,7 +40,30 @@ def _unit(units: str, quantity: str) -> str:
 def _convert(values, quantity: str, unit: str, source: str | None = None):
     """SI ``values`` (or values in ``source``) in ``unit`` (:func:`drillpy.units.grid_in_si`)."""
     from drillpy.units import grid_in_si
-    return grid_in_si(np.asarray(values, float), source, quantity, to=unit)
+    return grid_in_si(np.asarray(values, float), source, _KIND.get(quantity, quantity), to=unit)
+
+
+def in_units(values, quantity: str, units: str = "si", source: str | None = None):
+    """Values for an axis in the figure units, and the unit's label.
+
+    Parameters
+    ----------
+    values : array_like
+        The values, SI (or in ``source``).
+    quantity : str
+        A figure quantity (a key of ``FIGURE_UNITS["si"]``: ``speed``, ``force``, ``torque``, ...).
+    units : str
+        ``si`` or ``field`` (:data:`FIGURE_UNITS`).
+    source : str, optional
+        Unit of ``values`` when not SI (e.g. ``"kN"``).
+
+    Returns
+    -------
+    tuple
+        (ndarray in the axis unit, its label such as ``"RPM"``).
+    """
+    u = _unit(units, quantity)
+    return _convert(values, quantity, u, source), _LABEL[u.lower()]
 
 
 def _save(fig, path):

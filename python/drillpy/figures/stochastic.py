@@ -11,13 +11,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from drillpy.figures.simulation import _save, plt, time_series_plot
+from drillpy.figures.simulation import _save, in_units, plt, time_series_plot
 
 if TYPE_CHECKING:
     from drillpy.reports.stochastic import StochasticAnalysis
 
 
-def stochastic_figures(result: "StochasticAnalysis", out_dir) -> list:
+def stochastic_figures(result: "StochasticAnalysis", out_dir, units: str = "si") -> list:
     """Every figure of the chapter-4 analysis, written to ``out_dir``.
 
     Parameters
@@ -26,6 +26,9 @@ def stochastic_figures(result: "StochasticAnalysis", out_dir) -> list:
         What :func:`drillpy.reports.stochastic.stochastic_analysis` returned.
     out_dir : str or Path
         Output folder (created if missing).
+    units : str
+        Axis units of the speeds and torques (:data:`drillpy.figures.simulation.FIGURE_UNITS`): ``si``
+        (rad/s, N m) or ``field`` (RPM, kft-lbf).
 
     Returns
     -------
@@ -45,10 +48,10 @@ def stochastic_figures(result: "StochasticAnalysis", out_dir) -> list:
                  title=f"PSD of a generated {r.fit_record_s:g}-s eta record (Figs. 4.2-4.3)")
     eta_realizations_plot(paths[1], r.eta_t_s, r.eta, t_max=200.0)
     time_series_plot(paths[2], sto.t, sto.bit_speed, sto.torque_on_bit, sto.top_speed, t_window=r.window_s,
-                     title=f"One realization at {r.top_speed_rad_s:g} rad/s (Fig. 4.5)")
-    deterministic_vs_stochastic_plot(paths[3], r.deterministic, sto, r.window_s)
+                     title=f"One realization at {r.top_speed_rad_s:g} rad/s (Fig. 4.5)", units=units)
+    deterministic_vs_stochastic_plot(paths[3], r.deterministic, sto, r.window_s, units=units)
     phase_pdf_plot(paths[4], r.phases)
-    severity_band_plot(paths[5], r.study)
+    severity_band_plot(paths[5], r.study, units=units)
     conv1_plot(paths[6], r.study.conv1)
     return paths
 
@@ -139,7 +142,7 @@ def eta_realizations_plot(path, t, eta, t_max=None) -> plt.Figure:
     return _save(fig, path)
 
 
-def deterministic_vs_stochastic_plot(path, det, sto, t_window) -> plt.Figure:
+def deterministic_vs_stochastic_plot(path, det, sto, t_window, units="si") -> plt.Figure:
     """Bit and top speed of the deterministic and the stochastic model side by side (Fig. 4.6).
 
     Parameters
@@ -150,6 +153,8 @@ def deterministic_vs_stochastic_plot(path, det, sto, t_window) -> plt.Figure:
         Deterministic and stochastic runs (speeds in rad/s, SS in ``severity``).
     t_window : (float, float)
         Time window shown [s].
+    units : str
+        Axis units: ``si`` (rad/s) or ``field`` (RPM); the data stay in rad/s.
 
     Returns
     -------
@@ -159,12 +164,12 @@ def deterministic_vs_stochastic_plot(path, det, sto, t_window) -> plt.Figure:
     fig, axes = plt.subplots(1, 2, figsize=(11.0, 3.8), sharey=True)
     for ax, r, label in zip(axes, (det, sto), ("deterministic", "stochastic")):
         sel = (r.t >= t_window[0]) & (r.t <= t_window[1])
-        ax.plot(r.t[sel], r.bit_speed[sel], "b", lw=0.8, label="bit")
-        ax.plot(r.t[sel], r.top_speed[sel], "k--", lw=0.8, label="top drive")
+        ax.plot(r.t[sel], in_units(r.bit_speed[sel], "speed", units)[0], "b", lw=0.8, label="bit")
+        ax.plot(r.t[sel], in_units(r.top_speed[sel], "speed", units)[0], "k--", lw=0.8, label="top drive")
         ax.set_xlabel("time [s]")
         ax.set_title(f"{label} bit-rock interaction (SS = {r.severity:.2f})", fontsize=10)
         ax.grid(alpha=0.3)
-    axes[0].set_ylabel("speed [rad/s]")
+    axes[0].set_ylabel(f"speed [{in_units(0.0, 'speed', units)[1]}]")
     axes[0].legend(fontsize=8)
     return _save(fig, path)
 
@@ -207,7 +212,7 @@ def phase_pdf_plot(path, study) -> plt.Figure:
     return _save(fig, path)
 
 
-def severity_band_plot(path, study, level=0.5, prob=0.05) -> plt.Figure:
+def severity_band_plot(path, study, level=0.5, prob=0.05, units="si") -> plt.Figure:
     """Mean SS with the 90 % band, the deterministic curve and P(SS > level) (Fig. 4.9).
 
     Parameters
@@ -220,6 +225,8 @@ def severity_band_plot(path, study, level=0.5, prob=0.05) -> plt.Figure:
         Stability threshold of SS [-].
     prob : float
         Exceedance probability marked [-].
+    units : str
+        Axis units: ``si`` (rad/s) or ``field`` (RPM); the data stay in rad/s.
 
     Returns
     -------
@@ -228,7 +235,7 @@ def severity_band_plot(path, study, level=0.5, prob=0.05) -> plt.Figure:
     """
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(7.0, 6.4), sharex=True,
                                  gridspec_kw={"height_ratios": [2, 1]})
-    sp = study.speeds
+    sp, su = in_units(study.speeds, "speed", units)
     a1.fill_between(sp, study.q05, study.q95, color="tab:blue", alpha=0.25,
                     label="5 %-95 % band (90 % region)")
     a1.plot(sp, study.mean, "b-", lw=1.6, label=f"mean ({study.severity.shape[0]} samples)")
@@ -242,13 +249,13 @@ def severity_band_plot(path, study, level=0.5, prob=0.05) -> plt.Figure:
     a2.plot(sp, study.p_exceed, "m.-", label=f"P(SS > {level})")
     a2.axhline(prob, color="r", ls="--", lw=1.0, label=f"{prob:.0%}")
     if study.p05_speed is not None:
-        a2.axvline(study.p05_speed, color="m", ls=":",
-                   label=f"P <= {prob:.0%} from {study.p05_speed:.2f} rad/s")
-        a1.axvline(study.p05_speed, color="m", ls=":")
+        p05 = float(in_units(study.p05_speed, "speed", units)[0])
+        a2.axvline(p05, color="m", ls=":", label=f"P <= {prob:.0%} from {p05:.2f} {su}")
+        a1.axvline(p05, color="m", ls=":")
     if study.deterministic_threshold is not None:
-        a2.axvline(study.deterministic_threshold, color="k", ls=":",
-                   label=f"deterministic: {study.deterministic_threshold:.2f} rad/s")
-    a2.set_xlabel("top-drive speed [rad/s]")
+        det = float(in_units(study.deterministic_threshold, "speed", units)[0])
+        a2.axvline(det, color="k", ls=":", label=f"deterministic: {det:.2f} {su}")
+    a2.set_xlabel(f"top-drive speed [{su}]")
     a2.set_ylabel("probability [-]")
     a2.set_ylim(-0.03, 1.03)
     a2.grid(alpha=0.3)

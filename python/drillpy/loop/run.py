@@ -714,7 +714,8 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
 
 
 def loop_record(record, out_dir, *, preset: str | None = None, config_path: str | None = None,
-                config: dict | None = None, options: LoopOptions | None = None, log=print) -> dict:
+                config: dict | None = None, options: LoopOptions | None = None, log=print,
+                figure_units: str = "si") -> dict:
     """``drillpy loop``: run the loop and write its figures and files to ``out_dir``.
 
     :func:`run_loop` (compute: a :class:`LoopResult`) -> :func:`drillpy.figures.loop.loop_figures`
@@ -734,6 +735,8 @@ def loop_record(record, out_dir, *, preset: str | None = None, config_path: str 
         Choices of the loop (horizon [s], analysis rate [Hz], guard thresholds...).
     log : callable
         Called with each progress line.
+    figure_units : str
+        Axis unit of the figures' torques (``si``: N m; ``field``: ft-lbf); the files stay SI.
 
     Returns
     -------
@@ -745,7 +748,7 @@ def loop_record(record, out_dir, *, preset: str | None = None, config_path: str 
     from .report import write_loop
     cfg = load_config(preset=preset, path=config_path, config=config)
     res = run_loop(record, cfg, options, log=log)
-    js = write_loop(res, out_dir, loop_figures(res, out_dir))
+    js = write_loop(res, out_dir, loop_figures(res, out_dir, figure_units))
     log(f"loop.json, predictions.csv, report.md and figures written to {Path(out_dir)}")
     return js
 

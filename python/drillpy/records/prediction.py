@@ -260,7 +260,7 @@ def load_model(path: str | Path):
     return rigsim.RigModel.from_dict(d)
 
 
-def write_prediction(pred: Prediction, out_dir: str | Path) -> list:
+def write_prediction(pred: Prediction, out_dir: str | Path, figure_units: str = "si") -> list:
     """``summary.json`` and the overlay figure ``overlay.png`` in ``out_dir``; returns the file names.
 
     Parameters
@@ -269,6 +269,8 @@ def write_prediction(pred: Prediction, out_dir: str | Path) -> list:
         From :func:`predict_record`.
     out_dir : str or Path
         Output folder (created if needed; existing files are overwritten).
+    figure_units : str
+        Axis unit of the overlay's torque (``si``: N m; ``field``: ft-lbf); ``summary.json`` stays SI.
 
     Returns
     -------
@@ -281,5 +283,5 @@ def write_prediction(pred: Prediction, out_dir: str | Path) -> list:
     write_json(out / "summary.json", {**pred.summary(), "provenance": provenance()})
     fig = out / "overlay.png"
     figs.prediction_overlay_plot(fig, pred.measured, pred.simulated, pred.stick_threshold,
-                                  describe(pred.model))
+                                  describe(pred.model), units=figure_units)
     return ["summary.json", fig.name]

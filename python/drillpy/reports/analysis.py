@@ -434,7 +434,7 @@ def write_analysis(result: RecordAnalysis, out_dir: str | Path, figures=(), log=
 
 
 def analyze_record(record: Record | str | Path, out_dir: str | Path, options: AnalysisOptions | None = None,
-                   log=print) -> dict:
+                   log=print, figure_units: str = "si") -> dict:
     """Analyse a measured record and write ``report.md``, figures and ``summary.json`` to ``out_dir``.
 
     :func:`compute_analysis` -> :func:`drillpy.figures.records.analysis_figures` ->
@@ -450,14 +450,19 @@ def analyze_record(record: Record | str | Path, out_dir: str | Path, options: An
         Choices of the analysis.
     log : callable
         Called with each progress line.
+    figure_units : str
+        Axis units of the figures' torques and WOB (``si``: N m, N; ``field``: ft-lbf, lbf;
+        :data:`drillpy.figures.simulation.FIGURE_UNITS`); ``summary.json`` and ``report.md`` stay SI.
 
     Returns
     -------
     dict
         The summary (the content of ``summary.json``).
     """
+    from drillpy.figures.simulation import _unit
+    _unit(figure_units, "speed")  # an unknown unit refused before the work
     result = compute_analysis(record, options, log=log)
-    paths = figs.analysis_figures(result, out_dir)
+    paths = figs.analysis_figures(result, out_dir, figure_units)
     return write_analysis(result, out_dir, paths, log=log)
 
 

@@ -196,12 +196,13 @@ def summary(study: ControlStudy) -> dict:
             "config": study.config}
 
 
-def _grid_threshold_text(r: dict) -> str:
-    """The deterministic threshold with the grid cell it was interpolated in (its precision)."""
-    v, cell = r["deterministic_threshold_rad_s"], r.get("deterministic_threshold_grid_rad_s")
-    if v is None:
+def _threshold_text(r: dict) -> str:
+    """A drive's deterministic threshold [rad/s] with its bisection precision and its RPM equivalent."""
+    t = r["deterministic_threshold"]
+    if t["threshold_rad_s"] is None:
         return "none in window"
-    return f"{v:.2f} (grid {cell[0]:.4g}-{cell[1]:.4g})" if cell else f"{v:.2f}"
+    return (f"{t['threshold_rad_s']:.2f} +- {t['threshold_precision_rad_s']:.2f} "
+            f"({t['threshold_rpm']:.1f} +- {t['threshold_precision_rpm']:.1f} RPM)")
 
 
 def report_text(study: ControlStudy) -> str:
@@ -243,11 +244,11 @@ def report_text(study: ControlStudy) -> str:
               "is stalled when "
               "its mean bit speed is below half the command (the bit stuck, SS then small). The difference to the "
               "stiff drive is paired (same samples). Threshold: the speed below which the deterministic SS > 0.5 "
-              "(or the run stalls) at the nominal WOB, interpolated linearly between the two grid speeds in brackets "
-              "(a grid value: SS jumps at the threshold, so it is known to that cell, not to its digits; drillpy sweep "
-              "bisects the model's threshold); 5 % speed: the lowest speed from which P <= 5 % "
+              "at the nominal WOB, located by bisection from the window's speeds with its precision (half the "
+              "final bracket) and its RPM equivalent: drillpy sweep's definition, so `drillpy sweep` with the "
+              "same drive and WOB gives the same value; 5 % speed: the lowest speed from which P <= 5 % "
               "(section 4.2.2) with its 90 % bootstrap interval.", "",
-              "| drive | P window | P - P(stiff) | stalled runs | mean SS | deterministic threshold, grid value [rad/s] | "
+              "| drive | P window | P - P(stiff) | stalled runs | mean SS | deterministic threshold, bisection [rad/s] | "
               "5 % speed [rad/s] |",
               "|---|---|---|---|---|---|---|"]
     for label, r in c.items():
@@ -257,7 +258,7 @@ def report_text(study: ControlStudy) -> str:
         lines.append(f"| {label} | {pw['value']:.3f} [{pw['low']:.3f}, {pw['high']:.3f}] | "
                      f"{pd['value']:+.3f} [{pd['low']:+.3f}, {pd['high']:+.3f}] | {r['stalled_fraction']:.3f} | "
                      f"{r['mean_ss']:.3f} | "
-                     f"{_grid_threshold_text(r)} | {p05} |")
+                     f"{_threshold_text(r)} | {p05} |")
     t0 = study.config["simulation"]["transient_s"]
     lines += ["", f"## Stick-slip episode at {study.episode_speed:.4g} rad/s (nominal WOB)", "",
               "| drive | SS | stick fraction | peak motor torque [N m] | mean motor torque [N m] | within limit |",
@@ -279,7 +280,7 @@ def report_text(study: ControlStudy) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_control(study: ControlStudy, out_dir) -> dict:
+def write_control(study: ControlStudy, out_dir, figure_units: str = "si") -> dict:
     """Write ``control.json``, ``report.md`` and the figures to ``out_dir``.
 
     Parameters
@@ -288,6 +289,9 @@ def write_control(study: ControlStudy, out_dir) -> dict:
         What :func:`control_study` returned.
     out_dir : str or Path
         Output folder (created if missing).
+    figure_units : str
+        Axis units of the figures (``si`` or ``field``, :data:`drillpy.figures.simulation.FIGURE_UNITS`);
+        ``control.json`` and ``report.md`` stay SI.
 
     Returns
     -------
@@ -301,7 +305,7 @@ def write_control(study: ControlStudy, out_dir) -> dict:
     js = summary(study)
     prov = provenance(seed=study.tuning_window.seed, samples=study.tuning_window.samples,
                       validation_seed=study.validation_window.seed, validation_samples=study.validation_window.samples)
-    js["figures"] = [p.name for p in control_figures(study, out)]
+    js["figures"] = [p.name for p in control_figures(study, out, figure_units)]
     write_text((out / "control.json"), dumps({**js, "provenance": prov}))
     write_text((out / "report.md"), with_markdown_footer(report_text(study), prov))
     return js

@@ -116,7 +116,7 @@ def thesis_threshold(cfg: dict) -> float | None:
 
 
 def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=None,
-                 map_wobs_kn=None, progress: bool = True, threads: int = 0) -> dict:
+                 map_wobs_kn=None, progress: bool = True, threads: int = 0, figure_units: str = "si") -> dict:
     """Run the main job on a preset (``drillpy report``) and write its figures and summary.
 
     Computes, in order: the first five natural frequencies of the clamped string (Eq. 2.7),
@@ -152,6 +152,9 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
         Show progress bars during the sweeps.
     threads : int
         Engine threads (0: all cores).
+    figure_units : str
+        Axis units of the figures (``si`` or ``field``, :data:`drillpy.figures.simulation.FIGURE_UNITS`);
+        ``summary.json`` stays SI.
 
     Returns
     -------
@@ -184,7 +187,8 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
     summary["sweep"] = {"top_speeds_rad_s": speeds.tolist(), "severity": ss.round(4).tolist(), **thr,
                         "thesis_threshold_rad_s": thesis}
     plotting.severity_plot(out / "severity_vs_top_speed.png", speeds, ss, thr["threshold_rad_s"],
-                           title=f"{cfg.get('name')}: SS vs top speed" + (" (Fig. 4.8)" if thesis else ""))
+                           title=f"{cfg.get('name')}: SS vs top speed" + (" (Fig. 4.8)" if thesis else ""),
+                           units=figure_units)
 
     op_speed = cfg["operation"]["top_speed_rad_s"]
     summary["run"] = _run_summary(simulate(cfg, op_speed), op_speed)
@@ -202,7 +206,7 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
     plotting.time_series_plot(out / "time_series.png", ref.t, ref.bit_speed, ref.torque_on_bit,
                          ref.top_speed, t_window=(max(0.0, t_end - 60.0), t_end),
                          title=f"{cfg.get('name')}: {op_speed:g} rad/s at the top, all modes, BDF2 "
-                               "(last 60 s)")
+                               "(last 60 s)", units=figure_units)
 
     if cfg["law"]["type"] == "hysteretic":
         sp_rpm = np.linspace(50, 160, 23) if map_speeds_rpm is None else np.asarray(map_speeds_rpm, float)
@@ -212,7 +216,7 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
             c = with_overrides(cfg, beta1=beta1)
             maps[label] = stability_map(c, sp_rpm * np.pi / 30.0, w_kn * 1e3, progress=progress,
                                         threads=threads)
-        plotting.stability_map_plot(out / "stability_maps.png", sp_rpm, w_kn, maps)
+        plotting.stability_map_plot(out / "stability_maps.png", sp_rpm, w_kn, maps, units=figure_units)
         summary["stability_maps"] = {
             "top_speeds_rpm": sp_rpm.tolist(), "wobs_kn": w_kn.tolist(),
             "severity": {k: v.round(4).tolist() for k, v in maps.items()},

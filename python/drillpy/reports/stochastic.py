@@ -234,7 +234,7 @@ def read_samples(path) -> StochasticStudy:
         raise ValueError(f"chunk = {str(p)!r}: {e}") from None
 
 
-def merge_outputs(chunks, out_dir=None) -> StochasticStudy:
+def merge_outputs(chunks, out_dir=None, figure_units: str = "si") -> StochasticStudy:
     """Merge chunks of one study (``drillpy mc-merge``) and write the merged outputs.
 
     Parameters
@@ -245,6 +245,8 @@ def merge_outputs(chunks, out_dir=None) -> StochasticStudy:
     out_dir : str or Path, optional
         Folder for the merged ``mc.json`` (summary, configuration, provenance with the chunks),
         ``mc_samples.json``, severity_band.png (Fig. 4.9) and conv1.png (Fig. C.1).
+    figure_units : str
+        Axis units of the figures (``si`` or ``field``, :data:`drillpy.figures.simulation.FIGURE_UNITS`).
 
     Returns
     -------
@@ -260,14 +262,14 @@ def merge_outputs(chunks, out_dir=None) -> StochasticStudy:
                           chunks=[str(c) for c in chunks])
         write_text((out / "mc.json"), dumps({**study.summary(), "config": study.config, "provenance": prov}))
         write_samples(study, out)
-        severity_band_plot(out / "severity_band.png", study)
+        severity_band_plot(out / "severity_band.png", study, units=figure_units)
         conv1_plot(out / "conv1.png", study.conv1)
     return study
 
 
 def write_figures(study: StochasticStudy, cfg: dict, out_dir, *, psd: Psd = THESIS_PSD,
                   eta_dt: float = ETA_DT_S, phase_cycles: int = 750, threads: int = 0,
-                  progress: bool = True) -> dict:
+                  progress: bool = True, figure_units: str = "si") -> dict:
     """Compute, draw and write the chapter-4 outputs of a finished study (``drillpy mc --out``).
 
     :func:`stochastic_analysis` -> :func:`drillpy.figures.stochastic.stochastic_figures` ->
@@ -286,6 +288,9 @@ def write_figures(study: StochasticStudy, cfg: dict, out_dir, *, psd: Psd = THES
         As for :func:`stochastic_analysis`.
     out_dir : str or Path
         Output folder (created if missing).
+    figure_units : str
+        Axis units of the figures (``si`` or ``field``, :data:`drillpy.figures.simulation.FIGURE_UNITS`);
+        ``mc.json`` stays SI.
 
     Returns
     -------
@@ -295,6 +300,6 @@ def write_figures(study: StochasticStudy, cfg: dict, out_dir, *, psd: Psd = THES
     from drillpy.figures.stochastic import stochastic_figures
     result = stochastic_analysis(study, cfg, psd=psd, eta_dt=eta_dt, phase_cycles=phase_cycles,
                                  threads=threads, progress=progress)
-    stochastic_figures(result, out_dir)
+    stochastic_figures(result, out_dir, figure_units)
     write_stochastic(result, out_dir)
     return result.info

@@ -541,7 +541,8 @@ def robust_severity(cfg: dict, speeds, samples: int, *, delta: float = 0.1, eta_
     return studies, res
 
 
-def write_robust_severity(out_dir, speeds, studies: dict, summary: dict, cfg: dict, **options) -> Path:
+def write_robust_severity(out_dir, speeds, studies: dict, summary: dict, cfg: dict, *, figure_units: str = "si",
+                          **options) -> Path:
     """Write the outputs of :func:`robust_severity` (``drillpy robust-ss --out``).
 
     Parameters
@@ -556,6 +557,9 @@ def write_robust_severity(out_dir, speeds, studies: dict, summary: dict, cfg: di
         label -> JSON of the study, written with the configuration under ``"config"``.
     cfg : dict
         Configuration the studies ran with.
+    figure_units : str
+        Axis units of the figure (``si`` or ``field``, :data:`drillpy.figures.simulation.FIGURE_UNITS`);
+        ``robust_ss.json`` stays SI.
     **options
         Settings recorded in the file's ``provenance`` (seed, delta, samples...).
 
@@ -567,6 +571,6 @@ def write_robust_severity(out_dir, speeds, studies: dict, summary: dict, cfg: di
     from drillpy.figures import frf as frf_plots
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    frf_plots.severity_bands_plot(out / "severity_bands.png", speeds, studies)
+    frf_plots.severity_bands_plot(out / "severity_bands.png", speeds, studies, units=figure_units)
     write_text((out / "robust_ss.json"), dumps({**summary, "config": cfg, "provenance": provenance(**options)}))
     return out
