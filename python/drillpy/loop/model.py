@@ -267,8 +267,23 @@ def torque_sensor(model: LoopModel) -> tuple:
 
 
 def true_torque(model: LoopModel, x, rate: bool = False) -> np.ndarray:
-    """The true torque on bit (T_rec - b) / s [N m] (``rate``: a derivative of it, x / s) of a
-    recorded torque ``x`` under the model's torque-channel calibration (:func:`torque_sensor`)."""
+    """The true torque on bit (T_rec - b) / s [N m] of a recorded torque under the model's
+    torque-channel calibration (:func:`torque_sensor`; SG.0 of docs/loop.md).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model (its ``sensor_gain``, if any).
+    x : array_like
+        Recorded torque T_rec [N m], or one of its time derivatives with ``rate``.
+    rate : bool
+        ``x`` is a derivative of the recorded torque: only the scale applies, x / s.
+
+    Returns
+    -------
+    numpy.ndarray
+        The true torque [N m] (or its derivative).
+    """
     s, b = torque_sensor(model)
     x = np.asarray(x, float)
     return x / s if rate else (x - b) / s
