@@ -132,7 +132,6 @@ class SensorGain(Effect):
     reading = ("a torque load cell's calibration: a gain set for another cell or bridge voltage, a zero that drifted "
                "with temperature or a re-tightened clamp")
     needs = ("top_speed",)
-    confounded_with = ("string_stiffness",)
     defaults = {"torque_scale": 1.15, "torque_offset_nm": 0.15}
 
     def free(self, p):
