@@ -68,6 +68,30 @@ class Case:
         return s
 
 
+#: The torque load cell's calibration error of issue 29 (item 5), applied to the simulator's recorded
+#: torque outside it (:func:`torque_channel`): the simulator knows no load cell.
+GAIN = {"torque_scale": 1.15, "torque_offset_nm": 0.15}
+
+
+def torque_channel(sim: dict, torque_scale: float = 1.0, torque_offset_nm: float = 0.0) -> dict:
+    """The simulator's record with its torque read by a miscalibrated load cell, s T + b (in place).
+
+    Parameters
+    ----------
+    sim : dict
+        :func:`independent_rig.simulate`'s result (its ``torque_on_bit`` [N m], noise included).
+    torque_scale, torque_offset_nm : float
+        s [-] and b [N m].
+
+    Returns
+    -------
+    dict
+        ``sim``, its ``torque_on_bit`` replaced.
+    """
+    sim["torque_on_bit"] = torque_scale * sim["torque_on_bit"] + torque_offset_nm
+    return sim
+
+
 CASES = [
     Case("clean", [], 1), Case("clean", [], 2),
     Case("single", ["bit_hysteresis"], 11),
@@ -86,6 +110,7 @@ CASES = [
     Case("ramp", ["top_speed_ramp"], 41, acceptable=("top_drive_dynamics",)),
     Case("noise", ["top_drive_dynamics"], 51, noise=3.0),
     Case("noise", ["bit_hysteresis"], 52, noise=3.0),
+    Case("single", ["sensor_gain"], 19, options=GAIN),  # last: the cases above keep the numbers docs/loop.md cites
 ]
 
 
@@ -159,8 +184,11 @@ def run_case(i: int, case: Case, folder: str, rate: float, simulator: str = "tuc
         eff = {"ramp" if name == "top_speed_ramp" else name: case.options}
         stribeck_rig.make_record(next(iter(eff)), case.seed, path, **case.options)
     else:
-        eff = rig.effect_params(case.effects, case.size)
+        eff = rig.effect_params([e for e in case.effects if e != "sensor_gain"], case.size)
         sim = rig.simulate(eff, seed=case.seed, noise=case.noise)
+        if "sensor_gain" in case.effects:  # the load cell, outside the simulator
+            torque_channel(sim, **case.options)
+            eff = {**eff, "sensor_gain": case.options}
         rig.write_csv(sim, path, [f"independent_rig.py: effects {eff or 'none'}, seed {case.seed}, noise x{case.noise:g}"])
     t_sim = time.time() - t0
     lines: list = []
@@ -204,7 +232,7 @@ def main(argv=None) -> int:
     ap.add_argument("--law", choices=rig.LAWS, default="tucker_wang",
                     help="the simulator's bit-rock law (eq51: the declared preset's own, a control)")
     ap.add_argument("--simulator", choices=tuple(SIMULATORS), default="tucker-wang",
-                    help="independent_rig.py (tucker-wang, 18 cases) or stribeck_rig.py (stribeck, 11 cases)")
+                    help="independent_rig.py (tucker-wang, 19 cases) or stribeck_rig.py (stribeck, 11 cases)")
     ap.add_argument("--dir", help="folder for records and logs (default: a new temporary folder)")
     a = ap.parse_args(argv)
     rig.use_law(a.law)

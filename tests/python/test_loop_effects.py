@@ -14,9 +14,9 @@ from drillpy.loop.model import LoopModel
 from drillpy.loop.report import reading
 
 
-def test_catalogue_has_the_nine_named_effects_with_their_descriptions():
+def test_catalogue_has_the_eleven_named_effects_with_their_descriptions():
     assert set(NAMES) >= {"string_stiffness", "static_friction", "string_friction", "top_drive_dynamics"}
-    assert len(NAMES) == 10
+    assert len(NAMES) == 11
     for name in NAMES:
         e = CATALOGUE[name]
         assert isinstance(e, Effect) and e.name == name and e.level in ("law", "dynamic")
@@ -28,6 +28,7 @@ def test_catalogue_has_the_nine_named_effects_with_their_descriptions():
         assert e.__class__.__module__ == f"drillpy.loop.effects.{name}"  # one module per effect
     assert CATALOGUE["wob_coupling"].needs == ("wob",)
     assert CATALOGUE["top_drive_dynamics"].needs == ("top_speed",)
+    assert CATALOGUE["sensor_gain"].needs == ("top_speed",)  # the encoders' twist pins the torque's scale
     # physical bounds the issue names: beta2 is bounded by the data (fitting.BETA2_SPREAD), the
     # sensor cutoff at 30 Hz, the motor inertia by the integrator's stability bound
     assert CATALOGUE["sensor_lag"].params[0].upper == 30.0
@@ -53,7 +54,10 @@ def test_declared_effects_are_read_off_the_configuration_and_stripped():
     assert declared_effects(normalize(stripped(normalize(c)))) == {}
 
 
-@pytest.mark.parametrize("name", [n for n in NAMES if CATALOGUE[n].level == "dynamic" and n != "torque_fluctuation"])
+# torque_fluctuation and sensor_gain act on the record's channels, not on the engine configuration
+# (model.json keeps them)
+@pytest.mark.parametrize("name", [n for n in NAMES if CATALOGUE[n].level == "dynamic"
+                                  and n not in ("torque_fluctuation", "sensor_gain")])
 def test_an_effect_configured_into_a_model_is_declared_by_its_configuration(name):
     """configure() then declared() gives the parameters back: a model written by the loop is read
     back with the same effects (drillpy predict)."""

@@ -592,7 +592,7 @@ def parameter_evidence(model: LoopModel, name: str, ci: dict, data: LoopData) ->
 
     A parameter at a bound that is not ``binding`` (a shape parameter) is only flagged; the
     no-effect value is widened by the parameter's ``margin``. A directly measured parameter takes
-    the direct measurement's interval.
+    the direct measurement's interval (the effect's other parameters keep the fit's).
 
     Parameters
     ----------
@@ -619,7 +619,7 @@ def parameter_evidence(model: LoopModel, name: str, ci: dict, data: LoopData) ->
         if q.name not in p:
             continue
         info = dict(ci.get(name, {}).get(q.name, {"value": p[q.name], "ci95": None, "at_bound": False}))
-        if direct is not None:
+        if direct is not None and q.name in direct["ci95"]:
             info.update(ci95=direct["ci95"][q.name], source=p["source"])
         info["unit"] = q.unit
         rows[q.name] = info

@@ -245,6 +245,50 @@ def sensor_delay(model: LoopModel) -> float:
     return sum(CATALOGUE[n].delay_s(p) for n, p in model.effects.items())
 
 
+def torque_sensor(model: LoopModel) -> tuple:
+    """(s, b) of the torque channel: recorded torque T_rec = s T + b, T the true torque on bit.
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model; its effects' :meth:`~drillpy.loop.effects.base.Effect.torque_sensor` compose
+        (s1 (s2 T + b2) + b1).
+
+    Returns
+    -------
+    tuple of float
+        Scale s [-] and offset b [N m]; (1, 0) without a calibration effect (``sensor_gain``).
+    """
+    s, b = 1.0, 0.0
+    for n, p in model.effects.items():
+        si, bi = CATALOGUE[n].torque_sensor(p)
+        s, b = si * s, si * b + bi
+    return s, b
+
+
+def true_torque(model: LoopModel, x, rate: bool = False) -> np.ndarray:
+    """The true torque on bit (T_rec - b) / s [N m] of a recorded torque under the model's
+    torque-channel calibration (:func:`torque_sensor`; SG.0 of docs/loop.md).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model (its ``sensor_gain``, if any).
+    x : array_like
+        Recorded torque T_rec [N m], or one of its time derivatives with ``rate``.
+    rate : bool
+        ``x`` is a derivative of the recorded torque: only the scale applies, x / s.
+
+    Returns
+    -------
+    numpy.ndarray
+        The true torque [N m] (or its derivative).
+    """
+    s, b = torque_sensor(model)
+    x = np.asarray(x, float)
+    return x / s if rate else (x - b) / s
+
+
 def _wob_input(model: LoopModel, w, n: int, recorded=None) -> np.ndarray:
     """The WOB the law takes at each sample [N]: the recorded WOB ``recorded`` where an effect makes
     the WOB a state (``Effect.wob_state``: the law then sees the state, which the load cells record),
@@ -286,7 +330,7 @@ def state_channels(model: LoopModel, data: LoopData) -> dict:
     def at(k):
         return np.interp(t + tau, t, ch[k]) if tau > 0 else ch[k]
 
-    out = {"v": at("v"), "a": at("v1"), "T": at("T")}
+    out = {"v": at("v"), "a": at("v1"), "T": true_torque(model, at("T"))}
     if data.has_top:
         out["top"], out["dtop"] = at("top"), at("top1")
     w = at("W") if data.has_wob else None
@@ -325,7 +369,7 @@ def law_channels(model: LoopModel, data: LoopData) -> dict:
     def undo(k):
         return ch[k] + c1 * ch[k + "1"] + c2 * ch[k + "2"]
 
-    out = {"v": undo("v"), "a": ch["v1"] + c1 * ch["v2"] + c2 * ch["v3"], "T": undo("T")}
+    out = {"v": undo("v"), "a": ch["v1"] + c1 * ch["v2"] + c2 * ch["v3"], "T": true_torque(model, undo("T"))}
     w = undo("W") if data.has_wob else None
     if w is not None:
         out["W"] = w
@@ -423,7 +467,8 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
             w0 = x
     starts = _core.HorizonStart.from_arrays(
         index=idx.tolist(), bit_speed=chs["v"][idx], bit_accel=chs["a"][idx], torque=T0, top_speed=om, top_accel=dom,
-        y_bit_speed=ch["v"][idx], dy_bit_speed=ch["v1"][idx], y_torque=ch["T"][idx], dy_torque=ch["T1"][idx],
+        y_bit_speed=ch["v"][idx], dy_bit_speed=ch["v1"][idx], y_torque=true_torque(model, ch["T"][idx]),
+        dy_torque=true_torque(model, ch["T1"][idx], rate=True),
         y_top_speed=ytop, dy_top_speed=dytop, wob=w0)
     # the law's WOB input series (an axial model's set force: never the recorded state itself)
     wob_series = _wob_input(model, chs.get("W"), data.t.size) if any(
@@ -431,9 +476,11 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
     # the batched SIMD integrator unless the options ask for the scalar reference one (LoopOptions.batched)
     r = _core.predict_horizons(sim, starts, data.dt, data.L + D, top_speed=top_series, wob=wob_series, eta=eta,
                                threads=threads, batched=data.batched)
+    gain, offset = torque_sensor(model)  # the torque as the load cell records it
+    T = gain * r.torque[:, D:] + offset if (gain, offset) != (1.0, 0.0) else r.torque[:, D:]
     if top:
-        return r.bit_speed[:, D:], r.torque[:, D:], r.top_speed[:, D:]
-    return r.bit_speed[:, D:], r.torque[:, D:]
+        return r.bit_speed[:, D:], T, r.top_speed[:, D:]
+    return r.bit_speed[:, D:], T
 
 
 @dataclass
@@ -665,7 +712,7 @@ def equation_residual(model: LoopModel, data: LoopData, highpass_s: float = 2.0)
     from scipy.ndimage import uniform_filter1d
     ch, dt = data.ch, data.dt
     eq = bit_equation(model)
-    v, a, T, top = ch["v"], ch["v1"], ch["T"], ch["top"]
+    v, a, T, top = ch["v"], ch["v1"], true_torque(model, ch["T"]), ch["top"]
     slip = top - v
     phi = np.concatenate([[0.0], np.cumsum(0.5 * (slip[1:] + slip[:-1]) * dt)])
     w = max(3, int(round(highpass_s / dt)))

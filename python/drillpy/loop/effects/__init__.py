@@ -16,6 +16,7 @@ effect                  level   model change (parameters)
 ``string_stiffness``    dynamic GJ of the string times a factor
 ``static_friction``     dynamic break-away torque T_s of the non-regularized Eq. (5.1) (a0 > 0)
 ``string_friction``     dynamic Coulomb torque T_sf sign(v) on the bit, outside the torque sensor
+``sensor_gain``         dynamic the torque channel reads s T + b (s measured from the encoders' bit equation)
 ======================= ======= ===================================================================
 
 Adding an effect: one module here defining ``EFFECT`` (an Effect subclass instance), its name in
@@ -29,7 +30,7 @@ import importlib
 from .base import Effect, Param
 
 NAMES = ("bit_hysteresis", "wob_coupling", "top_drive_dynamics", "axial_jack", "sensor_lag", "torque_fluctuation",
-         "viscous_damping", "string_stiffness", "static_friction", "string_friction")
+         "viscous_damping", "string_stiffness", "static_friction", "string_friction", "sensor_gain")
 CATALOGUE: dict = {n: importlib.import_module(f".{n}", __name__).EFFECT for n in NAMES}
 
 

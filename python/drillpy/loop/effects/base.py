@@ -11,7 +11,7 @@ An effect is a named change of the declared model with its own parameters. Its m
 * how it changes the engine configuration: :meth:`Effect.configure`; how a declared configuration
   carries it: :meth:`Effect.declared` and :meth:`Effect.strip`;
 * how it changes a prediction restarted from the record (only the effects that act through the
-  record's inputs or the sensors override these): :meth:`Effect.delay_s`, :meth:`Effect.undo`,
+  record's inputs or the sensors override these): :meth:`Effect.delay_s`, :meth:`Effect.undo`, :meth:`Effect.torque_sensor`,
   :meth:`Effect.top_state`, :meth:`Effect.wob_input`, :meth:`Effect.eta`, :meth:`Effect.restart_torque`,
   :meth:`Effect.restart_wob`;
 * what is physically implausible about a fit: :meth:`Effect.flags`;
@@ -489,6 +489,26 @@ class Effect:
             WOB [N], one value per restart; None (default).
         """
         return None
+
+    def torque_sensor(self, p: dict) -> tuple:
+        """(s, b) of the torque channel's calibration, recorded torque = s T + b (docs/loop.md, `sensor_gain`).
+
+        :func:`drillpy.loop.model.torque_sensor` composes them; the model's state, its law residual
+        and its restart torque take the true torque (T_rec - b) / s, and its predicted torque is
+        compared with the record as s T_pred + b.
+
+        Parameters
+        ----------
+        p : dict
+            The effect's parameter values (name -> value).
+
+        Returns
+        -------
+        tuple of float
+            Scale s [-] and offset b [N m]; (1, 0) (default) for an effect that does not touch the
+            torque channel's calibration.
+        """
+        return 1.0, 0.0
 
     def measure(self, p: dict, chans: dict, fs: float) -> dict:
         """The recorded channels of a simulation (dict name -> array at ``fs`` Hz) after the effect's

@@ -110,9 +110,10 @@ class StaticFriction(Effect):
         from drillpy.records.signals import segment_cycles
         cal = data.valid & (data.t < data.t_split)
         cyc = segment_cycles(data.ch["v"], data.dt, data.stick_threshold, valid=cal)
-        from ..model import state_channels
+        from ..model import state_channels, true_torque
         w = state_channels(model, data)["W_eff"]
-        brk = ident.breakaway_torques(cyc, np.where(cal, data.ch["T"], np.nan), w, model.wob)
+        T = true_torque(model, data.ch["T"])  # the load cell's calibration undone (sensor_gain)
+        brk = ident.breakaway_torques(cyc, np.where(cal, T, np.nan), w, model.wob)
         if brk.size < 3:
             return None
         m, se = float(np.mean(brk)), float(np.std(brk, ddof=1) / np.sqrt(brk.size))
