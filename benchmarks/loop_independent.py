@@ -33,7 +33,9 @@ reading of a compliance in series with the bar) and the final E not above the ba
 ``exact`` pairs (``Case.exact``): both named *and* nothing else added (an extra effect standing in
 for the imperfection of the first is the failure class 2 of issue 29). A truth whose name is not
 in the installed catalogue (``sensor_gain`` until it is added) is judged as outside it: nothing
-misnamed (the catalogue cannot name it), noted "not in this catalogue".
+misnamed (the catalogue cannot name it), noted "not in this catalogue". The third simulator's
+contact has a break-away torque (2.7 N m) above its sliding law's maximum (2.56 N m), so
+``static_friction`` fitted at 2.7 N m +-5 % (``Case.acceptable_range``) is acceptable on its records.
 
 Every step is printed with its validation E before and after it.
 
@@ -48,7 +50,7 @@ import os
 import sys
 import tempfile
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
@@ -73,6 +75,8 @@ class Case:
     note: str = ""
     options: dict = field(default_factory=dict)  # the simulator's own settings for this case
     exact: bool = False       # pair: nothing but the truth may be added
+    #: an acceptable name counts only with its fitted parameter in [lo, hi]: {effect: (param, lo, hi)}
+    acceptable_range: dict = field(default_factory=dict)
 
     @property
     def label(self) -> str:
@@ -126,28 +130,51 @@ STRIBECK_CASES = [
 ]
 
 #: The cases on ``third_rig.py``'s records (``--simulator third``): one per failure class of issue 29
-#: (``options["case"]`` names the simulator's case, :data:`third_rig.CASE_OPTIONS`).
+#: (``options["case"]`` names the simulator's case, :data:`third_rig.CASE_OPTIONS`). The simulator's
+#: contact holds the bit up to T_s = 2.7 N m, above its regularized sliding law's maximum (2.56 N m at
+#: 0.24 rad/s): a break-away torque the declared regularized Eq. (5.1) lacks, so ``static_friction``
+#: with its static torque at 2.7 N m (+-5 %) is a reading of the truth on every record.
+THIRD_BREAKAWAY = {"static_friction": ("static_torque_nm", 0.95 * 2.7, 1.05 * 2.7)}
+
+
+def _third(kind, effects, seed, case, acceptable=(), **kw) -> Case:
+    return Case(kind, effects, seed, acceptable=tuple(acceptable) + ("static_friction",),
+                acceptable_range=THIRD_BREAKAWAY, options={"case": case}, **kw)
+
+
 THIRD_CASES = [
-    Case("clean", [], 1, options={"case": "clean"}),
-    Case("outside", ["disk_bit_compliance"], 2, acceptable=("string_stiffness",), options={"case": "bit_compliance"},
-         note="out of the catalogue: nothing, or string_stiffness (a spring in series with the bar), and E not raised"),
-    Case("pair", ["top_drive_dynamics", "sensor_lag"], 3, exact=True, options={"case": "motor_lowpass"},
-         note="two-inertia motor with a coupling spring + 10 Hz low-pass; nothing else may be added"),
-    Case("pair", ["sensor_lag", "wob_coupling"], 4, exact=True, options={"case": "lowpass_wob"},
-         note="10 Hz low-pass + the law at the measured WOB; nothing else may be added"),
-    Case("single", ["viscous_damping"], 5, options={"case": "bit_viscous"},
-         note="18 % of the torque at peak speed; docs/loop.md calls it confounded with the damping"),
-    Case("single", ["string_stiffness"], 6, options={"case": "soft_string"}, note="GJ x 0.88"),
-    Case("single", ["wob_coupling"], 7, options={"case": "wob_full"}),
-    Case("half", ["wob_coupling"], 8, size="half", options={"case": "wob_half"}),
-    Case("single", ["sensor_gain"], 9, options={"case": "load_cell"}, note="load cell 1.15 T + 0.15 N m"),
+    _third("clean", [], 1, "clean"),
+    _third("outside", ["disk_bit_compliance"], 2, "bit_compliance", acceptable=("string_stiffness",),
+           note="out of the catalogue: nothing, or string_stiffness (a spring in series with the bar), and E not raised"),
+    _third("pair", ["top_drive_dynamics", "sensor_lag"], 3, "motor_lowpass", exact=True,
+           note="two-inertia motor with a coupling spring + 10 Hz low-pass; nothing else may be added"),
+    _third("pair", ["sensor_lag", "wob_coupling"], 4, "lowpass_wob", exact=True,
+           note="10 Hz low-pass + the law at the measured WOB; nothing else may be added"),
+    _third("single", ["viscous_damping"], 5, "bit_viscous",
+           note="18 % of the torque at peak speed; docs/loop.md calls it confounded with the damping"),
+    _third("single", ["string_stiffness"], 6, "soft_string", note="GJ x 0.88"),
+    _third("single", ["wob_coupling"], 7, "wob_full"),
+    _third("half", ["wob_coupling"], 8, "wob_half", size="half"),
+    _third("single", ["sensor_gain"], 9, "load_cell", note="load cell 1.15 T + 0.15 N m"),
 ]
 SIMULATORS = {"tucker-wang": CASES, "stribeck": STRIBECK_CASES, "third": THIRD_CASES}
+
+
+def _acceptable(case: Case, res) -> set:
+    """The case's acceptable names, less those whose fitted parameter is outside its ``acceptable_range``."""
+    ok = set(case.acceptable)
+    params = res.final.model.parameters()
+    for name, (par, lo, hi) in case.acceptable_range.items():
+        val = (params.get(name) or {}).get(par) if isinstance(params, dict) else None
+        if name in ok and val is not None and not lo <= float(val) <= hi:
+            ok.discard(name)
+    return ok
 
 
 def judge(case: Case, res) -> tuple:
     """(pass, explanation) under the rules of the module docstring."""
     added = [s["effect"] for s in res.steps if s["action"] == "add"]
+    case = replace(case, acceptable=tuple(_acceptable(case, res)))
     final = set(res.final.model.effects)
     truth = {e for e in case.effects if e in NAMES}
     unknown = [e for e in case.effects if e not in NAMES]
@@ -185,6 +212,9 @@ def judge(case: Case, res) -> tuple:
     why = "all named" if not missing else f"missing {sorted(missing)}"
     if extra:
         why += f"; also added {extra}"
+    acc = sorted(set(added) & set(case.acceptable) - truth)
+    if acc:
+        why += f"; also added {acc} (acceptable)"
     if unknown:
         why += f"; {', '.join(unknown)} not in this catalogue"
     return not missing and not extra, why

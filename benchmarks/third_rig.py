@@ -28,7 +28,9 @@ It shares no code with drillpy (NumPy and SciPy only; drillpy is not imported) a
   T_s 2.7 N m, T_c 1.3 N m, v_s 3 rad/s, v_r 0.01 rad/s (regularization at zero speed),
   c_l 0.004 N m s/rad, W_ref 557.1 N: 2.56 N m at its maximum (0.24 rad/s), 1.64 N m at 8.47 rad/s
   with a slope of -0.029 N m s/rad there, 1.52 N m at 17 rad/s. The contact holds the bit (a true
-  stick) while the torque that would accelerate it stays within T_s W / W_ref.
+  stick) while the torque that would accelerate it stays within T_s W / W_ref: a break-away torque
+  (2.7 N m) above the sliding law's maximum (2.56 N m), which a regularized law (zero at rest) lacks,
+  so that ``static_friction`` at 2.7 N m is a reading of this truth.
 * **Stick and slip**: phases integrated separately by ``solve_ivp`` (Radau, rtol 1e-6, analytic
   Jacobian): in slip, a terminal event when |v| falls to ``STICK_BAND`` (then stick if the holding
   torque is within the capacity); in stick the bit's speed is zero and its angle frozen (the DOF removed), with a terminal
