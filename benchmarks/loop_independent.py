@@ -163,10 +163,11 @@ SIMULATORS = {"tucker-wang": CASES, "stribeck": STRIBECK_CASES, "third": THIRD_C
 def _acceptable(case: Case, res) -> set:
     """The case's acceptable names, less those whose fitted parameter is outside its ``acceptable_range``."""
     ok = set(case.acceptable)
-    params = res.final.model.parameters()
+    params = res.final.model.parameters() if case.acceptable_range else {}
+    effects = params.get("effects") or {} if isinstance(params, dict) else {}
     for name, (par, lo, hi) in case.acceptable_range.items():
-        val = (params.get(name) or {}).get(par) if isinstance(params, dict) else None
-        if name in ok and val is not None and not lo <= float(val) <= hi:
+        val = (effects.get(name) or {}).get(par)
+        if name in ok and name in effects and (val is None or not lo <= float(val) <= hi):
             ok.discard(name)
     return ok
 
