@@ -23,6 +23,22 @@ outside simulator written separately (an exponential Stribeck law whose break-aw
 value at rest, Rayleigh damping 0.05, 5 segments, an exact linear step, 1000 Hz records):
 :data:`STRIBECK_CASES`, the same pass rules.
 
+``--simulator third`` takes the records of ``benchmarks/third_rig.py``, a third one (a continuous
+bar by Rayleigh-Ritz, Kelvin-Voigt damping, an arctan-Stribeck law with a viscous part and a
+Karnopp stick band, Radau with stick and break-away events, differentiated quantized encoders and
+a load cell, 1000 Hz records): :data:`THIRD_CASES`, one record per failure class of issue 29. Two
+rules are added for them: ``outside`` (an effect outside the catalogue, the disk-bit compliance):
+nothing added but the names in ``acceptable`` (``string_stiffness``, the catalogue's nearest
+reading of a compliance in series with the bar) and the final E not above the baseline's; and
+``exact`` pairs (``Case.exact``): both named *and* nothing else added (an extra effect standing in
+for the imperfection of the first is the failure class 2 of issue 29). A truth whose name is not
+in the installed catalogue (``sensor_gain`` until it is added) is judged as outside it: nothing
+misnamed (the catalogue cannot name it), noted "not in this catalogue". The third simulator's
+contact has a break-away torque (2.7 N m) above its sliding law's maximum (2.56 N m), so
+``static_friction`` fitted at 2.7 N m +-5 % (``Case.acceptable_range``) is acceptable on its records.
+
+Every step is printed with its validation E before and after it.
+
 Per case the folder (``--dir``; default a new temporary folder, kept) gets the record
 ``case_NN.csv``, the loop's log ``case_NN.log`` (with every round's candidates and the reasons
 they were refused) and ``case_NN.json`` (steps, rounds, long runs, final parameters).
@@ -34,12 +50,13 @@ import os
 import sys
 import tempfile
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import independent_rig as rig  # noqa: E402  (the outside simulator, no drillpy inside)
 import stribeck_rig  # noqa: E402  (a second one, written separately)
+import third_rig  # noqa: E402  (a third one: continuous bar, Radau with stick events, encoders)
 
 import drillpy  # noqa: E402
 from drillpy import jsonio  # noqa: E402
@@ -49,7 +66,7 @@ from drillpy.loop.effects import NAMES  # noqa: E402
 
 @dataclass
 class Case:
-    kind: str                 # clean, single, half, pair, ramp, noise
+    kind: str                 # clean, single, half, pair, ramp, noise, outside
     effects: list
     seed: int
     size: str = "full"
@@ -57,6 +74,9 @@ class Case:
     acceptable: tuple = ()    # names that are a correct reading besides the truth's
     note: str = ""
     options: dict = field(default_factory=dict)  # the simulator's own settings for this case
+    exact: bool = False       # pair: nothing but the truth may be added
+    #: an acceptable name counts only with its fitted parameter in [lo, hi]: {effect: (param, lo, hi)}
+    acceptable_range: dict = field(default_factory=dict)
 
     @property
     def label(self) -> str:
@@ -133,16 +153,68 @@ STRIBECK_CASES = [
     Case("single", ["viscous_damping"], 18, note="docs/loop.md calls it confounded with the damping"),
     Case("ramp", ["top_speed_ramp"], 19, acceptable=("top_drive_dynamics",)),
 ]
-SIMULATORS = {"tucker-wang": CASES, "stribeck": STRIBECK_CASES}
+
+#: The cases on ``third_rig.py``'s records (``--simulator third``): one per failure class of issue 29
+#: (``options["case"]`` names the simulator's case, :data:`third_rig.CASE_OPTIONS`). The simulator's
+#: contact holds the bit up to T_s = 2.7 N m, above its regularized sliding law's maximum (2.56 N m at
+#: 0.24 rad/s): a break-away torque the declared regularized Eq. (5.1) lacks, so ``static_friction``
+#: with its static torque at 2.7 N m (+-5 %) is a reading of the truth on every record.
+THIRD_BREAKAWAY = {"static_friction": ("static_torque_nm", 0.95 * 2.7, 1.05 * 2.7)}
+
+
+def _third(kind, effects, seed, case, acceptable=(), **kw) -> Case:
+    return Case(kind, effects, seed, acceptable=tuple(acceptable) + ("static_friction",),
+                acceptable_range=THIRD_BREAKAWAY, options={"case": case}, **kw)
+
+
+THIRD_CASES = [
+    _third("clean", [], 1, "clean"),
+    _third("outside", ["disk_bit_compliance"], 2, "bit_compliance", acceptable=("string_stiffness",),
+           note="out of the catalogue: nothing, or string_stiffness (a spring in series with the bar), and E not raised"),
+    _third("pair", ["top_drive_dynamics", "sensor_lag"], 3, "motor_lowpass", exact=True,
+           note="two-inertia motor with a coupling spring + 10 Hz low-pass; nothing else may be added"),
+    _third("pair", ["sensor_lag", "wob_coupling"], 4, "lowpass_wob", exact=True,
+           note="10 Hz low-pass + the law at the measured WOB; nothing else may be added"),
+    _third("single", ["viscous_damping"], 5, "bit_viscous",
+           note="18 % of the torque at peak speed; docs/loop.md calls it confounded with the damping"),
+    _third("single", ["string_stiffness"], 6, "soft_string", note="GJ x 0.88"),
+    _third("single", ["wob_coupling"], 7, "wob_full"),
+    _third("half", ["wob_coupling"], 8, "wob_half", size="half"),
+    _third("single", ["sensor_gain"], 9, "load_cell", note="load cell 1.15 T + 0.15 N m"),
+]
+SIMULATORS = {"tucker-wang": CASES, "stribeck": STRIBECK_CASES, "third": THIRD_CASES}
+
+
+def _acceptable(case: Case, res) -> set:
+    """The case's acceptable names, less those whose fitted parameter is outside its ``acceptable_range``."""
+    ok = set(case.acceptable)
+    params = res.final.model.parameters() if case.acceptable_range else {}
+    effects = params.get("effects") or {} if isinstance(params, dict) else {}
+    for name, (par, lo, hi) in case.acceptable_range.items():
+        val = (effects.get(name) or {}).get(par)
+        if name in ok and name in effects and (val is None or not lo <= float(val) <= hi):
+            ok.discard(name)
+    return ok
 
 
 def judge(case: Case, res) -> tuple:
     """(pass, explanation) under the rules of the module docstring."""
     added = [s["effect"] for s in res.steps if s["action"] == "add"]
+    case = replace(case, acceptable=tuple(_acceptable(case, res)))
     final = set(res.final.model.effects)
     truth = {e for e in case.effects if e in NAMES}
+    unknown = [e for e in case.effects if e not in NAMES]
     E0, E1 = res.baseline.E_test, res.final.E_test
     ratio_ok = E1 <= 0.6 * E0
+    if case.kind == "outside":
+        wrong = set(added) - set(case.acceptable)
+        ok = not wrong and E1 <= E0
+        return ok, ("nothing added" if not added else f"added {added}" + ("" if wrong else " (acceptable)")) + \
+            ("" if E1 <= E0 else "; E raised")
+    if case.kind in ("single", "half", "pair") and not truth:
+        wrong = set(added) - set(case.acceptable)
+        return not wrong, (f"{', '.join(unknown)} not in this catalogue: "
+                           + ("nothing added" if not added else f"misnamed {added}"))
     if case.kind == "clean":
         wrong = set(added) - set(case.acceptable)
         return not wrong, "nothing added" if not added else f"added {added}" + ("" if wrong else " (acceptable)")
@@ -160,15 +232,32 @@ def judge(case: Case, res) -> tuple:
                         f"hysteresis {'kept' if e in final else 'removed'}, added {added}")
         named = bool(added) and added[0] == e
         return named and ratio_ok, (f"first added {added[0] if added else 'nothing'}; E ratio {E1 / E0:.2f}")
-    # half, noise: named; pair: all found
+    # half, noise: named; pair: all found (exact: and nothing else added)
     missing = truth - final
-    return not missing, ("all named" if not missing else f"missing {sorted(missing)}")
+    extra = sorted(set(added) - truth - set(case.acceptable)) if case.exact else []
+    why = "all named" if not missing else f"missing {sorted(missing)}"
+    if extra:
+        why += f"; also added {extra}"
+    acc = sorted(set(added) & set(case.acceptable) - truth)
+    if acc:
+        why += f"; also added {acc} (acceptable)"
+    if unknown:
+        why += f"; {', '.join(unknown)} not in this catalogue"
+    return not missing and not extra, why
 
 
 def _lr(x) -> str:
     if not x or x.get("ss") is None:
         return "n/a"
     return f"{x['ss']:.2f}/{x['stick_fraction']:.2f}"
+
+
+def _errs(step: dict) -> str:
+    """A step's validation E before and after it, " (0.612->0.401)"."""
+    try:
+        return f" ({float(step['error_before']):.3f}->{float(step['error_after']):.3f})"
+    except (KeyError, TypeError, ValueError):
+        return ""
 
 
 def _strip(step: dict) -> dict:
@@ -179,7 +268,10 @@ def _strip(step: dict) -> dict:
 def run_case(i: int, case: Case, folder: str, rate: float, simulator: str = "tucker-wang") -> dict:
     t0 = time.time()
     path = os.path.join(folder, f"case_{i:02d}.csv")
-    if simulator == "stribeck":
+    if simulator == "third":
+        eff = dict(third_rig.CASE_OPTIONS[case.options["case"]])
+        third_rig.make_record(case.options["case"], case.seed, path, noise=case.noise)
+    elif simulator == "stribeck":
         (name,) = case.effects or ["clean"]
         eff = {"ramp" if name == "top_speed_ramp" else name: case.options}
         stribeck_rig.make_record(next(iter(eff)), case.seed, path, **case.options)
@@ -219,7 +311,7 @@ def run_case(i: int, case: Case, folder: str, rate: float, simulator: str = "tuc
     blr = res.baseline_long_run or {}
     last_lr = next((s["long_run"] for s in reversed(res.steps) if s.get("long_run")), None)
     final_model_lr = last_lr.get("after") if last_lr else blr.get("model")
-    order = [{"add": "+", "remove": "-"}.get(s["action"], "~") + s["effect"] for s in res.steps]
+    order = [{"add": "+", "remove": "-"}.get(s["action"], "~") + s["effect"] + _errs(s) for s in res.steps]
     return {"ok": ok, "why": why, "order": order, "E0": res.baseline.E_test, "E1": res.final.E_test,
             "rec_lr": blr.get("measured"), "base_lr": blr.get("model"), "fin_lr": final_model_lr,
             "t_sim": t_sim, "t_loop": t_loop, "final": list(res.final.model.effects)}
@@ -232,7 +324,8 @@ def main(argv=None) -> int:
     ap.add_argument("--law", choices=rig.LAWS, default="tucker_wang",
                     help="the simulator's bit-rock law (eq51: the declared preset's own, a control)")
     ap.add_argument("--simulator", choices=tuple(SIMULATORS), default="tucker-wang",
-                    help="independent_rig.py (tucker-wang, 19 cases) or stribeck_rig.py (stribeck, 11 cases)")
+                    help="independent_rig.py (tucker-wang, 19 cases), stribeck_rig.py (stribeck, 11 cases) or "
+                         "third_rig.py (third, 9 cases)")
     ap.add_argument("--dir", help="folder for records and logs (default: a new temporary folder)")
     a = ap.parse_args(argv)
     rig.use_law(a.law)
