@@ -13,7 +13,6 @@ import numpy as np
 from drillpy.outputs import write_text
 from drillpy.model.config import normalize
 from .effects import CATALOGUE
-from .effects.top_drive_dynamics import quasi_static
 from .run import LoopResult, dumps
 from drillpy.reports.text import number_text as _f
 from drillpy.records.io import RPM
@@ -189,32 +188,7 @@ def reading(name: str, p: dict) -> str:
         ms) followed by the effect's reading on the rig.
     """
     e = CATALOGUE[name]
-    if name == "top_drive_dynamics" and p.get("variant") == "measured":
-        txt = "the top follows the measured top speed (kinematic drive: a diagnosis, fed the cycle it should predict)"
-    elif name == "top_drive_dynamics":
-        c = 1.0 / p["droop_rad_s_per_nm"]
-        inertia = ("no inertia the record resolves (fitted at its lower bound: a quasi-static droop; a rotor's "
-                   "real inertia is not that small, so the coupling or the drive train shields it)"
-                   if quasi_static(p) else
-                   f"inertia {p['inertia_kg_m2']:.3g} kg m^2 (time constant {p['inertia_kg_m2'] / c:.3g} s)")
-        k = p.get("coupling_stiffness_nm_rad")
-        txt = (f"the top drive gives way: a motor with droop {p['droop_rad_s_per_nm'] * RPM:.3g} RPM per N m "
-               f"(c_m = {c:.3g} N m s/rad), {inertia}, no-load speed {p['command_rad_s'] * RPM:.1f} RPM, stall "
-               f"torque {c * p['command_rad_s']:.2f} N m" + (f", behind a coupling of {k:.3g} N m/rad" if k else ""))
-    elif name == "sensor_lag":
-        fc = p["lowpass_hz"]
-        txt = (f"the recorded channels went through a low-pass at {fc:.3g} Hz (group delay "
-               f"{1e3 * math.sqrt(2) / (2 * math.pi * fc):.1f} ms)")
-    elif name == "wob_coupling":
-        txt = f"the torque follows the WOB with gain k = {p['gain']:.3g} (k = 1: proportional)"
-    elif name == "bit_hysteresis":
-        txt = f"H = {p['beta1']:.3g} tanh({p['beta2']:.3g} a) sign(v) on the speed-dependent torque"
-    elif name == "torque_fluctuation":
-        txt = (f"a torque fluctuation of standard deviation {p.get('std', float('nan')):.3g} that persists over "
-               f"tau = {p['tau_s']:.3g} s")
-    else:
-        txt = "; ".join(f"{q.meaning}: {p[q.name]:.4g} {q.unit}" for q in e.params if q.name in p)
-    return f"{txt}. On the rig: {e.reading}."
+    return f"{e.describe(p)}. On the rig: {e.reading}."
 
 
 def values(params: dict) -> dict:

@@ -254,6 +254,23 @@ class Effect:
         """
         return None
 
+    def describe(self, p: dict) -> str:
+        """One sentence on the fitted values, for the report's physical reading
+        (:func:`drillpy.loop.report.reading` appends :attr:`reading`); default: every parameter's
+        meaning, value and unit.
+
+        Parameters
+        ----------
+        p : dict
+            The effect's parameter values (name -> value in the parameter's unit).
+
+        Returns
+        -------
+        str
+            The sentence, without a final full stop.
+        """
+        return "; ".join(f"{q.meaning}: {p[q.name]:.4g} {q.unit}" for q in self.params if q.name in p)
+
     def flags(self, p: dict, data, model=None) -> list:
         """Reasons why fitted values are physically implausible (an empty list: plausible).
 

@@ -25,6 +25,16 @@ class BitHysteresis(Effect):
                "accelerating and decelerating branches of the rig's torque-speed loop (Figs. 3.5, 5.7)")
     defaults = {"beta1": 0.2, "beta2": 0.005}
 
+    def describe(self, p):
+        """The hysteresis term of Eqs. (3.2)-(3.3); see :meth:`Effect.describe`.
+
+        Parameters
+        ----------
+        p : dict
+            The effect's values (``beta1``, ``beta2``).
+        """
+        return f"H = {p['beta1']:.3g} tanh({p['beta2']:.3g} a) sign(v) on the speed-dependent torque"
+
     def count(self, p):
         """Two: beta1 and beta2 (fitted with the law, not by :meth:`free`); see
         :meth:`Effect.count`.

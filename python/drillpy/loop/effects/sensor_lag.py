@@ -29,6 +29,18 @@ class SensorLag(Effect):
                "(section 5.3.1), put there against the platform's 20 Hz mode")
     defaults = {"lowpass_hz": 10.0}
 
+    def describe(self, p):
+        """The cut-off and the group delay sqrt(2) / w_c; see :meth:`Effect.describe`.
+
+        Parameters
+        ----------
+        p : dict
+            The effect's values (``lowpass_hz``).
+        """
+        fc = p["lowpass_hz"]
+        return (f"the recorded channels went through a low-pass at {fc:.3g} Hz (group delay "
+                f"{1e3 * math.sqrt(2) / (2 * math.pi * fc):.1f} ms)")
+
     def starts(self, model, data):
         """Cutoffs 2, 4, 8 and 16 Hz; see :meth:`Effect.starts`.
 

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from drillpy.records.io import RPM
 from drillpy.records.rigsim import RIG_PARAMETERS, add_coupling, remove_coupling
 
 from .base import Effect, Param
@@ -100,6 +101,27 @@ class TopDriveDynamics(Effect):
         k = p.get("coupling_stiffness_nm_rad")
         rigid = k is not None and k >= 0.99 * COUPLING[1]
         return len(self.free(p)) - int(rigid) - int(quasi_static(p))
+
+    def describe(self, p):
+        """The motor's droop in RPM per N m, c_m, its inertia (or the quasi-static droop), no-load
+        speed, stall torque and coupling; the kinematic variant's reading; see :meth:`Effect.describe`.
+
+        Parameters
+        ----------
+        p : dict
+            The effect's values.
+        """
+        if p.get("variant") == "measured":
+            return "the top follows the measured top speed (kinematic drive: a diagnosis, fed the cycle it should predict)"
+        c = 1.0 / p["droop_rad_s_per_nm"]
+        inertia = ("no inertia the record resolves (fitted at its lower bound: a quasi-static droop; a rotor's "
+                   "real inertia is not that small, so the coupling or the drive train shields it)"
+                   if quasi_static(p) else
+                   f"inertia {p['inertia_kg_m2']:.3g} kg m^2 (time constant {p['inertia_kg_m2'] / c:.3g} s)")
+        k = p.get("coupling_stiffness_nm_rad")
+        return (f"the top drive gives way: a motor with droop {p['droop_rad_s_per_nm'] * RPM:.3g} RPM per N m "
+                f"(c_m = {c:.3g} N m s/rad), {inertia}, no-load speed {p['command_rad_s'] * RPM:.1f} RPM, stall "
+                f"torque {c * p['command_rad_s']:.2f} N m" + (f", behind a coupling of {k:.3g} N m/rad" if k else ""))
 
     def flags(self, p, data, model=None):
         """Flag a recorded top speed whose standard deviation is below :data:`STEADY_TOP` (1 %) of

@@ -31,6 +31,17 @@ class TorqueFluctuation(Effect):
                "lateral friction of the bit in its hole (section 5.3.2); the fluctuation process of chapter 4")
     defaults = {"std": 0.15, "f0_hz": 0.25}
 
+    def describe(self, p):
+        """The fluctuation's standard deviation and memory tau (Eq. 4.1); see :meth:`Effect.describe`.
+
+        Parameters
+        ----------
+        p : dict
+            The effect's values (``std`` when estimated, ``tau_s``).
+        """
+        return (f"a torque fluctuation of standard deviation {p.get('std', float('nan')):.3g} that persists over "
+                f"tau = {p['tau_s']:.3g} s")
+
     def count(self, p):
         """Two: tau and the memory (``std`` is not fitted); see :meth:`Effect.count`.
 

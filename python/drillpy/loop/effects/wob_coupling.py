@@ -23,6 +23,16 @@ class WobCoupling(Effect):
     needs = ("wob",)
     defaults = {"gain": 1.0}
 
+    def describe(self, p):
+        """The gain k of the WOB in the law; see :meth:`Effect.describe`.
+
+        Parameters
+        ----------
+        p : dict
+            The effect's values (``gain``).
+        """
+        return f"the torque follows the WOB with gain k = {p['gain']:.3g} (k = 1: proportional)"
+
     def count(self, p):
         """One: the gain k (fitted with the law); see :meth:`Effect.count`.
 
