@@ -46,7 +46,7 @@ def test_validation_case_passes(case):
 
 def test_a_declared_effect_the_record_lacks_is_removed():
     """A declared hysteretic law (beta1 = 0.15) on a record of a reversible truth: the backward step
-    removes it, the error does not rise by more than the guard's margin, and nothing is added."""
+    removes it, the error does not rise (no step raises it, issue 29), and nothing is added."""
     rec = synthetic_record((), duration_s=DURATION_S, seed=5, fs_hz=RATE_HZ)
     cfg = declared_config()
     cfg["law"]["beta1"], cfg["law"]["beta2"] = 0.15, 0.005
@@ -54,7 +54,7 @@ def test_a_declared_effect_the_record_lacks_is_removed():
     assert res.declared == ["bit_hysteresis"]
     assert res.removed == ["bit_hysteresis"]
     step = res.steps[0]
-    assert step["action"] == "remove" and step["error_after"] < 1.05 * step["error_before"]
+    assert step["action"] == "remove" and step["error_after"] <= step["error_before"]
     assert "bit_hysteresis" not in res.final.model.effects
 
 
@@ -130,6 +130,8 @@ def test_outputs_have_the_interface_keys_and_the_metric_is_what_it_says(two_effe
             assert e["calibration_error_after"] < 0.99 * e["calibration_error_before"]
             assert abs(e["gj_factor"] - 1.0) <= 0.03 and s["effect"] == "string_stiffness"
             assert s["error_after"] < s["error_before"]
+        elif s["action"] == "remove":  # a removal never raises it
+            assert s["error_after"] <= s["error_before"]
         else:
             assert s["error_after"] <= 0.95 * s["error_before"]
         lr = s["long_run"]
@@ -272,7 +274,7 @@ def test_sample175_wob_is_a_response_and_nothing_fed_the_cycle_is_credited(tmp_p
     assert w["input"] == "trend" and w["response"] and w["correlation"] > 0.7
     assert js["declared"] == ["bit_hysteresis"] and "wob_coupling" not in js["final_effects"]
     assert js["adequacy"]["adequate"]
-    assert all(s["error_after"] <= s["error_before"] for s in js["steps"] if s["action"] == "add")
+    assert all(s["error_after"] <= s["error_before"] for s in js["steps"])  # no step raises E (issue 29)
     assert js["baseline_long_run"]["model"]["stick_fraction"] > 0.03  # damping held on the cycle
     ev = json.loads((out / "evidence.json").read_text())
     # the break-away torques of the stick phases, measured directly (whatever the rounds decide after)

@@ -47,7 +47,7 @@ def test_a_directly_measured_candidate_that_does_not_lower_e_is_refused(stribeck
 
 def test_no_accepted_step_raises_the_error_on_the_data_that_decided_it(stribeck_clean):
     """Every addition lowers E on the validation part by min_gain, every recalibration lowers it; a
-    removal (the effect not defended by min_gain) may raise it by less than min_gain; the final
+    removal (the effect not defended by min_gain) never raises it; the final
     error is the last step's, and loop.json says which data decided it."""
     js = json.loads((stribeck_clean / "loop.json").read_text())
     for s in js["steps"]:
@@ -56,7 +56,7 @@ def test_no_accepted_step_raises_the_error_on_the_data_that_decided_it(stribeck_
         elif s["action"] == "recalibrate":
             assert s["error_after"] < s["error_before"]
         else:
-            assert s["error_after"] < 1.05 * s["error_before"]
+            assert s["error_after"] <= s["error_before"]
     if js["steps"]:
         assert js["steps"][-1]["error_after"] == js["final_error"]
     d = js["decision"]

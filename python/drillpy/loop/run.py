@@ -118,7 +118,8 @@ class LoopResult:
                           f"({100 * o.min_gain:g} %) against the current model (and passes the guard against the null "
                           "candidate); a direct measurement only proposes a candidate; a recalibration (proposed by a "
                           "lower calibration error) must lower E there; a declared or added effect is removed when it "
-                          f"does not lower E there by {100 * o.min_gain:g} % (the simpler model: E may rise by less)",
+                          f"does not lower E there by {100 * o.min_gain:g} % and its removal does not raise E there (no "
+                          "step raises E)",
             "final_error_on": f"{val}, the data that decided the steps: the final E is the selected model's error on "
                               "its selection data, an optimistic estimate of its error elsewhere; an out-of-sample "
                               "error is the model's on data the loop never saw (drillpy predict model.json OTHER_RECORD)",
@@ -215,8 +216,9 @@ def _pair(before: dict, after: dict) -> dict:
 
 def _backward(cur: Evaluation, cur_lr: dict, data: LoopData, opt: LoopOptions, keep, log, done: int) -> tuple:
     """Remove, one at a time, the effects (other than ``keep``) the guard does not defend against
-    their removal (the cheapest removal first), after ``done`` steps. Returns (model, its long
-    run, the removal steps)."""
+    their removal (the cheapest removal first), after ``done`` steps, unless the removal would raise
+    the validation error (no step of the loop does, issue 29) or break the record's limit cycle.
+    Returns (model, its long run, the removal steps)."""
     steps = []
     while True:
         trials = []
@@ -228,6 +230,8 @@ def _backward(cur: Evaluation, cur_lr: dict, data: LoopData, opt: LoopOptions, k
             e = evidence(red, cur, data, len(cur.model.effects), opt)
             lr = _long(opt, red.model, data)
             kept = (cycle_damage(cur_lr, lr) or stick_collapse(cur_lr, lr)) if opt.long_run else None
+            if not kept and red.E_test > cur.E_test:  # no step of the loop raises the validation error (issue 29)
+                kept = f"the validation error would rise ({cur.E_test:.4f} -> {red.E_test:.4f})"
             log(f"  remove {name:<20} E_val {red.E_test:.4f} (the effect's gain {100 * e['relative_gain']:+.1f} %)"
                 + ("" if e["accepted"] else f"  <- kept: without it {kept}" if kept else
                    "  <- not defended: removed"))
