@@ -20,7 +20,7 @@ from .discovery import discover, library, residual_structure
 from .effects import CATALOGUE
 from .evidence import adequacy, evidence, law_evidence
 from .fitting import RESTART_GAIN, calibrate, e_train, fit_candidate, null_candidate, parameter_evidence, refit
-from .longrun import cycle_damage, long_run, stick_collapse
+from .longrun import cycle_damage, long_run, missed_cycle, stick_collapse
 from .model import STIFFNESS, Evaluation, LoopModel, equation_residual, evaluate
 from .options import LoopOptions
 from .rivals import confusable_note, rivals
@@ -713,6 +713,10 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
                 "not a property of the string")
         notes.append(note)
         log(note)
+    miss = missed_cycle(cur_lr)
+    if miss:
+        notes.append(miss)
+        log(miss)
     disc = _discovery(cur.model, data, log) if opt.discovery else {}
     return LoopResult(data, base, cur, steps, rounds, opt, cfg, notes, declared, adeq, base_lr, disc, last, warns)
 
