@@ -710,7 +710,11 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
     if high:
         note = (f"the final model's damping ratios {[round(z, 3) for z in high]} exceed the {PLAUSIBLE_DAMPING:g} a steel "
                 "string's modal damping can reach: an element the catalogue lacks (or one refused) stands in for them, "
-                "not a property of the string")
+                "not a property of the string" + ("" if "viscous_damping" in cur.model.effects else
+                                                  "; a viscous torque at the bit is one such element that this record "
+                                                  "cannot tell from the damping (with the top at a steady speed, "
+                                                  "-c_v v is a string damping plus a constant: viscous_damping is "
+                                                  "confounded with it, docs/loop.md), so it is not named"))
         notes.append(note)
         log(note)
     miss = missed_cycle(cur_lr)
