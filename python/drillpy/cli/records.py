@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 
 from drillpy import validate
 from drillpy.cli import add_figure_units_arg, print_json, threads_option
@@ -105,13 +104,13 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
     int
         Exit status 0.
     """
-    from drillpy.records.samples import Acceptance, SampleOptions, analyze_samples
+    from drillpy.records.samples import Acceptance, SampleOptions, analyze_samples, parse_window
     _check_analyze_options(a)
     if len(items) == 1:  # one record (or one window of it): the single-record analysis
         from drillpy.jsonio import jsonable
         from drillpy.reports.analysis import AnalysisOptions, analyze_record
         t0, t1 = items[0][2] or (a.t0, a.t1)
-        cal = None if a.calibrate is None else time_window(a.calibrate, "--calibrate")
+        cal = None if a.calibrate is None else parse_window(a.calibrate, "--calibrate")
         opt = AnalysisOptions(t0=t0, t1=t1, cycle_at_s=a.cycle_at, folds=5 if a.folds is None else a.folds,
                               psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim, calibrate=cal)
         s = analyze_record(items[0][1], a.out, opt, log=log, figure_units=a.figure_units)
@@ -131,35 +130,6 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
         print(json.dumps(jsonable({k: s[k] for k in ("n_samples", "laws", "table_5_2", "across_samples",
                                                       "acceptance", "parameters")}), allow_nan=False))
     return 0
-
-
-def time_window(text: str, name: str) -> tuple:
-    """Parse a window option ``T0:T1`` [s].
-
-    Parameters
-    ----------
-    text : str
-        The option's value, e.g. ``"0:20"``.
-    name : str
-        Option named in the error message, e.g. ``"--calibrate"``.
-
-    Returns
-    -------
-    tuple of float
-        ``(t0, t1)`` [s], finite with t0 < t1.
-
-    Raises
-    ------
-    ValueError
-        ``"<name> = '<text>': use T0:T1 [s]"`` or ``"...: needs finite T0 < T1 [s]"``.
-    """
-    try:
-        t0, t1 = (float(x) for x in text.split(":"))
-    except ValueError:
-        raise ValueError(f"{name} = {text!r}: use T0:T1 [s]") from None
-    if not (math.isfinite(t0) and math.isfinite(t1) and t0 < t1):
-        raise ValueError(f"{name} = {text!r}: needs finite T0 < T1 [s]")
-    return t0, t1
 
 
 def _check_analyze_options(a: argparse.Namespace) -> None:

@@ -213,13 +213,16 @@ class SampleOptions:
     acceptance: Acceptance = field(default_factory=Acceptance)
 
 
-def parse_window(text: str) -> tuple:
-    """'T0:T1' [s] -> (t0, t1) with t0 < t1.
+def parse_window(text: str, name: str = "window") -> tuple:
+    """'T0:T1' [s] -> (t0, t1) with t0 < t1 (a sample's window ``FILE@T0:T1``, an option such as
+    ``--calibrate T0:T1``).
 
     Parameters
     ----------
     text : str
         The window, e.g. ``"0:10"`` (the part after ``@`` in ``sample.mat@0:10``).
+    name : str
+        What the error names, e.g. ``"--calibrate"``.
 
     Returns
     -------
@@ -229,14 +232,15 @@ def parse_window(text: str) -> tuple:
     Raises
     ------
     ValueError
-        If the text is not two numbers separated by ``:``, or they are not finite with T0 < T1.
+        ``"<name> = '<text>': use T0:T1 [s] ..."`` if the text is not two numbers separated by ``:``,
+        ``"...: needs finite T0 < T1 [s]"`` if they are not finite with T0 < T1.
     """
     try:
         a, b = (float(x) for x in text.split(":"))
     except ValueError:
-        raise ValueError(f"window = {text!r}: use T0:T1 in seconds, e.g. sample.mat@0:10") from None
+        raise ValueError(f"{name} = {text!r}: use T0:T1 [s], e.g. 0:10 (or sample.mat@0:10)") from None
     if not (math.isfinite(a) and math.isfinite(b) and a < b):
-        raise ValueError(f"window = {text!r}: needs finite T0 < T1")
+        raise ValueError(f"{name} = {text!r}: needs finite T0 < T1 [s]")
     return a, b
 
 
