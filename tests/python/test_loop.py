@@ -1,6 +1,6 @@
 """drillpy loop on records its declared model did not generate: the fast validation cases (truth
 away from the declared model, effects named, clean records untouched, an effect outside the
-catalogue never misnamed), a declared effect removed by the backward step, the trivial
+catalogue never misnamed), a declared effect the record lacks calibrated away, the trivial
 predictors, the outputs (interface keys, the metric recomputed, model.json applied to another
 record), the recursive estimate of the fluctuation, the guard, sample 175, and bad input."""
 from __future__ import annotations
@@ -44,18 +44,22 @@ def test_validation_case_passes(case):
     assert r["truth"]["modes"] == 3 and r["truth"]["damping_ratio"] != 0.05  # not the declared model
 
 
-def test_a_declared_effect_the_record_lacks_is_removed():
-    """A declared hysteretic law (beta1 = 0.15) on a record of a reversible truth: the backward step
-    removes it, the error does not rise (no step raises it, issue 29), and nothing is added."""
+def test_a_declared_effect_the_record_lacks_is_calibrated_away_and_never_costs_a_step():
+    """A declared hysteretic law (beta1 = 0.15) on a record of a reversible truth: the calibration
+    takes beta1 to about zero (0.0056), nothing is added, and the backward step removes the effect
+    only if its removal does not raise E (no step raises E, issue 29; on this record the near-zero
+    hysteresis still absorbs 2.6 % of the truth's nuisance, so it is kept, not defended)."""
     rec = synthetic_record((), duration_s=DURATION_S, seed=5, fs_hz=RATE_HZ)
     cfg = declared_config()
     cfg["law"]["beta1"], cfg["law"]["beta2"] = 0.15, 0.005
     res = L.run_loop(rec, cfg, L.LoopOptions(rate_hz=RATE_HZ, dt_s=LOOP_DT_S), log=lambda *a: None)
     assert res.declared == ["bit_hysteresis"]
-    assert res.removed == ["bit_hysteresis"]
-    step = res.steps[0]
-    assert step["action"] == "remove" and step["error_after"] <= step["error_before"]
-    assert "bit_hysteresis" not in res.final.model.effects
+    assert res.baseline.model.effects["bit_hysteresis"]["beta1"] < 0.03  # the record lacks it: calibrated away
+    assert not [s for s in res.steps if s["action"] == "add"]
+    for s in res.steps:
+        assert s["action"] == "remove" and s["effect"] == "bit_hysteresis" and s["error_after"] <= s["error_before"]
+    if "bit_hysteresis" in res.final.model.effects:
+        assert res.final.model.effects["bit_hysteresis"]["beta1"] < 0.03
 
 
 def test_trivial_predictors_are_what_they_say():
