@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import copy
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -13,6 +14,7 @@ import numpy as np
 
 from drillpy import jsonio
 from drillpy.model.config import normalize
+from drillpy.model.plausibility import ImplausibleConfiguration
 from drillpy.records.io import read_record
 from drillpy.records.plausibility import check_record, emit
 from .data import LoopData, prepare
@@ -527,11 +529,17 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
     """
     opt = options or LoopOptions()
     opt.validate()
-    if not opt.blas_threads:
-        return _run_loop(record, cfg, opt, log)
-    from threadpoolctl import threadpool_limits
-    with threadpool_limits(limits=opt.blas_threads, user_api="blas"):
-        return _run_loop(record, cfg, opt, log)
+    cfg = normalize(cfg)  # the declared configuration's plausibility warnings, once
+    with warnings.catch_warnings():
+        # the candidates' configurations are judged by their parameters' bounds and flags (docs/loop.md,
+        # "The evidence"), not by the configuration check a user's input gets: e.g. a motor's no-load
+        # command above the 32 rad/s any top drive reaches is a fitted value, not a unit typed wrongly
+        warnings.simplefilter("ignore", ImplausibleConfiguration)
+        if not opt.blas_threads:
+            return _run_loop(record, cfg, opt, log)
+        from threadpoolctl import threadpool_limits
+        with threadpool_limits(limits=opt.blas_threads, user_api="blas"):
+            return _run_loop(record, cfg, opt, log)
 
 
 def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
