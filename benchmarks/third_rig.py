@@ -4,8 +4,10 @@ bar by a Rayleigh-Ritz expansion, Kelvin-Voigt material damping, an arctan-Strib
 viscous part, a stiff implicit integrator (``scipy.integrate.solve_ivp``, Radau) with events for
 stick and break-away, and realistic sensors (quantized encoders differentiated, a load cell).
 
-It shares no code with drillpy (NumPy and SciPy only; drillpy is not imported) and none with
-``independent_rig.py`` (lumped segments, modal damping, Tucker-Wang, semi-implicit Euler) or
+It shares no code with drillpy (NumPy and SciPy only; drillpy is not imported), and its simulation
+none with ``independent_rig.py`` (lumped segments, modal damping, Tucker-Wang, semi-implicit Euler;
+only the measure of a record, :func:`metrics`, is that module's, so that the checks read every
+simulator's records alike) or
 ``stribeck_rig.py`` (lumped segments, Rayleigh damping, exponential Stribeck, exact linear step):
 
 * **Bar** (thesis Table 5.1): steel, L = 1.7 m, radius 2.5 mm (J_p = pi r^4 / 2), density 7850
@@ -89,6 +91,8 @@ import scipy.linalg
 import scipy.optimize
 import scipy.signal
 from scipy.integrate import solve_ivp
+
+from independent_rig import metrics  # the measure of a record (SS, stick fraction, cycle), shared by the checks
 
 # ----------------------------------------------------------------------------------- the rig
 LENGTH_M = 1.7
@@ -449,21 +453,6 @@ def measure(sim: dict, opts: dict, seed: int = 1, noise: float = 1.0) -> dict:
     keep = sim["time_s"] >= sim["settle_s"] - 1e-9
     t = sim["time_s"][keep]
     return {"time_s": t - t[0], **{k: x[keep] for k, x in ch.items()}}
-
-
-def metrics(v: np.ndarray, top: np.ndarray, fs_hz: float = FS_HZ) -> dict:
-    """SS = (max - min) / (2 mean top speed), stick fraction (|v| < 5 % of the mean top speed), stick
-    onsets per second and the spectral peak of v in 0.5-10 Hz."""
-    om = float(np.mean(top))
-    ss = (np.max(v) - np.min(v)) / (2 * om)
-    stuck = np.abs(v) < 0.05 * om
-    onsets = int(np.sum(stuck[1:] & ~stuck[:-1]))
-    x = v - v.mean()
-    f = np.fft.rfftfreq(x.size, 1 / fs_hz)
-    p = np.abs(np.fft.rfft(x * np.hanning(x.size))) ** 2
-    band = (f > 0.5) & (f < 10)
-    return {"ss": float(ss), "stick_fraction": float(stuck.mean()), "stick_onsets_per_s": onsets * fs_hz / v.size,
-            "spectral_peak_hz": float(f[band][np.argmax(p[band])])}
 
 
 def true_metrics(sim: dict) -> dict:
