@@ -6,8 +6,8 @@ stick and break-away, and realistic sensors (quantized encoders differentiated, 
 
 It shares no code with drillpy (NumPy and SciPy only; drillpy is not imported), and its simulation
 none with ``independent_rig.py`` (lumped segments, modal damping, Tucker-Wang, semi-implicit Euler;
-only the measure of a record, :func:`metrics`, is that module's, so that the checks read every
-simulator's records alike) or
+only the measure of a record, :func:`metrics`, and the CSV writer, :func:`write_csv`, are that
+module's, so that the checks read every simulator's records alike) or
 ``stribeck_rig.py`` (lumped segments, Rayleigh damping, exponential Stribeck, exact linear step):
 
 * **Bar** (thesis Table 5.1): steel, L = 1.7 m, radius 2.5 mm (J_p = pi r^4 / 2), density 7850
@@ -92,7 +92,7 @@ import scipy.optimize
 import scipy.signal
 from scipy.integrate import solve_ivp
 
-from independent_rig import metrics  # the measure of a record (SS, stick fraction, cycle), shared by the checks
+from independent_rig import metrics, write_csv  # the measure of a record and the record format, shared by the checks
 
 # ----------------------------------------------------------------------------------- the rig
 LENGTH_M = 1.7
@@ -460,16 +460,6 @@ def true_metrics(sim: dict) -> dict:
     keep = sim["time_s"] >= sim["settle_s"] - 1e-9
     rig = sim["rig"]
     return metrics(sim["omega"][rig.contact][keep], sim["omega"][rig.top_encoder][keep], sim["fs_hz"])
-
-
-def write_csv(rec: dict, path: str, comments: list) -> None:
-    cols = ("bit_speed", "top_speed", "torque_on_bit", "wob")
-    data = np.column_stack([rec["time_s"]] + [rec[c] for c in cols])
-    with open(path, "w") as fh:
-        for c in comments:
-            fh.write(f"# {c}\n")
-        fh.write("time_s,bit_speed_rad_s,top_speed_rad_s,torque_on_bit_Nm,wob_N\n")
-        np.savetxt(fh, data, fmt=["%.4f", "%.6f", "%.6f", "%.6f", "%.4f"], delimiter=",")
 
 
 def make_record(case: str, seed: int, path: str, noise: float = 1.0, **over) -> dict:
