@@ -300,6 +300,10 @@ def test_sample175_wob_is_a_response_and_nothing_fed_the_cycle_is_credited(tmp_p
                 if c["effect"] == "static_friction" and c["parameters"]["static_torque_nm"].get("source") == "stick phases"]
     assert measured and all(2.5 < t["ci95"][0] < t["value"] < t["ci95"][1] < 3.2 for t in measured)
     assert ev["record"]["calibration_s"][1] == pytest.approx(20.0, abs=0.01)
+    # the stall at 28.05 s (1.43 s) is no regular cycle: its horizons are set apart from E (issue 28)
+    assert [abs(s["start_s"] - 28.05) < 0.03 for s in ev["record"]["stalls"]] == [True]
+    assert ev["record"]["horizons_set_apart"] and all(h["reason"] == "stall" and 27.5 < h["start_s"] < 29.5
+                                                      for h in ev["record"]["horizons_set_apart"])
     assert any("held" in n for n in ev["notes"])  # the limit cycle sets the damping
     assert any("exceed the 0.1" in n for n in ev["notes"])  # and it is more than a steel bar's
     assert ev["discovery"]["balanced"] is False  # the encoders' twist does not follow the torque

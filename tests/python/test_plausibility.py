@@ -174,3 +174,24 @@ def test_loop_writes_the_warnings(tmp_path, monkeypatch):
     assert js["warnings"] == [w.as_dict()]
     assert json.loads((tmp_path / "loop.json").read_text())["warnings"] == [w.as_dict()]
     assert "## Warnings\n\n- torque_on_bit: a test warning\n" in (tmp_path / "report.md").read_text()
+
+
+def test_fitted_values_silence_only_the_configuration_check():
+    """A calibration's trial configurations are judged by their bounds, not by the typed-input check:
+    inside ``fitted_values`` a 45 rad/s motor command warns nothing, another warning still passes,
+    and outside it the same configuration warns again."""
+    import warnings
+
+    from drillpy.model import plausibility as P
+    cfg = load_config(preset="thesis-rig")
+    cfg["operation"]["top_speed_rad_s"] = 45.0
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with P.fitted_values():
+            P.warn(P.check_config(cfg))
+            warnings.warn("other", UserWarning)
+        inside = [w.category for w in caught]
+        P.warn(P.check_config(cfg))
+    assert inside == [UserWarning]
+    assert [w.category for w in caught][1:] and all(c is P.ImplausibleConfiguration for c in
+                                                    [w.category for w in caught][1:])

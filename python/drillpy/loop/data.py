@@ -13,7 +13,7 @@ from scipy import signal as sps
 from drillpy.records import signals
 from drillpy.records.cleaning import CleaningOptions, clean
 from drillpy.records.io import Record, read_record
-from drillpy.records.rigsim import WOB_TREND_HZ, reliable_top_speed, wob_trend
+from drillpy.records.rigsim import WOB_TREND_HZ, reliable_top_speed, stalls, wob_trend
 from .options import LoopOptions
 
 #: Channels the cleaning searches for spikes: the encoders (the load cells' torque and WOB drop
@@ -113,6 +113,15 @@ class LoopData:
     wob_measured : numpy.ndarray or None
         The recorded WOB on the analysis grid [N] when the law takes its trend (the WOB state a
         restart starts from); None otherwise.
+    stalls : tuple
+        The record's stalls (:func:`drillpy.records.rigsim.stalls`: stick phases of at least
+        ``rigsim.STALL_MIN_S``) as ``(start [s], duration [s])``.
+    set_apart : dict
+        Horizons cut like the others but left out of E (restart sample -> reason): ``"stall"``
+        (the horizon overlaps a stall: the bit stuck at a torque the motor cannot overcome until the
+        WOB is relieved, no part of the regular cycle, reported apart as in ``drillpy predict``) or
+        ``"top-speed artifact at the restart"`` (the restart's top speed is not a measurement: an
+        artifact is never fed in).
     """
     source: str
     t: np.ndarray
@@ -142,6 +151,8 @@ class LoopData:
     law_knot: bool = True
     wob_response: dict | None = None
     wob_measured: np.ndarray | None = None
+    stalls: tuple = ()
+    set_apart: dict = dataclasses.field(default_factory=dict)
 
     @property
     def horizon_samples(self) -> np.ndarray:
@@ -224,7 +235,8 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopDat
     channels only), its channels and their derivatives estimated by Savitzky-Golay filters at the
     record's rate and decimated by the integer factor that brings it to at most ``opt.rate_hz``.
     Horizons of ``opt.horizon_s`` are cut from :data:`FIRST_START_S` on; a horizon that holds an
-    excluded sample or straddles ``t_split`` is dropped.
+    excluded sample or straddles ``t_split`` is dropped; one that overlaps a stall, or whose restart's
+    top speed is not a measurement, is set apart (``LoopData.set_apart``, out of E: issue 28).
 
     Parameters
     ----------
@@ -297,12 +309,20 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopDat
     L = int(round(opt.horizon_s / dt))
     if L < 2:
         raise ValueError(f"horizon_s = {opt.horizon_s}: shorter than two samples of {dt:g} s")
-    starts, is_test = [], []
+    starts, is_test, apart = [], [], {}
     cum = np.r_[0, np.cumsum(~ok)]
+    stuck = [(float(t[a]), float(t[min(a + n, t.size - 1)])) for a, n in stalls(v_meas, dt, thr)]
+    top_ok = (reliable_top_speed(rec)[::q] & ok) if has_top else None
     first = int(math.ceil(FIRST_START_S / dt))  # room for the restart before a lagging sensor's horizon
     for s in range(first, t.size - L, L):
         if cum[s + L + 1] - cum[s] > 0:
             continue  # an excluded sample in the horizon
+        if any(a <= t[s + L] and t[s] <= b for a, b in stuck):
+            apart[s] = "stall"
+            continue
+        if has_top and not top_ok[s]:
+            apart[s] = "top-speed artifact at the restart"
+            continue
         if t[s + L] < t_split:
             starts.append(s), is_test.append(False)
         elif t[s] >= t_split:
@@ -315,7 +335,6 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopDat
     train = ok & (t < t_split)
     sv, sT = float(np.std(v_meas[train])), float(np.std(T_meas[train]))
     top_meas = filled(rec.top_speed)[::q] if has_top else None
-    top_ok = (reliable_top_speed(rec)[::q] & ok) if has_top else None
     if wob_meas is not None:
         wob_meas = _savgol_set(filled(wob_meas), rec.dt, opt.derivative_window_s, (0,))[0][::q]
     if not (sv > 0 and sT > 0):
@@ -330,7 +349,7 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopDat
         raise ValueError(f"record: only {law_train.size} slip samples in the calibration part to fit the law")
     return LoopData(str(rec.provenance.get("source", "record")), t, dt, ch, v_meas, T_meas, ok, has_top, has_wob, thr,
                     t_split, starts, is_test, L, sv, sT, top_meas, top_ok, law_train, law_test, rep.lines(), q, fs, rec,
-                    opt.batched, opt.law_knot, wresp, wob_meas)
+                    opt.batched, opt.law_knot, wresp, wob_meas, tuple((a, b - a) for a, b in stuck), apart)
 
 
 

@@ -111,7 +111,10 @@ def evidence_json(res: LoopResult) -> dict:
                        "validation_s": [d.t_split, float(d.t[-1])], "cleaning": d.cleaning,
                        "stick_threshold_rad_s": d.stick_threshold, "sd_bit_speed_rad_s": d.sigma_v,
                        "sd_torque_nm": d.sigma_T, "horizon_s": d.L * d.dt,
-                       "calibration_horizons": int((~d.is_test).sum()), "validation_horizons": int(d.is_test.sum())},
+                       "calibration_horizons": int((~d.is_test).sum()), "validation_horizons": int(d.is_test.sum()),
+                       "stalls": [{"start_s": a, "duration_s": n} for a, n in d.stalls],
+                       "horizons_set_apart": [{"start_s": float(d.t[s]), "reason": r}
+                                              for s, r in sorted(d.set_apart.items())]},
             "options": {k: (list(v) if isinstance(v, tuple) else v) for k, v in vars(res.options).items()},
             "engine_dt_s": res.config["simulation"]["dt_s"],
             "baseline": ev_summary(res.baseline), "final": ev_summary(res.final),

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import copy
 import math
-import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -14,7 +13,7 @@ import numpy as np
 
 from drillpy import jsonio
 from drillpy.model.config import normalize
-from drillpy.model.plausibility import ImplausibleConfiguration
+from drillpy.model.plausibility import fitted_values
 from drillpy.records.io import read_record
 from drillpy.records.plausibility import check_record, emit
 from .data import LoopData, prepare
@@ -530,11 +529,7 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
     opt = options or LoopOptions()
     opt.validate()
     cfg = normalize(cfg)  # the declared configuration's plausibility warnings, once
-    with warnings.catch_warnings():
-        # the candidates' configurations are judged by their parameters' bounds and flags (docs/loop.md,
-        # "The evidence"), not by the configuration check a user's input gets: e.g. a motor's no-load
-        # command above the 32 rad/s any top drive reaches is a fitted value, not a unit typed wrongly
-        warnings.simplefilter("ignore", ImplausibleConfiguration)
+    with fitted_values():  # the candidates are judged by their bounds and flags (docs/loop.md, "The evidence")
         if not opt.blas_threads:
             return _run_loop(record, cfg, opt, log)
         from threadpoolctl import threadpool_limits
@@ -550,6 +545,16 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
     emit(warns)
     data = prepare(raw, cfg, opt)
     notes = []
+    if data.set_apart:
+        count = {r: sum(v == r for v in data.set_apart.values()) for r in sorted(set(data.set_apart.values()))}
+        why = {"stall": "they overlap " + ", ".join(f"the stall at {a:.2f} s ({n:.2f} s)" for a, n in data.stalls)
+                        + ": the bit stuck at a torque the motor cannot overcome until the WOB is relieved, no part "
+                          "of the regular cycle",
+               "top-speed artifact at the restart": "their restart's top speed is an artifact, not a measurement, "
+                                                    "and is never fed in"}
+        note = "horizons set apart from E: " + "; ".join(f"{n} ({r}): {why[r]}" for r, n in count.items())
+        notes.append(note)
+        log(note)
     wr = data.wob_response
     if wr is not None and wr["input"] == "trend":
         note = (f"the recorded WOB is a response of the rotation, not an input: its part above 0.5 Hz follows the "

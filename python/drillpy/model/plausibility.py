@@ -9,6 +9,7 @@ A warning never stops a run: invalid values are refused by the engine.
 """
 from __future__ import annotations
 
+import contextlib
 import math
 import warnings
 from dataclasses import dataclass
@@ -35,6 +36,21 @@ RANGES = {
 
 class ImplausibleConfiguration(UserWarning):
     """Category of the plausibility warnings of a configuration."""
+
+
+@contextlib.contextmanager
+def fitted_values():
+    """A context (or, as ``@fitted_values()``, a decorator) in which the configurations a
+    calibration tries raise no plausibility warning.
+
+    A search's trial configurations are judged by their parameters' bounds and flags (the loop's
+    evidence, the rig model's ``RIG_PARAMETERS``), not by the check a user's typed input gets: a
+    motor's no-load command above the 32 rad/s any top drive reaches is a fitted value, not a unit
+    typed wrongly. Warnings of other categories pass.
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ImplausibleConfiguration)
+        yield
 
 
 @dataclass(frozen=True)

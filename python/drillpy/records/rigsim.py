@@ -37,6 +37,7 @@ import numpy as np
 from scipy import optimize
 
 from drillpy.model.config import load_config, normalize
+from drillpy.model.plausibility import fitted_values
 from drillpy.records import stick as _stick
 from drillpy.records.stick import STICK_FRACTION
 from drillpy.records.io import Flag, Record
@@ -1060,6 +1061,7 @@ class Calibration:
                 "per_drive": self.per_drive}
 
 
+@fitted_values()
 def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVES, preset: str = "thesis-rig",
               log=None, threads: int = 0) -> Calibration:
     """Calibrate the effective damping ratio and the top drive of the rig model with ``law`` on a
@@ -1202,6 +1204,7 @@ class Selection:
     calibration: Calibration
 
 
+@fitted_values()
 def select_model(record: Record, laws: dict, stick_threshold: float, *, drives=DRIVES, preset: str = "thesis-rig",
                  log=None, threads: int = 0) -> Selection:
     """Choose the law and the top drive by how well they predict data they were not calibrated on.
@@ -1308,6 +1311,7 @@ def _metric_noise(record: Record, stick_threshold: float, keys: tuple, blocks: i
     return np.maximum(np.nan_to_num(sd / mag, nan=0.05), 0.01)
 
 
+@fitted_values()
 def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: str = "thesis-rig", screen: int = 64,
                   starts: int = 4, evaluations: int = 200, seed: int = 175, log=None, threads: int = 0) -> Calibration:
     """Calibrate the rig modelled whole (the ``rig`` drive) on a cleaned calibration part.
