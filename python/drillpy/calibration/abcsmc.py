@@ -14,7 +14,8 @@ statistics lie within a shrinking tolerance eps_t of the observed ones.
   q(m) = (1 - delta) P_{t-1}(m) + delta / M (a model never dies out), then with probability rho a
   fresh prior draw (always, for a model with fewer than 2 particles), else a particle of that model
   drawn by weight and moved by a Gaussian kernel of twice the model's weighted covariance
-  (Beaumont's choice). A proposal outside the unit cube has prior density 0: it counts as
+  (Beaumont's choice) plus (:data:`KERNEL_FLOOR`)^2 I, or of :data:`KERNEL_FEW` on every axis when the
+  model has fewer effective particles than its dimension + 2 (no covariance can be estimated). A proposal outside the unit cube has prior density 0: it counts as
   rejected without a simulation. Weights are prior / proposal density, w = pi(m) pi(z | m) / q(m, z),
   with q(m, z) = q(m) (rho + (1 - rho) sum_j W_j N(z; z_j, Sigma_m)): the importance weights of an
   exact accept-reject step, so model probabilities stay unbiased for the ABC posterior at eps_t.
@@ -103,6 +104,12 @@ class ABCResult:
     def posterior(self) -> Population:
         """The last population."""
         return self.populations[-1]
+
+
+#: Smallest kernel standard deviation, in unit coordinates (a share of the prior range).
+KERNEL_FLOOR = 0.01
+#: Kernel standard deviation of a model with fewer effective particles than its dimension + 2.
+KERNEL_FEW = 0.1
 
 
 def distance(stats: np.ndarray, observed: np.ndarray, scale: np.ndarray) -> np.ndarray:
@@ -223,7 +230,10 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
             Zm = np.array([prev.z[i] for i in np.flatnonzero(sel)])
             Wm = prev.weight[sel] / prev.weight[sel].sum()
             mu = Wm @ Zm
-            cov = 2.0 * ((Zm - mu).T * Wm) @ (Zm - mu) + 1e-8 * np.eye(dims[m])
+            if 1.0 / np.sum(Wm ** 2) < dims[m] + 2:  # too few effective particles for a covariance
+                cov = np.eye(dims[m]) * KERNEL_FEW ** 2
+            else:
+                cov = 2.0 * ((Zm - mu).T * Wm) @ (Zm - mu) + np.eye(dims[m]) * KERNEL_FLOOR ** 2
             L = np.linalg.cholesky(cov)
             Li = np.linalg.inv(L)
             log_norm = -0.5 * dims[m] * math.log(2 * math.pi) - float(np.sum(np.log(np.diag(L))))
