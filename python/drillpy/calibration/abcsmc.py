@@ -69,7 +69,17 @@ class Population:
     proposals: int
 
     def model_probabilities(self, n_models: int) -> tuple:
-        """(P(m) per model, its Monte Carlo standard error) from the weights."""
+        """(P(m) per model, its Monte Carlo standard error) from the weights.
+
+        Parameters
+        ----------
+        n_models : int
+            Number of models.
+
+        Returns
+        -------
+        tuple of ndarray
+        """
         w = self.weight / self.weight.sum()
         p = np.array([w[self.model == m].sum() for m in range(n_models)])
         se = np.array([math.sqrt(float(np.sum(w ** 2 * ((self.model == m) - p[m]) ** 2))) for m in range(n_models)])
@@ -93,6 +103,9 @@ class ABCResult:
         Simulations run in all.
     stopped : str
         Why it stopped.
+    history : list of dict
+        Per generation: eps, simulations, proposals, acceptance, ESS, model probabilities and
+        their standard errors.
     """
     populations: list
     n_models: int
@@ -114,7 +127,22 @@ KERNEL_FEW = 0.1
 
 def distance(stats: np.ndarray, observed: np.ndarray, scale: np.ndarray) -> np.ndarray:
     """Root mean square of (stats - observed) / scale over the statistics (rows of ``stats``); inf
-    where a statistic the observation has is missing (NaN) in a simulation."""
+    where a statistic the observation has is missing (NaN) in a simulation.
+
+    Parameters
+    ----------
+    stats : ndarray
+        Simulated statistics (n x K, or K).
+    observed : ndarray
+        Observed statistics (K).
+    scale : ndarray
+        Scale of each statistic (K).
+
+    Returns
+    -------
+    ndarray
+        One distance per row.
+    """
     s = np.atleast_2d(stats)
     r = (s - observed) / scale
     d = np.sqrt(np.mean(r ** 2, axis=1))

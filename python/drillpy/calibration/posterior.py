@@ -90,8 +90,25 @@ def family_law(base: dict, family: str, law_scale: float, static_torque_nm: floa
 
 
 def rig_model(base_law: dict, family: str, values: dict, fixed: dict, preset: str = "thesis-rig") -> rigsim.RigModel:
-    """The ``rig``-drive model of ``family`` at the parameter ``values`` (names of
-    :data:`drillpy.calibration.priors.PARAMETERS`) with the ``fixed`` rig parameters."""
+    """The ``rig``-drive model of ``family`` at the parameter ``values`` with the ``fixed`` rig parameters.
+
+    Parameters
+    ----------
+    base_law : dict
+        The configuration's polynomial law (:func:`family_law`).
+    family : str
+        Law family.
+    values : dict
+        Calibrated parameter -> value (names of :data:`drillpy.calibration.priors.PARAMETERS`).
+    fixed : dict
+        Held rig parameter -> value (:data:`drillpy.calibration.priors.FIXED`).
+    preset : str
+        Engine preset of the rig's geometry.
+
+    Returns
+    -------
+    RigModel
+    """
     law = family_law(base_law, family, values["law_scale"], values.get("static_torque_nm"))
     return rigsim.RigModel(law, values["damping_ratio"], "rig", values["motor_slope_nms_rad"],
                            fixed["motor_inertia_kg_m2"], preset=preset, command_rad_s=values["command_rad_s"],
@@ -124,13 +141,40 @@ class RigSimulator:
         self._inputs = {}
 
     def values(self, family: str, z) -> dict:
-        """Parameter name -> value at unit coordinates ``z``."""
+        """Parameter name -> value at unit coordinates ``z``.
+
+        Parameters
+        ----------
+        family : str
+            Law family.
+        z : array_like
+            Unit coordinates, one per parameter of the family.
+
+        Returns
+        -------
+        dict
+        """
         return {p.name: float(p.from_unit(zi)) for p, zi in zip(self.spec.families[family], z)}
 
     def one(self, family: str, values: dict, record: Record | None = None) -> np.ndarray:
         """The statistics of one run over ``record`` (default the calibration window) at its
         operating point, as :func:`drillpy.records.rigsim.simulate_model` runs the rig drive (the
-        platform's response and the 10 Hz filter on the channels); NaN when the run fails."""
+        platform's response and the 10 Hz filter on the channels); NaN when the run fails.
+
+        Parameters
+        ----------
+        family : str
+            Law family.
+        values : dict
+            Parameter name -> value.
+        record : Record, optional
+            Another window (its operating point, WOB trend and stick threshold).
+
+        Returns
+        -------
+        ndarray
+            The statistics :data:`drillpy.calibration.summaries.NAMES`.
+        """
         rec = self.record if record is None else record
         key = id(rec)
         if key not in self._inputs:
@@ -183,6 +227,8 @@ class Posterior:
         Simulations, generations, tolerances, acceptance, wall time, seed, why it stopped.
     spec : dict
         The priors and held values.
+    record : dict
+        The record's source, calibration window [s] and stick threshold [rad/s].
     """
     families: list
     model_probability: dict
@@ -213,7 +259,19 @@ def _wquantile(x, w, q):
 
 
 def load_window(record, t0: float | None = None, t1: float | None = None) -> Record:
-    """The record at a path, read and cleaned (or a :class:`Record` taken as cleaned), cut to [t0, t1] s."""
+    """The record at a path, read and cleaned (or a :class:`Record` taken as cleaned), cut to [t0, t1] s.
+
+    Parameters
+    ----------
+    record : str or Path or Record
+        The record.
+    t0, t1 : float, optional
+        The window [s].
+
+    Returns
+    -------
+    Record
+    """
     from drillpy.records.cleaning import clean
     from drillpy.records.io import read_record
     rec = clean(read_record(record))[0] if isinstance(record, (str, Path)) else record

@@ -104,14 +104,34 @@ class Prior:
                              f"(default range [{lo:g}, {hi:g}] {self.unit})")
 
     def to_unit(self, x):
-        """The parameter value(s) ``x`` mapped to [0, 1], where the prior is uniform."""
+        """The parameter value(s) ``x`` mapped to [0, 1], where the prior is uniform.
+
+        Parameters
+        ----------
+        x : array_like
+            Values in the parameter's unit.
+
+        Returns
+        -------
+        ndarray
+        """
         x = np.asarray(x, float)
         if self.scale == "log-uniform":
             return (np.log(x) - math.log(self.low)) / (math.log(self.high) - math.log(self.low))
         return (x - self.low) / (self.high - self.low)
 
     def from_unit(self, z):
-        """The parameter value(s) at the unit coordinate(s) ``z`` (inverse of :meth:`to_unit`)."""
+        """The parameter value(s) at the unit coordinate(s) ``z`` (inverse of :meth:`to_unit`).
+
+        Parameters
+        ----------
+        z : array_like
+            Unit coordinates in [0, 1].
+
+        Returns
+        -------
+        ndarray
+        """
         z = np.asarray(z, float)
         if self.scale == "log-uniform":
             return np.exp(math.log(self.low) + z * (math.log(self.high) - math.log(self.low)))
@@ -143,7 +163,17 @@ class PriorSpec:
 
 
 def split_config(cfg: dict) -> tuple:
-    """(the configuration without its ``calibration`` section, that section or {})."""
+    """(the configuration without its ``calibration`` section, that section or {}).
+
+    Parameters
+    ----------
+    cfg : dict
+        A configuration.
+
+    Returns
+    -------
+    tuple of dict
+    """
     cfg = copy.deepcopy(cfg)
     sec = cfg.pop("calibration", None)
     if sec is None:
