@@ -119,3 +119,28 @@ def test_abc_smc_recovers_a_gaussian_mean_and_the_model_with_its_monte_carlo_err
     w = post.weight[post.model == 0]
     mean = float(np.sum(w * mu) / w.sum())
     assert abs(mean - 0.3) < 0.05
+
+
+def test_calibrate_command_writes_the_posterior_and_predict_applies_it(tmp_path):
+    from conftest import run_cli
+    from drillpy.records.io import write_csv
+    rec = _truth_record(duration=8.0)
+    write_csv(rec, tmp_path / "rec.csv")
+    out = tmp_path / "cal"
+    r = run_cli("calibrate", str(tmp_path / "rec.csv"), "--preset", "thesis-rig", "--out", str(out), "--t0", "0",
+                "--t1", "6", "--heldout", "4:8", "--population", "8", "--simulations", "40", "--draws", "4",
+                "--seed", "2")
+    assert r.returncode == 0, r.stderr
+    assert "P(polynomial, Eq. 5.1" in r.stdout and "posterior predictive 90 % intervals" in r.stdout
+    s = json.loads((out / "posterior.json").read_text())
+    assert s["format"] == "drillpy.posterior" and s["run"]["abc_simulations"] <= 40
+    assert (out / "marginals.png").is_file() and (out / "predictive.png").is_file()
+    p = run_cli("predict", str(out / "posterior.json"), str(tmp_path / "rec.csv"), "--t0", "4", "--t1", "8",
+                "--draws", "4", "--json")
+    assert p.returncode == 0, p.stderr
+    st = json.loads(p.stdout)["statistics"]
+    assert set(st) >= {"ss", "stick_fraction", "cycle_frequency_hz"}
+    assert all(v["interval90"][0] <= v["interval90"][1] for v in st.values())
+    bad = run_cli("calibrate", str(tmp_path / "rec.csv"), "--preset", "thesis-rig", "--out", str(tmp_path / "x"),
+                  "--heldout", "8:4")
+    assert bad.returncode != 0 and "--heldout = '8:4'" in bad.stderr and not (tmp_path / "x").exists()

@@ -228,7 +228,8 @@ class Posterior:
     spec : dict
         The priors and held values.
     record : dict
-        The record's source, calibration window [s] and stick threshold [rad/s].
+        The record's source, calibration window [s], stick threshold [rad/s] and the configuration's
+        law the families are built on (``base_law``).
     """
     families: list
     model_probability: dict
@@ -379,27 +380,9 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
                                         "unit": pr.unit, "width_ratio": ratio}
     # posterior predictive on the held-out window
     target = load_window(record, *heldout) if heldout is not None else rec
-    rng = np.random.default_rng([seed, 10 ** 6])
-    draws = rng.choice(len(post.model), size=int(predictive_draws), p=post.weight / post.weight.sum())
-    thr_t = rigsim.stick_threshold(target)
-    jobs = [(sim.families[post.model[i]], sim.values(sim.families[post.model[i]], post.z[i])) for i in draws]
-    with ThreadPoolExecutor(max_workers=sim.threads) as pool:
-        pred = np.array(list(pool.map(lambda fv: sim.one(fv[0], fv[1], target), jobs)))
-    len_cal = float(rec.time_s[-1] - rec.time_s[0]) - SKIP_S
-    len_t = float(target.time_s[-1] - target.time_s[0]) - SKIP_S
-    noise = scale * math.sqrt(max(len_cal, 1e-9) / max(len_t, 1e-9))
-    pred_noisy = pred + rng.standard_normal(pred.shape) * noise
-    measured = summaries(target, thr_t, SKIP_S)
-    predictive = {}
-    for k, name in enumerate(NAMES):
-        col = pred_noisy[:, k]
-        col = col[np.isfinite(col)]
-        if col.size < 2:
-            continue
-        lo, med, hi = (float(x) for x in np.percentile(col, [5, 50, 95]))
-        mk = float(measured[k])
-        predictive[name] = {"interval90": [lo, hi], "median": med, "measured": mk, "contained": bool(lo <= mk <= hi),
-                            "unit": UNITS[k]}
+    jobs = [(sim.families[m], sim.values(sim.families[m], z)) for m, z in zip(post.model, post.z)]
+    predictive = _predictive(sim, jobs, post.weight, target, scale, float(rec.time_s[-1] - rec.time_s[0]),
+                             predictive_draws, seed)
     run = {"simulations": res.simulations + int(predictive_draws), "abc_simulations": res.simulations,
            "generations": len(res.populations) - 1, "population": population, "stopped": res.stopped,
            "eps": [h["eps"] for h in res.history], "history": res.history, "wall_s": wall,
@@ -407,7 +390,92 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
            "threads": sim.threads, "method": "ABC-SMC with model choice (drillpy.calibration.abcsmc)",
            "heldout_s": list(heldout) if heldout is not None else None}
     rec_info = {"source": str(record) if isinstance(record, (str, Path)) else rec.provenance.get("source"),
-                "window_s": [float(rec.time_s[0]), float(rec.time_s[-1])], "stick_threshold_rad_s": thr}
+                "window_s": [float(rec.time_s[0]), float(rec.time_s[-1])], "stick_threshold_rad_s": thr,
+                "base_law": base_law}
     return Posterior(sim.families, dict(zip(sim.families, map(float, p))), dict(zip(sim.families, map(float, se))),
                      parameters, particles, dict(zip(NAMES, map(float, observed))), dict(zip(NAMES, map(float, scale))),
                      predictive, run, spec.summary(), rec_info)
+
+
+def _predictive(sim: RigSimulator, jobs: list, weight: np.ndarray, target: Record, scale: np.ndarray,
+                calibration_s: float, draws: int, seed: int) -> dict:
+    """Posterior predictive 90 % intervals of the statistics on ``target`` (module docstring): ``draws``
+    particles ``jobs`` [(family, values)] drawn by ``weight``, simulated at the target's operating
+    point, plus each statistic's sampling noise ``scale`` (over ``calibration_s`` seconds) scaled to
+    the target's length."""
+    rng = np.random.default_rng([seed, 10 ** 6])
+    idx = rng.choice(len(jobs), size=int(draws), p=weight / weight.sum())
+    with ThreadPoolExecutor(max_workers=sim.threads) as pool:
+        pred = np.array(list(pool.map(lambda i: sim.one(jobs[i][0], jobs[i][1], target), idx)))
+    len_t = float(target.time_s[-1] - target.time_s[0]) - SKIP_S
+    noise = scale * math.sqrt(max(calibration_s - SKIP_S, 1e-9) / max(len_t, 1e-9))
+    pred = pred + rng.standard_normal(pred.shape) * noise
+    measured = summaries(target, rigsim.stick_threshold(target), SKIP_S)
+    out = {}
+    for k, name in enumerate(NAMES):
+        col = pred[:, k]
+        col = col[np.isfinite(col)]
+        if col.size < 2:
+            continue
+        lo, med, hi = (float(x) for x in np.percentile(col, [5, 50, 95]))
+        mk = float(measured[k])
+        out[name] = {"interval90": [lo, hi], "median": med, "measured": mk,
+                     "contained": bool(lo <= mk <= hi) if math.isfinite(mk) else None, "unit": UNITS[k]}
+    return out
+
+
+def predict_posterior(posterior, record, *, t0: float | None = None, t1: float | None = None, draws: int = 100,
+                      seed: int = 0, threads: int = 0) -> dict:
+    """Posterior predictive 90 % intervals of the long-run statistics on a record window, from a
+    calibration's ``posterior.json`` (``drillpy predict POSTERIOR.json RECORD``).
+
+    Parameters
+    ----------
+    posterior : str or Path or dict
+        ``posterior.json`` of ``drillpy calibrate`` (or its dict, :meth:`Posterior.summary`).
+    record : str or Path or Record
+        The record to predict.
+    t0, t1 : float, optional
+        Its window [s].
+    draws : int
+        Posterior draws simulated.
+    seed : int
+        Seed of the draws and of the statistics' sampling noise.
+    threads : int
+        Simulations at once (0: one per core).
+
+    Returns
+    -------
+    dict
+        Statistic -> ``interval90``, ``median``, ``measured``, ``contained``, ``unit``; and
+        ``window_s``, ``draws``, ``model_probability``.
+
+    Raises
+    ------
+    ValueError
+        When the file is not a drillpy posterior, or naming a bad ``draws``.
+    """
+    from drillpy.calibration.priors import Prior
+    s = json.loads(Path(posterior).read_text()) if isinstance(posterior, (str, Path)) else posterior
+    if not isinstance(s, dict) or s.get("format") != "drillpy.posterior":
+        raise ValueError(f"{posterior}: not a drillpy posterior (format = "
+                         f"{s.get('format') if isinstance(s, dict) else None!r}; write one with drillpy calibrate)")
+    if not isinstance(draws, (int, np.integer)) or draws < 2:
+        raise ValueError(f"draws = {draws!r}: an integer of at least 2")
+    fams = s["families"]
+    spec = PriorSpec({f: tuple(Prior(n, *p["range"], p["unit"], p["scale"], p.get("source", ""))
+                               for n, p in s["priors"]["families"][f].items()) for f in fams}, s["priors"]["fixed"])
+    target = load_window(record, t0, t1)
+    sim = RigSimulator(target, rigsim.stick_threshold(target), spec, s["record"]["base_law"], threads)
+    jobs, weight = [], []
+    for f in fams:
+        part = s["particles"][f]
+        w = np.asarray(part["weight"], float)
+        for i in range(w.size):
+            jobs.append((f, {n: float(part[n][i]) for n in s["priors"]["families"][f]}))
+        weight.extend(w / max(w.sum(), 1e-300) * s["model_probability"][f] if w.size else [])
+    win = s["record"]["window_s"]
+    out = _predictive(sim, jobs, np.asarray(weight, float), target, np.array([s["scale"][n] for n in NAMES]),
+                      float(win[1] - win[0]), draws, seed)
+    return {"statistics": out, "window_s": [float(target.time_s[0]), float(target.time_s[-1])], "draws": int(draws),
+            "model_probability": s["model_probability"]}

@@ -147,7 +147,8 @@ def _check_analyze_options(a: argparse.Namespace) -> None:
 def _add_predict(sub) -> argparse.ArgumentParser:
     """Register ``drillpy predict`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("predict", help="apply a calibrated rig model (model.json of analyze) to a record, no refitting")
-    s.add_argument("model", help="model.json written by drillpy analyze")
+    s.add_argument("model", help="model.json written by drillpy analyze, or posterior.json of drillpy calibrate "
+                                 "(then: posterior predictive 90 %% intervals of the long-run statistics)")
     s.add_argument("record", help="rig MATLAB file or drillpy CSV")
     s.add_argument("--out", help="folder for summary.json and overlay.png")
     add_figure_units_arg(s)
@@ -155,9 +156,19 @@ def _add_predict(sub) -> argparse.ArgumentParser:
     s.add_argument("--t1", type=float, help="end of the predicted window [s]")
     s.add_argument("--horizon", type=float, default=0.25, help="short-horizon length [s] (docs/loop.md)")
     s.add_argument("--threads", type=threads_option, default=0, help="OpenMP threads (0: default)")
+    s.add_argument("--draws", type=int, default=100, help="posterior draws simulated (posterior.json only)")
+    s.add_argument("--seed", type=int, default=0, help="seed of the posterior draws (posterior.json only)")
     s.add_argument("--json", action="store_true", help="print the short-horizon error and the long-run metrics")
     s.set_defaults(func=cmd_predict)
     return s
+
+
+def _is_posterior(path: str) -> bool:
+    """Whether ``path`` is a ``posterior.json`` of ``drillpy calibrate`` (its ``format``)."""
+    try:
+        return json.loads(open(path, encoding="utf-8").read()).get("format") == "drillpy.posterior"
+    except (OSError, ValueError, AttributeError):
+        return False
 
 
 def cmd_predict(a: argparse.Namespace) -> int:
@@ -180,6 +191,19 @@ def cmd_predict(a: argparse.Namespace) -> int:
         if getattr(a, name) is not None:
             validate.number("--" + name, getattr(a, name), unit="s")
     validate.positive("--horizon", a.horizon, "s")
+    if _is_posterior(a.model):
+        from drillpy.calibration.posterior import predict_posterior
+        r = predict_posterior(a.model, a.record, t0=a.t0, t1=a.t1, draws=a.draws, seed=a.seed, threads=a.threads)
+        if a.json:
+            print_json(r)
+            return 0
+        st = r["statistics"]
+        print(f"posterior predictive 90 % intervals on {r['window_s'][0]:g}-{r['window_s'][1]:g} s ({r['draws']} "
+              f"draws): {sum(bool(v['contained']) for v in st.values())} of {len(st)} contain the measured value")
+        for name, v in st.items():
+            print(f"  {name}: [{v['interval90'][0]:.4g}, {v['interval90'][1]:.4g}] {v['unit']}, measured "
+                  f"{v['measured']:.4g}{'' if v['contained'] else '  (outside)'}")
+        return 0
     model = load_model(a.model)
     pred = predict_record(model, a.record, t0=a.t0, t1=a.t1, horizon_s=a.horizon, threads=a.threads)
     if a.out:
