@@ -4,6 +4,7 @@ against a held-out window. Each ``*_plot`` writes one PNG and returns its figure
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.ticker import NullFormatter
 
 from drillpy.figures.simulation import _save, plt
 
@@ -26,9 +27,13 @@ def marginals_plot(path, summary: dict) -> plt.Figure:
     fams = summary["families"]
     names = sorted({p for f in fams for p in summary["parameters"].get(f, {})},
                    key=lambda n: [p for f in fams for p in summary["priors"]["families"][f]].index(n))
-    fig, axes = plt.subplots(1, len(names), figsize=(2.6 * len(names), 2.8), squeeze=False)
+    cols = min(4, len(names))
+    rows = -(-len(names) // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.3 * cols, 2.6 * rows), squeeze=False)
+    for ax in axes.flat[len(names):]:
+        ax.set_visible(False)
     colors = ("tab:blue", "tab:orange", "tab:green", "tab:red")
-    for ax, name in zip(axes[0], names):
+    for ax, name in zip(axes.flat, names):
         for k, fam in enumerate(fams):
             part = summary["particles"].get(fam, {})
             if name not in part or not part[name]:
@@ -42,12 +47,14 @@ def marginals_plot(path, summary: dict) -> plt.Figure:
                     label=f"{fam} (P = {summary['model_probability'][fam]:.2f})")
             if log:
                 ax.set_xscale("log")
+                ax.xaxis.set_minor_formatter(NullFormatter())
             ax.set_xlim(lo, hi)
         unit = next(summary["priors"]["families"][f][name]["unit"] for f in fams
                     if name in summary["priors"]["families"][f])
         ax.set_xlabel(f"{name} [{unit}]")
         ax.set_yticks([])
-    axes[0][0].set_ylabel("posterior (prior range on the axis)")
+    for row in axes:
+        row[0].set_ylabel("posterior density")
     axes[0][0].legend(fontsize=7, loc="upper left")
     return _save(fig, path)
 
