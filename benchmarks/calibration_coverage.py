@@ -16,7 +16,8 @@ others (damping, coupling, jack, law) have none in common, so they are not score
 calibrated (:func:`drillpy.calibration.posterior.calibrate_record`) on its first half and predicts
 its second half. Printed per truth: the model-averaged 90 % intervals of c_m and Omega_c with the
 truth, the family probabilities, and how many predictive intervals contain the held-out
-statistic; then the coverage over all truths. With a handful of truths the coverage is itself
+statistic; then the coverage over all truths and the histogram of the truths' ranks under the
+posterior (the posterior mass below the truth: uniform when the posterior is calibrated). With a handful of truths the coverage is itself
 uncertain: a binomial 90 % interval is printed beside it.
 """
 from __future__ import annotations
@@ -37,8 +38,8 @@ sys.path.insert(0, str(REPO / "benchmarks"))
 SHARED = {"c_m": "motor_slope_nms_rad", "omega_c": "command_rad_s"}
 
 
-def model_averaged_interval(summary: dict, name: str, level: float = 0.9) -> tuple:
-    """The ``level`` interval of ``name`` over every family's particles, each family weighted by its
+def _mixture(summary: dict, name: str) -> tuple:
+    """(values, weights) of ``name`` over every family's particles, each family weighted by its
     probability (``Posterior.summary()``)."""
     vals, ws = [], []
     for fam in summary["families"]:
@@ -48,11 +49,23 @@ def model_averaged_interval(summary: dict, name: str, level: float = 0.9) -> tup
             continue
         vals.append(np.asarray(part[name], float))
         ws.append(w / w.sum() * summary["model_probability"][fam])
-    v, w = np.concatenate(vals), np.concatenate(ws)
+    return np.concatenate(vals), np.concatenate(ws)
+
+
+def model_averaged_interval(summary: dict, name: str, level: float = 0.9) -> tuple:
+    """The ``level`` interval of ``name`` under the model-averaged posterior."""
+    v, w = _mixture(summary, name)
     o = np.argsort(v)
     cw = np.cumsum(w[o]) / w.sum()
     a = (1 - level) / 2
     return float(np.interp(a, cw, v[o])), float(np.interp(1 - a, cw, v[o]))
+
+
+def rank(summary: dict, name: str, truth: float) -> float:
+    """The truth's rank under the model-averaged posterior: the posterior mass below it (uniform over
+    many truths when the posterior is calibrated: simulation-based calibration's rank statistic)."""
+    v, w = _mixture(summary, name)
+    return float(np.sum(w[v <= truth]) / np.sum(w))
 
 
 def main() -> int:
@@ -72,6 +85,7 @@ def main() -> int:
     from drillpy.records.io import read_record
     rng = np.random.default_rng(a.seed)
     hits = {k: 0 for k in SHARED}
+    ranks = {k: [] for k in SHARED}
     pred_in = pred_n = 0
     h = 0.5 * a.duration
     for i in range(a.truths):
@@ -89,7 +103,9 @@ def main() -> int:
             lo, hi = model_averaged_interval(s, name)
             ok = lo <= truth[k] <= hi
             hits[k] += ok
-            line.append(f"{name} {truth[k]:.3f} in [{lo:.3f}, {hi:.3f}] {'yes' if ok else 'NO'};")
+            ranks[k].append(rank(s, name, truth[k]))
+            line.append(f"{name} {truth[k]:.3f} in [{lo:.3f}, {hi:.3f}] {'yes' if ok else 'NO'} "
+                        f"(rank {ranks[k][-1]:.2f});")
         pin = sum(v["contained"] for v in s["predictive"].values())
         pred_in += pin
         pred_n += len(s["predictive"])
@@ -106,6 +122,8 @@ def main() -> int:
 
     for k, name in SHARED.items():
         print(f"coverage of the 90 % posterior interval, {name}: {binom(hits[k], a.truths)}")
+        counts = np.histogram(ranks[k], bins=5, range=(0.0, 1.0))[0]
+        print(f"  rank histogram of the truth under the posterior (5 bins of 0.2): {counts.tolist()}")
     print(f"coverage of the 90 % predictive intervals of the held-out statistics: {binom(pred_in, pred_n)}")
     return 0
 
