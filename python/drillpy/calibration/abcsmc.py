@@ -21,8 +21,12 @@ statistics lie within a shrinking tolerance eps_t of the observed ones.
   exact accept-reject step, so model probabilities stay unbiased for the ABC posterior at eps_t.
 * Model probabilities P(m) = sum of the weights of model m's particles; their Monte Carlo standard
   error is the self-normalized importance sampling one, sqrt(sum_i wn_i^2 (1[m_i = m] - P(m))^2).
-* It stops after ``max_generations``, when the next batch would exceed ``max_simulations``, or when a
-  generation's acceptance rate falls below ``min_acceptance``.
+* Batches are sized to the particles still needed at the acceptance rate expected (the previous
+  generation's, times the share of it the new eps keeps, then the rate measured so far), so that few
+  simulations run past the N-th acceptance of a generation.
+* It stops after ``max_generations``, when the budget ``max_simulations`` runs out in a generation
+  (that generation's simulations are spent but not used), or when a generation accepts fewer than
+  ``min_acceptance`` of its simulations.
 
 The proposals of generation t and batch b come from a generator keyed by (seed, t, b), and the
 first N accepted in proposal order are kept: the result depends on the seed only, never on the
@@ -104,8 +108,8 @@ class ABCResult:
     stopped : str
         Why it stopped.
     history : list of dict
-        Per generation: eps, simulations, proposals, acceptance, ESS, model probabilities and
-        their standard errors.
+        Per generation: eps, simulations, proposals, acceptance (of its simulations), hit rate (of
+        its proposals), ESS, model probabilities and their standard errors.
     """
     populations: list
     n_models: int
@@ -227,14 +231,16 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
     history = []
     stopped = "max_generations"
 
-    def note(pop, t):
+    def note(pop, t, hits=None):
         p, se = pop.model_probabilities(M)
         line = {"generation": t, "eps": pop.eps, "simulations": pop.simulations, "proposals": pop.proposals,
-                "acceptance": N / pop.simulations if t else 1.0, "ess": pop.ess(),
+                "acceptance": hits / pop.simulations if t else 1.0,
+                "hit_rate": hits / pop.proposals if t else 1.0, "ess": pop.ess(),
                 "model_probabilities": p.tolist(), "model_probability_se": se.tolist()}
         history.append(line)
         if log:
-            log(f"generation {t}: eps {pop.eps:.3g}, {pop.simulations} simulations, ESS {pop.ess():.0f}, P(model) "
+            log(f"generation {t}: eps {pop.eps:.3g}, {pop.simulations} simulations (acceptance "
+                f"{line['acceptance']:.2f}), ESS {pop.ess():.0f}, P(model) "
                 + ", ".join(f"{a:.3f}+-{b:.3f}" for a, b in zip(p, se)))
 
     note(pops[0], 0)
@@ -267,8 +273,11 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
             log_norm = -0.5 * dims[m] * math.log(2 * math.pi) - float(np.sum(np.log(np.diag(L))))
             kern.append((Zm, Wm, L, Li, log_norm))
         acc_m, acc_z, acc_s, acc_d, acc_w = [], [], [], [], []
-        sims = props = 0
-        rate = max(history[-1]["acceptance"] if t > 1 else 0.5, min_acceptance) * 0.5
+        sims = props = hits = 0
+        # proposals per accepted particle: the last generation's rate, times the share of its
+        # population the new eps keeps (the quantile); each batch is sized to the particles still
+        # needed, so that few simulations run past the N-th acceptance
+        rate = (history[-1]["hit_rate"] if t > 1 else 1.0) * quantile
         b = 0
         while len(acc_m) < N:
             need = N - len(acc_m)
@@ -294,6 +303,7 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
             st = sim_all([int(bm[i]) for i in keep], [bz[i] for i in keep])
             sims += len(keep)
             dd = distance(st, observed, scale)
+            hits += int(np.sum(dd <= eps))
             for i, si, di in zip(keep, st, dd):
                 if di <= eps and len(acc_m) < N:
                     m, z = int(bm[i]), bz[i]
@@ -305,7 +315,7 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
                     acc_s.append(si)
                     acc_d.append(di)
                     acc_w.append((1.0 / M) / (qm[m] * dens))
-            rate = max(len(acc_m) / max(sims, 1), 1e-3)
+            rate = max(hits / props, 1e-3)
         total += sims
         if len(acc_m) < N:
             stopped = "max_simulations"
@@ -313,8 +323,8 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
         w = np.array(acc_w)
         pops.append(Population(eps, np.array(acc_m), acc_z, w / w.sum(), np.array(acc_d), np.array(acc_s), sims,
                                props))
-        note(pops[-1], t)
-        if N / sims < min_acceptance:
+        note(pops[-1], t, hits)
+        if hits / sims < min_acceptance:
             stopped = "min_acceptance"
             break
     return ABCResult(pops, M, total, stopped, history)
