@@ -521,7 +521,7 @@ def plausibility_lines():
 
 # Order of the subcommands in ``drillpy --help`` (unchanged from the single-module CLI).
 COMMANDS = ("report", "modes", "simulate", "sweep", "map", "convergence", "analyze", "predict", "frf",
-            "frf-report", "robust-ss", "reproduce", "mc", "mc-merge", "loop", "control")
+            "frf-report", "robust-ss", "reproduce", "mc", "mc-merge", "loop", "calibrate", "control")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -147,7 +147,8 @@ def _check_analyze_options(a: argparse.Namespace) -> None:
 def _add_predict(sub) -> argparse.ArgumentParser:
     """Register ``drillpy predict`` on the subparsers ``sub``; returns its parser."""
     s = sub.add_parser("predict", help="apply a calibrated rig model (model.json of analyze) to a record, no refitting")
-    s.add_argument("model", help="model.json written by drillpy analyze")
+    s.add_argument("model", help="model.json written by drillpy analyze, or posterior.json of drillpy calibrate "
+                                 "(then: posterior predictive 90 %% intervals of the long-run statistics)")
     s.add_argument("record", help="rig MATLAB file or drillpy CSV")
     s.add_argument("--out", help="folder for summary.json and overlay.png")
     add_figure_units_arg(s)
@@ -155,9 +156,19 @@ def _add_predict(sub) -> argparse.ArgumentParser:
     s.add_argument("--t1", type=float, help="end of the predicted window [s]")
     s.add_argument("--horizon", type=float, default=0.25, help="short-horizon length [s] (docs/loop.md)")
     s.add_argument("--threads", type=threads_option, default=0, help="OpenMP threads (0: default)")
+    s.add_argument("--draws", type=int, default=100, help="posterior draws simulated (posterior.json only)")
+    s.add_argument("--seed", type=int, default=0, help="seed of the posterior draws (posterior.json only)")
     s.add_argument("--json", action="store_true", help="print the short-horizon error and the long-run metrics")
     s.set_defaults(func=cmd_predict)
     return s
+
+
+def _is_posterior(path: str) -> bool:
+    """Whether ``path`` is a ``posterior.json`` of ``drillpy calibrate`` (its ``format``)."""
+    try:
+        return json.loads(open(path, encoding="utf-8").read()).get("format") == "drillpy.posterior"
+    except (OSError, ValueError, AttributeError):
+        return False
 
 
 def cmd_predict(a: argparse.Namespace) -> int:
@@ -180,6 +191,19 @@ def cmd_predict(a: argparse.Namespace) -> int:
         if getattr(a, name) is not None:
             validate.number("--" + name, getattr(a, name), unit="s")
     validate.positive("--horizon", a.horizon, "s")
+    if _is_posterior(a.model):
+        from drillpy.calibration.posterior import predict_posterior
+        r = predict_posterior(a.model, a.record, t0=a.t0, t1=a.t1, draws=a.draws, seed=a.seed, threads=a.threads)
+        if a.json:
+            print_json(r)
+            return 0
+        st = r["statistics"]
+        print(f"posterior predictive 90 % intervals on {r['window_s'][0]:g}-{r['window_s'][1]:g} s ({r['draws']} "
+              f"draws): {sum(bool(v['contained']) for v in st.values())} of {len(st)} contain the measured value")
+        for name, v in st.items():
+            print(f"  {name}: [{v['interval90'][0]:.4g}, {v['interval90'][1]:.4g}] {v['unit']}, measured "
+                  f"{v['measured']:.4g}{'' if v['contained'] else '  (outside)'}")
+        return 0
     model = load_model(a.model)
     pred = predict_record(model, a.record, t0=a.t0, t1=a.t1, horizon_s=a.horizon, threads=a.threads)
     if a.out:
@@ -280,5 +304,87 @@ def cmd_loop(a: argparse.Namespace) -> int:
     return 0
 
 
+def _add_calibrate(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy calibrate`` on the subparsers ``sub``; returns its parser."""
+    s = sub.add_parser("calibrate", help="Bayesian calibration of the rig model on a record (ABC-SMC): the posterior "
+                                         "of its parameters, the law families' probabilities with their Monte Carlo "
+                                         "error, posterior predictive intervals (posterior.json + figures)")
+    s.add_argument("record", help="rig MATLAB file or drillpy CSV")
+    src = s.add_mutually_exclusive_group(required=True)
+    src.add_argument("--preset", help="declared model: a built-in configuration (thesis-rig); default priors")
+    src.add_argument("--config", help="declared model: a JSON configuration, its 'calibration' section the priors "
+                                      "(docs/calibration.md)")
+    s.add_argument("--out", required=True, help="output folder (posterior.json, marginals.png, pair.png, "
+                                                "predictive.png)")
+    s.add_argument("--t0", type=float, help="start of the calibration window [s]")
+    s.add_argument("--t1", type=float, help="end of the calibration window [s]")
+    s.add_argument("--heldout", metavar="T0:T1", help="held-out window [s] of the predictive intervals (default: the "
+                                                      "calibration window)")
+    s.add_argument("--population", type=int, default=200, help="particles per generation")
+    s.add_argument("--simulations", type=int, default=20000, help="simulation budget")
+    s.add_argument("--generations", type=int, default=12, help="generations after the prior's, at most")
+    s.add_argument("--draws", type=int, default=100, help="posterior draws of the predictive intervals")
+    s.add_argument("--seed", type=int, default=0, help="seed (same seed, same numbers)")
+    s.add_argument("--threads", type=threads_option, default=0, help="simulations at once (0: one per core)")
+    s.add_argument("--json", action="store_true", help="print the model probabilities, parameters and predictive "
+                                                       "intervals as JSON")
+    s.set_defaults(func=cmd_calibrate)
+    return s
+
+
+def cmd_calibrate(a: argparse.Namespace) -> int:
+    """Bayesian calibration of the rig model (:func:`drillpy.reports.calibration.calibrate_to_folder`).
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        Arguments of ``drillpy calibrate``; ``--t0``/``--t1``/``--heldout`` in s.
+
+    Returns
+    -------
+    int
+        Exit status 0; prints the model probabilities (with their Monte Carlo error), each parameter's
+        median and 90 % interval, and the predictive intervals against the held-out window.
+    """
+    from drillpy.reports.calibration import calibrate_to_folder
+    for name in ("t0", "t1"):
+        if getattr(a, name) is not None:
+            validate.number("--" + name, getattr(a, name), unit="s")
+    held = None
+    if a.heldout is not None:
+        try:
+            held = tuple(float(x) for x in a.heldout.split(":"))
+            if len(held) != 2 or not held[0] < held[1]:
+                raise ValueError
+        except ValueError:
+            raise ValueError(f"--heldout = {a.heldout!r}: give T0:T1 in s with T0 < T1") from None
+    with _removed_on_failure(a.out):
+        s = calibrate_to_folder(a.record, a.out, preset=a.preset, config_path=a.config, t0=a.t0, t1=a.t1,
+                                heldout=held, population=a.population, max_simulations=a.simulations,
+                                max_generations=a.generations, predictive_draws=a.draws, seed=a.seed,
+                                threads=a.threads, log=None if a.json else print)
+    if a.json:
+        print_json({k: s[k] for k in ("model_probability", "model_probability_se", "parameters", "predictive")}
+                   | {"simulations": s["run"]["simulations"], "wall_s": s["run"]["wall_s"]})
+        return 0
+    run = s["run"]
+    print(f"{run['abc_simulations']} simulations in {run['wall_s']:.1f} s ({run['simulations_per_s']:.1f}/s), "
+          f"{run['generations']} generations, final eps {run['eps'][-1]:.3g} ({run['stopped']})")
+    for fam in s["families"]:
+        print(f"P({fam}, Eq. {s['equations'][fam]}) = {s['model_probability'][fam]:.3f} "
+              f"+- {s['model_probability_se'][fam]:.3f} (Monte Carlo s.e.)")
+        for name, p in s["parameters"][fam].items():
+            print(f"  {name}: {p['median']:.4g} [{p['ci90'][0]:.4g}, {p['ci90'][1]:.4g}] {p['unit']} "
+                  f"(90 %; prior [{p['prior'][0]:g}, {p['prior'][1]:g}], width {p['width_ratio']:.2f} of it)")
+    pred = s["predictive"]
+    print(f"posterior predictive 90 % intervals: {sum(v['contained'] for v in pred.values())} of {len(pred)} contain "
+          "the measured value")
+    for name, v in pred.items():
+        print(f"  {name}: [{v['interval90'][0]:.4g}, {v['interval90'][1]:.4g}] {v['unit']}, measured "
+              f"{v['measured']:.4g}{'' if v['contained'] else '  (outside)'}")
+    print("written: " + ", ".join(s["files"]))
+    return 0
+
+
 #: subcommand -> function registering it (``drillpy.cli.build_parser`` orders them)
-SUBCOMMANDS = {"analyze": _add_analyze, "predict": _add_predict, "loop": _add_loop}
+SUBCOMMANDS = {"analyze": _add_analyze, "predict": _add_predict, "loop": _add_loop, "calibrate": _add_calibrate}

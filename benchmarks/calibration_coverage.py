@@ -1,0 +1,132 @@
+"""Calibration of the calibration (issue 35): on records of an independent truth, how often do the
+90 % posterior intervals contain the true parameters, and the 90 % predictive intervals the
+held-out statistics?
+
+    PYTHONPATH=python python3 benchmarks/calibration_coverage.py [--truths 6] [--population 100] \
+        [--simulations 2000] [--duration 24]
+
+The truth is ``benchmarks/whole_rig.py`` (ten lumped Kelvin-Voigt segments, an exponential Stribeck
+law with static-friction ageing, an RGD-like cut under a drooping jack, a one-way load cell on a
+20 Hz platform, quantized encoders, noise and glitches; it shares no code with drillpy), run
+without the supply step (no stall) at ``--truths`` operating points: its open-loop motor's slope
+c_m and no-load command Omega_c drawn inside the calibration's priors around the rig's (c_m
+0.16-0.30 N m s/rad, Omega_c 15.5-20.5 rad/s), each with its own seed. The two parameters have the
+same meaning in the truth and in drillpy's rig model (the motor: T = c_m (Omega_c - Omega)); the
+others (damping, coupling, jack, law) have none in common, so they are not scored. Each record is
+calibrated (:func:`drillpy.calibration.posterior.calibrate_record`) on its first half and predicts
+its second half. Printed per truth: the model-averaged 90 % intervals of c_m and Omega_c with the
+truth, the family probabilities, and how many predictive intervals contain the held-out
+statistic; then the coverage over all truths and the histogram of the truths' ranks under the
+posterior (the posterior mass below the truth: uniform when the posterior is calibrated). With a handful of truths the coverage is itself
+uncertain: a binomial 90 % interval is printed beside it.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[1]
+if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
+    sys.path.insert(0, str(REPO / "python"))
+sys.path.insert(0, str(REPO / "benchmarks"))
+
+#: whole_rig parameter -> drillpy's calibrated parameter of the same meaning.
+SHARED = {"c_m": "motor_slope_nms_rad", "omega_c": "command_rad_s"}
+
+
+def _mixture(summary: dict, name: str) -> tuple:
+    """(values, weights) of ``name`` over every family's particles, each family weighted by its
+    probability (``Posterior.summary()``)."""
+    vals, ws = [], []
+    for fam in summary["families"]:
+        part = summary["particles"][fam]
+        w = np.asarray(part["weight"], float)
+        if w.size == 0 or name not in part:
+            continue
+        vals.append(np.asarray(part[name], float))
+        ws.append(w / w.sum() * summary["model_probability"][fam])
+    return np.concatenate(vals), np.concatenate(ws)
+
+
+def model_averaged_interval(summary: dict, name: str, level: float = 0.9) -> tuple:
+    """The ``level`` interval of ``name`` under the model-averaged posterior."""
+    v, w = _mixture(summary, name)
+    o = np.argsort(v)
+    cw = np.cumsum(w[o]) / w.sum()
+    a = (1 - level) / 2
+    return float(np.interp(a, cw, v[o])), float(np.interp(1 - a, cw, v[o]))
+
+
+def rank(summary: dict, name: str, truth: float) -> float:
+    """The truth's rank under the model-averaged posterior: the posterior mass below it (uniform over
+    many truths when the posterior is calibrated: simulation-based calibration's rank statistic)."""
+    v, w = _mixture(summary, name)
+    return float(np.sum(w[v <= truth]) / np.sum(w))
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--truths", type=int, default=6)
+    ap.add_argument("--population", type=int, default=100)
+    ap.add_argument("--simulations", type=int, default=2000)
+    ap.add_argument("--duration", type=float, default=24.0)
+    ap.add_argument("--seed", type=int, default=35)
+    ap.add_argument("--threads", type=int, default=0)
+    a = ap.parse_args()
+    import whole_rig
+    from scipy import stats
+
+    from drillpy.calibration.posterior import calibrate_record
+    from drillpy.records.cleaning import clean
+    from drillpy.records.io import read_record
+    rng = np.random.default_rng(a.seed)
+    hits = {k: 0 for k in SHARED}
+    ranks = {k: [] for k in SHARED}
+    pred_in = pred_n = 0
+    h = 0.5 * a.duration
+    for i in range(a.truths):
+        truth = {"c_m": float(rng.uniform(0.16, 0.30)), "omega_c": float(rng.uniform(15.5, 20.5)), "jack_steps": []}
+        with tempfile.TemporaryDirectory() as tmp:
+            path = Path(tmp) / "truth.mat"
+            whole_rig.write_mat(whole_rig.simulate(truth, duration=a.duration, seed=100 + i), str(path))
+            rec, _ = clean(read_record(path))
+        post = calibrate_record(rec, preset="thesis-rig", t0=0.0, t1=h, heldout=(h + rec.dt, a.duration),
+                                population=a.population, max_simulations=a.simulations, predictive_draws=100,
+                                seed=a.seed + i, threads=a.threads)
+        s = post.summary()
+        line = [f"truth {i + 1}:"]
+        for k, name in SHARED.items():
+            lo, hi = model_averaged_interval(s, name)
+            ok = lo <= truth[k] <= hi
+            hits[k] += ok
+            ranks[k].append(rank(s, name, truth[k]))
+            line.append(f"{name} {truth[k]:.3f} in [{lo:.3f}, {hi:.3f}] {'yes' if ok else 'NO'} "
+                        f"(rank {ranks[k][-1]:.2f});")
+        pin = sum(v["contained"] for v in s["predictive"].values())
+        pred_in += pin
+        pred_n += len(s["predictive"])
+        line.append("P(" + ", ".join(f"{f} {p:.2f}+-{s['model_probability_se'][f]:.2f}"
+                                     for f, p in s["model_probability"].items()) + ");")
+        line.append(f"predictive {pin}/{len(s['predictive'])}; {s['run']['abc_simulations']} simulations, "
+                    f"eps {s['run']['eps'][-1]:.3g}")
+        print(" ".join(line), flush=True)
+
+    def binom(k, n):
+        lo = stats.beta.ppf(0.05, k, n - k + 1) if k > 0 else 0.0
+        hi = stats.beta.ppf(0.95, k + 1, n - k) if k < n else 1.0
+        return f"{k}/{n} = {k / n:.2f} (90 % interval [{lo:.2f}, {hi:.2f}])"
+
+    for k, name in SHARED.items():
+        print(f"coverage of the 90 % posterior interval, {name}: {binom(hits[k], a.truths)}")
+        counts = np.histogram(ranks[k], bins=5, range=(0.0, 1.0))[0]
+        print(f"  rank histogram of the truth under the posterior (5 bins of 0.2): {counts.tolist()}")
+    print(f"coverage of the 90 % predictive intervals of the held-out statistics: {binom(pred_in, pred_n)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

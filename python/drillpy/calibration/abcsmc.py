@@ -1,0 +1,330 @@
+"""ABC-SMC with model choice on a batched simulator (NumPy only).
+
+Population Monte Carlo approximate Bayesian computation (Beaumont et al. 2009, Biometrika 96:983;
+with model choice, Toni et al. 2009, J. R. Soc. Interface 6:187 and Toni & Stumpf 2010): a
+sequence of populations of N weighted particles (model m, parameters z) whose simulated summary
+statistics lie within a shrinking tolerance eps_t of the observed ones.
+
+* Parameters live in unit coordinates z in [0, 1]^d where every prior is uniform
+  (:class:`drillpy.calibration.priors.Prior` maps uniform and log-uniform ranges); the model prior
+  is uniform over the models.
+* Generation 0 draws N particles from the prior, all kept. Generation t >= 1 sets eps_t to the
+  weighted median of the previous population's distances and proposes particles in **batches**
+  (the simulator runs a whole batch at once) until N have distance <= eps_t: the model from
+  q(m) = (1 - delta) P_{t-1}(m) + delta / M (a model never dies out), then with probability rho a
+  fresh prior draw (always, for a model with fewer than 2 particles), else a particle of that model
+  drawn by weight and moved by a Gaussian kernel of twice the model's weighted covariance
+  (Beaumont's choice) plus (:data:`KERNEL_FLOOR`)^2 I, or of :data:`KERNEL_FEW` on every axis when the
+  model has fewer effective particles than its dimension + 2 (no covariance can be estimated). A proposal outside the unit cube has prior density 0: it counts as
+  rejected without a simulation. Weights are prior / proposal density, w = pi(m) pi(z | m) / q(m, z),
+  with q(m, z) = q(m) (rho + (1 - rho) sum_j W_j N(z; z_j, Sigma_m)): the importance weights of an
+  exact accept-reject step, so model probabilities stay unbiased for the ABC posterior at eps_t.
+* Model probabilities P(m) = sum of the weights of model m's particles; their Monte Carlo standard
+  error is the self-normalized importance sampling one, sqrt(sum_i wn_i^2 (1[m_i = m] - P(m))^2).
+* Batches are sized to the particles still needed at the acceptance rate expected (the previous
+  generation's, times the share of it the new eps keeps, then the rate measured so far), so that few
+  simulations run past the N-th acceptance of a generation.
+* It stops after ``max_generations``, when the budget ``max_simulations`` runs out in a generation
+  (that generation's simulations are spent but not used), or when a generation accepts fewer than
+  ``min_acceptance`` of its simulations.
+
+The proposals of generation t and batch b come from a generator keyed by (seed, t, b), and the
+first N accepted in proposal order are kept: the result depends on the seed only, never on the
+threads that run a batch.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass
+class Population:
+    """One generation's accepted particles.
+
+    Attributes
+    ----------
+    eps : float
+        Its tolerance (inf for generation 0).
+    model : ndarray of int
+        Model index per particle.
+    z : list of ndarray
+        Unit coordinates per particle (length of the model's dimension).
+    weight : ndarray
+        Normalized importance weights.
+    distance : ndarray
+        Distance of each particle's statistics to the observed ones.
+    stats : ndarray
+        Summary statistics per particle (N x K).
+    simulations : int
+        Simulations this generation ran.
+    proposals : int
+        Proposals drawn (with those outside the prior's support).
+    """
+    eps: float
+    model: np.ndarray
+    z: list
+    weight: np.ndarray
+    distance: np.ndarray
+    stats: np.ndarray
+    simulations: int
+    proposals: int
+
+    def model_probabilities(self, n_models: int) -> tuple:
+        """(P(m) per model, its Monte Carlo standard error) from the weights.
+
+        Parameters
+        ----------
+        n_models : int
+            Number of models.
+
+        Returns
+        -------
+        tuple of ndarray
+        """
+        w = self.weight / self.weight.sum()
+        p = np.array([w[self.model == m].sum() for m in range(n_models)])
+        se = np.array([math.sqrt(float(np.sum(w ** 2 * ((self.model == m) - p[m]) ** 2))) for m in range(n_models)])
+        return p, se
+
+    def ess(self) -> float:
+        """Effective sample size of the weights."""
+        w = self.weight / self.weight.sum()
+        return float(1.0 / np.sum(w ** 2))
+
+
+@dataclass
+class ABCResult:
+    """The populations of a run (the last is the posterior) and how it ended.
+
+    Attributes
+    ----------
+    populations : list of Population
+    n_models : int
+    simulations : int
+        Simulations run in all.
+    stopped : str
+        Why it stopped.
+    history : list of dict
+        Per generation: eps, simulations, proposals, acceptance (of its simulations), hit rate (of
+        its proposals), ESS, model probabilities and their standard errors.
+    """
+    populations: list
+    n_models: int
+    simulations: int
+    stopped: str
+    history: list = field(default_factory=list)
+
+    @property
+    def posterior(self) -> Population:
+        """The last population."""
+        return self.populations[-1]
+
+
+#: Smallest kernel standard deviation, in unit coordinates (a share of the prior range).
+KERNEL_FLOOR = 0.01
+#: Kernel standard deviation of a model with fewer effective particles than its dimension + 2.
+KERNEL_FEW = 0.1
+
+
+def distance(stats: np.ndarray, observed: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """Root mean square of (stats - observed) / scale over the statistics (rows of ``stats``); inf
+    where a statistic the observation has is missing (NaN) in a simulation.
+
+    Parameters
+    ----------
+    stats : ndarray
+        Simulated statistics (n x K, or K).
+    observed : ndarray
+        Observed statistics (K).
+    scale : ndarray
+        Scale of each statistic (K).
+
+    Returns
+    -------
+    ndarray
+        One distance per row.
+    """
+    s = np.atleast_2d(stats)
+    r = (s - observed) / scale
+    d = np.sqrt(np.mean(r ** 2, axis=1))
+    d[~np.all(np.isfinite(r), axis=1)] = np.inf
+    return d
+
+
+def _kernel_density(z, centers, weights, chol_inv, log_norm):
+    """sum_j W_j N(z; c_j, Sigma) for each row of z (Sigma given by its inverse Cholesky factor)."""
+    diff = (z[:, None, :] - centers[None, :, :]) @ chol_inv.T
+    q = np.sum(diff ** 2, axis=2)
+    return np.exp(-0.5 * q + log_norm) @ weights
+
+
+def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, population: int = 200,
+        max_simulations: int = 20000, max_generations: int = 20, min_acceptance: float = 0.02, seed: int = 0,
+        rho: float = 0.0, delta: float = 0.1, quantile: float = 0.5, log=None) -> ABCResult:
+    """Run ABC-SMC with model choice.
+
+    Parameters
+    ----------
+    simulate : callable
+        ``simulate(m, Z) -> stats``: the summary statistics (n x K) of model ``m`` at the unit
+        coordinates ``Z`` (n x dims[m]); NaN rows for a failed simulation.
+    dims : list of int
+        Dimension of each model's parameter.
+    observed : ndarray
+        The observed statistics (K).
+    scale : ndarray
+        Scale of each statistic in the distance (K, positive).
+    population : int
+        Particles per generation (at least 4).
+    max_simulations : int
+        Budget of simulations.
+    max_generations : int
+        Generations after the prior's.
+    min_acceptance : float
+        Stop when a generation accepts fewer than this fraction of its simulations.
+    seed : int
+        Seed of every random draw.
+    rho : float
+        Share of fresh prior draws among the proposals (a defensive mixture; 0 by default: an accepted
+        prior draw far from the kernel's mass takes a weight that swamps the population's). A model
+        with fewer than 2 particles is always proposed from its prior.
+    delta : float
+        Share of the model proposal spread uniformly over the models.
+    quantile : float
+        eps_t is this weighted quantile of the previous population's distances.
+    log : callable, optional
+        Called with one line per generation.
+
+    Returns
+    -------
+    ABCResult
+    """
+    if int(population) < 4:
+        raise ValueError(f"population = {population!r}: at least 4 particles")
+    if int(max_simulations) < population:
+        raise ValueError(f"max_simulations = {max_simulations!r}: at least the population ({population})")
+    if not 0 < quantile < 1:
+        raise ValueError(f"quantile = {quantile!r}: between 0 and 1")
+    N, M = int(population), len(dims)
+    observed, scale = np.asarray(observed, float), np.asarray(scale, float)
+
+    def sim_all(models, zs):
+        K = observed.size
+        out = np.full((len(models), K), np.nan)
+        for m in range(M):
+            idx = [i for i, mm in enumerate(models) if mm == m]
+            if idx:
+                out[idx] = np.asarray(simulate(m, np.array([zs[i] for i in idx]).reshape(len(idx), dims[m])), float)
+        return out
+
+    # generation 0: the prior
+    rng = np.random.default_rng([seed, 0, 0])
+    models = list(rng.integers(0, M, N))
+    zs = [rng.random(dims[m]) for m in models]
+    stats = sim_all(models, zs)
+    d = distance(stats, observed, scale)
+    pops = [Population(math.inf, np.array(models), zs, np.full(N, 1.0 / N), d, stats, N, N)]
+    total = N
+    history = []
+    stopped = "max_generations"
+
+    def note(pop, t, hits=None):
+        p, se = pop.model_probabilities(M)
+        line = {"generation": t, "eps": pop.eps, "simulations": pop.simulations, "proposals": pop.proposals,
+                "acceptance": hits / pop.simulations if t else 1.0,
+                "hit_rate": hits / pop.proposals if t else 1.0, "ess": pop.ess(),
+                "model_probabilities": p.tolist(), "model_probability_se": se.tolist()}
+        history.append(line)
+        if log:
+            log(f"generation {t}: eps {pop.eps:.3g}, {pop.simulations} simulations (acceptance "
+                f"{line['acceptance']:.2f}), ESS {pop.ess():.0f}, P(model) "
+                + ", ".join(f"{a:.3f}+-{b:.3f}" for a, b in zip(p, se)))
+
+    note(pops[0], 0)
+    for t in range(1, int(max_generations) + 1):
+        prev = pops[-1]
+        finite = np.isfinite(prev.distance)
+        if not finite.any():
+            stopped = "no finite distance in the prior's population"
+            break
+        order = np.argsort(prev.distance)
+        cw = np.cumsum(prev.weight[order]) / prev.weight.sum()
+        eps = float(prev.distance[order][min(np.searchsorted(cw, quantile), N - 1)])
+        p_prev, _ = prev.model_probabilities(M)
+        qm = (1 - delta) * p_prev + delta / M
+        kern = []
+        for m in range(M):
+            sel = prev.model == m
+            if sel.sum() < 2:
+                kern.append(None)
+                continue
+            Zm = np.array([prev.z[i] for i in np.flatnonzero(sel)])
+            Wm = prev.weight[sel] / prev.weight[sel].sum()
+            mu = Wm @ Zm
+            if 1.0 / np.sum(Wm ** 2) < dims[m] + 2:  # too few effective particles for a covariance
+                cov = np.eye(dims[m]) * KERNEL_FEW ** 2
+            else:
+                cov = 2.0 * ((Zm - mu).T * Wm) @ (Zm - mu) + np.eye(dims[m]) * KERNEL_FLOOR ** 2
+            L = np.linalg.cholesky(cov)
+            Li = np.linalg.inv(L)
+            log_norm = -0.5 * dims[m] * math.log(2 * math.pi) - float(np.sum(np.log(np.diag(L))))
+            kern.append((Zm, Wm, L, Li, log_norm))
+        acc_m, acc_z, acc_s, acc_d, acc_w = [], [], [], [], []
+        sims = props = hits = 0
+        # proposals per accepted particle: the last generation's rate, times the share of its
+        # population the new eps keeps (the quantile); each batch is sized to the particles still
+        # needed, so that few simulations run past the N-th acceptance
+        rate = (history[-1]["hit_rate"] if t > 1 else 1.0) * quantile
+        b = 0
+        while len(acc_m) < N:
+            need = N - len(acc_m)
+            size = int(min(max(math.ceil(need / max(rate, 1e-3)), 16), 8 * N))
+            size = int(min(size, max_simulations - total - sims))
+            if size <= 0:
+                break
+            b += 1
+            rng = np.random.default_rng([seed, t, b])
+            bm = rng.choice(M, size=size, p=qm / qm.sum())
+            bz, inside = [], []
+            for m in bm:
+                k = kern[m]
+                if k is None or rng.random() < rho:
+                    z = rng.random(dims[m])
+                else:
+                    j = rng.choice(len(k[1]), p=k[1])
+                    z = k[0][j] + k[2] @ rng.standard_normal(dims[m])
+                bz.append(z)
+                inside.append(bool(np.all((z >= 0) & (z <= 1))))
+            props += size
+            keep = [i for i in range(size) if inside[i]]
+            st = sim_all([int(bm[i]) for i in keep], [bz[i] for i in keep])
+            sims += len(keep)
+            dd = distance(st, observed, scale)
+            hits += int(np.sum(dd <= eps))
+            for i, si, di in zip(keep, st, dd):
+                if di <= eps and len(acc_m) < N:
+                    m, z = int(bm[i]), bz[i]
+                    k = kern[m]
+                    dens = (rho + (1 - rho) * float(_kernel_density(z[None, :], k[0], k[1], k[3], k[4])[0])
+                            if k is not None else 1.0)
+                    acc_m.append(m)
+                    acc_z.append(z)
+                    acc_s.append(si)
+                    acc_d.append(di)
+                    acc_w.append((1.0 / M) / (qm[m] * dens))
+            rate = max(hits / props, 1e-3)
+        total += sims
+        if len(acc_m) < N:
+            stopped = "max_simulations"
+            break
+        w = np.array(acc_w)
+        pops.append(Population(eps, np.array(acc_m), acc_z, w / w.sum(), np.array(acc_d), np.array(acc_s), sims,
+                               props))
+        note(pops[-1], t, hits)
+        if hits / sims < min_acceptance:
+            stopped = "min_acceptance"
+            break
+    return ABCResult(pops, M, total, stopped, history)

@@ -1,0 +1,481 @@
+"""The rig model's posterior from a record: ABC-SMC over the law families and their parameters.
+
+:func:`calibrate_record` reads and cleans a record, takes the summary statistics of a window
+(:mod:`drillpy.calibration.summaries`), and runs the ABC-SMC of :mod:`drillpy.calibration.abcsmc`
+with the whole rig model (:class:`drillpy.records.rigsim.RigModel`, the ``rig`` drive: motor,
+coupling, jack, platform, 10 Hz filter) as the simulator, each law family of
+:data:`drillpy.calibration.priors.FAMILIES` with its priors (:mod:`drillpy.calibration.priors`).
+The distance is the root mean square of the statistics' differences in units of their own
+sampling uncertainty on the record (:func:`~drillpy.calibration.summaries.noise_scale`).
+
+The result (:class:`Posterior`) gives the model probabilities with their Monte Carlo error, each
+parameter's posterior median and 90 % interval, and the posterior predictive intervals of the
+long-run statistics on a held-out window: model-averaged posterior draws simulated at that
+window's operating point (its WOB trend), plus each statistic's sampling noise over a window of
+that length (the calibration window's block spread scaled by the window lengths), so that the
+intervals cover what a record of that length would measure.
+"""
+from __future__ import annotations
+
+import copy
+import json
+import math
+import os
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from drillpy.calibration import abcsmc
+from drillpy.calibration.priors import FAMILIES, PriorSpec, prior_spec, split_config
+from drillpy.calibration.summaries import NAMES, UNITS, noise_scale, statistics, summaries
+from drillpy.model.config import load_config, normalize
+from drillpy.model.simulation import simulate
+from drillpy.records import rigsim
+from drillpy.records.io import Record
+from drillpy.records.signals import platform_response, rig_lowpass
+
+#: The simulated start-up left out of every statistic [s].
+SKIP_S = 2.0
+#: Statistics reported with predictive intervals.
+PREDICTED = NAMES
+
+
+def family_law(base: dict, family: str, law_scale: float, static_torque_nm: float | None = None) -> dict:
+    """The engine law of ``family`` from the configuration's polynomial law ``base`` (Eq. 5.1/5.3).
+
+    The slip branch a2..a7 is multiplied by ``law_scale``; a1 ties the law from its value at rest
+    (0 for the regularized Eq. 5.3 reading, ``static_torque_nm`` / gain for Eq. 5.1) to a2 at 1 %
+    of the reference speed, as :mod:`drillpy.records.identification` ties it. Eq. (5.1) drops the
+    hysteresis (beta1 = beta2 = 0).
+
+    Parameters
+    ----------
+    base : dict
+        A ``polynomial`` or ``polynomial_hysteretic`` engine law.
+    family : str
+        ``polynomial_hysteretic`` or ``polynomial``.
+    law_scale : float
+        Factor on the slip branch [-].
+    static_torque_nm : float, optional
+        Static torque gain x a0 at W_ref [N m] (``polynomial`` only).
+
+    Returns
+    -------
+    dict
+    """
+    if base.get("type") not in ("polynomial", "polynomial_hysteretic"):
+        raise ValueError(f"law.type = {base.get('type')!r}: the calibration's families are Eq. (5.1)/(5.3): give a "
+                         "'polynomial' or 'polynomial_hysteretic' law")
+    law = copy.deepcopy(base)
+    for k in ("a2", "a3", "a4", "a5", "a6", "a7"):
+        law[k] = float(base.get(k, 0.0)) * law_scale
+    ref = float(base["ref_speed"])
+    if family == "polynomial":
+        law["type"] = "polynomial"
+        law["a0"] = float(static_torque_nm) / float(base.get("gain", 1.36))
+        law.pop("beta1", None)
+        law.pop("beta2", None)
+    elif family == "polynomial_hysteretic":
+        law["type"] = "polynomial_hysteretic"
+        law["a0"] = 0.0
+        law.setdefault("beta1", 0.0)
+        law.setdefault("beta2", 0.0)
+    else:
+        raise ValueError(f"family = {family!r}: use {', '.join(FAMILIES)}")
+    law["a1"] = (law["a2"] - law["a0"]) / (0.01 * ref)
+    return law
+
+
+def rig_model(base_law: dict, family: str, values: dict, fixed: dict, preset: str = "thesis-rig") -> rigsim.RigModel:
+    """The ``rig``-drive model of ``family`` at the parameter ``values`` with the ``fixed`` rig parameters.
+
+    Parameters
+    ----------
+    base_law : dict
+        The configuration's polynomial law (:func:`family_law`).
+    family : str
+        Law family.
+    values : dict
+        Calibrated parameter -> value (names of :data:`drillpy.calibration.priors.PARAMETERS`).
+    fixed : dict
+        Held rig parameter -> value (:data:`drillpy.calibration.priors.FIXED`).
+    preset : str
+        Engine preset of the rig's geometry.
+
+    Returns
+    -------
+    RigModel
+    """
+    law = family_law(base_law, family, values["law_scale"], values.get("static_torque_nm"))
+    return rigsim.RigModel(law, values["damping_ratio"], "rig", values["motor_slope_nms_rad"],
+                           fixed["motor_inertia_kg_m2"], preset=preset, command_rad_s=values["command_rad_s"],
+                           jack_gain_n_rad=values["jack_gain_n_rad"], jack_relaxation_s=fixed["jack_relaxation_s"],
+                           platform_damping=fixed["platform_damping"], gj_factor=fixed["gj_factor"],
+                           bit_inertia_factor=fixed["bit_inertia_factor"],
+                           coupling_stiffness_nm_rad=values["coupling_stiffness_nm_rad"])
+
+
+class RigSimulator:
+    """The batched simulator of the ABC: statistics of the rig model over a record's span.
+
+    Parameters
+    ----------
+    record : Record
+        The cleaned window (its operating point and WOB trend drive every run).
+    stick_threshold : float
+        [rad/s].
+    spec : PriorSpec
+    base_law : dict
+    threads : int
+        Runs at once (0: one per core).
+    """
+
+    def __init__(self, record: Record, stick_threshold: float, spec: PriorSpec, base_law: dict, threads: int = 0):
+        self.record, self.thr, self.spec, self.base_law = record, stick_threshold, spec, base_law
+        self.families = list(spec.families)
+        self.threads = threads if threads > 0 else (os.cpu_count() or 1)
+        self.runs = 0
+        self._inputs = {}
+
+    def values(self, family: str, z) -> dict:
+        """Parameter name -> value at unit coordinates ``z``.
+
+        Parameters
+        ----------
+        family : str
+            Law family.
+        z : array_like
+            Unit coordinates, one per parameter of the family.
+
+        Returns
+        -------
+        dict
+        """
+        return {p.name: float(p.from_unit(zi)) for p, zi in zip(self.spec.families[family], z)}
+
+    def one(self, family: str, values: dict, record: Record | None = None) -> np.ndarray:
+        """The statistics of one run over ``record`` (default the calibration window) at its
+        operating point, as :func:`drillpy.records.rigsim.simulate_model` runs the rig drive (the
+        platform's response and the 10 Hz filter on the channels); NaN when the run fails.
+
+        Parameters
+        ----------
+        family : str
+            Law family.
+        values : dict
+            Parameter name -> value.
+        record : Record, optional
+            Another window (its operating point, WOB trend and stick threshold).
+
+        Returns
+        -------
+        ndarray
+            The statistics :data:`drillpy.calibration.summaries.NAMES`.
+        """
+        rec = self.record if record is None else record
+        key = id(rec)
+        if key not in self._inputs:
+            op = rigsim.operating_point(rec)
+            wob = op.get("wob_n", self.base_law["wob_ref_n"])
+            self._inputs[key] = (wob, rigsim.wob_trend(rec, wob), float(rec.time_s[-1] - rec.time_s[0]),
+                                 rigsim.stick_threshold(rec) if record is not None else self.thr)
+        wob, trend, duration, thr = self._inputs[key]
+        try:
+            model = rig_model(self.base_law, family, values, self.spec.fixed)
+            cfg = model.config(model.command_rad_s, wob, duration_s=duration)
+            cfg["simulation"]["output_stride"] = max(1, int(round(rec.dt / cfg["simulation"]["dt_s"])))
+            res = simulate(normalize(cfg), model.command_rad_s, wob_series=trend, series_dt=rec.dt)
+            n = min(res.t.size, len(rec))
+            fs = 1.0 / float(np.median(np.diff(res.t)))
+            tq = platform_response(res.torque_on_bit[:n], fs, rigsim.PLATFORM_HZ, model.platform_damping)
+            vb, vt, tq, w = (rig_lowpass(x, fs) for x in (res.bit_speed[:n], res.top_speed[:n], tq, res.wob[:n]))
+            k = int(np.searchsorted(res.t[:n], SKIP_S))
+            return statistics(vb[k:], tq[k:], vt[k:], w[k:], 1.0 / fs, thr)
+        except (ValueError, RuntimeError):
+            return np.full(len(NAMES), np.nan)
+
+    def __call__(self, m: int, Z: np.ndarray) -> np.ndarray:
+        fam = self.families[m]
+        vals = [self.values(fam, z) for z in Z]
+        self.runs += len(vals)
+        with ThreadPoolExecutor(max_workers=self.threads) as pool:
+            return np.array(list(pool.map(lambda v: self.one(fam, v), vals)))
+
+
+@dataclass
+class Posterior:
+    """The calibration's result (:func:`calibrate_record`).
+
+    Attributes
+    ----------
+    families : list of str
+    model_probability, model_probability_se : dict
+        Family -> posterior probability, and its Monte Carlo standard error.
+    parameters : dict
+        Family -> parameter -> ``median``, ``ci90`` [p5, p95], ``prior`` range, ``unit``,
+        ``width_ratio`` (90 % interval / prior range).
+    particles : dict
+        Family -> {``weight``: [...], parameter: [...]} (the final population).
+    observed, scale : dict
+        The window's statistics and their scales in the distance.
+    predictive : dict
+        Statistic -> ``interval90``, ``median``, ``measured`` (held-out window), ``contained``.
+    run : dict
+        Simulations, generations, tolerances, acceptance, wall time, seed, why it stopped.
+    spec : dict
+        The priors and held values.
+    record : dict
+        The record's source, calibration window [s], stick threshold [rad/s] and the configuration's
+        law the families are built on (``base_law``).
+    """
+    families: list
+    model_probability: dict
+    model_probability_se: dict
+    parameters: dict
+    particles: dict
+    observed: dict
+    scale: dict
+    predictive: dict
+    run: dict
+    spec: dict
+    record: dict = field(default_factory=dict)
+
+    def summary(self) -> dict:
+        """JSON-ready dict (``posterior.json``)."""
+        return {"format": "drillpy.posterior", "version": 1, "record": self.record, "families": self.families,
+                "equations": {f: FAMILIES[f] for f in self.families},
+                "model_probability": self.model_probability, "model_probability_se": self.model_probability_se,
+                "parameters": self.parameters, "predictive": self.predictive, "observed": self.observed,
+                "scale": self.scale, "units": dict(zip(NAMES, UNITS)), "run": self.run, "priors": self.spec,
+                "particles": self.particles}
+
+
+def _wquantile(x, w, q):
+    o = np.argsort(x)
+    cw = np.cumsum(w[o]) / w.sum()
+    return [float(np.interp(qq, cw - 0.5 * w[o] / w.sum(), x[o])) for qq in q]
+
+
+def load_window(record, t0: float | None = None, t1: float | None = None) -> Record:
+    """The record at a path, read and cleaned (or a :class:`Record` taken as cleaned), cut to [t0, t1] s.
+
+    Parameters
+    ----------
+    record : str or Path or Record
+        The record.
+    t0, t1 : float, optional
+        The window [s].
+
+    Returns
+    -------
+    Record
+    """
+    from drillpy.records.cleaning import clean
+    from drillpy.records.io import read_record
+    rec = clean(read_record(record))[0] if isinstance(record, (str, Path)) else record
+    if t0 is not None or t1 is not None:
+        rec = rec.select(t0, t1)
+    if len(rec) < 100:
+        raise ValueError(f"record window [{t0}, {t1}] s: {len(rec)} samples, too short to calibrate on")
+    if rec.top_speed is None:
+        raise ValueError("record: no top_speed channel (the rig model's operating point needs it)")
+    return rec
+
+
+def calibrate_record(record, *, preset: str | None = None, config_path: str | None = None, config: dict | None = None,
+                     t0: float | None = None, t1: float | None = None, heldout: tuple | None = None,
+                     population: int = 200, max_simulations: int = 20000, max_generations: int = 12,
+                     predictive_draws: int = 100, seed: int = 0, threads: int = 0, log=None) -> Posterior:
+    """Posterior of the rig model given a record (module docstring).
+
+    Parameters
+    ----------
+    record : str or Path or Record
+        The record (.mat or .csv) or a cleaned :class:`Record`.
+    preset, config_path, config : optional
+        Exactly one: the declared model (its law is the families' base; a configuration's
+        ``calibration`` section sets the priors, :mod:`drillpy.calibration.priors`).
+    t0, t1 : float, optional
+        The calibration window [s].
+    heldout : tuple of float, optional
+        (t0, t1) of a held-out window [s] for the predictive intervals; default the calibration
+        window itself.
+    population : int
+        Particles per generation.
+    max_simulations : int
+        Simulation budget.
+    max_generations : int
+        Generations after the prior's.
+    predictive_draws : int
+        Posterior draws simulated for the predictive intervals.
+    seed : int
+        Seed of every random draw (same seed, same numbers, whatever ``threads``).
+    threads : int
+        Simulations at once (0: one per core).
+    log : callable, optional
+        Progress lines.
+
+    Returns
+    -------
+    Posterior
+
+    Raises
+    ------
+    ValueError
+        Naming the field and the value (configuration, priors, window, budget).
+    """
+    given = [x is not None for x in (preset, config_path, config)]
+    if sum(given) != 1:
+        raise ValueError("calibrate: give exactly one of preset, config_path or config")
+    for k, v in (("population", population), ("max_simulations", max_simulations),
+                 ("predictive_draws", predictive_draws)):
+        if not isinstance(v, (int, np.integer)) or v < 1:
+            raise ValueError(f"{k} = {v!r}: a positive integer")
+    if config_path is not None:
+        config = json.loads(Path(config_path).read_text())
+    section = {}
+    if config is not None:
+        config, section = split_config(config)
+        cfg = load_config(config=config)
+    else:
+        cfg = load_config(preset=preset)
+    spec = prior_spec(section)
+    base_law = cfg["law"]
+    family_law(base_law, next(iter(spec.families)), 1.0, 2.0)  # the law's type, checked before any run
+    rec = load_window(record, t0, t1)
+    thr = rigsim.stick_threshold(rec)
+    observed = summaries(rec, thr, SKIP_S)
+    scale = noise_scale(rec, thr, skip_s=SKIP_S)
+    ok = np.isfinite(observed)
+    if not ok.all():
+        missing = [n for n, o in zip(NAMES, ok) if not o]
+        raise ValueError(f"record: statistics {', '.join(missing)} cannot be measured on the window")
+    sim = RigSimulator(rec, thr, spec, base_law, threads)
+    dims = [len(spec.families[f]) for f in sim.families]
+    start = time.perf_counter()
+    res = abcsmc.run(sim, dims, observed, scale, population=population, max_simulations=max_simulations,
+                     max_generations=max_generations, seed=seed, log=log)
+    wall = time.perf_counter() - start
+    post = res.posterior
+    p, se = post.model_probabilities(len(dims))
+    parameters, particles = {}, {}
+    for m, fam in enumerate(sim.families):
+        sel = np.flatnonzero(post.model == m)
+        particles[fam] = {"weight": post.weight[sel].tolist()}
+        parameters[fam] = {}
+        for j, pr in enumerate(spec.families[fam]):
+            vals = np.array([float(pr.from_unit(post.z[i][j])) for i in sel])
+            particles[fam][pr.name] = vals.tolist()
+            if sel.size == 0:
+                continue
+            lo, med, hi = _wquantile(vals, post.weight[sel], (0.05, 0.5, 0.95))
+            if pr.scale == "log-uniform":
+                ratio = math.log(hi / lo) / math.log(pr.high / pr.low)
+            else:
+                ratio = (hi - lo) / (pr.high - pr.low)
+            parameters[fam][pr.name] = {"median": med, "ci90": [lo, hi], "prior": [pr.low, pr.high],
+                                        "unit": pr.unit, "width_ratio": ratio}
+    # posterior predictive on the held-out window
+    target = load_window(record, *heldout) if heldout is not None else rec
+    jobs = [(sim.families[m], sim.values(sim.families[m], z)) for m, z in zip(post.model, post.z)]
+    predictive = _predictive(sim, jobs, post.weight, target, scale, float(rec.time_s[-1] - rec.time_s[0]),
+                             predictive_draws, seed)
+    run = {"simulations": res.simulations + int(predictive_draws), "abc_simulations": res.simulations,
+           "generations": len(res.populations) - 1, "population": population, "stopped": res.stopped,
+           "eps": [h["eps"] for h in res.history], "history": res.history, "wall_s": wall,
+           "simulations_per_s": res.simulations / wall if wall > 0 else None, "seed": seed,
+           "threads": sim.threads, "method": "ABC-SMC with model choice (drillpy.calibration.abcsmc)",
+           "heldout_s": list(heldout) if heldout is not None else None}
+    rec_info = {"source": str(record) if isinstance(record, (str, Path)) else rec.provenance.get("source"),
+                "window_s": [float(rec.time_s[0]), float(rec.time_s[-1])], "stick_threshold_rad_s": thr,
+                "base_law": base_law}
+    return Posterior(sim.families, dict(zip(sim.families, map(float, p))), dict(zip(sim.families, map(float, se))),
+                     parameters, particles, dict(zip(NAMES, map(float, observed))), dict(zip(NAMES, map(float, scale))),
+                     predictive, run, spec.summary(), rec_info)
+
+
+def _predictive(sim: RigSimulator, jobs: list, weight: np.ndarray, target: Record, scale: np.ndarray,
+                calibration_s: float, draws: int, seed: int) -> dict:
+    """Posterior predictive 90 % intervals of the statistics on ``target`` (module docstring): ``draws``
+    particles ``jobs`` [(family, values)] drawn by ``weight``, simulated at the target's operating
+    point, plus each statistic's sampling noise ``scale`` (over ``calibration_s`` seconds) scaled to
+    the target's length."""
+    rng = np.random.default_rng([seed, 10 ** 6])
+    idx = rng.choice(len(jobs), size=int(draws), p=weight / weight.sum())
+    with ThreadPoolExecutor(max_workers=sim.threads) as pool:
+        pred = np.array(list(pool.map(lambda i: sim.one(jobs[i][0], jobs[i][1], target), idx)))
+    len_t = float(target.time_s[-1] - target.time_s[0]) - SKIP_S
+    noise = scale * math.sqrt(max(calibration_s - SKIP_S, 1e-9) / max(len_t, 1e-9))
+    pred = pred + rng.standard_normal(pred.shape) * noise
+    measured = summaries(target, rigsim.stick_threshold(target), SKIP_S)
+    out = {}
+    for k, name in enumerate(NAMES):
+        col = pred[:, k]
+        col = col[np.isfinite(col)]
+        if col.size < 2:
+            continue
+        lo, med, hi = (float(x) for x in np.percentile(col, [5, 50, 95]))
+        mk = float(measured[k])
+        out[name] = {"interval90": [lo, hi], "median": med, "measured": mk,
+                     "contained": bool(lo <= mk <= hi) if math.isfinite(mk) else None, "unit": UNITS[k]}
+    return out
+
+
+def predict_posterior(posterior, record, *, t0: float | None = None, t1: float | None = None, draws: int = 100,
+                      seed: int = 0, threads: int = 0) -> dict:
+    """Posterior predictive 90 % intervals of the long-run statistics on a record window, from a
+    calibration's ``posterior.json`` (``drillpy predict POSTERIOR.json RECORD``).
+
+    Parameters
+    ----------
+    posterior : str or Path or dict
+        ``posterior.json`` of ``drillpy calibrate`` (or its dict, :meth:`Posterior.summary`).
+    record : str or Path or Record
+        The record to predict.
+    t0, t1 : float, optional
+        Its window [s].
+    draws : int
+        Posterior draws simulated.
+    seed : int
+        Seed of the draws and of the statistics' sampling noise.
+    threads : int
+        Simulations at once (0: one per core).
+
+    Returns
+    -------
+    dict
+        Statistic -> ``interval90``, ``median``, ``measured``, ``contained``, ``unit``; and
+        ``window_s``, ``draws``, ``model_probability``.
+
+    Raises
+    ------
+    ValueError
+        When the file is not a drillpy posterior, or naming a bad ``draws``.
+    """
+    from drillpy.calibration.priors import Prior
+    s = json.loads(Path(posterior).read_text()) if isinstance(posterior, (str, Path)) else posterior
+    if not isinstance(s, dict) or s.get("format") != "drillpy.posterior":
+        raise ValueError(f"{posterior}: not a drillpy posterior (format = "
+                         f"{s.get('format') if isinstance(s, dict) else None!r}; write one with drillpy calibrate)")
+    if not isinstance(draws, (int, np.integer)) or draws < 2:
+        raise ValueError(f"draws = {draws!r}: an integer of at least 2")
+    fams = s["families"]
+    spec = PriorSpec({f: tuple(Prior(n, *p["range"], p["unit"], p["scale"], p.get("source", ""))
+                               for n, p in s["priors"]["families"][f].items()) for f in fams}, s["priors"]["fixed"])
+    target = load_window(record, t0, t1)
+    sim = RigSimulator(target, rigsim.stick_threshold(target), spec, s["record"]["base_law"], threads)
+    jobs, weight = [], []
+    for f in fams:
+        part = s["particles"][f]
+        w = np.asarray(part["weight"], float)
+        for i in range(w.size):
+            jobs.append((f, {n: float(part[n][i]) for n in s["priors"]["families"][f]}))
+        weight.extend(w / max(w.sum(), 1e-300) * s["model_probability"][f] if w.size else [])
+    win = s["record"]["window_s"]
+    out = _predictive(sim, jobs, np.asarray(weight, float), target, np.array([s["scale"][n] for n in NAMES]),
+                      float(win[1] - win[0]), draws, seed)
+    return {"statistics": out, "window_s": [float(target.time_s[0]), float(target.time_s[-1])], "draws": int(draws),
+            "model_probability": s["model_probability"]}

@@ -1,0 +1,242 @@
+"""Priors of the rig model's uncertain parameters: physical ranges written in the configuration.
+
+The priors never come from the record being calibrated: each is a range with its physical source
+(:data:`PARAMETERS`; the rig elements' ranges are :data:`drillpy.records.rigsim.RIG_PARAMETERS`),
+uniform or log-uniform over it. A configuration file may carry a ``calibration`` section that
+replaces any of them, fixes the parameters not calibrated, and names the law families compared::
+
+    "calibration": {
+        "priors": {"damping_ratio": {"range": [0.005, 0.1], "scale": "uniform"}, ...},
+        "fixed": {"jack_relaxation_s": 0.2, ...},
+        "families": ["polynomial_hysteretic", "polynomial"]
+    }
+
+The section is read here and removed before the engine validates the rest of the configuration.
+"""
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from drillpy.records.rigsim import RIG_PARAMETERS
+
+#: The calibrated parameters by default: (low, high, unit, scale, the source of the range).
+PARAMETERS = {
+    "damping_ratio": RIG_PARAMETERS["damping_ratio"][:3] + ("uniform", RIG_PARAMETERS["damping_ratio"][3]),
+    "motor_slope_nms_rad": RIG_PARAMETERS["motor_slope_nms_rad"][:3] + ("log-uniform",
+                                                                          RIG_PARAMETERS["motor_slope_nms_rad"][3]),
+    "command_rad_s": RIG_PARAMETERS["command_rad_s"][:3] + ("uniform", RIG_PARAMETERS["command_rad_s"][3]),
+    "coupling_stiffness_nm_rad": RIG_PARAMETERS["coupling_stiffness_nm_rad"][:3]
+    + ("log-uniform", RIG_PARAMETERS["coupling_stiffness_nm_rad"][3]),
+    "jack_gain_n_rad": RIG_PARAMETERS["jack_gain_n_rad"][:3] + ("uniform", RIG_PARAMETERS["jack_gain_n_rad"][3]),
+    "law_scale": (0.6, 1.6, "-", "uniform",
+                  "factor on the law's torque (its slip branch a2..a7): the rock's resistance varies between "
+                  "samples; the thesis's acceptance criterion (section 5.3.3) allows the torque's CV of 0.33 "
+                  "(Table 5.2) plus a 10 % variation of the concrete, and x0.6-x1.6 spans about two such "
+                  "spreads either way"),
+    "static_torque_nm": (1.0, 6.0, "N m", "uniform",
+                         "the static (break-away) torque gain x a0 of Eq. (5.1) at W_ref: above the slip branch's "
+                         "low-speed level would be needed for a stick, and below the 8 N m the motor gives at stall "
+                         "(section 5.1); a stuck bit above c_m Omega_c stalls the rig"),
+}
+
+#: Parameters of each law family (besides the rig's): the families of :data:`FAMILIES`.
+FAMILY_PARAMETERS = {
+    "polynomial_hysteretic": ("law_scale",),
+    "polynomial": ("law_scale", "static_torque_nm"),
+}
+#: The law families compared: Eq. (5.3) regularized (a0 = 0, the ``thesis-rig`` declaration) and
+#: Eq. (5.1) non-regularized (a static torque: the bit sticks until the string's torque reaches it).
+FAMILIES = {"polynomial_hysteretic": "5.3 (regularized, hysteretic)", "polynomial": "5.1 (non-regularized, sticks)"}
+#: The rig parameters calibrated in every family.
+RIG_CALIBRATED = ("damping_ratio", "motor_slope_nms_rad", "command_rad_s", "coupling_stiffness_nm_rad",
+                  "jack_gain_n_rad")
+#: The rig parameters held (typical values, the start of :func:`drillpy.records.rigsim.calibrate_rig`;
+#: never fitted to the record).
+FIXED = {"motor_inertia_kg_m2": 0.015, "jack_relaxation_s": 0.2, "platform_damping": 0.7,
+         "gj_factor": 1.05, "bit_inertia_factor": 1.05}
+SCALES = ("uniform", "log-uniform")
+
+
+@dataclass(frozen=True)
+class Prior:
+    """A uniform or log-uniform prior over a physical range.
+
+    Attributes
+    ----------
+    name : str
+        Parameter name.
+    low, high : float
+        The range, in ``unit``.
+    unit : str
+        Unit of the parameter.
+    scale : str
+        ``uniform`` or ``log-uniform``.
+    source : str
+        Where the range comes from.
+    """
+    name: str
+    low: float
+    high: float
+    unit: str
+    scale: str
+    source: str
+
+    def __post_init__(self):
+        field = f"calibration.priors.{self.name}"
+        if self.scale not in SCALES:
+            raise ValueError(f"{field}.scale = {self.scale!r}: use 'uniform' or 'log-uniform'")
+        for k in ("low", "high"):
+            v = getattr(self, k)
+            if not (isinstance(v, (int, float)) and math.isfinite(v)):
+                raise ValueError(f"{field}.range = [{self.low!r}, {self.high!r}]: {k} must be a finite number")
+        if not self.low < self.high:
+            raise ValueError(f"{field}.range = [{self.low!r}, {self.high!r}]: low must be below high")
+        if self.scale == "log-uniform" and self.low <= 0:
+            raise ValueError(f"{field}.range = [{self.low!r}, {self.high!r}]: a log-uniform prior needs low > 0")
+        lo, hi = PARAMETERS[self.name][:2] if self.name in PARAMETERS else (-math.inf, math.inf)
+        if self.name in ("damping_ratio", "motor_slope_nms_rad", "command_rad_s", "coupling_stiffness_nm_rad",
+                         "law_scale", "static_torque_nm") and self.low <= 0:
+            raise ValueError(f"{field}.range = [{self.low!r}, {self.high!r}]: the parameter is positive "
+                             f"(default range [{lo:g}, {hi:g}] {self.unit})")
+
+    def to_unit(self, x):
+        """The parameter value(s) ``x`` mapped to [0, 1], where the prior is uniform.
+
+        Parameters
+        ----------
+        x : array_like
+            Values in the parameter's unit.
+
+        Returns
+        -------
+        ndarray
+        """
+        x = np.asarray(x, float)
+        if self.scale == "log-uniform":
+            return (np.log(x) - math.log(self.low)) / (math.log(self.high) - math.log(self.low))
+        return (x - self.low) / (self.high - self.low)
+
+    def from_unit(self, z):
+        """The parameter value(s) at the unit coordinate(s) ``z`` (inverse of :meth:`to_unit`).
+
+        Parameters
+        ----------
+        z : array_like
+            Unit coordinates in [0, 1].
+
+        Returns
+        -------
+        ndarray
+        """
+        z = np.asarray(z, float)
+        if self.scale == "log-uniform":
+            return np.exp(math.log(self.low) + z * (math.log(self.high) - math.log(self.low)))
+        return self.low + z * (self.high - self.low)
+
+    def summary(self) -> dict:
+        """JSON-ready description."""
+        return {"range": [self.low, self.high], "unit": self.unit, "scale": self.scale, "source": self.source}
+
+
+@dataclass(frozen=True)
+class PriorSpec:
+    """The calibration's prior: per law family its parameters' priors, and the held values.
+
+    Attributes
+    ----------
+    families : dict
+        Family name (:data:`FAMILIES`) -> tuple of :class:`Prior` (the rig's, then the law's).
+    fixed : dict
+        Rig parameter -> held value (:data:`FIXED`).
+    """
+    families: dict
+    fixed: dict
+
+    def summary(self) -> dict:
+        """JSON-ready description."""
+        return {"families": {f: {p.name: p.summary() for p in ps} for f, ps in self.families.items()},
+                "fixed": dict(self.fixed)}
+
+
+def split_config(cfg: dict) -> tuple:
+    """(the configuration without its ``calibration`` section, that section or {}).
+
+    Parameters
+    ----------
+    cfg : dict
+        A configuration.
+
+    Returns
+    -------
+    tuple of dict
+    """
+    cfg = copy.deepcopy(cfg)
+    sec = cfg.pop("calibration", None)
+    if sec is None:
+        return cfg, {}
+    if not isinstance(sec, dict):
+        raise ValueError(f"calibration = {sec!r}: must be an object (priors, fixed, families)")
+    return cfg, sec
+
+
+def prior_spec(section: dict | None = None) -> PriorSpec:
+    """The prior from a configuration's ``calibration`` section (module docstring); defaults for
+    whatever it does not say.
+
+    Parameters
+    ----------
+    section : dict, optional
+        The ``calibration`` section.
+
+    Returns
+    -------
+    PriorSpec
+
+    Raises
+    ------
+    ValueError
+        Naming the field and the value of an unknown key, parameter or family, or a bad range.
+    """
+    sec = dict(section or {})
+    unknown = set(sec) - {"priors", "fixed", "families"}
+    if unknown:
+        k = sorted(unknown)[0]
+        raise ValueError(f"calibration.{k} = {sec[k]!r}: unknown key (use priors, fixed, families)")
+    fams = sec.get("families", list(FAMILIES))
+    if not isinstance(fams, (list, tuple)) or not fams:
+        raise ValueError(f"calibration.families = {fams!r}: a non-empty list of {', '.join(FAMILIES)}")
+    for f in fams:
+        if f not in FAMILIES:
+            raise ValueError(f"calibration.families = {fams!r}: unknown family {f!r} (use {', '.join(FAMILIES)})")
+    given = sec.get("priors", {})
+    if not isinstance(given, dict):
+        raise ValueError(f"calibration.priors = {given!r}: must be an object name -> {{range, scale}}")
+    priors = {}
+    for name, (lo, hi, unit, scale, source) in PARAMETERS.items():
+        g = given.get(name)
+        if g is not None:
+            if not isinstance(g, dict) or "range" not in g or not isinstance(g["range"], (list, tuple)) \
+                    or len(g["range"]) != 2:
+                raise ValueError(f"calibration.priors.{name} = {g!r}: give {{\"range\": [low, high]}}")
+            lo, hi = g["range"]
+            scale = g.get("scale", scale)
+            source = g.get("source", "the configuration")
+        priors[name] = Prior(name, lo, hi, unit, scale, source)
+    for name in given:
+        if name not in PARAMETERS:
+            raise ValueError(f"calibration.priors.{name} = {given[name]!r}: unknown parameter "
+                             f"(use {', '.join(PARAMETERS)})")
+    fixed = dict(FIXED)
+    for k, v in dict(sec.get("fixed", {})).items():
+        if k not in FIXED:
+            raise ValueError(f"calibration.fixed.{k} = {v!r}: unknown parameter (use {', '.join(FIXED)})")
+        lo, hi = RIG_PARAMETERS[k][:2]
+        if not (isinstance(v, (int, float)) and lo <= v <= hi):
+            raise ValueError(f"calibration.fixed.{k} = {v!r}: must be a number in its physical range "
+                             f"[{lo:g}, {hi:g}] {RIG_PARAMETERS[k][2]}")
+        fixed[k] = float(v)
+    return PriorSpec({f: tuple(priors[p] for p in RIG_CALIBRATED + FAMILY_PARAMETERS[f]) for f in fams}, fixed)

@@ -1,0 +1,161 @@
+"""Summary statistics of a record that carry the stick-slip cycle (the data of the ABC-SMC).
+
+Each statistic is computed alike on a measured record and on its simulation, after a start-up
+``skip_s`` (the simulation's transient) and on the usable samples only:
+
+============================ ========= =========================================================
+name                         unit      definition
+============================ ========= =========================================================
+``ss``                       -         (p99.5 - p0.5 of the bit speed) / (2 x mean top speed):
+                                       Eq. (3.4) with percentiles for the extremes (one glitch
+                                       does not move it)
+``stick_fraction``           -         fraction of samples with the bit speed at or below the
+                                       stick threshold
+``cycle_frequency_hz``       Hz        peak of the bit speed's periodogram (Hann) in 0.5-10 Hz,
+                                       parabolic interpolation between bins
+``torque_p5/p50/p95``        N m       percentiles of the torque on bit
+``bit_speed_p95``            rad/s     95th percentile of the bit speed
+``top_speed_mean/std``       rad/s     over the reliable top-speed samples
+                                       (:func:`drillpy.records.rigsim.reliable_top_speed`)
+``wob_std``                  N         standard deviation of the WOB
+``psd_0.2-2/2-4/4-8``        -         share of the bit speed's fluctuation power in the band [Hz]
+============================ ========= =========================================================
+
+:func:`noise_scale` is each statistic's own sampling uncertainty on a record (the spread between
+blocks): the ABC distance measures a simulation's statistics in those units.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy import fft as sp_fft
+
+from drillpy.records.io import Record
+from drillpy.records.rigsim import reliable_top_speed
+
+#: The statistics, in the order of :func:`summaries`' vector.
+NAMES = ("ss", "stick_fraction", "cycle_frequency_hz", "torque_p5", "torque_p50", "torque_p95", "bit_speed_p95",
+         "top_speed_mean", "top_speed_std", "wob_std", "psd_0.2-2", "psd_2-4", "psd_4-8")
+#: Units of :data:`NAMES`.
+UNITS = ("-", "-", "Hz", "N m", "N m", "N m", "rad/s", "rad/s", "rad/s", "N", "-", "-", "-")
+#: Bands of the PSD shares [Hz].
+BANDS = ((0.2, 2.0), (2.0, 4.0), (4.0, 8.0))
+#: Search band of the cycle frequency [Hz].
+CYCLE_BAND = (0.5, 10.0)
+
+
+def _periodogram(x: np.ndarray, dt: float):
+    x = x - np.mean(x)
+    n = sp_fft.next_fast_len(x.size, real=True)
+    p = np.abs(sp_fft.rfft(x * np.hanning(x.size), n)) ** 2
+    return np.fft.rfftfreq(n, dt), p
+
+
+def summaries(record: Record, stick_threshold: float, skip_s: float = 2.0) -> np.ndarray:
+    """The summary statistics :data:`NAMES` of ``record`` after ``skip_s`` seconds.
+
+    Parameters
+    ----------
+    record : Record
+        A cleaned record (or a simulation of one) with bit speed, top speed and torque on bit.
+    stick_threshold : float
+        Bit speed at or below which the bit counts as stuck [rad/s].
+    skip_s : float
+        Start-up left out [s].
+
+    Returns
+    -------
+    ndarray
+        One value per name of :data:`NAMES` (NaN where a channel has no usable sample).
+    """
+    t = record.time_s
+    after = t >= t[0] + skip_s
+    ok = after & record.valid("bit_speed", "torque_on_bit")
+    top_ok = after & reliable_top_speed(record)
+    w = None
+    if record.wob is not None:
+        w = record.wob[after & record.valid("wob")]
+    return statistics(record.bit_speed[ok], record.torque_on_bit[ok], record.top_speed[top_ok], w, record.dt,
+                      stick_threshold)
+
+
+def statistics(bit_speed, torque, top_speed, wob, dt: float, stick_threshold: float) -> np.ndarray:
+    """The summary statistics :data:`NAMES` of usable samples (:func:`summaries` on arrays).
+
+    Parameters
+    ----------
+    bit_speed, torque : ndarray
+        Bit speed [rad/s] and torque on bit [N m], equally sampled every ``dt``.
+    top_speed : ndarray
+        The reliable top-speed samples [rad/s].
+    wob : ndarray or None
+        The WOB samples [N].
+    dt : float
+        Sampling interval [s].
+    stick_threshold : float
+        [rad/s].
+
+    Returns
+    -------
+    ndarray
+    """
+    out = np.full(len(NAMES), np.nan)
+    v, tq = np.asarray(bit_speed, float), np.asarray(torque, float)
+    if v.size < 16:
+        return out
+    top = top_speed if top_speed.size > 1 else np.array([np.nan])
+    mean_top = float(np.mean(top))
+    lo, hi = np.percentile(v, [0.5, 99.5])
+    out[0] = (hi - lo) / (2.0 * abs(mean_top)) if mean_top else np.nan
+    out[1] = float(np.mean(v <= stick_threshold))
+    # the periodogram over the usable stretch (gaps closed: they are short next to the record)
+    f, p = _periodogram(v, dt)
+    band = (f >= CYCLE_BAND[0]) & (f <= CYCLE_BAND[1])
+    if band.sum() >= 3:
+        i = int(np.flatnonzero(band)[np.argmax(p[band])])
+        f0 = f[i]
+        if 0 < i < p.size - 1 and p[i - 1] > 0 and p[i + 1] > 0:
+            a, b, c = np.log(p[i - 1:i + 2])
+            den = a - 2 * b + c
+            if den < 0:
+                f0 = f[i] + 0.5 * (a - c) / den * (f[1] - f[0])
+        out[2] = f0
+    out[3:6] = np.percentile(tq, [5, 50, 95])
+    out[6] = np.percentile(v, 95)
+    out[7] = mean_top
+    out[8] = float(np.std(top))
+    if wob is not None and wob.size > 1:
+        out[9] = float(np.std(wob))
+    total = p[(f >= BANDS[0][0]) & (f < BANDS[-1][1])].sum()
+    for j, (a, b) in enumerate(BANDS):
+        out[10 + j] = p[(f >= a) & (f < b)].sum() / total if total > 0 else np.nan
+    return out
+
+
+def noise_scale(record: Record, stick_threshold: float, blocks: int = 4, skip_s: float = 0.0) -> np.ndarray:
+    """Each statistic's sampling uncertainty over ``record``: the standard deviation of the statistic
+    between ``blocks`` consecutive blocks divided by sqrt(blocks), at least 2 % of its magnitude
+    (and 1e-3 of its unit), so that a statistic the blocks happen to agree on still has a scale.
+
+    Parameters
+    ----------
+    record : Record
+        A cleaned record.
+    stick_threshold : float
+        Bit speed at or below which the bit counts as stuck [rad/s].
+    blocks : int
+        Number of blocks (at least 2).
+    skip_s : float
+        Start-up left out of the record before it is cut [s].
+
+    Returns
+    -------
+    ndarray
+        One positive scale per name of :data:`NAMES`.
+    """
+    t0 = float(record.time_s[0]) + skip_s
+    edges = np.linspace(t0, float(record.time_s[-1]), max(int(blocks), 2) + 1)
+    vals = np.array([summaries(record.select(a, b), stick_threshold, 0.0) for a, b in zip(edges[:-1], edges[1:])])
+    whole = summaries(record.select(t0, None), stick_threshold, 0.0)
+    sd = np.nanstd(vals, axis=0, ddof=1) / np.sqrt(vals.shape[0])
+    floor = np.maximum(0.02 * np.abs(whole), 1e-3)
+    return np.where(np.isfinite(sd), np.maximum(sd, floor), floor)

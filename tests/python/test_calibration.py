@@ -1,0 +1,146 @@
+"""Bayesian calibration (issue 35, drillpy.calibration): a tiny-budget ABC-SMC on a record simulated
+from known parameters with another time step and sensor noise; determinism; clear errors."""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from drillpy.calibration import abcsmc
+from drillpy.calibration.posterior import calibrate_record, rig_model
+from drillpy.calibration.priors import FIXED, prior_spec
+from drillpy.model.config import load_config, normalize
+from drillpy.model.simulation import simulate
+from drillpy.records import rigsim
+from drillpy.records.io import Record
+from drillpy.records.signals import platform_response, rig_lowpass
+
+#: The truth: Eq. (5.1) with a static torque, the rig's motor, coupling and jack.
+TRUTH = {"damping_ratio": 0.03, "motor_slope_nms_rad": 0.25, "command_rad_s": 17.0,
+         "coupling_stiffness_nm_rad": 40.0, "jack_gain_n_rad": 180.0, "law_scale": 1.0, "static_torque_nm": 3.0}
+
+
+def _truth_record(seed: int = 5, duration: float = 12.0, dt_s: float = 5e-5) -> Record:
+    """The rig model at TRUTH, stepped at ``dt_s`` (the calibration steps at the preset's 1e-4 s),
+    sensors (platform, 10 Hz filter) and white noise on every channel, on a 1 kHz grid."""
+    t = np.arange(0.0, duration, 1e-3)
+    wob = 557.1 + 25.0 * np.sin(2 * np.pi * 0.1 * t)
+    template = Record(time_s=t, bit_speed=np.full(t.size, 9.0), top_speed=np.full(t.size, 9.0),
+                      torque_on_bit=np.full(t.size, 2.0), wob=wob)
+    base = load_config(preset="thesis-rig")["law"]
+    model = rig_model(base, "polynomial", TRUTH, FIXED)
+    cfg = model.config(TRUTH["command_rad_s"], float(wob.mean()), duration_s=duration)
+    cfg["simulation"]["dt_s"] = dt_s
+    cfg["simulation"]["output_stride"] = int(round(1e-3 / dt_s))
+    res = simulate(normalize(cfg), TRUTH["command_rad_s"], wob_series=rigsim.wob_trend(template, wob.mean()),
+                   series_dt=1e-3)
+    n = min(res.t.size, t.size)
+    tq = platform_response(res.torque_on_bit[:n], 1000.0, rigsim.PLATFORM_HZ, FIXED["platform_damping"])
+    ch = [rig_lowpass(x, 1000.0) for x in (res.bit_speed[:n], res.top_speed[:n], tq, res.wob[:n])]
+    rng = np.random.default_rng(seed)
+    for x, sd in zip(ch, (0.05, 0.05, 0.02, 2.0)):
+        x += rng.normal(0.0, sd, n)
+    return Record(time_s=t[:n], bit_speed=ch[0], top_speed=ch[1], torque_on_bit=ch[2], wob=ch[3])
+
+
+def _config(**section):
+    cfg = load_config(preset="thesis-rig")
+    cfg["calibration"] = section
+    return cfg
+
+
+def test_posterior_90_percent_intervals_contain_a_different_time_step_truth_and_are_narrower_than_the_prior():
+    rec = _truth_record()
+    post = calibrate_record(rec, config=_config(families=["polynomial"]), population=40, max_simulations=700,
+                            predictive_draws=10, seed=3)
+    par = post.parameters["polynomial"]
+    for name, value in TRUTH.items():
+        lo, hi = par[name]["ci90"]
+        assert lo <= value <= hi, (name, value, lo, hi)
+    # after 3 generations the record has narrowed the command (the mean top speed) most
+    assert par["command_rad_s"]["width_ratio"] < 0.7
+    assert np.mean([p["width_ratio"] for p in par.values()]) < 0.9
+    assert post.run["abc_simulations"] <= 700
+    assert post.model_probability == {"polynomial": 1.0}
+
+
+def test_same_seed_same_numbers_whatever_the_threads():
+    rec = _truth_record(duration=6.0)
+    a = calibrate_record(rec, preset="thesis-rig", population=8, max_simulations=40, predictive_draws=4, seed=11,
+                         threads=1).summary()
+    b = calibrate_record(rec, preset="thesis-rig", population=8, max_simulations=40, predictive_draws=4, seed=11,
+                         threads=2).summary()
+    for s in (a, b):
+        s["run"].pop("wall_s")
+        s["run"].pop("simulations_per_s")
+        s["run"].pop("threads")
+    assert json.dumps(a, sort_keys=True, default=str) == json.dumps(b, sort_keys=True, default=str)
+    assert set(a["model_probability"]) == {"polynomial_hysteretic", "polynomial"}
+    assert math.isclose(sum(a["model_probability"].values()), 1.0)
+
+
+@pytest.mark.parametrize("section, match", [
+    ({"priors": {"damping_ratio": {"range": [0.1, 0.01]}}},
+     r"calibration\.priors\.damping_ratio\.range = \[0\.1, 0\.01\]: low must be below high"),
+    ({"priors": {"damping": {"range": [0.01, 0.1]}}}, r"calibration\.priors\.damping = .*unknown parameter"),
+    ({"families": ["coulomb"]}, r"calibration\.families = \['coulomb'\]: unknown family 'coulomb'"),
+    ({"fixed": {"platform_damping": 7.0}}, r"calibration\.fixed\.platform_damping = 7\.0: .*\[0\.05, 1\.5\]"),
+    ({"priors": {"motor_slope_nms_rad": {"range": [0.0, 1.0], "scale": "log-uniform"}}},
+     r"calibration\.priors\.motor_slope_nms_rad\.range = \[0\.0, 1\.0\]: a log-uniform prior needs low > 0"),
+])
+def test_bad_priors_give_one_error_naming_the_field_and_the_value(section, match):
+    with pytest.raises(ValueError, match=match):
+        prior_spec(section)
+
+
+def test_bad_budget_and_law_are_refused_before_any_simulation():
+    rec = _truth_record(duration=4.0)
+    with pytest.raises(ValueError, match=r"population = 0: a positive integer"):
+        calibrate_record(rec, preset="thesis-rig", population=0)
+    cfg = load_config(preset="thesis-ch4")
+    with pytest.raises(ValueError, match=r"law\.type = '\w+': the calibration's families are Eq\. \(5\.1\)/\(5\.3\)"):
+        calibrate_record(rec, config=cfg)
+
+
+def test_abc_smc_recovers_a_gaussian_mean_and_the_model_with_its_monte_carlo_error():
+    """The sampler alone on a problem with a known answer: y ~ N(mu, 0.1) under model 0 (mu in
+    [0, 1]) against a model 1 whose mean is pinned at 0.9; observed 0.3: model 0, mu near 0.3."""
+    def sim(m, Z):
+        rng = np.random.default_rng(int(1e6 * Z.sum()) % 2 ** 32)
+        mu = Z[:, 0] if m == 0 else np.full(len(Z), 0.9)
+        return (mu + rng.normal(0, 0.1, len(Z)))[:, None]
+    r = abcsmc.run(sim, [1, 1], np.array([0.3]), np.array([0.1]), population=200, max_simulations=6000, seed=2)
+    post = r.posterior
+    p, se = post.model_probabilities(2)
+    assert p[0] > 0.95 and se[0] < 0.05
+    mu = np.array([z[0] for z, m in zip(post.z, post.model) if m == 0])
+    w = post.weight[post.model == 0]
+    mean = float(np.sum(w * mu) / w.sum())
+    assert abs(mean - 0.3) < 0.05
+
+
+def test_calibrate_command_writes_the_posterior_and_predict_applies_it(tmp_path):
+    from conftest import run_cli
+    from drillpy.records.io import write_csv
+    rec = _truth_record(duration=8.0)
+    write_csv(rec, tmp_path / "rec.csv")
+    out = tmp_path / "cal"
+    r = run_cli("calibrate", str(tmp_path / "rec.csv"), "--preset", "thesis-rig", "--out", str(out), "--t0", "0",
+                "--t1", "6", "--heldout", "4:8", "--population", "8", "--simulations", "40", "--draws", "4",
+                "--seed", "2")
+    assert r.returncode == 0, r.stderr
+    assert "P(polynomial, Eq. 5.1" in r.stdout and "posterior predictive 90 % intervals" in r.stdout
+    s = json.loads((out / "posterior.json").read_text())
+    assert s["format"] == "drillpy.posterior" and s["run"]["abc_simulations"] <= 40
+    assert (out / "marginals.png").is_file() and (out / "predictive.png").is_file()
+    p = run_cli("predict", str(out / "posterior.json"), str(tmp_path / "rec.csv"), "--t0", "4", "--t1", "8",
+                "--draws", "4", "--json")
+    assert p.returncode == 0, p.stderr
+    st = json.loads(p.stdout)["statistics"]
+    assert set(st) >= {"ss", "stick_fraction", "cycle_frequency_hz"}
+    assert all(v["interval90"][0] <= v["interval90"][1] for v in st.values())
+    bad = run_cli("calibrate", str(tmp_path / "rec.csv"), "--preset", "thesis-rig", "--out", str(tmp_path / "x"),
+                  "--heldout", "8:4")
+    assert bad.returncode != 0 and "--heldout = '8:4'" in bad.stderr and not (tmp_path / "x").exists()
