@@ -144,9 +144,14 @@ def cmd_simulate(a: argparse.Namespace) -> int:
         plotting.time_series_plot(out / "time_series.png", r.t, r.bit_speed, r.torque_on_bit, r.top_speed,
                                   units=a.figure_units)
         write_text((out / "summary.json"), dumps({**summary, "config": r.config, "provenance": prov}, indent=2))
-    print(dumps(summary, indent=None) if a.json else
-          f"SS = {r.severity:.3f}, stick fraction = {r.stick_fraction:.3f}, "
-          f"periodic over {r.period_cycles} cycle(s)")
+    text = (f"SS = {r.severity:.3f}, stick fraction = {r.stick_fraction:.3f}, "
+            f"periodic over {r.period_cycles} cycle(s)")
+    ax = r.axial  # the axial-torsional model (axial.type = rgd): WOB, ROP and bit bounce beside SS
+    if ax is not None:
+        text += (f"\nWOB = {ax.mean_wob / 1e3:.1f} +- {ax.wob_std / 1e3:.1f} kN (steady {ax.steady_wob / 1e3:.1f} kN), "
+                 f"ROP = {ax.mean_rop * 3600:.2f} +- {ax.rop_std * 3600:.2f} m/h (steady {ax.steady_rop * 3600:.2f} m/h), "
+                 f"bit bounce fraction = {ax.bounce_fraction:.3f}")
+    print(dumps(summary, indent=None) if a.json else text)
     return 0
 
 
