@@ -66,6 +66,16 @@ def test_cli_simulate_prints_wob_rop_and_bounce_beside_ss():
     assert "WOB = " in r.stdout and "ROP = " in r.stdout and "bit bounce fraction" in r.stdout
 
 
+def test_cli_simulate_writes_the_axial_channels(tmp_path):
+    r = run_cli("simulate", "--preset", "rgd-field", "--duration", "2", "--out", str(tmp_path / "o"))
+    assert r.returncode == 0, r.stderr
+    text = (tmp_path / "o" / "axial.csv").read_text().splitlines()
+    assert "time_s,wob_N,rop_m_s,bit_position_m,depth_of_cut_m,delay_s" in text
+    data = np.loadtxt(tmp_path / "o" / "axial.csv", delimiter=",", comments="#", skiprows=text.index(
+        "time_s,wob_N,rop_m_s,bit_position_m,depth_of_cut_m,delay_s") + 1)
+    assert data.shape[1] == 6 and data[0, 1] == pytest.approx(150e3, rel=1e-6)
+
+
 def test_cli_sweep_is_refused_naming_the_field():
     r = run_cli("sweep", "--preset", "rgd-field", "--speeds", "3:5:2", "--json")
     assert r.returncode != 0
