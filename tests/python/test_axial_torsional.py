@@ -38,6 +38,19 @@ def test_simulate_reports_the_axial_channels():
     assert s["steady_wob_n"] == pytest.approx(150e3)
 
 
+def test_a_bit_thrown_up_leaves_the_rock_with_zero_wob():
+    cfg = _short(3.0)
+    cfg["simulation"].update(output_stride=1, transient_s=0.0)
+    cfg["axial"]["disturbance"] = 50.0  # the bit's axial speed (1 - 50) V0 at the start: upwards
+    r = simulate(cfg)
+    ax = r.axial
+    off = ax.depth_of_cut <= 0.0
+    assert off.sum() > 10 and ax.bounce_fraction > 0.0
+    assert np.all(ax.wob[off] == 0.0) and np.all(r.torque_on_bit[off] == 0.0)
+    assert np.all(np.isfinite(ax.wob)) and np.all(np.isfinite(r.bit_speed))
+    assert ax.wob[-1] > 0.0  # it lands and cuts again
+
+
 def test_torsional_models_have_no_axial_report():
     cfg = load_config(preset="thesis-rig")
     cfg["simulation"].update(duration_s=1.0, transient_s=0.5)
