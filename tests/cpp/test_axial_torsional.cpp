@@ -77,6 +77,29 @@ TEST(AxialTorsional, SteadyDrillingIsAnEquilibriumWithRgdBalance) {
   }
 }
 
+TEST(AxialTorsional, AxialMomentumBalancesTheTopForceAndTheWob) {
+  // hook load: the string is free axially, so its momentum P = 1^T M U' (the rigid mode's) changes
+  // only by the force at the top and the WOB, P(T) - P(0) = sum over steps dt (F_top - W_i), through
+  // stick-slip and whatever the axial modes do (the scheme's Eq. A.5 conserves it step by step)
+  Config c = rgd(10.0);
+  Simulation sim(c);
+  const AxialTorsional& m = *sim.coupled();
+  const double dt = c.sim.dt, F = c.axial.rgd.top_force;
+  double impulse = 0.0;
+  long steps = 0;
+  const CoupledState end = m.run(sim.inputs(), [&](const StepState& s, const AxialStep& a) {
+    if (s.step < c.sim.steps()) impulse += dt * (F - a.wob);  // the last observed step is not integrated
+    steps = s.step;
+  });
+  ASSERT_EQ(steps, c.sim.steps());
+  Eigen::VectorXd eta0, eta_dot0;
+  m.steady_axial(c.top_speed, eta0, eta_dot0);
+  const Eigen::VectorXd& u = m.axial().uniform;
+  const double P0 = u.dot(eta_dot0), P1 = u.dot(end.eta_dot);
+  EXPECT_NEAR(P1 - P0, impulse, 1e-6 * F * c.sim.duration);
+  EXPECT_GT(std::fabs(impulse), 1e-3 * F * dt);  // not trivially zero: the WOB did move
+}
+
 TEST(AxialTorsional, StickSlipArisesAtLowSpeedWithThePublishedBit) {
   // RGD (J. Sound Vib. 2007): the steady drilling state of the coupled model is unstable; the
   // disturbance grows into stick-slip (full sticks of the bit) at the preset's 60 RPM
