@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Config', 'FrfEnvelope', 'HorizonResult', 'HorizonStart', 'MonteCarlo', 'RunReport', 'SeverityStatistics', 'Simulation', 'StochasticModel', 'cb_frequencies', 'conv1', 'craig_bampton', 'exact_frequencies', 'fe_matrices', 'generate_process', 'law_torque', 'lowpass2', 'max_dispersion', 'max_threads', 'natural_frequencies', 'normalize_config', 'observation_nodes', 'predict_horizons', 'preset_json', 'preset_names', 'process_grid', 'process_variance', 'psd_model_integral', 'psd_model_values', 'psd_table_values', 'random_matrix', 'run_many', 'severity_statistics', 'severity_threshold', 'state_from_bit', 'thesis_case_dispersions', 'top_torque_from_bit', 'with_total_elements']
+__all__: list[str] = ['AxialReport', 'Config', 'FrfEnvelope', 'HorizonResult', 'HorizonStart', 'MonteCarlo', 'RunReport', 'SeverityStatistics', 'Simulation', 'StochasticModel', 'cb_frequencies', 'conv1', 'craig_bampton', 'exact_frequencies', 'fe_matrices', 'generate_process', 'law_torque', 'lowpass2', 'max_dispersion', 'max_threads', 'natural_frequencies', 'normalize_config', 'observation_nodes', 'predict_horizons', 'preset_json', 'preset_names', 'process_grid', 'process_variance', 'psd_model_integral', 'psd_model_values', 'psd_table_values', 'random_matrix', 'run_many', 'severity_statistics', 'severity_threshold', 'state_from_bit', 'thesis_case_dispersions', 'top_torque_from_bit', 'with_total_elements']
 class Config:
     """
     A validated engine configuration (the JSON schema drillsim reads), parsed once. Pass it to Simulation, StochasticModel, MonteCarlo and the model functions (built from a dict by drillpy.model.config.engine_config).
@@ -65,6 +65,95 @@ class Config:
         """
         Weight on bit of the operating point [N].
         """
+class AxialReport:
+    """
+    Axial channels and metrics of a run of the axial-torsional model (axial.type = rgd, drill/axial_torsional.hpp): series every simulation.output_stride steps, metrics over t >= transient. Empty (present False) for other models.
+    """
+    @property
+    def bounce_fraction(self) -> float:
+        """
+        Fraction of the time after the transient with the bit off the rock (W = 0), dimensionless.
+        """
+    @property
+    def delay(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        The delay t_N of Phi(t) - Phi(t - t_N) = 2 pi / N [s].
+        """
+    @property
+    def depth_of_cut(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        Depth of cut per revolution d = N [U(t) - U(t - t_N)] [m] (negative: the bit above the rock).
+        """
+    @property
+    def mean_depth_of_cut(self) -> float:
+        """
+        Mean depth of cut per revolution [m].
+        """
+    @property
+    def mean_rop(self) -> float:
+        """
+        Mean rate of penetration after the transient [m/s].
+        """
+    @property
+    def mean_wob(self) -> float:
+        """
+        Mean WOB after the transient [N].
+        """
+    @property
+    def position(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        The bit's axial position U [m] (down positive).
+        """
+    @property
+    def present(self) -> bool:
+        """
+        True for a run of the axial-torsional model.
+        """
+    @property
+    def rop(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        The bit's axial speed V [m/s] (positive into the rock).
+        """
+    @property
+    def rop_std(self) -> float:
+        """
+        Standard deviation of the bit's axial speed [m/s].
+        """
+    @property
+    def steady_depth(self) -> float:
+        """
+        Depth of cut per revolution of steady drilling [m].
+        """
+    @property
+    def steady_rop(self) -> float:
+        """
+        Rate of penetration of steady drilling [m/s].
+        """
+    @property
+    def steady_torque(self) -> float:
+        """
+        Torque on bit of steady drilling [N m].
+        """
+    @property
+    def steady_wob(self) -> float:
+        """
+        WOB of RGD's steady drilling at the operating point [N].
+        """
+    @property
+    def t(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        Sample times [s].
+        """
+    @property
+    def wob(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        Weight on bit W = W_c + W_f of the RGD law [N] (0 off the rock).
+        """
+    @property
+    def wob_std(self) -> float:
+        """
+        Standard deviation of the WOB after the transient [N].
+        """
 class RunReport:
     """
     Time series (SI, absolute frame) and metrics of one run (Simulation.run). The series are sampled every simulation.output_stride steps and are empty with record=False.
@@ -76,6 +165,11 @@ class RunReport:
     def to_dict(self) -> dict:
         """
         Every field in a dict keyed by the field names (t, bit_speed, ..., final_q, final_qdot).
+        """
+    @property
+    def axial(self) -> AxialReport:
+        """
+        Axial channels and metrics (AxialReport) of an axial-torsional run; present is False otherwise.
         """
     @property
     def bit_accel(self) -> numpy.typing.NDArray[numpy.float64]:

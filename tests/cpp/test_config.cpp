@@ -217,10 +217,11 @@ std::set<std::string> property_names(const json& properties) {
 }
 // The JSON pointer of a block in a configuration: "string.sections" is each item of that array.
 /// Where a block's object sits in a configuration: string.sections is an array of objects (its first
-/// item), top_drive.controller an object inside the controlled top drive.
+/// item), top_drive.controller an object inside the controlled top drive, axial.bit inside the rgd axial model.
 std::string block_pointer(const std::string& name) {
   if (name == "config") return "";
   if (name == "top_drive.controller") return "/top_drive/controller";
+  if (name == "axial.bit") return "/axial/bit";
   const std::size_t dot = name.find('.');
   return dot == std::string::npos ? "/" + name : "/" + name.substr(0, dot) + "/" + name.substr(dot + 1) + "/0";
 }
@@ -250,7 +251,9 @@ TEST(Config, SchemaPropertiesAreTheKeysTheParserAccepts) {
     // is refused for another reason) and refuses any other
     for (const std::string& type : types) {
       const std::string at = block_pointer(b.name);
-      json base = preset_json("thesis-field");
+      // the axial-torsional model's blocks in its own preset (a "law" block is refused with it)
+      const bool rgd = b.name == "axial.bit" || (b.name == "axial" && type == "rgd");
+      json base = preset_json(rgd ? "rgd-field" : "thesis-field");
       if (b.name == "top_drive.controller") base["top_drive"] = {{"type", "controlled"}, {"inertia_kg_m2", 2000.0}};
       if (!at.empty()) base[json::json_pointer(at)] = type.empty() ? json::object() : json{{"type", type}};
       for (const std::string& key : schema::keys(b.name, type)) {

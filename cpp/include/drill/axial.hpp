@@ -25,26 +25,64 @@
 #include <cmath>
 #include <string>
 
+#include "drill/axial_string.hpp"
 #include "drill/errors.hpp"
+#include "drill/rgd_bit.hpp"
 
 namespace drill {
 
+/// The axial model of the coupled string: RGD bit, axial modes, top boundary and its load.
+struct AxialTorsionalSpec {
+  RgdBit bit;
+  AxialTop top = AxialTop::hook_load;
+  int modes = 10;             ///< retained axial modes
+  double damping_ratio = 0.05;  ///< modal damping ratio of the axial modes
+  double bit_mass = 0.0;      ///< lumped axial mass at the bit [kg]
+  double feed_rate = NAN;     ///< V0 with top = feed [m/s]
+  double top_force = NAN;     ///< net force down at the top with top = hook_load [N] (the steady WOB)
+  double disturbance = 0.01;  ///< start: the bit's axial speed is (1 - disturbance) V0 (0: steady; > 1: upwards)
+
+  void validate(const std::string& where = "axial") const {
+    bit.validate(where + ".bit");
+    require(modes >= 1, where + ".modes", modes, "must be at least 1");
+    require(damping_ratio >= 0.0 && damping_ratio <= 1.0, where + ".damping_ratio", damping_ratio,
+            "must be in [0, 1]");
+    require_non_negative(bit_mass, where + ".bit_mass_kg");
+    require(std::isfinite(disturbance) && std::fabs(disturbance) <= 1000.0, where + ".disturbance", disturbance,
+            "must be in [-1000, 1000]");
+    if (top == AxialTop::feed) {
+      require_positive(feed_rate, where + ".rop_m_s");
+    } else {
+      require_positive(top_force, "operation.wob_n");
+      require(top_force > bit.contact_wob(), "operation.wob_n", top_force,
+              "is not above the wear flats' contact force a l sigma = " + show(bit.contact_wob()) +
+                  " N of axial.bit: the bit would not cut (RGD's steady drilling needs W > a l sigma)");
+    }
+  }
+};
+
 struct Axial {
-  enum class Kind { none, jack };
+  enum class Kind { none, jack, rgd };
   Kind kind = Kind::none;
   double gain = 0.0;          ///< g = k_ax d / (2 pi): WOB per radian of lag of the bit [N/rad]
   double relaxation = 1.0;    ///< tau: the jack's time constant [s]
   double feed_speed = NAN;    ///< Omega_f [rad/s]: set per run (Simulation::inputs); NaN: not set
+  AxialTorsionalSpec rgd;     ///< Kind::rgd: the axial string and the RGD bit (axial_torsional.hpp)
 
   static Kind parse_kind(const std::string& s) {
     if (s == "none") return Kind::none;
     if (s == "jack") return Kind::jack;
-    throw std::invalid_argument("axial.type = \"" + s + "\": unknown axial model (use none or jack)");
+    if (s == "rgd") return Kind::rgd;
+    throw std::invalid_argument("axial.type = \"" + s + "\": unknown axial model (use none, jack or rgd)");
   }
-  static std::string kind_name(Kind k) { return k == Kind::jack ? "jack" : "none"; }
+  static std::string kind_name(Kind k) { return k == Kind::jack ? "jack" : k == Kind::rgd ? "rgd" : "none"; }
+  /// The jack is active: the WOB a single state driven by the bit speed (the integrators' path).
   bool active() const { return kind == Kind::jack; }
+  /// The axial-torsional model (axial_torsional.hpp): Simulation::run's coupled path.
+  bool coupled() const { return kind == Kind::rgd; }
 
   void validate() const {
+    if (coupled()) rgd.validate();
     if (!active()) return;
     require_non_negative(gain, "axial.gain_n_rad");
     require_positive(relaxation, "axial.relaxation_s");

@@ -32,6 +32,14 @@
 //          | {"type": "jack", "gain_n_rad": g, "relaxation_s": tau}
 //                                                  (the WOB as a state, axial.hpp:
 //                                                   W' = g (Omega_f - v) - (W - W_s) / tau),
+//          | {"type": "rgd", "top": "hook_load" | "feed", "rop_m_s" (feed), "modes", "damping_ratio",
+//             "bit_mass_kg", "disturbance",
+//             "bit": {"radius_m", "specific_energy_pa", "contact_strength_pa", "zeta", "wear_flat_m",
+//                     "gamma", "mu", "blades"}}
+//                                                  (axial-torsional string with the Richard-Germay-
+//                                                   Detournay bit, axial_torsional.hpp; no "law" block:
+//                                                   the bit law is axial.bit; hook_load pushes the top
+//                                                   with operation.wob_n),
 //   "sensors": {"lowpass_hz": 10}                  (measurement chain of recorded channels: second-
 //                                                   order Butterworth low-pass; 0 = ideal sensors;
 //                                                   used when a model is compared with a record),
@@ -122,7 +130,7 @@ struct Config {
     require(modes >= 1 && modes <= string.n_elements(), "rom.modes", modes,
             "must be between 1 and the number of free DOFs (" + show(string.n_elements()) + ")");
     damping.validate();
-    law.validate();
+    if (!axial.coupled()) law.validate();  // with axial.type = rgd the bit law is axial.bit
     // The law, the stick threshold and SS (Eq. 3.4) are written for a top turning forward: SS divides
     // by the top speed (0 gave NaN) and a negative speed is a negative torque on bit.
     require_positive(top_speed, "operation.top_speed_rad_s");
@@ -143,8 +151,18 @@ struct Config {
                   show(top_speed) + " rad/s, wob_n = " + show(wob) + " N");
     }
     axial.validate();
-    require(!axial.active() || sim.scheme == Scheme::modified_euler, "axial.type", Axial::kind_name(axial.kind),
-            "is implemented for simulation.scheme = modified_euler only");
+    require(!(axial.active() || axial.coupled()) || sim.scheme == Scheme::modified_euler, "axial.type",
+            Axial::kind_name(axial.kind), "is implemented for simulation.scheme = modified_euler only");
+    if (axial.coupled()) {
+      require(top_drive.kind == TopDrive::Kind::ideal, "top_drive.type", TopDrive::kind_name(top_drive.kind),
+              "is not implemented with axial.type = rgd (use ideal)");
+      const int free_axial = string.n_elements() + (axial.rgd.top == AxialTop::hook_load ? 1 : 0);
+      require(axial.rgd.modes <= free_axial, "axial.modes", axial.rgd.modes,
+              "must be at most the number of free axial DOFs (" + show(free_axial) + ")");
+      require(bit_viscous == 0.0, "operation.bit_viscous_nms", bit_viscous, "is not implemented with axial.type = rgd");
+      require(string_friction == 0.0, "operation.string_friction_nm", string_friction,
+              "is not implemented with axial.type = rgd");
+    }
     require_non_negative(sensor_lowpass_hz, "sensors.lowpass_hz");
     sim.validate();
     require_non_negative(transient, "simulation.transient_s");
@@ -340,6 +358,7 @@ inline std::vector<Block> make_blocks() {
                                                 Controller::kind_name(Ctl::soft_speed),
                                                 Controller::kind_name(Ctl::z_torque)};
   const Controller dc;  // the defaults of the controller's keys
+  const AxialTorsionalSpec ad;  // the defaults of the rgd axial keys
   auto kp = [] { return number("kp_nms_rad", "kp: proportional gain [N m s/rad]").positive(); };
   auto ki = [] { return number("ki_nm_rad", "ki: integral gain [N m/rad]").non_negative(); };
   auto bandwidth = [&] {
@@ -362,10 +381,11 @@ inline std::vector<Block> make_blocks() {
         object("rom", "rom", "reduced-order model (Eqs. 2.7-2.10)"),
         object("damping", "damping", "damping of the reduced model")
             .def({{"type", "modal"}, {"ratios", d.damping.ratios}}),
-        object("law", "law", "bit-rock interaction law").req(),
+        object("law", "law", "bit-rock interaction law (required, except with axial.type = rgd, whose bit law is axial.bit)"),
         object("operation", "operation", "operating point"),
         object("top_drive", "top_drive", "how the top is turned").def({{"type", "ideal"}}),
-        object("axial", "axial", "the weight on bit: an input, or a state driven by the rig's jack")
+        object("axial", "axial", "the weight on bit: an input, a state driven by the rig's jack, or the axial-torsional "
+                                 "string with the RGD bit")
             .def({{"type", "none"}}),
         object("sensors", "sensors", "measurement chain of the recorded channels"),
         object("simulation", "simulation", "time integration (appendices A, B)"),
@@ -466,14 +486,43 @@ inline std::vector<Block> make_blocks() {
           number("torque_filter_s", "time constant of the top torque's low-pass T_mean [s] (default: 5 / w_1)")
               .positive()}}}},
       {"axial",
-       "none (the WOB is operation.wob_n) or the rig's jack, W' = g (Omega_f - v) - (W - W_s) / tau (axial.hpp)",
-       {text("type", "axial model", {Axial::kind_name(Axial::Kind::none), Axial::kind_name(Axial::Kind::jack)}).req()},
+       "none (the WOB is operation.wob_n), the rig's jack, W' = g (Omega_f - v) - (W - W_s) / tau (axial.hpp), or rgd: "
+       "the string's axial modes with the Richard-Germay-Detournay bit (axial_torsional.hpp, docs/axial.md)",
+       {text("type", "axial model",
+             {Axial::kind_name(Axial::Kind::none), Axial::kind_name(Axial::Kind::jack), Axial::kind_name(Axial::Kind::rgd)})
+            .req()},
        {{Axial::kind_name(Axial::Kind::none), {}},
         {Axial::kind_name(Axial::Kind::jack),
          {number("gain_n_rad", "g = k_ax d / (2 pi): WOB per radian the bit lags its steady rotation [N/rad]")
               .non_negative()
               .req(),
-          number("relaxation_s", "tau: the jack's time constant [s]").positive().req()}}}},
+          number("relaxation_s", "tau: the jack's time constant [s]").positive().req()}},
+        {Axial::kind_name(Axial::Kind::rgd),
+         {text("top", "top boundary: hook_load (constant force operation.wob_n down at the top) or feed (constant "
+                      "rate of penetration rop_m_s)",
+               {"hook_load", "feed"})
+              .def("hook_load"),
+          number("rop_m_s", "V0: the top's constant feed rate with top = feed [m/s]").positive(),
+          integer("modes", "retained axial modes, at most the free axial DOFs").at_least(1).def(ad.modes),
+          number("damping_ratio", "modal damping ratio of the axial modes").non_negative().at_most(1.0).def(ad.damping_ratio),
+          number("bit_mass_kg", "axial mass lumped at the bit [kg]").non_negative().def(ad.bit_mass),
+          number("disturbance", "start: the bit's axial speed is (1 - disturbance) times the steady rate of "
+                                "penetration (0: steady drilling; above 1: moving up)")
+              .at_least(-1000.0)
+              .at_most(1000.0)
+              .def(ad.disturbance),
+          object("bit", "axial.bit", "the Richard-Germay-Detournay bit law (rgd_bit.hpp)").req()}}}},
+      {"axial.bit",
+       "the RGD bit: W_c = a zeta eps d, T_c = a^2 eps d / 2, W_f = a l sigma, T_f = gamma mu a W_f / 2, "
+       "d = N [U(t) - U(t - t_N)]",
+       {number("radius_m", "a: bit radius [m]").positive().req(),
+        number("specific_energy_pa", "eps: intrinsic specific energy [Pa]").positive().req(),
+        number("contact_strength_pa", "sigma: contact strength of the wear flats [Pa]").non_negative().req(),
+        number("zeta", "zeta: normal over tangential cutting force [-]").positive().req(),
+        number("wear_flat_m", "l: total wear-flat length [m]").non_negative().req(),
+        number("gamma", "gamma: bit geometry factor [-]").non_negative().req(),
+        number("mu", "mu: friction coefficient of the wear flats [-]").non_negative().req(),
+        integer("blades", "N: blades").at_least(1).at_most(64).req()}},
       {"sensors",
        "measurement chain of the recorded channels",
        {number("lowpass_hz", "cutoff of a second-order Butterworth low-pass [Hz]; 0: ideal sensors")
@@ -749,17 +798,33 @@ inline Config parse_config(const json& j) {
       c.damping.z2 = p[1][1];
     }
   }
-  if (!j.contains("law")) throw std::invalid_argument("config.law: missing (required object)");
-  c.law = parse_law(j.at("law"));
+  // with the axial-torsional model the bit law is axial.bit (RGD): a "law" block would be ignored
+  const bool rgd = j.contains("axial") && j.at("axial").is_object() && j.at("axial").contains("type") &&
+                   j.at("axial").at("type") == "rgd";
+  const bool feed = rgd && j.at("axial").contains("top") && j.at("axial").at("top") == "feed";
+  if (rgd) {
+    if (j.contains("law"))
+      throw std::invalid_argument("config.law = " + j.at("law").dump() +
+                                  ": not used with axial.type = rgd (the bit law is axial.bit): remove it");
+  } else {
+    if (!j.contains("law")) throw std::invalid_argument("config.law: missing (required object)");
+    c.law = parse_law(j.at("law"));
+  }
+  if (rgd && !feed && !(j.contains("operation") && j.at("operation").contains("wob_n")))
+    throw std::invalid_argument("operation.wob_n: missing (required with axial.type = rgd, top = hook_load: the "
+                                "net force down at the top, the WOB of steady drilling)");
+  if (feed && j.contains("operation") && j.at("operation").contains("wob_n"))
+    throw std::invalid_argument("operation.wob_n = " + j.at("operation").at("wob_n").dump() +
+                                ": not used with axial.top = feed (the WOB follows from axial.rop_m_s): remove it");
   if (j.contains("operation")) {
     const json& o = j.at("operation");
     check_keys(o, "operation", schema::keys("operation"));
     c.top_speed = get_number(o, "top_speed_rad_s", "operation", c.top_speed);
-    c.wob = get_number(o, "wob_n", "operation", c.law.wob_ref);
+    c.wob = get_number(o, "wob_n", "operation", feed ? 0.0 : c.law.wob_ref);
     c.bit_viscous = get_number(o, "bit_viscous_nms", "operation", 0.0);
     c.string_friction = get_number(o, "string_friction_nm", "operation", 0.0);
   } else {
-    c.wob = c.law.wob_ref;
+    c.wob = feed ? 0.0 : c.law.wob_ref;
   }
   if (j.contains("top_drive")) {
     const json& t = j.at("top_drive");
@@ -796,10 +861,34 @@ inline Config parse_config(const json& j) {
   if (j.contains("axial")) {
     const json& a = j.at("axial");
     c.axial.kind = Axial::parse_kind(get_string(a, "type", "axial", "", true));
+    if (c.axial.coupled() && c.wob > 0.0) c.axial.rgd.top_force = c.wob;
     check_keys(a, "axial", schema::keys("axial", Axial::kind_name(c.axial.kind)));
     if (c.axial.active()) {
       c.axial.gain = get_number(a, "gain_n_rad", "axial");
       c.axial.relaxation = get_number(a, "relaxation_s", "axial");
+    }
+    if (c.axial.coupled()) {
+      AxialTorsionalSpec& x = c.axial.rgd;
+      x.top = parse_axial_top(get_string(a, "top", "axial", to_string(x.top)));
+      if (x.top == AxialTop::feed) x.feed_rate = get_number(a, "rop_m_s", "axial");
+      else if (a.contains("rop_m_s"))
+        throw std::invalid_argument("axial.rop_m_s = " + a.at("rop_m_s").dump() +
+                                    ": only with axial.top = feed (hook_load sets the WOB, operation.wob_n)");
+      x.modes = get_int(a, "modes", "axial", x.modes);
+      x.damping_ratio = get_number(a, "damping_ratio", "axial", x.damping_ratio);
+      x.bit_mass = get_number(a, "bit_mass_kg", "axial", x.bit_mass);
+      x.disturbance = get_number(a, "disturbance", "axial", x.disturbance);
+      if (!a.contains("bit")) throw std::invalid_argument("axial.bit: missing (required object with axial.type = rgd)");
+      const json& b = a.at("bit");
+      check_keys(b, "axial.bit", schema::keys("axial.bit"));
+      x.bit.radius = get_number(b, "radius_m", "axial.bit");
+      x.bit.specific_energy = get_number(b, "specific_energy_pa", "axial.bit");
+      x.bit.contact_strength = get_number(b, "contact_strength_pa", "axial.bit");
+      x.bit.force_ratio = get_number(b, "zeta", "axial.bit");
+      x.bit.wear_flat = get_number(b, "wear_flat_m", "axial.bit");
+      x.bit.geometry = get_number(b, "gamma", "axial.bit");
+      x.bit.friction = get_number(b, "mu", "axial.bit");
+      x.bit.blades = get_int(b, "blades", "axial.bit", 0, true);
     }
   }
   if (j.contains("sensors")) {
@@ -922,7 +1011,6 @@ inline json to_json(const Config& c) {
          {"string", {{"sections", secs}, {"lumped_inertias", li}}},
          {"rom", {{"modes", c.modes}}},
          {"damping", damping},
-         {"law", detail::law_to_json(c.law)},
          {"operation",
           {{"top_speed_rad_s", c.top_speed},
            {"wob_n", c.wob},
@@ -960,8 +1048,32 @@ inline json to_json(const Config& c) {
     if (k.kind == Controller::Kind::z_torque) put("torque_filter_s", k.torque_filter_given);
     j["top_drive"] = {{"type", "controlled"}, {"inertia_kg_m2", c.top_drive.inertia}, {"controller", ctl}};
   }
+  if (!c.axial.coupled()) j["law"] = detail::law_to_json(c.law);
   if (c.axial.active())
     j["axial"] = {{"type", "jack"}, {"gain_n_rad", c.axial.gain}, {"relaxation_s", c.axial.relaxation}};
+  if (c.axial.coupled()) {
+    const AxialTorsionalSpec& x = c.axial.rgd;
+    const RgdBit& b = x.bit;
+    j["axial"] = {{"type", "rgd"},
+                  {"top", to_string(x.top)},
+                  {"modes", x.modes},
+                  {"damping_ratio", x.damping_ratio},
+                  {"bit_mass_kg", x.bit_mass},
+                  {"disturbance", x.disturbance},
+                  {"bit",
+                   {{"radius_m", b.radius},
+                    {"specific_energy_pa", b.specific_energy},
+                    {"contact_strength_pa", b.contact_strength},
+                    {"zeta", b.force_ratio},
+                    {"wear_flat_m", b.wear_flat},
+                    {"gamma", b.geometry},
+                    {"mu", b.friction},
+                    {"blades", b.blades}}}};
+    if (x.top == AxialTop::feed) {
+      j["axial"]["rop_m_s"] = x.feed_rate;
+      j["operation"].erase("wob_n");
+    }
+  }
   if (c.sensor_lowpass_hz > 0.0) j["sensors"] = {{"lowpass_hz", c.sensor_lowpass_hz}};
   return j;
 }

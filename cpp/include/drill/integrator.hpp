@@ -273,6 +273,9 @@ class Integrator {
   template <class Observer>
   ModelState run(const Inputs& in, Observer&& obs, const ModelState* start = nullptr) const {
     in.validate();
+    require(!in.axial.coupled(), "axial.type", Axial::kind_name(in.axial.kind),
+            "runs through Simulation::run only (drillpy simulate, drillsim --job run): sweeps, maps, Monte Carlo, "
+            "control and horizons are not implemented for the axial-torsional model");
     if (in.top_drive.is_controlled()) {
       const Controller& c = in.top_drive.controller;
       require(c.tuned(), "top_drive.controller", Controller::kind_name(c.kind),

@@ -51,6 +51,7 @@ class MonteCarlo {
   /// with the 0.13 Hz mode's 9.5 % damping, is then not paid again by every sample.
   MonteCarlo(Config cfg, GaussianProcess process, std::uint64_t seed, double warmup = 0.0)
       : sim_(std::move(cfg)), proc_(std::move(process)), seed_(seed), warmup_(warmup) {
+    sim_.require_torsional("Monte Carlo");
     const double span = static_cast<double>(proc_.size()) * proc_.dt();
     require(span >= sim_.config().sim.duration, "process.duration_s", span,
             "the eta realization is shorter than simulation.duration_s = " + show(sim_.config().sim.duration));

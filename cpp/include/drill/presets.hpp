@@ -9,6 +9,13 @@
 //                  law and damping identified on sample 175 (docs/presets.md).
 //  * thesis-ch6    section 6.6: 1700 m DP + 300 m BHA (Table 3.1 cross sections), 100 elements each,
 //                  Rayleigh damping 0.05 at 1 Hz and 0.01 at 10 Hz, 25 fixed-interface modes each.
+//  * rgd-field     axial-torsional (docs/axial.md): a 2000 m string (1700 m DP + 300 m BHA, Table 3.1 cross
+//                  sections, 100 elements) with 20 torsional and 10 axial modes, the Richard-Germay-
+//                  Detournay bit with the parameter set of Richard, Germay & Detournay (J. Sound Vib. 2007)
+//                  as issue 34 quotes it: a = 0.108 m, eps = sigma = 60 MPa, zeta = 0.6, l = 11 mm,
+//                  gamma = 1, mu = 0.6, N = 4 (not checked against the paper by this session); hook load
+//                  with 150 kN on bit at 4 rad/s (38 RPM; operating point chosen here, not the paper's),
+//                  where steady drilling is unstable and grows into stick-slip (docs/axial.md).
 #pragma once
 
 #include <string>
@@ -18,7 +25,7 @@
 
 namespace drill {
 
-inline std::vector<std::string> preset_names() { return {"thesis-field", "thesis-ch4", "thesis-rig", "thesis-ch6"}; }
+inline std::vector<std::string> preset_names() { return {"thesis-field", "thesis-ch4", "thesis-rig", "thesis-ch6", "rgd-field"}; }
 
 inline json thesis_hysteretic_law_json(double beta1) {
   // Section 3.2 parameters; the bit speed unit is RPM (docs/units.md gives the evidence).
@@ -119,6 +126,31 @@ inline json preset_json(const std::string& name) {
               {"output_stride", 50}}},
             {"sweep", {{"top_speeds_rad_s", speeds}}},
             {"craig_bampton", {{"modes", {25, 25}}}}};
+  }
+  if (name == "rgd-field") {
+    return {{"name", name},
+            {"description", "axial-torsional 2000 m string with the Richard-Germay-Detournay bit (docs/axial.md)"},
+            {"string", {{"sections", {table31_section("DP", 1700.0, 85), table31_section("BHA", 300.0, 15)}}}},
+            {"rom", {{"modes", 20}}},
+            {"damping", {{"type", "modal"}, {"ratios", {0.095, 0.02}}}},
+            {"operation", {{"top_speed_rad_s", 4.0}, {"wob_n", 150e3}}},
+            {"axial",
+             {{"type", "rgd"},
+              {"top", "hook_load"},
+              {"modes", 10},
+              {"damping_ratio", 0.05},
+              {"bit",
+               {{"radius_m", 0.108},
+                {"specific_energy_pa", 60e6},
+                {"contact_strength_pa", 60e6},
+                {"zeta", 0.6},
+                {"wear_flat_m", 0.011},
+                {"gamma", 1.0},
+                {"mu", 0.6},
+                {"blades", 4}}}}},
+            {"simulation",
+             {{"scheme", "modified_euler"}, {"dt_s", 5e-4}, {"duration_s", 60.0}, {"transient_s", 30.0},
+              {"output_stride", 20}, {"start", "steady"}}}};
   }
   std::string known;
   for (const auto& n : preset_names()) known += (known.empty() ? "" : ", ") + n;

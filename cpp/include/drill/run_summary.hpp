@@ -13,7 +13,9 @@ namespace drill {
 /// Keys, in the order drillpy writes them (drillsim's json sorts them): SS (Eq. 3.4,
 /// dimensionless; null when undefined), mean top speed [rad/s], stick fraction (null when
 /// undefined), complete stick and slip phase durations [s], the period in stick-slip cycles (0: no
-/// periodic regime) and the stick and slip durations of the last period [s].
+/// periodic regime) and the stick and slip durations of the last period [s]; with the axial-torsional
+// model (axial.type = rgd) also the WOB and rate of penetration (mean and standard deviation), the
+// bit-bounce fraction, the mean depth of cut and RGD's steady drilling at the operating point.
 template <class Json = nlohmann::ordered_json>
 Json run_summary(const RunReport& r) {
   auto finite_or_null = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
@@ -26,6 +28,19 @@ Json run_summary(const RunReport& r) {
   s["period_cycles"] = r.periodic.period_cycles;
   s["period_stick_s"] = r.periodic.stick;
   s["period_slip_s"] = r.periodic.slip;
+  if (r.axial.present()) {  // the axial-torsional model (axial.type = rgd): its axial metrics after the transient
+    const AxialReport& a = r.axial;
+    s["mean_wob_n"] = finite_or_null(a.mean_wob);
+    s["wob_std_n"] = finite_or_null(a.wob_std);
+    s["mean_rop_m_s"] = finite_or_null(a.mean_rop);
+    s["rop_std_m_s"] = finite_or_null(a.rop_std);
+    s["bounce_fraction"] = finite_or_null(a.bounce_fraction);
+    s["mean_depth_of_cut_m"] = finite_or_null(a.mean_depth_of_cut);
+    s["steady_wob_n"] = a.steady_wob;
+    s["steady_rop_m_s"] = a.steady_rop;
+    s["steady_depth_of_cut_m"] = a.steady_depth;
+    s["steady_torque_nm"] = a.steady_torque;
+  }
   return s;
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "drill/axial_torsional.hpp"
 #include "drill/batched_integrator.hpp"
 #include "drill/config.hpp"
 #include "drill/integrator.hpp"
@@ -18,6 +19,18 @@
 #include "drill/parallel.hpp"
 
 namespace drill {
+
+/// The axial channels and metrics of a run of the axial-torsional model (axial.type = rgd): the
+/// series every output_stride-th step, the metrics over t >= transient. Empty without it.
+struct AxialReport {
+  std::vector<double> t, wob, rop, position, depth_of_cut, delay;  ///< [s], [N], [m/s], [m], [m], [s]
+  double mean_wob = NAN, wob_std = NAN;  ///< WOB mean and standard deviation [N]
+  double mean_rop = NAN, rop_std = NAN;  ///< the bit's axial speed: mean and standard deviation [m/s]
+  double bounce_fraction = NAN;          ///< fraction of the window with the bit off the rock (W = 0)
+  double mean_depth_of_cut = NAN;        ///< [m] per revolution
+  double steady_wob = NAN, steady_rop = NAN, steady_depth = NAN, steady_torque = NAN;  ///< RGD steady drilling
+  bool present() const { return std::isfinite(steady_wob); }
+};
 
 /// Everything a single run reports.
 struct RunReport {
@@ -29,6 +42,7 @@ struct RunReport {
   bool slip_first = false;
   Periodicity periodic;
   ModelState final_state;
+  AxialReport axial;  ///< axial channels (axial.type = rgd only)
 };
 
 // StartMode and parse_start: config.hpp (simulation.start).
@@ -41,7 +55,8 @@ class Simulation {
   explicit Simulation(Config cfg)
       : cfg_(validated(std::move(cfg))),
         rom_(build_modal_rom(cfg_.string, cfg_.modes, cfg_.damping)),
-        integ_(rom_.model, cfg_.law, cfg_.sim) {
+        integ_(rom_.model, torsional_law(cfg_), cfg_.sim) {
+    if (cfg_.axial.coupled()) coupled_.emplace(rom_.model, cfg_.string, cfg_.axial.rgd, cfg_.sim);
     // a controlled top drive is tuned from the top section's characteristic impedance and the
     // first natural frequency of the reduced model (string clamped at the top): controller.hpp
     if (cfg_.top_drive.is_controlled()) cfg_.top_drive.tune_controller(top_impedance(), rom_.omega(0));
@@ -53,6 +68,14 @@ class Simulation {
   const Config& config() const { return cfg_; }
   const ModalROM& rom() const { return rom_; }
   const Integrator& integrator() const { return integ_; }
+  /// The axial-torsional model (axial.type = rgd), or nullptr.
+  const AxialTorsional* coupled() const { return coupled_ ? &*coupled_ : nullptr; }
+
+  /// Refuse the axial-torsional model in a study that only the torsional engine implements.
+  void require_torsional(const std::string& what) const {
+    require(!cfg_.axial.coupled(), "axial.type", Axial::kind_name(cfg_.axial.kind),
+            "is implemented for single runs (drillpy simulate, drillsim --job run); " + what + " is not");
+  }
 
   /// Inputs at constant top speed and WOB (the configured operation point by default).
   Inputs inputs(double top_speed, double wob) const {
@@ -80,6 +103,7 @@ class Simulation {
   /// The twist and the motor carry the total torque at the bit, c_v Omega and the string friction
   /// T_sf sign(Omega) of `operation.string_friction_nm` included.
   ModelState steady_state(double top_speed, double wob, double disturbance = 0.01) const {
+    if (coupled_) return coupled_->steady_torsion(top_speed, disturbance);  // RGD's steady torque (axial.type = rgd)
     const ReducedModel& r = rom_.model;
     const double om = steady_speed(top_speed, wob);
     ModelState s{r.K.ldlt().solve(-steady_torque(om, wob) * r.bit.transpose()), -disturbance * om * r.init_velocity};
@@ -152,6 +176,7 @@ class Simulation {
   /// is (the steps between its calls cost one integer comparison each).
   RunReport run(const Inputs& inputs_, bool record = true, const ModelState* start = nullptr,
                 const RunProgressFn& progress = nullptr) const {
+    if (coupled_) return run_coupled(inputs_, record, start, progress);
     const Inputs in = axial_feed(inputs_);
     std::optional<ModelState> s0;
     if (!start) {
@@ -172,6 +197,75 @@ class Simulation {
         },
         start);
     return obs.report(std::move(last));
+  }
+
+  /// A run of the axial-torsional model (axial_torsional.hpp): the torsional metrics as run() and the
+  /// axial channels. Starts in steady drilling (disturbed) unless `start` or simulation.start say
+  /// otherwise (rest, rigid: the torsional state only; the axial state and the rock surface are
+  /// always steady drilling's).
+  RunReport run_coupled(const Inputs& in, bool record, const ModelState* start, const RunProgressFn& progress) const {
+    const AxialTorsional& m = *coupled_;
+    const double om0 = in.top_speed.at(0.0);
+    require_positive(om0, "operation.top_speed_rad_s");
+    std::optional<ModelState> s0;
+    if (!start) {
+      if (cfg_.start == StartMode::steady) s0 = m.steady_torsion(om0);
+      else s0 = start_state(cfg_.start, om0, 0.0);
+      if (!s0) s0 = integ_.initial_state(om0);  // rest: Eq. (2.10)
+      start = &*s0;
+    }
+    RunObserver obs(cfg_, in, record);
+    AxialReport ax;
+    const AxialTorsional::Steady st = m.steady(om0);
+    ax.steady_wob = st.wob;
+    ax.steady_rop = st.rop;
+    ax.steady_depth = st.depth;
+    ax.steady_torque = st.torque;
+    const long stride = std::max(1L, cfg_.output_stride);
+    const long every = std::max(1L, cfg_.sim.steps() / 1000);
+    long next_report = progress ? 0 : LONG_MAX, count = 0, off = 0;
+    double sw = 0.0, sw2 = 0.0, sv = 0.0, sv2 = 0.0, sd = 0.0;
+    long step = 0;
+    const CoupledState last = m.run(
+        in,
+        [&](const StepState& s, const AxialStep& a) {
+          obs(s);
+          step = s.step;
+          if (record && s.step % stride == 0) {
+            ax.t.push_back(a.t);
+            ax.wob.push_back(a.wob);
+            ax.rop.push_back(a.rop);
+            ax.position.push_back(a.position);
+            ax.depth_of_cut.push_back(a.depth);
+            ax.delay.push_back(a.delay);
+          }
+          if (a.t >= cfg_.transient) {
+            ++count;
+            off += a.contact ? 0 : 1;
+            sw += a.wob;
+            sw2 += a.wob * a.wob;
+            sv += a.rop;
+            sv2 += a.rop * a.rop;
+            sd += a.depth;
+          }
+          if (s.step >= next_report) {
+            progress(s.t, cfg_.sim.duration);
+            next_report += every;
+          }
+        },
+        start);
+    if (count > 0) {
+      const double n = static_cast<double>(count);
+      ax.mean_wob = sw / n;
+      ax.wob_std = std::sqrt(std::max(0.0, sw2 / n - ax.mean_wob * ax.mean_wob));
+      ax.mean_rop = sv / n;
+      ax.rop_std = std::sqrt(std::max(0.0, sv2 / n - ax.mean_rop * ax.mean_rop));
+      ax.bounce_fraction = off / n;
+      ax.mean_depth_of_cut = sd / n;
+    }
+    RunReport r = obs.report(last.torsion);
+    r.axial = std::move(ax);
+    return r;
   }
 
   /// The observers of one run with metrics (run, run_many): the series every output_stride-th
@@ -222,6 +316,7 @@ class Simulation {
                                      const ProgressFn& progress = nullptr, int threads = 0,
                                      std::optional<StartMode> start_mode = std::nullopt, bool batched = true) const {
     const StartMode start = start_mode.value_or(cfg_.start);
+    require_torsional("a sweep (sweep, map)");
     require(!speeds.empty(), "sweep.top_speeds_rad_s", speeds.size(), "is empty");
     const std::vector<double> w = wobs.empty() ? std::vector<double>{cfg_.wob} : wobs;
     for (std::size_t k = 0; k < speeds.size(); ++k) {
@@ -266,7 +361,16 @@ class Simulation {
   }
 
  private:
-  static Config validated(Config c) {
+  /// The law of the torsional integrator: the configuration's; with axial.type = rgd, whose bit law is
+  /// axial.bit, a zero law (Tucker-Wang with c0 = 0) that nothing evaluates (Integrator::run refuses
+  /// the coupled inputs; run() takes the coupled path).
+  static BitRockLaw torsional_law(const Config& c) {
+    if (!c.axial.coupled()) return c.law;
+    BitRockLaw zero;
+    zero.kind = BitRockLaw::Kind::tucker_wang;
+    return zero;
+  }
+    static Config validated(Config c) {
     c.validate();
     return c;
   }
@@ -279,6 +383,7 @@ class Simulation {
   Config cfg_;
   ModalROM rom_;
   Integrator integ_;
+  std::optional<AxialTorsional> coupled_;  ///< axial.type = rgd
 };
 
 }  // namespace drill

@@ -60,6 +60,36 @@ py::dict report_to_dict(const RunReport& r) {
   return d;
 }
 
+/// The axial channels of an axial-torsional run (drill/simulation.hpp AxialReport).
+void bind_axial_report(py::module_& m) {
+  py::class_<AxialReport> c(m, "AxialReport",
+                            "Axial channels and metrics of a run of the axial-torsional model (axial.type = rgd, "
+                            "drill/axial_torsional.hpp): series every simulation.output_stride steps, metrics over "
+                            "t >= transient. Empty (present False) for other models.");
+  auto vec = [&](const char* name, std::vector<double> AxialReport::*f, const char* doc) {
+    c.def_property_readonly(name, [f](const AxialReport& r) { return as_array(r.*f); }, doc);
+  };
+  vec("t", &AxialReport::t, "Sample times [s].");
+  vec("wob", &AxialReport::wob, "Weight on bit W = W_c + W_f of the RGD law [N] (0 off the rock).");
+  vec("rop", &AxialReport::rop, "The bit's axial speed V [m/s] (positive into the rock).");
+  vec("position", &AxialReport::position, "The bit's axial position U [m] (down positive).");
+  vec("depth_of_cut", &AxialReport::depth_of_cut,
+      "Depth of cut per revolution d = N [U(t) - U(t - t_N)] [m] (negative: the bit above the rock).");
+  vec("delay", &AxialReport::delay, "The delay t_N of Phi(t) - Phi(t - t_N) = 2 pi / N [s].");
+  c.def_readonly("mean_wob", &AxialReport::mean_wob, "Mean WOB after the transient [N].");
+  c.def_readonly("wob_std", &AxialReport::wob_std, "Standard deviation of the WOB after the transient [N].");
+  c.def_readonly("mean_rop", &AxialReport::mean_rop, "Mean rate of penetration after the transient [m/s].");
+  c.def_readonly("rop_std", &AxialReport::rop_std, "Standard deviation of the bit's axial speed [m/s].");
+  c.def_readonly("bounce_fraction", &AxialReport::bounce_fraction,
+                 "Fraction of the time after the transient with the bit off the rock (W = 0), dimensionless.");
+  c.def_readonly("mean_depth_of_cut", &AxialReport::mean_depth_of_cut, "Mean depth of cut per revolution [m].");
+  c.def_readonly("steady_wob", &AxialReport::steady_wob, "WOB of RGD's steady drilling at the operating point [N].");
+  c.def_readonly("steady_rop", &AxialReport::steady_rop, "Rate of penetration of steady drilling [m/s].");
+  c.def_readonly("steady_depth", &AxialReport::steady_depth, "Depth of cut per revolution of steady drilling [m].");
+  c.def_readonly("steady_torque", &AxialReport::steady_torque, "Torque on bit of steady drilling [N m].");
+  c.def_property_readonly("present", &AxialReport::present, "True for a run of the axial-torsional model.");
+}
+
 void bind_run_report(py::module_& m) {
   py::class_<RunReport> c(m, "RunReport",
                           "Time series (SI, absolute frame) and metrics of one run (Simulation.run). The series are "
@@ -105,6 +135,9 @@ void bind_run_report(py::module_& m) {
                           "Their time derivative q' at the end of the run [1/s].");
   c.def("to_dict", &report_to_dict,
         "Every field in a dict keyed by the field names (t, bit_speed, ..., final_q, final_qdot).");
+  c.def_property_readonly(
+      "axial", [](const RunReport& r) -> const AxialReport& { return r.axial; }, py::return_value_policy::reference_internal,
+      "Axial channels and metrics (AxialReport) of an axial-torsional run; present is False otherwise.");
   c.def(
       "summary", [](const RunReport& r) { return drillpy_glue::to_python_dict(run_summary(r)); },
       "The run's summary (drill/run_summary.hpp, the summary.json of drillsim and drillpy simulate "
@@ -115,6 +148,7 @@ void bind_run_report(py::module_& m) {
 }  // namespace
 
 void init_simulation(py::module_& m) {
+  bind_axial_report(m);
   bind_run_report(m);
   py::class_<Simulation>(m, "Simulation", "A configured reduced-order simulation (appendix B).")
       .def(py::init<const Config&>(), py::arg("config"))

@@ -107,7 +107,9 @@ def cmd_simulate(a: argparse.Namespace) -> int:
     """Run one simulation at ``--top-speed`` and ``--wob`` (SI or with a unit); print its stick-slip metrics.
 
     With ``--out`` writes ``series.csv`` (time series, SI units), ``time_series.png`` and
-    ``summary.json`` (the summary with the effective configuration). ``series.csv`` holds the data's
+    ``summary.json`` (the summary with the effective configuration), and with the axial-torsional
+    model (``axial.type = rgd``) ``axial.csv`` (WOB, rate of penetration, bit position, depth of cut
+    and delay, SI units). ``series.csv`` holds the data's
     precision, not the float64's: the time in fixed point to the recording step's resolution
     (see :func:`_time_format`), the other columns at 7 significant digits (``%.7g``).
 
@@ -143,10 +145,21 @@ def cmd_simulate(a: argparse.Namespace) -> int:
                               "top_torque_Nm,top_speed_rad_s")
         plotting.time_series_plot(out / "time_series.png", r.t, r.bit_speed, r.torque_on_bit, r.top_speed,
                                   units=a.figure_units)
+        ax = r.axial
+        if ax is not None:  # the axial-torsional model's channels (docs/axial.md), same sampling
+            acols = np.column_stack([ax.t, ax.wob, ax.rop, ax.position, ax.depth_of_cut, ax.delay])
+            with replacing(out / "axial.csv") as tmp:
+                np.savetxt(tmp, acols, delimiter=",", comments="", fmt=[_time_format(ax.t)] + ["%.7g"] * 5,
+                           header=header(prov) + "\ntime_s,wob_N,rop_m_s,bit_position_m,depth_of_cut_m,delay_s")
         write_text((out / "summary.json"), dumps({**summary, "config": r.config, "provenance": prov}, indent=2))
-    print(dumps(summary, indent=None) if a.json else
-          f"SS = {r.severity:.3f}, stick fraction = {r.stick_fraction:.3f}, "
-          f"periodic over {r.period_cycles} cycle(s)")
+    text = (f"SS = {r.severity:.3f}, stick fraction = {r.stick_fraction:.3f}, "
+            f"periodic over {r.period_cycles} cycle(s)")
+    ax = r.axial  # the axial-torsional model (axial.type = rgd): WOB, ROP and bit bounce beside SS
+    if ax is not None:
+        text += (f"\nWOB = {ax.mean_wob / 1e3:.1f} +- {ax.wob_std / 1e3:.1f} kN (steady {ax.steady_wob / 1e3:.1f} kN), "
+                 f"ROP = {ax.mean_rop * 3600:.2f} +- {ax.rop_std * 3600:.2f} m/h (steady {ax.steady_rop * 3600:.2f} m/h), "
+                 f"bit bounce fraction = {ax.bounce_fraction:.3f}")
+    print(dumps(summary, indent=None) if a.json else text)
     return 0
 
 

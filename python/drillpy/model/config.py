@@ -309,6 +309,10 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
         c["rom"]["modes"] = int(modes)
     if law is not None:
         c["law"] = thesis_law(law)
+    for name, value in (("beta1", beta1), ("speed_unit", speed_unit)):
+        if value is not None and "law" not in c:  # axial.type = rgd: the bit law is axial.bit
+            raise ValueError(f"{name} = {value!r}: the configuration has no law block (axial.type = rgd: the bit law "
+                             "is axial.bit)")
     if beta1 is not None:
         if "beta1" not in c["law"]:
             raise ValueError(f"beta1 = {beta1}: the law {c['law']['type']!r} has no hysteresis")

@@ -76,6 +76,22 @@ class SimulationResult:
     config: dict = field(repr=False, default_factory=dict)
     report: "_core.RunReport | None" = field(repr=False, default=None, compare=False)
 
+    @property
+    def axial(self) -> "_core.AxialReport | None":
+        """The axial channels and metrics of a run of the axial-torsional model (``axial.type = rgd``,
+        ``drill/axial_torsional.hpp``): WOB [N], rate of penetration [m/s], depth of cut [m], delay
+        t_N [s] series and their metrics after the transient (``mean_wob``, ``wob_std``,
+        ``mean_rop``, ``rop_std``, ``bounce_fraction``); None for the other models.
+
+        Returns
+        -------
+        _core.AxialReport or None
+            The engine's axial report, or None when the run has no axial degrees of freedom.
+        """
+        if self.report is None or not self.report.axial.present:
+            return None
+        return self.report.axial
+
     def summary(self) -> dict:
         """The run's summary (keys and units of ``drill/run_summary.hpp``, the summary.json of
         ``drillsim --job run`` and ``drillpy simulate`` without ``config`` and ``job``).

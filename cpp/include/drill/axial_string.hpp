@@ -1,0 +1,107 @@
+// The axial finite-element model of the string and its modal reduction: the axial counterpart of
+// fem.hpp and modal.hpp, on the same sections and the same mesh.
+//
+// Each section is a bar of linear two-node elements with the consistent mass matrix,
+//   k_e = E A / h [ 1 -1; -1 1 ],   m_e = rho A h / 6 [ 2 1; 1 2 ],   A = pi (r_o^2 - r_i^2),
+// the axial analogue of Eqs. (2.1)-(2.6) (G J -> E A, rho J -> rho A), plus a lumped mass at the bit
+// (axial.bit_mass_kg: a BHA or the rig's rock holder). Node 0 is the top, the last node the bit; the
+// axial displacement is positive downwards (into the rock). Two top boundaries:
+//  * feed       the top is driven at a constant rate of penetration V0: the displacement relative to
+//               V0 t is clamped at the top (nodes 1..n free), a fixed-free bar whose natural
+//               frequencies tend to (2k - 1) c / (4 L), c = sqrt(E / rho), for a uniform string
+//               (tests/cpp/test_axial_string.cpp);
+//  * hook_load  the top is free and pushed down by a constant force (the string's submerged weight
+//               less the hook load, the WOB of steady drilling): a free-free bar with its rigid mode.
+//               (The weight of a uniform vertical string is a distributed constant load; on a linear
+//               bar it shifts only the static state, so applying the net force at the top leaves the
+//               motion relative to that state, and the bit's force, unchanged.)
+// The reduction keeps the lowest `modes` mass-normalised modes (Phi^T M Phi = I, Phi^T K Phi =
+// diag(omega^2)) with modal damping ratios (0 for the rigid mode).
+#pragma once
+
+#include <Eigen/Dense>
+#include <stdexcept>
+#include <string>
+
+#include "drill/errors.hpp"
+#include "drill/fem.hpp"
+
+namespace drill {
+
+enum class AxialTop { feed, hook_load };
+
+inline AxialTop parse_axial_top(const std::string& s) {
+  if (s == "feed") return AxialTop::feed;
+  if (s == "hook_load") return AxialTop::hook_load;
+  throw std::invalid_argument("axial.top = \"" + s + "\": unknown top boundary (use hook_load or feed)");
+}
+inline std::string to_string(AxialTop t) { return t == AxialTop::feed ? "feed" : "hook_load"; }
+
+/// Axial FE matrices of the whole string over all nodes (top node included).
+inline FEMatrices assemble_axial(const StringModel& s, double bit_mass) {
+  s.validate();
+  const int nn = s.n_nodes();
+  FEMatrices fe{Eigen::MatrixXd::Zero(nn, nn), Eigen::MatrixXd::Zero(nn, nn), Eigen::VectorXd::Zero(nn)};
+  int e = 0;
+  for (const Section& sec : s.sections) {
+    const double h = sec.length / sec.elements;
+    const double area = M_PI * (sec.outer_radius * sec.outer_radius - sec.inner_radius * sec.inner_radius);
+    const double ke = sec.youngs_modulus * area / h, me = sec.density * area * h / 6.0;
+    for (int i = 0; i < sec.elements; ++i, ++e) {
+      fe.K(e, e) += ke;
+      fe.K(e + 1, e + 1) += ke;
+      fe.K(e, e + 1) -= ke;
+      fe.K(e + 1, e) -= ke;
+      fe.M(e, e) += 2.0 * me;
+      fe.M(e + 1, e + 1) += 2.0 * me;
+      fe.M(e, e + 1) += me;
+      fe.M(e + 1, e) += me;
+      fe.x(e + 1) = fe.x(e) + h;
+    }
+  }
+  fe.M(nn - 1, nn - 1) += bit_mass;
+  return fe;
+}
+
+/// The reduced axial model: modal coordinates eta with M = I, K = diag(omega^2), D = diag(2 zeta omega).
+struct AxialROM {
+  AxialTop top = AxialTop::feed;
+  Eigen::VectorXd omega;    ///< natural circular frequencies [rad/s] (hook_load: the first is 0)
+  Eigen::VectorXd damping;  ///< modal damping 2 zeta omega [1/s]
+  Eigen::VectorXd bit;      ///< the bit node's row of the basis: U_bit = bit . eta (+ V0 t with feed)
+  Eigen::VectorXd top_row;  ///< the top node's row (hook_load; zero with feed)
+  Eigen::VectorXd uniform;  ///< Phi^T M 1: the modal velocity of a rigid axial motion at unit speed
+  double mass = 0.0;        ///< total mass of the string and the bit [kg]
+  int size() const { return static_cast<int>(omega.size()); }
+};
+
+/// Modal reduction of the axial string with the top boundary `top`, `modes` modes, damping ratio zeta.
+inline AxialROM build_axial_rom(const StringModel& s, AxialTop top, int modes, double zeta, double bit_mass = 0.0) {
+  const FEMatrices fe = assemble_axial(s, bit_mass);
+  const Eigen::Index nn = fe.M.rows();
+  const Eigen::Index first = top == AxialTop::feed ? 1 : 0;  // feed: the top node is clamped (moving frame)
+  const Eigen::Index n = nn - first;
+  require(modes >= 1 && modes <= n, "axial.modes", modes,
+          "must be between 1 and the number of free axial DOFs (" + show(n) + ")");
+  const Eigen::MatrixXd M = fe.M.bottomRightCorner(n, n), K = fe.K.bottomRightCorner(n, n);
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(K, M);
+  if (es.info() != Eigen::Success) throw std::runtime_error("axial eigenproblem failed");
+  AxialROM r;
+  r.top = top;
+  const Eigen::MatrixXd phi = es.eigenvectors().leftCols(modes);
+  r.omega = es.eigenvalues().head(modes).cwiseMax(0.0).cwiseSqrt();
+  if (top == AxialTop::hook_load) r.omega(0) = 0.0;  // the rigid mode (its eigenvalue is 0 up to rounding)
+  r.damping = 2.0 * zeta * r.omega;
+  r.bit = phi.row(n - 1).transpose();
+  r.top_row = top == AxialTop::hook_load ? Eigen::VectorXd(phi.row(0).transpose()) : Eigen::VectorXd::Zero(modes);
+  r.uniform = phi.transpose() * M * Eigen::VectorXd::Ones(n);
+  r.mass = fe.M.sum();
+  return r;
+}
+
+/// The first n axial natural frequencies [Hz] of the string with this top boundary (all FE modes).
+inline Eigen::VectorXd axial_frequencies_hz(const StringModel& s, AxialTop top, int n, double bit_mass = 0.0) {
+  return build_axial_rom(s, top, n, 0.0, bit_mass).omega / (2.0 * M_PI);
+}
+
+}  // namespace drill

@@ -1,0 +1,231 @@
+// Axial-torsional coupling at the bit: the reduced torsional model (modal.hpp) and the reduced
+// axial model (axial_string.hpp) of the same string, coupled by the Richard-Germay-Detournay bit law
+// (rgd_bit.hpp) through the depth of cut and its state-dependent delay (bit_profile.hpp).
+//
+// Equations (modal coordinates with M = I; torsion in the frame turning with the top, as Eq. 2.9):
+//   z'' + D z' + diag(w^2) z = -b T - l Omega'(t),          bit speed  Omega_b = Omega(t) + b . z'
+//   e'' + C e' + diag(k^2) e = -c W + h F_top,              bit advance U = V0 t + c . e   (feed)
+//                                                                       U = c . e        (hook_load)
+// with F_top the constant net force at the top (hook_load; 0 with feed), and W, T the RGD weight and
+// torque on bit at the depth of cut d = N [U - S(Phi_b - 2 pi / N)] (the rock surface S of the blade
+// ahead, bit_profile.hpp). A uniform string with infinite axial stiffness and one torsional mode is
+// RGD's own two-degree-of-freedom model (their M U'' = W_0 - W, I Phi'' + C (Phi - Omega_0 t) = -T).
+//
+// Scheme: the modified Euler step of appendix A (Eqs. A.5-A.6: velocities first, then the
+// displacements with the new velocities) on both sets of coordinates, the depth of cut explicit (at the
+// step's start), and the set-valued contact laws solved implicitly for the velocities at the step's
+// end, one scalar inclusion each (the bit's axial then angular velocity):
+//   axial    V+ = V_a - dt g_a (W - W_lo),  W in W_lo + [0, W_f] H(V+)    (H the set-valued step)
+//   torsion  Omega+ = Omega_a - dt g_t T,    T in T_max Sgn(Omega+)       (T_max = T_c + T_f forwards,
+//                                                                           T_f backwards)
+// V_a, Omega_a the velocities without the contact's variable part, g the bit's modal gains (b . b,
+// c . c). While turning forwards the bit cuts (W_lo = W_c); at torsional rest it bears on the rock with
+// W in [0, W_c + W_f] (W_lo = 0); above the rock (d <= 0) W = T = 0 and the bit flies (bit bounce).
+// A stuck bit's velocity is exactly zero at the end of the step (no chattering). The wear flats'
+// share of W, which sets T_f = gamma mu a W_f / 2, is W - W_lo, at most a l sigma.
+// Stability: the explicit parts need dt < pi / (5 omega_max) (Eq. A.7) with omega_max the largest of
+// the retained torsional frequencies and of the axial ones stiffened by the cutting law's stiffness at
+// the bit, sqrt(k_max^2 + N a zeta eps g_a) (the depth of cut is explicit).
+#pragma once
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "drill/axial.hpp"
+#include "drill/axial_string.hpp"
+#include "drill/bit_profile.hpp"
+#include "drill/errors.hpp"
+#include "drill/integrator.hpp"
+#include "drill/modal.hpp"
+#include "drill/rgd_bit.hpp"
+#include "drill/signal.hpp"
+
+namespace drill {
+
+/// What the coupled model reports at every step besides StepState (SI, absolute frame).
+struct AxialStep {
+  double t = 0.0;
+  double wob = 0.0;        ///< W [N]
+  double rop = 0.0;        ///< the bit's axial speed V [m/s]
+  double position = 0.0;   ///< the bit's axial position U [m]
+  double depth = 0.0;      ///< depth of cut per revolution d [m] (negative: above the rock)
+  double delay = 0.0;      ///< t_N [s]
+  bool contact = true;     ///< false: the bit is off the rock (d <= 0, W = 0)
+};
+
+/// The state of the coupled model: the torsional ModelState and the axial modal state.
+struct CoupledState {
+  ModelState torsion;
+  Eigen::VectorXd eta, eta_dot;
+};
+
+class AxialTorsional {
+ public:
+  AxialTorsional(const ReducedModel& torsion, const StringModel& string, const AxialTorsionalSpec& spec,
+                 const SimOptions& opt)
+      : spec_(spec), opt_(opt) {
+    spec_.validate();
+    opt_.validate();
+    require(opt_.scheme == Scheme::modified_euler, "simulation.scheme", to_string(opt_.scheme),
+            "axial.type = rgd is implemented for simulation.scheme = modified_euler only");
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(torsion.K, torsion.M);
+    if (es.info() != Eigen::Success) throw std::runtime_error("reduced eigenproblem failed");
+    V_ = es.eigenvectors();
+    Vinv_ = V_.transpose() * torsion.M;
+    w2_ = es.eigenvalues().cwiseMax(0.0);
+    D_ = V_.transpose() * torsion.D * V_;
+    bit_ = (torsion.bit * V_).transpose();
+    top_torque_ = (torsion.top_torque * V_).transpose();
+    top_load_ = V_.transpose() * torsion.top_load;
+    init_vel_ = V_.transpose() * torsion.M * torsion.init_velocity;
+    ax_ = build_axial_rom(string, spec_.top, spec_.modes, spec_.damping_ratio, spec_.bit_mass);
+    const double bound = stability_bound();
+    require(opt_.dt < bound, "simulation.dt_s", opt_.dt,
+            "exceeds the modified-Euler stability bound of the coupled model dt < pi / (5 omega_max) = " +
+                show(bound) + " s (Eq. A.7 over the torsional modes, " + show(std::sqrt(w2_.maxCoeff())) +
+                " rad/s, and the axial ones stiffened by the cutting law, " + show(axial_omega_max()) +
+                " rad/s: fewer axial.modes or a smaller dt)");
+  }
+
+  const AxialROM& axial() const { return ax_; }
+  const AxialTorsionalSpec& spec() const { return spec_; }
+
+  /// The largest axial frequency with the cutting law's stiffness N a zeta eps at the bit [rad/s].
+  double axial_omega_max() const {
+    const double kc = spec_.bit.blades * spec_.bit.cutting_wob_per_depth();
+    return std::sqrt(ax_.omega.maxCoeff() * ax_.omega.maxCoeff() + kc * ax_.bit.squaredNorm());
+  }
+  /// Eq. (A.7) extended to the axial modes: pi / (5 omega_max).
+  double stability_bound() const {
+    return M_PI / (5.0 * std::max(std::sqrt(w2_.maxCoeff()), axial_omega_max()));
+  }
+
+  /// Steady drilling at bit speed omega [rad/s]: the depth of cut d0, the rate of penetration V0,
+  /// the WOB W0 and the torque T0 (W0 = a zeta eps d0 + a l sigma, T0 = a^2 eps d0 / 2 + gamma mu a W_f / 2).
+  struct Steady {
+    double depth, rop, wob, torque;
+  };
+  Steady steady(double omega) const {
+    const RgdBit& b = spec_.bit;
+    Steady s{};
+    if (spec_.top == AxialTop::feed) {
+      s.rop = spec_.feed_rate;
+      s.depth = 2.0 * M_PI * s.rop / omega;
+    } else {
+      s.depth = b.steady_depth(spec_.top_force);
+      s.rop = omega * s.depth / (2.0 * M_PI);
+    }
+    s.wob = b.steady_wob(s.depth);
+    s.torque = b.steady_torque(s.depth);
+    return s;
+  }
+
+  /// The torsional state of steady drilling at top speed omega (the static twist carrying T0; the
+  /// bit lagging the top by `disturbance` of omega, as Simulation::steady_state).
+  ModelState steady_torsion(double omega, double disturbance = 0.01) const {
+    const double T0 = steady(omega).torque;
+    Eigen::VectorXd z(w2_.size());
+    for (Eigen::Index j = 0; j < z.size(); ++j) z(j) = w2_(j) > 0.0 ? -bit_(j) * T0 / w2_(j) : 0.0;
+    return {V_ * z, V_ * (-disturbance * omega * init_vel_)};
+  }
+  /// The axial state of steady drilling at top speed omega (the static compression carrying W0,
+  /// moving at V0; the bit's axial speed lagging by spec.disturbance of V0).
+  void steady_axial(double omega, Eigen::VectorXd& eta, Eigen::VectorXd& eta_dot) const {
+    const Steady s = steady(omega);
+    const int m = ax_.size();
+    eta = Eigen::VectorXd::Zero(m);
+    for (int j = 0; j < m; ++j)
+      if (ax_.omega(j) > 0.0) eta(j) = (ax_.top_row(j) * top_force() - ax_.bit(j) * s.wob) / (ax_.omega(j) * ax_.omega(j));
+    eta_dot = Eigen::VectorXd::Zero(m);
+    if (spec_.top == AxialTop::hook_load) eta_dot = ax_.uniform * s.rop;  // the whole string moves at V0
+    // the disturbance: the bit's axial speed (1 - disturbance) V0
+    const double g = ax_.bit.squaredNorm();
+    if (g > 0.0) eta_dot -= ax_.bit * (spec_.disturbance * s.rop / g);
+  }
+
+  /// Integrate from the torsional state `start` (or steady drilling, disturbed), the axial state at
+  /// steady drilling (disturbed) and the rock surface of steady drilling, at the top speed of `in`
+  /// (an ideal top drive). obs(const StepState&, const AxialStep&) at every step including t = 0.
+  template <class Observer>
+  CoupledState run(const Inputs& in, Observer&& obs, const ModelState* start = nullptr) const {
+    in.top_speed.validate("operation.top_speed_rad_s");
+    require(in.top_drive.kind == TopDrive::Kind::ideal, "top_drive.type", TopDrive::kind_name(in.top_drive.kind),
+            "axial.type = rgd is implemented with an ideal top drive only");
+    const double dt = opt_.dt;
+    const long n = opt_.steps();
+    const double om0 = in.top_speed.at(0.0);
+    require_positive(om0, "operation.top_speed_rad_s");
+    const ModelState s0 = start ? *start : steady_torsion(om0);
+    require(s0.q.size() == V_.rows() && s0.qdot.size() == V_.rows(), "initial_state", s0.q.size(),
+            "has the wrong size (the model has " + show(V_.rows()) + " coordinates)");
+    Eigen::VectorXd z = Vinv_ * s0.q, p = Vinv_ * s0.qdot, eta, r;
+    steady_axial(om0, eta, r);
+    const Steady st = steady(om0);
+    const RgdBit& b = spec_.bit;
+    const double v_feed = spec_.top == AxialTop::feed ? spec_.feed_rate : 0.0, F_top = top_force();
+    const double cw = b.cutting_wob_per_depth(), ct = b.cutting_torque_per_depth(), Wf_max = b.contact_wob(),
+                 ctw = b.contact_torque_per_wob();
+    const double gt = bit_.squaredNorm(), ga = ax_.bit.squaredNorm();
+    double theta_top = 0.0;
+    BitProfile profile(b.blades, 0.0, bit_.dot(z), ax_.bit.dot(eta), st.depth, om0);
+    Eigen::VectorXd ft(z.size()), fa(eta.size());
+    for (long i = 0;; ++i) {
+      const double t = i * dt;
+      const double om = in.top_speed.at(t), om_next = in.top_speed.at(t + dt), dom = in.top_speed.rate(t);
+      const double Ob = om + bit_.dot(p), Phi = theta_top + bit_.dot(z);
+      const double U = v_feed * t + ax_.bit.dot(eta), V = v_feed + ax_.bit.dot(r);
+      const double d = profile.depth_of_cut(Phi, U);
+      ft = -D_ * p - w2_.cwiseProduct(z);
+      if (dom != 0.0) ft -= top_load_ * dom;
+      fa = -ax_.damping.cwiseProduct(r) - (ax_.omega.array().square() * eta.array()).matrix();
+      if (F_top != 0.0) fa += ax_.top_row * F_top;
+      const double alpha_t = bit_.dot(ft) + dom, alpha_a = ax_.bit.dot(fa);
+      const bool contact = d > 0.0;
+      const bool turning = Ob > rest_tolerance(om);
+      // axial inclusion: W in [W_lo, W_hi] set-valued at V+ = 0 (rgd_bit.hpp's switches)
+      double W = 0.0, Wf = 0.0, T = 0.0;
+      if (contact) {
+        const double Wc = cw * d, W_lo = turning ? Wc : 0.0, W_hi = Wc + Wf_max;
+        const double Va = V + dt * (alpha_a - ga * W_lo);
+        if (Va <= 0.0) W = W_lo;
+        else if (Va - dt * ga * (W_hi - W_lo) >= 0.0) W = W_hi;
+        else W = W_lo + Va / (dt * ga);
+        Wf = std::min(W - W_lo, Wf_max);
+        // torsional inclusion: T in [-T_f, T_c + T_f], set-valued at Omega+ = 0
+        const double T_fwd = ct * d + ctw * Wf, T_bwd = ctw * Wf;
+        const double Oa = Ob + dt * alpha_t;
+        if (Oa > 0.0) T = Oa - dt * gt * T_fwd >= 0.0 ? T_fwd : Oa / (dt * gt);
+        else T = Oa + dt * gt * T_bwd <= 0.0 ? -T_bwd : Oa / (dt * gt);
+      }
+      if (!std::isfinite(Ob) || !std::isfinite(T) || !std::isfinite(W) || !std::isfinite(V))
+        throw std::runtime_error(Integrator::divergence(t));
+      const double a_bit = alpha_t - gt * T;
+      obs(static_cast<const StepState&>(
+              StepState{i, t, Ob, a_bit, Phi, T, top_torque_.dot(z), om, NAN, W}),
+          static_cast<const AxialStep&>(AxialStep{t, W, V, U, d, profile.delay(t, Phi), contact}));
+      if (i == n) break;
+      p += dt * (ft - bit_ * T);  // Eq. (A.5)
+      z += dt * p;                // Eq. (A.6)
+      r += dt * (fa - ax_.bit * W);
+      eta += dt * r;
+      theta_top += 0.5 * dt * (om + om_next);
+      profile.record(t + dt, theta_top + bit_.dot(z), v_feed * (t + dt) + ax_.bit.dot(eta));
+    }
+    CoupledState out{{V_ * z, V_ * p}, eta, r};
+    return out;
+  }
+
+ private:
+  double top_force() const { return spec_.top == AxialTop::hook_load ? spec_.top_force : 0.0; }
+  static double rest_tolerance(double om) { return 1e-12 * (1.0 + std::fabs(om)); }
+
+  AxialTorsionalSpec spec_;
+  SimOptions opt_;
+  AxialROM ax_;
+  Eigen::MatrixXd V_, Vinv_, D_;
+  Eigen::VectorXd w2_, bit_, top_torque_, top_load_, init_vel_;
+};
+
+}  // namespace drill

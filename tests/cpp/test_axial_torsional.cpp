@@ -1,0 +1,210 @@
+// The axial-torsional model with the Richard-Germay-Detournay bit (axial_torsional.hpp, rgd_bit.hpp):
+// steady drilling is an equilibrium of the scheme with RGD's balance of forces, its delay is
+// 2 pi / (N Omega), a bounce gives W = 0 without NaN, stick-slip arises from the coupling at low
+// speed (RGD's result), runs repeat bit for bit, and bad input is one error naming the field.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "drill/presets.hpp"
+#include "drill/simulation.hpp"
+#include "error_text.hpp"
+
+using namespace drill;
+
+namespace {
+
+Config rgd(double duration = 5.0) {
+  Config c = preset("rgd-field");
+  c.sim.duration = duration;
+  c.transient = 0.5 * duration;
+  return c;
+}
+
+struct Trace {
+  std::vector<StepState> s;
+  std::vector<AxialStep> a;
+};
+
+Trace trace(const Config& c, const ModelState* start = nullptr) {
+  Simulation sim(c);
+  Trace out;
+  sim.coupled()->run(
+      sim.inputs(),
+      [&](const StepState& s, const AxialStep& a) {
+        out.s.push_back(s);
+        out.a.push_back(a);
+      },
+      start);
+  return out;
+}
+
+}  // namespace
+
+TEST(AxialTorsional, SteadyDrillingIsAnEquilibriumWithRgdBalance) {
+  for (AxialTop top : {AxialTop::hook_load, AxialTop::feed}) {
+    Config c = rgd(2.0);
+    c.axial.rgd.top = top;
+    c.axial.rgd.feed_rate = 0.005;
+    c.axial.rgd.disturbance = 0.0;
+    Simulation sim(c);
+    const AxialTorsional& m = *sim.coupled();
+    const double om = c.top_speed;
+    const AxialTorsional::Steady st = m.steady(om);
+    const RgdBit& b = c.axial.rgd.bit;
+    // RGD's steady drilling: W = a zeta eps d + a l sigma, T = a^2 eps d / 2 + gamma mu a^2 l sigma / 2
+    EXPECT_NEAR(st.wob, b.radius * b.force_ratio * b.specific_energy * st.depth +
+                            b.radius * b.wear_flat * b.contact_strength, 1e-9 * st.wob);
+    EXPECT_NEAR(st.torque, 0.5 * b.radius * b.radius * b.specific_energy * st.depth +
+                               0.5 * b.geometry * b.friction * b.radius * b.radius * b.wear_flat * b.contact_strength,
+                1e-9 * st.torque);
+    EXPECT_NEAR(st.rop, om * st.depth / (2.0 * M_PI), 1e-12);
+    const ModelState s0 = m.steady_torsion(om, 0.0);
+    const Trace tr = trace(c, &s0);
+    const double tN = 2.0 * M_PI / (b.blades * om);
+    for (std::size_t i = 0; i < tr.a.size(); i += 97) {
+      const AxialStep& a = tr.a[i];
+      ASSERT_NEAR(a.wob, st.wob, 1e-7 * st.wob) << to_string(top) << " t = " << a.t;
+      ASSERT_NEAR(tr.s[i].torque_on_bit, st.torque, 1e-7 * st.torque) << to_string(top) << " t = " << a.t;
+      ASSERT_NEAR(a.rop, st.rop, 1e-7 * st.rop) << to_string(top) << " t = " << a.t;
+      ASSERT_NEAR(a.delay, tN, 1e-9 * tN) << to_string(top) << " t = " << a.t;
+      // the depth of cut is the advance over the delay: d = N ROP t_N
+      ASSERT_NEAR(a.depth, b.blades * a.rop * a.delay, 1e-7 * st.depth) << to_string(top) << " t = " << a.t;
+      ASSERT_NEAR(tr.s[i].bit_speed, om, 1e-9 * om);
+    }
+  }
+}
+
+TEST(AxialTorsional, AxialMomentumBalancesTheTopForceAndTheWob) {
+  // hook load: the string is free axially, so its momentum P = 1^T M U' (the rigid mode's) changes
+  // only by the force at the top and the WOB, P(T) - P(0) = sum over steps dt (F_top - W_i), through
+  // stick-slip and whatever the axial modes do (the scheme's Eq. A.5 conserves it step by step)
+  Config c = rgd(10.0);
+  Simulation sim(c);
+  const AxialTorsional& m = *sim.coupled();
+  const double dt = c.sim.dt, F = c.axial.rgd.top_force;
+  double impulse = 0.0;
+  long steps = 0;
+  const CoupledState end = m.run(sim.inputs(), [&](const StepState& s, const AxialStep& a) {
+    if (s.step < c.sim.steps()) impulse += dt * (F - a.wob);  // the last observed step is not integrated
+    steps = s.step;
+  });
+  ASSERT_EQ(steps, c.sim.steps());
+  Eigen::VectorXd eta0, eta_dot0;
+  m.steady_axial(c.top_speed, eta0, eta_dot0);
+  const Eigen::VectorXd& u = m.axial().uniform;
+  const double P0 = u.dot(eta_dot0), P1 = u.dot(end.eta_dot);
+  EXPECT_NEAR(P1 - P0, impulse, 1e-6 * F * c.sim.duration);
+  EXPECT_GT(std::fabs(impulse), 1e-3 * F * dt);  // not trivially zero: the WOB did move
+}
+
+TEST(AxialTorsional, StickSlipArisesAtLowSpeedWithThePublishedBit) {
+  // RGD (J. Sound Vib. 2007): the steady drilling state of the coupled model is unstable; the
+  // disturbance grows into stick-slip (full sticks of the bit) at the preset's 60 RPM
+  Config c = rgd(40.0);  // 4 rad/s, 150 kN
+  Simulation sim(c);
+  const RunReport r = sim.run(sim.inputs(), false);
+  EXPECT_GT(r.severity, 0.5);
+  EXPECT_GT(r.stick_fraction, 0.05);
+  EXPECT_GT(r.axial.wob_std, 0.01 * r.axial.steady_wob);  // the WOB swings with the cycle
+  EXPECT_TRUE(std::isfinite(r.axial.mean_rop));
+}
+
+TEST(AxialTorsional, BitBounceGivesZeroWobAndNoNaN) {
+  // the bit thrown up at 49 V0: it leaves the rock (d < 0, W = T = 0), flies and lands again
+  Config c = rgd(3.0);
+  c.axial.rgd.disturbance = 50.0;
+  const Trace tr = trace(c);
+  long off = 0, back = 0;
+  for (std::size_t i = 0; i < tr.a.size(); ++i) {
+    const AxialStep& a = tr.a[i];
+    ASSERT_TRUE(std::isfinite(a.wob) && std::isfinite(a.depth) && std::isfinite(tr.s[i].bit_speed)) << a.t;
+    ASSERT_GE(a.wob, 0.0);
+    if (!a.contact) {
+      ++off;
+      ASSERT_EQ(a.wob, 0.0);
+      ASSERT_EQ(tr.s[i].torque_on_bit, 0.0);
+      ASSERT_LE(a.depth, 0.0);
+    } else if (off > 0) {
+      ++back;
+    }
+  }
+  EXPECT_GT(off, 10);
+  EXPECT_GT(back, 10);  // it lands
+}
+
+TEST(AxialTorsional, SameNumbersForTheSameRun) {
+  Config c = rgd(4.0);
+  Simulation sim(c);
+  const RunReport a = sim.run(sim.inputs()), b = sim.run(sim.inputs());
+  EXPECT_EQ(a.axial.wob, b.axial.wob);
+  EXPECT_EQ(a.series.bit_speed, b.series.bit_speed);
+  EXPECT_EQ(a.axial.bounce_fraction, b.axial.bounce_fraction);
+}
+
+TEST(AxialTorsional, ConfigurationErrorsNameTheField) {
+  json j = preset_json("rgd-field");
+  auto refused = [](json x, const std::string& field) {
+    try {
+      parse_config(x);
+      ADD_FAILURE() << "accepted; expected an error naming " << field;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
+  {
+    json x = j;
+    x["law"] = preset_json("thesis-field")["law"];
+    refused(x, "config.law");
+  }
+  {
+    json x = j;
+    x["axial"]["top"] = "feed";
+    x["operation"].erase("wob_n");
+    refused(x, "axial.rop_m_s");
+  }
+  {
+    json x = j;
+    x["operation"]["wob_n"] = 50e3;  // below a l sigma = 71.28 kN: the bit would not cut
+    refused(x, "operation.wob_n");
+  }
+  {
+    json x = j;
+    x["axial"]["bit"]["blades"] = 0;
+    refused(x, "axial.bit.blades");
+  }
+  {
+    json x = j;
+    x["axial"]["bit"].erase("zeta");
+    refused(x, "axial.bit.zeta");
+  }
+  {
+    json x = j;
+    x["simulation"]["scheme"] = "bdf2";
+    refused(x, "axial.type");
+  }
+  {
+    json x = j;
+    x["simulation"]["dt_s"] = 0.02;
+    try {
+      Simulation s(parse_config(x));
+      ADD_FAILURE() << "dt accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("simulation.dt_s"), std::string::npos) << e.what();
+    }
+  }
+  // a sweep is refused before it starts, naming axial.type
+  Simulation sim(preset("rgd-field"));
+  try {
+    sim.sweep_severity({5.0, 6.0}, {});
+    ADD_FAILURE() << "sweep accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("axial.type"), std::string::npos) << e.what();
+  }
+  // the configuration round-trips through JSON
+  const Config c = preset("rgd-field");
+  const Config back = parse_config(to_json(c));
+  EXPECT_EQ(to_json(back), to_json(c));
+}

@@ -1,0 +1,95 @@
+"""The axial-torsional model (axial.type = rgd, drill/axial_torsional.hpp) from Python and the CLI:
+the RunReport's axial channels, the summary's WOB/ROP/bounce metrics, and studies it does not
+implement refused with one line naming axial.type."""
+import json
+
+import numpy as np
+import pytest
+
+import drillpy
+from drillpy.model.config import load_config
+from drillpy.model.simulation import simulate
+
+from conftest import run_cli
+
+
+def _short(duration=4.0):
+    cfg = load_config(preset="rgd-field")
+    cfg["simulation"].update(duration_s=duration, transient_s=duration / 2)
+    return cfg
+
+
+def test_simulate_reports_the_axial_channels():
+    r = simulate(_short())
+    ax = r.axial
+    assert ax is not None and ax.present
+    assert ax.t.shape == ax.wob.shape == ax.rop.shape == ax.depth_of_cut.shape == ax.delay.shape
+    assert np.all(np.isfinite(ax.wob)) and np.all(ax.wob >= 0.0)
+    # the run starts in RGD's steady drilling: 150 kN = a zeta eps d + a l sigma
+    a, zeta, eps, l, sigma = 0.108, 0.6, 60e6, 0.011, 60e6
+    d0 = (150e3 - a * l * sigma) / (a * zeta * eps)
+    assert ax.steady_depth == pytest.approx(d0, rel=1e-12)
+    assert ax.steady_rop == pytest.approx(4.0 * d0 / (2 * np.pi), rel=1e-12)
+    assert ax.wob[0] == pytest.approx(150e3, rel=1e-9)
+    assert ax.delay[0] == pytest.approx(2 * np.pi / (4 * 4.0), rel=1e-9)  # t_N = 2 pi / (N Omega)
+    s = r.summary()
+    for key in ("mean_wob_n", "wob_std_n", "mean_rop_m_s", "rop_std_m_s", "bounce_fraction", "steady_wob_n"):
+        assert key in s
+    assert s["steady_wob_n"] == pytest.approx(150e3)
+
+
+def test_a_bit_thrown_up_leaves_the_rock_with_zero_wob():
+    cfg = _short(3.0)
+    cfg["simulation"].update(output_stride=1, transient_s=0.0)
+    cfg["axial"]["disturbance"] = 50.0  # the bit's axial speed (1 - 50) V0 at the start: upwards
+    r = simulate(cfg)
+    ax = r.axial
+    off = ax.depth_of_cut <= 0.0
+    assert off.sum() > 10 and ax.bounce_fraction > 0.0
+    assert np.all(ax.wob[off] == 0.0) and np.all(r.torque_on_bit[off] == 0.0)
+    assert np.all(np.isfinite(ax.wob)) and np.all(np.isfinite(r.bit_speed))
+    assert ax.wob[-1] > 0.0  # it lands and cuts again
+
+
+def test_torsional_models_have_no_axial_report():
+    cfg = load_config(preset="thesis-rig")
+    cfg["simulation"].update(duration_s=1.0, transient_s=0.5)
+    r = simulate(cfg)
+    assert r.axial is None
+    assert "mean_wob_n" not in r.summary()
+
+
+def test_config_round_trips_and_refuses_a_law():
+    cfg = load_config(preset="rgd-field")
+    assert "law" not in cfg and cfg["axial"]["type"] == "rgd"
+    assert load_config(config=cfg) == cfg
+    bad = dict(cfg, law=load_config(preset="thesis-field")["law"])
+    with pytest.raises(ValueError, match=r"config.law = .*axial.type = rgd"):
+        load_config(config=bad)
+
+
+def test_cli_simulate_prints_wob_rop_and_bounce_beside_ss():
+    r = run_cli("simulate", "--preset", "rgd-field", "--json")
+    assert r.returncode == 0, r.stderr
+    s = json.loads(r.stdout)
+    assert s["severity"] > 0.5  # stick-slip at the preset's 4 rad/s and 150 kN
+    assert s["bounce_fraction"] >= 0.0 and s["wob_std_n"] > 0.0
+    r = run_cli("simulate", "--preset", "rgd-field")
+    assert r.returncode == 0, r.stderr
+    assert "WOB = " in r.stdout and "ROP = " in r.stdout and "bit bounce fraction" in r.stdout
+
+
+def test_cli_simulate_writes_the_axial_channels(tmp_path):
+    r = run_cli("simulate", "--preset", "rgd-field", "--duration", "2", "--out", str(tmp_path / "o"))
+    assert r.returncode == 0, r.stderr
+    text = (tmp_path / "o" / "axial.csv").read_text().splitlines()
+    assert "time_s,wob_N,rop_m_s,bit_position_m,depth_of_cut_m,delay_s" in text
+    data = np.loadtxt(tmp_path / "o" / "axial.csv", delimiter=",", comments="#", skiprows=text.index(
+        "time_s,wob_N,rop_m_s,bit_position_m,depth_of_cut_m,delay_s") + 1)
+    assert data.shape[1] == 6 and data[0, 1] == pytest.approx(150e3, rel=1e-6)
+
+
+def test_cli_sweep_is_refused_naming_the_field():
+    r = run_cli("sweep", "--preset", "rgd-field", "--speeds", "3:5:2", "--json")
+    assert r.returncode != 0
+    assert "axial.type" in r.stderr and "Traceback" not in r.stderr
