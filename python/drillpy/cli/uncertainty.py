@@ -476,8 +476,8 @@ def cmd_mc(a: argparse.Namespace) -> int:
                      duration=mcm.DURATION_S if a.duration is None else a.duration,
                      transient=mcm.TRANSIENT_S if a.transient is None else a.transient)
     if a.first_sample == 0 and (a.out or a.scheduler != "local"):  # a stored or distributed study
-        from drillpy.study import run_study
-        ds = run_study(mcm.study_definition(cfg, speeds, a.samples, a.seed, psd=psd, eta_dt=a.eta_dt, **durations),
+        from drillpy.study import mc_study, run_study
+        ds = run_study(mc_study(cfg, speeds, a.samples, a.seed, psd=psd, eta_dt=a.eta_dt, **durations),
                        a.out, scheduler=a.scheduler, chunk=a.chunk, threads=a.threads, progress=not a.no_progress)
         study = mcm.from_dataset(ds)
     else:
