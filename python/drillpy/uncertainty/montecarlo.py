@@ -254,7 +254,23 @@ def study_engine(cfg: dict, psd: Psd, eta_dt: float, seed: int, warmup: float) -
 
 
 def speed_grid(speeds) -> np.ndarray:
-    """``speeds`` as a 1-d float array of positive finite top speeds [rad/s] (ValueError otherwise)."""
+    """The top-speed grid of a study, checked.
+
+    Parameters
+    ----------
+    speeds : array_like
+        Top-drive speeds [rad/s].
+
+    Returns
+    -------
+    numpy.ndarray
+        ``speeds`` as a 1-d float array.
+
+    Raises
+    ------
+    ValueError
+        For an empty grid, or a speed that is not a positive finite number.
+    """
     a = np.atleast_1d(np.asarray(speeds, dtype=float))
     if a.ndim != 1 or a.size == 0:
         raise ValueError(f"speeds = {speeds!r}: the speed grid is empty (give at least one top speed)")
