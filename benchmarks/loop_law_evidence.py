@@ -14,7 +14,7 @@ from drillpy.loop.effects import CATALOGUE, stripped
 from drillpy.loop.evidence import law_evidence
 from drillpy.loop.fitting import fit_law
 from drillpy.loop.run import analysis_config
-from drillpy.records.synthetic import declared_config, synthetic_record
+from drillpy.loop.synthetic import declared_config, synthetic_record
 
 #: (injected effects, seed): cases of benchmarks/loop_validation.py
 CASES = [({}, 1), ({"string_stiffness": {}}, 41), ({"bit_hysteresis": {"beta1": 0.1}}, 21),

@@ -1,11 +1,11 @@
 """Validation of ``drillpy loop`` on records its declared model did not generate.
 
-Every case simulates a *truth* away from the declared model (:func:`drillpy.records.synthetic.truth_config`:
+Every case simulates a *truth* away from the declared model (:func:`drillpy.loop.synthetic.truth_config`:
 damping ratio 0.03-0.08 against 0.05 declared, GJ +-1.5 %, the law's slip branch rescaled, 3 modes of
 40 elements against 1 of 20, a time step 4 x finer than the loop's), switches on the case's effects
 (full size: the catalogue's defaults; half size; two at once; outside the loop's catalogue: the
 loop then searches only the original six effects; larger noise), adds measurement noise, and runs
-the loop from :func:`drillpy.records.synthetic.declared_config`. One table row per case: truth, answer,
+the loop from :func:`drillpy.loop.synthetic.declared_config`. One table row per case: truth, answer,
 E before -> after the first step -> final, the long-run metrics (SS, stick fraction, cycle
 frequency: record, baseline, final) and the unexplained fraction.
 
@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 from drillpy.loop import LoopOptions, run_loop
 from drillpy.loop.effects.string_stiffness import EFFECT as STRING_STIFFNESS
-from drillpy.records.synthetic import declared_config, synthetic_record, truth_config
+from drillpy.loop.synthetic import declared_config, synthetic_record, truth_config
 
 #: The loop's catalogue before this validation's additions: the "outside" cases search only these.
 ORIGINAL_SIX = ("bit_hysteresis", "wob_coupling", "top_drive_dynamics", "sensor_lag", "torque_fluctuation",

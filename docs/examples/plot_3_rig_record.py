@@ -21,7 +21,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import drillpy
-from drillpy.reports.analysis import AnalysisOptions, compute_analysis
+from drillpy.records.analysis import AnalysisOptions, compute_analysis
 
 rec = drillpy.synthetic_record(duration_s=30.0, seed=3)
 rec.bit_speed[[3000, 7000, 11000]] += 40.0   # encoder spikes [rad/s]

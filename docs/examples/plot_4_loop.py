@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import drillpy
-from drillpy.records.synthetic import declared_config
+from drillpy.loop.synthetic import declared_config
 
 rec = drillpy.synthetic_record({"top_drive_dynamics": {}}, duration_s=24.0, seed=13, fs_hz=250.0)
 options = drillpy.LoopOptions(rate_hz=250.0, effects=("top_drive_dynamics", "sensor_lag", "wob_coupling"),

@@ -29,8 +29,9 @@ _EXPORTS = {
                     "drillpy.uncertainty.montecarlo"),
     **dict.fromkeys(("Record", "read_record", "write_csv"), "drillpy.records.io"),
     "clean": "drillpy.records.cleaning",
-    **dict.fromkeys(("LoopOptions", "run_loop", "loop_record"), "drillpy.loop"),
-    "synthetic_record": "drillpy.records.synthetic",
+    **dict.fromkeys(("LoopOptions", "run_loop"), "drillpy.loop"),
+    "loop_record": "drillpy.reports.loop",
+    "synthetic_record": "drillpy.loop.synthetic",
     **dict.fromkeys(("Study", "run_study", "open_study"), "drillpy.study"),
 }
 

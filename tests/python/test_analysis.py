@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from _testrig import sample175_path, sample175_raw
-from drillpy.reports.analysis import AnalysisOptions, analyze_record
+from drillpy.records.analysis import AnalysisOptions
+from drillpy.reports.analysis import analyze_record
 from drillpy.cli import main
 from drillpy.records.io import Record, write_csv
 

@@ -97,7 +97,7 @@ def test_too_many_steps_names_the_time_step_with_the_duration(capsys, option, va
 
 def test_a_record_without_a_stick_phase_is_not_called_stick_slip(tmp_path):
     from drillpy.records.io import Record
-    from drillpy.reports.analysis import AnalysisOptions, compute_analysis
+    from drillpy.records.analysis import AnalysisOptions, compute_analysis
     run = drillpy.simulate(drillpy.load_config(preset="thesis-rig"), top_speed=20.0)  # SS 0.77, the bit never stops
     assert run.stick_fraction == 0.0 and run.severity > 0.5
     rec = Record(time_s=run.t, bit_speed=run.bit_speed, top_speed=run.top_speed, torque_on_bit=run.torque_on_bit)

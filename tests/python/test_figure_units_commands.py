@@ -52,7 +52,7 @@ def files(tmp_path_factory):
     from drillpy.jsonio import jsonable
     from drillpy.records import rigsim
     from drillpy.records.io import write_csv
-    from drillpy.records.synthetic import synthetic_record
+    from drillpy.loop.synthetic import synthetic_record
     write_csv(synthetic_record(duration_s=6.0, seed=1), d / "rec.csv")
     model = rigsim.RigModel(load_config(preset="thesis-rig")["law"], 0.3, "constant")
     (d / "model.json").write_text(json.dumps(jsonable(model.to_dict(top_speed=8.0, wob=560.0))))
@@ -143,9 +143,9 @@ def test_loop_passes_figure_units_to_its_figures(monkeypatch, tmp_path):
     from types import SimpleNamespace
 
     from drillpy.figures import loop as loop_figs
-    from drillpy.loop import report, run as loop_run
+    from drillpy.reports import loop as report
     seen = []
-    monkeypatch.setattr(loop_run, "run_loop", lambda record, cfg, options, log: "result")
+    monkeypatch.setattr(report, "run_loop", lambda record, cfg, options, log: "result")
     monkeypatch.setattr(report, "write_loop", lambda res, out, files: {})
     monkeypatch.setattr(loop_figs, "loop_figures", lambda res, out, units="si": seen.append(units) or {})
     for extra in ([], ["--figure-units", "field"]):

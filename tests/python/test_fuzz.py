@@ -549,7 +549,7 @@ def _fixtures(tmp: Path) -> None:
     (tmp / "rec.csv").write_text("time_s,bit_speed_rad_s,top_speed_rad_s,torque_on_bit_Nm,wob_N\n" + rows + "\n")
     from drillpy.records import rigsim
     from drillpy.records.io import write_csv
-    from drillpy.records.synthetic import synthetic_record
+    from drillpy.loop.synthetic import synthetic_record
     write_csv(synthetic_record(duration_s=3.0, seed=1), tmp / "syn.csv")  # a rig record predict accepts
     model = rigsim.RigModel(base["law"], 0.3, "constant")
     (tmp / "model.json").write_text(json.dumps(jsonable(model.to_dict(top_speed=8.0, wob=560.0))))

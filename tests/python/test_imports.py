@@ -43,8 +43,8 @@ def test_mc_import_path_loads_no_heavy_module():
     code = ("from drillpy.cli import uncertainty\n"
             "from drillpy.jsonio import dumps\n"
             "from drillpy.provenance import provenance\n"
-            "from drillpy.reports.stochastic import write_figures, write_samples\n"
-            "from drillpy.reports.uncertainty import robust_speed_summary\n"
+            "from drillpy.reports.stochastic import write_figures, write_summary\n"
+            "from drillpy.uncertainty.robust_speed import robust_speed_summary\n"
             "from drillpy.uncertainty import montecarlo, process, robust_speed, structural")
     heavy = ("scipy.signal", "scipy.stats", "scipy.optimize", "scipy.special", "scipy.integrate", "matplotlib")
     loaded = _modules_after(code)

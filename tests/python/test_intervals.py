@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 from scipy.stats import norm
 
-from drillpy.reports.uncertainty import grid_limit, robust_speed_summary
+from drillpy.uncertainty.robust_speed import grid_limit, robust_speed_summary
 from drillpy.uncertainty.binomial import wilson_interval
 
 

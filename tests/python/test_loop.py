@@ -22,7 +22,7 @@ from drillpy.loop.effects import torque_fluctuation as TF
 from drillpy.loop.model import law_torque, state_channels
 from drillpy.loop.run import analysis_config
 from drillpy.records.io import Record, write_csv
-from drillpy.records.synthetic import declared_config, synthetic_record
+from drillpy.loop.synthetic import declared_config, synthetic_record
 
 LOOP_KEYS = {"metric", "decision", "warnings", "baseline_error", "steps", "final_error", "parameters", "declared", "removed", "final_effects",
              "confusable", "unexplained_fraction", "discovered_terms", "adequacy", "baseline_long_run", "provenance",

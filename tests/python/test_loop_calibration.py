@@ -11,7 +11,7 @@ from drillpy.loop import fitting as F
 from drillpy.loop.model import LoopModel
 from drillpy.loop.run import _without, analysis_config
 from drillpy.model.config import normalize
-from drillpy.records.synthetic import declared_config, synthetic_record, truth_config
+from drillpy.loop.synthetic import declared_config, synthetic_record, truth_config
 
 RATE_HZ, DT_S = 500.0, 2e-4
 

@@ -11,7 +11,7 @@ import pytest
 from drillpy.model.config import load_config, normalize
 from drillpy.loop.effects import CATALOGUE, NAMES, Effect, declared_effects, stripped
 from drillpy.loop.model import LoopModel
-from drillpy.loop.report import reading
+from drillpy.reports.loop import reading
 
 
 def test_catalogue_has_the_eleven_named_effects_with_their_descriptions():
@@ -157,7 +157,7 @@ def test_a_static_torque_not_above_the_sliding_law_is_flagged():
     from drillpy.loop.effects.static_friction import ABOVE_SLIDING, sliding_peak
     from drillpy.loop.run import analysis_config
     from drillpy.records import identification as ident
-    from drillpy.records.synthetic import declared_config, synthetic_record
+    from drillpy.loop.synthetic import declared_config, synthetic_record
     eff = CATALOGUE["static_friction"]
     cfg = normalize(declared_config())
     opt = L.LoopOptions(rate_hz=500.0, dt_s=2e-4)

@@ -8,7 +8,8 @@ import json
 import pytest
 
 import stribeck_rig  # benchmarks/ (conftest.py): the second outside simulator, no drillpy inside
-from drillpy.loop import LoopOptions, loop_record
+from drillpy.loop import LoopOptions
+from drillpy.reports.loop import loop_record
 
 
 @pytest.fixture(scope="module")

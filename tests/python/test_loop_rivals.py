@@ -10,7 +10,7 @@ from drillpy.loop.data import prepare
 from drillpy.loop.fitting import calibrate, fit_candidate
 from drillpy.loop.model import evaluate
 from drillpy.loop.rivals import confusable_note, distinct, rivals
-from drillpy.records.synthetic import declared_config, synthetic_record
+from drillpy.loop.synthetic import declared_config, synthetic_record
 
 MOTOR = "top_drive_dynamics"
 

@@ -10,7 +10,7 @@ from _testrig import sample175_path
 from drillpy import loop as L
 from drillpy.loop.run import analysis_config
 from drillpy.model.config import load_config
-from drillpy.records.synthetic import declared_config, synthetic_record
+from drillpy.loop.synthetic import declared_config, synthetic_record
 
 RATE_HZ = 250.0
 

@@ -15,7 +15,7 @@ from drillpy.loop.data import RESPONSE_R, prepare, wob_response
 from drillpy.model.config import load_config
 from drillpy.records.cleaning import clean
 from drillpy.records.io import read_record
-from drillpy.records.synthetic import declared_config, synthetic_record
+from drillpy.loop.synthetic import declared_config, synthetic_record
 
 rig = pytest.importorskip("whole_rig")
 

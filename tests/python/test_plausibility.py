@@ -164,7 +164,8 @@ def test_loop_prints_the_warnings_before_it_refuses_the_record(tmp_path, ms_csv)
 def test_loop_writes_the_warnings(tmp_path, monkeypatch):
     """What the check returns reaches loop.json and report.md (a short loop on 12 s of sample 175)."""
     import drillpy.loop.run as run
-    from drillpy.loop import LoopOptions, loop_record
+    from drillpy.loop import LoopOptions
+    from drillpy.reports.loop import loop_record
     w = pl.PlausibilityWarning("torque", "torque_on_bit", "torque_on_bit: a test warning", 5.0, (0.0, 1.0), "N m")
     monkeypatch.setattr(run, "check_record", lambda record, cfg: [w])
     monkeypatch.setattr(run, "emit", lambda ws: None)

@@ -9,8 +9,9 @@ import pytest
 from _testrig import sample175_path, sample175_raw
 from drillpy.cli import main
 from drillpy.records.io import RPM, write_csv
-from drillpy.records.samples import Acceptance, SampleOptions, analyze_samples, find_records, thesis_table_5_2
-from drillpy.records.synthetic import declared_config, synthetic_record
+from drillpy.records.samples import Acceptance, SampleOptions, find_records, thesis_table_5_2
+from drillpy.reports.samples import analyze_samples
+from drillpy.loop.synthetic import declared_config, synthetic_record
 
 
 # ------------------------------------------------------------------ the criterion on the thesis's table

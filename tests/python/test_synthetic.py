@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from drillpy.records.synthetic import DEFAULTS, EFFECTS, NOISE, declared_config, synthetic_record, truth_config
+from drillpy.loop.synthetic import DEFAULTS, EFFECTS, NOISE, declared_config, synthetic_record, truth_config
 
 
 def test_same_seed_same_record_other_seed_other_noise():

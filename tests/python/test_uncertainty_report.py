@@ -1,4 +1,4 @@
-"""drillpy.reports.uncertainty: the chapter-6 conclusions measured on envelope widths, and the report."""
+"""drillpy.uncertainty.chapter6 and drillpy.reports.uncertainty: the chapter-6 conclusions measured on envelope widths, and the report."""
 import json
 
 import numpy as np
@@ -6,7 +6,8 @@ import pytest
 
 import drillpy as d
 from drillpy.uncertainty import frf as F
-from drillpy.reports.uncertainty import chapter6_report, conclusions, nominal_agreement
+from drillpy.reports.uncertainty import chapter6_report
+from drillpy.uncertainty.chapter6 import conclusions, nominal_agreement
 
 CFG = F.with_cb_modes(d.load_config(preset="thesis-ch6"), [10, 6])
 FREQS = np.linspace(0.01, 10.0, 300)

@@ -1,5 +1,5 @@
 """``drillpy control``: robust tuning of top-drive controllers under the chapter-4 uncertainty and the
-drives side by side (issue 15; :mod:`drillpy.reports.control`, docs/control.md)."""
+drives side by side (issue 15; :mod:`drillpy.control.study`, :mod:`drillpy.reports.control`, docs/control.md)."""
 from __future__ import annotations
 
 import argparse
@@ -69,7 +69,7 @@ def _grid(text, default, name: str, kind: str, unit: str | None = None):
 
 
 def cmd_control(a: argparse.Namespace) -> int:
-    """Tune, compare and write the report (:func:`drillpy.reports.control.control_study`).
+    """Tune, compare and write the report (:func:`drillpy.control.study.control_study`, :func:`drillpy.reports.control.write_control`).
 
     Parameters
     ----------
@@ -87,7 +87,8 @@ def cmd_control(a: argparse.Namespace) -> int:
     from drillpy import validate
     from drillpy.control.tuning import Window
     from drillpy.model.threshold import format_threshold
-    from drillpy.reports.control import REFERENCE, control_study, write_control
+    from drillpy.control.study import REFERENCE, control_study
+    from drillpy.reports.control import write_control
     cfg = load_config(preset=a.preset) if a.preset else load_config(path=a.config)
     cfg = with_overrides(cfg)
     validate.positive("--drive-inertia", a.drive_inertia, "kg m^2")

@@ -54,7 +54,7 @@ def _add_analyze(sub) -> argparse.ArgumentParser:
 
 def cmd_analyze(a: argparse.Namespace) -> int:
     """Analyse one record (:func:`drillpy.reports.analysis.analyze_record`) or several samples
-    (:func:`drillpy.records.samples.analyze_samples`, thesis section 5.3) into ``--out``.
+    (:func:`drillpy.reports.samples.analyze_samples`, thesis section 5.3) into ``--out``.
 
     Parameters
     ----------
@@ -104,11 +104,13 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
     int
         Exit status 0.
     """
-    from drillpy.records.samples import Acceptance, SampleOptions, analyze_samples, parse_window
+    from drillpy.records.samples import Acceptance, SampleOptions, parse_window
+    from drillpy.reports.samples import analyze_samples
     _check_analyze_options(a)
     if len(items) == 1:  # one record (or one window of it): the single-record analysis
         from drillpy.jsonio import jsonable
-        from drillpy.reports.analysis import AnalysisOptions, analyze_record
+        from drillpy.records.analysis import AnalysisOptions
+        from drillpy.reports.analysis import analyze_record
         t0, t1 = items[0][2] or (a.t0, a.t1)
         cal = None if a.calibrate is None else parse_window(a.calibrate, "--calibrate")
         opt = AnalysisOptions(t0=t0, t1=t1, cycle_at_s=a.cycle_at, folds=5 if a.folds is None else a.folds,
@@ -172,7 +174,7 @@ def _is_posterior(path: str) -> bool:
 
 
 def cmd_predict(a: argparse.Namespace) -> int:
-    """Apply a calibrated rig model to a record without refitting (:mod:`drillpy.records.prediction`).
+    """Apply a calibrated rig model to a record without refitting (:mod:`drillpy.loop.prediction`, :mod:`drillpy.reports.prediction`).
 
     Parameters
     ----------
@@ -185,7 +187,8 @@ def cmd_predict(a: argparse.Namespace) -> int:
         Exit status 0; prints the short-horizon error E [-] and the long-run metrics measured versus
         predicted (SS, stick fraction, cycle frequency [Hz], torque p5-p95 [N m]) as JSON or text.
     """
-    from drillpy.records.prediction import describe, load_model, predict_record, write_prediction
+    from drillpy.loop.prediction import describe, load_model, predict_record
+    from drillpy.reports.prediction import write_prediction
     from drillpy.records.rigsim import STALL_MIN_S
     for name in ("t0", "t1"):
         if getattr(a, name) is not None:
@@ -271,7 +274,7 @@ def _add_loop(sub) -> argparse.ArgumentParser:
 
 def cmd_loop(a: argparse.Namespace) -> int:
     """Measured record versus a declared model: the missing effects and the corrected model
-    (:func:`drillpy.loop.loop_record`, which writes ``--out``).
+    (:func:`drillpy.reports.loop.loop_record`, which writes ``--out``).
 
     Parameters
     ----------
@@ -284,7 +287,8 @@ def cmd_loop(a: argparse.Namespace) -> int:
         Exit status 0; the loop logs its steps (text) or the errors and effects are printed as JSON.
         A progress bar counts the candidate fits (stderr, when a terminal; off with ``--no-progress``).
     """
-    from drillpy.loop import LoopOptions, loop_record
+    from drillpy.loop import LoopOptions
+    from drillpy.reports.loop import loop_record
     from drillpy.loop.effects import NAMES
     effects = NAMES if a.effects is None else tuple(e.strip() for e in a.effects.split(",") if e.strip())
     opt = LoopOptions(horizon_s=a.horizon, calibration_fraction=a.calibration_fraction, rate_hz=a.rate,

@@ -13,7 +13,6 @@ from pathlib import Path
 
 import numpy as np
 
-from drillpy.outputs import write_text
 from drillpy import validate
 from drillpy.cli import add_figure_units_arg, add_model_args, add_study_args, add_wob_arg, integer, model_config, parse_grid, print_json
 from drillpy.jsonio import jsonable
@@ -124,7 +123,8 @@ def cmd_frf(a: argparse.Namespace) -> int:
         ``--out`` :func:`drillpy.reports.uncertainty.write_envelope` writes the figures and
         ``envelope.json``.
     """
-    from drillpy.reports.uncertainty import BANDS_HZ, write_envelope
+    from drillpy.reports.uncertainty import write_envelope
+    from drillpy.uncertainty.chapter6 import BANDS_HZ
     from drillpy.uncertainty.frf import band_widths, frf_envelope
     if a.case is not None:
         validate.integer("case", a.case, 1, 7)
@@ -219,7 +219,7 @@ def _add_robust_ss(sub) -> argparse.ArgumentParser:
 
 def cmd_robust_ss(a: argparse.Namespace) -> int:
     """SS versus top speed [rad/s] per source of uncertainty and each one's 5 % speed
-    (:func:`drillpy.reports.uncertainty.robust_severity`).
+    (:func:`drillpy.uncertainty.structural.robust_severity`).
 
     Parameters
     ----------
@@ -233,7 +233,8 @@ def cmd_robust_ss(a: argparse.Namespace) -> int:
         from which P(SS > 0.5) <= 5 %; with ``--out``
         :func:`drillpy.reports.uncertainty.write_robust_severity` writes the figure and ``robust_ss.json``.
     """
-    from drillpy.reports.uncertainty import robust_severity, write_robust_severity
+    from drillpy.reports.uncertainty import write_robust_severity
+    from drillpy.uncertainty.structural import robust_severity
     from drillpy.uncertainty.process import THESIS_PSD
     cfg = cb_config(a, controller=True)
     if a.bit_rock and a.eta_npy:
@@ -371,7 +372,7 @@ def cmd_mc_merge(a: argparse.Namespace) -> int:
     """
     from drillpy.jsonio import dumps
     from drillpy.reports.stochastic import merge_outputs
-    from drillpy.reports.uncertainty import robust_speed_summary
+    from drillpy.uncertainty.robust_speed import robust_speed_summary
     study = merge_outputs(a.chunks, a.out, a.figure_units)
     res = study.summary()
     res.update(robust_speed_summary(study.severity, study.speeds, None, study.seed, None))
@@ -462,12 +463,10 @@ def cmd_mc(a: argparse.Namespace) -> int:
     int
         Exit status 0; prints the study's summary as JSON or SS statistics per speed and the speed from
         which P(SS > 0.5) <= 5 %; with ``--out`` :func:`drillpy.reports.stochastic.write_figures` writes
-        the figures and ``mc.json``.
+        the figures and ``mc.json`` (:func:`drillpy.reports.stochastic.write_summary` with ``--no-figures``).
     """
-    from drillpy.jsonio import dumps
-    from drillpy.provenance import provenance
-    from drillpy.reports.stochastic import write_figures, write_samples
-    from drillpy.reports.uncertainty import robust_speed_summary
+    from drillpy.reports.stochastic import write_figures, write_summary
+    from drillpy.uncertainty.robust_speed import robust_speed_summary
     from drillpy.uncertainty import montecarlo as mcm
     cfg = model_config(a)
     speeds = parse_grid(a.speeds, "--speeds", "speed")
@@ -476,8 +475,8 @@ def cmd_mc(a: argparse.Namespace) -> int:
                      duration=mcm.DURATION_S if a.duration is None else a.duration,
                      transient=mcm.TRANSIENT_S if a.transient is None else a.transient)
     if a.first_sample == 0 and (a.out or a.scheduler != "local"):  # a stored or distributed study
-        from drillpy.study import run_study
-        ds = run_study(mcm.study_definition(cfg, speeds, a.samples, a.seed, psd=psd, eta_dt=a.eta_dt, **durations),
+        from drillpy.study import mc_study, run_study
+        ds = run_study(mc_study(cfg, speeds, a.samples, a.seed, psd=psd, eta_dt=a.eta_dt, **durations),
                        a.out, scheduler=a.scheduler, chunk=a.chunk, threads=a.threads, progress=not a.no_progress)
         study = mcm.from_dataset(ds)
     else:
@@ -489,9 +488,7 @@ def cmd_mc(a: argparse.Namespace) -> int:
         first_sample=study.first_sample, deterministic=False, threads=a.threads, progress=False,
         **{k: study.settings[k + "_s"] for k in ("warmup", "duration", "transient")}).severity))
     if a.out and a.no_figures:
-        write_samples(study, a.out)
-        write_text(Path(a.out, "mc.json"), dumps({**res, "config": study.config, "provenance": provenance(
-            seed=study.seed, samples=int(study.severity.shape[0]), first_sample=study.first_sample)}))
+        write_summary(study, a.out, res)
     elif a.out:
         res["figures"] = write_figures(study, cfg, a.out, psd=psd, eta_dt=a.eta_dt,
                                        threads=a.threads, progress=not a.no_progress, figure_units=a.figure_units)

@@ -5,6 +5,8 @@
   stochastic bit-rock law, with common random numbers and the Monte Carlo error of the optimum.
 * :mod:`drillpy.control.episode` -- one run with and without a controller: the motor torque the
   drive demands, against its limit.
+* :mod:`drillpy.control.study` -- ``drillpy control``'s study: tuning, the drives compared on new
+  samples, the episodes (:class:`~drillpy.control.study.ControlStudy`).
 
 The controllers themselves are in the engine (``cpp/include/drill/controller.hpp``; docs/control.md).
 """

@@ -24,10 +24,9 @@ import numpy as np
 
 from drillpy.jsonio import jsonable
 from drillpy.control.tuning import Window, bootstrap_p, score, stalled_fraction, window_severity
-from drillpy.reports.uncertainty import grid_limit
 from drillpy.uncertainty.binomial import wilson_interval
 from drillpy.model.config import with_overrides
-from drillpy.uncertainty.robust_speed import bootstrap_interval, exceedance, p_speed
+from drillpy.uncertainty.robust_speed import bootstrap_interval, exceedance, grid_limit, p_speed
 
 #: SS a stalled run enters the crossings with (a large finite stand-in for +inf)
 STALLED_SS = 1e3
@@ -138,7 +137,7 @@ def compare_drives(cfg: dict, drives: dict, window: Window, *, reference: str, v
         its precision, RPM equivalent, bracket and runs), ``p_window`` (:func:`p_window`, Wilson) and ``p_vs_reference``
         (:func:`drillpy.control.tuning.bootstrap_p`, paired),
         ``mean_ss`` (runs that did not stall), ``stalled_fraction``, ``p_by_speed``, ``p_band`` (low, high), ``p05_speed_rad_s`` and
-        ``p05_interval``, ``p05_precision_warning`` (:func:`drillpy.reports.uncertainty.grid_limit`, None when the
+        ``p05_interval``, ``p05_precision_warning`` (:func:`drillpy.uncertainty.robust_speed.grid_limit`, None when the
         samples, not the grid, set the interval), ``p05_reading``, ``nominal_row`` (the nominal WOB's row); plus ``severity`` (the validation SS tables, not JSON).
     """
     if reference not in drives:

@@ -11,7 +11,7 @@ import numpy as np
 from drillpy.figures.simulation import _save, in_units, plt
 
 if TYPE_CHECKING:
-    from drillpy.reports.control import ControlStudy
+    from drillpy.control.study import ControlStudy
 
 
 def control_figures(study: "ControlStudy", out_dir, units: str = "si") -> list:
@@ -20,7 +20,7 @@ def control_figures(study: "ControlStudy", out_dir, units: str = "si") -> list:
     Parameters
     ----------
     study : ControlStudy
-        What :func:`drillpy.reports.control.control_study` returned.
+        What :func:`drillpy.control.study.control_study` returned.
     out_dir : str or Path
         Output folder.
     units : str

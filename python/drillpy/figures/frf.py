@@ -1,7 +1,7 @@
 """Figures of chapter 6 and appendix C: FRF envelopes (Figs. 6.1-6.12), Conv2 (Figs. C.2-C.4),
 Craig-Bampton frequency convergence, and SS bands under structural uncertainty.
 
-:func:`chapter6_figures` draws every figure of a :class:`drillpy.reports.uncertainty.Chapter6Study`;
+:func:`chapter6_figures` draws every figure of a :class:`drillpy.uncertainty.chapter6.Chapter6Study`;
 the ``*_plot`` functions draw one figure each from results already computed, write one PNG and
 return its matplotlib Figure. FRFs are in dB re 1 rad/s^2 per N m, frequencies in Hz.
 """
@@ -15,7 +15,7 @@ import numpy as np
 from drillpy.figures.simulation import _save, in_units, plt
 
 if TYPE_CHECKING:
-    from drillpy.reports.uncertainty import Chapter6Study
+    from drillpy.uncertainty.chapter6 import Chapter6Study
 
 COLORS = ("tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple")
 
@@ -26,7 +26,7 @@ def chapter6_figures(study: "Chapter6Study", out_dir) -> list:
     Parameters
     ----------
     study : Chapter6Study
-        What :func:`drillpy.reports.uncertainty.chapter6_study` returned.
+        What :func:`drillpy.uncertainty.chapter6.chapter6_study` returned.
     out_dir : str or Path
         Output folder (created if missing).
 
@@ -37,7 +37,7 @@ def chapter6_figures(study: "Chapter6Study", out_dir) -> list:
         fig6_4..12_cases*_point*.png (Figs. 6.4-6.12); figC_2_conv2_samples.png (Fig. C.2);
         figC_<3+k>_conv2_modes_<substructure>.png (Figs. C.3-C.4).
     """
-    from drillpy.reports.uncertainty import FIGURE_PAIRS
+    from drillpy.uncertainty.chapter6 import FIGURE_PAIRS
     from drillpy.uncertainty.frf import CASE_TITLES
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

@@ -2,7 +2,7 @@
 
 Speeds are plotted in RPM, torques in N m, WOB in N (``units="field"``: ft-lbf and lbf), times in s
 (inputs in SI: rad/s, N m, N, s).
-:func:`analysis_figures` draws every figure of a :class:`drillpy.reports.analysis.RecordAnalysis`;
+:func:`analysis_figures` draws every figure of a :class:`drillpy.records.analysis.RecordAnalysis`;
 each ``*_plot`` function draws one figure from results already computed, writes one PNG and returns
 its path (Agg backend via :mod:`drillpy.figures.simulation`).
 """
@@ -17,7 +17,7 @@ from drillpy.figures.simulation import _save, in_units, plt
 from drillpy.records.io import RPM, Flag
 
 if TYPE_CHECKING:
-    from drillpy.reports.analysis import RecordAnalysis
+    from drillpy.records.analysis import RecordAnalysis
 
 C_BIT, C_TOP, C_TQ, C_WOB = "tab:blue", "0.25", "tab:purple", "tab:green"
 C_UP, C_LO, C_ALL = "tab:red", "tab:cyan", "k"
@@ -29,7 +29,7 @@ def analysis_figures(result: "RecordAnalysis", out_dir, units: str = "si") -> li
     Parameters
     ----------
     result : RecordAnalysis
-        What :func:`drillpy.reports.analysis.compute_analysis` returned.
+        What :func:`drillpy.records.analysis.compute_analysis` returned.
     out_dir : str or Path
         Output folder (created if missing).
     units : str
@@ -649,3 +649,36 @@ def prediction_overlay_plot(path, rec, sim, stick_threshold, label, window_s=3.0
     fig.tight_layout()
     return _save(fig, path)
 
+
+def samples_boxplot(path, samples: list) -> plt.Figure:
+    """Fig. 5.4: box plot of the per-cycle SS (Eq. 3.4), one box per sample, SS = 0.5 marked.
+
+    SS below 0.5 is the thesis's stable region (section 3.3). A sample without a cycle with SS
+    keeps its label and gets no box.
+
+    Parameters
+    ----------
+    path : str or Path
+        Image file to write (``fig5_4_boxplot.png`` in :func:`drillpy.reports.samples.analyze_samples`).
+    samples : list of dict
+        :func:`drillpy.records.samples.analyze_sample` results (``sample`` and ``cycles["ss"]`` are used).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
+    """
+    fig, ax = plt.subplots(figsize=(max(5.0, 0.9 * len(samples) + 2.5), 4.2))
+    data = [np.asarray(s["cycles"]["ss"], float) for s in samples]
+    labels = [f"{s['sample']}\n(n={len(d)})" for s, d in zip(samples, data)]
+    pos = [i for i, d in enumerate(data, 1) if d.size]
+    if pos:
+        ax.boxplot([data[i - 1] for i in pos], positions=pos, widths=0.6, showmeans=True)
+    ax.set_xticks(range(1, len(samples) + 1))
+    ax.set_xticklabels(labels, fontsize=8)
+    ax.set_xlim(0.4, len(samples) + 0.6)
+    ax.axhline(0.5, color="tab:red", ls="--", lw=0.8, label="SS = 0.5 (stable below)")
+    ax.set_ylabel("stick-slip severity SS per cycle (Eq. 3.4)")
+    ax.set_title("per-cycle SS by sample (Fig. 5.4)")
+    ax.legend(loc="best", fontsize=8)
+    return _save(fig, path)

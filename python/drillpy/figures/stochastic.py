@@ -1,7 +1,7 @@
 """Figures of the stochastic analysis (thesis Figs. 4.2-4.9 and C.1). Axes carry units.
 
 :func:`stochastic_figures` draws every figure of a
-:class:`drillpy.reports.stochastic.StochasticAnalysis`; the ``*_plot`` functions draw one figure
+:class:`drillpy.uncertainty.stochastic.StochasticAnalysis`; the ``*_plot`` functions draw one figure
 each from results already computed, write one PNG (unless the path is None) and return the matplotlib Figure.
 """
 from __future__ import annotations
@@ -14,7 +14,7 @@ import numpy as np
 from drillpy.figures.simulation import _save, in_units, plt, time_series_plot
 
 if TYPE_CHECKING:
-    from drillpy.reports.stochastic import StochasticAnalysis
+    from drillpy.uncertainty.stochastic import StochasticAnalysis
 
 
 def stochastic_figures(result: "StochasticAnalysis", out_dir, units: str = "si") -> list:
@@ -23,7 +23,7 @@ def stochastic_figures(result: "StochasticAnalysis", out_dir, units: str = "si")
     Parameters
     ----------
     result : StochasticAnalysis
-        What :func:`drillpy.reports.stochastic.stochastic_analysis` returned.
+        What :func:`drillpy.uncertainty.stochastic.stochastic_analysis` returned.
     out_dir : str or Path
         Output folder (created if missing).
     units : str

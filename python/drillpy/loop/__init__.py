@@ -50,8 +50,8 @@ from .fitting import calibrate, fit_candidate, null_candidate, refit
 from .longrun import long_run
 from .model import Evaluation, LoopModel, evaluate, predict
 from .options import LoopOptions
-from .run import LoopResult, dumps, loop_record, run_loop
+from .run import LoopResult, run_loop
 
 __all__ = ["CATALOGUE", "NAMES", "Evaluation", "LoopData", "LoopModel", "LoopOptions", "LoopResult", "adequacy",
-           "calibrate", "dumps", "evaluate", "evidence", "fit_candidate", "loop_record", "long_run", "measured",
+           "calibrate", "evaluate", "evidence", "fit_candidate", "long_run", "measured",
            "null_candidate", "predict", "prepare", "refit", "run_loop", "trivial_predictors"]

@@ -11,7 +11,6 @@ from pathlib import Path
 
 import numpy as np
 
-from drillpy import jsonio
 from drillpy.model.config import normalize
 from drillpy.model.plausibility import fitted_values
 from drillpy.records.io import read_record
@@ -30,7 +29,7 @@ from .rivals import confusable_note, rivals
 @dataclass
 class LoopResult:
     """Everything a loop run computed (:func:`run_loop`): the data, the baseline and final
-    evaluations, every step and round with its evidence; :mod:`drillpy.loop.report` writes it.
+    evaluations, every step and round with its evidence; :mod:`drillpy.reports.loop` writes it.
 
     Attributes
     ----------
@@ -153,7 +152,7 @@ class LoopResult:
         Returns
         -------
         dict
-            JSON-ready apart from NumPy scalars and non-finite numbers (:func:`dumps` handles them).
+            JSON-ready apart from NumPy scalars and non-finite numbers (:func:`drillpy.jsonio.dumps` handles them).
         """
         keys = ("action", "effect", "error_before", "error_after", "evidence", "long_run")
         return {"metric": self.metric(), "decision": self.decision(), "baseline_error": self.baseline.E_test,
@@ -736,59 +735,3 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
         log(miss)
     disc = _discovery(cur.model, data, log) if opt.discovery else {}
     return LoopResult(data, base, cur, steps, rounds, opt, cfg, notes, declared, adeq, base_lr, disc, last, warns)
-
-
-def loop_record(record, out_dir, *, preset: str | None = None, config_path: str | None = None,
-                config: dict | None = None, options: LoopOptions | None = None, log=print,
-                figure_units: str = "si") -> dict:
-    """``drillpy loop``: run the loop and write its figures and files to ``out_dir``.
-
-    :func:`run_loop` (compute: a :class:`LoopResult`) -> :func:`drillpy.figures.loop.loop_figures`
-    (residual_signature.png, overlay.png, loops.png, errors.png) -> :func:`drillpy.loop.report.write_loop`
-    (``loop.json``, ``evidence.json``, ``predictions.csv``, ``model.json``, ``config.json``, ``report.md``).
-
-    Parameters
-    ----------
-    record : Record, str or Path
-        The measured record or its file.
-    out_dir : str or Path
-        Output folder (created if missing).
-    preset, config_path, config : optional
-        The declared model: a preset name, a configuration file or a configuration dict
-        (:func:`drillpy.model.config.load_config`).
-    options : LoopOptions, optional
-        Choices of the loop (horizon [s], analysis rate [Hz], guard thresholds...).
-    log : callable
-        Called with each progress line.
-    figure_units : str
-        Axis unit of the figures' torques (``si``: N m; ``field``: ft-lbf); the files stay SI.
-
-    Returns
-    -------
-    dict
-        The content of ``loop.json``.
-    """
-    from drillpy.figures.loop import loop_figures
-    from drillpy.model.config import load_config
-    from .report import write_loop
-    cfg = load_config(preset=preset, path=config_path, config=config)
-    res = run_loop(record, cfg, options, log=log)
-    js = write_loop(res, out_dir, loop_figures(res, out_dir, figure_units))
-    log(f"loop.json, predictions.csv, report.md and figures written to {Path(out_dir)}")
-    return js
-
-
-def dumps(o) -> str:
-    """JSON text of plain and NumPy values (NaN and inf become null).
-
-    Parameters
-    ----------
-    o : object
-        Dicts, lists, tuples, numbers, strings, NumPy arrays and scalars, nested.
-
-    Returns
-    -------
-    str
-        Indented JSON text (2 spaces).
-    """
-    return jsonio.dumps(o)

@@ -1,7 +1,7 @@
 """Statistics across samples, section 5.3 of the thesis (``drillpy analyze`` given several records).
 
 Every sample (a record, or a window of one) goes through the single-record pipeline of
-:func:`drillpy.reports.analysis.analyze_record` up to the identification: read
+:func:`drillpy.records.analysis.compute_analysis` up to the identification: read
 (:func:`drillpy.records.io.read_record`) -> clean (:func:`drillpy.records.cleaning.clean`) -> stick-slip
 cycles, per-cycle statistics and the mean cycle (:mod:`drillpy.records.signals`) -> the laws fitted to
 that sample alone (:func:`drillpy.records.identification.fit_laws`). Across samples it gives
@@ -52,16 +52,12 @@ from pathlib import Path
 
 import numpy as np
 
-from drillpy.outputs import write_text
 from drillpy.records import identification as ident
 from drillpy.records import signals as sig
 from drillpy.records.cleaning import CleaningOptions, clean
 from drillpy.records.io import RPM, Record, read_record
 from drillpy.records.rigsim import reliable_top_speed, stick_threshold
 from drillpy import validate
-from drillpy.jsonio import write_json
-from drillpy.provenance import provenance, with_markdown_footer
-from drillpy.reports.text import number_text as _f
 from drillpy.records.stick import STICK_FRACTION
 
 #: Laws of Table 5.2: the regularized Eq. (3.1) and the non-regularized Eq. (5.1).
@@ -184,7 +180,7 @@ def thesis_table_5_2() -> list:
 
 @dataclass
 class SampleOptions:
-    """Choices of :func:`analyze_samples` (as :class:`drillpy.reports.analysis.AnalysisOptions`).
+    """Choices of :func:`analyze_samples` (as :class:`drillpy.records.analysis.AnalysisOptions`).
 
     Attributes
     ----------
@@ -444,8 +440,9 @@ def parameter_spread(samples: list) -> dict:
     return out
 
 
-def analyze_samples(records, out_dir: str | Path, options: SampleOptions | None = None, log=print) -> dict:
-    """Section 5.3 across samples: writes ``samples.json``, ``samples.md`` and ``fig5_4_boxplot.png``.
+def compute_samples(records, options: SampleOptions | None = None, log=print) -> dict:
+    """Section 5.3 across samples, computed (nothing drawn or written; :func:`drillpy.reports.samples.analyze_samples`
+    writes ``samples.json``, ``samples.md`` and ``fig5_4_boxplot.png``).
 
     Parameters
     ----------
@@ -453,8 +450,6 @@ def analyze_samples(records, out_dir: str | Path, options: SampleOptions | None 
         Paths (files, folders of .mat/.csv records, or ``FILE@T0:T1`` windows, see
         :func:`find_records`), :class:`Record` objects, or ``(name, record)`` pairs; at least two
         samples.
-    out_dir : path
-        Folder the three files are written to (created if needed).
     options : SampleOptions, optional
         Window, stick fraction, laws, folds, fit rate, speed unit and acceptance criterion;
         default :class:`SampleOptions` (the thesis's Table 5.2 laws and thresholds).
@@ -464,7 +459,7 @@ def analyze_samples(records, out_dir: str | Path, options: SampleOptions | None 
     Returns
     -------
     dict
-        The content of ``samples.json``.
+        The content of ``samples.json`` but for ``figures``.
 
     Raises
     ------
@@ -520,16 +515,6 @@ def analyze_samples(records, out_dir: str | Path, options: SampleOptions | None 
                     f"{opt.stick_fraction:g} x median reliable top speed), mean cycle, laws fitted on the slip "
                     "samples of that sample's valid cycles (drillpy.records.identification.fit_laws), Var[MSE] Eq. (5.2) "
                     "on its mean cycle; per-cycle SS Eq. (3.4) over cycles with a reliable top speed")}
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    boxplot(out / "fig5_4_boxplot.png", samples)
-    S["figures"] = ["fig5_4_boxplot.png"]
-    prov = provenance()
-    write_json(out / "samples.json", {**S, "provenance": prov})
-    write_text((out / "samples.md"), with_markdown_footer(render_samples(S), prov))
-    log(f"acceptance: {len(acc['accepted'])} of {len(table)} samples accepted "
-        f"({', '.join(acc['accepted']) or 'none'}); validates the rig: {acc['validates']}")
-    log(f"samples.json, samples.md and fig5_4_boxplot.png written to {out}")
     return S
 
 
@@ -542,112 +527,3 @@ def _spread(x) -> dict:
     sd = float(np.std(x, ddof=1)) if x.size > 1 else float("nan")
     return {"n": int(x.size), "mean": m, "std": sd, "cv": sd / abs(m) if m != 0 and math.isfinite(sd) else float("nan"),
             "min": float(np.min(x)), "max": float(np.max(x))}
-
-
-def boxplot(path, samples: list):
-    """Fig. 5.4: box plot of the per-cycle SS (Eq. 3.4), one box per sample, SS = 0.5 marked.
-
-    SS below 0.5 is the thesis's stable region (section 3.3). A sample without a cycle with SS
-    keeps its label and gets no box.
-
-    Parameters
-    ----------
-    path : str or Path
-        Image file to write (``fig5_4_boxplot.png`` in :func:`analyze_samples`).
-    samples : list of dict
-        :func:`analyze_sample` results (``sample`` and ``cycles["ss"]`` are used).
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-        The figure, written to ``path`` (then closed) unless ``path`` is None.
-    """
-    from drillpy.figures.simulation import _save, plt
-    fig, ax = plt.subplots(figsize=(max(5.0, 0.9 * len(samples) + 2.5), 4.2))
-    data = [np.asarray(s["cycles"]["ss"], float) for s in samples]
-    labels = [f"{s['sample']}\n(n={len(d)})" for s, d in zip(samples, data)]
-    pos = [i for i, d in enumerate(data, 1) if d.size]
-    if pos:
-        ax.boxplot([data[i - 1] for i in pos], positions=pos, widths=0.6, showmeans=True)
-    ax.set_xticks(range(1, len(samples) + 1))
-    ax.set_xticklabels(labels, fontsize=8)
-    ax.set_xlim(0.4, len(samples) + 0.6)
-    ax.axhline(0.5, color="tab:red", ls="--", lw=0.8, label="SS = 0.5 (stable below)")
-    ax.set_ylabel("stick-slip severity SS per cycle (Eq. 3.4)")
-    ax.set_title("per-cycle SS by sample (Fig. 5.4)")
-    ax.legend(loc="best", fontsize=8)
-    return _save(fig, path)
-
-
-
-
-def render_samples(S: dict) -> str:
-    """The Markdown tables of an :func:`analyze_samples` summary (``samples.md``).
-
-    Table 5.2 with the acceptance verdicts, the criterion and its per-sample table, the Fig. 5.4
-    box plot link, the law parameters per sample with their mean, std and CV, and the thesis's
-    own Table 5.2 under the same criterion.
-
-    Parameters
-    ----------
-    S : dict
-        The summary returned by :func:`analyze_samples` (the content of ``samples.json``).
-
-    Returns
-    -------
-    str
-        Markdown text ending with a newline.
-    """
-    laws = list(S["laws"])
-    acc = S["acceptance"]
-    verdict = {p["sample"]: p for p in acc["per_sample"]}
-    L = [f"# Statistics across {S['n_samples']} samples (thesis section 5.3)", "",
-         f"Method: {S['method']}.", "", "## Table 5.2", "",
-         "| sample | " + " | ".join(f"Var[MSE] {S['laws'][k]}" for k in laws)
-         + " | mean(T) [N m] | std(T) [N m] | CV | cycles with SS | median SS | mean top speed [RPM] | accepted |",
-         "|---|" + "---:|" * (len(laws) + 7)]
-    for r in S["table_5_2"]:
-        L.append(f"| {r['sample']} | " + " | ".join(_f(r["var_mse"].get(k), ".4g") for k in laws)
-                 + f" | {_f(r['mean'])} | {_f(r['std'])} | {_f(r['cv'])} | {r['n_cycles_ss']} | "
-                 f"{_f(r['ss_median'], '.3f')} | {_f(r['mean_top_speed_rpm'], '.1f')} | "
-                 f"{'yes' if verdict[r['sample']]['accepted'] else 'no'} |")
-    a = S["across_samples"]
-    L += ["", f"Across samples: mean torque {_f(a['torque_mean'].get('mean'))} +/- {_f(a['torque_mean'].get('std'))} "
-          f"N m (CV {_f(a['torque_mean'].get('cv'))}); CV average {_f(acc['cv_average'])} (thesis Table 5.2: 0.329 "
-          "stated).", "", "## Acceptance criterion (section 5.3.3)", "",
-          f"Rule: {acc['rule']}.", "",
-          "Thresholds: " + ", ".join(f"Var[MSE] {k} <= {v:g}" for k, v in acc["max_var_mse"].items())
-          + f"; variation limit {acc['cv_reference']:.3f} ({acc['cv_reference_source']}) + "
-          f"{acc['concrete_variation']:.2f} = {acc['variation_limit']:.3f}.", "",
-          "| sample | " + " | ".join(f"Var[MSE] {k} ok" for k in acc["max_var_mse"])
-          + " | CV within limit | accepted |",
-          "|---|" + "---|" * (len(acc["max_var_mse"]) + 2)]
-    for p in acc["per_sample"]:
-        L.append(f"| {p['sample']} | " + " | ".join("yes" if p["passes"][k] else "no" for k in acc["max_var_mse"])
-                 + f" | {'yes' if p['cv_within_variation_limit'] else 'no'} | {'yes' if p['accepted'] else 'no'} |")
-    L += ["", f"{len(acc['accepted'])} of {len(acc['per_sample'])} samples accepted "
-          f"({100 * acc['accepted_fraction']:.0f} %); the rig is "
-          f"{'validated' if acc['validates'] else 'not validated'} (needs more than "
-          f"{100 * acc['min_accepted_fraction']:.0f} %).", "",
-          "![Fig. 5.4](fig5_4_boxplot.png)", "", f"## Law parameters per sample (speed unit {S['speed_unit']})", ""]
-    for law, blk in S["parameters"].items():
-        names = list(blk["parameters"])
-        fx = ", ".join(f"{k} = {v:g}" for k, v in blk["fixed"].items())
-        L += [f"### {law} (Eq. {blk['equation']}); fixed: {fx or 'none'}", "",
-              "| sample | " + " | ".join(names) + " |", "|---|" + "---:|" * len(names)]
-        for i, s in enumerate(S["samples"]):
-            L.append(f"| {s['sample']} | " + " | ".join(
-                f"{blk['parameters'][n]['values'][i]:.4g}" + (" (at bound)" if s["sample"] in
-                                                               blk["parameters"][n]["at_bound_in"] else "")
-                for n in names) + " |")
-        for key in ("mean", "std", "cv"):
-            L.append(f"| **{key}** | " + " | ".join(_f(blk["parameters"][n][key], ".4g") for n in names) + " |")
-        L.append("")
-    th = S["thesis_table_5_2"]["acceptance_with_these_thresholds"]
-    L += ["## The thesis's Table 5.2 under the same criterion", "",
-          f"Accepted: {', '.join(th['accepted'])} ({len(th['accepted'])} of {len(th['per_sample'])}); "
-          f"CV average of the table as printed {th['cv_average']:.3f}. The thesis lists 14-20 as accepted and "
-          "concludes 8 of 10; sample 13 (20.86, 0.0017) is below both thresholds.", ""]
-    return "\n".join(L) + "\n"
-
-

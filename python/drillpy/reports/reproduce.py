@@ -497,7 +497,8 @@ def chapter5(out: Path, o: Options, record: Path | None = None) -> tuple[list, l
     figures : list of str
         Paths of the figures copied into ``out``.
     """
-    from drillpy.reports.analysis import AnalysisOptions, analyze_record
+    from drillpy.records.analysis import AnalysisOptions
+    from drillpy.reports.analysis import analyze_record
     rec = Path(record) if record else default_record()
     if not rec.exists():
         return [Row("5", "test-rig sample 175", "Figs. 5.5-5.7", f"record not found: {rec}", "-", None, "reading",
@@ -540,7 +541,7 @@ def chapter5(out: Path, o: Options, record: Path | None = None) -> tuple[list, l
 # --------------------------------------------------------------------------------- chapter 6
 def chapter6(out: Path, o: Options) -> tuple[list, list]:
     """Section 6.6 and appendix C: every conclusion checked over every model and case (the
-    verdicts of :func:`drillpy.reports.uncertainty.conclusions`), the narrow DP envelopes near
+    verdicts of :func:`drillpy.uncertainty.chapter6.conclusions`), the narrow DP envelopes near
     3.7 Hz, Conv2 converged.
 
     Runs :func:`drillpy.reports.uncertainty.chapter6_report` on the ``thesis-ch6`` preset with

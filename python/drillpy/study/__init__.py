@@ -1,12 +1,12 @@
 """Studies past one machine: a study is a grid of independent tasks computed on a backend (OpenMP
 in this process, or Dask distributed) and stored as a labelled Zarr store that resumes and extends.
 
-* :mod:`drillpy.study.definition` -- :class:`Study` (sweep, map, mc) and one block's computation;
+* :mod:`drillpy.study.definition` -- :class:`Study` (sweep, map, mc), :func:`mc_study` and one block's computation;
 * :mod:`drillpy.study.store` -- ``DIR/study.zarr``: the Dataset, the done flags, resume and extend;
 * :mod:`drillpy.study.run` -- :func:`run_study` on the ``local`` or ``dask`` backend.
 """
-from drillpy.study.definition import Study
+from drillpy.study.definition import Study, mc_study
 from drillpy.study.run import run_study
 from drillpy.study.store import open_study
 
-__all__ = ["Study", "run_study", "open_study"]
+__all__ = ["Study", "mc_study", "run_study", "open_study"]

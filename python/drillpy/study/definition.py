@@ -151,15 +151,50 @@ class Study:
 @functools.lru_cache(maxsize=4)
 def _engine(key: str):
     """The engine of a sweep, map or mc study, built once per process (a worker keeps it between blocks)."""
-    from drillpy.model.config import engine_config
-    from drillpy.uncertainty.process import psd_from_dict, psd_on_grid
     d = json.loads(key)
-    cfg = engine_config(d["config"])
     if d["kind"] != "mc":
-        return _core.Simulation(cfg)
+        from drillpy.model.config import engine_config
+        return _core.Simulation(engine_config(d["config"]))
+    from drillpy.uncertainty.montecarlo import study_engine
+    from drillpy.uncertainty.process import psd_from_dict
     o = d["options"]
-    _, S = psd_on_grid(psd_from_dict(o["psd"]), o["eta_dt_s"], d["config"]["simulation"]["duration_s"])
-    return _core.MonteCarlo(cfg, S, float(o["eta_dt_s"]), int(d["seed"]), float(o["warmup_s"]))
+    return study_engine(d["config"], psd_from_dict(o["psd"]), o["eta_dt_s"], int(d["seed"]), o["warmup_s"])
+
+
+def mc_study(cfg: dict, speeds, samples: int, seed: int, *, psd=None, eta_dt: float | None = None,
+             warmup: float | None = None, duration: float | None = None, transient: float | None = None) -> Study:
+    """The study of :func:`drillpy.uncertainty.montecarlo.stochastic_study` (samples 0 .. samples - 1) as
+    an ``"mc"`` :class:`Study`, to run on a backend and store (``drillpy mc --out``/``--scheduler``).
+
+    Parameters
+    ----------
+    cfg, speeds, samples, seed, psd, eta_dt, warmup, duration, transient
+        As for :func:`~drillpy.uncertainty.montecarlo.stochastic_study` (None: its defaults); ``psd``
+        must be a :class:`~drillpy.uncertainty.process.PsdModel` or
+        :class:`~drillpy.uncertainty.process.PsdTable` (a stored study cannot hold a Python callable).
+
+    Returns
+    -------
+    Study
+        An ``"mc"`` study.
+
+    Raises
+    ------
+    ValueError
+        For a PSD given as a callable, and as ``stochastic_study`` for bad values.
+    """
+    from drillpy.uncertainty import montecarlo as mcm
+    psd = mcm.THESIS_PSD if psd is None else psd
+    eta_dt = mcm.ETA_DT_S if eta_dt is None else eta_dt
+    warmup = mcm.WARMUP_S if warmup is None else warmup
+    if not hasattr(psd, "as_dict"):
+        raise ValueError("psd: a Python callable cannot be stored in a study (give a PsdModel or a PsdTable)")
+    c = mcm.study_config(cfg, mcm.DURATION_S if duration is None else duration,
+                         mcm.TRANSIENT_S if transient is None else transient)
+    validate.non_negative("warmup_s", warmup, "s")
+    return Study("mc", c, tuple(mcm.speed_grid(speeds).tolist()), samples=samples, seed=validate.seed(seed),
+                 options={"psd": psd.as_dict(), "eta_dt_s": validate.positive("eta_dt_s", eta_dt, "s"),
+                          "warmup_s": float(warmup)})
 
 
 def compute_block(study: Study, lo: int, hi: int, threads: int = 0) -> dict:

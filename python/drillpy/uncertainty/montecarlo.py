@@ -253,7 +253,24 @@ def study_engine(cfg: dict, psd: Psd, eta_dt: float, seed: int, warmup: float) -
     return _core.MonteCarlo(engine_config(cfg), S, float(eta_dt), seed, float(warmup))
 
 
-def _speeds(speeds) -> np.ndarray:
+def speed_grid(speeds) -> np.ndarray:
+    """The top-speed grid of a study, checked.
+
+    Parameters
+    ----------
+    speeds : array_like
+        Top-drive speeds [rad/s].
+
+    Returns
+    -------
+    numpy.ndarray
+        ``speeds`` as a 1-d float array.
+
+    Raises
+    ------
+    ValueError
+        For an empty grid, or a speed that is not a positive finite number.
+    """
     a = np.atleast_1d(np.asarray(speeds, dtype=float))
     if a.ndim != 1 or a.size == 0:
         raise ValueError(f"speeds = {speeds!r}: the speed grid is empty (give at least one top speed)")
@@ -325,7 +342,7 @@ def stochastic_study(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = T
     KeyboardInterrupt
         When the study is stopped with Ctrl-C.
     """
-    sp = _speeds(speeds)
+    sp = speed_grid(speeds)
     n = validate.integer("samples", samples, 1, MAX_SAMPLES)
     first = validate.integer("first_sample", first_sample, 0, 2**62)
     seed = validate.seed(seed)
@@ -346,37 +363,6 @@ def _settings(c: dict, psd: Psd, eta_dt: float, warmup: float) -> dict:
             "eta_dt_s": float(eta_dt),
             "psd": psd.as_dict() if hasattr(psd, "as_dict") else {"type": "callable"},
             "psd_convention": "one-sided, per Hz: Var[eta] = integral_0^inf S(f) df"}
-
-
-def study_definition(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = THESIS_PSD, eta_dt: float = ETA_DT_S,
-                     warmup: float = WARMUP_S, duration: float = DURATION_S, transient: float = TRANSIENT_S):
-    """The study of :func:`stochastic_study` (samples 0 .. samples - 1) as a :class:`drillpy.study.Study`,
-    to run on a backend and store (``drillpy mc --out``/``--scheduler``).
-
-    Parameters
-    ----------
-    cfg, speeds, samples, seed, psd, eta_dt, warmup, duration, transient
-        As for :func:`stochastic_study`; ``psd`` must be a :class:`PsdModel` or :class:`PsdTable`
-        (a stored study cannot hold a Python callable).
-
-    Returns
-    -------
-    drillpy.study.Study
-        An ``"mc"`` study.
-
-    Raises
-    ------
-    ValueError
-        For a PSD given as a callable, and as :func:`stochastic_study` for bad values.
-    """
-    from drillpy.study import Study
-    if not hasattr(psd, "as_dict"):
-        raise ValueError("psd: a Python callable cannot be stored in a study (give a PsdModel or a PsdTable)")
-    c = study_config(cfg, duration, transient)
-    validate.non_negative("warmup_s", warmup, "s")
-    return Study("mc", c, tuple(_speeds(speeds).tolist()), samples=samples, seed=validate.seed(seed),
-                 options={"psd": psd.as_dict(), "eta_dt_s": validate.positive("eta_dt_s", eta_dt, "s"),
-                          "warmup_s": float(warmup)})
 
 
 def from_dataset(ds) -> StochasticStudy:
@@ -557,7 +543,7 @@ def conv1(severity, speeds) -> np.ndarray:
     ss = np.asarray(severity, dtype=float)
     if ss.ndim != 2:
         raise ValueError(f"severity: must be a 2-D array (samples x speeds), got shape {ss.shape}")
-    return np.asarray(_core.conv1(ss, list(_speeds(speeds))))
+    return np.asarray(_core.conv1(ss, list(speed_grid(speeds))))
 
 
 def phase_study(cfg: dict, speed: float | None = None, *, seed: int, cycles: int = 750,
@@ -610,7 +596,7 @@ def phase_study(cfg: dict, speed: float | None = None, *, seed: int, cycles: int
     nb = validate.integer("batch", batch, 1, 100000)
     c = study_config(cfg, duration, transient)
     om = float(c["operation"]["top_speed_rad_s"] if speed is None else speed)
-    _speeds([om])
+    speed_grid([om])
     mc = study_engine(c, psd, eta_dt, seed, warmup)
     stick, slip, sev = [], [], []
     with progress_bar(ncyc, "stick-slip cycles", progress) as cb:

@@ -215,3 +215,73 @@ def bootstrap_interval(severity, speeds, *, resamples: int = 400, confidence: fl
     lo, hi = (np.quantile(vals, [a, 1.0 - a]) if vals else (math.nan, math.nan))
     return {"low": float(lo), "high": float(hi), "confidence": confidence, "resamples": int(resamples),
             "no_crossing": none}
+
+
+def robust_speed_summary(severity, speeds, refine: float | None, seed: int, evaluate) -> dict:
+    """The 5 % speed of a Monte Carlo SS matrix, refined and with its bootstrap interval.
+
+    Parameters
+    ----------
+    severity : ndarray
+        SS [-], one row per sample, one column per speed.
+    speeds : array_like
+        Top-drive speeds [rad/s] of the columns.
+    refine : float or None
+        Bisection tolerance [rad/s] of :func:`drillpy.uncertainty.robust_speed.refine_p_speed`
+        (same samples at new speeds); None: no refinement.
+    seed : int
+        Seed of the bootstrap resampling.
+    evaluate : callable
+        ``evaluate(speeds)`` returns the SS matrix of the same samples at new speeds [rad/s].
+
+    Returns
+    -------
+    dict
+        ``p05_speed_bracket_rad_s``, ``p05_speed_rad_s`` and ``refinement_speeds_rad_s`` when refined
+        to a crossing; ``p05_speed_bootstrap`` (90 % interval over the samples) with two or more samples, and
+        ``p05_speed_precision_warning`` when the grid limits its precision (:func:`grid_limit`).
+    """
+    out = {}
+    if refine is not None:
+        r = refine_p_speed(severity, speeds, evaluate, tol=refine)
+        if r is not None:
+            severity, speeds = r.severity, r.speeds
+            out["p05_speed_bracket_rad_s"] = [r.below, r.above]
+            out["p05_speed_rad_s"] = p_speed(severity, speeds)
+            out["refinement_speeds_rad_s"] = [float(x) for x in r.speeds]
+    if severity.shape[0] >= 2:
+        out["p05_speed_bootstrap"] = b = bootstrap_interval(severity, speeds, seed=seed)
+        note = grid_limit(b, speeds)
+        if note:
+            out["p05_speed_precision_warning"] = note
+    return out
+
+
+def grid_limit(interval: dict, speeds) -> str | None:
+    """The warning due when the grid, not the samples, limits the precision of the 5 % speed: its
+    bootstrap interval is narrower than the grid spacing where it lies (the resamples all cross
+    P = 5 % in the same grid cell, and the linear interpolation in that cell decides the rest).
+
+    Parameters
+    ----------
+    interval : dict
+        :func:`drillpy.uncertainty.robust_speed.bootstrap_interval` (``low``, ``high`` [rad/s]).
+    speeds : array_like
+        The grid [rad/s] (with any refinement speeds).
+
+    Returns
+    -------
+    str or None
+        The warning, None when the interval spans a grid spacing or more (or there is none).
+    """
+    lo, hi = interval["low"], interval["high"]
+    sp = np.unique(np.asarray(speeds, float))
+    if not (lo == lo and hi == hi) or sp.size < 2:
+        return None
+    k = int(np.clip(np.searchsorted(sp, lo, side="right") - 1, 0, sp.size - 2))
+    spacing = float(sp[k + 1] - sp[k])
+    if hi - lo >= spacing:
+        return None
+    return (f"the 90 % bootstrap interval of the 5 % speed ({lo:.2f}-{hi:.2f} rad/s) is narrower than the grid "
+            f"spacing there ({spacing:.3g} rad/s): the grid, not the samples, limits its precision; --refine TOL "
+            "locates it by bisection on the same samples")

@@ -213,3 +213,70 @@ def severity_sources(cfg: dict, speeds, samples: int, *, delta=0.1, eta_psd=None
         out["structure + bit-rock"] = run(cfg, speeds, samples, delta=delta, eta_psd=eta_psd, eta_dt=eta_dt,
                                           label="structure + bit-rock", **kw)
     return out
+
+
+def robust_severity(cfg: dict, speeds, samples: int, *, delta: float = 0.1, eta_psd=None, eta=None,
+                    eta_dt: float = 0.05, refine: float | None = None, seed: int = 1, progress: bool = True,
+                    threads: int = 0, runner=None) -> tuple[dict, dict]:
+    """SS versus top speed per source of uncertainty with the robust speed of each (``drillpy robust-ss``).
+
+    Parameters
+    ----------
+    cfg : dict
+        Configuration (Craig-Bampton modes set, e.g. ``thesis-ch6``).
+    speeds : array_like
+        Top-drive speeds [rad/s].
+    samples : int
+        Monte Carlo samples per source.
+    delta : float
+        Dispersion of every SM_CB2 random matrix [-].
+    eta_psd : PsdModel or PsdTable, optional
+        One-sided PSD per Hz of eta (Eq. 4.4): adds the stochastic bit-rock law generated in the engine.
+    eta : ndarray, optional
+        eta(t) of Eq. (4.1), one row per sample, sampled every ``eta_dt``: adds the bit-rock law from
+        given series (not with ``eta_psd``).
+    eta_dt : float
+        Sampling step of eta [s].
+    refine : float, optional
+        Locate each 5 % speed by bisection to this tolerance [rad/s].
+    seed : int
+        Seed of the samples and of the bootstrap.
+    progress : bool
+        Show a progress bar.
+    threads : int
+        OpenMP threads (0: default).
+    runner : callable, optional
+        Runs the studies of the sources of ``eta_psd`` (:func:`drillpy.uncertainty.structural.severity_sources`).
+
+    Returns
+    -------
+    studies : dict
+        label -> :class:`drillpy.uncertainty.structural.SeverityStudy`.
+    summary : dict
+        label -> the study's JSON with the :func:`drillpy.uncertainty.robust_speed.robust_speed_summary` entries.
+    """
+    from drillpy.uncertainty.robust_speed import robust_speed_summary
+    kw = dict(seed=seed, progress=progress, threads=threads)
+    studies = severity_sources(cfg, speeds, samples, delta=delta, eta_psd=eta_psd, eta_dt=eta_dt, runner=runner, **kw)
+    if eta is not None:
+        studies["bit-rock (eta)"] = severity_study(cfg, speeds, samples, delta=0.0, structural=False, eta=eta,
+                                                   eta_dt=eta_dt, label="bit-rock (eta)", **kw)
+        studies["structure + bit-rock"] = severity_study(cfg, speeds, samples, delta=delta, eta=eta,
+                                                         eta_dt=eta_dt, label="structure + bit-rock", **kw)
+    res = {label: st.to_json() for label, st in studies.items()}
+    for label, st in studies.items():
+        if st.ss.shape[0] < 2:
+            continue
+        kw_st = dict(delta=delta, seed=seed, progress=False, threads=threads, eta_dt=eta_dt, label=label,
+                     structural=label != "bit-rock (eta)")
+        if "bit-rock" in label:
+            if eta_psd is not None:
+                kw_st["eta_psd"] = eta_psd
+            else:
+                kw_st["eta"] = eta
+            if label == "bit-rock (eta)":
+                kw_st["delta"] = 0.0
+        n = st.ss.shape[0]
+        res[label].update(robust_speed_summary(st.ss, st.speeds, refine, seed,
+                                               lambda sp, kw_st=kw_st, n=n: severity_study(cfg, sp, n, **kw_st).ss))
+    return studies, res

@@ -152,11 +152,11 @@ class AxialJack(Effect):
 
     def inject(self, truth, p):
         """Give the truth the jack (``axial``); its recorded WOB is then the state
-        (:func:`drillpy.records.synthetic.synthetic_record`); see :meth:`Effect.inject`.
+        (:func:`drillpy.loop.synthetic.synthetic_record`); see :meth:`Effect.inject`.
 
         Parameters
         ----------
-        truth : drillpy.records.synthetic.Truth
+        truth : drillpy.loop.synthetic.Truth
             The synthetic truth (its configuration is modified).
         p : dict
             ``{"gain_n_rad": g [N/rad], "relaxation_s": tau [s]}`` (defaults 130 and 0.1).

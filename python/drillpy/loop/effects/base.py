@@ -50,7 +50,7 @@ class Param:
         Unit of the value, as reported (e.g. ``"Hz"``, ``"N m"``, ``"-"`` for a ratio).
     meaning : str
         Physical meaning, with the symbol of docs/loop.md (e.g. ``"T_s: torque the string must
-        exceed to break the stuck bit away"``); :func:`drillpy.loop.report.reading` prints it.
+        exceed to break the stuck bit away"``); :func:`drillpy.reports.loop.reading` prints it.
     lower, upper : float
         Physical bounds of the fit, in ``unit`` (default unbounded). An effect may narrow them for a
         given model (:meth:`Effect.bounds`); a fitted value within 1e-3 of the (fitted) span from a bound
@@ -105,7 +105,7 @@ class Effect:
     signature : str
         What the effect leaves in the residual of a model without it (reported).
     reading : str
-        Its physical reading on the test rig (reported, :func:`drillpy.loop.report.reading`).
+        Its physical reading on the test rig (reported, :func:`drillpy.reports.loop.reading`).
     needs : tuple of str
         Record channels the effect needs besides bit speed and torque (``"top_speed"``, ``"wob"``);
         it is not a candidate on a record without them.
@@ -120,7 +120,7 @@ class Effect:
         started from the law refitted on the law residual with it.
     defaults : dict
         Parameters of the synthetic truth when the effect is switched on without values
-        (:mod:`drillpy.records.synthetic`; the keys are those :meth:`inject` reads).
+        (:mod:`drillpy.loop.synthetic`; the keys are those :meth:`inject` reads).
     """
     name: str = ""
     level: str = "dynamic"
@@ -256,7 +256,7 @@ class Effect:
 
     def describe(self, p: dict) -> str:
         """One sentence on the fitted values, for the report's physical reading
-        (:func:`drillpy.loop.report.reading` appends :attr:`reading`); default: every parameter's
+        (:func:`drillpy.reports.loop.reading` appends :attr:`reading`); default: every parameter's
         meaning, value and unit.
 
         Parameters
@@ -553,11 +553,11 @@ class Effect:
 
     # ------------------------------------------------------------------------ synthetic truth
     def inject(self, truth, p: dict) -> None:
-        """Switch the effect on in a synthetic truth (:class:`drillpy.records.synthetic.Truth`).
+        """Switch the effect on in a synthetic truth (:class:`drillpy.loop.synthetic.Truth`).
 
         Parameters
         ----------
-        truth : drillpy.records.synthetic.Truth
+        truth : drillpy.loop.synthetic.Truth
             The synthetic truth being built; its configuration ``cfg``, input series (``wob``,
             ``wob_law``, ``eta``, ``top``) or measurement functions ``post`` are modified in place.
         p : dict

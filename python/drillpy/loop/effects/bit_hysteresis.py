@@ -89,7 +89,7 @@ class BitHysteresis(Effect):
 
         Parameters
         ----------
-        truth : drillpy.records.synthetic.Truth
+        truth : drillpy.loop.synthetic.Truth
             The synthetic truth; its law must have a hysteresis term (``beta1``), else ValueError.
         p : dict
             ``{"beta1", "beta2"}`` (defaults 0.2 and 0.005).

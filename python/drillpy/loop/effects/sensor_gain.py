@@ -219,7 +219,7 @@ class SensorGain(Effect):
 
         Parameters
         ----------
-        truth : drillpy.records.synthetic.Truth
+        truth : drillpy.loop.synthetic.Truth
             The synthetic truth (its ``post`` list).
         p : dict
             ``{"torque_scale": s, "torque_offset_nm": b [N m]}`` (defaults 1.15 and 0.15).

@@ -164,7 +164,7 @@ class SensorLag(Effect):
 
         Parameters
         ----------
-        truth : drillpy.records.synthetic.Truth
+        truth : drillpy.loop.synthetic.Truth
             The synthetic truth (its ``post`` list).
         p : dict
             ``{"lowpass_hz": f_c [Hz]}`` (default 10, the rig's acquisition filter).

@@ -227,7 +227,7 @@ class StaticFriction(Effect):
 
         Parameters
         ----------
-        truth : drillpy.records.synthetic.Truth
+        truth : drillpy.loop.synthetic.Truth
             The synthetic truth (its configuration).
         p : dict
             ``{"static_torque_nm": T_s [N m]}`` (default 4.5).

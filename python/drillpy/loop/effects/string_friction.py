@@ -131,7 +131,7 @@ class StringFriction(Effect):
 
         Parameters
         ----------
-        truth : drillpy.records.synthetic.Truth
+        truth : drillpy.loop.synthetic.Truth
             The synthetic truth (its configuration).
         p : dict
             ``{"string_friction_nm": T_sf [N m]}`` (default 0.3).

@@ -58,7 +58,7 @@ class StringStiffness(Effect):
 
         Parameters
         ----------
-        truth : drillpy.records.synthetic.Truth
+        truth : drillpy.loop.synthetic.Truth
             The synthetic truth (its configuration).
         p : dict
             ``{"gj_factor": [-]}`` (default 0.85).

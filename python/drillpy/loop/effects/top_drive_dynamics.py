@@ -306,7 +306,7 @@ class TopDriveDynamics(Effect):
 
         Parameters
         ----------
-        truth : drillpy.records.synthetic.Truth
+        truth : drillpy.loop.synthetic.Truth
             The synthetic truth (its configuration is modified).
         p : dict
             ``{"slope_nms_rad": c_m [N m s/rad], "inertia_kg_m2": J_m [kg m^2]}`` (defaults 0.25 and

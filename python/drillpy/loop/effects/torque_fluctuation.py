@@ -121,7 +121,7 @@ class TorqueFluctuation(Effect):
 
         Parameters
         ----------
-        truth : drillpy.records.synthetic.Truth
+        truth : drillpy.loop.synthetic.Truth
             The synthetic truth (its ``eta`` series).
         p : dict
             ``{"std": [-], "f0_hz": f0 [Hz]}`` (defaults 0.15 and 0.25 Hz).

@@ -85,7 +85,7 @@ class ViscousDamping(Effect):
 
         Parameters
         ----------
-        truth : drillpy.records.synthetic.Truth
+        truth : drillpy.loop.synthetic.Truth
             The synthetic truth (its configuration).
         p : dict
             ``{"bit_viscous_nms": c_v [N m s/rad]}`` (default 0.03).

@@ -64,7 +64,7 @@ class WobCoupling(Effect):
 
         Parameters
         ----------
-        truth : drillpy.records.synthetic.Truth
+        truth : drillpy.loop.synthetic.Truth
             The synthetic truth (its ``operation.wob_n`` W_0 [N] and WOB series [N]).
         p : dict
             ``{"gain": k [-]}`` (default 1).

@@ -23,8 +23,7 @@ import numpy as np
 
 from drillpy import loop
 from drillpy.records import rigsim
-from drillpy.jsonio import jsonable, write_json
-from drillpy.provenance import provenance
+from drillpy.jsonio import jsonable
 from drillpy.records.cleaning import clean
 from drillpy.model.config import read_json
 from drillpy.loop.effects import stripped
@@ -258,30 +257,3 @@ def load_model(path: str | Path):
     if isinstance(d, dict) and d.get("format") == "drillpy.loop_model":
         return loop.LoopModel.from_dict(d)
     return rigsim.RigModel.from_dict(d)
-
-
-def write_prediction(pred: Prediction, out_dir: str | Path, figure_units: str = "si") -> list:
-    """``summary.json`` and the overlay figure ``overlay.png`` in ``out_dir``; returns the file names.
-
-    Parameters
-    ----------
-    pred : Prediction
-        From :func:`predict_record`.
-    out_dir : str or Path
-        Output folder (created if needed; existing files are overwritten).
-    figure_units : str
-        Axis unit of the overlay's torque (``si``: N m; ``field``: ft-lbf); ``summary.json`` stays SI.
-
-    Returns
-    -------
-    list of str
-        The names of the files written, relative to ``out_dir``.
-    """
-    from drillpy.figures import records as figs
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    write_json(out / "summary.json", {**pred.summary(), "provenance": provenance()})
-    fig = out / "overlay.png"
-    figs.prediction_overlay_plot(fig, pred.measured, pred.simulated, pred.stick_threshold,
-                                  describe(pred.model), units=figure_units)
-    return ["summary.json", fig.name]

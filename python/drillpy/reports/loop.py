@@ -1,6 +1,6 @@
-"""The outputs of ``drillpy loop``: ``loop.json``, ``evidence.json``, ``predictions.csv``,
-``model.json``, ``config.json`` and ``report.md`` (:func:`write_loop`); the figures are drawn by
-:mod:`drillpy.figures.loop` (``run.loop_record`` calls both).
+"""``drillpy loop`` composed: :func:`loop_record` runs the loop (:func:`drillpy.loop.run_loop`), draws its
+figures (:mod:`drillpy.figures.loop`) and writes ``loop.json``, ``evidence.json``, ``predictions.csv``,
+``model.json``, ``config.json`` and ``report.md`` (:func:`write_loop`).
 """
 from __future__ import annotations
 
@@ -11,14 +11,15 @@ from pathlib import Path
 import numpy as np
 
 from drillpy.outputs import write_text
-from drillpy.model.config import normalize
-from .effects import CATALOGUE
-from .run import LoopResult, dumps
-from drillpy.reports.text import number_text as _f
+from drillpy.jsonio import dumps
+from drillpy.model.config import load_config, normalize
+from drillpy.loop.effects import CATALOGUE
+from drillpy.loop.options import LoopOptions
+from drillpy.loop.run import LoopResult, run_loop
+from drillpy.text import number_text as _f
 from drillpy.records.io import RPM
 from drillpy.records.plausibility import markdown
 from drillpy.provenance import header, provenance, with_markdown_footer
-
 
 
 # ---------------------------------------------------------------------------------- files
@@ -387,4 +388,42 @@ def write_loop(res: LoopResult, out, files: dict | None = None) -> dict:
     write_predictions(out / "predictions.csv", res, prov)
     report = render_report(res, {k: Path(v).name for k, v in (files or {}).items()})
     write_text((out / "report.md"), with_markdown_footer(report, prov))
+    return js
+
+
+def loop_record(record, out_dir, *, preset: str | None = None, config_path: str | None = None,
+                config: dict | None = None, options: LoopOptions | None = None, log=print,
+                figure_units: str = "si") -> dict:
+    """``drillpy loop``: run the loop and write its figures and files to ``out_dir``.
+
+    :func:`drillpy.loop.run_loop` (compute: a :class:`~drillpy.loop.run.LoopResult`) -> :func:`drillpy.figures.loop.loop_figures`
+    (residual_signature.png, overlay.png, loops.png, errors.png) -> :func:`write_loop`
+    (``loop.json``, ``evidence.json``, ``predictions.csv``, ``model.json``, ``config.json``, ``report.md``).
+
+    Parameters
+    ----------
+    record : Record, str or Path
+        The measured record or its file.
+    out_dir : str or Path
+        Output folder (created if missing).
+    preset, config_path, config : optional
+        The declared model: a preset name, a configuration file or a configuration dict
+        (:func:`drillpy.model.config.load_config`).
+    options : LoopOptions, optional
+        Choices of the loop (horizon [s], analysis rate [Hz], guard thresholds...).
+    log : callable
+        Called with each progress line.
+    figure_units : str
+        Axis unit of the figures' torques (``si``: N m; ``field``: ft-lbf); the files stay SI.
+
+    Returns
+    -------
+    dict
+        The content of ``loop.json``.
+    """
+    from drillpy.figures.loop import loop_figures
+    cfg = load_config(preset=preset, path=config_path, config=config)
+    res = run_loop(record, cfg, options, log=log)
+    js = write_loop(res, out_dir, loop_figures(res, out_dir, figure_units))
+    log(f"loop.json, predictions.csv, report.md and figures written to {Path(out_dir)}")
     return js

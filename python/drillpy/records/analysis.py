@@ -1,0 +1,537 @@
+"""The analysis of a measured record, computed (nothing drawn or written; ``drillpy analyze``).
+
+read -> clean (:mod:`drillpy.records.cleaning`) -> stick-slip cycles, mean cycle, eta_exp and its PSD,
+Table 5.2 statistics (:mod:`drillpy.records.signals`) -> least-squares identification of the bit-rock
+laws with intervals and a comparison table (:mod:`drillpy.records.identification`) -> the test rig in
+simulation with the identified law and an effective damping estimate (:mod:`drillpy.records.rigsim`).
+
+:func:`compute_analysis` returns a :class:`RecordAnalysis`; :func:`drillpy.figures.records.analysis_figures`
+draws it and :func:`drillpy.reports.analysis.write_analysis` writes its files
+(:func:`drillpy.reports.analysis.analyze_record` composes the three).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from drillpy.text import number_text as _f
+from drillpy.records import identification as ident
+from drillpy.records import plausibility
+from drillpy.uncertainty import process
+from drillpy.records import rigsim
+from drillpy.records import signals as sig
+from drillpy.records.cleaning import CleaningOptions, CleaningReport, clean
+from drillpy.model.config import load_config
+from drillpy.records.io import RPM, Record, read_record
+
+
+@dataclass
+class AnalysisOptions:
+    """Choices of :func:`compute_analysis` (times in s, frequencies in Hz).
+
+    Attributes
+    ----------
+    t0, t1 : float, optional
+        Analysed window of the record.
+    stick_fraction : float
+        The bit is stuck at or below this fraction of the median top speed.
+    cycle_at_s : float, optional
+        Time inside the cycle shown in the one-cycle figure (default: a cycle with a clear stick
+        phase and a typical period).
+    laws : tuple
+        Laws to identify (:data:`drillpy.records.identification.LAWS`).
+    folds : int
+        Folds of the cross-validation over cycles (0: none).
+    fit_rate_hz : float
+        Samples used by the fits per second (the rig's channels are low-passed at 10 Hz).
+    psd_fmax_hz : float
+        Upper end of the PSD-model fit band (the rig's acquisition filter cuts at 10 Hz).
+    eta_reference : {"mean", "branch"}
+        T_hys of Eq. (4.2): the mean of all cycles (thesis) or the branch mean curves.
+    simulate : bool
+        Run the rig simulations (needs a top-speed channel): the rig model calibrated on the record
+        (:func:`drillpy.records.rigsim.calibrate`), written as ``model.json``.
+    preset : str
+        The rig preset simulated.
+    calibrate : (float, float), optional
+        Calibration part [s]: cleaning, cycles, identification and the rig calibration use it only;
+        the rest of the record (pieces of at least ``min_holdout_s``) is predicted by the calibrated
+        model and reported with the same metrics.
+    min_holdout_s : float
+        Shortest held-out piece predicted [s].
+    """
+    t0: float | None = None
+    t1: float | None = None
+    stick_fraction: float = 0.05
+    cycle_at_s: float | None = None
+    laws: tuple = ident.LAWS
+    folds: int = 5
+    fit_rate_hz: float = 100.0
+    psd_fmax_hz: float = 10.0
+    eta_reference: str = "mean"
+    simulate: bool = True
+    preset: str = "thesis-rig"
+    calibrate: tuple | None = None
+    min_holdout_s: float = 2.0
+
+
+def _stats(x) -> dict:
+    x = np.asarray(x, float)
+    if x.size == 0:
+        return {"n": 0}
+    return {"n": int(x.size), "mean": float(np.mean(x)), "std": float(np.std(x, ddof=1)) if x.size > 1 else 0.0,
+            "median": float(np.median(x)), "min": float(np.min(x)), "max": float(np.max(x))}
+
+
+def choose_cycle(cycles: sig.Cycles, t, at_s: float | None = None) -> int:
+    """Index of the cycle to show: the valid one containing ``at_s``, else among valid cycles with
+    a stick phase and a period within 1.5 x the median, the one with the longest stick.
+
+    The shown cycle is the one-cycle figure of the report (bit speed versus time, torque and WOB
+    versus bit speed, as the thesis's Fig. 5.7). Without a candidate with a stick phase and a
+    typical period, the valid cycle whose period is closest to the median is taken.
+
+    Parameters
+    ----------
+    cycles : drillpy.records.signals.Cycles
+        Stick-slip cycles of the record (:func:`drillpy.records.signals.segment_cycles`).
+    t : ndarray
+        Time of the record's samples [s], indexed by ``cycles.start`` / ``cycles.end``.
+    at_s : float, optional
+        A time [s] inside the cycle to show (e.g. 35.5 s for the thesis's 35.3-35.67 s cycle of
+        sample 175); None: choose by the rule above.
+
+    Returns
+    -------
+    int
+        Index into ``cycles`` of the cycle to show.
+
+    Raises
+    ------
+    ValueError
+        No valid cycle, or no valid cycle contains ``at_s``.
+    """
+    valid = np.flatnonzero(cycles.valid)
+    if valid.size == 0:
+        raise ValueError("no valid stick-slip cycle in the record")
+    if at_s is not None:
+        hit = [j for j in valid if t[cycles.start[j]] <= at_s < t[cycles.end[j]]]
+        if not hit:
+            raise ValueError(f"cycle_at_s = {at_s}: no valid cycle contains this time")
+        return int(hit[0])
+    per = cycles.period_s
+    med = np.median(per[valid])
+    cand = [j for j in valid if cycles.stick_s[j] > 0 and per[j] <= 1.5 * med]
+    if not cand:
+        return int(valid[np.argmin(np.abs(per[valid] - med))])
+    return int(max(cand, key=lambda j: cycles.stick_s[j]))
+
+
+@dataclass
+class RecordAnalysis:
+    """The analysis of a measured record computed by :func:`compute_analysis` (nothing drawn or written).
+
+    Speeds in rad/s, torques in N m, WOB in N, times in s, frequencies in Hz.
+
+    Attributes
+    ----------
+    options : AnalysisOptions
+        The choices the analysis ran with.
+    raw : Record
+        The record as read (within ``options.t0``-``options.t1``), before cleaning.
+    record : Record
+        The cleaned record analysed (the calibration part when ``options.calibrate`` is set).
+    cleaning : CleaningReport
+        Artifacts found and repaired by :func:`drillpy.records.cleaning.clean` on ``raw``.
+    stick_threshold_rad_s : float
+        The bit is stuck at or below this speed [rad/s].
+    cycles : Cycles
+        Stick-slip cycles of ``record`` (sample indices, stick durations [s], validity).
+    cycle_stats : dict
+        Per valid cycle (:func:`drillpy.records.signals.cycle_statistics`): start_s, period_s,
+        stick_s, slip_s [s], frequency_hz [Hz], max_speed [rad/s] and, with a top speed, ss [-].
+    branch : ndarray
+        Per sample: +1 accelerating slip branch, -1 decelerating, 0 stick or excluded.
+    accel_rad_s2 : ndarray
+        Bit acceleration (Savitzky-Golay derivative of the bit speed) [rad/s^2].
+    mean_cycle : MeanCycle
+        Torque on bit [N m] of the mean cycle per branch over a bit-speed grid [rad/s].
+    mean_cycle_wob : MeanCycle or None
+        WOB [N] of the mean cycle per branch (None without a WOB channel).
+    eta : EtaSeries
+        eta_exp = T / T_hys - 1 [-] on a uniform grid (Eq. 4.2).
+    freq_hz, periodogram : ndarray
+        Schuster periodogram of eta_exp: frequency [Hz] and one-sided PSD [1/Hz].
+    psd_fit : PsdFit
+        Fit of Eq. (4.4) to the periodogram over ``psd_band_hz``.
+    psd_band_hz : (float, float)
+        Frequencies of the fit band [Hz].
+    fits : dict
+        "constant_wob" (and "measured_wob" when the WOB is measured throughout) -> list of
+        :class:`drillpy.records.identification.LawFit`.
+    shown_cycle : int
+        Index in ``cycles`` of the cycle shown in the one-cycle figure.
+    shown_cycle_s : (float, float)
+        Start and end of that cycle [s].
+    simulations : dict
+        Rig simulations: case label -> (simulated Record, RigComparison); empty when not simulated.
+    model : RigModel or None
+        The rig model calibrated on ``record`` (None when not simulated).
+    summary : dict
+        The numbers of ``summary.json`` but for ``figures`` and ``shown_cycle_s``, which
+        :func:`write_analysis` adds (JSON-ready after :func:`drillpy.jsonio.jsonable`).
+    """
+    options: AnalysisOptions
+    raw: Record
+    record: Record
+    cleaning: CleaningReport
+    stick_threshold_rad_s: float
+    cycles: sig.Cycles
+    cycle_stats: dict
+    branch: np.ndarray
+    accel_rad_s2: np.ndarray
+    mean_cycle: sig.MeanCycle
+    mean_cycle_wob: sig.MeanCycle | None
+    eta: sig.EtaSeries
+    freq_hz: np.ndarray
+    periodogram: np.ndarray
+    psd_fit: process.PsdFit
+    psd_band_hz: tuple
+    fits: dict
+    shown_cycle: int
+    shown_cycle_s: tuple
+    simulations: dict = field(default_factory=dict)
+    model: rigsim.RigModel | None = None
+    summary: dict = field(default_factory=dict)
+
+
+def compute_analysis(record: Record | str | Path, options: AnalysisOptions | None = None,
+                     log=print, horizon_error=None) -> RecordAnalysis:
+    """Analyse a measured record: cleaning, cycles, statistics, eta_exp and its PSD, identification
+    of the bit-rock laws and the rig simulations (nothing is drawn or written).
+
+    Parameters
+    ----------
+    record : Record, str or Path
+        The record, or a file :func:`drillpy.records.io.read_record` reads; it needs the bit speed
+        [rad/s] and the torque on bit [N m].
+    options : AnalysisOptions, optional
+        Choices of the analysis (default ``AnalysisOptions()``).
+    log : callable
+        Called with each progress line (``print`` by default).
+    horizon_error : callable, optional
+        ``horizon_error(model, piece, command)``: the short-horizon error E [-] of the calibrated rig
+        model on a held-out piece (:func:`drillpy.loop.prediction.short_horizon_error`, which
+        :func:`drillpy.reports.analysis.analyze_record` passes); None: not computed. Used with
+        ``options.calibrate`` only.
+
+    Returns
+    -------
+    RecordAnalysis
+        Every intermediate result and the summary numbers.
+
+    Raises
+    ------
+    ValueError
+        The record shows no valid stick-slip cycle, ``options.calibrate`` is not T0 < T1, or
+        ``options.cycle_at_s`` is in no valid cycle.
+    """
+    opt = options or AnalysisOptions()
+    raw = read_record(record) if isinstance(record, (str, Path)) else record
+    for need in ("bit_speed", "torque_on_bit"):
+        raw.channel(need)  # the analysis needs these two; the error names the missing one
+    if opt.t0 is not None or opt.t1 is not None:
+        raw = raw.select(opt.t0, opt.t1)
+    cl_opt = CleaningOptions()
+    if raw.top_speed is None:
+        cl_opt.stick_threshold_rad_s = None
+    full, rep = clean(raw, cl_opt)
+    rec = full
+    if opt.calibrate is not None:
+        c0, c1 = (float(x) for x in opt.calibrate)
+        if not (math.isfinite(c0) and math.isfinite(c1) and c0 < c1):
+            raise ValueError(f"calibrate = {opt.calibrate!r}: needs T0 < T1 [s]")
+        rec = full.select(c0, c1)
+    # one stick rule (rigsim.stick_threshold: a fraction of the median reliable top speed) for every number
+    thr = rigsim.stick_threshold(rec, opt.stick_fraction) if raw.top_speed is not None else rep.stick_threshold_rad_s
+    S: dict = {"record": {"source": rec.provenance.get("source"), "format": rec.provenance.get("format"),
+                          "channels": list(rec.channels), "units_in_file": rec.units,
+                          "n_samples": len(rec), "duration_s": rec.duration_s,
+                          "sample_rate_hz": rec.sample_rate_hz,
+                          "window_s": [float(rec.time_s[0]), float(rec.time_s[-1])]},
+               "cleaning": rep.summary()}
+    warns = plausibility.check_record(rec, load_config(preset=opt.preset))  # the declared model: the rig preset
+    plausibility.emit(warns)
+    for w in warns:  # the rig model cannot be fitted to samples slower than its first mode (hours of runs)
+        if opt.simulate and w.code == "time_unit" and w.value < w.plausible[0]:
+            raise ValueError(f"{w.message}: the rig simulations are not run on such a record (--no-sim analyses "
+                             "it without them)")
+    S["warnings"] = [w.as_dict() for w in warns]
+    log(f"record: {len(rec)} samples at {rec.sample_rate_hz:.0f} Hz over {rec.duration_s:.2f} s; "
+        f"channels {', '.join(rec.channels)}")
+    for line in rep.lines():
+        log(f"  artifacts: {line}")
+
+    # ---------------------------------------------------------------- cycles and statistics
+    dt = rec.dt
+    v, tq = rec.bit_speed, rec.torque_on_bit
+    ok = rec.valid("bit_speed", "torque_on_bit")
+    cyc = sig.segment_cycles(v, dt, thr, valid=ok)
+    vf = np.where(np.isfinite(v), v, 0.0)
+    acc = sig.derivative(vf, dt)
+    lab = cyc.branch_labels(len(rec))
+    cid = cyc.cycle_id(len(rec))
+    if not cyc.valid.any():
+        raise ValueError("no valid stick-slip cycle found: the record shows no stick-slip oscillation "
+                         "(no bit-speed peak with a prominence of 25 % of its range, or excluded samples "
+                         "everywhere)")
+    cst = sig.cycle_statistics(cyc, v, rec.top_speed, tq, rec.wob)
+    okt = ok & (rec.valid("top_speed") if rec.top_speed is not None else True)
+    top_mean = float(np.mean(rec.top_speed[okt])) if rec.top_speed is not None else float("nan")
+    S["stick_threshold_rpm"] = thr * RPM
+    S["cycles"] = {"n_found": len(cyc), "n_valid": int(cyc.valid.sum()),
+                   "period_s": _stats(cst["period_s"]), "frequency_hz": _stats(cst["frequency_hz"]),
+                   "stick_s": _stats(cst["stick_s"]), "slip_s": _stats(cst["slip_s"]),
+                   "max_bit_speed_rpm": _stats(cst["max_speed"] * RPM),
+                   "dominant_frequency_hz": sig.dominant_frequency(vf[ok] if ok.all() else vf, 1 / dt)}
+    if "ss" in cst:
+        S["cycles"]["ss"] = _stats(cst["ss"])
+    S["severity"] = {"ss": sig.severity(v[okt], rec.top_speed[okt]) if rec.top_speed is not None else None,
+                     "mean_top_speed_rpm": top_mean * RPM, "mean_bit_speed_rpm": float(np.mean(v[ok])) * RPM,
+                     "max_bit_speed_rpm": float(np.max(v[ok])) * RPM, "min_bit_speed_rpm": float(np.min(v[ok])) * RPM,
+                     "stick_fraction": float(np.mean(v[ok] <= thr))}
+    side = None
+    if rec.top_speed is not None:
+        # the one measured side: the record's SS and stick fraction are the numbers every comparison of a
+        # simulation with it uses (from 2 s, the simulations' start-up, stalls counted apart)
+        side = rigsim.measured_side(rec, thr, float(rec.time_s[0]), "constant")
+        S["severity"].update(ss=side.metrics["ss"], stick_fraction=side.metrics["stick_fraction"],
+                             from_s=side.t0, stalls=side.metrics["stalls"]["count"])
+    after = ok & (rec.time_s >= (side.t0 if side is not None else rec.time_s[0]))  # the measured side's window
+    if not np.any(v[after] <= thr):  # the bit never stops: oscillation, not stick-slip; say so before the numbers
+        w = plausibility.PlausibilityWarning(
+            "no_stick", "bit_speed",
+            f"bit_speed: the bit never falls to the stick threshold ({thr * RPM:.3g} RPM, 5 % of the median top "
+            "speed): the cycles below are torsional oscillations without a stick phase, not stick-slip, and the "
+            "laws' static torque is not identified (their evidence rests on slip samples only)",
+            0.0, (math.ulp(0.0), 1.0), "-")
+        plausibility.emit([w])
+        S["warnings"].append(w.as_dict())
+    S["torque_statistics"] = sig.sample_statistics(tq[ok])  # Table 5.2
+    S["torque_statistics"]["thesis_table_5_2_mean_cv_samples_11_20"] = 0.329
+    if rec.wob is not None:
+        S["wob_statistics"] = sig.sample_statistics(rec.wob[rec.valid("wob")])
+    c = S["cycles"]
+    log(f"cycles: {c['n_valid']} valid of {c['n_found']}; period {c['period_s']['mean']:.3f} s mean, "
+        f"{c['period_s']['median']:.3f} s median; dominant frequency {c['dominant_frequency_hz']:.2f} Hz")
+    if S["severity"]["ss"] is not None:
+        log(f"SS = {S['severity']['ss']:.3f} (Eq. 3.4, mean top speed {top_mean * RPM:.1f} RPM); per cycle "
+            f"{c['ss']['mean']:.3f} +/- {c['ss']['std']:.3f}; stick fraction {S['severity']['stick_fraction']:.3f} "
+            f"(measured from {S['severity']['from_s']:g} s, {S['severity']['stalls']} stall(s) apart: the "
+            "measured side of every comparison below)")
+
+    # ---------------------------------------------------------------- mean cycle and eta
+    mc = sig.mean_cycle(v, tq, acc, lab)
+    S["mean_cycle"] = {"speed_rpm": (mc.speed * RPM).tolist(), "all_nm": _nan_list(mc.all),
+                       "upper_nm": _nan_list(mc.upper), "lower_nm": _nan_list(mc.lower),
+                       "half_width_rpm": mc.half_width * RPM}
+    mcw = sig.mean_cycle(v, rec.wob, acc, lab * rec.valid("wob")) if rec.wob is not None else None
+    eta = sig.eta_exp(rec.time_s, v, tq, lab, mc, reference=opt.eta_reference)
+    f, p = process.periodogram(eta.eta, 1.0 / eta.fs_hz)  # Schuster's raw periodogram (section 4.1)
+    psd = process.fit_psd_model(f, p, averages=1.0, fmax=opt.psd_fmax_hz)  # Eq. (4.4)
+    S["eta"] = {**eta.statistics(), "reference": opt.eta_reference,
+                "thesis_rig_mean": sig.THESIS_ETA_MEAN, "thesis_rig_std": sig.THESIS_ETA_STD}
+    band = f[(f > 0) & (f <= opt.psd_fmax_hz)]
+    S["psd"] = {"fit": {**psd.as_dict(),  # continuous at f0, with ci95 / se / continuity_jump
+                        "f_range_hz": [float(band[0]), float(band[-1])]},
+                "thesis_field": process.THESIS_PSD.as_dict(),
+                "convention": "Eq. (4.4) with natural logarithms; one-sided PSD of eta in 1/Hz, f in Hz; fit "
+                              "of ln S to the raw periodogram (bias of ln of an exponential ordinate removed)",
+                "fitter": "drillpy.uncertainty.process.fit_psd_model"}
+    log(f"eta_exp: std {S['eta']['std']:.3f} (thesis rig average {sig.THESIS_ETA_STD}); PSD model f0 = "
+        f"{psd.model.f0:.3g} Hz (95 % {psd.ci95['f0_hz'][0]:.3g}-{psd.ci95['f0_hz'][1]:.3g}"
+        f"{', at the search edge' if psd.f0_ci_at_search_edge else ''}), A0 = {psd.model.A0:.2f}, a = {psd.model.a:.2f}, b = {psd.model.b:.2f} "
+        f"(thesis field 0.27 Hz, -7.6, -3.13, -11.67)")
+
+    # ---------------------------------------------------------------- identification
+    every = max(1, int(round(rec.sample_rate_hz / opt.fit_rate_hz)))
+    variants = {"constant_wob": False}
+    if rec.wob is not None and rec.valid("wob")[ok].all():
+        variants["measured_wob"] = True
+    S["identification"] = {"fit_every": every, "note": ident.METHOD_NOTE}
+    fits_by = {}
+    for key, use_wob in variants.items():
+        data = ident.FitData.from_arrays(v, acc, tq, lab, cid, wob=rec.wob, use_wob=use_wob, every=every,
+                                         cycles=cyc)
+        fits = ident.fit_laws(data, opt.laws, mc=mc, folds=opt.folds, stick_threshold=thr)
+        cmp = ident.compare_laws(fits)
+        fits_by[key] = fits
+        S["identification"][key] = {"n_samples": len(data), "n_cycles": int(np.unique(data.group).size),
+                                    "wob_ref_n": data.wob_ref, "fits": [f.as_dict() for f in fits],
+                                    "comparison": cmp}
+        log(f"identification ({key.replace('_', ' ')}): {cmp.get('statement', '')}")
+        for row in cmp["table"]:
+            log(f"  {row['law']:<22} k={row['k']}  RMSE {row['rmse_nm']:.4f}  CV-RMSE {_f(row['cv_rmse_nm'], '.4f')}  "
+                f"Var[MSE] {row['var_mse']:.3g}  BIC {row['bic']:.1f}  dBIC {row['delta_bic']:.1f}")
+
+    if "measured_wob" in fits_by:
+        S["identification"]["wob_versus_hysteresis"] = _wob_effect(fits_by)
+        log(f"identification: {S['identification']['wob_versus_hysteresis']['statement']}")
+
+    # ---------------------------------------------------------------- rig simulation
+    sims, model = {}, None
+    if opt.simulate and rec.top_speed is not None and rigsim.reliable_top_speed(rec).sum() >= 10:
+        held = _held_out(full, rec, opt.min_holdout_s) if opt.calibrate is not None else []
+        S["rig"], sims, model = _rig_section(rec, thr, side, fits_by, opt.preset, log, held, horizon_error)
+    elif opt.simulate:
+        S["rig"] = {"skipped": "the record has no top-speed channel with reliable samples to set the rig's speed"}
+
+    j = choose_cycle(cyc, rec.time_s, opt.cycle_at_s)
+    return RecordAnalysis(options=opt, raw=raw, record=rec, cleaning=rep, stick_threshold_rad_s=thr, cycles=cyc,
+                          cycle_stats=cst, branch=lab, accel_rad_s2=acc, mean_cycle=mc, mean_cycle_wob=mcw, eta=eta,
+                          freq_hz=f, periodogram=p, psd_fit=psd, psd_band_hz=(float(band[0]), float(band[-1])),
+                          fits=fits_by, shown_cycle=j,
+                          shown_cycle_s=(float(rec.time_s[cyc.start[j]]), float(rec.time_s[cyc.end[j]])),
+                          simulations=sims, model=model, summary=S)
+
+
+def _wob_effect(fits_by: dict) -> dict:
+    """How much of the torque the hysteresis term and the measured WOB explain (RMSE drops)."""
+    c = {f.name: f.rmse for f in fits_by["constant_wob"]}
+    m = {f.name: f.rmse for f in fits_by["measured_wob"]}
+    out = {}
+    pairs = [("polynomial", "polynomial_hysteretic"), ("hysteretic_reversible", "hysteretic")]
+    for rev, hys in pairs:
+        if rev in c and hys in c and rev in m:
+            out[rev] = {"rmse_constant_wob": c[rev], "rmse_with_hysteresis": c[hys], "rmse_measured_wob": m[rev],
+                        "rmse_measured_wob_with_hysteresis": m.get(hys, float("nan"))}
+    if out:
+        rev = next(iter(out))
+        d = out[rev]
+        out["statement"] = (
+            f"For the {rev} law the hysteresis term of Eq. (3.3) lowers the RMSE from {d['rmse_constant_wob']:.3f} to "
+            f"{d['rmse_with_hysteresis']:.3f} N m, scaling by the measured WOB (T = T_law W / W_ref) from "
+            f"{d['rmse_constant_wob']:.3f} to {d['rmse_measured_wob']:.3f} N m, and both together to "
+            f"{d['rmse_measured_wob_with_hysteresis']:.3f} N m")
+        alone = d["rmse_constant_wob"] - d["rmse_with_hysteresis"]
+        after = d["rmse_measured_wob"] - d["rmse_measured_wob_with_hysteresis"]
+        out["hysteresis_gain_alone_nm"], out["hysteresis_gain_after_wob_nm"] = alone, after
+        out["statement"] += (": once the measured WOB is in, the hysteresis term adds little, so the WOB "
+                             "oscillation of the cycle accounts for most of the loop the constant-WOB "
+                             "hysteretic laws describe." if after < 0.25 * alone else
+                             ": the hysteresis term still helps with the measured WOB in, so the two effects "
+                             "are distinct.")
+    return out
+
+
+def _held_out(full: Record, cal: Record, min_s: float) -> list:
+    """The pieces of ``full`` before and after the calibration part, at least ``min_s`` long."""
+    t, a, b = full.time_s, cal.time_s[0], cal.time_s[-1]
+    out = []
+    for lo, hi in ((t[0], a - full.dt), (b + full.dt, t[-1])):
+        if hi - lo >= min_s:
+            out.append(full.select(lo, hi))
+    return out
+
+
+#: The metrics of the rig's tables: those of the predictive targets (issue 28) and the stalls.
+METRIC_ROWS = ("ss", "stick_fraction", "cycle_frequency_hz", "median_period_s", "torque_p5", "torque_p95",
+               "top_speed_std", "wob_std", "mean_top_speed")
+
+
+def _metric_row(cmp: rigsim.RigComparison) -> dict:
+    m, s = cmp.measured, cmp.simulated
+    row = {k: {"measured": m[k], "simulated": s[k], "relative_error": rigsim.relative_error(s[k], m[k])}
+           for k in METRIC_ROWS}
+    row["stalls"] = {"measured": m["stalls"], "simulated": s["stalls"]}
+    return row
+
+
+def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log, held: list, horizon_error) -> tuple:
+    """The rig model: the rig modelled whole and self-contained (:func:`drillpy.records.rigsim.calibrate_rig`:
+    motor, jack, platform, with the identified sticking law) as the predictive answer, the simpler
+    drives (constant, motor, and the measured top speed as a diagnosis) calibrated beside it
+    (:func:`drillpy.records.rigsim.calibrate`) for comparison, and the prediction of the held-out pieces.
+    Every case is compared with the same measured side ``side`` (:func:`drillpy.records.rigsim.measured_side`);
+    ``horizon_error`` gives the held-out pieces' short-horizon E (None: not computed)."""
+    base = load_config(preset=preset)
+
+    def sticky(fits):
+        return [f for f in fits if f.name.startswith("polynomial")] or list(fits)
+    # the WOB is a state of the whole rig model: its law is the one identified with the WOB scaling
+    wob_fits = sticky(fits_by.get("measured_wob") or fits_by["constant_wob"])
+    law_w = min(wob_fits, key=lambda f: f.bic)
+    law_c = min(sticky(fits_by["constant_wob"]), key=lambda f: f.bic)
+    out = {"preset": preset, "preset_law": base["law"], "preset_damping": base["damping"], "cases": [],
+           "law": law_w.name,
+           "law_rule": "the non-regularized law (Eqs. 5.1, 5.3: it sticks at its static torque) with the lower BIC, "
+                       "identified with the torque scaled by the measured WOB (the whole rig's WOB is a state, "
+                       "and the law scales with it)"}
+    sims = {}
+
+    def case(label, model):
+        sim = rigsim.simulate_model(model, rec)
+        cmp = rigsim.compare(rec, sim, thr, side=side)
+        out["cases"].append({"label": label, "law": model.law, "damping_ratio": model.damping_ratio,
+                             "drive": model.drive, "predictive": model.drive in rigsim.PREDICTIVE_DRIVES,
+                             "measured": cmp.measured, "simulated": cmp.simulated,
+                             "mismatch": cmp.mismatch, "loop_rms_nm": cmp.loop_rms_nm})
+        sims[label] = (sim, cmp)
+        log(f"rig: {label}: mismatch {cmp.mismatch:.3f}, SS {cmp.simulated['ss']:.3f} "
+            f"(measured {cmp.measured['ss']:.3f}), stick fraction {cmp.simulated['stick_fraction']:.3f} "
+            f"(measured {cmp.measured['stick_fraction']:.3f}), cycle frequency {cmp.simulated['cycle_frequency_hz']:.2f} Hz "
+            f"(measured {cmp.measured['cycle_frequency_hz']:.2f})")
+
+    z0 = base["damping"]["ratios"][0]
+    case(f"preset law, zeta {z0:g}, constant top speed", rigsim.RigModel(base["law"], z0, "constant", preset=preset))
+    simple = rigsim.calibrate(rec, law_c.law, thr, drives=("constant", "motor", "measured"), preset=preset, log=log)
+    for drive, b in simple.per_drive.items():
+        m = rigsim.RigModel(law_c.law, b["damping_ratio"], drive, b.get("motor_slope_nms_rad"),
+                            b.get("motor_inertia_kg_m2"), preset=preset)
+        extra = (f", c_m {m.motor_slope_nms_rad:.3g}, J_m {m.motor_inertia_kg_m2:.3g}" if drive == "motor" else "")
+        note = " (diagnosis: fed the measured top speed, which carries the cycle)" if drive == "measured" else ""
+        case(f"{law_c.name}, {drive} drive, zeta {m.damping_ratio:.3g}{extra}{note}", m)
+    cal = rigsim.calibrate_rig(rec, law_w.law, thr, preset=preset, log=log)
+    model = cal.model
+    case(f"{law_w.name}, the rig modelled whole (motor, jack, platform), zeta {model.damping_ratio:.3g} "
+         "(calibrated model)", model)
+    out["simple_drives"] = simple.summary()["per_drive"]
+    out["calibration"] = {"mismatch": cal.comparison.mismatch, "matched": list(rigsim.MATCHED_RIG),
+                          "per_drive": cal.per_drive}
+    out["parameters"] = model.parameters()
+    out["recommended"] = {"law": model.law, "law_name": law_w.name, "damping_ratio": model.damping_ratio,
+                          "drive": model.drive, "predictive": True, "mismatch": cal.comparison.mismatch,
+                          "rule": "the rig modelled whole (rigsim.calibrate_rig): every parameter inside its physical "
+                                  "range, inputs the motor command and the jack's slow WOB trend only"}
+    flags = [f"{k}: {v['flag']}" for k, v in out["parameters"].items() if v["flag"]]
+    log(f"rig: calibrated model: {law_w.name}, the rig modelled whole, damping ratio {model.damping_ratio:.3g} "
+        f"(mismatch {cal.comparison.mismatch:.3f})" + ("; flagged: " + "; ".join(flags) if flags else ""))
+    out["calibration_metrics"] = _metric_row(cal.comparison)
+    out["held_out"] = []
+    for piece in held:
+        row = {"window_s": [float(piece.time_s[0]), float(piece.time_s[-1])]}
+        try:
+            sim = rigsim.simulate_model(model, piece)
+            cmp = rigsim.compare(piece, sim, thr)
+            row.update(metrics=_metric_row(cmp), mismatch=cmp.mismatch)
+            if horizon_error is not None:
+                row["short_horizon_error"] = horizon_error(model, piece, sim.provenance["command_rad_s"])
+            sims[f"held-out {row['window_s'][0]:.1f}-{row['window_s'][1]:.1f} s (prediction)"] = (sim, cmp)
+            mm = row["metrics"]
+            log(f"rig: held-out {row['window_s'][0]:.1f}-{row['window_s'][1]:.1f} s: SS {mm['ss']['simulated']:.3f} "
+                f"(measured {mm['ss']['measured']:.3f}), stick fraction {mm['stick_fraction']['simulated']:.3f} "
+                f"({mm['stick_fraction']['measured']:.3f}), cycle frequency {mm['cycle_frequency_hz']['simulated']:.2f} Hz "
+                f"({mm['cycle_frequency_hz']['measured']:.2f})"
+                + (f"; short-horizon E {row['short_horizon_error']:.3f}" if "short_horizon_error" in row else ""))
+        except ValueError as e:
+            row["skipped"] = str(e)
+            log(f"rig: held-out piece not predicted: {e}")
+        out["held_out"].append(row)
+    return out, sims, model
+
+
+def _nan_list(x) -> list:
+    return [None if not np.isfinite(v) else float(v) for v in np.asarray(x, float)]
