@@ -6,7 +6,6 @@ import json
 import numpy as np
 import pytest
 
-import drillpy
 from drillpy.model.config import load_config
 from drillpy.model.simulation import simulate
 
@@ -26,8 +25,8 @@ def test_simulate_reports_the_axial_channels():
     assert ax.t.shape == ax.wob.shape == ax.rop.shape == ax.depth_of_cut.shape == ax.delay.shape
     assert np.all(np.isfinite(ax.wob)) and np.all(ax.wob >= 0.0)
     # the run starts in RGD's steady drilling: 150 kN = a zeta eps d + a l sigma
-    a, zeta, eps, l, sigma = 0.108, 0.6, 60e6, 0.011, 60e6
-    d0 = (150e3 - a * l * sigma) / (a * zeta * eps)
+    a, zeta, eps, wear, sigma = 0.108, 0.6, 60e6, 0.011, 60e6
+    d0 = (150e3 - a * wear * sigma) / (a * zeta * eps)
     assert ax.steady_depth == pytest.approx(d0, rel=1e-12)
     assert ax.steady_rop == pytest.approx(4.0 * d0 / (2 * np.pi), rel=1e-12)
     assert ax.wob[0] == pytest.approx(150e3, rel=1e-9)
