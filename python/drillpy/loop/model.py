@@ -615,7 +615,17 @@ class Evaluation:
     channel_rmse: dict     #: validation RMSE per channel: bit speed [rad/s], torque [N m]
 
 
-def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=None) -> list:
+def _reference(data: LoopData, h: np.ndarray) -> tuple:
+    """What :func:`channel_errors` compares predictions of the horizons ``h`` with: the recorded bit
+    speed and torque, and where the top speed is a measurement with its values (None, None without)."""
+    Yv, YT = measured(data, h)
+    if data.has_top:
+        s = data.horizon_samples[h]
+        return Yv, YT, data.top_ok[s], data.top_meas[s]
+    return Yv, YT, None, None
+
+
+def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=None, ref=None) -> list:
     """Normalized residuals per channel of predictions (horizons x L): bit speed over sd_v, torque
     over sd_T and, with a top-speed channel, top speed over sd_v (the bit speed's spread: a top that
     turns steadily adds nothing; a drive that gives way is an error of the same scale as the bit's),
@@ -633,6 +643,9 @@ def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=N
         The record (its recorded channels and sd_v [rad/s], sd_T [N m]).
     horizons : array_like of int, optional
         The horizons the rows are (default: every horizon).
+    ref : tuple, optional
+        The recorded channels of those horizons when already at hand (several models' predictions
+        of the same horizons: :func:`residual_vectors`).
 
     Returns
     -------
@@ -641,11 +654,10 @@ def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=N
         and, with a top-speed channel, top speed.
     """
     h = np.arange(data.starts.size) if horizons is None else np.asarray(horizons)
-    Yv, YT = measured(data, h)
+    Yv, YT, top_ok, Ytop = _reference(data, h) if ref is None else ref
     out = [(v - Yv) / data.sigma_v, (T - YT) / data.sigma_T]
     if data.has_top:
-        s = data.horizon_samples[h]
-        out.append(np.where(data.top_ok[s], (top - data.top_meas[s]) / data.sigma_v, 0.0))
+        out.append(np.where(top_ok, (top - Ytop) / data.sigma_v, 0.0))
     return out
 
 
@@ -735,10 +747,11 @@ def residual_vector(model: LoopModel, data: LoopData, threads: int, check: bool 
     return _residuals(predict(model, data, h, threads, top=True, check=check), data, h)
 
 
-def _residuals(pred: tuple, data: LoopData, h: np.ndarray) -> np.ndarray:
-    """:func:`residual_vector` of predictions (bit speed, torque, top speed) of the horizons ``h``."""
+def _residuals(pred: tuple, data: LoopData, h: np.ndarray, ref=None) -> np.ndarray:
+    """:func:`residual_vector` of predictions (bit speed, torque, top speed) of the horizons ``h``
+    (``ref``: :func:`channel_errors`')."""
     v, T, top = pred
-    parts = channel_errors(v, T, top, data, h)
+    parts = channel_errors(v, T, top, data, h, ref)
     return np.concatenate([r.ravel() for r in parts]) / math.sqrt(len(parts) * v.size)
 
 
@@ -764,7 +777,8 @@ def residual_vectors(models, data: LoopData, threads: int, check: bool = True) -
         RuntimeError) it would raise, as an object.
     """
     h = np.flatnonzero(~data.is_test)
-    return [p if isinstance(p, BaseException) else _residuals(p, data, h)
+    ref = _reference(data, h)  # the record's side, once for every model
+    return [p if isinstance(p, BaseException) else _residuals(p, data, h, ref)
             for p in predict_many(models, data, h, threads, top=True, check=check)]
 
 
