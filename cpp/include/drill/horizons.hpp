@@ -21,7 +21,11 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
+#include <exception>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "drill/batched_integrator.hpp"
@@ -91,99 +95,191 @@ struct HorizonSensors {
   }
 };
 
-/// `batched`: through BatchedIntegrator where it supports the configuration (false: Integrator,
-/// the reference, one horizon at a time).
-inline HorizonResult predict_horizons(const Simulation& sim, const std::vector<HorizonStart>& starts,
-                                      const HorizonInputs& hin, const ProgressFn& progress = nullptr,
-                                      int threads = 0, bool batched = true) {
-  const Config& c = sim.config();
-  require_positive(hin.dt, "horizons.dt_s");
-  require(hin.samples >= 1, "horizons.samples", hin.samples, "must be at least 1");
-  const double ratio = hin.dt / c.sim.dt;
-  const long stride = std::lround(ratio);
-  require(stride >= 1 && std::fabs(ratio - stride) <= 1e-6 * ratio, "simulation.dt_s", c.sim.dt,
-          "must divide the record's sampling interval " + show(hin.dt) + " s");
-  const std::size_t n = starts.size();
-  const long need = static_cast<long>(hin.samples) + 1;
-  auto check_series = [&](const std::vector<double>& s, const char* field) {
-    if (s.empty()) return;
-    for (std::size_t k = 0; k < s.size(); ++k) require_finite(s[k], std::string(field) + "[" + std::to_string(k) + "]");
-    for (std::size_t h = 0; h < n; ++h)
-      require(starts[h].index >= 0 && starts[h].index + need <= static_cast<long>(s.size()),
-              "horizons.start_index[" + std::to_string(h) + "]", starts[h].index,
-              std::string("leaves the ") + field + " series (" + show(s.size()) + " samples)");
-  };
-  check_series(hin.top_speed, "top_speed");
-  check_series(hin.wob, "wob");
-  if (hin.eta.size() > 0) {
-    require(hin.eta.rows() == static_cast<Eigen::Index>(n) && hin.eta.cols() == need, "horizons.eta rows x cols",
-            show(hin.eta.rows()) + " x " + show(hin.eta.cols()),
-            "must be horizons x (samples + 1) = " + show(n) + " x " + show(need));
-    require(hin.eta.allFinite(), "horizons.eta", "non-finite", "must be finite");
-  }
-  SimOptions o = c.sim;
-  o.duration = hin.samples * hin.dt;
-  const Integrator integ(sim.rom().model, c.law, o);
-  HorizonResult r;
-  r.bit_speed.resize(n, hin.samples);
-  r.torque.resize(n, hin.samples);
-  r.top_speed.resize(n, hin.samples);
-  // the inputs, the restart state and the sensors of horizon h
-  auto setup = [&](std::size_t h, Inputs& in, ModelState& s0) {
-    const HorizonStart& st = starts[h];
-    in = sim.inputs();
-    auto slice = [&](const std::vector<double>& s) {
-      return Signal::sampled(std::vector<double>(s.begin() + st.index, s.begin() + st.index + need), 0.0, hin.dt);
+/// One predict_horizons call, validated and set up: its integrator and result rows. Its work
+/// splits into units (one SIMD batch of horizons, or one horizon on the scalar reference path),
+/// each writing its own rows, which run in any order on any thread: predict_horizons runs the
+/// units of one call, predict_horizons_many those of several calls in one parallel region (the
+/// Jacobian of the loop's calibration: one call per perturbed model). A unit's numbers depend on
+/// its horizons alone (batched_integrator.hpp: a run's bits do not depend on its batch). Neither
+/// copyable nor movable: the batched integrator and the sensors point into it.
+class HorizonRun {
+ public:
+  /// `batched`: through BatchedIntegrator where it supports the configuration (false: Integrator,
+  /// the reference, one horizon at a time). Throws like predict_horizons on invalid inputs.
+  HorizonRun(const Simulation& sim, const std::vector<HorizonStart>& starts, const HorizonInputs& hin, bool batched)
+      : sim_(sim), starts_(starts), hin_(hin), c_(sim.config()), stride_(checked_stride(c_, hin)),
+        integ_(sim.rom().model, c_.law, options(c_, hin)), lockstep_(integ_) {
+    const std::size_t n = starts.size();
+    const long need = static_cast<long>(hin.samples) + 1;
+    auto check_series = [&](const std::vector<double>& s, const char* field) {
+      if (s.empty()) return;
+      for (std::size_t k = 0; k < s.size(); ++k) require_finite(s[k], std::string(field) + "[" + std::to_string(k) + "]");
+      for (std::size_t h = 0; h < n; ++h)
+        require(starts[h].index >= 0 && starts[h].index + need <= static_cast<long>(s.size()),
+                "horizons.start_index[" + std::to_string(h) + "]", starts[h].index,
+                std::string("leaves the ") + field + " series (" + show(s.size()) + " samples)");
     };
-    if (!hin.top_speed.empty()) in.top_speed = slice(hin.top_speed);
-    if (!hin.wob.empty()) in.wob = slice(hin.wob);
+    check_series(hin.top_speed, "top_speed");
+    check_series(hin.wob, "wob");
     if (hin.eta.size() > 0) {
-      const Eigen::RowVectorXd row = hin.eta.row(static_cast<Eigen::Index>(h));
-      in.eta = Signal::sampled(std::vector<double>(row.data(), row.data() + row.size()), 0.0, hin.dt);
+      require(hin.eta.rows() == static_cast<Eigen::Index>(n) && hin.eta.cols() == need, "horizons.eta rows x cols",
+              show(hin.eta.rows()) + " x " + show(hin.eta.cols()),
+              "must be horizons x (samples + 1) = " + show(n) + " x " + show(need));
+      require(hin.eta.allFinite(), "horizons.eta", "non-finite", "must be finite");
+    }
+    result.bit_speed.resize(n, hin.samples);
+    result.torque.resize(n, hin.samples);
+    result.top_speed.resize(n, hin.samples);
+    lanes_ = batched && lockstep_.supports(sim.inputs()) ? BatchedIntegrator::width() : 0;
+  }
+  HorizonRun(const HorizonRun&) = delete;
+  HorizonRun& operator=(const HorizonRun&) = delete;
+
+  /// Units of work: SIMD batches of BatchedIntegrator::width() horizons, or single horizons.
+  std::size_t units() const {
+    const std::size_t n = starts_.size();
+    return lanes_ ? (n + lanes_ - 1) / lanes_ : n;
+  }
+  /// Horizons done once units 0 .. k - 1 are (for the progress callback).
+  std::size_t horizons_done(std::size_t k) const { return lanes_ ? std::min(starts_.size(), k * lanes_) : k; }
+
+  /// Run unit k (writes its horizons' rows of `result`).
+  void run_unit(std::size_t k) {
+    if (!lanes_) {
+      Inputs in;
+      ModelState s0;
+      HorizonSensors sensors = setup(k, in, s0);
+      integ_.run(in, sensors, &s0);
+      return;
+    }
+    const std::size_t h0 = k * lanes_, count = std::min(lanes_, starts_.size() - h0);
+    std::vector<Inputs> in(count);
+    std::vector<ModelState> s0(count);
+    std::vector<const ModelState*> s0p(count);
+    std::vector<HorizonSensors> sensors;
+    for (std::size_t j = 0; j < count; ++j) {
+      sensors.push_back(setup(h0 + j, in[j], s0[j]));
+      s0p[j] = &s0[j];
+    }
+    lockstep_.run(in.data(), s0p.data(), count, sensors.data());
+  }
+
+  HorizonResult result;  ///< the predictions, complete once every unit has run
+
+ private:
+  static long checked_stride(const Config& c, const HorizonInputs& hin) {
+    require_positive(hin.dt, "horizons.dt_s");
+    require(hin.samples >= 1, "horizons.samples", hin.samples, "must be at least 1");
+    const double ratio = hin.dt / c.sim.dt;
+    const long stride = std::lround(ratio);
+    require(stride >= 1 && std::fabs(ratio - stride) <= 1e-6 * ratio, "simulation.dt_s", c.sim.dt,
+            "must divide the record's sampling interval " + show(hin.dt) + " s");
+    return stride;
+  }
+  static SimOptions options(const Config& c, const HorizonInputs& hin) {
+    SimOptions o = c.sim;
+    o.duration = hin.samples * hin.dt;
+    return o;
+  }
+
+  /// The inputs, the restart state and the sensors of horizon h.
+  HorizonSensors setup(std::size_t h, Inputs& in, ModelState& s0) {
+    const HorizonStart& st = starts_[h];
+    const long need = static_cast<long>(hin_.samples) + 1;
+    in = sim_.inputs();
+    auto slice = [&](const std::vector<double>& s) {
+      return Signal::sampled(std::vector<double>(s.begin() + st.index, s.begin() + st.index + need), 0.0, hin_.dt);
+    };
+    if (!hin_.top_speed.empty()) in.top_speed = slice(hin_.top_speed);
+    if (!hin_.wob.empty()) in.wob = slice(hin_.wob);
+    if (hin_.eta.size() > 0) {
+      const Eigen::RowVectorXd row = hin_.eta.row(static_cast<Eigen::Index>(h));
+      in.eta = Signal::sampled(std::vector<double>(row.data(), row.data() + row.size()), 0.0, hin_.dt);
     }
     // the state carries the total torque on the bit: the measured contact torque plus c_v v
     // and the string friction T_sf sign(v)
     double Tb = st.torque + in.bit_viscous * st.bit_speed;
     if (in.string_friction > 0.0) Tb += in.string_friction * ((st.bit_speed > 0.0) - (st.bit_speed < 0.0));
     s0 = in.top_drive.is_motor() && !std::isfinite(st.top_accel)
-             ? integ.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, in.top_drive, in.top_speed.at(0.0))
-             : integ.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, st.top_accel);
+             ? integ_.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, in.top_drive, in.top_speed.at(0.0))
+             : integ_.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, st.top_accel);
     s0.wob = st.wob;
-    const double fc = c.sensor_lowpass_hz, dt = c.sim.dt;
-    return HorizonSensors{&st, in.bit_viscous, stride, static_cast<Eigen::Index>(h), &r,
+    const double fc = c_.sensor_lowpass_hz, dt = c_.sim.dt;
+    return HorizonSensors{&st, in.bit_viscous, stride_, static_cast<Eigen::Index>(h), &result,
                           LowPass2(fc, dt), LowPass2(fc, dt), LowPass2(fc, dt)};
-  };
-  // one parallel region: a call is short, and barriers cost on busy machines
-  const BatchedIntegrator lockstep(integ);
-  bool done;
-  if (batched && lockstep.supports(sim.inputs())) {
-    done = parallel_batches(
-        n,
-        [&](std::size_t h0, std::size_t count) {
-          std::vector<Inputs> in(count);
-          std::vector<ModelState> s0(count);
-          std::vector<const ModelState*> s0p(count);
-          std::vector<HorizonSensors> sensors;
-          for (std::size_t k = 0; k < count; ++k) {
-            sensors.push_back(setup(h0 + k, in[k], s0[k]));
-            s0p[k] = &s0[k];
-          }
-          lockstep.run(in.data(), s0p.data(), count, sensors.data());
-        },
-        progress, threads, n);
-  } else {
-    done = parallel_for(
-        n,
-        [&](std::size_t h) {
-          Inputs in;
-          ModelState s0;
-          HorizonSensors sensors = setup(h, in, s0);
-          integ.run(in, sensors, &s0);
-        },
-        progress, threads, n);
   }
-  if (!done) return HorizonResult{};
-  return r;
+
+  const Simulation& sim_;
+  const std::vector<HorizonStart>& starts_;
+  const HorizonInputs& hin_;
+  const Config& c_;
+  long stride_;
+  Integrator integ_;
+  BatchedIntegrator lockstep_;
+  std::size_t lanes_ = 0;  ///< horizons per unit on the batched path; 0: the scalar path
+};
+
+/// `batched`: through BatchedIntegrator where it supports the configuration (false: Integrator,
+/// the reference, one horizon at a time).
+inline HorizonResult predict_horizons(const Simulation& sim, const std::vector<HorizonStart>& starts,
+                                      const HorizonInputs& hin, const ProgressFn& progress = nullptr,
+                                      int threads = 0, bool batched = true) {
+  HorizonRun run(sim, starts, hin, batched);
+  const std::size_t n = starts.size(), units = run.units();
+  ProgressFn runs;
+  if (progress) runs = [&](std::size_t done, std::size_t) { return progress(run.horizons_done(done), n); };
+  // one parallel region: a call is short, and barriers cost on busy machines
+  if (!parallel_for(units, [&](std::size_t k) { run.run_unit(k); }, runs, threads, std::max<std::size_t>(units, 1)))
+    return HorizonResult{};
+  return std::move(run.result);
+}
+
+/// One call of predict_horizons_many: a model, its horizons and their inputs.
+struct HorizonJob {
+  const Simulation* sim = nullptr;
+  std::vector<HorizonStart> starts;
+  HorizonInputs inputs;
+};
+
+/// Several predict_horizons calls in one parallel region (the units of every call share the
+/// threads): out[i] is what predict_horizons(*jobs[i].sim, jobs[i].starts, jobs[i].inputs, nullptr,
+/// threads, batched) returns, bit for bit, or empty with errors[i] the exception it throws (that of
+/// its lowest unit, as predict_horizons rethrows); one call's failure leaves the others' results.
+inline std::vector<HorizonResult> predict_horizons_many(const std::vector<HorizonJob>& jobs,
+                                                        std::vector<std::exception_ptr>& errors, int threads = 0,
+                                                        bool batched = true) {
+  require(threads >= 0, "threads", threads, "must not be negative (0: the OpenMP default)");
+  const std::size_t nj = jobs.size();
+  errors.assign(nj, nullptr);
+  std::vector<std::unique_ptr<HorizonRun>> runs(nj);
+  std::vector<std::pair<std::size_t, std::size_t>> units;  // (job, unit), job-major
+  for (std::size_t i = 0; i < nj; ++i) {
+    try {
+      require(jobs[i].sim != nullptr, "horizons.jobs", i, "has no simulation");
+      runs[i] = std::make_unique<HorizonRun>(*jobs[i].sim, jobs[i].starts, jobs[i].inputs, batched);
+      for (std::size_t k = 0; k < runs[i]->units(); ++k) units.emplace_back(i, k);
+    } catch (...) {
+      errors[i] = std::current_exception();
+    }
+  }
+  std::vector<std::exception_ptr> unit_errors(units.size());
+  const int nt = threads > 0 ? threads : max_threads();
+  const long nu = static_cast<long>(units.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
+  for (long u = 0; u < nu; ++u) {
+    const auto [i, k] = units[static_cast<std::size_t>(u)];
+    try {
+      runs[i]->run_unit(k);
+    } catch (...) {
+      unit_errors[static_cast<std::size_t>(u)] = std::current_exception();
+    }
+  }
+  for (std::size_t u = 0; u < units.size(); ++u)  // job-major: the first error met is a job's lowest unit's
+    if (unit_errors[u] && !errors[units[u].first]) errors[units[u].first] = unit_errors[u];
+  std::vector<HorizonResult> out(nj);
+  for (std::size_t i = 0; i < nj; ++i)
+    if (runs[i] && !errors[i]) out[i] = std::move(runs[i]->result);
+  return out;
 }
 
 }  // namespace drill

@@ -4,7 +4,10 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <exception>
 #include <iterator>
+#include <new>
+#include <stdexcept>
 
 #include "drill/horizons.hpp"
 #include "drill/sensor.hpp"
@@ -22,6 +25,34 @@ std::vector<double> as_vector(const py::object& x, const std::string& field) {
   auto a = py::cast<Array>(x);
   require(a.ndim() == 1, field, a.ndim(), "must be a 1-D array");
   return std::vector<double>(a.data(), a.data() + a.size());
+}
+
+/// The Python exception object pybind11 would raise for a C++ exception (not raised).
+py::object python_error(const std::exception_ptr& e) {
+  const py::module_ builtins = py::module_::import("builtins");
+  try {
+    std::rethrow_exception(e);
+  } catch (const py::error_already_set& x) {
+    return x.value();
+  } catch (const std::invalid_argument& x) {
+    return builtins.attr("ValueError")(x.what());
+  } catch (const std::domain_error& x) {
+    return builtins.attr("ValueError")(x.what());
+  } catch (const std::length_error& x) {
+    return builtins.attr("ValueError")(x.what());
+  } catch (const std::out_of_range& x) {
+    return builtins.attr("IndexError")(x.what());
+  } catch (const std::range_error& x) {
+    return builtins.attr("ValueError")(x.what());
+  } catch (const std::overflow_error& x) {
+    return builtins.attr("OverflowError")(x.what());
+  } catch (const std::bad_alloc&) {
+    return builtins.attr("MemoryError")();
+  } catch (const std::exception& x) {
+    return builtins.attr("RuntimeError")(x.what());
+  } catch (...) {
+    return builtins.attr("RuntimeError")("unknown C++ exception");
+  }
 }
 
 /// Field name, member and docstring of the double fields of HorizonStart, in declaration order.
@@ -151,6 +182,53 @@ void init_horizons(py::module_& m) {
       "samples dt [s] apart; top_speed [rad/s] and wob [N] are input series on the record's grid (default: the "
       "operating point), eta horizons x (samples + 1) the bit-rock fluctuation of Eq. (4.1); batched: horizons in "
       "SIMD lockstep with an ideal top drive (False: the scalar reference integrator).");
+  m.def(
+      "predict_horizons_many",
+      [](const py::sequence& simulations, const std::vector<std::vector<HorizonStart>>& starts, double dt,
+         const std::vector<int>& samples, const py::object& top_speed, const py::object& wob, const py::object& eta,
+         int threads, bool batched) {
+        const std::size_t n = static_cast<std::size_t>(py::len(simulations));
+        require(starts.size() == n && samples.size() == n, "predict_horizons_many", show(starts.size()) + " starts, " +
+                show(samples.size()) + " samples", "must have one entry per simulation (" + show(n) + ")");
+        // per job: None, or a sequence with one entry (None or an array) per simulation
+        auto per_job = [&](const py::object& x, const char* field) {
+          std::vector<py::object> out(n, py::none());
+          if (x.is_none()) return out;
+          auto seq = py::cast<py::sequence>(x);
+          require(static_cast<std::size_t>(py::len(seq)) == n, field, py::len(seq),
+                  "must have one entry per simulation (" + show(n) + ")");
+          for (std::size_t i = 0; i < n; ++i) out[i] = seq[i];
+          return out;
+        };
+        const auto tops = per_job(top_speed, "top_speed"), wobs = per_job(wob, "wob"), etas = per_job(eta, "eta");
+        std::vector<HorizonJob> jobs(n);
+        for (std::size_t i = 0; i < n; ++i) {
+          jobs[i].sim = &py::cast<const Simulation&>(simulations[i]);
+          jobs[i].starts = starts[i];
+          jobs[i].inputs.dt = dt;
+          jobs[i].inputs.samples = samples[i];
+          jobs[i].inputs.top_speed = as_vector(tops[i], "top_speed");
+          jobs[i].inputs.wob = as_vector(wobs[i], "wob");
+          if (!etas[i].is_none()) jobs[i].inputs.eta = py::cast<Eigen::MatrixXd>(etas[i]);
+        }
+        std::vector<std::exception_ptr> errors;
+        std::vector<HorizonResult> r;
+        {
+          py::gil_scoped_release nogil;
+          r = predict_horizons_many(jobs, errors, threads, batched);
+        }
+        py::list out;
+        for (std::size_t i = 0; i < n; ++i)
+          out.append(errors[i] ? python_error(errors[i]) : py::cast(std::move(r[i])));
+        return out;
+      },
+      py::arg("simulations"), py::arg("starts"), py::arg("dt"), py::arg("samples"), py::arg("top_speed") = py::none(),
+      py::arg("wob") = py::none(), py::arg("eta") = py::none(), py::arg("threads") = 0, py::arg("batched") = true,
+      "predict_horizons for several simulations in one parallel region (the loop's Jacobian: one simulation per "
+      "perturbed model): entry i of starts, samples and of the optional top_speed, wob, eta lists (None or an "
+      "array per simulation) are call i's arguments. Returns one entry per simulation: the HorizonResult "
+      "predict_horizons gives, bit for bit, or the exception it raises (ValueError, RuntimeError, ...) as an "
+      "object, not raised: one model's failure leaves the others' predictions.");
   m.def(
       "top_torque_from_bit",
       [](const Simulation& sim, const Eigen::VectorXd& v, const Eigen::VectorXd& a, const Eigen::VectorXd& T,

@@ -4,6 +4,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
+
 #include "drill/config.hpp"
 #include "drill/exact.hpp"
 #include "drill/modal.hpp"
@@ -15,6 +17,47 @@ namespace py = pybind11;
 using namespace drill;
 using drillpy_glue::Array;
 
+namespace {
+
+/// JSON carries no NaN or inf (drillpy.model.config.to_json_text refuses them too).
+double finite(double v) {
+  require(std::isfinite(v), "config", v, "has a non-finite number (JSON cannot carry it)");
+  return v;
+}
+
+/// A Python value as JSON, as json.dumps then the engine's parser would read it (dict, list or
+/// tuple, str, bool, int, float and their numpy scalars, None); nesting deeper than
+/// max_json_depth and other types are refused with ValueError.
+json from_python(const py::handle& x, int depth) {
+  require(depth <= max_json_depth, "config", depth, "is nested too deep (at most " + show(max_json_depth) + " levels)");
+  if (x.is_none()) return nullptr;
+  if (py::isinstance<py::bool_>(x)) return x.cast<bool>();
+  if (py::isinstance<py::str>(x)) return x.cast<std::string>();
+  if (py::isinstance<py::float_>(x)) return finite(x.cast<double>());
+  if (py::isinstance<py::int_>(x)) return x.cast<long long>();
+  if (py::isinstance<py::dict>(x)) {
+    json o = json::object();
+    for (auto kv : py::reinterpret_borrow<py::dict>(x)) {
+      require(py::isinstance<py::str>(kv.first), "config key", py::str(kv.first).cast<std::string>(), "must be a string");
+      o[kv.first.cast<std::string>()] = from_python(kv.second, depth + 1);
+    }
+    return o;
+  }
+  if (py::isinstance<py::list>(x) || py::isinstance<py::tuple>(x)) {
+    json a = json::array();
+    for (auto v : py::reinterpret_borrow<py::sequence>(x)) a.push_back(from_python(v, depth + 1));
+    return a;
+  }
+  if (py::hasattr(x, "dtype") && py::hasattr(x, "item")) {  // a numpy scalar: its Python value
+    const py::object v = x.attr("item")();
+    if (!py::hasattr(v, "dtype")) return from_python(v, depth);
+  }
+  require(false, "config value", py::str(py::type::of(x)).cast<std::string>(), "is not a JSON type");
+  return nullptr;
+}
+
+}  // namespace
+
 void init_model(py::module_& m) {
   py::class_<Config>(m, "Config",
                      "A validated engine configuration (the JSON schema drillsim reads), parsed once. Pass it to "
@@ -22,6 +65,11 @@ void init_model(py::module_& m) {
                      "drillpy.model.config.engine_config).")
       .def(py::init([](const std::string& text) { return parse_config_text(text); }), py::arg("json"),
            "Parse and validate a JSON configuration (ValueError naming the field when invalid).")
+      .def_static("from_dict", [](const py::dict& d) { return parse_config(from_python(d, 0)); }, py::arg("config"),
+                  "Parse and validate a configuration given as a dict, without JSON text: the same Config as "
+                  "Config(json.dumps(config)) (ValueError naming the field when invalid). No plausibility "
+                  "warnings (drillpy.model.config.engine_config gives those): for a program's configurations, e.g. "
+                  "the trials of drillpy loop's calibration.")
       .def("to_json", [](const Config& c) { return to_json(c).dump(); },
            "JSON text of the configuration with every default made explicit.")
       .def("to_dict", [](const Config& c) { return drillpy_glue::to_python_dict(to_json(c)); },

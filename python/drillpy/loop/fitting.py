@@ -9,6 +9,7 @@ every candidate, so that a candidate gains only through its own parameters.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -18,7 +19,7 @@ from drillpy.records import identification as ident
 from drillpy.records.io import RPM
 from .data import LoopData
 from .effects import CATALOGUE, declared_effects, stripped
-from .model import STIFFNESS, LoopModel, law_channels, law_torque, residual_vector
+from .model import STIFFNESS, LoopModel, law_channels, law_torque, residual_vector, residual_vectors
 from .options import LoopOptions
 
 LAW = "law"          #: pseudo-effect: the law's free parameters (and the WOB coupling gain)
@@ -32,6 +33,8 @@ BETA2_SPREAD = 100.0
 #: at most RESTARTS times (within the same evaluation budget).
 RESTART_GAIN = 0.01
 RESTARTS = 20
+#: Relative step of the calibration's finite-difference Jacobian (scipy's ``diff_step``).
+DIFF_STEP = 1e-3
 
 
 class _FamilyData:
@@ -270,8 +273,18 @@ def _pack(model: LoopModel, data: LoopData, names) -> tuple:
     return np.array(x, float), np.array(lo, float), np.array(hi, float), where
 
 
-def _unpack(model: LoopModel, x, where, knot: bool) -> LoopModel:
-    m = model.copy()
+def _unpack(model: LoopModel, x, where, knot: bool, trial: bool = False) -> LoopModel:
+    """The model with the parameters ``x`` (:func:`_pack`'s ``where``). A copy of the model
+    (configuration, law and effects); with ``trial`` (an optimizer's evaluation, read only) a copy of
+    what the parameters change alone (the law, the effects' parameter dicts and, when fitted, the
+    damping section), the rest of the configuration shared with ``model``."""
+    if trial:
+        damping = any(w[0] == DAMPING for w in where)
+        cfg = {**model.cfg, "damping": {**model.cfg["damping"], "ratios": list(model.cfg["damping"]["ratios"])}} \
+            if damping else model.cfg
+        m = dataclasses.replace(model, cfg=cfg, law=dict(model.law), effects={n: dict(p) for n, p in model.effects.items()})
+    else:
+        m = model.copy()
     law_p = [xi for xi, w in zip(x, where) if w[0] == LAW]
     if law_p:
         fam, _, fx, fd = _law_vector(model, knot)
@@ -287,6 +300,81 @@ def _unpack(model: LoopModel, x, where, knot: bool) -> LoopModel:
         elif name != LAW:
             m.effects[name][key] = val
     return m
+
+
+def fd_steps(x0: np.ndarray, lo: np.ndarray, hi: np.ndarray, rel_step: float) -> np.ndarray:
+    """The steps h of scipy's '2-point' finite differences (``scipy.optimize.least_squares`` with
+    ``diff_step=rel_step`` and bounds): h = rel_step sign(x) |x| (sign(0) = +1; where that step
+    vanishes, sqrt(eps) sign(x) max(1, |x|)), reversed where x + h leaves the bounds and fits
+    the other way, else up to the farther bound (``scipy.optimize._numdiff``; the column i of the
+    Jacobian is (f(x + h_i e_i) - f(x)) / ((x_i + h_i) - x_i)). ``tests/python/test_loop_jacobian.py``
+    checks them against scipy's own.
+
+    Parameters
+    ----------
+    x0 : numpy.ndarray
+        The point (strictly inside the bounds).
+    lo, hi : numpy.ndarray
+        The bounds.
+    rel_step : float
+        The relative step.
+
+    Returns
+    -------
+    numpy.ndarray
+        The signed steps h.
+    """
+    sign = (x0 >= 0).astype(float) * 2 - 1
+    h = rel_step * sign * np.abs(x0)
+    dx = (x0 + h) - x0
+    h = np.where(dx == 0, np.finfo(float).eps ** 0.5 * sign * np.maximum(1.0, np.abs(x0)), h)
+    if np.all((lo == -np.inf) & (hi == np.inf)):
+        return h
+    lower, upper = x0 - lo, hi - x0
+    adj = h.copy()
+    x = x0 + h
+    violated = (x < lo) | (x > hi)
+    fitting = np.abs(h) <= np.maximum(lower, upper)
+    adj[violated & fitting] *= -1
+    forward = (upper >= lower) & ~fitting
+    adj[forward] = upper[forward]
+    backward = (upper < lower) & ~fitting
+    adj[backward] = -lower[backward]
+    return adj
+
+
+def fd_jacobian(batch, x0: np.ndarray, f0: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """The '2-point' Jacobian of scipy's ``_dense_difference`` with the residuals of every perturbed
+    point from one call ``batch(points)`` (a list of arrays, one per point, in order): column i is
+    (f(x + h_i e_i) - f0) / ((x_i + h_i) - x_i), the same operations as scipy's, and the same
+    (Fortran) layout.
+
+    Parameters
+    ----------
+    batch : callable
+        list of points -> list of residual vectors.
+    x0 : numpy.ndarray
+        The point.
+    f0 : numpy.ndarray
+        The residuals at ``x0``.
+    h : numpy.ndarray
+        The steps (:func:`fd_steps`).
+
+    Returns
+    -------
+    numpy.ndarray
+        The Jacobian, residuals x parameters.
+    """
+    points = []
+    for i in range(x0.size):
+        x1 = np.copy(x0)
+        x1[i] = x0[i] + h[i]
+        points.append(x1)
+    fs = batch(points)
+    jt = np.empty((x0.size, f0.size))
+    for i, f in enumerate(fs):
+        jt[i] = (f - f0) / ((x0[i] + h[i]) - x0[i])
+    return jt.T
 
 
 def e_train(model: LoopModel, data: LoopData, threads: int) -> float:
@@ -357,16 +445,37 @@ def fit_dynamic(model: LoopModel, data: LoopData, names, opt: LoopOptions) -> tu
     x0 = np.clip(x0, _inside(lo, +1), _inside(hi, -1))
     size = (3 if data.has_top else 2) * int((~data.is_test).sum()) * data.L
 
-    def res(x):
-        try:
-            r = residual_vector(_unpack(model, x, where, data.law_knot), data, opt.threads)
-        except (ValueError, RuntimeError):  # an unstable or diverging trial: a large residual
+    def clean(r):  # an unstable or diverging trial: a large residual
+        if isinstance(r, (ValueError, RuntimeError)):
             return np.full(size, 10.0)
+        if isinstance(r, BaseException):
+            raise r
         return np.where(np.isfinite(r), r, 10.0)
 
+    last = {}  # the last evaluation: the Jacobian's f0 (the optimizer asks for J where it just evaluated)
+
+    def res(x):
+        try:
+            r = residual_vector(_unpack(model, x, where, data.law_knot, trial=True), data, opt.threads, check=False)
+        except (ValueError, RuntimeError) as e:
+            r = e
+        last["x"], last["f"] = np.copy(x), clean(r)
+        return last["f"]
+
+    def batch(points):  # the perturbed models of one Jacobian: one engine call
+        models = [_unpack(model, x, where, data.law_knot, trial=True) for x in points]
+        return [clean(r) for r in residual_vectors(models, data, opt.threads, check=False)]
+
+    def jac(x):
+        f0 = last["f"] if "x" in last and np.array_equal(last["x"], x) else res(x)
+        return fd_jacobian(batch, x, f0, fd_steps(x, lo, hi, DIFF_STEP))
+
+    # one engine call per Jacobian (scipy's steps, the engine's lanes bit-identical to single runs:
+    # the same Jacobian as scipy's '2-point', bit for bit), or scipy's differences, one call each
+    kw = dict(bounds=(lo, hi), method="trf", jac=jac if opt.batched_jacobian else "2-point", diff_step=DIFF_STEP,
+              x_scale="jac", xtol=1e-6, ftol=1e-6)
     budget = opt.nfev_per_parameter * x0.size
-    r = optimize.least_squares(res, x0, bounds=(lo, hi), method="trf", diff_step=1e-3,
-                               max_nfev=budget, x_scale="jac", xtol=1e-6, ftol=1e-6)
+    r = optimize.least_squares(res, x0, max_nfev=budget, **kw)
     used = r.nfev
     # Restarts: the short horizons' residual jumps where a predicted stop or break-away crosses a
     # sample, so the trust region shrinks on a kink and the step test (xtol) stops the search far from
@@ -375,8 +484,7 @@ def fit_dynamic(model: LoopModel, data: LoopData, names, opt: LoopOptions) -> tu
     for _ in range(RESTARTS):
         if used >= budget or r.status not in (2, 3):
             break
-        s = optimize.least_squares(res, r.x, bounds=(lo, hi), method="trf", diff_step=1e-3,
-                                   max_nfev=budget - used, x_scale="jac", xtol=1e-6, ftol=1e-6)
+        s = optimize.least_squares(res, r.x, max_nfev=budget - used, **kw)
         used += s.nfev
         gained = s.cost < (1.0 - RESTART_GAIN) * r.cost
         if s.cost < r.cost:

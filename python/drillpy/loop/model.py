@@ -116,8 +116,9 @@ class LoopModel:
                 + sum(CATALOGUE[n].count(p) for n, p in self.effects.items()))
 
     def engine_config(self) -> dict:
-        """The engine configuration of the model, every effect applied."""
-        c = copy.deepcopy(self.cfg)
+        """The engine configuration of the model, every effect applied (a new dict; the model's
+        configuration is not modified)."""
+        c = _copy_tree(self.cfg)
         c["law"] = dict(self.law)
         c["operation"]["wob_n"] = float(self.wob)
         c["operation"]["top_speed_rad_s"] = float(self.top_speed)
@@ -182,7 +183,17 @@ class LoopModel:
             raise ValueError(f"model: lacks {e}") from None
 
 
-def simulation(cfg: dict) -> "_core.Simulation":
+def _copy_tree(x):
+    """A copy of a configuration's dicts and lists, their leaves (numbers, strings) shared: what
+    ``copy.deepcopy`` gives a JSON-like configuration, without its memo (a tenth of its time)."""
+    if isinstance(x, dict):
+        return {k: _copy_tree(v) for k, v in x.items()}
+    if isinstance(x, list):
+        return [_copy_tree(v) for v in x]
+    return x
+
+
+def simulation(cfg: dict, check: bool = True) -> "_core.Simulation":
     """The engine's Simulation of a configuration (built in about a millisecond for the rig's
     model, negligible beside the predictions it serves).
 
@@ -190,13 +201,18 @@ def simulation(cfg: dict) -> "_core.Simulation":
     ----------
     cfg : dict
         A complete engine configuration (e.g. :meth:`LoopModel.engine_config`).
+    check : bool
+        True: through :func:`drillpy.model.config.engine_config` (its plausibility warnings, the
+        JSON text); False: the dict straight into the engine (``_core.Config.from_dict``, the same
+        Config without the warnings), for the calibration's trials, whose plausibility the loop
+        judges by the parameters' bounds (:func:`drillpy.loop.run.run_loop` silences the warnings).
 
     Returns
     -------
     drillpy._core.Simulation
         The engine's model of the configuration.
     """
-    return _core.Simulation(engine_config(cfg))
+    return _core.Simulation(engine_config(cfg) if check else _core.Config.from_dict(cfg))
 
 
 def motor_inertia_floor(model: LoopModel) -> float:
@@ -399,7 +415,8 @@ def law_torque(model: LoopModel, chs: dict, index=None) -> np.ndarray:
     return ident.law_eval(model.law, chs["v"][sl], chs["a"][sl], chs["W_eff"][sl])[0]
 
 
-def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, top: bool = False) -> tuple:
+def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, top: bool = False,
+            check: bool = True) -> tuple:
     """Predicted bit speed [rad/s] and torque on bit [N m] (and top speed [rad/s] with ``top``) of
     the horizons (rows; default all), after the model's sensors.
 
@@ -426,6 +443,8 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
         Engine threads (0: OpenMP default).
     top : bool
         Also return the predicted top speed.
+    check : bool
+        The configuration's plausibility warnings (:func:`simulation`; False: the calibration's trials).
 
     Returns
     -------
@@ -433,10 +452,42 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
         (bit speed [rad/s], torque on bit [N m]) or, with ``top``, (bit speed, torque on bit, top
         speed [rad/s]), each of shape (horizons, L), aligned with :func:`drillpy.loop.data.measured`.
     """
+    job = _horizon_job(model, data, horizons, check)
+    # the batched SIMD integrator unless the options ask for the scalar reference one (LoopOptions.batched)
+    r = _core.predict_horizons(job.sim, job.starts, data.dt, job.samples, top_speed=job.top_speed, wob=job.wob,
+                               eta=job.eta, threads=threads, batched=data.batched)
+    return job.outputs(r, top)
+
+
+@dataclass
+class _HorizonJob:
+    """One model's engine call of :func:`predict`: its Simulation, restarts and input series, and
+    what turns the engine's output into the recorded channels (the restart lead D, the torque sensor)."""
+    sim: object
+    starts: list
+    samples: int
+    top_speed: np.ndarray | None
+    wob: np.ndarray | None
+    eta: np.ndarray | None
+    D: int
+    gain: float
+    offset: float
+
+    def outputs(self, r, top: bool) -> tuple:
+        """(bit speed, torque[, top speed]) of the engine's HorizonResult ``r``, after the model's sensors."""
+        D = self.D
+        T = self.gain * r.torque[:, D:] + self.offset if (self.gain, self.offset) != (1.0, 0.0) else r.torque[:, D:]
+        if top:
+            return r.bit_speed[:, D:], T, r.top_speed[:, D:]
+        return r.bit_speed[:, D:], T
+
+
+def _horizon_job(model: LoopModel, data: LoopData, horizons=None, check: bool = True) -> _HorizonJob:
+    """The engine call of :func:`predict` for a model (see there); ``check``: as :func:`simulation`'s."""
     h = np.arange(data.starts.size) if horizons is None else np.asarray(horizons)
     D = int(math.ceil(sensor_delay(model) / data.dt - 1e-9))
     idx = data.starts[h] - D
-    sim = simulation(model.engine_config())
+    sim = simulation(model.engine_config(), check)
     chs = state_channels(model, data)
     ch = data.ch
     n = idx.size
@@ -473,14 +524,55 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
     # the law's WOB input series (an axial model's set force: never the recorded state itself)
     wob_series = _wob_input(model, chs.get("W"), data.t.size) if any(
         CATALOGUE[n].wob_input(p, model, chs.get("W")) is not None for n, p in model.effects.items()) else None
-    # the batched SIMD integrator unless the options ask for the scalar reference one (LoopOptions.batched)
-    r = _core.predict_horizons(sim, starts, data.dt, data.L + D, top_speed=top_series, wob=wob_series, eta=eta,
-                               threads=threads, batched=data.batched)
     gain, offset = torque_sensor(model)  # the torque as the load cell records it
-    T = gain * r.torque[:, D:] + offset if (gain, offset) != (1.0, 0.0) else r.torque[:, D:]
-    if top:
-        return r.bit_speed[:, D:], T, r.top_speed[:, D:]
-    return r.bit_speed[:, D:], T
+    return _HorizonJob(sim, starts, data.L + D, top_series, wob_series, eta, D, gain, offset)
+
+
+def predict_many(models, data: LoopData, horizons=None, threads: int = 0, top: bool = False, check: bool = True) -> list:
+    """:func:`predict` of several models in one engine call (``_core.predict_horizons_many``: the
+    horizons of every model share the threads and the SIMD batches are formed per model), each
+    model's predictions bit for bit those of :func:`predict` (the engine's guarantee: a horizon's
+    numbers do not depend on the horizons that share its batch or its thread).
+
+    Parameters
+    ----------
+    models : sequence of LoopModel
+        The models (e.g. the perturbed models of one finite-difference Jacobian).
+    data : LoopData
+        The record on the analysis grid.
+    horizons : array_like of int, optional
+        Horizon indices (default: every horizon), the same for every model.
+    threads : int
+        Engine threads (0: OpenMP default).
+    top : bool
+        Also return the predicted top speed.
+    check : bool
+        The configurations' plausibility warnings (:func:`simulation`).
+
+    Returns
+    -------
+    list
+        Per model, the tuple :func:`predict` returns, or the exception (ValueError, RuntimeError)
+        :func:`predict` would raise for that model, as an object (not raised).
+    """
+    jobs, out = [], []
+    for m in models:
+        try:
+            jobs.append(_horizon_job(m, data, horizons, check))
+        except (ValueError, RuntimeError) as e:  # a configuration the engine refuses
+            jobs.append(e)
+    ok = [j for j in jobs if not isinstance(j, BaseException)]
+    rs = iter(_core.predict_horizons_many(
+        [j.sim for j in ok], [j.starts for j in ok], data.dt, [j.samples for j in ok],
+        top_speed=[j.top_speed for j in ok], wob=[j.wob for j in ok], eta=[j.eta for j in ok], threads=threads,
+        batched=data.batched)) if ok else iter(())
+    for j in jobs:
+        if isinstance(j, BaseException):
+            out.append(j)
+            continue
+        r = next(rs)
+        out.append(r if isinstance(r, BaseException) else j.outputs(r, top))
+    return out
 
 
 @dataclass
@@ -523,7 +615,17 @@ class Evaluation:
     channel_rmse: dict     #: validation RMSE per channel: bit speed [rad/s], torque [N m]
 
 
-def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=None) -> list:
+def _reference(data: LoopData, h: np.ndarray) -> tuple:
+    """What :func:`channel_errors` compares predictions of the horizons ``h`` with: the recorded bit
+    speed and torque, and where the top speed is a measurement with its values (None, None without)."""
+    Yv, YT = measured(data, h)
+    if data.has_top:
+        s = data.horizon_samples[h]
+        return Yv, YT, data.top_ok[s], data.top_meas[s]
+    return Yv, YT, None, None
+
+
+def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=None, ref=None) -> list:
     """Normalized residuals per channel of predictions (horizons x L): bit speed over sd_v, torque
     over sd_T and, with a top-speed channel, top speed over sd_v (the bit speed's spread: a top that
     turns steadily adds nothing; a drive that gives way is an error of the same scale as the bit's),
@@ -541,6 +643,9 @@ def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=N
         The record (its recorded channels and sd_v [rad/s], sd_T [N m]).
     horizons : array_like of int, optional
         The horizons the rows are (default: every horizon).
+    ref : tuple, optional
+        The recorded channels of those horizons when already at hand (several models' predictions
+        of the same horizons: :func:`residual_vectors`).
 
     Returns
     -------
@@ -549,11 +654,10 @@ def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=N
         and, with a top-speed channel, top speed.
     """
     h = np.arange(data.starts.size) if horizons is None else np.asarray(horizons)
-    Yv, YT = measured(data, h)
+    Yv, YT, top_ok, Ytop = _reference(data, h) if ref is None else ref
     out = [(v - Yv) / data.sigma_v, (T - YT) / data.sigma_T]
     if data.has_top:
-        s = data.horizon_samples[h]
-        out.append(np.where(data.top_ok[s], (top - data.top_meas[s]) / data.sigma_v, 0.0))
+        out.append(np.where(top_ok, (top - Ytop) / data.sigma_v, 0.0))
     return out
 
 
@@ -616,7 +720,7 @@ def evaluate(model: LoopModel, data: LoopData, threads: int = 0) -> Evaluation:
     return Evaluation(model, v, T, top if data.has_top else None, e_h, e_tr, e_te, lr["train"], lr["test"], rm)
 
 
-def residual_vector(model: LoopModel, data: LoopData, threads: int) -> np.ndarray:
+def residual_vector(model: LoopModel, data: LoopData, threads: int, check: bool = True) -> np.ndarray:
     """Normalized residuals of the calibration horizons (every channel of :func:`channel_errors`);
     their sum of squares is E_train^2.
 
@@ -630,6 +734,8 @@ def residual_vector(model: LoopModel, data: LoopData, threads: int) -> np.ndarra
         The record on the analysis grid.
     threads : int
         Engine threads (0: OpenMP default).
+    check : bool
+        The configuration's plausibility warnings (:func:`simulation`; False: the calibration's trials).
 
     Returns
     -------
@@ -638,9 +744,42 @@ def residual_vector(model: LoopModel, data: LoopData, threads: int) -> np.ndarra
         sqrt(channels x samples).
     """
     h = np.flatnonzero(~data.is_test)
-    v, T, top = predict(model, data, h, threads, top=True)
-    parts = channel_errors(v, T, top, data, h)
+    return _residuals(predict(model, data, h, threads, top=True, check=check), data, h)
+
+
+def _residuals(pred: tuple, data: LoopData, h: np.ndarray, ref=None) -> np.ndarray:
+    """:func:`residual_vector` of predictions (bit speed, torque, top speed) of the horizons ``h``
+    (``ref``: :func:`channel_errors`')."""
+    v, T, top = pred
+    parts = channel_errors(v, T, top, data, h, ref)
     return np.concatenate([r.ravel() for r in parts]) / math.sqrt(len(parts) * v.size)
+
+
+def residual_vectors(models, data: LoopData, threads: int, check: bool = True) -> list:
+    """:func:`residual_vector` of several models in one engine call (:func:`predict_many`), each bit
+    for bit the single model's.
+
+    Parameters
+    ----------
+    models : sequence of LoopModel
+        The models.
+    data : LoopData
+        The record on the analysis grid.
+    threads : int
+        Engine threads (0: OpenMP default).
+    check : bool
+        The configurations' plausibility warnings (:func:`simulation`).
+
+    Returns
+    -------
+    list
+        Per model, the residuals [-] of :func:`residual_vector`, or the exception (ValueError,
+        RuntimeError) it would raise, as an object.
+    """
+    h = np.flatnonzero(~data.is_test)
+    ref = _reference(data, h)  # the record's side, once for every model
+    return [p if isinstance(p, BaseException) else _residuals(p, data, h, ref)
+            for p in predict_many(models, data, h, threads, top=True, check=check)]
 
 
 def bit_equation(model: LoopModel) -> dict:

@@ -64,6 +64,12 @@ class LoopOptions:
         is enough to change a decision that sits at a threshold; on sample 175 both paths give the
         same answer, the batched one 2.3 x faster (``benchmarks/loop_sample175.py``); the
         validation tables of docs/loop.md are run on it.
+    batched_jacobian : bool
+        Evaluate the perturbed models of each finite-difference Jacobian of the calibration in one
+        engine call (``_core.predict_horizons_many``, default) instead of one call each (scipy's own
+        '2-point' differences, False). The steps are scipy's and the engine's lanes are bit-identical
+        to single runs, so both give the same Jacobian bit for bit and the same calibration
+        (``benchmarks/bench_loop.py`` times both; docs/loop.md, "Calibration").
     blas_threads : int
         BLAS threads of the optimizer's linear algebra while the loop runs (1; 0: the library's
         default). One is fastest: OpenBLAS's threads gain nothing on the tall Jacobians' SVDs and
@@ -105,6 +111,7 @@ class LoopOptions:
     long_run: bool = True
     discovery: bool = True
     batched: bool = True
+    batched_jacobian: bool = True
     blas_threads: int = 1
     law_knot: bool = True
     gj_tolerance: float = GJ_TOLERANCE

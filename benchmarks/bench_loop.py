@@ -1,0 +1,96 @@
+"""``drillpy loop`` on the test-rig record, sample 175 (0-40 s), with the calibration's
+finite-difference Jacobian in one engine call per Jacobian (issue 33, item 2) against one call per
+perturbation, measured in one run; each configuration in its own process, one after the other.
+
+    PYTHONPATH=python python3 benchmarks/bench_loop.py [--base-tree DIR] [--rate 1000]
+
+Configurations:
+
+* ``base`` (with ``--base-tree DIR``): the loop of another source tree with its own built extension
+  (e.g. ``git archive <commit> python | tar -x -C DIR`` and that commit's ``_core*.so`` copied into
+  ``DIR/python/drillpy``): the loop as it ran before issue 33;
+* ``per-perturbation``: this tree with ``LoopOptions(batched_jacobian=False)``: scipy's '2-point'
+  differences, one engine call per perturbed model (the trials' configurations built without
+  ``copy.deepcopy`` and JSON text, as in ``batched``);
+* ``batched``: this tree's defaults: every perturbed model of one Jacobian in one
+  ``_core.predict_horizons_many`` call.
+
+Prints per configuration: the wall time of ``run_loop`` (the record read, no figures, no files),
+engine calls, the steps (action, effect, E before -> after) and the final validation E; then the
+ratios of the wall times and whether the decisions are the same. The `drillpy loop` analysis rate
+(1000 Hz) is the default. The machine is shared: read the ratios.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
+OPTIONS = {"base": {}, "per-perturbation": {"batched_jacobian": False}, "batched": {}}
+
+
+def child(name: str, rate: float, record: str) -> None:
+    """Run the loop in this process and print one JSON line."""
+    import drillpy
+    from drillpy import _core
+    from drillpy.loop import LoopOptions, run_loop
+    calls = {"n": 0}
+    for f in ("predict_horizons", "predict_horizons_many"):  # count the engine calls
+        if hasattr(_core, f):
+            orig = getattr(_core, f)
+            setattr(_core, f, lambda *a, _o=orig, **k: (calls.__setitem__("n", calls["n"] + 1), _o(*a, **k))[1])
+    cfg = drillpy.load_config(preset="thesis-rig")
+    t0 = time.perf_counter()
+    res = run_loop(record, cfg, LoopOptions(rate_hz=rate, **OPTIONS[name]), log=lambda *a: None)
+    wall = time.perf_counter() - t0
+    steps = [[s["action"], s["effect"], round(s["error_before"], 4), round(s["error_after"], 4)] for s in res.steps]
+    print(json.dumps({"wall": wall, "calls": calls["n"], "steps": steps, "baseline": res.baseline.E_test,
+                      "final": res.final.E_test, "effects": list(res.final.model.effects)}))
+
+
+def run(name: str, tree: Path, rate: float, record: str) -> dict:
+    env = dict(os.environ, PYTHONPATH=str(tree / "python"))
+    p = subprocess.run([sys.executable, __file__, "--child", name, "--rate", str(rate), "--record", record],
+                       env=env, capture_output=True, text=True, cwd=tree)
+    if p.returncode:
+        raise SystemExit(f"{name}: failed\n{p.stderr}")
+    r = json.loads(p.stdout.strip().splitlines()[-1])
+    print(f"{name}: {r['wall']:.1f} s, {r['calls']} engine calls; baseline E {r['baseline']:.4f}, final E "
+          f"{r['final']:.4f}, effects {r['effects']}")
+    for s in r["steps"]:
+        print(f"  {s[0]:<6} {s[1]:<20} E {s[2]:.4f} -> {s[3]:.4f}")
+    sys.stdout.flush()
+    return r
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--base-tree", type=Path, help="a source tree with its built extension: the loop before")
+    ap.add_argument("--rate", type=float, default=1000.0, help="analysis rate [Hz] (drillpy loop's default: 1000)")
+    ap.add_argument("--record", default=str(SAMPLE175))
+    ap.add_argument("--only", choices=tuple(OPTIONS))
+    ap.add_argument("--child", choices=tuple(OPTIONS), help=argparse.SUPPRESS)
+    a = ap.parse_args()
+    if a.child:
+        child(a.child, a.rate, a.record)
+        return 0
+    names = [n for n in OPTIONS if (n != "base" or a.base_tree) and (a.only in (None, n))]
+    print(f"sample 175 at {a.rate:g} Hz; {os.cpu_count()} CPUs; load average {os.getloadavg()[0]:.1f}")
+    res = {n: run(n, a.base_tree.resolve() if n == "base" else REPO, a.rate, a.record) for n in names}
+    if "batched" in res:
+        b = res["batched"]
+        for n, r in res.items():
+            if n != "batched":
+                same = r["steps"] == b["steps"] and r["effects"] == b["effects"]
+                print(f"{n} / batched: {r['wall'] / b['wall']:.2f} x; same decisions: {same}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
