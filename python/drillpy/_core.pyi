@@ -6,11 +6,16 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['AxialReport', 'Config', 'FrfEnvelope', 'HorizonResult', 'HorizonStart', 'MonteCarlo', 'RunReport', 'SeverityStatistics', 'Simulation', 'StochasticModel', 'cb_frequencies', 'conv1', 'craig_bampton', 'exact_frequencies', 'fe_matrices', 'generate_process', 'law_torque', 'lowpass2', 'max_dispersion', 'max_threads', 'natural_frequencies', 'normalize_config', 'observation_nodes', 'predict_horizons', 'preset_json', 'preset_names', 'process_grid', 'process_variance', 'psd_model_integral', 'psd_model_values', 'psd_table_values', 'random_matrix', 'run_many', 'severity_statistics', 'severity_threshold', 'state_from_bit', 'thesis_case_dispersions', 'top_torque_from_bit', 'with_total_elements']
+__all__: list[str] = ['AxialReport', 'Config', 'FrfEnvelope', 'HorizonResult', 'HorizonStart', 'MonteCarlo', 'RunReport', 'SeverityStatistics', 'Simulation', 'StochasticModel', 'cb_frequencies', 'conv1', 'craig_bampton', 'exact_frequencies', 'fe_matrices', 'generate_process', 'law_torque', 'lowpass2', 'max_dispersion', 'max_threads', 'natural_frequencies', 'normalize_config', 'observation_nodes', 'predict_horizons', 'predict_horizons_many', 'preset_json', 'preset_names', 'process_grid', 'process_variance', 'psd_model_integral', 'psd_model_values', 'psd_table_values', 'random_matrix', 'run_many', 'severity_statistics', 'severity_threshold', 'state_from_bit', 'thesis_case_dispersions', 'top_torque_from_bit', 'with_total_elements']
 class Config:
     """
     A validated engine configuration (the JSON schema drillsim reads), parsed once. Pass it to Simulation, StochasticModel, MonteCarlo and the model functions (built from a dict by drillpy.model.config.engine_config).
     """
+    @staticmethod
+    def from_dict(config: dict) -> Config:
+        """
+        Parse and validate a configuration given as a dict, without JSON text: the same Config as Config(json.dumps(config)) (ValueError naming the field when invalid). No plausibility warnings (drillpy.model.config.engine_config gives those): for a program's configurations, e.g. the trials of drillpy loop's calibration.
+        """
     def __init__(self, json: str) -> None:
         """
         Parse and validate a JSON configuration (ValueError naming the field when invalid).
@@ -626,6 +631,10 @@ def observation_nodes(config: Config) -> list[int]:
 def predict_horizons(simulation: Simulation, starts: collections.abc.Sequence[HorizonStart], dt: typing.SupportsFloat | typing.SupportsIndex, samples: typing.SupportsInt | typing.SupportsIndex, top_speed: typing.Any = None, wob: typing.Any = None, eta: typing.Any = None, progress: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, batched: bool = True) -> HorizonResult:
     """
     Short-horizon predictions restarted from measured states (drill/horizons.hpp), one per HorizonStart, samples dt [s] apart; top_speed [rad/s] and wob [N] are input series on the record's grid (default: the operating point), eta horizons x (samples + 1) the bit-rock fluctuation of Eq. (4.1); batched: horizons in SIMD lockstep with an ideal top drive (False: the scalar reference integrator).
+    """
+def predict_horizons_many(simulations: collections.abc.Sequence, starts: collections.abc.Sequence[collections.abc.Sequence[HorizonStart]], dt: typing.SupportsFloat | typing.SupportsIndex, samples: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], top_speed: typing.Any = None, wob: typing.Any = None, eta: typing.Any = None, threads: typing.SupportsInt | typing.SupportsIndex = 0, batched: bool = True) -> list:
+    """
+    predict_horizons for several simulations in one parallel region (the loop's Jacobian: one simulation per perturbed model): entry i of starts, samples and of the optional top_speed, wob, eta lists (None or an array per simulation) are call i's arguments. Returns one entry per simulation: the HorizonResult predict_horizons gives, bit for bit, or the exception it raises (ValueError, RuntimeError, ...) as an object, not raised: one model's failure leaves the others' predictions.
     """
 def preset_json(arg0: str) -> str:
     """

@@ -16,7 +16,7 @@ from drillpy.loop import fitting as F
 from drillpy.loop import model as M
 from drillpy.loop.run import analysis_config
 from drillpy.model.config import normalize
-from drillpy.records.synthetic import declared_config, synthetic_record
+from drillpy.loop.synthetic import declared_config, synthetic_record
 
 RATE_HZ, DT_S = 500.0, 2e-4
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from pathlib import Path
 
 from drillpy import validate
 from drillpy.cli import add_figure_units_arg, print_json, threads_option
@@ -168,7 +169,7 @@ def _add_predict(sub) -> argparse.ArgumentParser:
 def _is_posterior(path: str) -> bool:
     """Whether ``path`` is a ``posterior.json`` of ``drillpy calibrate`` (its ``format``)."""
     try:
-        return json.loads(open(path, encoding="utf-8").read()).get("format") == "drillpy.posterior"
+        return json.loads(Path(path).read_text(encoding="utf-8")).get("format") == "drillpy.posterior"
     except (OSError, ValueError, AttributeError):
         return False
 
