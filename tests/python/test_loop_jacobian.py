@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 from scipy.optimize._numdiff import approx_derivative
 
-from drillpy import _core
 from drillpy import loop as L
 from drillpy.loop import fitting as F
 from drillpy.loop import model as M
