@@ -4,7 +4,7 @@
     PYTHONPATH=python python3 benchmarks/bench_damping_scan.py [--repeats 5] [--threads 1]
 
 Sample 175's calibration part (0-20 s, cleaned) and the Eq. (5.1) law identified on it, as
-``drillpy analyze`` has them; the scan of :func:`drillpy.records.rigsim.calibrate`: its grid of
+``drillpy analyze`` has them; the scan of :func:`drillpy.records.rig_calibration.calibrate`: its grid of
 12 damping ratios log-spaced from 0.01 to 1 for the constant and the measured drive, each model
 simulated over the 20 s and compared with the record (the measured side computed once per drive,
 as the scan does). ``scalar``: the models one by one through
@@ -41,6 +41,7 @@ def main() -> int:
     a = ap.parse_args()
     from drillpy import _core
     from drillpy.records import rigsim
+    from drillpy.records import rig_comparison
     rec, thr, law = calibration_part(a.record)
     grid = [float(z) for z in np.geomspace(0.01, 1.5, 14) if z <= 1.0]
     models = [rigsim.RigModel(law, z, drive) for drive in ("constant", "measured") for z in grid]
@@ -52,8 +53,8 @@ def main() -> int:
             t0 = time.perf_counter()
             sims = rigsim.simulate_models(ms, rec, threads=a.threads, batched=batched)
             engine[batched][-1] += time.perf_counter() - t0
-            side = rigsim.measured_side(rec, thr, float(rec.time_s[0]), drive)
-            out += [rigsim.compare(rec, s, thr, side=side).mismatch for s in sims]
+            side = rig_comparison.measured_side(rec, thr, float(rec.time_s[0]), drive)
+            out += [rig_comparison.compare(rec, s, thr, side=side).mismatch for s in sims]
         return np.array(out)
 
     times, engine = {True: [], False: []}, {True: [], False: []}

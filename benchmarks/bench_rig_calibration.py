@@ -1,5 +1,5 @@
 """Wall time of the rig calibration of ``drillpy analyze`` (its damping scans and the motor's grid,
-:func:`drillpy.records.rigsim.calibrate`) on 1 thread against 2, measured in one run (issue 16).
+:func:`drillpy.records.rig_calibration.calibrate`) on 1 thread against 2, measured in one run (issue 16).
 
     PYTHONPATH=python python3 benchmarks/bench_rig_calibration.py [--repeats 3]
 
@@ -31,13 +31,13 @@ def main() -> int:
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--record", default=str(SAMPLE175))
     a = ap.parse_args()
-    from drillpy.records import rigsim
+    from drillpy.records import rig_calibration
     rec, thr, law = calibration_part(a.record)
     times, cals = {1: [], 2: []}, {}
     for _ in range(a.repeats):
         for threads in (1, 2):
             t0 = time.perf_counter()
-            cals[threads] = rigsim.calibrate(rec, law, thr, threads=threads)
+            cals[threads] = rig_calibration.calibrate(rec, law, thr, threads=threads)
             times[threads].append(time.perf_counter() - t0)
     one, two = (statistics.median(times[k]) for k in (1, 2))
     same = cals[1].summary() == cals[2].summary()

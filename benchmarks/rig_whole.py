@@ -3,7 +3,7 @@
     PYTHONPATH=python python3 benchmarks/rig_whole.py [--record FILE.mat] [--split 20]
 
 Runs ``drillpy analyze --calibrate 0:SPLIT`` and ``--calibrate SPLIT:END`` (the rig modelled whole,
-``rigsim.calibrate_rig``: motor, jack, platform, bar and disk, its inputs the motor command and the
+``rig_calibration.calibrate_rig``: motor, jack, platform, bar and disk, its inputs the motor command and the
 jack's slow WOB trend only) and prints, for each direction:
 
 * the targets on the predicted half: SS, regular stick fraction, cycle frequency (Welch peak) and

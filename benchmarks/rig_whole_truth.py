@@ -2,7 +2,7 @@
 
     PYTHONPATH=python python3 benchmarks/rig_whole_truth.py [--seed 5] [--duration 24]
 
-Writes a record of the whole-rig truth (no jack steps, so no stall), calibrates ``rigsim.calibrate_rig``
+Writes a record of the whole-rig truth (no jack steps, so no stall), calibrates ``rig_calibration.calibrate_rig``
 (default budget) on its first half with the law identified there, predicts the second half, and prints
 each metric measured / predicted and the calibrated parameters next to the truth's. About 20 s.
 The figures of docs/records.md section 3 on the independent truth come from this script.
@@ -28,6 +28,8 @@ def main() -> None:
     import whole_rig
     from drillpy.records import identification as ident
     from drillpy.records import rigsim
+    from drillpy.records import rig_calibration
+    from drillpy.records import rig_comparison
     from drillpy.records import signals as sig
     from drillpy.records.cleaning import clean
     from drillpy.records.io import read_record
@@ -42,12 +44,12 @@ def main() -> None:
     d = ident.FitData.from_arrays(cal.bit_speed, sig.derivative(cal.bit_speed, cal.dt), cal.torque_on_bit,
                                   cyc.branch_labels(len(cal)), cyc.cycle_id(len(cal)), wob=cal.wob, every=10,
                                   cycles=cyc)
-    c = rigsim.calibrate_rig(cal, ident.fit_law("polynomial", d).law, thr)
-    pred = rigsim.compare(hold, rigsim.simulate_model(c.model, hold), thr)
+    c = rig_calibration.calibrate_rig(cal, ident.fit_law("polynomial", d).law, thr)
+    pred = rig_comparison.compare(hold, rigsim.simulate_model(c.model, hold), thr)
     print(f"calibrated on 0-{h:g} s: mismatch {c.comparison.mismatch:.3f}; predicting {h:g}-{a.duration:g} s:")
     for k in rigsim.MATCHED_RIG + ("cycle_frequency_hz",):
         m, s = pred.measured[k], pred.simulated[k]
-        print(f"  {k:22s} {m:9.3f} {s:9.3f} {100 * rigsim.relative_error(s, m):+7.1f} %")
+        print(f"  {k:22s} {m:9.3f} {s:9.3f} {100 * rig_comparison.relative_error(s, m):+7.1f} %")
     print("parameters (truth: c_m 0.22 N m s/rad, J_m 0.013 kg m^2, damping 0.02, platform damping 0.05):")
     for k, v in c.model.parameters().items():
         print(f"  {k:26s} {v['value']:.4g}" + (f"  FLAG: {v['flag']}" if v["flag"] else ""))

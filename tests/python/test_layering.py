@@ -136,6 +136,36 @@ def test_no_import_circle_between_parts():
     assert _cycles(imports()) == []
 
 
+#: No module holds more lines of code than this (issue 32): blank lines, comments and docstrings aside.
+MAX_CODE_LINES = 500
+
+
+def code_lines(path: Path) -> int:
+    """Lines of code of a module: not blank, not a comment, not inside a docstring."""
+    src = path.read_text()
+    doc = set()
+    for node in ast.walk(ast.parse(src)):
+        body = getattr(node, "body", None)
+        if isinstance(node, (ast.Module, ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)) and body \
+                and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) \
+                and isinstance(body[0].value.value, str):
+            doc.update(range(body[0].lineno, body[0].end_lineno + 1))
+    return sum(1 for i, line in enumerate(src.splitlines(), 1)
+               if line.strip() and not line.strip().startswith("#") and i not in doc)
+
+
+def test_code_lines_are_counted_without_docstrings_and_comments(tmp_path):
+    f = tmp_path / "m.py"
+    f.write_text('"""doc\nmore"""\n# note\n\ndef f():\n    """one"""\n    return 1  # inline\n')
+    assert code_lines(f) == 2
+
+
+def test_no_module_over_the_line_limit():
+    long = {str(p.relative_to(PACKAGE)): n for p in sorted(PACKAGE.rglob("*.py"))
+            if (n := code_lines(p)) > MAX_CODE_LINES}
+    assert long == {}
+
+
 if __name__ == "__main__":
     graph = imports()
     for (a, b), wheres in sorted(graph.items(), key=lambda kv: (LEVEL[kv[0][0]], kv[0])):

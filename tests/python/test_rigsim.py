@@ -6,6 +6,8 @@ import pytest
 
 from _testrig import sample175_cleaned
 from drillpy.records import rigsim
+from drillpy.records import rig_calibration
+from drillpy.records import rig_comparison
 from drillpy.jsonio import jsonable
 from drillpy.records.cleaning import clean
 from drillpy.model.config import load_config
@@ -30,7 +32,7 @@ def test_rig_config_keeps_the_geometry():
 
 def test_comparing_a_record_with_itself_is_exact(window):
     rec, thr = window
-    cmp = rigsim.compare(rec, rec, thr)
+    cmp = rig_comparison.compare(rec, rec, thr)
     assert cmp.mismatch == 0.0 and cmp.loop_rms_nm == 0.0
     assert all(m == s for _, m, s in cmp.rows())
 
@@ -41,7 +43,7 @@ def test_preset_stick_slips_at_the_measured_mean_speed(window):
     np.testing.assert_allclose(sim.time_s, rec.time_s, atol=1e-9)
     # the record's operating point: the mean over reliable (measured, not repaired) top-speed samples
     assert np.allclose(sim.top_speed, np.mean(rec.top_speed[rigsim.reliable_top_speed(rec)]))
-    cmp = rigsim.compare(rec, sim, thr)
+    cmp = rig_comparison.compare(rec, sim, thr)
     s = cmp.simulated
     assert s["ss"] > 0.5  # self-excited torsional oscillation (the preset's law is zero at rest and barely sticks)
     assert 2.0 < s["cycle_frequency_hz"] < 3.2  # near the 2.89 Hz first mode
@@ -58,8 +60,8 @@ def test_measured_drive_follows_the_top_speed(window):
 def test_calibration_keeps_each_drives_scan_minimum(window):
     rec, thr = window
     law = load_config(preset="thesis-rig")["law"]
-    cal = rigsim.calibrate(rec, law, thr, drives=("constant", "measured"), threads=2)
-    one = rigsim.calibrate(rec, law, thr, drives=("constant",), threads=1)
+    cal = rig_calibration.calibrate(rec, law, thr, drives=("constant", "measured"), threads=2)
+    one = rig_calibration.calibrate(rec, law, thr, drives=("constant",), threads=1)
     assert one.per_drive["constant"]["scan"] == cal.per_drive["constant"]["scan"]  # the same whatever the threads
     for d in ("constant", "measured"):
         b = cal.per_drive[d]
@@ -94,11 +96,11 @@ def test_sample175_model_calibrated_on_0_20_s_predicts_20_40_s():
                                   cyc.cycle_id(len(cal)), wob=cal.wob, every=10, cycles=cyc)
     law = ident.fit_law("polynomial", d).law
     assert law["a0"] * law["gain"] > 2.5  # it sticks: static torque about 3 N m
-    c = rigsim.calibrate(cal, law, thr, drives=("constant", "measured"))
+    c = rig_calibration.calibrate(cal, law, thr, drives=("constant", "measured"))
     assert c.comparison.mismatch < 0.15
-    pred = rigsim.compare(hold, rigsim.simulate_model(c.model, hold), thr)
+    pred = rig_comparison.compare(hold, rigsim.simulate_model(c.model, hold), thr)
     for k in ("ss", "stick_fraction", "cycle_frequency_hz"):
-        assert abs(rigsim.relative_error(pred.simulated[k], pred.measured[k])) < 0.15, (k, pred.simulated[k],
+        assert abs(rig_comparison.relative_error(pred.simulated[k], pred.measured[k])) < 0.15, (k, pred.simulated[k],
                                                                                           pred.measured[k])
 
 
@@ -117,7 +119,7 @@ def test_measured_drive_interpolates_an_artifact_stretch_and_leaves_it_out_of_th
     assert np.allclose(drive[100:400], np.interp(idx[100:400], idx[ok], cleaned.top_speed[ok]))
     sim = rigsim.simulate_rig(cleaned, drive="measured")
     assert np.all(np.isfinite(sim.bit_speed))
-    side = rigsim.measured_side(cleaned, thr, float(cleaned.time_s[0]), "measured")
+    side = rig_comparison.measured_side(cleaned, thr, float(cleaned.time_s[0]), "measured")
     assert side.skip[100:400].all() and side.skip.sum() == (~ok).sum()
     with pytest.raises(ValueError, match="drive = 'motor'"):
         rigsim.simulate_rig(rec, drive="motor")
@@ -139,7 +141,7 @@ def test_damping_scan_in_lockstep_agrees_with_one_model_at_a_time(window):
             one = rigsim.simulate_model(m, rec)
             np.testing.assert_allclose(sim.bit_speed, one.bit_speed, rtol=0, atol=1e-6)
             np.testing.assert_allclose(sim.torque_on_bit, one.torque_on_bit, rtol=0, atol=1e-6)
-            assert rigsim.compare(rec, sim, thr).mismatch == pytest.approx(rigsim.compare(rec, one, thr).mismatch,
+            assert rig_comparison.compare(rec, sim, thr).mismatch == pytest.approx(rig_comparison.compare(rec, one, thr).mismatch,
                                                                           rel=1e-6)
             assert sim.provenance["drive"] == drive and sim.provenance["config"]["damping"]["ratios"] == [m.damping_ratio]
         assert np.array_equal(rigsim.simulate_models(models[2:3], rec)[0].bit_speed, many[2].bit_speed)
@@ -209,14 +211,14 @@ def test_whole_rig_calibration_on_an_independent_truth_stays_physical_and_predic
     rec, thr = whole_rig_truth
     cal, hold = rec.select(0.0, 12.0), rec.select(12.001, 24.0)
     law = _identified_law(cal, thr)
-    c = rigsim.calibrate_rig(cal, law, thr)
+    c = rig_calibration.calibrate_rig(cal, law, thr)
     assert c.comparison.mismatch < 0.2
     for k, p in c.model.parameters().items():
         assert p["range"][0] <= p["value"] <= p["range"][1], k
     assert c.model.damping_ratio <= 0.1
-    pred = rigsim.compare(hold, rigsim.simulate_model(c.model, hold), thr)
+    pred = rig_comparison.compare(hold, rigsim.simulate_model(c.model, hold), thr)
     for k in ("ss", "top_speed_std", "wob_std", "mean_top_speed"):
-        assert abs(rigsim.relative_error(pred.simulated[k], pred.measured[k])) < 0.3, (k, pred.simulated[k],
+        assert abs(rig_comparison.relative_error(pred.simulated[k], pred.measured[k])) < 0.3, (k, pred.simulated[k],
                                                                                          pred.measured[k])
 
 
@@ -226,11 +228,11 @@ def test_stalls_are_counted_apart_from_the_regular_cycle():
     rec, _ = sample175_cleaned()
     thr = rigsim.stick_threshold(rec)
     part = rec.select(20.0, 40.0)
-    found = rigsim.stalls(part.bit_speed, part.dt, thr, valid=part.valid("bit_speed"))
+    found = rig_comparison.stalls(part.bit_speed, part.dt, thr, valid=part.valid("bit_speed"))
     assert len(found) == 1
     (a, k), = found
     assert part.time_s[a] == pytest.approx(28.05, abs=0.05) and k * part.dt == pytest.approx(1.43, abs=0.05)
-    m = rigsim.compare(part, part, thr).measured
+    m = rig_comparison.compare(part, part, thr).measured
     assert m["stalls"]["count"] == 1
     raw_stick = float(np.mean(part.bit_speed[part.valid("bit_speed")] <= thr))
     assert m["stick_fraction"] < raw_stick - 0.05  # the regular cycle's stick fraction

@@ -54,7 +54,7 @@ FAMILIES = {"polynomial_hysteretic": "5.3 (regularized, hysteretic)", "polynomia
 #: The rig parameters calibrated in every family.
 RIG_CALIBRATED = ("damping_ratio", "motor_slope_nms_rad", "command_rad_s", "coupling_stiffness_nm_rad",
                   "jack_gain_n_rad")
-#: The rig parameters held (typical values, the start of :func:`drillpy.records.rigsim.calibrate_rig`;
+#: The rig parameters held (typical values, the start of :func:`drillpy.records.rig_calibration.calibrate_rig`;
 #: never fitted to the record).
 FIXED = {"motor_inertia_kg_m2": 0.015, "jack_relaxation_s": 0.2, "platform_damping": 0.7,
          "gj_factor": 1.05, "bit_inertia_factor": 1.05}

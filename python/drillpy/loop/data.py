@@ -13,7 +13,8 @@ from scipy import signal as sps
 from drillpy.records import signals
 from drillpy.records.cleaning import CleaningOptions, clean
 from drillpy.records.io import Record, read_record
-from drillpy.records.rigsim import WOB_TREND_HZ, reliable_top_speed, stalls, wob_trend
+from drillpy.records.rig_comparison import stalls
+from drillpy.records.rigsim import WOB_TREND_HZ, reliable_top_speed, wob_trend
 from .options import LoopOptions
 
 #: Channels the cleaning searches for spikes: the encoders (the load cells' torque and WOB drop
@@ -114,7 +115,7 @@ class LoopData:
         The recorded WOB on the analysis grid [N] when the law takes its trend (the WOB state a
         restart starts from); None otherwise.
     stalls : tuple
-        The record's stalls (:func:`drillpy.records.rigsim.stalls`: stick phases of at least
+        The record's stalls (:func:`drillpy.records.rig_comparison.stalls`: stick phases of at least
         ``rigsim.STALL_MIN_S``) as ``(start [s], duration [s])``.
     set_apart : dict
         Horizons cut like the others but left out of E (restart sample -> reason): ``"stall"``

@@ -1,13 +1,13 @@
 """The limit cycle as part of the error: a loop model simulated over the whole record at the
 record's operating point, its stick-slip metrics (SS of Eq. 3.4 from the reliable mean top speed,
-stick fraction, cycle frequency) against the record's (:func:`drillpy.records.rigsim.compare`)."""
+stick fraction, cycle frequency) against the record's (:func:`drillpy.records.rig_comparison.compare`)."""
 from __future__ import annotations
 
 import math
 
 import numpy as np
 
-from drillpy.records import rigsim
+from drillpy.records import rig_comparison
 from drillpy import _core
 from drillpy.model.config import engine_config, normalize
 from drillpy.records.io import Record
@@ -128,7 +128,7 @@ def long_run(model: LoopModel, data: LoopData) -> dict:
 
     SS is the stick-slip severity of Eq. (3.4), (max - min bit speed) / (2 mean top speed), from
     the reliable mean top speed; the metrics of the record and of :func:`simulate_record` are
-    computed alike (:func:`drillpy.records.rigsim.compare`, the record's stick threshold).
+    computed alike (:func:`drillpy.records.rig_comparison.compare`, the record's stick threshold).
 
     Parameters
     ----------
@@ -148,13 +148,13 @@ def long_run(model: LoopModel, data: LoopData) -> dict:
         sim = simulate_record(model, data)
     except (ValueError, RuntimeError) as err:
         return {"error": str(err)}
-    cmp = rigsim.compare(data.record, sim, data.stick_threshold, t_start=0.0)
+    cmp = rig_comparison.compare(data.record, sim, data.stick_threshold, t_start=0.0)
 
     def pick(m):
         return {k: (float(m[k]) if m.get(k) is not None and math.isfinite(m[k]) else None) for k in METRICS}
 
     meas, mod = pick(cmp.measured), pick(cmp.simulated)
-    rel = {k: (rigsim.relative_error(mod[k] if mod[k] is not None else math.nan, meas[k])
+    rel = {k: (rig_comparison.relative_error(mod[k] if mod[k] is not None else math.nan, meas[k])
                if meas[k] is not None else None) for k in METRICS}
     return {"measured": meas, "model": mod, "relative_error": rel,
             "stick_slips": {"measured": stick_slips(meas), "model": stick_slips(mod)}}

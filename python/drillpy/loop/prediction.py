@@ -23,6 +23,7 @@ import numpy as np
 
 from drillpy import loop
 from drillpy.records import rigsim
+from drillpy.records import rig_comparison
 from drillpy.jsonio import jsonable
 from drillpy.records.cleaning import clean
 from drillpy.model.config import read_json
@@ -48,7 +49,7 @@ class Prediction:
         rig model; ``provenance`` holds the motor command and the operating point.
     comparison : RigComparison
         Long-run stick-slip metrics, measured against predicted
-        (:func:`drillpy.records.rigsim.compare`).
+        (:func:`drillpy.records.rig_comparison.compare`).
     short_horizon_error : float
         E of docs/loop.md over every horizon of the record [-]: 0 is perfect, 1 is as far off as
         the record's own spread.
@@ -59,7 +60,7 @@ class Prediction:
     model: "rigsim.RigModel | loop.LoopModel"
     measured: Record
     simulated: Record
-    comparison: rigsim.RigComparison
+    comparison: rig_comparison.RigComparison
     short_horizon_error: float
     stick_threshold: float
 
@@ -68,7 +69,7 @@ class Prediction:
         m, s = self.comparison.measured, self.comparison.simulated
 
         def pair(k):
-            return {"measured": m[k], "predicted": s[k], "relative_error": rigsim.relative_error(s[k], m[k])}
+            return {"measured": m[k], "predicted": s[k], "relative_error": rig_comparison.relative_error(s[k], m[k])}
 
         return jsonable({
             "short_horizon_error": self.short_horizon_error,
@@ -227,9 +228,9 @@ def predict_record(model, record: Record | str | Path, *, t0: float | None = Non
     thr = rigsim.stick_threshold(rec)
     if isinstance(model, loop.LoopModel):
         sim, E = _loop_prediction(model, rec, thr, horizon_s, threads)
-        return Prediction(model, rec, sim, rigsim.compare(rec, sim, thr, t_start=0.0), E, thr)
+        return Prediction(model, rec, sim, rig_comparison.compare(rec, sim, thr, t_start=0.0), E, thr)
     sim = rigsim.simulate_model(model, rec)
-    cmp = rigsim.compare(rec, sim, thr)
+    cmp = rig_comparison.compare(rec, sim, thr)
     E = short_horizon_error(model, rec, sim.provenance["command_rad_s"], horizon_s, threads)
     return Prediction(model, rec, sim, cmp, E, thr)
 

@@ -22,6 +22,8 @@ from drillpy.records import identification as ident
 from drillpy.records import plausibility
 from drillpy.uncertainty import process
 from drillpy.records import rigsim
+from drillpy.records import rig_calibration
+from drillpy.records import rig_comparison
 from drillpy.records import signals as sig
 from drillpy.records.cleaning import CleaningOptions, CleaningReport, clean
 from drillpy.model.config import load_config
@@ -53,7 +55,7 @@ class AnalysisOptions:
         T_hys of Eq. (4.2): the mean of all cycles (thesis) or the branch mean curves.
     simulate : bool
         Run the rig simulations (needs a top-speed channel): the rig model calibrated on the record
-        (:func:`drillpy.records.rigsim.calibrate`), written as ``model.json``.
+        (:func:`drillpy.records.rig_calibration.calibrate`), written as ``model.json``.
     preset : str
         The rig preset simulated.
     calibrate : (float, float), optional
@@ -307,7 +309,7 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
     if rec.top_speed is not None:
         # the one measured side: the record's SS and stick fraction are the numbers every comparison of a
         # simulation with it uses (from 2 s, the simulations' start-up, stalls counted apart)
-        side = rigsim.measured_side(rec, thr, float(rec.time_s[0]), "constant")
+        side = rig_comparison.measured_side(rec, thr, float(rec.time_s[0]), "constant")
         S["severity"].update(ss=side.metrics["ss"], stick_fraction=side.metrics["stick_fraction"],
                              from_s=side.t0, stalls=side.metrics["stalls"]["count"])
     after = ok & (rec.time_s >= (side.t0 if side is not None else rec.time_s[0]))  # the measured side's window
@@ -442,20 +444,20 @@ METRIC_ROWS = ("ss", "stick_fraction", "cycle_frequency_hz", "median_period_s", 
                "top_speed_std", "wob_std", "mean_top_speed")
 
 
-def _metric_row(cmp: rigsim.RigComparison) -> dict:
+def _metric_row(cmp: rig_comparison.RigComparison) -> dict:
     m, s = cmp.measured, cmp.simulated
-    row = {k: {"measured": m[k], "simulated": s[k], "relative_error": rigsim.relative_error(s[k], m[k])}
+    row = {k: {"measured": m[k], "simulated": s[k], "relative_error": rig_comparison.relative_error(s[k], m[k])}
            for k in METRIC_ROWS}
     row["stalls"] = {"measured": m["stalls"], "simulated": s["stalls"]}
     return row
 
 
 def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log, held: list, horizon_error) -> tuple:
-    """The rig model: the rig modelled whole and self-contained (:func:`drillpy.records.rigsim.calibrate_rig`:
+    """The rig model: the rig modelled whole and self-contained (:func:`drillpy.records.rig_calibration.calibrate_rig`:
     motor, jack, platform, with the identified sticking law) as the predictive answer, the simpler
     drives (constant, motor, and the measured top speed as a diagnosis) calibrated beside it
-    (:func:`drillpy.records.rigsim.calibrate`) for comparison, and the prediction of the held-out pieces.
-    Every case is compared with the same measured side ``side`` (:func:`drillpy.records.rigsim.measured_side`);
+    (:func:`drillpy.records.rig_calibration.calibrate`) for comparison, and the prediction of the held-out pieces.
+    Every case is compared with the same measured side ``side`` (:func:`drillpy.records.rig_comparison.measured_side`);
     ``horizon_error`` gives the held-out pieces' short-horizon E (None: not computed)."""
     base = load_config(preset=preset)
 
@@ -474,7 +476,7 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log,
 
     def case(label, model):
         sim = rigsim.simulate_model(model, rec)
-        cmp = rigsim.compare(rec, sim, thr, side=side)
+        cmp = rig_comparison.compare(rec, sim, thr, side=side)
         out["cases"].append({"label": label, "law": model.law, "damping_ratio": model.damping_ratio,
                              "drive": model.drive, "predictive": model.drive in rigsim.PREDICTIVE_DRIVES,
                              "measured": cmp.measured, "simulated": cmp.simulated,
@@ -487,14 +489,14 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log,
 
     z0 = base["damping"]["ratios"][0]
     case(f"preset law, zeta {z0:g}, constant top speed", rigsim.RigModel(base["law"], z0, "constant", preset=preset))
-    simple = rigsim.calibrate(rec, law_c.law, thr, drives=("constant", "motor", "measured"), preset=preset, log=log)
+    simple = rig_calibration.calibrate(rec, law_c.law, thr, drives=("constant", "motor", "measured"), preset=preset, log=log)
     for drive, b in simple.per_drive.items():
         m = rigsim.RigModel(law_c.law, b["damping_ratio"], drive, b.get("motor_slope_nms_rad"),
                             b.get("motor_inertia_kg_m2"), preset=preset)
         extra = (f", c_m {m.motor_slope_nms_rad:.3g}, J_m {m.motor_inertia_kg_m2:.3g}" if drive == "motor" else "")
         note = " (diagnosis: fed the measured top speed, which carries the cycle)" if drive == "measured" else ""
         case(f"{law_c.name}, {drive} drive, zeta {m.damping_ratio:.3g}{extra}{note}", m)
-    cal = rigsim.calibrate_rig(rec, law_w.law, thr, preset=preset, log=log)
+    cal = rig_calibration.calibrate_rig(rec, law_w.law, thr, preset=preset, log=log)
     model = cal.model
     case(f"{law_w.name}, the rig modelled whole (motor, jack, platform), zeta {model.damping_ratio:.3g} "
          "(calibrated model)", model)
@@ -504,7 +506,7 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log,
     out["parameters"] = model.parameters()
     out["recommended"] = {"law": model.law, "law_name": law_w.name, "damping_ratio": model.damping_ratio,
                           "drive": model.drive, "predictive": True, "mismatch": cal.comparison.mismatch,
-                          "rule": "the rig modelled whole (rigsim.calibrate_rig): every parameter inside its physical "
+                          "rule": "the rig modelled whole (rig_calibration.calibrate_rig): every parameter inside its physical "
                                   "range, inputs the motor command and the jack's slow WOB trend only"}
     flags = [f"{k}: {v['flag']}" for k, v in out["parameters"].items() if v["flag"]]
     log(f"rig: calibrated model: {law_w.name}, the rig modelled whole, damping ratio {model.damping_ratio:.3g} "
@@ -515,7 +517,7 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log,
         row = {"window_s": [float(piece.time_s[0]), float(piece.time_s[-1])]}
         try:
             sim = rigsim.simulate_model(model, piece)
-            cmp = rigsim.compare(piece, sim, thr)
+            cmp = rig_comparison.compare(piece, sim, thr)
             row.update(metrics=_metric_row(cmp), mismatch=cmp.mismatch)
             if horizon_error is not None:
                 row["short_horizon_error"] = horizon_error(model, piece, sim.provenance["command_rad_s"])

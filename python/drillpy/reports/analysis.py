@@ -218,7 +218,7 @@ def render_report(S: dict) -> str:
                   "95th percentiles of the torque and the standard deviation of the top speed (the whole rig: the "
                   "median period instead of the Welch peak, and the WOB's standard deviation and the mean top speed, "
                   "which it predicts).", "",
-                  "**The calibrated model is the rig modelled whole** (`rigsim.calibrate_rig`): the open-loop motor "
+                  "**The calibrated model is the rig modelled whole** (`rig_calibration.calibrate_rig`): the open-loop motor "
                   "(its command, the rig's speed setting, calibrated and then held; 8 N m limit), the bar and disk, "
                   "the electrical jack's WOB as a state on the record's slow WOB trend (below "
                   f"{rigsim.WOB_TREND_HZ:g} Hz), the torque platform's {rigsim.PLATFORM_HZ:g} Hz response and the "
@@ -230,7 +230,7 @@ def render_report(S: dict) -> str:
                 ci = "n/a" if v["ci95"] is None else f"[{v['ci95'][0]:.4g}, {v['ci95'][1]:.4g}]"
                 L.append(f"| {k} [{v['unit']}] | {v['value']:.4g} | {ci} | [{v['range'][0]:g}, {v['range'][1]:g}] | "
                          f"{v['source']} | {v['flag'] or ''} |")
-            L += ["", "The simpler drives, calibrated on the same part (damping ratio and top drive, rigsim.calibrate):",
+            L += ["", "The simpler drives, calibrated on the same part (damping ratio and top drive, rig_calibration.calibrate):",
                   "", "| drive | damping ratio | c_m [N m s/rad] | J_m [kg m^2] | mismatch |", "|---|---:|---:|---:|---:|"]
             for d, b in rg["simple_drives"].items():
                 L.append(f"| {d}{' (diagnosis)' if d == 'measured' else ''} | {b['damping_ratio']:.3g} | "

@@ -1,0 +1,466 @@
+"""Calibration of the rig model on a record: the drive and damping of the thesis's chapter-5 model
+(:func:`calibrate`, :func:`select_model` across laws) and the rig modelled whole (:func:`calibrate_rig`:
+motor, jack, platform, bar and disk inside their physical ranges, ``rigsim.RIG_PARAMETERS``).
+
+Each search's trial configurations are judged by their bounds, not by the typed-input check
+(:func:`drillpy.model.plausibility.fitted_values`).
+"""
+from __future__ import annotations
+
+import math
+import os
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import optimize
+
+from drillpy.model.plausibility import fitted_values
+from drillpy.records.io import Record
+from drillpy.records.rigsim import (DRIVES, MATCHED, MATCHED_RIG, RIG_PARAMETERS, RigModel, operating_point,
+                                    reliable_top_speed, simulate_model, simulate_models)
+from drillpy.records.rig_comparison import RigComparison, compare, measured_side, record_metrics, relative_error
+
+
+@dataclass
+class Calibration:
+    """What :func:`calibrate` found: the chosen model, its comparison on the calibration part and,
+    per drive, the best model with its mismatch and the points scanned.
+
+    Attributes
+    ----------
+    model : RigModel
+        The drive and parameters with the smallest mismatch, ``calibration`` filled in.
+    comparison : RigComparison
+        The chosen model against the calibration record.
+    per_drive : dict
+        Drive -> ``damping_ratio``, ``mismatch`` and ``scan`` (the (ratio, mismatch) pairs
+        tried) for the constant and measured drives; ``damping_ratio``, ``motor_slope_nms_rad``,
+        ``motor_inertia_kg_m2``, ``mismatch`` and ``evaluations`` for the motor.
+    """
+    model: RigModel
+    comparison: RigComparison
+    per_drive: dict
+
+    def summary(self) -> dict:
+        """The calibration as a JSON-ready dict.
+
+        Returns
+        -------
+        dict
+            ``drive``, ``damping_ratio``, ``motor_slope_nms_rad``, ``motor_inertia_kg_m2``,
+            ``mismatch``, the ``measured`` and ``simulated`` metrics, and ``per_drive``.
+        """
+        return {"drive": self.model.drive, "damping_ratio": self.model.damping_ratio,
+                "motor_slope_nms_rad": self.model.motor_slope_nms_rad,
+                "motor_inertia_kg_m2": self.model.motor_inertia_kg_m2,
+                "mismatch": self.comparison.mismatch, "measured": self.comparison.measured,
+                "simulated": self.comparison.simulated,
+                "per_drive": self.per_drive}
+
+
+@fitted_values()
+def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVES, preset: str = "thesis-rig",
+              log=None, threads: int = 0) -> Calibration:
+    """Calibrate the effective damping ratio and the top drive of the rig model with ``law`` on a
+    cleaned ``record``: for each drive the parameters with the smallest mismatch (rms relative
+    error over :data:`MATCHED`, :func:`compare`), then the drive with the smallest mismatch.
+
+    The mismatch is not smooth in the parameters (stick-slip cycles appear and vanish), so each
+    drive is searched on a grid first: the damping ratio on 14 log-spaced values in [0.01, 1.5]
+    refined once around the best; for the motor, damping x slope c_m x inertia J_m on a 4 x 5 x 3
+    log grid, then a Nelder-Mead polish in the logarithms from the best grid point. The motor's
+    command always reproduces the record's reliable mean top speed (:func:`simulate_model`).
+    A parameter set whose simulation fails (unstable, diverged) counts as an infinite mismatch.
+    The grid points are independent simulations. A damping scan's models differ in their damping
+    only: its points run in one call, in SIMD lockstep (:func:`simulate_models`); the motor's points
+    run ``threads`` at a time (the engine releases the GIL). The results do not depend on the
+    thread count.
+
+    Parameters
+    ----------
+    record : Record
+        The cleaned calibration part of a record, with top speed, bit speed and torque.
+    law : dict
+        Engine bit-rock law, identified on the same data (Eq. 5.1 or 5.3).
+    stick_threshold : float
+        Bit speed at or below which the bit counts as stuck [rad/s] (:func:`stick_threshold`).
+    drives : iterable of str
+        Drives tried, from :data:`DRIVES` (``rig``: :func:`calibrate_rig`).
+    preset : str
+        Engine preset of the rig.
+    log : callable, optional
+        Called with one progress line (str) per drive.
+    threads : int
+        Grid points simulated at once (0: one per core).
+
+    Returns
+    -------
+    Calibration
+
+    Raises
+    ------
+    ValueError
+        For an unknown drive, or when the operating point cannot be taken.
+    """
+    drives = tuple(drives)
+    for d in drives:
+        if d not in DRIVES:
+            raise ValueError(f"drives: unknown drive {d!r} (use {', '.join(DRIVES)})")
+    op = operating_point(record)
+    cache = {}
+
+    def mismatch(drive, z, cm=None, J=None):
+        key = (drive, round(z, 12), cm and round(cm, 12), J and round(J, 12))
+        if key not in cache:
+            try:
+                m = RigModel(law, float(z), drive, cm, J, preset=preset)
+                cache[key] = compare(record, simulate_model(m, record), stick_threshold).mismatch
+            except (ValueError, RuntimeError):  # outside the stability bound, diverged, ...
+                cache[key] = math.inf
+        return cache[key]
+
+    def scan_of(drive, grid):
+        if drive == "motor":  # each point searches its own command: one simulate_model per point
+            with ThreadPoolExecutor(max_workers=workers) as pool:
+                return list(zip(grid, pool.map(lambda p: mismatch(drive, *p), grid)))
+        # a damping scan: the grid's models differ in their damping only, one lockstep call
+        todo = [z for z in grid if (drive, round(z, 12), None, None) not in cache]
+        try:
+            sims = simulate_models([RigModel(law, z, drive, preset=preset) for z in todo], record, threads=threads)
+        except (ValueError, RuntimeError):  # outside the stability bound, ...
+            sims = [None] * len(todo)
+        side = measured_side(record, stick_threshold, float(record.time_s[0]), drive)
+        for z, sim in zip(todo, sims):
+            try:
+                mis = math.inf if sim is None else compare(record, sim, stick_threshold, side=side).mismatch
+            except (ValueError, RuntimeError):
+                mis = math.inf
+            cache[(drive, round(z, 12), None, None)] = mis
+        return [(z, cache[(drive, round(z, 12), None, None)]) for z in grid]
+
+    workers = threads if threads > 0 else (os.cpu_count() or 1)
+    per = {}
+    for drive in drives:
+        if drive == "motor":
+            grid = [(z, cm, J) for z in (0.05, 0.1, 0.2, 0.4) for cm in np.geomspace(0.05, 2.0, 5)
+                    for J in np.geomspace(5e-3, 5e-2, 3)]
+            scan = scan_of("motor", grid)
+            best = min(scan, key=lambda q: q[1])[0]
+            res = optimize.minimize(lambda x: mismatch("motor", *np.exp(x)), np.log(best), method="Nelder-Mead",
+                                    options={"maxfev": 40, "xatol": 0.02, "fatol": 1e-3})
+            p = tuple(np.exp(res.x)) if res.fun < mismatch("motor", *best) else best
+            per[drive] = {"damping_ratio": float(p[0]), "motor_slope_nms_rad": float(p[1]),
+                          "motor_inertia_kg_m2": float(p[2]), "mismatch": mismatch("motor", *p),
+                          "evaluations": len(scan) + int(res.nfev)}
+        else:
+            grid = np.geomspace(0.01, 1.5, 14)
+            grid = grid[grid <= 1.0]  # the engine refuses a damping ratio above critical
+            scan = scan_of(drive, [float(z) for z in grid])
+            k = int(np.argmin([m for _, m in scan]))
+            scan += scan_of(drive, [float(z) for z in np.geomspace(grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)],
+                                                                   7)[1:-1]])
+            z, mis = min(scan, key=lambda q: q[1])
+            per[drive] = {"damping_ratio": z, "mismatch": mis, "scan": sorted(scan)}
+        if log:
+            log(f"rig calibration: {drive} drive: mismatch {per[drive]['mismatch']:.3f} at damping ratio "
+                f"{per[drive]['damping_ratio']:.3g}" + (f", c_m {per[drive]['motor_slope_nms_rad']:.3g} N m s/rad, "
+                                                        f"J_m {per[drive]['motor_inertia_kg_m2']:.3g} kg m^2"
+                                                        if drive == "motor" else ""))
+    drive = min(per, key=lambda d: per[d]["mismatch"])
+    b = per[drive]
+    model = RigModel(law, b["damping_ratio"], drive, b.get("motor_slope_nms_rad"), b.get("motor_inertia_kg_m2"),
+                     preset=preset)
+    sim = simulate_model(model, record)
+    cmp = compare(record, sim, stick_threshold)
+    model.calibration = {"window_s": [float(record.time_s[0]), float(record.time_s[-1])], "operating_point": op,
+                         "command_rad_s": sim.provenance["command_rad_s"], "mismatch": cmp.mismatch,
+                         "matched": list(MATCHED), "stick_threshold_rad_s": float(stick_threshold),
+                         "per_drive": {k: {kk: vv for kk, vv in v.items() if kk != "scan"} for k, v in per.items()}}
+    return Calibration(model, cmp, per)
+
+
+@dataclass
+class Selection:
+    """What :func:`select_model` found: per candidate (law name, drive) the mismatch of the model
+    calibrated on the first half of the calibration part when it predicts the second half, the
+    chosen pair, and the chosen pair recalibrated on the whole part.
+
+    Attributes
+    ----------
+    scores : dict
+        ``"<law>, <drive>"`` -> ``calibration_half_mismatch`` (on the first half) and
+        ``prediction_half_mismatch`` (predicting the second half; inf when the simulation
+        failed).
+    law_name : str
+        The chosen law's name (a key of the ``laws`` given).
+    calibration : Calibration
+        The chosen law and drive recalibrated on the whole part.
+    """
+    scores: dict
+    law_name: str
+    calibration: Calibration
+
+
+@fitted_values()
+def select_model(record: Record, laws: dict, stick_threshold: float, *, drives=DRIVES, preset: str = "thesis-rig",
+                 log=None, threads: int = 0) -> Selection:
+    """Choose the law and the top drive by how well they predict data they were not calibrated on.
+
+    ``laws`` maps names to engine laws (identified on ``record``). Each law is calibrated
+    (:func:`calibrate`) on the first half of ``record``, each drive's best model predicts the second
+    half at its operating point, and the (law, drive) with the smallest mismatch there is chosen and
+    recalibrated on the whole record. A calibration-only choice prefers the most flexible
+    description (the motor's three parameters fit one part and extrapolate poorly: docs/records.md).
+
+    Parameters
+    ----------
+    record : Record
+        The cleaned calibration part, split at its midpoint in time.
+    laws : dict
+        Candidate name -> engine law (e.g. ``polynomial`` and ``polynomial_hysteretic``).
+    stick_threshold : float
+        Bit speed at or below which the bit counts as stuck [rad/s].
+    drives : iterable of str
+        Drives tried for every law, from :data:`DRIVES`.
+    preset : str
+        Engine preset of the rig.
+    log : callable, optional
+        Called with one progress line (str) per candidate and per drive of the final calibration.
+    threads : int
+        Simulations run at once by the calibrations (0: one per core).
+
+    Returns
+    -------
+    Selection
+
+    Raises
+    ------
+    ValueError
+        If ``laws`` is empty.
+    """
+    if not laws:
+        raise ValueError("select_model: no candidate law")
+    t = record.time_s
+    mid = t[0] + 0.5 * (t[-1] - t[0])
+    first, second = record.select(t[0], mid), record.select(mid + 0.5 * record.dt, t[-1])
+    scores = {}
+    for name, law in laws.items():
+        cal = calibrate(first, law, stick_threshold, drives=drives, preset=preset, threads=threads)
+        for drive, b in cal.per_drive.items():
+            m = RigModel(law, b["damping_ratio"], drive, b.get("motor_slope_nms_rad"), b.get("motor_inertia_kg_m2"),
+                         preset=preset)
+            try:
+                mis = compare(second, simulate_model(m, second), stick_threshold).mismatch
+            except (ValueError, RuntimeError):
+                mis = math.inf
+            scores[(name, drive)] = {"calibration_half_mismatch": b["mismatch"], "prediction_half_mismatch": mis}
+            if log:
+                log(f"rig model selection: {name}, {drive} drive: mismatch {b['mismatch']:.3f} on the first half, "
+                    f"{mis:.3f} predicting the second half")
+    name, drive = min(scores, key=lambda k: scores[k]["prediction_half_mismatch"])
+    cal = calibrate(record, laws[name], stick_threshold, drives=(drive,), preset=preset, log=log, threads=threads)
+    return Selection({f"{k[0]}, {k[1]}": v for k, v in scores.items()}, name, cal)
+
+
+def droop_estimate(record: Record) -> tuple:
+    """The open-loop motor's characteristic read off a record: the least-squares line of the
+    reliable top speed on the measured torque, Omega_top = Omega_0 - T / c_m (sample 175: 18.1 rad/s
+    and c_m = 0.225 N m s/rad). A start for :func:`calibrate_rig`, not a result: the measured torque
+    is the bit's, not the top's.
+
+    Parameters
+    ----------
+    record : Record
+        A cleaned record with top speed and torque.
+
+    Returns
+    -------
+    tuple of float
+        (Omega_0 [rad/s], c_m [N m s/rad]); (mean top speed x 2, 0.25) when the line does not droop.
+    """
+    ok = reliable_top_speed(record) & record.valid("torque_on_bit")
+    om = record.top_speed[ok]
+    if ok.sum() > 10:
+        slope, icpt = np.polyfit(record.torque_on_bit[ok], om, 1)
+        if slope < 0:
+            return float(icpt), float(-1.0 / slope)
+    return float(2.0 * np.mean(om)) if om.size else 16.8, 0.25
+
+
+def _metric_noise(record: Record, stick_threshold: float, keys: tuple, blocks: int = 4) -> np.ndarray:
+    """Relative standard error of each metric over ``record``: the spread of the metric between
+    ``blocks`` consecutive blocks, divided by sqrt(blocks) and by the metric's magnitude (at least 1 %)."""
+    t = record.time_s
+    edges = np.linspace(t[0], t[-1], blocks + 1)
+    vals = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        piece = record.select(a, b)
+        try:
+            m = record_metrics(piece, stick_threshold, float(piece.time_s[0]), np.zeros(len(piece), bool))
+            vals.append([m.get(k, np.nan) for k in keys])
+        except (ValueError, RuntimeError):
+            continue
+    v = np.asarray(vals, float)
+    if v.shape[0] < 2:
+        return np.full(len(keys), 0.05)
+    sd = np.nanstd(v, axis=0, ddof=1) / np.sqrt(v.shape[0])
+    mag = np.maximum(np.abs(np.nanmean(v, axis=0)), 1e-12)
+    return np.maximum(np.nan_to_num(sd / mag, nan=0.05), 0.01)
+
+
+@fitted_values()
+def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: str = "thesis-rig", screen: int = 64,
+                  starts: int = 4, evaluations: int = 200, seed: int = 175, log=None, threads: int = 0) -> Calibration:
+    """Calibrate the rig modelled whole (the ``rig`` drive) on a cleaned calibration part.
+
+    The parameters of :data:`RIG_PARAMETERS`, each inside its physical range (a logistic map of
+    the range, so that no value outside it is tried), minimize the mismatch over
+    :data:`MATCHED_RIG` (:func:`compare`; the regular cycle's SS, stick fraction, cycle frequency,
+    bit-speed p95, torque p5 and p95, the top speed's standard deviation and mean, the WOB's
+    standard deviation). The mismatch jumps where cycles appear and vanish, so the search screens
+    ``screen`` points, a start from the record's droop line (:func:`droop_estimate`) and typical
+    values and others scattered around it (normal, sd 0.7 in the logistic coordinates, from
+    ``seed``: most of the ranges' corners stall the rig or stop the cycle, where the mismatch is
+    flat), and runs a Nelder-Mead from the ``starts`` best; the best result is polished once more
+    from its own point. The result depends on the seed, never on the thread count.
+
+    95 % intervals: the relative errors are linearized around the optimum (central differences at
+    6 % of each range) and weighted by each metric's own sampling uncertainty, the spread of the
+    metric between four blocks of the part (:func:`_metric_noise`). A parameter gets no interval when
+    the metrics do not determine it, or when its slope at 2 % of the range differs from the one at
+    6 % by more than half (a cycle or a stall appears in between: no local linearization holds).
+
+    Parameters
+    ----------
+    record : Record
+        The cleaned calibration part (with top speed, bit speed, torque and WOB).
+    law : dict
+        Engine bit-rock law identified on it (the measured-WOB fit suits: the WOB is a state here).
+    stick_threshold : float
+        Bit speed at or below which the bit counts as stuck [rad/s].
+    preset : str
+        Engine preset of the rig.
+    screen : int
+        Points screened for the starts (at least 1).
+    starts : int
+        Nelder-Mead starts, the best screened points (at least 1).
+    evaluations : int
+        Simulations per start.
+    seed : int
+        Seed of the random starts.
+    log : callable, optional
+        Called with one progress line (str) per start.
+    threads : int
+        Starts run at once (0: one per core).
+
+    Returns
+    -------
+    Calibration
+        ``per_drive["rig"]`` holds the parameters, their intervals, the mismatch and the
+        evaluations.
+    """
+    names = list(RIG_PARAMETERS)
+    lo = np.array([RIG_PARAMETERS[k][0] for k in names])
+    hi = np.array([RIG_PARAMETERS[k][1] for k in names])
+    op = operating_point(record)
+
+    def params(x):
+        return dict(zip(names, lo + (hi - lo) / (1.0 + np.exp(-np.clip(x, -30, 30)))))
+
+    def internal(p):
+        u = np.clip((np.array([p[k] for k in names]) - lo) / (hi - lo), 1e-6, 1 - 1e-6)
+        return np.log(u / (1 - u))
+
+    def model_of(p):
+        return RigModel(law, p["damping_ratio"], "rig", p["motor_slope_nms_rad"], p["motor_inertia_kg_m2"],
+                        preset=preset, command_rad_s=p["command_rad_s"], jack_gain_n_rad=p["jack_gain_n_rad"],
+                        jack_relaxation_s=p["jack_relaxation_s"], platform_damping=p["platform_damping"],
+                        gj_factor=p["gj_factor"], bit_inertia_factor=p["bit_inertia_factor"],
+                        coupling_stiffness_nm_rad=p["coupling_stiffness_nm_rad"])
+
+    side = measured_side(record, stick_threshold, float(record.time_s[0]), "rig")
+
+    def comparison(p):
+        return compare(record, simulate_model(model_of(p), record), stick_threshold, side=side, keys=MATCHED_RIG)
+
+    def cost(x):
+        try:
+            return comparison(params(x)).mismatch
+        except (ValueError, RuntimeError):  # diverged, unstable step
+            return math.inf
+
+    om0, cm0 = droop_estimate(record)
+    first = {"damping_ratio": 0.04, "motor_slope_nms_rad": float(np.clip(cm0, lo[1], hi[1])),
+             "motor_inertia_kg_m2": 0.015, "command_rad_s": float(np.clip(om0, lo[3], hi[3])),
+             "jack_gain_n_rad": 150.0, "jack_relaxation_s": 0.2, "platform_damping": 0.7, "gj_factor": 1.05,
+             "bit_inertia_factor": 1.05, "coupling_stiffness_nm_rad": 30.0}
+    rng = np.random.default_rng(seed)
+    scatter = [internal(first)] + [internal(first) + rng.normal(0.0, 0.7, len(names)) for _ in range(screen - 1)]
+    workers = threads if threads > 0 else (os.cpu_count() or 1)
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        screened = list(pool.map(cost, scatter))
+    order = sorted(range(len(scatter)), key=lambda i: (screened[i], i))
+    x0s = [scatter[i] for i in order[:max(starts, 1)]]
+
+    def search(x0):
+        return optimize.minimize(cost, x0, method="Nelder-Mead",
+                                 options={"maxfev": evaluations, "xatol": 1e-3, "fatol": 1e-4, "adaptive": True})
+
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        results = list(pool.map(search, x0s))
+    for i, r in enumerate(results):
+        if log:
+            log(f"rig calibration (whole rig): start {i + 1} of {len(results)}: mismatch {r.fun:.3f} "
+                f"after {r.nfev} simulations")
+    best = min(results, key=lambda r: (r.fun, results.index(r)))
+    polish = search(best.x)
+    if polish.fun < best.fun:
+        best = polish
+    p = params(best.x)
+    cmp = comparison(p)
+    # 95 % intervals from the linearized relative errors weighted by the metrics' own noise
+    sigma = _metric_noise(record, stick_threshold, MATCHED_RIG)
+
+    def residuals(q):
+        c = compare(record, simulate_model(model_of(q), record), stick_threshold, side=side, keys=MATCHED_RIG)
+        return np.array([relative_error(c.simulated[k], c.measured[k]) for k in MATCHED_RIG])
+
+    intervals = {}
+    try:
+        def slope(j, k, frac):
+            h = frac * (hi[j] - lo[j])
+            up, dn = dict(p), dict(p)
+            up[k], dn[k] = min(p[k] + h, hi[j]), max(p[k] - h, lo[j])
+            return (residuals(up) - residuals(dn)) / (up[k] - dn[k])
+
+        cols, kept = [], []
+        for j, k in enumerate(names):
+            fine, coarse = slope(j, k, 0.02), slope(j, k, 0.06)
+            # a metric that jumps (a cycle or a stall appearing) between the two steps: no local slope
+            if np.linalg.norm(fine - coarse) <= 0.5 * max(np.linalg.norm(coarse), 1e-12):
+                cols.append(coarse)
+                kept.append(j)
+        if cols:
+            A = np.column_stack(cols) / sigma[:, None]
+            cov = np.linalg.pinv(A.T @ A, rcond=1e-10)
+            for c, j in enumerate(kept):
+                k = names[j]
+                sd = math.sqrt(cov[c, c]) if cov[c, c] > 0 else math.inf
+                if math.isfinite(sd) and sd < (hi[j] - lo[j]):  # determined by the metrics
+                    intervals[k] = [float(max(p[k] - 1.96 * sd, lo[j])), float(min(p[k] + 1.96 * sd, hi[j]))]
+    except (ValueError, RuntimeError, np.linalg.LinAlgError):
+        intervals = {}
+    model = model_of(p)
+    model.intervals = intervals
+    per = {"rig": {**{k: float(v) for k, v in p.items()},
+                   "mismatch": cmp.mismatch, "evaluations": int(sum(r.nfev for r in results) + polish.nfev),
+                   "intervals": intervals, "metric_noise": dict(zip(MATCHED_RIG, map(float, sigma)))}}
+    model.calibration = {"window_s": [float(record.time_s[0]), float(record.time_s[-1])], "operating_point": op,
+                         "command_rad_s": p["command_rad_s"], "mismatch": cmp.mismatch,
+                         "matched": list(MATCHED_RIG), "stick_threshold_rad_s": float(stick_threshold),
+                         "per_drive": per}
+    if log:
+        log("rig calibration (whole rig): mismatch %.3f; " % cmp.mismatch
+            + ", ".join(f"{k} {v:.4g}" for k, v in p.items()))
+    return Calibration(model, cmp, per)
