@@ -2,7 +2,8 @@
 
 Runs a fixed set of short ``drillpy`` commands on the presets (and on the test-rig record), collects
 every JSON document each one prints (``--json``) or writes (``*.json`` under ``--out``), removes what
-legitimately changes from run to run (the ``provenance`` block: time, command line, version, host),
+legitimately changes from run to run (the ``provenance`` block: time, command line, version, host;
+the record is named by its resolved path, so a symlinked ``shared`` gives the same documents),
 and records a SHA-256 of each document in canonical form (sorted keys, the numbers as written).
 
     PYTHONPATH=python python3 scripts/cli_identity.py --write /tmp/before.json     # on the old tree
@@ -23,7 +24,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-RECORD = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
+RECORD = (Path(__file__).resolve().parents[1].parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat").resolve()
 
 #: (name, arguments after ``drillpy``); ``{out}`` is replaced by the command's own fresh folder,
 #: ``{out:NAME}`` by an earlier command's folder, ``{record}`` by RECORD.

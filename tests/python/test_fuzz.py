@@ -532,6 +532,22 @@ CLI["predict"]["refused"] = {"--horizon": (st.sampled_from(["0", "-1", "nan", "x
                              "--t0": (st.sampled_from(["5", "nan", "x"]), ("t0",))}
 
 
+# calibrate: a tiny budget on the 2-s record; one refused option in every case (a run costs seconds)
+CLI["calibrate"] = _cmd(["calibrate", "{tmp}/rec.csv", *_RIG, "--out", "{tmp}/cal", "--population", "4",
+                         "--simulations", "8", "--generations", "1", "--draws", "2", "--json"], {
+    "--seed": (_ints((-1, 0, 7)), ("seed",)),
+    "--threads": _MODEL["--threads"],
+    "--t0": (_floats((0, 0.5, -1, 5)), ("t0",)),
+    "--t1": (_floats((1, 2, 0, 5)), ("t1",)),
+    **_OUT}, cheap=False)
+CLI["calibrate"]["refused"] = {
+    "--population": (st.sampled_from(["0", "-1", "x", "nan"]), ("population",)),
+    "--simulations": (st.sampled_from(["0", "-1", "x"]), ("simulations",)),
+    "--generations": (st.sampled_from(["-1", "x"]), ("generations",)),
+    "--draws": (st.sampled_from(["0", "-1", "x"]), ("draws",)),
+    "--heldout": (st.sampled_from(["1:0", "x", "0:1:2", "nan:1"]), ("heldout",)),
+}
+
 CLI = {k: v for k, v in CLI.items() if k in COMMANDS}  # a command being added elsewhere: fuzzed once it exists
 
 
