@@ -43,31 +43,16 @@ def main() -> int:
     ap.add_argument("--threads", type=int, default=0)
     ap.add_argument("--out", default=str(REPO / "results" / "calibration175"))
     a = ap.parse_args()
-    from drillpy.reports.calibration import calibrate_to_folder
+    from drillpy.reports.calibration import calibrate_to_folder, summary_lines
     t0 = time.perf_counter()
     s = calibrate_to_folder(a.record, a.out, preset="thesis-rig", t0=a.window[0], t1=a.window[1], heldout=a.heldout,
                             population=a.population, max_simulations=a.simulations, max_generations=a.generations,
                             predictive_draws=a.draws, seed=a.seed, threads=a.threads,
                             log=lambda line: print(f"[{time.perf_counter() - t0:7.0f} s] {line}", flush=True))
     wall = time.perf_counter() - t0
-    run = s["run"]
-    print(f"\nsample 175, calibrated on {a.window[0]:g}-{a.window[1]:g} s, held out {a.heldout[0]:g}-{a.heldout[1]:g} s")
-    print(f"ABC simulations {run['abc_simulations']} in {run['wall_s']:.0f} s ({run['simulations_per_s']:.1f} per s, "
-          f"{run['threads']} threads), {run['generations']} generations, final eps {run['eps'][-1]:.3g} "
-          f"({run['stopped']}); with the {a.draws} predictive draws, the whole run {wall:.0f} s")
-    for fam in s["families"]:
-        print(f"P({fam}, Eq. {s['equations'][fam]}) = {s['model_probability'][fam]:.3f} +- "
-              f"{s['model_probability_se'][fam]:.3f}")
-        for name, p in s["parameters"][fam].items():
-            print(f"  {name}: {p['median']:.4g} [{p['ci90'][0]:.4g}, {p['ci90'][1]:.4g}] {p['unit']} "
-                  f"(prior [{p['prior'][0]:g}, {p['prior'][1]:g}], 90 % width {p['width_ratio']:.2f} of it)")
-    pred = s["predictive"]
-    print(f"predictive 90 % intervals on the held-out window: {sum(v['contained'] for v in pred.values())} of "
-          f"{len(pred)} contain the measured value")
-    for name, v in pred.items():
-        print(f"  {name}: [{v['interval90'][0]:.4g}, {v['interval90'][1]:.4g}] {v['unit']}, measured "
-              f"{v['measured']:.4g}{'' if v['contained'] else '  OUTSIDE'}")
-    print("written: " + ", ".join(s["files"]))
+    print(f"\nsample 175, calibrated on {a.window[0]:g}-{a.window[1]:g} s, held out {a.heldout[0]:g}-{a.heldout[1]:g} s; "
+          f"with the {a.draws} predictive draws, the whole run {wall:.0f} s")
+    print("\n".join(summary_lines(s)))
     return 0
 
 

@@ -48,15 +48,7 @@ inline FEMatrices assemble_axial(const StringModel& s, double bit_mass) {
     const double area = M_PI * (sec.outer_radius * sec.outer_radius - sec.inner_radius * sec.inner_radius);
     const double ke = sec.youngs_modulus * area / h, me = sec.density * area * h / 6.0;
     for (int i = 0; i < sec.elements; ++i, ++e) {
-      fe.K(e, e) += ke;
-      fe.K(e + 1, e + 1) += ke;
-      fe.K(e, e + 1) -= ke;
-      fe.K(e + 1, e) -= ke;
-      fe.M(e, e) += 2.0 * me;
-      fe.M(e + 1, e + 1) += 2.0 * me;
-      fe.M(e, e + 1) += me;
-      fe.M(e + 1, e) += me;
-      fe.x(e + 1) = fe.x(e) + h;
+      add_bar_element(fe, e, ke, me, h);
     }
   }
   fe.M(nn - 1, nn - 1) += bit_mass;

@@ -109,6 +109,22 @@ struct FEMatrices {
   Eigen::VectorXd x;  ///< node depth from the top [m]
 };
 
+/// Add one two-node linear bar element of length h between nodes e and e + 1: stiffness
+/// ke [1 -1; -1 1] and consistent mass me [2 1; 1 2], with ke = G J / h and me = rho J h / 6 in
+/// torsion (the FE form of Eq. 2.1, header comment) or ke = E A / h and me = rho A h / 6 axially;
+/// the element's lower node sits h below its upper one.
+inline void add_bar_element(FEMatrices& fe, int e, double ke, double me, double h) {
+  fe.K(e, e) += ke;
+  fe.K(e + 1, e + 1) += ke;
+  fe.K(e, e + 1) -= ke;
+  fe.K(e + 1, e) -= ke;
+  fe.M(e, e) += 2.0 * me;
+  fe.M(e + 1, e + 1) += 2.0 * me;
+  fe.M(e, e + 1) += me;
+  fe.M(e + 1, e) += me;
+  fe.x(e + 1) = fe.x(e) + h;
+}
+
 /// Assemble the element matrices of sections [first, last) into global matrices whose
 /// node 0 is the top of section `first`. Lumped inertias are added only for the full string.
 inline FEMatrices assemble_sections(const StringModel& s, std::size_t first, std::size_t last) {
@@ -126,15 +142,7 @@ inline FEMatrices assemble_sections(const StringModel& s, std::size_t first, std
     const double rj = sec.density * sec.polar_moment();
     const double ke = gj / h, me = rj * h / 6.0;
     for (int i = 0; i < sec.elements; ++i, ++e) {
-      fe.K(e, e) += ke;
-      fe.K(e + 1, e + 1) += ke;
-      fe.K(e, e + 1) -= ke;
-      fe.K(e + 1, e) -= ke;
-      fe.M(e, e) += 2.0 * me;
-      fe.M(e + 1, e + 1) += 2.0 * me;
-      fe.M(e, e + 1) += me;
-      fe.M(e + 1, e) += me;
-      fe.x(e + 1) = fe.x(e) + h;
+      add_bar_element(fe, e, ke, me, h);
     }
   }
   fe.x.array() += x0;

@@ -351,7 +351,7 @@ def cmd_calibrate(a: argparse.Namespace) -> int:
         Exit status 0; prints the model probabilities (with their Monte Carlo error), each parameter's
         median and 90 % interval, and the predictive intervals against the held-out window.
     """
-    from drillpy.reports.calibration import calibrate_to_folder
+    from drillpy.reports.calibration import calibrate_to_folder, summary_lines
     for name in ("t0", "t1"):
         if getattr(a, name) is not None:
             validate.number("--" + name, getattr(a, name), unit="s")
@@ -372,22 +372,7 @@ def cmd_calibrate(a: argparse.Namespace) -> int:
         print_json({k: s[k] for k in ("model_probability", "model_probability_se", "parameters", "predictive")}
                    | {"simulations": s["run"]["simulations"], "wall_s": s["run"]["wall_s"]})
         return 0
-    run = s["run"]
-    print(f"{run['abc_simulations']} simulations in {run['wall_s']:.1f} s ({run['simulations_per_s']:.1f}/s), "
-          f"{run['generations']} generations, final eps {run['eps'][-1]:.3g} ({run['stopped']})")
-    for fam in s["families"]:
-        print(f"P({fam}, Eq. {s['equations'][fam]}) = {s['model_probability'][fam]:.3f} "
-              f"+- {s['model_probability_se'][fam]:.3f} (Monte Carlo s.e.)")
-        for name, p in s["parameters"][fam].items():
-            print(f"  {name}: {p['median']:.4g} [{p['ci90'][0]:.4g}, {p['ci90'][1]:.4g}] {p['unit']} "
-                  f"(90 %; prior [{p['prior'][0]:g}, {p['prior'][1]:g}], width {p['width_ratio']:.2f} of it)")
-    pred = s["predictive"]
-    print(f"posterior predictive 90 % intervals: {sum(v['contained'] for v in pred.values())} of {len(pred)} contain "
-          "the measured value")
-    for name, v in pred.items():
-        print(f"  {name}: [{v['interval90'][0]:.4g}, {v['interval90'][1]:.4g}] {v['unit']}, measured "
-              f"{v['measured']:.4g}{'' if v['contained'] else '  (outside)'}")
-    print("written: " + ", ".join(s["files"]))
+    print("\n".join(summary_lines(s)))
     return 0
 
 

@@ -45,3 +45,37 @@ def calibrate_to_folder(record, out, **options) -> dict:
         files.append(out / "predictive.png")
     s["files"] = [str(f) for f in files]
     return s
+
+
+def summary_lines(s: dict) -> list:
+    """The text of a calibration's summary: the run, each family's probability with its Monte Carlo
+    standard error and its parameters' medians and 90 % intervals against their priors, the
+    posterior predictive 90 % intervals against the measured values, the files written.
+
+    Parameters
+    ----------
+    s : dict
+        :func:`calibrate_to_folder`'s summary.
+
+    Returns
+    -------
+    list of str
+        One line each, as ``drillpy calibrate`` prints them.
+    """
+    run, pred = s["run"], s["predictive"]
+    lines = [f"{run['abc_simulations']} simulations in {run['wall_s']:.1f} s ({run['simulations_per_s']:.1f}/s, "
+             f"{run['threads']} threads), {run['generations']} generations, final eps {run['eps'][-1]:.3g} "
+             f"({run['stopped']})"]
+    for fam in s["families"]:
+        lines.append(f"P({fam}, Eq. {s['equations'][fam]}) = {s['model_probability'][fam]:.3f} "
+                     f"+- {s['model_probability_se'][fam]:.3f} (Monte Carlo s.e.)")
+        lines += [f"  {name}: {p['median']:.4g} [{p['ci90'][0]:.4g}, {p['ci90'][1]:.4g}] {p['unit']} "
+                  f"(90 %; prior [{p['prior'][0]:g}, {p['prior'][1]:g}], width {p['width_ratio']:.2f} of it)"
+                  for name, p in s["parameters"][fam].items()]
+    lines.append(f"posterior predictive 90 % intervals: {sum(v['contained'] for v in pred.values())} of "
+                 f"{len(pred)} contain the measured value")
+    lines += [f"  {name}: [{v['interval90'][0]:.4g}, {v['interval90'][1]:.4g}] {v['unit']}, measured "
+              f"{v['measured']:.4g}{'' if v['contained'] else '  (outside)'}" for name, v in pred.items()]
+    if "files" in s:
+        lines.append("written: " + ", ".join(s["files"]))
+    return lines
