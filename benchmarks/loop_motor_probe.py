@@ -1,0 +1,61 @@
+"""The motor on sample 175, fitted from the whole-rig model's values with the damping free (issue 28).
+
+    PYTHONPATH=python python3 benchmarks/loop_motor_probe.py
+
+The loop's baseline of sample 175 (``thesis-rig``, 1000 Hz, the stall's horizons set apart) is
+calibrated with the damping held by the limit cycle (0.133); the motor candidate then fits to a
+quasi-static droop. This probe asks whether that is the start's doing: it starts the motor at the
+whole-rig model's calibrated values (``drillpy analyze``: J_m 0.019 kg m^2, coupling 45 N m/rad,
+c_m 0.25 N m s/rad, command 17.5 rad/s, damping 0.03), fits the law, the motor and (second row) the
+damping ratio jointly on the calibration part's short horizons, and prints each fit's E on both parts,
+its parameters and its long run (SS, stick fraction) against the record's. docs/loop.md quotes it.
+About 5 min on two cores.
+"""
+from __future__ import annotations
+
+import sys
+import warnings
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
+    sys.path.insert(0, str(REPO / "python"))
+SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
+WHOLE_RIG = {"variant": "motor", "droop_rad_s_per_nm": 4.0, "inertia_kg_m2": 0.019, "command_rad_s": 17.5,
+             "coupling_stiffness_nm_rad": 45.0}
+
+
+def main() -> int:
+    import drillpy
+    from drillpy.loop import LoopOptions, run_loop
+    from drillpy.loop.fitting import _calibrate, _finish
+    from drillpy.loop.longrun import long_run
+    from drillpy.loop.model import evaluate
+    from drillpy.model.plausibility import fitted_values
+    warnings.simplefilter("ignore", UserWarning)
+    res = run_loop(str(SAMPLE175), drillpy.load_config(preset="thesis-rig"), LoopOptions(max_steps=0),
+                   log=lambda *a: None)
+    data, base = res.data, res.baseline.model
+    print(f"baseline: E_cal {res.baseline.E_train:.4f}, E_val {res.baseline.E_test:.4f}, damping "
+          f"{base.damping_ratios[0]:.4f} (held)")
+    for held in (True, False):
+        m = base.copy()
+        m.cfg["damping"]["ratios"] = [0.03]
+        m.damping_held = held
+        m.effects["top_drive_dynamics"] = dict(WHOLE_RIG)
+        with fitted_values():
+            fit, _ = _calibrate(m, data, LoopOptions())
+            fit = _finish(fit, data)
+            ev, lr = evaluate(fit, data), long_run(fit, data)
+        p = fit.effects["top_drive_dynamics"]
+        print(f"motor from the whole-rig values, damping {'held at 0.03' if held else 'fitted'}: E_cal {ev.E_train:.4f}, "
+              f"E_val {ev.E_test:.4f}; damping {fit.damping_ratios[0]:.4f}, droop {p['droop_rad_s_per_nm']:.3g} rad/s "
+              f"per N m, inertia {p['inertia_kg_m2']:.3g} kg m^2, command {p['command_rad_s']:.4g} rad/s, coupling "
+              f"{p['coupling_stiffness_nm_rad']:.4g} N m/rad; long run SS {lr['model']['ss']:.3f}, stick fraction "
+              f"{lr['model']['stick_fraction']:.3f} (record {lr['measured']['ss']:.3f}, "
+              f"{lr['measured']['stick_fraction']:.3f})", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
