@@ -8,8 +8,10 @@ quasi-static droop. This probe asks whether that is the start's doing: it starts
 whole-rig model's calibrated values (``drillpy analyze``: J_m 0.019 kg m^2, coupling 45 N m/rad,
 c_m 0.25 N m s/rad, command 17.5 rad/s, damping 0.03), fits the law, the motor and (second row) the
 damping ratio jointly on the calibration part's short horizons, and prints each fit's E on both parts,
-its parameters and its long run (SS, stick fraction) against the record's. docs/loop.md quotes it.
-About 5 min on two cores.
+its parameters and its long run (SS, stick fraction) against the record's. Two more rows ask whether
+the record's break-away torque keeps the quasi-static motor sticking: the loop's motor candidate with
+``static_friction`` held at the stick phases' 2.98 N m. docs/loop.md quotes it. About 8 min on two
+cores.
 """
 from __future__ import annotations
 
@@ -23,6 +25,10 @@ if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the
 SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
 WHOLE_RIG = {"variant": "motor", "droop_rad_s_per_nm": 4.0, "inertia_kg_m2": 0.019, "command_rad_s": 17.5,
              "coupling_stiffness_nm_rad": 45.0}
+#: The loop's motor candidate on sample 175 (evidence.json): a droop without inertia, rigidly coupled.
+QUASI_STATIC = {"variant": "motor", "droop_rad_s_per_nm": 1.76, "inertia_kg_m2": 1e-6, "command_rad_s": 12.38}
+#: The record's break-away torque (the static_friction candidate's direct measurement), held.
+STATIC = {"static_torque_nm": 2.98, "source": "stick phases"}
 
 
 def main() -> int:
@@ -38,20 +44,28 @@ def main() -> int:
     data, base = res.data, res.baseline.model
     print(f"baseline: E_cal {res.baseline.E_train:.4f}, E_val {res.baseline.E_test:.4f}, damping "
           f"{base.damping_ratios[0]:.4f} (held)")
-    for held in (True, False):
+    # rows: the motor from the whole-rig values (damping held at 0.03 / fitted); the loop's quasi-static
+    # droop with the record's break-away torque (static_friction at its stick phases' value; damping held
+    # at the baseline's / fitted)
+    rows = [("motor from the whole-rig values", WHOLE_RIG, None, 0.03, held) for held in (True, False)]
+    rows += [("quasi-static motor and static_friction 2.98 N m", QUASI_STATIC, STATIC, None, held) for held in (True, False)]
+    for label, motor, static, zeta, held in rows:
         m = base.copy()
-        m.cfg["damping"]["ratios"] = [0.03]
+        if zeta is not None:
+            m.cfg["damping"]["ratios"] = [zeta]
         m.damping_held = held
-        m.effects["top_drive_dynamics"] = dict(WHOLE_RIG)
+        m.effects["top_drive_dynamics"] = dict(motor)
+        if static is not None:
+            m.effects["static_friction"] = dict(static)
         with fitted_values():
             fit, _ = _calibrate(m, data, LoopOptions())
             fit = _finish(fit, data)
             ev, lr = evaluate(fit, data), long_run(fit, data)
         p = fit.effects["top_drive_dynamics"]
-        print(f"motor from the whole-rig values, damping {'held at 0.03' if held else 'fitted'}: E_cal {ev.E_train:.4f}, "
+        print(f"{label}, damping {'held' if held else 'fitted'}: E_cal {ev.E_train:.4f}, "
               f"E_val {ev.E_test:.4f}; damping {fit.damping_ratios[0]:.4f}, droop {p['droop_rad_s_per_nm']:.3g} rad/s "
               f"per N m, inertia {p['inertia_kg_m2']:.3g} kg m^2, command {p['command_rad_s']:.4g} rad/s, coupling "
-              f"{p['coupling_stiffness_nm_rad']:.4g} N m/rad; long run SS {lr['model']['ss']:.3f}, stick fraction "
+              f"{p.get('coupling_stiffness_nm_rad', float('inf')):.4g} N m/rad; long run SS {lr['model']['ss']:.3f}, stick fraction "
               f"{lr['model']['stick_fraction']:.3f} (record {lr['measured']['ss']:.3f}, "
               f"{lr['measured']['stick_fraction']:.3f})", flush=True)
     return 0

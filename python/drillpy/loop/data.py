@@ -13,7 +13,7 @@ from scipy import signal as sps
 from drillpy.records import signals
 from drillpy.records.cleaning import CleaningOptions, clean
 from drillpy.records.io import Record, read_record
-from drillpy.records.rig_comparison import stalls
+from drillpy.records.rig_comparison import metric_scale, stalls
 from drillpy.records.rigsim import WOB_TREND_HZ, reliable_top_speed, wob_trend
 from .options import LoopOptions
 
@@ -81,10 +81,11 @@ class LoopData:
     L : int
         Samples per horizon, round(``horizon_s`` / dt).
     sigma_v : float
-        Standard deviation of the recorded bit speed over the calibration part's valid samples
-        [rad/s] (sd_v of the metric E, fixed for the whole loop).
+        Standard deviation of the recorded bit speed over the calibration part's valid samples,
+        stalls left out [rad/s] (sd_v of the metric E, fixed for the whole loop;
+        :func:`drillpy.records.rig_comparison.metric_scale`).
     sigma_T : float
-        Standard deviation of the recorded torque on bit over the calibration part [N m] (sd_T).
+        Standard deviation of the recorded torque on bit over the same samples [N m] (sd_T).
     top_meas : numpy.ndarray or None
         Recorded top speed [rad/s] (None without a top-speed channel).
     top_ok : numpy.ndarray or None
@@ -229,7 +230,7 @@ def wob_response(rec: Record) -> dict | None:
     return {"correlation": r, "lag_s": k / fs, "gain_n_rad": gain, "response": bool(r >= RESPONSE_R and gain > 0)}
 
 
-def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopData:
+def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions, scale: tuple | None = None) -> LoopData:
     """Clean a record, estimate derivatives, decimate, cut horizons and split them.
 
     The record is cleaned (:func:`drillpy.records.cleaning.clean`, spikes searched in the encoder
@@ -250,6 +251,10 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopDat
     opt : LoopOptions
         ``horizon_s``, ``calibration_fraction``, ``rate_hz``, ``derivative_window_s`` and
         ``stick_fraction`` are used.
+    scale : tuple of float, optional
+        (sd_v [rad/s], sd_T [N m]): the scale of the metric E when it was set elsewhere (a model's
+        calibration part: ``drillpy predict``); default the calibration part's spreads, stalls left
+        out (:func:`drillpy.records.rig_comparison.metric_scale`).
 
     Returns
     -------
@@ -333,13 +338,12 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions) -> LoopDat
     if n_tr < 4 or n_te < 4:
         raise ValueError(f"record: {n_tr} calibration and {n_te} validation horizons of {opt.horizon_s:g} s; need "
                          f"at least 4 each (a longer record, a shorter horizon_s or another calibration_fraction)")
-    train = ok & (t < t_split)
-    sv, sT = float(np.std(v_meas[train])), float(np.std(T_meas[train]))
+    sv, sT = metric_scale(v_meas, T_meas, ok & (t < t_split), dt, thr) if scale is None else map(float, scale)
     top_meas = filled(rec.top_speed)[::q] if has_top else None
     if wob_meas is not None:
         wob_meas = _savgol_set(filled(wob_meas), rec.dt, opt.derivative_window_s, (0,))[0][::q]
     if not (sv > 0 and sT > 0):
-        raise ValueError("record: the bit speed or the torque on bit is constant over the calibration part")
+        raise ValueError(f"scale = ({sv}, {sT}): the spreads of the metric E must be positive")
     every = max(1, int(round(0.01 / dt)))  # law fits on 100 Hz: the channels are smooth at that scale
     slip = ok & (ch["v"] > thr)
     sub = np.zeros(t.size, bool)

@@ -634,7 +634,8 @@ def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:
     base = stripped(cfg)
     wr = data.wob_response
     m = LoopModel(base, dict(base["law"]), om, w0, declared_effects(cfg), gj_tolerance=opt.gj_tolerance,
-                  wob_input=wr["input"] if wr else "measured", wob_is_response=bool(wr and wr["response"]))
+                  wob_input=wr["input"] if wr else "measured", wob_is_response=bool(wr and wr["response"]),
+                  metric_scale=(data.sigma_v, data.sigma_T))
     return refit(m, data, opt)
 
 

@@ -70,6 +70,10 @@ class LoopModel:
     wob_is_response : bool
         The calibration record's WOB was a response of the rotation
         (:func:`drillpy.loop.data.wob_response`).
+    metric_scale : tuple or None
+        (sd_v [rad/s], sd_T [N m]) of the calibration part (``LoopData.sigma_v``, ``sigma_T``): the
+        scale of the metric E, kept in ``model.json`` so that ``drillpy predict`` scores any record
+        on it (None: a model file without it; the record's own spreads are taken).
     """
     cfg: dict
     law: dict
@@ -83,6 +87,7 @@ class LoopModel:
     intervals: dict = field(default_factory=dict)  #: 95 % intervals of the effects' parameters
     wob_input: str = "measured"  #: the law's WOB channel: the recorded WOB or its trend
     wob_is_response: bool = False  #: the calibration record's WOB responded to the rotation
+    metric_scale: tuple | None = None  #: (sd_v, sd_T) of the calibration part: the scale of E
 
     @property
     def predictive(self) -> bool:
@@ -144,7 +149,10 @@ class LoopModel:
                 "base_config": self.cfg, "law": self.law, "top_speed_rad_s": self.top_speed, "wob_n": self.wob,
                 "effects": self.effects, "intervals": self.intervals, "n_law": self.n_law,
                 "damping_held": self.damping_held, "gj_tolerance": self.gj_tolerance, "gj_factor": self.gj_factor,
-                "wob_input": self.wob_input, "wob_is_response": self.wob_is_response}
+                "wob_input": self.wob_input, "wob_is_response": self.wob_is_response,
+                "metric_scale": None if self.metric_scale is None else
+                {"bit_speed_rad_s": self.metric_scale[0], "torque_on_bit_nm": self.metric_scale[1],
+                 "from": "the calibration part's spreads, stalls left out: E of drillpy predict is on this scale"}}
 
     @classmethod
     def from_dict(cls, d: dict) -> "LoopModel":
@@ -178,7 +186,7 @@ class LoopModel:
                        int(d.get("n_law", 0)), bool(d.get("damping_held", False)),
                        float(d.get("gj_tolerance", 0.0)), float(d.get("gj_factor", 1.0)),
                        dict(d.get("intervals", {})), str(d.get("wob_input", "measured")),
-                       bool(d.get("wob_is_response", False)))
+                       bool(d.get("wob_is_response", False)), _scale(d.get("metric_scale")))
         except KeyError as e:
             raise ValueError(f"model: lacks {e}") from None
 
@@ -623,6 +631,19 @@ def _reference(data: LoopData, h: np.ndarray) -> tuple:
         s = data.horizon_samples[h]
         return Yv, YT, data.top_ok[s], data.top_meas[s]
     return Yv, YT, None, None
+
+
+def _scale(d) -> tuple | None:
+    """``metric_scale`` of a model file as (sd_v, sd_T), or None when absent."""
+    if d is None:
+        return None
+    try:
+        sv, sT = float(d["bit_speed_rad_s"]), float(d["torque_on_bit_nm"])
+    except (KeyError, TypeError, ValueError):
+        sv = sT = float("nan")
+    if not (sv > 0 and sT > 0):
+        raise ValueError(f"model: metric_scale = {d!r}: needs positive 'bit_speed_rad_s' and 'torque_on_bit_nm'")
+    return sv, sT
 
 
 def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=None, ref=None) -> list:

@@ -127,7 +127,7 @@ def _loop_model_at(model: "loop.LoopModel", record: Record, data) -> "loop.LoopM
 def _loop_prediction(model: "loop.LoopModel", rec: Record, thr: float, horizon_s: float, threads: int) -> tuple:
     # the law takes the same kind of WOB as in the calibration (the recorded WOB, or its trend)
     opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads, wob_input=model.wob_input)
-    data = loop.prepare(rec, model.engine_config(), opt)
+    data = loop.prepare(rec, model.engine_config(), opt, scale=model.metric_scale)
     m = _loop_model_at(model, rec, data)
     sim = simulate_record(m, data)
     ev = loop.evaluate(m, data, threads)
@@ -144,7 +144,9 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
     trend) at the record's operating point, restarted from the measured bit speed, acceleration,
     torque and top speed at the start of every horizon and integrated over it. The horizons have no
     platform and no motor torque limit: the torque they predict is the contact torque. E = sqrt(mean
-    of the per-horizon normalized squared errors), 0 perfect, 1 as far off as the record's own spread.
+    of the per-horizon normalized squared errors), 0 perfect, 1 as far off as the spread of the
+    model's calibration window (``calibration.metric_scale``; a model file without it: the first
+    half of ``record``), the scale the loop's E is on.
 
     Parameters
     ----------
@@ -169,7 +171,8 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
     wob = op.get("wob_n", model.law["wob_ref_n"])
     opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads)
     cfg = model.config(command, wob)
-    data = loop.prepare(record, cfg, opt)
+    sc = model.calibration.get("metric_scale")
+    data = loop.prepare(record, cfg, opt, scale=None if sc is None else (sc["bit_speed_rad_s"], sc["torque_on_bit_nm"]))
     cfg = analysis_config(stripped(cfg), data.dt)
     effects = {}
     if model.drive in ("motor", "rig"):

@@ -19,7 +19,26 @@ from drillpy.model.plausibility import fitted_values
 from drillpy.records.io import Record
 from drillpy.records.rigsim import (DRIVES, MATCHED, MATCHED_RIG, RIG_PARAMETERS, RigModel, operating_point,
                                     reliable_top_speed, simulate_model, simulate_models)
-from drillpy.records.rig_comparison import RigComparison, compare, measured_side, record_metrics, relative_error
+from drillpy.records.rig_comparison import (RigComparison, compare, measured_side, metric_scale, record_metrics,
+                                            relative_error)
+
+
+def scale_of(record: Record, stick_threshold: float) -> dict:
+    """The scale of the short-horizon error E on the calibration record (``model.json`` ->
+    ``calibration.metric_scale``; :func:`drillpy.records.rig_comparison.metric_scale`): every
+    record a model predicts is scored on the scale it was calibrated with, as the loop does.
+
+    Parameters
+    ----------
+    record : Record
+        The calibration record (cleaned).
+    stick_threshold : float
+        Bit speed at or below which the bit is stuck [rad/s].
+    """
+    ok = record.valid("bit_speed") & record.valid("torque_on_bit")
+    sv, sT = metric_scale(record.bit_speed, record.torque_on_bit, ok, record.dt, stick_threshold)
+    return {"bit_speed_rad_s": sv, "torque_on_bit_nm": sT,
+            "from": "the calibration window's spreads, stalls left out: E of drillpy predict is on this scale"}
 
 
 @dataclass
@@ -176,7 +195,8 @@ def calibrate(record: Record, law: dict, stick_threshold: float, *, drives=DRIVE
     model.calibration = {"window_s": [float(record.time_s[0]), float(record.time_s[-1])], "operating_point": op,
                          "command_rad_s": sim.provenance["command_rad_s"], "mismatch": cmp.mismatch,
                          "matched": list(MATCHED), "stick_threshold_rad_s": float(stick_threshold),
-                         "per_drive": {k: {kk: vv for kk, vv in v.items() if kk != "scan"} for k, v in per.items()}}
+                         "per_drive": {k: {kk: vv for kk, vv in v.items() if kk != "scan"} for k, v in per.items()},
+                         "metric_scale": scale_of(record, stick_threshold)}
     return Calibration(model, cmp, per)
 
 
@@ -459,7 +479,7 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     model.calibration = {"window_s": [float(record.time_s[0]), float(record.time_s[-1])], "operating_point": op,
                          "command_rad_s": p["command_rad_s"], "mismatch": cmp.mismatch,
                          "matched": list(MATCHED_RIG), "stick_threshold_rad_s": float(stick_threshold),
-                         "per_drive": per}
+                         "per_drive": per, "metric_scale": scale_of(record, stick_threshold)}
     if log:
         log("rig calibration (whole rig): mismatch %.3f; " % cmp.mismatch
             + ", ".join(f"{k} {v:.4g}" for k, v in p.items()))

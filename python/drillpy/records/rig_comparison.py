@@ -133,6 +133,49 @@ def stalls(bit_speed, dt: float, stick_threshold: float, valid=None, min_s: floa
     return [(int(a), int(b - a)) for a, b in zip(starts, ends) if b - a >= n_min]
 
 
+def metric_scale(bit_speed, torque, usable, dt: float, stick_threshold: float) -> tuple:
+    """The scale of the short-horizon error E (docs/loop.md, "Residuals and metrics"): the standard
+    deviations of the bit speed and of the torque on bit over the usable samples, the stalls left out.
+
+    A stall holds the torque near its break-away value for a second or more; counted in the spread it
+    inflates the torque's by a quarter on sample 175 (20-30 s: 0.81 N m with the stall, 0.64 without)
+    and makes every error look smaller. The loop takes the scale over its calibration part and a
+    model file carries it (``metric_scale``), so that ``drillpy predict`` scores a record with the
+    scale the model was calibrated with: the same E for the same horizons whichever command asks.
+
+    Parameters
+    ----------
+    bit_speed, torque : array_like
+        Bit speed [rad/s] and torque on bit [N m], one sample per ``dt``.
+    usable : array_like of bool
+        The samples the scale is taken over (e.g. the valid samples of a calibration part).
+    dt : float
+        Sampling interval [s].
+    stick_threshold : float
+        Bit speed at or below which the bit is stuck [rad/s] (for :func:`stalls`).
+
+    Returns
+    -------
+    tuple of float
+        (sd_v [rad/s], sd_T [N m]).
+
+    Raises
+    ------
+    ValueError
+        If fewer than two samples are usable or a channel is constant over them.
+    """
+    v, T = np.asarray(bit_speed, float), np.asarray(torque, float)
+    ok = np.asarray(usable, bool) & np.isfinite(v) & np.isfinite(T)
+    for a, n in stalls(v, dt, stick_threshold, valid=ok):
+        ok[a:a + n] = False
+    if ok.sum() < 2:
+        raise ValueError(f"record: {int(ok.sum())} usable samples outside the stalls; the error's scale needs two")
+    sv, sT = float(np.std(v[ok])), float(np.std(T[ok]))
+    if not (sv > 0 and sT > 0):
+        raise ValueError("record: the bit speed or the torque on bit is constant over the calibration part")
+    return sv, sT
+
+
 def record_metrics(rec: Record, stick_threshold: float, t0: float, skip: np.ndarray) -> dict:
     """The metrics one side of :func:`compare` is measured by, from ``t0`` on, stalls and the
     ``skip`` mask left out of the regular ones.
