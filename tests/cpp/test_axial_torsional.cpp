@@ -144,6 +144,27 @@ TEST(AxialTorsional, SameNumbersForTheSameRun) {
   EXPECT_EQ(a.axial.bounce_fraction, b.axial.bounce_fraction);
 }
 
+TEST(AxialTorsional, SweepRunsEveryGridPointAsASingleRun) {
+  // sweep and map on the coupled model: point (w, s) is the run at speeds[s] under the hook load
+  // wobs[w] (the net force at the top, operation.wob_n), whatever the thread count
+  const Config c = rgd(6.0);
+  Simulation sim(c);
+  const std::vector<double> speeds{3.0, 6.0}, wobs{120e3, 180e3};
+  const std::vector<double> ss = sim.sweep_severity(speeds, wobs, nullptr, 2);
+  ASSERT_EQ(ss.size(), 4u);
+  EXPECT_EQ(ss, sim.sweep_severity(speeds, wobs, nullptr, 1));
+  for (std::size_t w = 0; w < wobs.size(); ++w) {
+    for (std::size_t k = 0; k < speeds.size(); ++k) {
+      Config one = c;
+      one.top_speed = speeds[k];
+      one.wob = wobs[w];
+      one.axial.rgd.top_force = wobs[w];
+      Simulation single(one);
+      EXPECT_EQ(ss[w * speeds.size() + k], single.run(single.inputs(), false).severity) << w << " " << k;
+    }
+  }
+}
+
 TEST(AxialTorsional, ConfigurationErrorsNameTheField) {
   json j = preset_json("rgd-field");
   auto refused = [](json x, const std::string& field) {
@@ -195,13 +216,19 @@ TEST(AxialTorsional, ConfigurationErrorsNameTheField) {
       EXPECT_NE(std::string(e.what()).find("simulation.dt_s"), std::string::npos) << e.what();
     }
   }
-  // a sweep is refused before it starts, naming axial.type
-  Simulation sim(preset("rgd-field"));
-  try {
-    sim.sweep_severity({5.0, 6.0}, {});
-    ADD_FAILURE() << "sweep accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("axial.type"), std::string::npos) << e.what();
+  // a WOB grid with a constant feed is refused before it starts: the WOB is then the bit's response
+  {
+    json x = j;
+    x["axial"]["top"] = "feed";
+    x["axial"]["rop_m_s"] = 0.006;
+    x["operation"].erase("wob_n");
+    Simulation sim(parse_config(x));
+    try {
+      sim.sweep_severity({5.0, 6.0}, {100e3, 200e3});
+      ADD_FAILURE() << "a WOB grid accepted with a constant feed";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("sweep.wobs_n"), std::string::npos) << e.what();
+    }
   }
   // the configuration round-trips through JSON
   const Config c = preset("rgd-field");

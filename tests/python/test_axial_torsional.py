@@ -1,6 +1,6 @@
 """The axial-torsional model (axial.type = rgd, drill/axial_torsional.hpp) from Python and the CLI:
-the RunReport's axial channels, the summary's WOB/ROP/bounce metrics, and studies it does not
-implement refused with one line naming axial.type."""
+the RunReport's axial channels, the summary's WOB/ROP/bounce metrics, sweep and map over top speed
+and hook load, and studies it does not implement refused with one line naming axial.type."""
 import json
 
 import numpy as np
@@ -88,7 +88,43 @@ def test_cli_simulate_writes_the_axial_channels(tmp_path):
     assert data.shape[1] == 6 and data[0, 1] == pytest.approx(150e3, rel=1e-6)
 
 
-def test_cli_sweep_is_refused_naming_the_field():
-    r = run_cli("sweep", "--preset", "rgd-field", "--speeds", "3:5:2", "--json")
+def test_sweep_runs_the_coupled_model_as_simulate_does():
+    """sweep on the axial-torsional model: each grid point is the run simulate makes (same start,
+    same engine path), whatever the thread count."""
+    from drillpy.model.simulation import sweep_severity
+    cfg = _short(6.0)
+    speeds = [3.0, 6.0]
+    ss = sweep_severity(cfg, speeds, progress=False, threads=2)
+    assert np.array_equal(ss, sweep_severity(cfg, speeds, progress=False, threads=1))
+    for om, s in zip(speeds, ss):
+        c = _short(6.0)
+        c["operation"]["top_speed_rad_s"] = om
+        assert s == simulate(c).severity
+
+
+def test_map_over_hook_load_stick_slips_more_under_a_heavier_load_and_less_at_a_higher_speed():
+    """The RPM x hook-load map of the RGD field string (20 s runs): at a fixed speed a heavier
+    load (a deeper cut, a steeper RGD torque) raises SS; at a fixed load a faster top lowers it."""
+    from drillpy.model.simulation import stability_map
+    cfg = _short(20.0)
+    speeds, wobs = np.array([3.1, 9.4]), np.array([100e3, 200e3])  # 30 and 90 RPM; 100 and 200 kN
+    ss = stability_map(cfg, speeds, wobs, progress=False)
+    assert ss.shape == (2, 2)
+    assert ss[1, 0] > ss[0, 0] + 0.5  # 30 RPM: 100 kN -> 200 kN
+    assert ss[1, 1] < 0.5 * ss[1, 0]  # 200 kN: 30 RPM -> 90 RPM
+
+
+def test_a_wob_grid_with_a_constant_feed_is_refused_naming_the_field():
+    from drillpy.model.simulation import stability_map
+    cfg = _short()
+    cfg["axial"]["top"] = "feed"
+    cfg["axial"]["rop_m_s"] = 0.006
+    del cfg["operation"]["wob_n"]
+    with pytest.raises(ValueError, match="sweep.wobs_n"):
+        stability_map(cfg, [3.0], [100e3, 200e3], progress=False)
+
+
+def test_monte_carlo_is_refused_naming_the_field():
+    r = run_cli("mc", "--preset", "rgd-field", "--samples", "2", "--json")
     assert r.returncode != 0
     assert "axial.type" in r.stderr and "Traceback" not in r.stderr

@@ -199,12 +199,57 @@ class Simulation {
     return obs.report(std::move(last));
   }
 
+  /// SS of the axial-torsional model on a grid (sweep_severity with axial.type = rgd): result[w *
+  /// speeds.size() + s]. With top = hook_load a WOB of `wobs` is the net force at the top, the WOB of
+  /// steady drilling (operation.wob_n), one coupled model per WOB; with top = feed the WOB is the bit's
+  /// response, not an input, and `wobs` must be empty. Each run starts as run_coupled starts it, from
+  /// `start` (other than steady: the torsional state only). One run per grid point through the scalar
+  /// reference, in parallel.
+  std::vector<double> sweep_coupled(const std::vector<double>& speeds, const std::vector<double>& wobs,
+                                    const ProgressFn& progress, int threads, StartMode start) const {
+    const AxialTorsionalSpec& base = cfg_.axial.rgd;
+    require(wobs.empty() || base.top == AxialTop::hook_load, "sweep.wobs_n", wobs.size(),
+            "values given, but with axial.top = feed the WOB is the bit's response, not an input (sweep "
+            "axial.rop_m_s in separate runs, or use axial.top = hook_load)");
+    std::vector<AxialTorsional> models;
+    if (wobs.empty()) {
+      models.push_back(*coupled_);
+    } else {
+      for (double wi : wobs) {
+        AxialTorsionalSpec spec = base;
+        spec.top_force = wi;
+        models.emplace_back(rom_.model, cfg_.string, spec, cfg_.sim);
+      }
+    }
+    const double w0 = cfg_.wob;
+    std::vector<double> out(speeds.size() * models.size());
+    const bool done = parallel_for(
+        out.size(),
+        [&](std::size_t i) {
+          const std::size_t iw = i / speeds.size();
+          const Inputs in = inputs(speeds[i % speeds.size()], wobs.empty() ? w0 : wobs[iw]);
+          const double om = in.top_speed.value;
+          std::optional<ModelState> s0;
+          if (start == StartMode::steady) s0 = models[iw].steady_torsion(om);
+          else s0 = start_state(start, om, 0.0);
+          if (!s0) s0 = integ_.initial_state(om);  // rest: Eq. (2.10)
+          out[i] = run_coupled(models[iw], in, false, &*s0, nullptr).severity;
+        },
+        progress, threads);
+    if (!done) out.clear();
+    return out;
+  }
+
   /// A run of the axial-torsional model (axial_torsional.hpp): the torsional metrics as run() and the
   /// axial channels. Starts in steady drilling (disturbed) unless `start` or simulation.start say
   /// otherwise (rest, rigid: the torsional state only; the axial state and the rock surface are
   /// always steady drilling's).
   RunReport run_coupled(const Inputs& in, bool record, const ModelState* start, const RunProgressFn& progress) const {
-    const AxialTorsional& m = *coupled_;
+    return run_coupled(*coupled_, in, record, start, progress);
+  }
+  /// run_coupled on the coupled model `m` (one of sweep_coupled's WOBs).
+  RunReport run_coupled(const AxialTorsional& m, const Inputs& in, bool record, const ModelState* start,
+                        const RunProgressFn& progress) const {
     const double om0 = in.top_speed.at(0.0);
     require_positive(om0, "operation.top_speed_rad_s");
     std::optional<ModelState> s0;
@@ -316,7 +361,6 @@ class Simulation {
                                      const ProgressFn& progress = nullptr, int threads = 0,
                                      std::optional<StartMode> start_mode = std::nullopt, bool batched = true) const {
     const StartMode start = start_mode.value_or(cfg_.start);
-    require_torsional("a sweep (sweep, map)");
     require(!speeds.empty(), "sweep.top_speeds_rad_s", speeds.size(), "is empty");
     const std::vector<double> w = wobs.empty() ? std::vector<double>{cfg_.wob} : wobs;
     for (std::size_t k = 0; k < speeds.size(); ++k) {
@@ -324,6 +368,7 @@ class Simulation {
       require(speeds[k] > 0.0, "sweep.top_speeds_rad_s[" + std::to_string(k) + "]", speeds[k], "must be positive");
     }
     for (std::size_t k = 0; k < w.size(); ++k) require_non_negative(w[k], "sweep.wobs_n[" + std::to_string(k) + "]");
+    if (coupled_) return sweep_coupled(speeds, wobs.empty() ? std::vector<double>{} : w, progress, threads, start);
     std::vector<double> out(speeds.size() * w.size());
     const BatchedIntegrator lockstep(integ_);
     if (batched && lockstep.supports(inputs(speeds[0], w[0]))) {
