@@ -10,8 +10,10 @@ c_m 0.25 N m s/rad, command 17.5 rad/s, damping 0.03), fits the law, the motor a
 damping ratio jointly on the calibration part's short horizons, and prints each fit's E on both parts,
 its parameters and its long run (SS, stick fraction) against the record's. Two more rows ask whether
 the record's break-away torque keeps the quasi-static motor sticking: the loop's motor candidate with
-``static_friction`` held at the stick phases' 2.98 N m. docs/loop.md quotes it. About 8 min on two
-cores.
+``static_friction`` held at the stick phases' 2.98 N m, and two with the jack (the WOB a state of the
+model, ``axial_jack``) fitted beside it, the pair the whole-rig model has. Each fitted model is also run from rest (the
+bit stuck, as the rig starts) for 40 s: a stick-slip cycle beside a stable sliding state would show
+there. docs/loop.md quotes it. About 12 min on two cores.
 """
 from __future__ import annotations
 
@@ -28,7 +30,9 @@ WHOLE_RIG = {"variant": "motor", "droop_rad_s_per_nm": 4.0, "inertia_kg_m2": 0.0
 #: The loop's motor candidate on sample 175 (evidence.json): a droop without inertia, rigidly coupled.
 QUASI_STATIC = {"variant": "motor", "droop_rad_s_per_nm": 1.76, "inertia_kg_m2": 1e-6, "command_rad_s": 12.38}
 #: The record's break-away torque (the static_friction candidate's direct measurement), held.
-STATIC = {"static_torque_nm": 2.98, "source": "stick phases"}
+STATIC = {"static_friction": {"static_torque_nm": 2.98, "source": "stick phases"}}
+#: The jack from the whole-rig model's values (docs/records.md: 182-192 N/rad, 0.07-0.10 s).
+JACK = {"axial_jack": {"gain_n_rad": 180.0, "relaxation_s": 0.1}}
 
 
 def main() -> int:
@@ -38,6 +42,7 @@ def main() -> int:
     from drillpy.loop.longrun import long_run
     from drillpy.loop.model import evaluate
     from drillpy.model.plausibility import fitted_values
+    from drillpy.model.simulation import simulate
     warnings.simplefilter("ignore", UserWarning)
     res = run_loop(str(SAMPLE175), drillpy.load_config(preset="thesis-rig"), LoopOptions(max_steps=0),
                    log=lambda *a: None)
@@ -49,25 +54,37 @@ def main() -> int:
     # at the baseline's / fitted)
     rows = [("motor from the whole-rig values", WHOLE_RIG, None, 0.03, held) for held in (True, False)]
     rows += [("quasi-static motor and static_friction 2.98 N m", QUASI_STATIC, STATIC, None, held) for held in (True, False)]
-    for label, motor, static, zeta, held in rows:
+    # the pair the whole-rig model has: the motor and the jack (the WOB as a state), fitted jointly
+    rows += [("quasi-static motor and axial_jack", QUASI_STATIC, JACK, None, held) for held in (True, False)]
+    for label, motor, extra, zeta, held in rows:
         m = base.copy()
         if zeta is not None:
             m.cfg["damping"]["ratios"] = [zeta]
         m.damping_held = held
         m.effects["top_drive_dynamics"] = dict(motor)
-        if static is not None:
-            m.effects["static_friction"] = dict(static)
+        if extra is not None:
+            m.effects.update({k: dict(v) for k, v in extra.items()})
         with fitted_values():
             fit, _ = _calibrate(m, data, LoopOptions())
             fit = _finish(fit, data)
             ev, lr = evaluate(fit, data), long_run(fit, data)
         p = fit.effects["top_drive_dynamics"]
+        jack = fit.effects.get("axial_jack")
+        if jack:
+            label += f" (gain {jack['gain_n_rad']:.4g} N/rad, relaxation {jack['relaxation_s']:.3g} s)"
         print(f"{label}, damping {'held' if held else 'fitted'}: E_cal {ev.E_train:.4f}, "
               f"E_val {ev.E_test:.4f}; damping {fit.damping_ratios[0]:.4f}, droop {p['droop_rad_s_per_nm']:.3g} rad/s "
               f"per N m, inertia {p['inertia_kg_m2']:.3g} kg m^2, command {p['command_rad_s']:.4g} rad/s, coupling "
               f"{p.get('coupling_stiffness_nm_rad', float('inf')):.4g} N m/rad; long run SS {lr['model']['ss']:.3f}, stick fraction "
               f"{lr['model']['stick_fraction']:.3f} (record {lr['measured']['ss']:.3f}, "
               f"{lr['measured']['stick_fraction']:.3f})", flush=True)
+        # the long run above starts turning (Eq. 2.10); the rig starts from rest, the bit stuck: a
+        # stick-slip cycle that coexists with a stable sliding state would show from there
+        cfg = fit.engine_config()
+        cfg["simulation"].update(duration_s=40.0, transient_s=10.0, start="rest", dt_s=2e-4)
+        with fitted_values():
+            r = simulate(cfg)
+        print(f"  the same model from rest, 40 s: SS {r.severity:.3f}, stick fraction {r.stick_fraction:.3f}", flush=True)
     return 0
 
 
