@@ -124,7 +124,22 @@ def test_a_wob_grid_with_a_constant_feed_is_refused_naming_the_field():
         stability_map(cfg, [3.0], [100e3, 200e3], progress=False)
 
 
-def test_monte_carlo_is_refused_naming_the_field():
-    r = run_cli("mc", "--preset", "rgd-field", "--samples", "2", "--json")
-    assert r.returncode != 0
-    assert "axial.type" in r.stderr and "Traceback" not in r.stderr
+def test_monte_carlo_runs_the_coupled_model_with_the_stochastic_torque():
+    """mc on the axial-torsional model: eta of Eq. (4.1) scales the RGD torque bounds; the eta = 0
+    reference is the deterministic sweep itself; samples are the same numbers on 1 and 2 threads; a
+    torque that fluctuates by tens of per cent changes SS; the warm start is 0 (steady drilling)."""
+    from drillpy.model.simulation import sweep_severity
+    from drillpy.uncertainty.montecarlo import stochastic_study
+    from drillpy.uncertainty.process import PsdModel
+    cfg = _short(8.0)
+    speeds = [3.0, 9.0]
+    psd = PsdModel(2.0, -3.22, -3.0, -1.14)  # flat to 2 Hz, then f^-3: eta std about 0.35
+    kw = dict(psd=psd, duration=8.0, transient=4.0, progress=False)
+    a = stochastic_study(cfg, speeds, 4, 7, threads=2, **kw)
+    b = stochastic_study(cfg, speeds, 4, 7, threads=1, deterministic=False, **kw)
+    assert np.array_equal(a.severity, b.severity)
+    assert a.settings["warmup_s"] == 0.0 and a.eta_std > 0.2
+    assert np.array_equal(a.deterministic, sweep_severity(cfg, speeds, progress=False))
+    assert np.max(np.abs(a.severity - a.deterministic[None, :])) > 0.05
+    with pytest.raises(ValueError, match="montecarlo.warmup_s"):
+        stochastic_study(cfg, speeds, 2, 7, warmup=5.0, **kw)

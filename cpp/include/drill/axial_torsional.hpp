@@ -18,6 +18,8 @@
 //   axial    V+ = V_a - dt g_a (W - W_lo),  W in W_lo + [0, W_f] H(V+)    (H the set-valued step)
 //   torsion  Omega+ = Omega_a - dt g_t T,    T in T_max Sgn(Omega+)       (T_max = T_c + T_f forwards,
 //                                                                           T_f backwards)
+// The stochastic bit-rock torque of Eq. (4.1) (the Monte Carlo of chapter 4, inputs.eta) scales both
+// torque bounds by (1 + eta(t)), floored at 0; the WOB is not scaled.
 // V_a, Omega_a the velocities without the contact's variable part, g the bit's modal gains (b . b,
 // c . c). While turning forwards the bit cuts (W_lo = W_c); at torsional rest it bears on the rock with
 // W in [0, W_c + W_f] (W_lo = 0); above the rock (d <= 0) W = T = 0 and the bit flies (bit bounce).
@@ -193,8 +195,11 @@ class AxialTorsional {
         else if (Va - dt * ga * (W_hi - W_lo) >= 0.0) W = W_hi;
         else W = W_lo + Va / (dt * ga);
         Wf = std::min(W - W_lo, Wf_max);
-        // torsional inclusion: T in [-T_f, T_c + T_f], set-valued at Omega+ = 0
-        const double T_fwd = ct * d + ctw * Wf, T_bwd = ctw * Wf;
+        // torsional inclusion: T in [-T_f, T_c + T_f], set-valued at Omega+ = 0; the bit-rock
+        // torque's fluctuation of Eq. (4.1) scales both, (1 + eta) floored at 0 (a set-valued
+        // contact cannot drive the bit)
+        const double fl = std::max(0.0, 1.0 + in.eta.at(t));
+        const double T_fwd = fl * (ct * d + ctw * Wf), T_bwd = fl * ctw * Wf;
         const double Oa = Ob + dt * alpha_t;
         if (Oa > 0.0) T = Oa - dt * gt * T_fwd >= 0.0 ? T_fwd : Oa / (dt * gt);
         else T = Oa + dt * gt * T_bwd <= 0.0 ? -T_bwd : Oa / (dt * gt);

@@ -51,7 +51,8 @@ class MonteCarlo {
   /// with the 0.13 Hz mode's 9.5 % damping, is then not paid again by every sample.
   MonteCarlo(Config cfg, GaussianProcess process, std::uint64_t seed, double warmup = 0.0)
       : sim_(std::move(cfg)), proc_(std::move(process)), seed_(seed), warmup_(warmup) {
-    sim_.require_torsional("Monte Carlo");
+    require(!sim_.coupled() || warmup_ == 0.0, "montecarlo.warmup_s", warmup_,
+            "must be 0 with axial.type = rgd: every coupled run starts in RGD's steady drilling");
     const double span = static_cast<double>(proc_.size()) * proc_.dt();
     require(span >= sim_.config().sim.duration, "process.duration_s", span,
             "the eta realization is shorter than simulation.duration_s = " + show(sim_.config().sim.duration));
@@ -104,7 +105,7 @@ class MonteCarlo {
     const Config& c = sim_.config();
     const std::vector<ModelState> warm = warm_states(speeds, threads);
     const BatchedIntegrator lockstep(sim_.integrator());
-    if (batched && lockstep.supports(sim_.inputs(speeds[0], c.wob))) {
+    if (batched && !sim_.coupled() && lockstep.supports(sim_.inputs(speeds[0], c.wob))) {
       // one task per (batch of samples, speed): enough tasks for every thread even with few samples
       const std::size_t w = BatchedIntegrator::width(), ns = speeds.size(), nb = (count + w - 1) / w;
       ProgressFn runs;
@@ -136,7 +137,7 @@ class MonteCarlo {
           for (std::size_t s = 0; s < speeds.size(); ++s) {
             in.top_speed = Signal::constant(speeds[s]);
             SeverityObserver sev(c.transient);
-            sim_.integrator().run(in, sev, warm.empty() ? nullptr : &warm[s]);
+            sim_.run_observed(in, sev, warm.empty() ? nullptr : &warm[s]);
             out(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(s)) = sev.severity();
             if (mean_bit_speed)
               (*mean_bit_speed)(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(s)) = sev.mean_bit_speed();
@@ -164,7 +165,7 @@ class MonteCarlo {
           SeverityObserver sev(c.transient);
           PhaseObserver ph(c.transient, c.metrics.stick_threshold_fraction * std::fabs(speed),
                            c.metrics.stick_debounce_s, c.metrics.slip_level_fraction * std::fabs(speed));
-          sim_.integrator().run(
+          sim_.run_observed(
               in,
               [&](const StepState& s) {
                 sev(s);

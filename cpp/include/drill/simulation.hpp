@@ -199,6 +199,29 @@ class Simulation {
     return obs.report(std::move(last));
   }
 
+  /// The torsional start of a run of the coupled model `m` at top speed om0: steady drilling
+  /// (disturbed), or `start`'s state (rest: Eq. 2.10); the axial state is always steady drilling's.
+  ModelState coupled_start(const AxialTorsional& m, double om0, StartMode start) const {
+    std::optional<ModelState> s0;
+    if (start == StartMode::steady) s0 = m.steady_torsion(om0);
+    else s0 = start_state(start, om0, 0.0);
+    if (!s0) s0 = integ_.initial_state(om0);  // rest: Eq. (2.10)
+    return *s0;
+  }
+
+  /// One run through the model's own integrator, obs(const StepState&) at every step: the torsional
+  /// Integrator, or with axial.type = rgd the axial-torsional model (`start` null: simulation.start).
+  /// The Monte Carlo runs go through it.
+  template <class Observer>
+  void run_observed(const Inputs& in, Observer&& obs, const ModelState* start) const {
+    if (!coupled_) {
+      integ_.run(in, obs, start);
+      return;
+    }
+    const ModelState s0 = start ? *start : coupled_start(*coupled_, in.top_speed.at(0.0), cfg_.start);
+    coupled_->run(in, [&](const StepState& s, const AxialStep&) { obs(s); }, &s0);
+  }
+
   /// SS of the axial-torsional model on a grid (sweep_severity with axial.type = rgd): result[w *
   /// speeds.size() + s]. With top = hook_load a WOB of `wobs` is the net force at the top, the WOB of
   /// steady drilling (operation.wob_n), one coupled model per WOB; with top = feed the WOB is the bit's
@@ -228,12 +251,8 @@ class Simulation {
         [&](std::size_t i) {
           const std::size_t iw = i / speeds.size();
           const Inputs in = inputs(speeds[i % speeds.size()], wobs.empty() ? w0 : wobs[iw]);
-          const double om = in.top_speed.value;
-          std::optional<ModelState> s0;
-          if (start == StartMode::steady) s0 = models[iw].steady_torsion(om);
-          else s0 = start_state(start, om, 0.0);
-          if (!s0) s0 = integ_.initial_state(om);  // rest: Eq. (2.10)
-          out[i] = run_coupled(models[iw], in, false, &*s0, nullptr).severity;
+          const ModelState s0 = coupled_start(models[iw], in.top_speed.value, start);
+          out[i] = run_coupled(models[iw], in, false, &s0, nullptr).severity;
         },
         progress, threads);
     if (!done) out.clear();
@@ -254,9 +273,7 @@ class Simulation {
     require_positive(om0, "operation.top_speed_rad_s");
     std::optional<ModelState> s0;
     if (!start) {
-      if (cfg_.start == StartMode::steady) s0 = m.steady_torsion(om0);
-      else s0 = start_state(cfg_.start, om0, 0.0);
-      if (!s0) s0 = integ_.initial_state(om0);  // rest: Eq. (2.10)
+      s0 = coupled_start(m, om0, cfg_.start);
       start = &*s0;
     }
     RunObserver obs(cfg_, in, record);

@@ -320,7 +320,7 @@ def add_mc(sub) -> argparse.ArgumentParser:
                    help="top speeds, start:stop:num or list, in rad/s or with a unit (60:250:22rpm)")
     add_wob_arg(s)
     s.add_argument("--warmup", type=float, help="deterministic start-up shared by all samples [s] "
-                                                "(default 100)")
+                                                "(default 100; 0 with axial.type = rgd)")
     s.add_argument("--eta-dt", type=float, default=0.05, help="sampling step of eta [s]")
     g = s.add_mutually_exclusive_group()
     g.add_argument("--psd-model", help="f0,A0,a,b of Eq. (4.4) (default: the thesis's "
@@ -471,7 +471,7 @@ def cmd_mc(a: argparse.Namespace) -> int:
     cfg = model_config(a)
     speeds = parse_grid(a.speeds, "--speeds", "speed")
     psd = psd_option(a)
-    durations = dict(warmup=mcm.WARMUP_S if a.warmup is None else a.warmup,
+    durations = dict(warmup=mcm.default_warmup(cfg) if a.warmup is None else a.warmup,
                      duration=mcm.DURATION_S if a.duration is None else a.duration,
                      transient=mcm.TRANSIENT_S if a.transient is None else a.transient)
     if a.first_sample == 0 and (a.out or a.scheduler != "local"):  # a stored or distributed study

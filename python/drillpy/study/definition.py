@@ -186,7 +186,7 @@ def mc_study(cfg: dict, speeds, samples: int, seed: int, *, psd=None, eta_dt: fl
     from drillpy.uncertainty import montecarlo as mcm
     psd = mcm.THESIS_PSD if psd is None else psd
     eta_dt = mcm.ETA_DT_S if eta_dt is None else eta_dt
-    warmup = mcm.WARMUP_S if warmup is None else warmup
+    warmup = mcm.default_warmup(cfg) if warmup is None else warmup
     if not hasattr(psd, "as_dict"):
         raise ValueError("psd: a Python callable cannot be stored in a study (give a PsdModel or a PsdTable)")
     c = mcm.study_config(cfg, mcm.DURATION_S if duration is None else duration,

@@ -227,6 +227,19 @@ def study_config(cfg: dict, duration: float, transient: float) -> dict:
                           transient=float(transient))
 
 
+def default_warmup(cfg: dict) -> float:
+    """The warm start a study takes when none is given [s]: :data:`WARMUP_S`, or 0 for the
+    axial-torsional model (``axial.type = rgd``), whose runs start in RGD's steady drilling (a warm
+    start of that model is not implemented: the engine refuses another value).
+
+    Parameters
+    ----------
+    cfg : dict
+        The study's configuration.
+    """
+    return 0.0 if (cfg.get("axial") or {}).get("type") == "rgd" else WARMUP_S
+
+
 def study_engine(cfg: dict, psd: Psd, eta_dt: float, seed: int, warmup: float) -> "_core.MonteCarlo":
     """The engine of a chapter-4 study: eta of PSD ``psd`` on the study's grid, the warm start.
 
@@ -284,7 +297,7 @@ def _none_if_nan(x: float) -> float | None:
 
 
 def stochastic_study(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = THESIS_PSD,
-                     eta_dt: float = ETA_DT_S, warmup: float = WARMUP_S,
+                     eta_dt: float = ETA_DT_S, warmup: float | None = None,
                      duration: float = DURATION_S, transient: float = TRANSIENT_S,
                      first_sample: int = 0, deterministic: bool = True, threads: int = 0,
                      progress: bool = True) -> StochasticStudy:
@@ -316,8 +329,8 @@ def stochastic_study(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = T
         Sampling step of eta [s] (default ``ETA_DT_S`` = 0.05 s); the integrator interpolates it
         linearly.
     warmup : float
-        Deterministic start-up shared by all samples [s] (default ``WARMUP_S`` = 100 s; 0 runs
-        Algorithm 1 literally from rest).
+        Deterministic start-up shared by all samples [s] (default :func:`default_warmup`:
+        ``WARMUP_S`` = 100 s, 0 for ``axial.type = rgd``; 0 runs Algorithm 1 literally from rest).
     duration : float
         Stochastic part of every run [s] (default ``DURATION_S`` = 60 s).
     transient : float
@@ -347,6 +360,7 @@ def stochastic_study(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = T
     first = validate.integer("first_sample", first_sample, 0, 2**62)
     seed = validate.seed(seed)
     c = study_config(cfg, duration, transient)
+    warmup = default_warmup(c) if warmup is None else warmup
     mc = study_engine(c, psd, eta_dt, seed, warmup)
     with progress_bar(n, "Monte Carlo samples", progress) as cb:
         ss = mc.severity(list(sp), first, n, cb, int(threads))
@@ -547,7 +561,7 @@ def conv1(severity, speeds) -> np.ndarray:
 
 
 def phase_study(cfg: dict, speed: float | None = None, *, seed: int, cycles: int = 750,
-                psd: Psd = THESIS_PSD, eta_dt: float = ETA_DT_S, warmup: float = WARMUP_S,
+                psd: Psd = THESIS_PSD, eta_dt: float = ETA_DT_S, warmup: float | None = None,
                 duration: float = 200.0, transient: float = TRANSIENT_S, batch: int = 16,
                 threads: int = 0, progress: bool = True) -> PhaseStudy:
     """Stick and slip durations at one top speed (default: the configuration's) pooled over
@@ -573,8 +587,8 @@ def phase_study(cfg: dict, speed: float | None = None, *, seed: int, cycles: int
         One-sided PSD of eta per Hz [1/Hz] (default ``THESIS_PSD``, Eq. 4.4).
     eta_dt : float
         Sampling step of eta [s].
-    warmup : float
-        Deterministic start-up before the stochastic part [s].
+    warmup : float, optional
+        Deterministic start-up before the stochastic part [s] (default :func:`default_warmup`).
     duration : float
         Stochastic part of every run [s] (default 200 s).
     transient : float
@@ -597,6 +611,7 @@ def phase_study(cfg: dict, speed: float | None = None, *, seed: int, cycles: int
     c = study_config(cfg, duration, transient)
     om = float(c["operation"]["top_speed_rad_s"] if speed is None else speed)
     speed_grid([om])
+    warmup = default_warmup(c) if warmup is None else warmup
     mc = study_engine(c, psd, eta_dt, seed, warmup)
     stick, slip, sev = [], [], []
     with progress_bar(ncyc, "stick-slip cycles", progress) as cb:
