@@ -210,8 +210,8 @@ TEST(ExactModal, ABatchedRunHasTheSameBitsInEveryLaneAndTheScalarPathsToRounding
   // Highway's exp/log, FMA, another summation order) against the scalar Integrator: a run has the
   // same bits alone and in every lane position of a full and a partial batch; against the scalar
   // path it differs by rounding, which the Newton tolerance (1e-12 relative) keeps at the level of
-  // the solve over these 3 s (measured: bit speed within 2.3e-12 rad/s and torque on bit within
-  // 5.4e-6 N.m on the field string, 7.9e-12 rad/s and 3.7e-11 N.m on the rig with its stick
+  // the solve over these 3 s (measured: bit speed within 3.7e-12 rad/s and torque on bit within
+  // 9.3e-6 N.m on the field string, 7.9e-12 rad/s and 3.7e-11 N.m on the rig with its stick
   // phases): bounded here at 1e-9 rad/s and 1e-3 N.m.
   for (const Config& c : {em_field(10, 3.0), [] {
          Config r = rig_with_stick(BitRockLaw::Kind::polynomial_hysteretic);

@@ -173,52 +173,66 @@ HWY_INLINE V Coef(D d, const double* coef, std::size_t N, int j, int q) {
   else return hn::Set(d, coef[static_cast<std::size_t>(j) * EK + q]);
 }
 
-/// The modal sum of w = bit . ps over the state z, p at a step's start, into four partial sums
-/// (mode pairs, z and p apart: independent chains of FMA), added in a fixed order by WSum.
+/// The modal sum of w = bit . ps over the state z, p at a step's start: mode j adds bpz_j z_j and
+/// bpp_j p_j to the partial sums az and ap (even modes to one pair, odd modes to another: four
+/// independent chains of FMA in registers), added in a fixed order by WSum.
 template <bool PerLane>
-HWY_INLINE void WAcc(D d, const double* coef, std::size_t N, int j, V z, V p, V* acc) {
-  const int h = 2 * (j & 1);
-  acc[h] = hn::MulAdd(Coef<PerLane>(d, coef, N, j, ExactModal::bpz), z, acc[h]);
-  acc[h + 1] = hn::MulAdd(Coef<PerLane>(d, coef, N, j, ExactModal::bpp), p, acc[h + 1]);
+HWY_INLINE void WAcc(D d, const double* coef, std::size_t N, int j, V z, V p, V& az, V& ap) {
+  az = hn::MulAdd(Coef<PerLane>(d, coef, N, j, ExactModal::bpz), z, az);
+  ap = hn::MulAdd(Coef<PerLane>(d, coef, N, j, ExactModal::bpp), p, ap);
 }
-HWY_INLINE V WSum(const V* acc) { return (acc[0] + acc[1]) + (acc[2] + acc[3]); }
+HWY_INLINE V WSum(V a0, V a1, V a2, V a3) { return (a0 + a1) + (a2 + a3); }
 
-/// w of the step starting at the state z, p (the loop of ExactUpdate without the update).
+/// w of the step starting at the state z, p (the sums of ExactUpdate without the update).
 template <bool PerLane>
 HWY_INLINE V ExactW(D d, int m, const double* HWY_RESTRICT coef, const double* HWY_RESTRICT z,
                     const double* HWY_RESTRICT p) {
   const std::size_t N = hn::Lanes(d);
-  V acc[4] = {hn::Zero(d), hn::Zero(d), hn::Zero(d), hn::Zero(d)};
-  for (int j = 0; j < m; ++j) WAcc<PerLane>(d, coef, N, j, hn::LoadU(d, z + j * N), hn::LoadU(d, p + j * N), acc);
-  return WSum(acc);
+  V a0 = hn::Zero(d), a1 = a0, a2 = a0, a3 = a0;
+  int j = 0;
+  for (; j + 1 < m; j += 2) {
+    WAcc<PerLane>(d, coef, N, j, hn::LoadU(d, z + j * N), hn::LoadU(d, p + j * N), a0, a1);
+    WAcc<PerLane>(d, coef, N, j + 1, hn::LoadU(d, z + (j + 1) * N), hn::LoadU(d, p + (j + 1) * N), a2, a3);
+  }
+  if (j < m) WAcc<PerLane>(d, coef, N, j, hn::LoadU(d, z + j * N), hn::LoadU(d, p + j * N), a0, a1);
+  return WSum(a0, a1, a2, a3);
 }
 
-/// The step's end state (exact_modal.hpp): [z; p]_i+1 = Phi [z; p]_i + e Omega' - h0 T0 - h1 T1 for
-/// every mode (T0 the start torque, or the held torque where the bit stays at rest over the step;
-/// the Omega' term where it is not zero: Moving, the lanes in `moving`), fused with the modal sum of
-/// the next step's w.
+/// Mode j to the step's end (exact_modal.hpp): [z; p]_i+1 = Phi [z; p]_i + e Omega' - h0 T0 - h1 T1
+/// (T0 the start torque, or the held torque where the bit stays at rest over the step; the Omega'
+/// term where it is not zero: Moving, the lanes in `moving`), and its terms of the next step's w.
+template <bool PerLane, bool Moving>
+HWY_INLINE void ModeUpdate(D d, const double* HWY_RESTRICT coef, double* HWY_RESTRICT z, double* HWY_RESTRICT p,
+                           int j, V dom, M moving, V T0, V T1, V& az, V& ap) {
+  using Q = ExactModal;
+  const std::size_t N = hn::Lanes(d), o = static_cast<std::size_t>(j) * N;
+  const V zj = hn::LoadU(d, z + o), pj = hn::LoadU(d, p + o);
+  V uz = hn::NegMulSub(Coef<PerLane>(d, coef, N, j, Q::hz1), T1, Coef<PerLane>(d, coef, N, j, Q::hz0) * T0);
+  V up = hn::NegMulSub(Coef<PerLane>(d, coef, N, j, Q::hp1), T1, Coef<PerLane>(d, coef, N, j, Q::hp0) * T0);
+  if constexpr (Moving) {
+    uz = hn::IfThenElse(moving, hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::ez), dom, uz), uz);
+    up = hn::IfThenElse(moving, hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::ep), dom, up), up);
+  }
+  const V zn = hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::zz), zj, hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::zp), pj, uz));
+  const V pn = hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::pz), zj, hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::pp), pj, up));
+  hn::StoreU(zn, d, z + o);
+  hn::StoreU(pn, d, p + o);
+  WAcc<PerLane>(d, coef, N, j, zn, pn, az, ap);
+}
+
+/// Every mode to the step's end (ModeUpdate), fused with the modal sum of the next step's w (in
+/// ExactW's order).
 template <bool PerLane, bool Moving>
 HWY_INLINE V ExactUpdate(D d, int m, const double* HWY_RESTRICT coef, double* HWY_RESTRICT z,
                          double* HWY_RESTRICT p, V dom, M moving, V T0, V T1) {
-  using Q = ExactModal;
-  const std::size_t N = hn::Lanes(d);
-  V acc[4] = {hn::Zero(d), hn::Zero(d), hn::Zero(d), hn::Zero(d)};
-  for (int j = 0; j < m; ++j) {
-    const std::size_t o = static_cast<std::size_t>(j) * N;
-    const V zj = hn::LoadU(d, z + o), pj = hn::LoadU(d, p + o);
-    V uz = hn::NegMulSub(Coef<PerLane>(d, coef, N, j, Q::hz1), T1, Coef<PerLane>(d, coef, N, j, Q::hz0) * T0);
-    V up = hn::NegMulSub(Coef<PerLane>(d, coef, N, j, Q::hp1), T1, Coef<PerLane>(d, coef, N, j, Q::hp0) * T0);
-    if constexpr (Moving) {
-      uz = hn::IfThenElse(moving, hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::ez), dom, uz), uz);
-      up = hn::IfThenElse(moving, hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::ep), dom, up), up);
-    }
-    const V zn = hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::zz), zj, hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::zp), pj, uz));
-    const V pn = hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::pz), zj, hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::pp), pj, up));
-    hn::StoreU(zn, d, z + o);
-    hn::StoreU(pn, d, p + o);
-    WAcc<PerLane>(d, coef, N, j, zn, pn, acc);
+  V a0 = hn::Zero(d), a1 = a0, a2 = a0, a3 = a0;
+  int j = 0;
+  for (; j + 1 < m; j += 2) {
+    ModeUpdate<PerLane, Moving>(d, coef, z, p, j, dom, moving, T0, T1, a0, a1);
+    ModeUpdate<PerLane, Moving>(d, coef, z, p, j + 1, dom, moving, T0, T1, a2, a3);
   }
-  return WSum(acc);
+  if (j < m) ModeUpdate<PerLane, Moving>(d, coef, z, p, j, dom, moving, T0, T1, a0, a1);
+  return WSum(a0, a1, a2, a3);
 }
 
 /// sign(F) min(max(|F| - Ts, 0), Tsf): Integrator::string_share.
