@@ -9,6 +9,14 @@
 // are summed mode by mode and exp/log are Highway's (contrib/math: exp within 1 ulp, log within 4
 // ulp of the exact value). The Newton iteration is masked: a lane that has converged keeps its
 // values while the others iterate, so a lane's bits never depend on the other lanes.
+//
+// ExactSteps does the same for the exact modal scheme (exact_modal.hpp, Integrator::run_exact_lanes
+// on the scalar path): Eq. (3.3) with Eq. (A.1)'s acceleration at the step's end solved by
+// Integrator::exact_newton's iteration masked across the lanes (a lane that leaves it finishes in
+// the scalar solve_bit, lane by lane), the stick condition of Integrator::exact_bit, and one pass
+// over the modes per step. It uses FMA (Highway's MulAdd: the same bits on AVX2 and AVX-512); a
+// shortcut taken when every lane allows it (an exp skipped where every tanh is saturated, the top's
+// acceleration term where no lane has one) gives each lane the values it computes otherwise.
 #if defined(DRILL_BATCHED_KERNEL_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef DRILL_BATCHED_KERNEL_INL_H_
 #undef DRILL_BATCHED_KERNEL_INL_H_
