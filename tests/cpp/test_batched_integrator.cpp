@@ -61,27 +61,31 @@ TEST(BatchedIntegrator, ARunHasTheSameBitsAloneAndInEveryLane) {
   tw.law = thesis_tucker_wang();  // Eq. (3.1)
   expect_lane_independent(tw);
   Config em = batch_field(3.0);
-  em.sim.scheme = Scheme::exact_modal;  // exact_modal.hpp: the lanes of Integrator::run_exact_lanes
+  em.sim.scheme = Scheme::exact_modal;  // exact_modal.hpp: ExactSteps, the bit solve masked across the lanes
   expect_lane_independent(em);
 }
 
 TEST(BatchedIntegrator, AVX2AndAVX512GiveTheSameBits) {
   const std::int64_t have = hwy::SupportedTargets();
   if (!(have & HWY_AVX2) || !(have & HWY_AVX3)) GTEST_SKIP() << "this host lacks AVX2 or AVX-512";
-  const Simulation sim(batch_field(3.0));
-  const BatchedIntegrator b(sim.integrator());
-  const std::vector<Inputs> in = varied_inputs(sim, 8);
-  ASSERT_EQ(BatchedIntegrator::width(), 8u);
-  const std::vector<StepTrace> wide = run_batched(b, in);
-  hwy::SetSupportedTargetsForTest(HWY_AVX2 | HWY_SSE4 | HWY_SSSE3 | HWY_EMU128);
-  hwy::GetChosenTarget().Update(hwy::SupportedTargets());
-  const std::size_t narrow_width = BatchedIntegrator::width();
-  const std::vector<StepTrace> narrow = run_batched(b, in);
-  hwy::SetSupportedTargetsForTest(0);
-  hwy::GetChosenTarget().Update(hwy::SupportedTargets());
-  EXPECT_EQ(narrow_width, 4u);
-  EXPECT_EQ(BatchedIntegrator::width(), 8u);
-  for (std::size_t k = 0; k < in.size(); ++k) EXPECT_TRUE(wide[k] == narrow[k]) << "run " << k;
+  Config em = batch_field(3.0);
+  em.sim.scheme = Scheme::exact_modal;  // ExactSteps: FMA on both targets
+  for (const Config& c : {batch_field(3.0), em}) {
+    const Simulation sim(c);
+    const BatchedIntegrator b(sim.integrator());
+    const std::vector<Inputs> in = varied_inputs(sim, 8);
+    ASSERT_EQ(BatchedIntegrator::width(), 8u);
+    const std::vector<StepTrace> wide = run_batched(b, in);
+    hwy::SetSupportedTargetsForTest(HWY_AVX2 | HWY_SSE4 | HWY_SSSE3 | HWY_EMU128);
+    hwy::GetChosenTarget().Update(hwy::SupportedTargets());
+    const std::size_t narrow_width = BatchedIntegrator::width();
+    const std::vector<StepTrace> narrow = run_batched(b, in);
+    hwy::SetSupportedTargetsForTest(0);
+    hwy::GetChosenTarget().Update(hwy::SupportedTargets());
+    EXPECT_EQ(narrow_width, 4u);
+    EXPECT_EQ(BatchedIntegrator::width(), 8u);
+    for (std::size_t k = 0; k < in.size(); ++k) EXPECT_TRUE(wide[k] == narrow[k]) << to_string(c.sim.scheme) << " run " << k;
+  }
 }
 
 TEST(BatchedIntegrator, ReproducesTheScalarBitsWithoutExpLogOnOneMode) {

@@ -1,10 +1,11 @@
 // The exact modal scheme (exact_modal.hpp, issue 33): the propagator of one mode is exact for a
 // forcing linear over the step at any step, damped or not; a linear run is exact at a step 100x
 // the thesis's; on the thesis's field configuration SS converges to a fine-step BDF2 reference at
-// a step 10x the thesis's; the stick condition holds; the batched path has the scalar path's bits
-// in every lane, for any thread count and chunking.
+// a step 10x the thesis's; the stick condition holds; the batched path gives a run the same bits in
+// every lane, for any thread count and chunking, and the scalar path's results to rounding.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <memory>
@@ -204,9 +205,14 @@ TEST(ExactModal, RefusesDenseDampingAndIsRefusedWhereOnlyModifiedEulerRuns) {
   EXPECT_EQ(to_json(parse_config(ok))["simulation"]["scheme"], "exact_modal");
 }
 
-TEST(ExactModal, TheBatchedPathHasTheScalarBitsInEveryLane) {
-  // the lanes share Integrator::run_exact_lanes with the scalar path: the same bits, exp/log and
-  // modal sums included, whatever the lane, the batch and the runs beside it
+TEST(ExactModal, ABatchedRunHasTheSameBitsInEveryLaneAndTheScalarPathsToRounding) {
+  // The batched path (ExactSteps: the bit's equation solved by Newton masked across the lanes,
+  // Highway's exp/log, FMA, another summation order) against the scalar Integrator: a run has the
+  // same bits alone and in every lane position of a full and a partial batch; against the scalar
+  // path it differs by rounding, which the Newton tolerance (1e-12 relative) keeps at the level of
+  // the solve over these 3 s (measured: bit speed within 3.7e-12 rad/s and torque on bit within
+  // 9.3e-6 N.m on the field string, 7.9e-12 rad/s and 3.7e-11 N.m on the rig with its stick
+  // phases): bounded here at 1e-9 rad/s and 1e-3 N.m.
   for (const Config& c : {em_field(10, 3.0), [] {
          Config r = rig_with_stick(BitRockLaw::Kind::polynomial_hysteretic);
          r.sim.scheme = Scheme::exact_modal;
@@ -217,27 +223,42 @@ TEST(ExactModal, TheBatchedPathHasTheScalarBitsInEveryLane) {
     ASSERT_TRUE(b.supports(sim.inputs()));
     const std::size_t w = BatchedIntegrator::width();
     const std::vector<Inputs> in = varied_inputs(sim, w + 3);
-    std::vector<StepTrace> scalar(in.size());
-    for (std::size_t k = 0; k < in.size(); ++k) sim.integrator().run(in[k], scalar[k]);
+    std::vector<StepTrace> alone(in.size());
+    for (std::size_t k = 0; k < in.size(); ++k) alone[k] = em_batched(b, {in[k]}).front();
     for (std::size_t pos = 0; pos < in.size(); pos += 3) {
       std::vector<Inputs> batch = in;
       std::swap(batch[0], batch[pos]);
       const std::vector<StepTrace> tr = em_batched(b, batch);
       for (std::size_t k = 0; k < in.size(); ++k) {
         const std::size_t orig = k == 0 ? pos : k == pos ? 0 : k;
-        EXPECT_TRUE(tr[k] == scalar[orig]) << "run " << orig << " in position " << k;
+        EXPECT_TRUE(tr[k] == alone[orig]) << "run " << orig << " in position " << k;
       }
+    }
+    for (std::size_t k = 0; k < in.size(); ++k) {
+      StepTrace scalar;
+      sim.integrator().run(in[k], scalar);
+      ASSERT_EQ(scalar.v.size(), alone[k].v.size());
+      double dv = 0.0, dT = 0.0;
+      for (std::size_t i = 0; i < scalar.v.size(); ++i) {
+        dv = std::max(dv, std::fabs(scalar.v[i] - alone[k].v[i]));
+        dT = std::max(dT, std::fabs(scalar.T[i] - alone[k].T[i]));
+      }
+      EXPECT_LT(dv, 1e-9) << "run " << k;
+      EXPECT_LT(dT, 1e-3) << "run " << k;
     }
   }
 }
 
-TEST(ExactModal, SweepsAndMonteCarloAreBitIdenticalForAnyThreadCountChunkingAndPath) {
+TEST(ExactModal, SweepsAndMonteCarloAreBitIdenticalForAnyThreadCountAndChunking) {
+  // and agree with the scalar path to the batched path's stated tolerance (SS within 1e-4
+  // relative, as for the modified Euler scheme: BatchedIntegrator.AgreesWithTheScalarReference...)
   const Config c = em_field(10, 30.0);
   const Simulation sim(c);
   const std::vector<double> sp = {6, 10, 14, 18, 22, 26};
   const std::vector<double> one = sim.sweep_severity(sp, {}, nullptr, 1, std::nullopt, true);
   EXPECT_EQ(one, sim.sweep_severity(sp, {}, nullptr, 2, std::nullopt, true));
-  EXPECT_EQ(one, sim.sweep_severity(sp, {}, nullptr, 2, std::nullopt, false));
+  const std::vector<double> scalar_sweep = sim.sweep_severity(sp, {}, nullptr, 2, std::nullopt, false);
+  for (std::size_t k = 0; k < sp.size(); ++k) EXPECT_NEAR(one[k] / scalar_sweep[k], 1.0, 1e-4) << sp[k];
   const MonteCarlo mc(c, GaussianProcess::from_psd(PsdModel(), 0.05, 30.0), 2024, 10.0);
   const std::vector<double> msp = {8.0, 24.0};
   const Eigen::MatrixXd all = mc.severity(msp, 0, 7, nullptr, 1, nullptr, true);
@@ -247,13 +268,17 @@ TEST(ExactModal, SweepsAndMonteCarloAreBitIdenticalForAnyThreadCountChunkingAndP
   for (int i = 0; i < 7; ++i)
     for (int k = 0; k < 2; ++k) {
       EXPECT_EQ(all(i, k), two(i, k)) << i << "," << k;
-      EXPECT_EQ(all(i, k), scalar(i, k)) << i << "," << k;
       EXPECT_EQ(all(i, k), i < 2 ? a(i, k) : b(i - 2, k)) << i << "," << k;
+      EXPECT_NEAR(all(i, k) / scalar(i, k), 1.0, 1e-4) << i << "," << k;
     }
   EXPECT_NE(all(0, 0), all(1, 0));  // distinct realizations
 }
 
-TEST(ExactModal, ADampingScanHasTheScalarBitsWithADampingPerLane) {
+TEST(ExactModal, ADampingScanWithADampingPerLaneHasEachRunsOwnBits) {
+  // a batch of models that differ in their damping (the kernel's per-lane coefficients) gives each
+  // run the bits of a batch of its own (the shared coefficients), and the scalar path's severity to
+  // 1e-4 relative (the lightly damped run's stick phases amplify the rounding into single steps:
+  // up to 3e-3 rad/s at a damping ratio of 0.02, SS 1.3e-5 relative; the others within 2e-12 rad/s)
   std::vector<std::unique_ptr<Simulation>> owned;
   std::vector<const Simulation*> sims;
   std::vector<Inputs> in;
@@ -269,8 +294,37 @@ TEST(ExactModal, ADampingScanHasTheScalarBitsWithADampingPerLane) {
   const ManyRuns batched = run_many(sims, in, true, 2, true), scalar = run_many(sims, in, true, 1, false);
   for (std::size_t k = 0; k < sims.size(); ++k) {
     ASSERT_TRUE(batched.errors[k].empty()) << batched.errors[k];
-    EXPECT_EQ(batched.reports[k].series.bit_speed, scalar.reports[k].series.bit_speed) << k;
-    EXPECT_EQ(batched.reports[k].severity, scalar.reports[k].severity) << k;
+    const ManyRuns alone = run_many({sims[k]}, {in[k]}, true, 1, true);
+    EXPECT_EQ(batched.reports[k].series.bit_speed, alone.reports[0].series.bit_speed) << k;
+    EXPECT_EQ(batched.reports[k].severity, alone.reports[0].severity) << k;
+    EXPECT_NEAR(batched.reports[k].severity, scalar.reports[k].severity, 1e-4 * scalar.reports[k].severity) << k;
   }
   EXPECT_NE(batched.reports.front().severity, batched.reports.back().severity);
+}
+
+TEST(ExactModal, ADivergingRunInABatchIsReportedAndLeavesTheOthersAlone) {
+  // the batched kernel drops a lane whose bit speed or torque is no longer finite; the runs beside
+  // it keep the bits they have in a batch of their own
+  std::vector<std::unique_ptr<Simulation>> owned;
+  std::vector<const Simulation*> sims;
+  std::vector<Inputs> in;
+  for (double z : {0.02, 0.1, 0.3, 0.7, 1.0}) {
+    Config c = rig_with_stick(BitRockLaw::Kind::polynomial);
+    c.sim.scheme = Scheme::exact_modal;
+    c.damping.kind = DampingSpec::Kind::modal;
+    c.damping.ratios = {z};
+    owned.push_back(std::make_unique<Simulation>(c));
+    sims.push_back(owned.back().get());
+    in.push_back(sims.back()->inputs());
+  }
+  in[2].eta = Signal::constant(-5.0);  // the law reversed, four times over: the bit runs away
+  for (bool batched : {true, false}) {
+    const ManyRuns r = run_many(sims, in, true, 0, batched);
+    EXPECT_NE(r.errors[2].find("simulation diverged at t = "), std::string::npos) << r.errors[2];
+    for (std::size_t k : {0u, 1u, 3u, 4u}) {
+      ASSERT_TRUE(r.errors[k].empty()) << r.errors[k];
+      const ManyRuns alone = run_many({sims[k]}, {in[k]}, true, 0, batched);
+      EXPECT_EQ(r.reports[k].series.bit_speed, alone.reports[0].series.bit_speed) << k;
+    }
+  }
 }

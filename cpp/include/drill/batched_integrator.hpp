@@ -10,11 +10,12 @@
 // (horizons.hpp) and the damping scans of several configurations (run_many.hpp). Other runs (motor or controlled
 // drive, bdf2, the lagged acceleration, dense damping) are refused by supports() and stay on
 // Integrator, which is also the reference of this path.
-// The exact modal scheme (exact_modal.hpp) runs here too, on the same inputs: its lanes share
-// Integrator::run_exact_lanes with the scalar path (the bit's equation solved lane by lane by the
-// scalar code), its modal loops are ExactFree and ExactClose (batched_kernel-inl.hpp: the scalar
-// loops' products and sums in their order, on the host's vectors), so a run's bits are the scalar
-// path's, whatever its batch, lane, thread count or chunking.
+// The exact modal scheme (exact_modal.hpp) runs here too, on the same inputs, in its own kernel
+// (ExactSteps, batched_kernel-inl.hpp): the bit's equation, Eq. (3.3) with Eq. (A.1)'s acceleration
+// at the step's end, solved by Integrator::exact_newton's iteration masked across the lanes (its
+// tolerance, its fallback to the safeguarded solve_bit lane by lane), the stick condition of
+// Integrator::exact_bit, and one pass over the modes per step for the step's end state and the
+// next step's modal sum. Its results differ from Integrator's by rounding, as this path's do.
 //
 // Library: Google Highway (Debian libhwy-dev). One source gives the kernel for every x86 target
 // (SSSE3, SSE4, AVX2, AVX-512) compiled with the baseline flags, with Highway's runtime dispatch
@@ -68,14 +69,31 @@ struct BatchStepArgs {
   double *v = nullptr, *a = nullptr, *T = nullptr;  ///< bit speed, acceleration, torque on bit [count][lanes]
 };
 
-/// Arguments of the exact modal scheme's modal kernels (exact_modal_free and exact_modal_close of
-/// exact_modal.hpp on one vector of lanes): [modes][lanes] state, [(mode kinds + kind)][lanes]
-/// coefficients, [lanes] per-run values.
-struct ExactLaneArgs {
+/// Arguments of one exact modal kernel call (ExactSteps; the scheme of exact_modal.hpp): steps
+/// first .. first + count - 1 (each from t_i to t_i+1) of one vector of runs. [lanes] one value per
+/// lane; the input rows [count + 1][lanes] hold row s at t_first+s, the outputs [count][lanes] row s
+/// at t_first+s+1.
+struct ExactStepArgs {
+  long first = 0, count = 0;
   int modes = 0;
-  const double *coef = nullptr, *bit = nullptr;
-  double *z = nullptr, *p = nullptr, *zs = nullptr, *ps = nullptr, *w = nullptr;
-  const double *dom = nullptr, *T0 = nullptr, *T1 = nullptr, *dT0 = nullptr;
+  bool per_lane = false;  ///< coef per lane, [(j lane_kinds + kind)][lanes]; else shared, [j][lane_kinds]
+  double dt = 0.0, speed_factor = 1.0;
+  const BitRockLaw* law = nullptr;
+  const double* coef = nullptr;                                ///< ExactModal::kl of the lanes' models
+  const double *c = nullptr, *c0 = nullptr, *ce = nullptr;     ///< ExactModal::c, c0, ce [lanes]
+  double *z = nullptr, *p = nullptr;                           ///< modal state [modes][lanes]
+  /// carried over [lanes]: bit speed and total torque at t_first, the last two relative bit speeds
+  double *v0 = nullptr, *T0 = nullptr, *x1 = nullptr, *x2 = nullptr;
+  const double *bit_viscous = nullptr, *string_friction = nullptr;  ///< [lanes]
+  /// Omega, W / W_ref, the static torque at W, eta [count + 1][lanes]
+  const double *om = nullptr, *wob_scale = nullptr, *static_torque = nullptr, *eta = nullptr;
+  double *v = nullptr, *a = nullptr, *T = nullptr;  ///< bit speed, acceleration, torque on bit [count][lanes]
+  /// The safeguarded solve (Integrator::solve_bit) of lane l's bit equation at step i from x, where
+  /// the masked Newton iteration leaves it (rare: the law's jump at v = 0, no convergence in 8 steps):
+  /// returns x, T the total torque (NaN where it diverges).
+  double (*fallback)(const void* ctx, std::size_t l, long i, double w, double c, double om1, double v0, double x,
+                     double& T) = nullptr;
+  const void* ctx = nullptr;
 };
 
 }  // namespace drill
@@ -91,8 +109,7 @@ namespace drill {
 
 HWY_EXPORT(BatchLanes);
 HWY_EXPORT(BatchSteps);
-HWY_EXPORT(ExactFree);
-HWY_EXPORT(ExactClose);
+HWY_EXPORT(ExactSteps);
 
 class BatchedIntegrator {
  public:
@@ -162,23 +179,35 @@ class BatchedIntegrator {
   }
 
  private:
-  /// One batch of the exact modal scheme: Integrator::run_exact_lanes on width() lanes, each with
-  /// its model's coefficients (its own modal damping), the padding lanes repeating the first run.
+  /// One batch of the exact modal scheme (exact_modal.hpp): ExactSteps on width() lanes in blocks
+  /// of steps, each lane with its model's coefficients (shared by the batch when its models are
+  /// one), the padding lanes repeating the first run. The initial state's torque is the scalar
+  /// path's (Integrator::run_exact_lanes).
   template <class Observer>
   void run_exact(const Inputs* in, const ModelState* const* start, const Integrator* const* model, std::size_t n,
                  Observer* obs, ModelState* out, double* diverged_at) const {
     const Integrator& I = in_;
     const std::size_t N = width();
     const int m = static_cast<int>(I.w2_.size());
-    std::vector<double> z(m * N), p(m * N), c(N), c0(N);
+    const double dt = I.opt_.dt;
+    const long last = I.opt_.steps();
+    constexpr long block = 256;
+    constexpr int K = ExactModal::lane_kinds;
+    std::vector<double> z(m * N), p(m * N), c(N), c0(N), ce(N), cv(N), sf(N), v0(N), T0(N), x1(N), x2(N);
+    std::vector<double> om((block + 1) * N), ws((block + 1) * N), st((block + 1) * N), eta((block + 1) * N);
+    std::vector<double> v(block * N), a(block * N), T(block * N);
     std::vector<const Inputs*> lane(N);
-    std::vector<const ExactModal*> em(N);
+    bool per_lane = false;
     for (std::size_t l = 0; l < N; ++l) {
       const std::size_t r = l < n ? l : 0;
       lane[l] = &in[r];
-      em[l] = &model[r]->em_;
-      c[l] = model[r]->em_.c;
-      c0[l] = model[r]->em_.c0;
+      per_lane = per_lane || model[r] != model[0];
+      const ExactModal& em = model[r]->em_;
+      c[l] = em.c;
+      c0[l] = em.c0;
+      ce[l] = em.ce;
+      cv[l] = in[r].bit_viscous;
+      sf[l] = in[r].string_friction;
       const ModelState s0 = start[r] ? *start[r] : I.initial_state(in[r].top_speed.at(0.0));
       require(s0.q.size() == I.V_.rows() && s0.qdot.size() == I.V_.rows(), "initial_state", s0.q.size(),
               "has the wrong size (the model has " + show(I.V_.rows()) + " coordinates)");
@@ -188,39 +217,106 @@ class BatchedIntegrator {
         p[j * N + l] = pl(j);
       }
     }
-    const std::vector<double> coef = exact_modal_lanes(em.data(), N);
-    // the modal loops on the host's vectors (the scalar loops' operations, in their order)
-    ExactLaneArgs ka;
-    ka.modes = m;
-    ka.coef = coef.data();
-    ka.bit = I.bit_.data();
-    ka.z = z.data();
-    ka.p = p.data();
-    auto free = [&](const double* dom, const double* T0, double* zs, double* ps, double* w) {
-      ka.dom = dom;
-      ka.T0 = T0;
-      ka.zs = zs;
-      ka.ps = ps;
-      ka.w = w;
-      HWY_DYNAMIC_DISPATCH(ExactFree)(ka);
+    std::vector<double> coef;
+    if (per_lane) {  // [(j K + kind)][lanes]
+      coef.resize(static_cast<std::size_t>(m) * K * N);
+      for (std::size_t l = 0; l < N; ++l)
+        for (std::size_t q = 0; q < static_cast<std::size_t>(m) * K; ++q)
+          coef[q * N + l] = model[l < n ? l : 0]->em_.kl[q];
+    }
+    auto drop = [&](std::size_t l, double t) {
+      if (!diverged_at) Integrator::diverged(t);
+      diverged_at[l] = t;
+      for (int j = 0; j < m; ++j) z[j * N + l] = p[j * N + l] = 0.0;  // a finite lane: no Newton spin on NaN
+      v0[l] = T0[l] = x1[l] = x2[l] = 0.0;
     };
-    auto close = [&](const double* zs, const double* ps, const double* T1, const double* dT0) {
-      ka.zs = const_cast<double*>(zs);
-      ka.ps = const_cast<double*>(ps);
-      ka.T1 = T1;
-      ka.dT0 = dT0;
-      HWY_DYNAMIC_DISPATCH(ExactClose)(ka);
+    std::vector<char> live(N, 1);
+    // step 0: the initial state, its torque the law's at zero acceleration (as on the scalar path)
+    exact_modal_dot(m, N, I.bit_.data(), p.data(), v0.data());
+    for (std::size_t l = 0; l < N; ++l) {
+      const Inputs& x = *lane[l];
+      const double om0 = x.top_speed.at(0.0), wob = x.wob.at(0.0);
+      v0[l] = om0 + v0[l];
+      T0[l] = I.total_torque(v0[l], 0.0, wob, x.eta.at(0.0), x.bit_viscous, x.string_friction).T;
+      x1[l] = x2[l] = v0[l] - om0;
+      if (l >= n) continue;
+      if (!std::isfinite(v0[l]) || !std::isfinite(T0[l])) {
+        drop(l, 0.0);
+        live[l] = 0;
+        continue;
+      }
+      obs[l](static_cast<const StepState&>(
+          StepState{0, 0.0, v0[l], 0.0, NAN, T0[l] - x.string_friction * Integrator::sign(v0[l]), NAN, om0, NAN, wob}));
+    }
+    const Fallback fb{&I, lane.data()};
+    ExactStepArgs args;
+    args.modes = m;
+    args.per_lane = per_lane;
+    args.dt = dt;
+    args.speed_factor = speed_factor(I.law_.speed_unit);
+    args.law = &I.law_;
+    args.coef = per_lane ? coef.data() : model[0]->em_.kl.data();
+    args.c = c.data();
+    args.c0 = c0.data();
+    args.ce = ce.data();
+    args.z = z.data();
+    args.p = p.data();
+    args.v0 = v0.data();
+    args.T0 = T0.data();
+    args.x1 = x1.data();
+    args.x2 = x2.data();
+    args.bit_viscous = cv.data();
+    args.string_friction = sf.data();
+    args.om = om.data();
+    args.wob_scale = ws.data();
+    args.static_torque = st.data();
+    args.eta = eta.data();
+    args.v = v.data();
+    args.a = a.data();
+    args.T = T.data();
+    args.fallback = &BatchedIntegrator::exact_fallback;
+    args.ctx = &fb;
+    // the inputs at t_first+s in row s; a constant signal's rows are filled once, a sampled one's at every block
+    auto fill = [&](long first, long count, bool sampled) {
+      for (long s = 0; s <= count; ++s)
+        for (std::size_t l = 0; l < N; ++l) {
+          const Inputs& x = *lane[l];
+          const double t = (first + s) * dt;
+          const std::size_t k = s * N + l;
+          if (x.top_speed.is_constant() != sampled) om[k] = x.top_speed.at(t);
+          if (x.wob.is_constant() != sampled) {
+            const double wob = x.wob.at(t);
+            ws[k] = wob / I.law_.wob_ref;
+            st[k] = I.law_.static_torque(wob);
+          }
+          if (x.eta.is_constant() != sampled) eta[k] = x.eta.at(t);
+        }
     };
-    I.run_exact_lanes(
-        lane.data(), N, coef.data(), c.data(), c0.data(), z.data(), p.data(), free, close,
-        [&](std::size_t l, long i, double t, double v, double a, double T, double om) {
-          if (l < n)
-            obs[l](static_cast<const StepState&>(StepState{i, t, v, a, NAN, T, NAN, om, NAN, in[l].wob.at(t)}));
-        },
-        [&](std::size_t l, double t) {
-          if (!diverged_at) Integrator::diverged(t);
-          if (l < n) diverged_at[l] = t;
-        });
+    fill(0, block, false);
+    bool any_sampled = false;
+    for (std::size_t l = 0; l < n; ++l)
+      any_sampled = any_sampled || !in[l].top_speed.is_constant() || !in[l].wob.is_constant() || !in[l].eta.is_constant();
+    for (long first = 0; first < last; first += block) {
+      const long count = std::min(block, last - first);
+      if (any_sampled) fill(first, count, true);
+      args.first = first;
+      args.count = count;
+      HWY_DYNAMIC_DISPATCH(ExactSteps)(args);
+      for (std::size_t l = 0; l < n; ++l) {
+        if (!live[l]) continue;
+        for (long s = 0; s < count; ++s) {
+          const std::size_t k = s * N + l;
+          const long i = first + s + 1;
+          const double t = i * dt;
+          if (!std::isfinite(v[k]) || !std::isfinite(T[k])) {
+            drop(l, t);
+            live[l] = 0;
+            break;
+          }
+          obs[l](static_cast<const StepState&>(StepState{i, t, v[k], a[k], NAN, T[k], NAN, om[k + N], NAN, in[l].wob.at(t)}));
+        }
+      }
+    }
     for (std::size_t l = 0; l < n; ++l) {
       Eigen::VectorXd zl(m), pl(m);
       for (int j = 0; j < m; ++j) {
@@ -228,6 +324,25 @@ class BatchedIntegrator {
         pl(j) = p[j * N + l];
       }
       out[l] = I.to_model(zl, pl);
+    }
+  }
+
+  /// ExactStepArgs::fallback: Integrator::solve_bit (exact_newton's own fallback) for lane l.
+  struct Fallback {
+    const Integrator* I;
+    const Inputs* const* in;
+  };
+  static double exact_fallback(const void* ctx, std::size_t l, long i, double w, double c, double om1, double v0,
+                               double x, double& T) {
+    const Fallback& f = *static_cast<const Fallback*>(ctx);
+    const Inputs& r = *f.in[l];
+    const double dt = f.I->opt_.dt, t1 = (i + 1) * dt;
+    try {
+      return f.I->solve_bit(w, c, om1, 1.0 / dt, (om1 - v0) / dt, r.wob.at(t1), r.eta.at(t1), r.bit_viscous,
+                            r.string_friction, x, t1, T);
+    } catch (const std::runtime_error&) {
+      T = NAN;
+      return NAN;
     }
   }
 

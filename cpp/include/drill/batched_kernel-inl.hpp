@@ -9,6 +9,14 @@
 // are summed mode by mode and exp/log are Highway's (contrib/math: exp within 1 ulp, log within 4
 // ulp of the exact value). The Newton iteration is masked: a lane that has converged keeps its
 // values while the others iterate, so a lane's bits never depend on the other lanes.
+//
+// ExactSteps does the same for the exact modal scheme (exact_modal.hpp, Integrator::run_exact_lanes
+// on the scalar path): Eq. (3.3) with Eq. (A.1)'s acceleration at the step's end solved by
+// Integrator::exact_newton's iteration masked across the lanes (a lane that leaves it finishes in
+// the scalar solve_bit, lane by lane), the stick condition of Integrator::exact_bit, and one pass
+// over the modes per step. It uses FMA (Highway's MulAdd: the same bits on AVX2 and AVX-512); a
+// shortcut taken when every lane allows it (an exp skipped where every tanh is saturated, the top's
+// acceleration term where no lane has one) gives each lane the values it computes otherwise.
 #if defined(DRILL_BATCHED_KERNEL_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef DRILL_BATCHED_KERNEL_INL_H_
 #undef DRILL_BATCHED_KERNEL_INL_H_
@@ -94,6 +102,268 @@ HWY_INLINE void AtSpeed(D d, const BitRockLaw& law, double s, V v_si, V w, V& ba
   }
   base = base * w;
   frac = frac * w;
+}
+
+/// TanhSat without its exp where every lane is saturated (the same values lane by lane).
+HWY_INLINE V TanhSatSkip(D d, V x) {
+  const V lim = hn::Set(d, 19.1);
+  if (hn::AllTrue(d, hn::Or(x > lim, x < hn::Neg(lim)))) return hn::IfThenElse(x > lim, hn::Set(d, 1.0), hn::Set(d, -1.0));
+  return TanhSat(d, x);
+}
+
+/// BitRockLaw::at_speed with the speed derivatives, for the exact modal scheme's Newton iteration
+/// (the bit speed moves with the unknown there): T(v, a) = base + frac (1 + c tanh(k a)), SI
+/// derivatives dbase, dfrac (Eqs. 3.1-3.3, 5.1, 5.3, WOB factor w applied).
+HWY_INLINE void AtSpeedDv(D d, const BitRockLaw& law, double s, V v_si, V w, V& base, V& frac, V& c, V& dbase,
+                          V& dfrac) {
+  const V v = v_si * hn::Set(d, s), sg = Sign(d, v), one = hn::Set(d, 1.0);
+  base = frac = c = dbase = dfrac = hn::Zero(d);
+  switch (law.kind) {
+    case BitRockLaw::Kind::tucker_wang: {  // Eq. (3.1)
+      const V t = TanhSatSkip(d, hn::Set(d, law.alpha0) * v), v2 = v * v, den = hn::MulAdd(hn::Set(d, law.alpha2), v2, one);
+      const V inv = one / den;
+      base = hn::Set(d, law.c0) * hn::MulAdd(hn::Set(d, law.alpha1) * v, inv, t);
+      dbase = hn::Set(d, law.c0) * hn::MulAdd(hn::Set(d, law.alpha0), hn::NegMulAdd(t, t, one),
+                                              hn::Set(d, law.alpha1) * hn::NegMulAdd(hn::Set(d, law.alpha2), v2, one) * inv * inv);
+      break;
+    }
+    case BitRockLaw::Kind::hysteretic: {  // Eq. (3.2)
+      const auto& b = law.b;
+      const V t = TanhSatSkip(d, hn::Set(d, b[1]) * v);
+      base = hn::Set(d, b[0]) * t;
+      dbase = hn::Set(d, b[0] * b[1]) * hn::NegMulAdd(t, t, one);
+      const V av = StdMax(hn::Abs(v), hn::Set(d, 1e-300)), lv = hn::Log(d, av);
+      const V p4 = hn::Exp(d, hn::Set(d, b[4]) * lv), p5 = hn::Exp(d, hn::Set(d, b[5]) * lv);
+      // q = |v|^b4 / (1 + b3 |v|^b5) and its derivative (b4 den - b3 b5 |v|^b5) |v|^b4 / (|v| den^2) of
+      // q sign(v), with one division (off the Newton iteration's chain of latencies)
+      const V den = hn::MulAdd(hn::Set(d, b[3]), p5, one), r = one / (av * den), q = p4 * av * r;
+      frac = hn::Set(d, b[0] * b[2]) * sg * q;
+      dfrac = hn::Set(d, b[0] * b[2]) * hn::MulSub(hn::Set(d, b[4]), den, hn::Set(d, b[3] * b[5]) * p5) * q * r;
+      c = hn::Set(d, law.beta1) * sg;  // Eq. (3.3)
+      break;
+    }
+    case BitRockLaw::Kind::polynomial:
+    case BitRockLaw::Kind::polynomial_hysteretic: {  // Eqs. (5.1), (5.3)
+      const auto& a = law.a;
+      const bool odd = a[0] > 0.0;
+      const V u = odd ? hn::Abs(v) : v;
+      const V p1 = hn::MulAdd(hn::Set(d, a[1]), u, hn::Set(d, a[0])), p2 = hn::MulAdd(hn::Set(d, a[3]), u, hn::Set(d, a[2]));
+      const V p3 = hn::MulAdd(u, hn::MulAdd(u, hn::MulAdd(u, hn::Set(d, a[7]), hn::Set(d, a[6])), hn::Set(d, a[5])), hn::Set(d, a[4]));
+      const V dp3 = hn::MulAdd(u, hn::MulAdd(hn::Set(d, 3.0 * a[7]), u, hn::Set(d, 2.0 * a[6])), hn::Set(d, a[5]));
+      const M m1 = u <= hn::Set(d, 0.01 * law.ref_speed), m2 = u <= hn::Set(d, 0.05 * law.ref_speed);
+      V p = hn::IfThenElse(m1, p1, hn::IfThenElse(m2, p2, p3));
+      const V dp = hn::IfThenElse(m1, hn::Set(d, a[1]), hn::IfThenElse(m2, hn::Set(d, a[3]), dp3));
+      if (odd) p = hn::IfThenElse(v < hn::Zero(d), hn::Neg(p), p);  // d(su p(|v|))/dv = p'(|v|)
+      if (law.kind == BitRockLaw::Kind::polynomial) {
+        base = hn::Set(d, law.gain) * p;
+        dbase = hn::Set(d, law.gain) * dp;
+      } else {
+        frac = hn::Set(d, law.gain) * p;
+        dfrac = hn::Set(d, law.gain) * dp;
+        c = hn::Set(d, law.beta1) * sg;
+      }
+      break;
+    }
+  }
+  const V ws = w * hn::Set(d, s);
+  base = base * w;
+  frac = frac * w;
+  dbase = dbase * ws;
+  dfrac = dfrac * ws;
+}
+
+constexpr int EK = ExactModal::lane_kinds;
+
+/// Coefficient q of mode j: the lane's own (per_lane) or the batch's shared one.
+template <bool PerLane>
+HWY_INLINE V Coef(D d, const double* coef, std::size_t N, int j, int q) {
+  if constexpr (PerLane) return hn::LoadU(d, coef + (static_cast<std::size_t>(j) * EK + q) * N);
+  else return hn::Set(d, coef[static_cast<std::size_t>(j) * EK + q]);
+}
+
+/// The modal sum of w = bit . ps over the state z, p at a step's start: mode j adds bpz_j z_j and
+/// bpp_j p_j to the partial sums az and ap (even modes to one pair, odd modes to another: four
+/// independent chains of FMA in registers), added in a fixed order by WSum.
+template <bool PerLane>
+HWY_INLINE void WAcc(D d, const double* coef, std::size_t N, int j, V z, V p, V& az, V& ap) {
+  az = hn::MulAdd(Coef<PerLane>(d, coef, N, j, ExactModal::bpz), z, az);
+  ap = hn::MulAdd(Coef<PerLane>(d, coef, N, j, ExactModal::bpp), p, ap);
+}
+HWY_INLINE V WSum(V a0, V a1, V a2, V a3) { return (a0 + a1) + (a2 + a3); }
+
+/// w of the step starting at the state z, p (the sums of ExactUpdate without the update).
+template <bool PerLane>
+HWY_INLINE V ExactW(D d, int m, const double* HWY_RESTRICT coef, const double* HWY_RESTRICT z,
+                    const double* HWY_RESTRICT p) {
+  const std::size_t N = hn::Lanes(d);
+  V a0 = hn::Zero(d), a1 = a0, a2 = a0, a3 = a0;
+  int j = 0;
+  for (; j + 1 < m; j += 2) {
+    WAcc<PerLane>(d, coef, N, j, hn::LoadU(d, z + j * N), hn::LoadU(d, p + j * N), a0, a1);
+    WAcc<PerLane>(d, coef, N, j + 1, hn::LoadU(d, z + (j + 1) * N), hn::LoadU(d, p + (j + 1) * N), a2, a3);
+  }
+  if (j < m) WAcc<PerLane>(d, coef, N, j, hn::LoadU(d, z + j * N), hn::LoadU(d, p + j * N), a0, a1);
+  return WSum(a0, a1, a2, a3);
+}
+
+/// Mode j to the step's end (exact_modal.hpp): [z; p]_i+1 = Phi [z; p]_i + e Omega' - h0 T0 - h1 T1
+/// (T0 the start torque, or the held torque where the bit stays at rest over the step; the Omega'
+/// term where it is not zero: Moving, the lanes in `moving`), and its terms of the next step's w.
+template <bool PerLane, bool Moving>
+HWY_INLINE void ModeUpdate(D d, const double* HWY_RESTRICT coef, double* HWY_RESTRICT z, double* HWY_RESTRICT p,
+                           int j, V dom, M moving, V T0, V T1, V& az, V& ap) {
+  using Q = ExactModal;
+  const std::size_t N = hn::Lanes(d), o = static_cast<std::size_t>(j) * N;
+  const V zj = hn::LoadU(d, z + o), pj = hn::LoadU(d, p + o);
+  V uz = hn::NegMulSub(Coef<PerLane>(d, coef, N, j, Q::hz1), T1, Coef<PerLane>(d, coef, N, j, Q::hz0) * T0);
+  V up = hn::NegMulSub(Coef<PerLane>(d, coef, N, j, Q::hp1), T1, Coef<PerLane>(d, coef, N, j, Q::hp0) * T0);
+  if constexpr (Moving) {
+    uz = hn::IfThenElse(moving, hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::ez), dom, uz), uz);
+    up = hn::IfThenElse(moving, hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::ep), dom, up), up);
+  }
+  const V zn = hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::zz), zj, hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::zp), pj, uz));
+  const V pn = hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::pz), zj, hn::MulAdd(Coef<PerLane>(d, coef, N, j, Q::pp), pj, up));
+  hn::StoreU(zn, d, z + o);
+  hn::StoreU(pn, d, p + o);
+  WAcc<PerLane>(d, coef, N, j, zn, pn, az, ap);
+}
+
+/// Every mode to the step's end (ModeUpdate), fused with the modal sum of the next step's w (in
+/// ExactW's order).
+template <bool PerLane, bool Moving>
+HWY_INLINE V ExactUpdate(D d, int m, const double* HWY_RESTRICT coef, double* HWY_RESTRICT z,
+                         double* HWY_RESTRICT p, V dom, M moving, V T0, V T1) {
+  V a0 = hn::Zero(d), a1 = a0, a2 = a0, a3 = a0;
+  int j = 0;
+  for (; j + 1 < m; j += 2) {
+    ModeUpdate<PerLane, Moving>(d, coef, z, p, j, dom, moving, T0, T1, a0, a1);
+    ModeUpdate<PerLane, Moving>(d, coef, z, p, j + 1, dom, moving, T0, T1, a2, a3);
+  }
+  if (j < m) ModeUpdate<PerLane, Moving>(d, coef, z, p, j, dom, moving, T0, T1, a0, a1);
+  return WSum(a0, a1, a2, a3);
+}
+
+/// sign(F) min(max(|F| - Ts, 0), Tsf): Integrator::string_share.
+HWY_INLINE V StringShare(D d, V F, V Ts, V Tsf) {
+  return Sign(d, F) * StdMin(StdMax(hn::Abs(F) - Ts, hn::Zero(d)), Tsf);
+}
+
+/// Steps of the exact modal scheme (ExactSteps below) with the coefficient layout PerLane.
+template <bool PerLane>
+HWY_INLINE void ExactStepsT(const ExactStepArgs& a) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const BitRockLaw& law = *a.law;
+  const double s = a.speed_factor;
+  const V dt = hn::Set(d, a.dt), ca = hn::Set(d, 1.0 / a.dt), zero = hn::Zero(d), one = hn::Set(d, 1.0);
+  const V c = hn::LoadU(d, a.c), c0 = hn::LoadU(d, a.c0), ce = hn::LoadU(d, a.ce);
+  const V cv = hn::LoadU(d, a.bit_viscous), Tsf = hn::LoadU(d, a.string_friction);
+  const M friction = Tsf > zero;
+  const bool any_friction = !hn::AllFalse(d, friction);
+  const V kv = hn::Set(d, law.beta2 * s);  // tanh(beta2 a_unit) = tanh(beta2 s a_si)
+  const bool hysteresis = law.beta2 * s != 0.0 && law.beta1 != 0.0;
+  V v0 = hn::LoadU(d, a.v0), T0 = hn::LoadU(d, a.T0), x1 = hn::LoadU(d, a.x1), x2 = hn::LoadU(d, a.x2);
+  // the top's acceleration over step first + s, averaged (exact_modal.hpp)
+  auto dom_at = [&](long r) { return (hn::LoadU(d, a.om + (r + 1) * N) - hn::LoadU(d, a.om + r * N)) / dt; };
+  V dom = dom_at(0);
+  V w = hn::NegMulAdd(c0, T0, hn::MulAdd(ce, dom, ExactW<PerLane>(d, a.modes, a.coef, a.z, a.p)));
+  for (long r = 0; r < a.count; ++r) {
+    const V om0 = hn::LoadU(d, a.om + r * N), om1 = hn::LoadU(d, a.om + (r + 1) * N);
+    const V ws = hn::LoadU(d, a.wob_scale + (r + 1) * N), scale = one + hn::LoadU(d, a.eta + (r + 1) * N);
+    const M live = hn::And(hn::IsFinite(w), hn::And(hn::IsFinite(v0), hn::IsFinite(T0)));
+    // the stick condition of Eqs. (5.1), (5.3) (Integrator::exact_bit): a bit at rest stays at rest
+    // while the torque that holds it over the step is within the static capacity
+    const V Ts = scale * hn::LoadU(d, a.static_torque + (r + 1) * N), cap = Ts + Tsf;
+    const M sticky = cap > zero;
+    const bool any_sticky = !hn::AllFalse(d, sticky);
+    M at_rest = hn::FirstN(d, 0), hold = at_rest;
+    V T_hold = zero;
+    if (any_sticky) {
+      at_rest = hn::And(sticky, hn::Abs(v0) <= hn::Set(d, 1e-12) * (one + hn::Abs(om0)));  // Integrator::rest_tolerance
+      T_hold = (w + hn::MulAdd(c0, T0, om1)) / (c + c0);
+      hold = hn::And(at_rest, hn::Abs(T_hold) <= cap);
+    }
+    // x + c T(Omega_i+1 + x, (Omega_i+1 + x - v_i) / dt) = w (Eq. 3.3 with Eq. A.1's acceleration):
+    // Integrator::exact_newton masked across the lanes, from the line through the last two solutions
+    const V a0 = (om1 - v0) / dt, tol = hn::Set(d, 1e-12) * (one + hn::Abs(om1) + hn::Abs(w));
+    V x = hn::NegMulAdd(one, x2, x1 + x1), T = hn::Set(d, NAN);
+    M active = hn::AndNot(hold, live), fb = hn::FirstN(d, 0);
+    for (int it = 0; it < 8 && !hn::AllFalse(d, active); ++it) {
+      const V vv = om1 + x, acc = hn::MulAdd(ca, x, a0);
+      V base, frac, cl, dbase, dfrac;
+      AtSpeedDv(d, law, s, vv, ws, base, frac, cl, dbase, dfrac);
+      V h = one, dTa = zero;
+      if (hysteresis) {
+        const V th = TanhSatSkip(d, kv * acc);
+        h = hn::MulAdd(cl, th, one);
+        dTa = frac * cl * kv * hn::NegMulAdd(th, th, one) * scale;
+      }
+      V TT = hn::MulAdd(hn::MulAdd(frac, h, base), scale, cv * vv);
+      if (any_friction) TT = hn::IfThenElse(friction, hn::MulAdd(Tsf, Sign(d, vv), TT), TT);
+      const V dT = hn::MulAdd(dTa, ca, hn::MulAdd(hn::MulAdd(dfrac, h, dbase), scale, cv));
+      const V F = hn::MulAdd(c, TT, x) - w, dF = hn::MulAdd(c, dT, one);
+      const M bad = hn::Not(hn::And(dF > zero, hn::And(hn::IsFinite(F), hn::IsFinite(dF))));
+      const V xn = x - F / dF;
+      // at rest the law is set-valued: a step onto or across v = 0 leaves it to the safeguarded solve
+      const M cross = hn::Or(vv == zero, Sign(d, om1 + xn) != Sign(d, vv));
+      const M out = hn::And(active, hn::Or(bad, cross));
+      fb = hn::Or(fb, out);
+      const M go = hn::AndNot(out, active);
+      const M conv = hn::And(go, hn::Abs(xn - x) <= tol);
+      T = hn::IfThenElse(conv, hn::MulAdd(dT, xn - x, TT), T);  // the torque linearized to the last step
+      x = hn::IfThenElse(go, xn, x);
+      active = hn::AndNot(conv, go);
+    }
+    fb = hn::Or(fb, active);
+    if (!hn::AllFalse(d, fb)) {
+      HWY_ALIGN double xs[16], Tl[16], wl[16],
+          cl[16], o1[16], vl[16];
+      HWY_ALIGN std::uint8_t fbits[16] = {};
+      hn::StoreMaskBits(d, fb, fbits);
+      hn::Store(x, d, xs);
+      hn::Store(T, d, Tl);
+      hn::Store(w, d, wl);
+      hn::Store(c, d, cl);
+      hn::Store(om1, d, o1);
+      hn::Store(v0, d, vl);
+      for (std::size_t l = 0; l < N; ++l)
+        if (fbits[l / 8] >> (l % 8) & 1) xs[l] = a.fallback(a.ctx, l, a.first + r, wl[l], cl[l], o1[l], vl[l], xs[l], Tl[l]);
+      x = hn::Load(d, xs);
+      T = hn::Load(d, Tl);
+    }
+    V fric = zero, T0e = T0;
+    if (any_sticky || any_friction) {
+      const V T_req = (w + om1) / c, sf = Sign(d, T_req), v1 = om1 + x;
+      const M lands = hn::Or(v0 * v1 <= zero, hn::Abs(v1) <= hn::Set(d, 1e-12) * (one + hn::Abs(om1)));
+      const M holds = hn::Or(hn::Abs(T_req) <= cap, sf == Sign(d, v0));
+      const M stuck = hn::AndNot(hold, hn::AndNot(at_rest, hn::And(sticky, hn::And(lands, holds))));
+      fric = hn::IfThenElse(friction, Tsf * Sign(d, v1), zero);
+      fric = hn::IfThenElse(stuck, hn::IfThenElse(friction, StringShare(d, T_req, Ts, Tsf), zero), fric);
+      fric = hn::IfThenElse(hold, hn::IfThenElse(friction, StringShare(d, T_hold, Ts, Tsf), zero), fric);
+      x = hn::IfThenElse(hn::Or(stuck, hold), hn::Neg(om1), x);
+      T = hn::IfThenElse(stuck, T_req, hn::IfThenElse(hold, T_hold, T));
+      T0e = hn::IfThenElse(hold, T, T0);  // held over the step
+    }
+    const V v1 = om1 + x;
+    hn::StoreU(v1, d, a.v + r * N);
+    hn::StoreU((v1 - v0) / dt, d, a.a + r * N);  // Eq. (A.1)
+    hn::StoreU(hn::IfThenElse(fric != zero, T - fric, T), d, a.T + r * N);
+    const M moving = dom != zero;
+    const V wn = hn::AllFalse(d, moving) ? ExactUpdate<PerLane, false>(d, a.modes, a.coef, a.z, a.p, dom, moving, T0e, T)
+                                         : ExactUpdate<PerLane, true>(d, a.modes, a.coef, a.z, a.p, dom, moving, T0e, T);
+    x2 = x1;
+    x1 = x;
+    v0 = v1;
+    T0 = T;
+    if (r + 1 < a.count) {
+      dom = dom_at(r + 1);
+      w = hn::NegMulAdd(c0, T0, hn::MulAdd(ce, dom, wn));
+    }
+  }
+  hn::StoreU(v0, d, a.v0);
+  hn::StoreU(T0, d, a.T0);
+  hn::StoreU(x1, d, a.x1);
+  hn::StoreU(x2, d, a.x2);
 }
 }  // namespace batched_detail
 
@@ -226,46 +496,13 @@ inline void BatchSteps(const BatchStepArgs& a) {
   hn::StoreU(a3, d, a.a_guess + 2 * N);
 }
 
-/// exact_modal_free (exact_modal.hpp) on one vector of lanes: the same operations in the same order.
-inline void ExactFree(const ExactLaneArgs& a) {
-  using namespace batched_detail;
-  const D d;
-  const std::size_t N = hn::Lanes(d);
-  constexpr int K = ExactModal::kinds;
-  const V dom = hn::LoadU(d, a.dom), T0 = hn::LoadU(d, a.T0);
-  V w = hn::Zero(d);
-  for (int j = 0; j < a.modes; ++j) {
-    const double* c = a.coef + static_cast<std::size_t>(j) * K * N;
-    const std::size_t o = static_cast<std::size_t>(j) * N;
-    const V z = hn::LoadU(d, a.z + o), p = hn::LoadU(d, a.p + o);
-    const V zn = hn::LoadU(d, c + ExactModal::zz * N) * z + hn::LoadU(d, c + ExactModal::zp * N) * p +
-                 hn::LoadU(d, c + ExactModal::ez * N) * dom - hn::LoadU(d, c + ExactModal::hz0 * N) * T0;
-    const V pn = hn::LoadU(d, c + ExactModal::pz * N) * z + hn::LoadU(d, c + ExactModal::pp * N) * p +
-                 hn::LoadU(d, c + ExactModal::ep * N) * dom - hn::LoadU(d, c + ExactModal::hp0 * N) * T0;
-    hn::StoreU(zn, d, a.zs + o);
-    hn::StoreU(pn, d, a.ps + o);
-    w = w + hn::Set(d, a.bit[j]) * pn;
-  }
-  hn::StoreU(w, d, a.w);
-}
-
-/// exact_modal_close (exact_modal.hpp) on one vector of lanes.
-inline void ExactClose(const ExactLaneArgs& a) {
-  using namespace batched_detail;
-  const D d;
-  const std::size_t N = hn::Lanes(d);
-  constexpr int K = ExactModal::kinds;
-  const V T1 = hn::LoadU(d, a.T1), dT0 = hn::LoadU(d, a.dT0);
-  for (int j = 0; j < a.modes; ++j) {
-    const double* c = a.coef + static_cast<std::size_t>(j) * K * N;
-    const std::size_t o = static_cast<std::size_t>(j) * N;
-    hn::StoreU(hn::LoadU(d, a.zs + o) - hn::LoadU(d, c + ExactModal::hz1 * N) * T1 -
-                   hn::LoadU(d, c + ExactModal::hz0 * N) * dT0,
-               d, a.z + o);
-    hn::StoreU(hn::LoadU(d, a.ps + o) - hn::LoadU(d, c + ExactModal::hp1 * N) * T1 -
-                   hn::LoadU(d, c + ExactModal::hp0 * N) * dT0,
-               d, a.p + o);
-  }
+/// Steps a.first .. a.first + a.count - 1 of the exact modal scheme (exact_modal.hpp) on one vector
+/// of runs (see ExactStepArgs).
+inline void ExactSteps(const ExactStepArgs& a) {
+  if (a.per_lane)
+    batched_detail::ExactStepsT<true>(a);
+  else
+    batched_detail::ExactStepsT<false>(a);
 }
 
 }  // namespace HWY_NAMESPACE

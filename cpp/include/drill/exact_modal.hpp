@@ -27,10 +27,13 @@
 // holding torque of one step would depend on the last one's with a factor near -1, a torque that
 // alternates from step to step and lets the bit break away and stick again every other step.
 //
-// The propagation below is written for runs in lanes (structure of arrays, [modes][lanes]): the
-// scalar path is one lane, the batched path (batched_integrator.hpp) one lane per run of a batch.
-// Every lane performs the same operations in the same order (the modal sums mode by mode), and
-// lanes never mix, so a run has the same bits alone, in any lane of a batch and on the scalar path.
+// The propagation below (exact_modal_free, exact_modal_close) is the scalar path's (Integrator::
+// run_exact_lanes, one lane). The batched path (batched_integrator.hpp, ExactSteps in
+// batched_kernel-inl.hpp) steps a vector of runs through the same equations: the bit's equation
+// solved by a Newton iteration masked across the lanes, the step's end state and the next step's
+// w = bit . ps in one pass over the modes (coefficients kl: w summed from the state at the step's
+// start), with FMA and Highway's exp/log. Its lanes never mix, so a run has the same bits alone and
+// in any lane of a batch; against the scalar path it differs by rounding.
 #pragma once
 
 #include <Eigen/Dense>
@@ -48,10 +51,16 @@ struct ExactModal {
   /// zz, zp, pz, pp: Phi; ez, ep: response to the top's acceleration (times Omega'); hz0, hp0: to
   /// the start torque T_i; hz1, hp1: to the end torque T_i+1 (both with the sign of -bit_j T).
   enum Kind { zz, zp, pz, pp, ez, ep, hz0, hp0, hz1, hp1, kinds };
+  /// The batched kernel's coefficients per mode (batched_kernel-inl.hpp, ExactSteps): the ten kinds
+  /// and bpz = bit_j Phi10_j, bpp = bit_j Phi11_j, with which w = bit . ps is summed from the state at
+  /// the step's start: w = sum_j (bpz_j z_j + bpp_j p_j) + ce Omega' - c0 T_i.
+  static constexpr int bpz = kinds, bpp = kinds + 1, lane_kinds = kinds + 2;
   int modes = 0;
   std::vector<double> k;  ///< [modes][kinds]
+  std::vector<double> kl;  ///< [modes][lane_kinds]: the batched kernel's
   double c = 0.0;         ///< sum_j bit_j hp1_j: dv_i+1 / dT_i+1 = -c
   double c0 = 0.0;        ///< sum_j bit_j hp0_j: dv_i+1 / dT_i = -c0
+  double ce = 0.0;        ///< sum_j bit_j ep_j: dv_i+1 / dOmega' (the top's acceleration over the step)
 
   double at(int j, Kind q) const { return k[static_cast<std::size_t>(j) * kinds + q]; }
 
@@ -89,22 +98,19 @@ struct ExactModal {
       r[hz1] = P[6] * bit(j);
       r[hp1] = P[7] * bit(j);
     }
+    e.kl.assign(static_cast<std::size_t>(e.modes) * lane_kinds, 0.0);
     for (int j = 0; j < e.modes; ++j) {
       e.c += bit(j) * e.at(j, hp1);
       e.c0 += bit(j) * e.at(j, hp0);
+      e.ce += bit(j) * e.at(j, ep);
+      double* r = e.kl.data() + static_cast<std::size_t>(j) * lane_kinds;
+      for (int q = 0; q < kinds; ++q) r[q] = e.at(j, static_cast<Kind>(q));
+      r[bpz] = bit(j) * e.at(j, pz);
+      r[bpp] = bit(j) * e.at(j, pp);
     }
     return e;
   }
 };
-
-/// The coefficients of runs in lanes: coef[(j kinds + kind) N + l] (ExactModal::k of each lane's model).
-inline std::vector<double> exact_modal_lanes(const ExactModal* const* lane, std::size_t N) {
-  const int m = lane[0]->modes;
-  std::vector<double> out(static_cast<std::size_t>(m) * ExactModal::kinds * N);
-  for (std::size_t l = 0; l < N; ++l)
-    for (std::size_t q = 0; q < static_cast<std::size_t>(m) * ExactModal::kinds; ++q) out[q * N + l] = lane[l]->k[q];
-  return out;
-}
 
 /// The step's free part: zs, ps = the modal state at t_i+1 without the end torque, from z, p, the
 /// top's acceleration dom and the start torque T0 [lanes], and w = bit . ps [lanes] (summed mode by

@@ -726,14 +726,14 @@ class Integrator {
   }
 
   /// The exact modal scheme (exact_modal.hpp) on N runs in lanes (the scalar path: N = 1; the
-  /// batched path: one run per lane): in[l] the lane's inputs, coef its coefficients
+  /// batched path has its own vector kernel, ExactSteps of batched_kernel-inl.hpp): in[l] the lane's inputs, coef its coefficients
   /// [(j kinds + kind) N + l] and c[l] its compliance, z and p its modal state [modes][lanes] (the
   /// final state on return). emit(l, i, t, v, a, T_bit, Omega) is called at every step, i = 0 the
   /// initial state (its torque the law's at zero acceleration), after the step's state is in z, p.
   /// fail(l, t) is called when lane l's bit speed or torque is non-finite at t (it throws, or
   /// returns and the lane is dropped: its state set to zero, emit no longer called for it).
   /// free(dom, T0, zs, ps, w) and close(zs, ps, T1, dT0) are exact_modal_free and exact_modal_close on these
-  /// lanes (the batched path passes its vector kernels: the same operations in the same order).
+  /// lanes.
   template <class Free, class Close, class Emit, class Fail>
   void run_exact_lanes(const Inputs* const* in, std::size_t N, const double* coef, const double* c,
                        const double* c0, double* z, double* p, Free&& free, Close&& close, Emit&& emit,
