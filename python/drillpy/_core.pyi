@@ -105,6 +105,11 @@ class AxialReport:
         Mean WOB after the transient [N].
         """
     @property
+    def mse(self) -> float:
+        """
+        Mechanical specific energy after the transient: the bit's work on the rock per volume removed (torque x bit speed + WOB x axial speed, over pi a^2 x advance) [Pa]; NaN without advance.
+        """
+    @property
     def position(self) -> numpy.typing.NDArray[numpy.float64]:
         """
         The bit's axial position U [m] (down positive).
@@ -128,6 +133,11 @@ class AxialReport:
     def steady_depth(self) -> float:
         """
         Depth of cut per revolution of steady drilling [m].
+        """
+    @property
+    def steady_mse(self) -> float:
+        """
+        MSE of steady drilling, W / A + T Omega / (A V) (Teale 1965) [Pa].
         """
     @property
     def steady_rop(self) -> float:

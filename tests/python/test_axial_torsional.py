@@ -143,3 +143,20 @@ def test_monte_carlo_runs_the_coupled_model_with_the_stochastic_torque():
     assert np.max(np.abs(a.severity - a.deterministic[None, :])) > 0.05
     with pytest.raises(ValueError, match="montecarlo.warmup_s"):
         stochastic_study(cfg, speeds, 2, 7, warmup=5.0, **kw)
+
+
+def test_mse_of_steady_drilling_is_the_rock_energy_plus_wob_and_friction_terms():
+    """Teale's MSE = W / A + T Omega / (A V). At RGD's steady drilling the cutting part gives the
+    intrinsic specific energy eps exactly (T_c = a^2 eps d / 2, V = Omega d / 2 pi), the wear flats
+    add gamma mu l sigma / d, the thrust W / (pi a^2). A run that stays near steady drilling (12 rad/s,
+    SS below 0.05) measures the same MSE within 1 %."""
+    cfg = _short(20.0)
+    cfg["operation"]["top_speed_rad_s"] = 12.0
+    r = simulate(cfg)
+    ax = r.axial
+    a, eps, wear, sigma, gamma, mu = 0.108, 60e6, 0.011, 60e6, 1.0, 0.6
+    d0, W0 = ax.steady_depth, ax.steady_wob
+    assert ax.steady_mse == pytest.approx(eps + gamma * mu * wear * sigma / d0 + W0 / (np.pi * a * a), rel=1e-9)
+    assert r.severity < 0.05
+    assert ax.mse == pytest.approx(ax.steady_mse, rel=0.01)
+    assert r.summary()["mse_pa"] == ax.mse

@@ -15,7 +15,8 @@ namespace drill {
 /// undefined), complete stick and slip phase durations [s], the period in stick-slip cycles (0: no
 /// periodic regime) and the stick and slip durations of the last period [s]; with the axial-torsional
 // model (axial.type = rgd) also the WOB and rate of penetration (mean and standard deviation), the
-// bit-bounce fraction, the mean depth of cut and RGD's steady drilling at the operating point.
+// bit-bounce fraction, the mean depth of cut, the mechanical specific energy and RGD's steady drilling
+// at the operating point.
 template <class Json = nlohmann::ordered_json>
 Json run_summary(const RunReport& r) {
   auto finite_or_null = [](double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); };
@@ -36,10 +37,12 @@ Json run_summary(const RunReport& r) {
     s["rop_std_m_s"] = finite_or_null(a.rop_std);
     s["bounce_fraction"] = finite_or_null(a.bounce_fraction);
     s["mean_depth_of_cut_m"] = finite_or_null(a.mean_depth_of_cut);
+    s["mse_pa"] = finite_or_null(a.mse);
     s["steady_wob_n"] = a.steady_wob;
     s["steady_rop_m_s"] = a.steady_rop;
     s["steady_depth_of_cut_m"] = a.steady_depth;
     s["steady_torque_nm"] = a.steady_torque;
+    s["steady_mse_pa"] = a.steady_mse;
   }
   return s;
 }

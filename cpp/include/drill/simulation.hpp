@@ -28,7 +28,12 @@ struct AxialReport {
   double mean_rop = NAN, rop_std = NAN;  ///< the bit's axial speed: mean and standard deviation [m/s]
   double bounce_fraction = NAN;          ///< fraction of the window with the bit off the rock (W = 0)
   double mean_depth_of_cut = NAN;        ///< [m] per revolution
+  /// Mechanical specific energy (Teale 1965): the work the bit does on the rock (torque x bit speed
+  /// plus WOB x axial speed, integrated) per volume removed (bit face pi a^2 x advance) [Pa]; NaN
+  /// when the bit does not advance. At steady drilling it is Teale's W / A + T Omega / (A V).
+  double mse = NAN;
   double steady_wob = NAN, steady_rop = NAN, steady_depth = NAN, steady_torque = NAN;  ///< RGD steady drilling
+  double steady_mse = NAN;  ///< MSE of steady drilling [Pa]
   bool present() const { return std::isfinite(steady_wob); }
 };
 
@@ -283,10 +288,12 @@ class Simulation {
     ax.steady_rop = st.rop;
     ax.steady_depth = st.depth;
     ax.steady_torque = st.torque;
+    const double face = M_PI * cfg_.axial.rgd.bit.radius * cfg_.axial.rgd.bit.radius;  // A = pi a^2
+    ax.steady_mse = (st.torque * om0 + st.wob * st.rop) / (face * st.rop);
     const long stride = std::max(1L, cfg_.output_stride);
     const long every = std::max(1L, cfg_.sim.steps() / 1000);
     long next_report = progress ? 0 : LONG_MAX, count = 0, off = 0;
-    double sw = 0.0, sw2 = 0.0, sv = 0.0, sv2 = 0.0, sd = 0.0;
+    double sw = 0.0, sw2 = 0.0, sv = 0.0, sv2 = 0.0, sd = 0.0, work = 0.0;
     long step = 0;
     const CoupledState last = m.run(
         in,
@@ -309,6 +316,7 @@ class Simulation {
             sv += a.rop;
             sv2 += a.rop * a.rop;
             sd += a.depth;
+            work += s.torque_on_bit * s.bit_speed + a.wob * a.rop;  // power at the bit [W]
           }
           if (s.step >= next_report) {
             progress(s.t, cfg_.sim.duration);
@@ -324,6 +332,7 @@ class Simulation {
       ax.rop_std = std::sqrt(std::max(0.0, sv2 / n - ax.mean_rop * ax.mean_rop));
       ax.bounce_fraction = off / n;
       ax.mean_depth_of_cut = sd / n;
+      if (sv > 0.0) ax.mse = work / (face * sv);  // (sum of power dt) / (A x sum of V dt)
     }
     RunReport r = obs.report(last.torsion);
     r.axial = std::move(ax);

@@ -87,6 +87,11 @@ void bind_axial_report(py::module_& m) {
   c.def_readonly("steady_rop", &AxialReport::steady_rop, "Rate of penetration of steady drilling [m/s].");
   c.def_readonly("steady_depth", &AxialReport::steady_depth, "Depth of cut per revolution of steady drilling [m].");
   c.def_readonly("steady_torque", &AxialReport::steady_torque, "Torque on bit of steady drilling [N m].");
+  c.def_readonly("mse", &AxialReport::mse,
+                 "Mechanical specific energy after the transient: the bit's work on the rock per volume removed "
+                 "(torque x bit speed + WOB x axial speed, over pi a^2 x advance) [Pa]; NaN without advance.");
+  c.def_readonly("steady_mse", &AxialReport::steady_mse,
+                 "MSE of steady drilling, W / A + T Omega / (A V) (Teale 1965) [Pa].");
   c.def_property_readonly("present", &AxialReport::present, "True for a run of the axial-torsional model.");
 }
 

@@ -158,7 +158,8 @@ def cmd_simulate(a: argparse.Namespace) -> int:
     if ax is not None:
         text += (f"\nWOB = {ax.mean_wob / 1e3:.1f} +- {ax.wob_std / 1e3:.1f} kN (steady {ax.steady_wob / 1e3:.1f} kN), "
                  f"ROP = {ax.mean_rop * 3600:.2f} +- {ax.rop_std * 3600:.2f} m/h (steady {ax.steady_rop * 3600:.2f} m/h), "
-                 f"bit bounce fraction = {ax.bounce_fraction:.3f}")
+                 f"bit bounce fraction = {ax.bounce_fraction:.3f}, MSE = {ax.mse / 1e6:.1f} MPa "
+                 f"(steady {ax.steady_mse / 1e6:.1f} MPa)")
     print(dumps(summary, indent=None) if a.json else text)
     return 0
 

@@ -81,7 +81,7 @@ class SimulationResult:
         """The axial channels and metrics of a run of the axial-torsional model (``axial.type = rgd``,
         ``drill/axial_torsional.hpp``): WOB [N], rate of penetration [m/s], depth of cut [m], delay
         t_N [s] series and their metrics after the transient (``mean_wob``, ``wob_std``,
-        ``mean_rop``, ``rop_std``, ``bounce_fraction``); None for the other models.
+        ``mean_rop``, ``rop_std``, ``bounce_fraction``, ``mse``); None for the other models.
 
         Returns
         -------
