@@ -86,6 +86,7 @@ def test_cli_simulate_writes_the_axial_channels(tmp_path):
     data = np.loadtxt(tmp_path / "o" / "axial.csv", delimiter=",", comments="#", skiprows=text.index(
         "time_s,wob_N,rop_m_s,bit_position_m,depth_of_cut_m,delay_s") + 1)
     assert data.shape[1] == 6 and data[0, 1] == pytest.approx(150e3, rel=1e-6)
+    assert (tmp_path / "o" / "axial.png").stat().st_size > 10_000  # WOB, ROP and depth of cut drawn
 
 
 def test_sweep_runs_the_coupled_model_as_simulate_does():

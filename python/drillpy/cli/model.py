@@ -109,7 +109,7 @@ def cmd_simulate(a: argparse.Namespace) -> int:
     With ``--out`` writes ``series.csv`` (time series, SI units), ``time_series.png`` and
     ``summary.json`` (the summary with the effective configuration), and with the axial-torsional
     model (``axial.type = rgd``) ``axial.csv`` (WOB, rate of penetration, bit position, depth of cut
-    and delay, SI units). ``series.csv`` holds the data's
+    and delay, SI units) and ``axial.png`` (WOB, ROP and depth of cut versus time). ``series.csv`` holds the data's
     precision, not the float64's: the time in fixed point to the recording step's resolution
     (see :func:`_time_format`), the other columns at 7 significant digits (``%.7g``).
 
@@ -151,6 +151,7 @@ def cmd_simulate(a: argparse.Namespace) -> int:
             with replacing(out / "axial.csv") as tmp:
                 np.savetxt(tmp, acols, delimiter=",", comments="", fmt=[_time_format(ax.t)] + ["%.7g"] * 5,
                            header=header(prov) + "\ntime_s,wob_N,rop_m_s,bit_position_m,depth_of_cut_m,delay_s")
+            plotting.axial_series_plot(out / "axial.png", ax)
         write_text((out / "summary.json"), dumps({**summary, "config": r.config, "provenance": prov}, indent=2))
     text = (f"SS = {r.severity:.3f}, stick fraction = {r.stick_fraction:.3f}, "
             f"periodic over {r.period_cycles} cycle(s)")

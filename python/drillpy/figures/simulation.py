@@ -218,3 +218,39 @@ def time_series_plot(path, t, bit_speed, torque_on_bit, top_speed=None, t_window
         a1.set_title(title)
     return _save(fig, path)
 
+
+
+def axial_series_plot(path, axial, title="") -> plt.Figure:
+    """The axial channels of an axial-torsional run (docs/axial.md) versus time: WOB [kN], the bit's
+    rate of penetration [m/h] and depth of cut per revolution [mm], each beside its value at RGD's
+    steady drilling (dashed); bit bounce shows as W = 0 with a negative depth of cut.
+
+    Parameters
+    ----------
+    path : str or Path
+        PNG written.
+    axial : _core.AxialReport
+        The run's axial report (``SimulationResult.axial``).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, written to ``path`` (then closed) unless ``path`` is None.
+    """
+    t = np.asarray(axial.t)
+    rows = (("WOB [kN]", np.asarray(axial.wob) / 1e3, axial.steady_wob / 1e3),
+            ("ROP [m/h]", np.asarray(axial.rop) * 3600.0, axial.steady_rop * 3600.0),
+            ("depth of cut [mm/rev]", np.asarray(axial.depth_of_cut) * 1e3, axial.steady_depth * 1e3))
+    fig, axes = plt.subplots(3, 1, figsize=(7.0, 6.0), sharex=True)
+    for ax, (label, y, steady) in zip(axes, rows):
+        ax.plot(t, y, "b", lw=0.8)
+        ax.axhline(steady, color="k", ls="--", lw=0.8, label="steady drilling")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8, loc="upper right")
+    axes[-1].set_xlabel("time [s]")
+    if title:
+        axes[0].set_title(title)
+    return _save(fig, path)
