@@ -78,6 +78,11 @@ class AxialTorsional {
     Vinv_ = V_.transpose() * torsion.M;
     w2_ = es.eigenvalues().cwiseMax(0.0);
     D_ = V_.transpose() * torsion.D * V_;
+    // modal or Rayleigh damping is diagonal in the modal basis (to round-off): a diagonal product then
+    // replaces the dense one (as integrator.hpp does)
+    d_ = D_.diagonal();
+    const double dscale = std::max(d_.cwiseAbs().maxCoeff(), 1e-300);
+    diag_damping_ = (D_ - Eigen::MatrixXd(d_.asDiagonal())).cwiseAbs().maxCoeff() <= 1e-10 * dscale;
     bit_ = (torsion.bit * V_).transpose();
     top_torque_ = (torsion.top_torque * V_).transpose();
     top_load_ = V_.transpose() * torsion.top_load;
@@ -179,7 +184,8 @@ class AxialTorsional {
       const double Ob = om + bit_.dot(p), Phi = theta_top + bit_.dot(z);
       const double U = v_feed * t + ax_.bit.dot(eta), V = v_feed + ax_.bit.dot(r);
       const double d = profile.depth_of_cut(Phi, U);
-      ft = -D_ * p - w2_.cwiseProduct(z);
+      if (diag_damping_) ft = -d_.cwiseProduct(p) - w2_.cwiseProduct(z);
+      else ft.noalias() = -D_ * p - w2_.cwiseProduct(z);
       if (dom != 0.0) ft -= top_load_ * dom;
       fa = -ax_.damping.cwiseProduct(r) - (ax_.omega.array().square() * eta.array()).matrix();
       if (F_top != 0.0) fa += ax_.top_row * F_top;
@@ -230,6 +236,8 @@ class AxialTorsional {
   SimOptions opt_;
   AxialROM ax_;
   Eigen::MatrixXd V_, Vinv_, D_;
+  Eigen::VectorXd d_;          ///< diag(D_)
+  bool diag_damping_ = false;  ///< D_ is diagonal to round-off: the step uses d_
   Eigen::VectorXd w2_, bit_, top_torque_, top_load_, init_vel_;
 };
 
