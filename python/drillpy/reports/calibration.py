@@ -63,8 +63,9 @@ def summary_lines(s: dict) -> list:
         One line each, as ``drillpy calibrate`` prints them.
     """
     run, pred = s["run"], s["predictive"]
+    cpu = f", {run['cpu_s']:.0f} s of processor time" if run.get("cpu_s") is not None else ""
     lines = [f"{run['abc_simulations']} simulations in {run['wall_s']:.1f} s ({run['simulations_per_s']:.1f}/s, "
-             f"{run['threads']} threads), {run['generations']} generations, final eps {run['eps'][-1]:.3g} "
+             f"{run['threads']} threads{cpu}), {run['generations']} generations, final eps {run['eps'][-1]:.3g} "
              f"({run['stopped']})"]
     for fam in s["families"]:
         lines.append(f"P({fam}, Eq. {s['equations'][fam]}) = {s['model_probability'][fam]:.3f} "
