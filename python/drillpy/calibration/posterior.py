@@ -306,7 +306,8 @@ def load_window(record, t0: float | None = None, t1: float | None = None) -> Rec
 def calibrate_record(record, *, preset: str | None = None, config_path: str | None = None, config: dict | None = None,
                      t0: float | None = None, t1: float | None = None, heldout: tuple | None = None,
                      population: int = 200, max_simulations: int = 20000, max_generations: int = 12,
-                     predictive_draws: int = 100, seed: int = 0, threads: int = 0, log=None) -> Posterior:
+                     predictive_draws: int = 100, seed: int = 0, threads: int = 0, dt_s: float = SIM_DT_S,
+                     log=None) -> Posterior:
     """Posterior of the rig model given a record (module docstring).
 
     Parameters
@@ -333,6 +334,8 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
         Seed of every random draw (same seed, same numbers, whatever ``threads``).
     threads : int
         Simulations at once (0: one per core).
+    dt_s : float
+        The rig simulations' time step [s] (:data:`SIM_DT_S`).
     log : callable, optional
         Progress lines.
 
@@ -371,7 +374,7 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
     if not ok.all():
         missing = [n for n, o in zip(NAMES, ok) if not o]
         raise ValueError(f"record: statistics {', '.join(missing)} cannot be measured on the window")
-    sim = RigSimulator(rec, thr, spec, base_law, threads)
+    sim = RigSimulator(rec, thr, spec, base_law, threads, dt_s=dt_s)
     dims = [len(spec.families[f]) for f in sim.families]
     start, cpu = time.perf_counter(), time.process_time()
     res = abcsmc.run(sim, dims, observed, scale, population=population, max_simulations=max_simulations,
