@@ -197,10 +197,14 @@ def test_stability_map_stick_slip_grows_with_wob_and_vanishes_at_high_speed_same
     m = stability_map(_truth_posterior(), speeds, wobs, samples=6, seed=4, threads=1)
     p = m.p_unstable
     assert m.settings["failed_runs"] == 0
-    # more WOB, more torque on the bit, less stable: P does not fall with the WOB at any command
-    assert np.all(np.diff(p, axis=0) >= 0), p
-    # stick-slip at 20-26 rad/s under the heaviest WOB, gone or going above it: P falls with the speed
-    assert p[-1, 1:3].max() >= 0.5 and p[:, -1].max() < p[-1, 1:3].max()
+    # (cells chosen with margins: the SS there are below 0.25 or above 1, or the bit stalls; at 560 N
+    # and 20 rad/s some runs sit near 0.5, where rounding on another machine could tip them)
+    # more WOB, more torque on the bit, less stable: P at the lightest WOB nowhere above the heaviest's
+    assert np.all(p[0] <= p[-1]) and p[-1].sum() > p[0].sum() + 1, p
+    # stick-slip at 26 rad/s under the heaviest WOB, none at the lightest above the stalls
+    assert p[-1, 2] == 1.0 and np.all(p[0, 1:] == 0.0), p
+    # and it falls with the speed: at 32 rad/s gone under 400-560 N, going under 720 N
+    assert np.all(p[:2, -1] == 0.0) and p[-1, -1] < p[-1, 2], p
     # at 8 rad/s the motor cannot break the bit away under the heaviest WOB: a stall, counted unstable
     assert m.p_stall[-1, 0] == 1.0 and p[-1, 0] == 1.0
     assert np.all((m.ci90[0] <= p) & (p <= m.ci90[1]))
