@@ -130,9 +130,10 @@ def test_calibrate_command_writes_the_posterior_and_predict_applies_it(tmp_path)
     out = tmp_path / "cal"
     r = run_cli("calibrate", str(tmp_path / "rec.csv"), "--preset", "thesis-rig", "--out", str(out), "--t0", "0",
                 "--t1", "6", "--heldout", "4:8", "--population", "8", "--simulations", "40", "--draws", "4",
-                "--seed", "2")
+                "--seed", "2", "--map", "10:20:2,500:600:2", "--map-samples", "2")
     assert r.returncode == 0, r.stderr
     assert "P(polynomial, Eq. 5.1" in r.stdout and "posterior predictive 90 % intervals" in r.stdout
+    assert "posterior stability map, 2 samples" in r.stdout and (out / "map.zarr").is_dir()
     s = json.loads((out / "posterior.json").read_text())
     assert s["format"] == "drillpy.posterior" and s["run"]["abc_simulations"] <= 40
     assert (out / "marginals.png").is_file() and (out / "predictive.png").is_file()
@@ -145,6 +146,10 @@ def test_calibrate_command_writes_the_posterior_and_predict_applies_it(tmp_path)
     bad = run_cli("calibrate", str(tmp_path / "rec.csv"), "--preset", "thesis-rig", "--out", str(tmp_path / "x"),
                   "--heldout", "8:4")
     assert bad.returncode != 0 and "--heldout = '8:4'" in bad.stderr and not (tmp_path / "x").exists()
+    bad = run_cli("calibrate", str(tmp_path / "rec.csv"), "--preset", "thesis-rig", "--out", str(tmp_path / "y"),
+                  "--map", "20:10:2,500:600:2")
+    assert bad.returncode != 0 and "--map = '20:10:2,500:600:2': give COMMANDS,WOBS" in bad.stderr
+    assert not (tmp_path / "y").exists()
 
 
 def test_predictive_intervals_are_weighted_quantiles_held_in_each_statistics_range():
