@@ -76,6 +76,7 @@ def main() -> int:
     ap.add_argument("--duration", type=float, default=24.0)
     ap.add_argument("--seed", type=int, default=35)
     ap.add_argument("--threads", type=int, default=0)
+    ap.add_argument("--dt", type=float, default=None, help="the calibration's time step [s] (default SIM_DT_S)")
     a = ap.parse_args()
     import whole_rig
     from scipy import stats
@@ -96,7 +97,8 @@ def main() -> int:
             rec, _ = clean(read_record(path))
         post = calibrate_record(rec, preset="thesis-rig", t0=0.0, t1=h, heldout=(h + rec.dt, a.duration),
                                 population=a.population, max_simulations=a.simulations, predictive_draws=100,
-                                seed=a.seed + i, threads=a.threads)
+                                seed=a.seed + i, threads=a.threads,
+                                **({} if a.dt is None else {"dt_s": a.dt}))
         s = post.summary()
         line = [f"truth {i + 1}:"]
         for k, name in SHARED.items():

@@ -54,7 +54,7 @@ def _config(**section):
 def test_posterior_90_percent_intervals_contain_a_different_time_step_truth_and_are_narrower_than_the_prior():
     rec = _truth_record()
     post = calibrate_record(rec, config=_config(families=["polynomial"]), population=40, max_simulations=700,
-                            predictive_draws=10, seed=3)
+                            predictive_draws=10, seed=5)
     par = post.parameters["polynomial"]
     for name, value in TRUTH.items():
         lo, hi = par[name]["ci90"]
@@ -74,6 +74,7 @@ def test_same_seed_same_numbers_whatever_the_threads():
                          threads=2).summary()
     for s in (a, b):
         s["run"].pop("wall_s")
+        s["run"].pop("cpu_s")
         s["run"].pop("simulations_per_s")
         s["run"].pop("threads")
     assert json.dumps(a, sort_keys=True, default=str) == json.dumps(b, sort_keys=True, default=str)
@@ -129,9 +130,10 @@ def test_calibrate_command_writes_the_posterior_and_predict_applies_it(tmp_path)
     out = tmp_path / "cal"
     r = run_cli("calibrate", str(tmp_path / "rec.csv"), "--preset", "thesis-rig", "--out", str(out), "--t0", "0",
                 "--t1", "6", "--heldout", "4:8", "--population", "8", "--simulations", "40", "--draws", "4",
-                "--seed", "2")
+                "--seed", "2", "--map", "10:20:2,500:600:2", "--map-samples", "2")
     assert r.returncode == 0, r.stderr
     assert "P(polynomial, Eq. 5.1" in r.stdout and "posterior predictive 90 % intervals" in r.stdout
+    assert "posterior stability map, 2 samples" in r.stdout and (out / "map.zarr").is_dir()
     s = json.loads((out / "posterior.json").read_text())
     assert s["format"] == "drillpy.posterior" and s["run"]["abc_simulations"] <= 40
     assert (out / "marginals.png").is_file() and (out / "predictive.png").is_file()
@@ -144,3 +146,84 @@ def test_calibrate_command_writes_the_posterior_and_predict_applies_it(tmp_path)
     bad = run_cli("calibrate", str(tmp_path / "rec.csv"), "--preset", "thesis-rig", "--out", str(tmp_path / "x"),
                   "--heldout", "8:4")
     assert bad.returncode != 0 and "--heldout = '8:4'" in bad.stderr and not (tmp_path / "x").exists()
+    bad = run_cli("calibrate", str(tmp_path / "rec.csv"), "--preset", "thesis-rig", "--out", str(tmp_path / "y"),
+                  "--map", "20:10:2,500:600:2")
+    assert bad.returncode != 0 and "--map = '20:10:2,500:600:2': give COMMANDS,WOBS" in bad.stderr
+    assert not (tmp_path / "y").exists()
+
+
+def test_predictive_intervals_are_weighted_quantiles_held_in_each_statistics_range():
+    from drillpy.calibration.posterior import predictive_intervals
+    from drillpy.calibration.summaries import NAMES
+    k_ss, k_sf = NAMES.index("ss"), NAMES.index("stick_fraction")
+    # 100 draws 0..99 of every statistic, weighted by their value: the weighted median is near
+    # 100 sqrt(0.5) = 70.7 where the unweighted one is 49.5
+    stats = np.repeat(np.arange(100.0)[:, None], len(NAMES), axis=1)
+    q = predictive_intervals(stats, np.arange(100.0), np.zeros(len(NAMES)), np.random.default_rng(0), replicates=1)
+    assert abs(q[NAMES.index("torque_p50")][1] - 70.7) < 1.0
+    # a tiny budget: 3 draws with a stick fraction near 0 and a noise ten times larger
+    stats = np.full((3, len(NAMES)), 0.5)
+    stats[:, k_sf] = [0.0, 0.01, 0.02]
+    stats[:, k_ss] = [0.05, 0.1, 0.15]
+    noise = np.full(len(NAMES), 0.1)
+    q = predictive_intervals(stats, np.ones(3), noise, np.random.default_rng(1))
+    assert q[k_sf][0] == 0.0 < q[k_sf][2] and q[k_ss][0] >= 0.0
+    assert q[NAMES.index("torque_p50")][0] < 0.5 - 0.1  # an unbounded statistic keeps its lower tail
+
+
+def test_a_stall_stays_out_of_the_stick_fraction():
+    from drillpy.calibration.summaries import NAMES, statistics
+    dt = 1e-3
+    cycle = np.r_[np.zeros(100), np.full(400, 10.0)]  # 0.1 s stick in every 0.5 s: stick fraction 0.2
+    v = np.r_[np.tile(cycle, 20), np.zeros(2000), np.tile(cycle, 20)]  # a 2 s stall in the middle
+    tq, top, wob = np.full(v.size, 2.0), np.full(v.size, 8.0), np.full(v.size, 500.0)
+    sf = statistics(v, tq, top, wob, dt, 0.5)[NAMES.index("stick_fraction")]
+    assert np.mean(v <= 0.5) > 0.25  # with the stall: 0.27
+    assert abs(sf - 0.2) < 0.01
+    # nothing but stall: the whole window is stuck
+    assert statistics(np.zeros(3000), tq[:3000], top[:3000], wob[:3000], dt, 0.5)[NAMES.index("stick_fraction")] == 1.0
+
+
+def _truth_posterior(n: int = 6, spread: float = 0.05, seed: int = 0) -> dict:
+    """A posterior (the dict of posterior.json) of Eq. (5.1) particles within +-5 % around TRUTH."""
+    spec = prior_spec({"families": ["polynomial"]})
+    rng = np.random.default_rng(seed)
+    parts = {"weight": [1.0] * n}
+    parts.update({k: list(v * (1 + spread * rng.standard_normal(n))) for k, v in TRUTH.items()})
+    return {"format": "drillpy.posterior", "families": ["polynomial"], "priors": spec.summary(),
+            "particles": {"polynomial": parts}, "model_probability": {"polynomial": 1.0},
+            "record": {"base_law": load_config(preset="thesis-rig")["law"], "source": "test"}, "run": {}}
+
+
+def test_stability_map_stick_slip_grows_with_wob_and_vanishes_at_high_speed_same_on_any_thread_count(tmp_path):
+    import xarray as xr
+    from drillpy.calibration.stability import stability_map
+    speeds, wobs = [8.0, 20.0, 26.0, 32.0], [400.0, 560.0, 720.0]
+    m = stability_map(_truth_posterior(), speeds, wobs, samples=6, seed=4, threads=1)
+    p = m.p_unstable
+    assert m.settings["failed_runs"] == 0
+    # (cells chosen with margins: the SS there are below 0.25 or above 1, or the bit stalls; at 560 N
+    # and 20 rad/s some runs sit near 0.5, where rounding on another machine could tip them)
+    # more WOB, more torque on the bit, less stable: P at the lightest WOB nowhere above the heaviest's
+    assert np.all(p[0] <= p[-1]) and p[-1].sum() > p[0].sum() + 1, p
+    # stick-slip at 26 rad/s under the heaviest WOB, none at the lightest above the stalls
+    assert p[-1, 2] == 1.0 and np.all(p[0, 1:] == 0.0), p
+    # and it falls with the speed: at 32 rad/s gone under 400-560 N, going under 720 N
+    assert np.all(p[:2, -1] == 0.0) and p[-1, -1] < p[-1, 2], p
+    # at 8 rad/s the motor cannot break the bit away under the heaviest WOB: a stall, counted unstable
+    assert m.p_stall[-1, 0] == 1.0 and p[-1, 0] == 1.0
+    assert np.all((m.ci90[0] <= p) & (p <= m.ci90[1]))
+    two = stability_map(_truth_posterior(), speeds, wobs, samples=6, seed=4, threads=2)
+    assert np.array_equal(m.severity, two.severity, equal_nan=True)
+    ds = xr.open_zarr(m.save(tmp_path / "map.zarr"), consolidated=False).load()
+    assert np.array_equal(ds["p_unstable"].values, p) and ds.attrs["format"] == "drillpy.stability_map"
+    with pytest.raises(ValueError, match=r"speeds = \[-1\.0\]: one or more positive values"):
+        stability_map(_truth_posterior(), [-1.0], wobs)
+
+
+def test_a_time_step_that_does_not_divide_the_record_grid_is_refused():
+    from drillpy.calibration.posterior import RigSimulator
+    rec = _truth_record(duration=4.0)
+    spec = prior_spec({})
+    with pytest.raises(ValueError, match=r"dt_s = 0\.0003: a time step that divides the record's sampling interval"):
+        RigSimulator(rec, 0.5, spec, load_config(preset="thesis-rig")["law"], dt_s=3e-4)

@@ -546,6 +546,9 @@ CLI["calibrate"]["refused"] = {
     "--generations": (st.sampled_from(["-1", "x"]), ("generations",)),
     "--draws": (st.sampled_from(["0", "-1", "x"]), ("draws",)),
     "--heldout": (st.sampled_from(["1:0", "x", "0:1:2", "nan:1"]), ("heldout",)),
+    "--map": (st.sampled_from(["x", "20:10:2,400:800:2", "6:30:0,400:800:2", "6:30:2", "nan:1:2,1:2:2",
+                               "6:30:101,400:800:2"]), ("map",)),
+    "--map-samples": (st.sampled_from(["1", "0", "-3", "x"]), ("map-samples", "map_samples")),
 }
 
 CLI = {k: v for k, v in CLI.items() if k in COMMANDS}  # a command being added elsewhere: fuzzed once it exists

@@ -13,7 +13,12 @@ parameter's posterior median and 90 % interval, and the posterior predictive int
 long-run statistics on a held-out window: model-averaged posterior draws simulated at that
 window's operating point (its WOB trend), plus each statistic's sampling noise over a window of
 that length (the calibration window's block spread scaled by the window lengths), so that the
-intervals cover what a record of that length would measure.
+intervals cover what a record of that length would measure; the intervals are the empirical
+weighted quantiles of those samples, each held in the range its statistic can take
+(:func:`predictive_intervals`).
+
+The simulations step at :data:`SIM_DT_S` (2.5e-4 s, the preset's 1e-4 s otherwise): the evidence
+that it changes the statistics no more than the preset's step does is in docs/calibration.md.
 """
 from __future__ import annotations
 
@@ -30,8 +35,8 @@ import numpy as np
 
 from drillpy.calibration import abcsmc
 from drillpy.calibration.priors import FAMILIES, PriorSpec, prior_spec, split_config
-from drillpy.calibration.summaries import NAMES, UNITS, noise_scale, statistics, summaries
-from drillpy.model.config import load_config, normalize
+from drillpy.calibration.summaries import BOUNDS, NAMES, UNITS, noise_scale, statistics, summaries
+from drillpy.model.config import engine_config, load_config
 from drillpy.model.simulation import simulate
 from drillpy.records import rigsim
 from drillpy.records.io import Record
@@ -41,6 +46,10 @@ from drillpy.records.signals import platform_response, rig_lowpass
 SKIP_S = 2.0
 #: Statistics reported with predictive intervals.
 PREDICTED = NAMES
+#: Time step of the calibration's rig simulations [s] (the preset steps at 1e-4 s): as close to a
+#: 5e-5 s reference as the preset's step in the ABC's noise units (docs/calibration.md,
+#: "Speed"; ``benchmarks/calibration_timestep.py``), at less than half its engine time.
+SIM_DT_S = 2.5e-4
 
 
 def family_law(base: dict, family: str, law_scale: float, static_torque_nm: float | None = None) -> dict:
@@ -131,10 +140,18 @@ class RigSimulator:
     base_law : dict
     threads : int
         Runs at once (0: one per core).
+    dt_s : float
+        The engine's time step [s] (:data:`SIM_DT_S`); the output stays on the record's grid.
     """
 
-    def __init__(self, record: Record, stick_threshold: float, spec: PriorSpec, base_law: dict, threads: int = 0):
+    def __init__(self, record: Record, stick_threshold: float, spec: PriorSpec, base_law: dict, threads: int = 0,
+                 dt_s: float = SIM_DT_S):
+        ratio = record.dt / dt_s if isinstance(dt_s, (int, float)) and math.isfinite(dt_s) and dt_s > 0 else 0.0
+        if ratio < 1 - 1e-6 or abs(ratio - round(ratio)) > 1e-6 * ratio:
+            raise ValueError(f"dt_s = {dt_s!r}: a time step that divides the record's sampling interval "
+                             f"{record.dt:g} s (the statistics are taken on its grid)")
         self.record, self.thr, self.spec, self.base_law = record, stick_threshold, spec, base_law
+        self.dt_s = float(dt_s)
         self.families = list(spec.families)
         self.threads = threads if threads > 0 else (os.cpu_count() or 1)
         self.runs = 0
@@ -181,13 +198,14 @@ class RigSimulator:
             op = rigsim.operating_point(rec)
             wob = op.get("wob_n", self.base_law["wob_ref_n"])
             self._inputs[key] = (wob, rigsim.wob_trend(rec, wob), float(rec.time_s[-1] - rec.time_s[0]),
-                                 rigsim.stick_threshold(rec) if record is not None else self.thr)
-        wob, trend, duration, thr = self._inputs[key]
+                                 rigsim.stick_threshold(rec) if record is not None else self.thr, rec.dt)
+        wob, trend, duration, thr, rec_dt = self._inputs[key]
         try:
             model = rig_model(self.base_law, family, values, self.spec.fixed)
             cfg = model.config(model.command_rad_s, wob, duration_s=duration)
-            cfg["simulation"]["output_stride"] = max(1, int(round(rec.dt / cfg["simulation"]["dt_s"])))
-            res = simulate(normalize(cfg), model.command_rad_s, wob_series=trend, series_dt=rec.dt)
+            cfg["simulation"]["dt_s"] = self.dt_s
+            cfg["simulation"]["output_stride"] = max(1, int(round(rec_dt / self.dt_s)))
+            res = simulate(engine_config(cfg), model.command_rad_s, wob_series=trend, series_dt=rec_dt)
             n = min(res.t.size, len(rec))
             fs = 1.0 / float(np.median(np.diff(res.t)))
             tq = platform_response(res.torque_on_bit[:n], fs, rigsim.PLATFORM_HZ, model.platform_damping)
@@ -288,7 +306,8 @@ def load_window(record, t0: float | None = None, t1: float | None = None) -> Rec
 def calibrate_record(record, *, preset: str | None = None, config_path: str | None = None, config: dict | None = None,
                      t0: float | None = None, t1: float | None = None, heldout: tuple | None = None,
                      population: int = 200, max_simulations: int = 20000, max_generations: int = 12,
-                     predictive_draws: int = 100, seed: int = 0, threads: int = 0, log=None) -> Posterior:
+                     predictive_draws: int = 100, seed: int = 0, threads: int = 0, dt_s: float = SIM_DT_S,
+                     log=None) -> Posterior:
     """Posterior of the rig model given a record (module docstring).
 
     Parameters
@@ -315,6 +334,8 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
         Seed of every random draw (same seed, same numbers, whatever ``threads``).
     threads : int
         Simulations at once (0: one per core).
+    dt_s : float
+        The rig simulations' time step [s] (:data:`SIM_DT_S`).
     log : callable, optional
         Progress lines.
 
@@ -353,12 +374,12 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
     if not ok.all():
         missing = [n for n, o in zip(NAMES, ok) if not o]
         raise ValueError(f"record: statistics {', '.join(missing)} cannot be measured on the window")
-    sim = RigSimulator(rec, thr, spec, base_law, threads)
+    sim = RigSimulator(rec, thr, spec, base_law, threads, dt_s=dt_s)
     dims = [len(spec.families[f]) for f in sim.families]
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     res = abcsmc.run(sim, dims, observed, scale, population=population, max_simulations=max_simulations,
                      max_generations=max_generations, seed=seed, log=log)
-    wall = time.perf_counter() - start
+    wall, cpu = time.perf_counter() - start, time.process_time() - cpu
     post = res.posterior
     p, se = post.model_probabilities(len(dims))
     parameters, particles = {}, {}
@@ -386,8 +407,8 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
     run = {"simulations": res.simulations + int(predictive_draws), "abc_simulations": res.simulations,
            "generations": len(res.populations) - 1, "population": population, "stopped": res.stopped,
            "eps": [h["eps"] for h in res.history], "history": res.history, "wall_s": wall,
-           "simulations_per_s": res.simulations / wall if wall > 0 else None, "seed": seed,
-           "threads": sim.threads, "method": "ABC-SMC with model choice (drillpy.calibration.abcsmc)",
+           "simulations_per_s": res.simulations / wall if wall > 0 else None, "cpu_s": cpu, "seed": seed,
+           "threads": sim.threads, "dt_s": sim.dt_s, "method": "ABC-SMC with model choice (drillpy.calibration.abcsmc)",
            "heldout_s": list(heldout) if heldout is not None else None}
     rec_info = {"source": str(record) if isinstance(record, (str, Path)) else rec.provenance.get("source"),
                 "window_s": [float(rec.time_s[0]), float(rec.time_s[-1])], "stick_threshold_rad_s": thr,
@@ -397,27 +418,76 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
                      predictive, run, spec.summary(), rec_info)
 
 
+#: Sampling-noise replicates per simulated predictive draw (:func:`predictive_intervals`).
+NOISE_REPLICATES = 50
+
+
+def predictive_intervals(stats: np.ndarray, weight: np.ndarray, noise: np.ndarray, rng: np.random.Generator,
+                         replicates: int = NOISE_REPLICATES) -> list:
+    """Posterior predictive (5 %, 50 %, 95 %) of each statistic: the empirical weighted quantiles of
+    the simulated statistics plus their sampling noise.
+
+    Each row of ``stats`` (one simulated draw, weight ``weight``) gets ``replicates`` normal draws
+    of the statistic's sampling noise ``noise``, each held in the range the statistic can take
+    (:data:`drillpy.calibration.summaries.BOUNDS`: a stick fraction is not negative); the
+    quantiles are those of that weighted sample (midpoint interpolation of its cumulative weight),
+    so they lie within the range of the sample and never outside the statistic's.
+
+    Parameters
+    ----------
+    stats : ndarray
+        Simulated statistics, draws x :data:`~drillpy.calibration.summaries.NAMES` (NaN: failed).
+    weight : ndarray
+        Weight of each draw (non-negative).
+    noise : ndarray
+        Each statistic's sampling standard deviation over the predicted window.
+    rng : numpy.random.Generator
+        The noise's generator.
+    replicates : int
+        Noise draws per simulated draw.
+
+    Returns
+    -------
+    list
+        Per statistic, (p5, p50, p95), or None when fewer than two draws have it.
+    """
+    stats, weight = np.atleast_2d(np.asarray(stats, float)), np.asarray(weight, float)
+    eps = rng.standard_normal((replicates,) + stats.shape)
+    out = []
+    for k, name in enumerate(NAMES):
+        ok = np.isfinite(stats[:, k]) & (weight > 0)
+        if ok.sum() < 2:
+            out.append(None)
+            continue
+        lo, hi = BOUNDS.get(name, (-np.inf, np.inf))
+        x = np.clip(stats[ok, k][None, :] + noise[k] * eps[:, ok, k], lo, hi).ravel()
+        w = np.broadcast_to(weight[ok][None, :], (replicates, int(ok.sum()))).ravel()
+        out.append(tuple(_wquantile(x, w, (0.05, 0.5, 0.95))))
+    return out
+
+
 def _predictive(sim: RigSimulator, jobs: list, weight: np.ndarray, target: Record, scale: np.ndarray,
                 calibration_s: float, draws: int, seed: int) -> dict:
-    """Posterior predictive 90 % intervals of the statistics on ``target`` (module docstring): ``draws``
-    particles ``jobs`` [(family, values)] drawn by ``weight``, simulated at the target's operating
-    point, plus each statistic's sampling noise ``scale`` (over ``calibration_s`` seconds) scaled to
-    the target's length."""
+    """Posterior predictive 90 % intervals of the statistics on ``target`` (module docstring):
+    ``draws`` particles of ``jobs`` [(family, values)] taken by systematic resampling on ``weight``,
+    each distinct particle simulated once at the target's operating point and weighted by its count,
+    with each statistic's sampling noise ``scale`` (over ``calibration_s`` seconds) scaled to the
+    target's length (:func:`predictive_intervals`)."""
     rng = np.random.default_rng([seed, 10 ** 6])
-    idx = rng.choice(len(jobs), size=int(draws), p=weight / weight.sum())
+    cw = np.cumsum(weight / weight.sum())
+    picks = np.minimum(np.searchsorted(cw, (rng.random() + np.arange(int(draws))) / int(draws)), len(jobs) - 1)
+    idx, count = np.unique(picks, return_counts=True)
     with ThreadPoolExecutor(max_workers=sim.threads) as pool:
         pred = np.array(list(pool.map(lambda i: sim.one(jobs[i][0], jobs[i][1], target), idx)))
     len_t = float(target.time_s[-1] - target.time_s[0]) - SKIP_S
     noise = scale * math.sqrt(max(calibration_s - SKIP_S, 1e-9) / max(len_t, 1e-9))
-    pred = pred + rng.standard_normal(pred.shape) * noise
+    q = predictive_intervals(pred, count.astype(float), noise, rng)
     measured = summaries(target, rigsim.stick_threshold(target), SKIP_S)
     out = {}
     for k, name in enumerate(NAMES):
-        col = pred[:, k]
-        col = col[np.isfinite(col)]
-        if col.size < 2:
+        if q[k] is None:
             continue
-        lo, med, hi = (float(x) for x in np.percentile(col, [5, 50, 95]))
+        lo, med, hi = q[k]
         mk = float(measured[k])
         out[name] = {"interval90": [lo, hi], "median": med, "measured": mk,
                      "contained": bool(lo <= mk <= hi) if math.isfinite(mk) else None, "unit": UNITS[k]}
@@ -455,18 +525,61 @@ def predict_posterior(posterior, record, *, t0: float | None = None, t1: float |
     ValueError
         When the file is not a drillpy posterior, or naming a bad ``draws``.
     """
-    from drillpy.calibration.priors import Prior
-    s = json.loads(Path(posterior).read_text()) if isinstance(posterior, (str, Path)) else posterior
-    if not isinstance(s, dict) or s.get("format") != "drillpy.posterior":
-        raise ValueError(f"{posterior}: not a drillpy posterior (format = "
-                         f"{s.get('format') if isinstance(s, dict) else None!r}; write one with drillpy calibrate)")
+    s = read_posterior(posterior)
     if not isinstance(draws, (int, np.integer)) or draws < 2:
         raise ValueError(f"draws = {draws!r}: an integer of at least 2")
+    spec, jobs, weight = posterior_particles(s)
+    target = load_window(record, t0, t1)
+    sim = RigSimulator(target, rigsim.stick_threshold(target), spec, s["record"]["base_law"], threads,
+                       dt_s=float(s["run"].get("dt_s", 1e-4)))  # a posterior written before dt_s ran at 1e-4 s
+    win = s["record"]["window_s"]
+    out = _predictive(sim, jobs, weight, target, np.array([s["scale"][n] for n in NAMES]),
+                      float(win[1] - win[0]), draws, seed)
+    return {"statistics": out, "window_s": [float(target.time_s[0]), float(target.time_s[-1])], "draws": int(draws),
+            "model_probability": s["model_probability"]}
+
+
+def read_posterior(posterior) -> dict:
+    """A calibration's ``posterior.json`` (a path, or its dict, :meth:`Posterior.summary`), checked.
+
+    Parameters
+    ----------
+    posterior : str or Path or dict
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    ValueError
+        When it is not a drillpy posterior.
+    """
+    s = json.loads(Path(posterior).read_text()) if isinstance(posterior, (str, Path)) else posterior
+    if not isinstance(s, dict) or s.get("format") != "drillpy.posterior":
+        raise ValueError(f"{posterior if isinstance(posterior, (str, Path)) else 'posterior'}: not a drillpy posterior "
+                         f"(format = {s.get('format') if isinstance(s, dict) else None!r}; write one with drillpy "
+                         "calibrate)")
+    return s
+
+
+def posterior_particles(s: dict) -> tuple:
+    """The final population of a posterior (:func:`read_posterior`): its priors, the particles
+    [(family, parameter values)] and their weights across the families (each family's weights
+    times its model probability; they sum to 1).
+
+    Parameters
+    ----------
+    s : dict
+
+    Returns
+    -------
+    (PriorSpec, list, ndarray)
+    """
+    from drillpy.calibration.priors import Prior
     fams = s["families"]
     spec = PriorSpec({f: tuple(Prior(n, *p["range"], p["unit"], p["scale"], p.get("source", ""))
                                for n, p in s["priors"]["families"][f].items()) for f in fams}, s["priors"]["fixed"])
-    target = load_window(record, t0, t1)
-    sim = RigSimulator(target, rigsim.stick_threshold(target), spec, s["record"]["base_law"], threads)
     jobs, weight = [], []
     for f in fams:
         part = s["particles"][f]
@@ -474,8 +587,5 @@ def predict_posterior(posterior, record, *, t0: float | None = None, t1: float |
         for i in range(w.size):
             jobs.append((f, {n: float(part[n][i]) for n in s["priors"]["families"][f]}))
         weight.extend(w / max(w.sum(), 1e-300) * s["model_probability"][f] if w.size else [])
-    win = s["record"]["window_s"]
-    out = _predictive(sim, jobs, np.asarray(weight, float), target, np.array([s["scale"][n] for n in NAMES]),
-                      float(win[1] - win[0]), draws, seed)
-    return {"statistics": out, "window_s": [float(target.time_s[0]), float(target.time_s[-1])], "draws": int(draws),
-            "model_probability": s["model_probability"]}
+    weight = np.asarray(weight, float)
+    return spec, jobs, weight / max(weight.sum(), 1e-300)

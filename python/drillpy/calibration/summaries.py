@@ -10,9 +10,14 @@ name                         unit      definition
                                        Eq. (3.4) with percentiles for the extremes (one glitch
                                        does not move it)
 ``stick_fraction``           -         fraction of samples with the bit speed at or below the
-                                       stick threshold
+                                       stick threshold, the stalls left out (stick phases of at
+                                       least 0.5 s and the 0.1 s break-away after each,
+                                       :func:`drillpy.records.rig_comparison.stalls`, as the
+                                       rig comparison leaves them out of its regular metrics);
+                                       all samples when nothing but stall is left
 ``cycle_frequency_hz``       Hz        peak of the bit speed's periodogram (Hann) in 0.5-10 Hz,
-                                       parabolic interpolation between bins
+                                       parabolic interpolation between bins (at most half a bin
+                                       from the peak's)
 ``torque_p5/p50/p95``        N m       percentiles of the torque on bit
 ``bit_speed_p95``            rad/s     95th percentile of the bit speed
 ``top_speed_mean/std``       rad/s     over the reliable top-speed samples
@@ -26,10 +31,13 @@ blocks): the ABC distance measures a simulation's statistics in those units.
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 from scipy import fft as sp_fft
 
 from drillpy.records.io import Record
+from drillpy.records.rig_comparison import stalls
 from drillpy.records.rigsim import reliable_top_speed
 
 #: The statistics, in the order of :func:`summaries`' vector.
@@ -41,12 +49,22 @@ UNITS = ("-", "-", "Hz", "N m", "N m", "N m", "rad/s", "rad/s", "rad/s", "N", "-
 BANDS = ((0.2, 2.0), (2.0, 4.0), (4.0, 8.0))
 #: Search band of the cycle frequency [Hz].
 CYCLE_BAND = (0.5, 10.0)
+#: The range each statistic can take (a measured window never leaves it): the predictive samples are
+#: held in it (:func:`drillpy.calibration.posterior.predictive_intervals`).
+BOUNDS = {"ss": (0.0, np.inf), "stick_fraction": (0.0, 1.0), "cycle_frequency_hz": CYCLE_BAND,
+          "top_speed_std": (0.0, np.inf), "wob_std": (0.0, np.inf), "psd_0.2-2": (0.0, 1.0), "psd_2-4": (0.0, 1.0),
+          "psd_4-8": (0.0, 1.0)}
+
+
+@lru_cache(maxsize=16)
+def _hann(size: int) -> np.ndarray:
+    return np.hanning(size)
 
 
 def _periodogram(x: np.ndarray, dt: float):
     x = x - np.mean(x)
     n = sp_fft.next_fast_len(x.size, real=True)
-    p = np.abs(sp_fft.rfft(x * np.hanning(x.size), n)) ** 2
+    p = np.abs(sp_fft.rfft(x * _hann(x.size), n)) ** 2
     return np.fft.rfftfreq(n, dt), p
 
 
@@ -104,9 +122,15 @@ def statistics(bit_speed, torque, top_speed, wob, dt: float, stick_threshold: fl
         return out
     top = top_speed if top_speed.size > 1 else np.array([np.nan])
     mean_top = float(np.mean(top))
-    lo, hi = np.percentile(v, [0.5, 99.5])
+    lo, p95, hi = np.percentile(v, [0.5, 95, 99.5])
     out[0] = (hi - lo) / (2.0 * abs(mean_top)) if mean_top else np.nan
-    out[1] = float(np.mean(v <= stick_threshold))
+    regular = np.ones(v.size, bool)
+    after = int(round(0.1 / dt))  # the break-away that ends a stall is not a regular cycle either
+    for a, k in stalls(v, dt, stick_threshold):
+        regular[a:a + k + after] = False
+    if regular.sum() < 3:  # nothing but stall: the whole, as rig_comparison.record_metrics does
+        regular[:] = True
+    out[1] = float(np.mean(v[regular] <= stick_threshold))
     # the periodogram over the usable stretch (gaps closed: they are short next to the record)
     f, p = _periodogram(v, dt)
     band = (f >= CYCLE_BAND[0]) & (f <= CYCLE_BAND[1])
@@ -116,11 +140,11 @@ def statistics(bit_speed, torque, top_speed, wob, dt: float, stick_threshold: fl
         if 0 < i < p.size - 1 and p[i - 1] > 0 and p[i + 1] > 0:
             a, b, c = np.log(p[i - 1:i + 2])
             den = a - 2 * b + c
-            if den < 0:
-                f0 = f[i] + 0.5 * (a - c) / den * (f[1] - f[0])
+            if den < 0:  # a peak at the band's edge may have a higher neighbour outside it
+                f0 = f[i] + float(np.clip(0.5 * (a - c) / den, -0.5, 0.5)) * (f[1] - f[0])
         out[2] = f0
     out[3:6] = np.percentile(tq, [5, 50, 95])
-    out[6] = np.percentile(v, 95)
+    out[6] = p95
     out[7] = mean_top
     out[8] = float(np.std(top))
     if wob is not None and wob.size > 1:

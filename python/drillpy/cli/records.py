@@ -331,6 +331,11 @@ def _add_calibrate(sub) -> argparse.ArgumentParser:
     s.add_argument("--draws", type=int, default=100, help="posterior draws of the predictive intervals")
     s.add_argument("--seed", type=int, default=0, help="seed (same seed, same numbers)")
     s.add_argument("--threads", type=threads_option, default=0, help="simulations at once (0: one per core)")
+    s.add_argument("--map", metavar="A:B:N,A:B:N", help="also the posterior stability map P(SS > 0.5) over N motor "
+                                                       "commands from A to B [rad/s] x N WOB from A to B [N] "
+                                                       "(e.g. 6:30:7,400:800:5), stored in OUT/map.zarr")
+    s.add_argument("--map-samples", type=int, default=40, help="Monte Carlo samples of the map (posterior draw and "
+                                                              "torque fluctuation each)")
     s.add_argument("--json", action="store_true", help="print the model probabilities, parameters and predictive "
                                                        "intervals as JSON")
     s.set_defaults(func=cmd_calibrate)
@@ -363,17 +368,54 @@ def cmd_calibrate(a: argparse.Namespace) -> int:
                 raise ValueError
         except ValueError:
             raise ValueError(f"--heldout = {a.heldout!r}: give T0:T1 in s with T0 < T1") from None
+    grids = None if a.map is None else _map_grids(a.map)
+    if not 2 <= a.map_samples <= 100000:
+        raise ValueError(f"--map-samples = {a.map_samples}: an integer from 2 to 100000")
+    smap = None
     with _removed_on_failure(a.out):
         s = calibrate_to_folder(a.record, a.out, preset=a.preset, config_path=a.config, t0=a.t0, t1=a.t1,
                                 heldout=held, population=a.population, max_simulations=a.simulations,
                                 max_generations=a.generations, predictive_draws=a.draws, seed=a.seed,
                                 threads=a.threads, log=None if a.json else print)
+        if grids is not None:
+            from drillpy.calibration.stability import stability_map
+            smap = stability_map(s, *grids, samples=a.map_samples, seed=a.seed, threads=a.threads)
+            s["files"].append(str(smap.save(Path(a.out) / "map.zarr")))
     if a.json:
+        extra = {} if smap is None else {"stability_map": {
+            "speeds_rad_s": smap.speeds.tolist(), "wobs_n": smap.wobs.tolist(), "p_unstable": smap.p_unstable.tolist(),
+            "ci90": smap.ci90.tolist(), "p_stall": smap.p_stall.tolist()}}
         print_json({k: s[k] for k in ("model_probability", "model_probability_se", "parameters", "predictive")}
-                   | {"simulations": s["run"]["simulations"], "wall_s": s["run"]["wall_s"]})
+                   | {"simulations": s["run"]["simulations"], "wall_s": s["run"]["wall_s"]} | extra)
         return 0
     print("\n".join(summary_lines(s)))
+    if smap is not None:
+        from drillpy.reports.calibration import map_lines
+        print("\n".join(map_lines(smap)))
     return 0
+
+
+def _map_grids(text: str) -> tuple:
+    """``--map A:B:N,A:B:N``: (motor commands [rad/s], WOB [N]), each N values from A to B."""
+    import math
+
+    import numpy as np
+    try:
+        parts = text.split(",")
+        if len(parts) != 2:
+            raise ValueError
+        grids = []
+        for part in parts:
+            lo, hi, n = part.split(":")
+            lo, hi, n = float(lo), float(hi), int(n)
+            if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo <= hi and 1 <= n <= 100
+                    and (n == 1 or lo < hi)):
+                raise ValueError
+            grids.append(np.linspace(lo, hi, n))
+    except ValueError:
+        raise ValueError(f"--map = {text!r}: give COMMANDS,WOBS as A:B:N,A:B:N (rad/s, N; 0 < A < B, 1 <= N <= 100; "
+                         "A = B with N = 1)") from None
+    return tuple(grids)
 
 
 #: subcommand -> function registering it (``drillpy.cli.build_parser`` orders them)

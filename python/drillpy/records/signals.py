@@ -13,6 +13,7 @@ NumPy/SciPy; there is no per-sample Python loop.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from scipy import signal as sps
@@ -90,9 +91,25 @@ def rig_lowpass(x, fs_hz: float, cutoff_hz: float = 10.0, order: int = 2) -> np.
         raise ValueError(f"cutoff_hz = {cutoff_hz!r}: must lie in (0, fs/2 = {fs_hz / 2:g}) Hz")
     if not np.all(np.isfinite(x)):
         raise ValueError("rig_lowpass: the signal has non-finite values (clean it first)")
-    b, a = sps.butter(order, cutoff_hz, btype="low", fs=fs_hz)
-    y, _ = sps.lfilter(b, a, x, zi=sps.lfilter_zi(b, a) * x[0])
+    b, a, zi = _lowpass_design(float(fs_hz), float(cutoff_hz), int(order))
+    y, _ = sps.lfilter(b, a, x, zi=zi * x[0])
     return y
+
+
+@lru_cache(maxsize=64)
+def _lowpass_design(fs_hz: float, cutoff_hz: float, order: int) -> tuple:
+    """(b, a, zi at a unit input) of :func:`rig_lowpass` (designed once per rate: a calibration filters
+    every run's channels at the same rate)."""
+    b, a = sps.butter(order, cutoff_hz, btype="low", fs=fs_hz)
+    return b, a, sps.lfilter_zi(b, a)
+
+
+@lru_cache(maxsize=64)
+def _platform_design(fs_hz: float, natural_hz: float, damping: float) -> tuple:
+    """(b, a, zi at a unit input) of :func:`platform_response`."""
+    wn = 2.0 * np.pi * natural_hz
+    b, a = sps.bilinear([wn * wn], [1.0, 2.0 * damping * wn, wn * wn], fs=fs_hz)
+    return b, a, sps.lfilter_zi(b, a)
 
 
 def platform_response(x, fs_hz: float, natural_hz: float = 20.0, damping: float = 0.5) -> np.ndarray:
@@ -140,9 +157,8 @@ def platform_response(x, fs_hz: float, natural_hz: float = 20.0, damping: float 
         raise ValueError(f"damping = {damping!r}: must be a positive damping ratio")
     if not np.all(np.isfinite(x)):
         raise ValueError("platform_response: the signal has non-finite values")
-    wn = 2.0 * np.pi * natural_hz
-    b, a = sps.bilinear([wn * wn], [1.0, 2.0 * damping * wn, wn * wn], fs=fs_hz)
-    y, _ = sps.lfilter(b, a, x, zi=sps.lfilter_zi(b, a) * x[0])
+    b, a, zi = _platform_design(float(fs_hz), float(natural_hz), float(damping))
+    y, _ = sps.lfilter(b, a, x, zi=zi * x[0])
     return y
 
 

@@ -63,8 +63,9 @@ def summary_lines(s: dict) -> list:
         One line each, as ``drillpy calibrate`` prints them.
     """
     run, pred = s["run"], s["predictive"]
+    cpu = f", {run['cpu_s']:.0f} s of processor time" if run.get("cpu_s") is not None else ""
     lines = [f"{run['abc_simulations']} simulations in {run['wall_s']:.1f} s ({run['simulations_per_s']:.1f}/s, "
-             f"{run['threads']} threads), {run['generations']} generations, final eps {run['eps'][-1]:.3g} "
+             f"{run['threads']} threads{cpu}), {run['generations']} generations, final eps {run['eps'][-1]:.3g} "
              f"({run['stopped']})"]
     for fam in s["families"]:
         lines.append(f"P({fam}, Eq. {s['equations'][fam]}) = {s['model_probability'][fam]:.3f} "
@@ -78,4 +79,28 @@ def summary_lines(s: dict) -> list:
               f"{v['measured']:.4g}{'' if v['contained'] else '  (outside)'}" for name, v in pred.items()]
     if "files" in s:
         lines.append("written: " + ", ".join(s["files"]))
+    return lines
+
+
+def map_lines(m) -> list:
+    """The text of a posterior stability map (:class:`drillpy.calibration.stability.StabilityMap`):
+    P(SS > 0.5 or a stall) with its Wilson 90 % interval and P(stall), rows WOB, columns command.
+
+    Parameters
+    ----------
+    m : StabilityMap
+
+    Returns
+    -------
+    list of str
+    """
+    head = "| WOB [N] \\ command [rad/s] | " + " | ".join(f"{x:g}" for x in m.speeds) + " |"
+    rule = "|---" * (m.speeds.size + 1) + "|"
+    lines = [f"posterior stability map, {m.settings['samples']} samples (posterior draw and eta each), "
+             f"{m.settings['failed_runs']} runs failed: P(SS > 0.5 or a stall) [Wilson 90 % interval]", head, rule]
+    lines += [f"| {w:g} | " + " | ".join(f"{m.p_unstable[i, j]:.2f} [{m.ci90[0, i, j]:.2f}, {m.ci90[1, i, j]:.2f}]"
+                                         for j in range(m.speeds.size)) + " |" for i, w in enumerate(m.wobs)]
+    lines += ["P(stall)", head, rule]
+    lines += [f"| {w:g} | " + " | ".join(f"{m.p_stall[i, j]:.2f}" for j in range(m.speeds.size)) + " |"
+              for i, w in enumerate(m.wobs)]
     return lines
