@@ -179,6 +179,36 @@ class BatchedIntegrator {
   }
 
  private:
+  /// The lanes' inputs at t = (first + s) dt in row s, s = 0..count (row-major, width lane.size()):
+  /// the top speed (and its rate when `dom` is given), the law's WOB scale W / W_ref and static torque,
+  /// eta. A constant signal's rows are filled once (`sampled` false), a sampled one's at every block.
+  static void fill_inputs(const BitRockLaw& law, const std::vector<const Inputs*>& lane, double dt, long first,
+                          long count, bool sampled, double* om, double* dom, double* ws, double* st, double* eta) {
+    const std::size_t N = lane.size();
+    for (long s = 0; s <= count; ++s)
+      for (std::size_t l = 0; l < N; ++l) {
+        const Inputs& x = *lane[l];
+        const double t = (first + s) * dt;
+        const std::size_t k = s * N + l;
+        if (x.top_speed.is_constant() != sampled) {
+          om[k] = x.top_speed.at(t);
+          if (dom) dom[k] = x.top_speed.rate(t);
+        }
+        if (x.wob.is_constant() != sampled) {
+          const double wob = x.wob.at(t);
+          ws[k] = wob / law.wob_ref;
+          st[k] = law.static_torque(wob);
+        }
+        if (x.eta.is_constant() != sampled) eta[k] = x.eta.at(t);
+      }
+  }
+  /// True when an input of one of the n runs is a sampled signal (fill_inputs at every block).
+  static bool any_sampled(const Inputs* in, std::size_t n) {
+    for (std::size_t l = 0; l < n; ++l)
+      if (!in[l].top_speed.is_constant() || !in[l].wob.is_constant() || !in[l].eta.is_constant()) return true;
+    return false;
+  }
+
   /// One batch of the exact modal scheme (exact_modal.hpp): ExactSteps on width() lanes in blocks
   /// of steps, each lane with its model's coefficients (shared by the batch when its models are
   /// one), the padding lanes repeating the first run. The initial state's torque is the scalar
@@ -278,27 +308,13 @@ class BatchedIntegrator {
     args.ctx = &fb;
     // the inputs at t_first+s in row s; a constant signal's rows are filled once, a sampled one's at every block
     auto fill = [&](long first, long count, bool sampled) {
-      for (long s = 0; s <= count; ++s)
-        for (std::size_t l = 0; l < N; ++l) {
-          const Inputs& x = *lane[l];
-          const double t = (first + s) * dt;
-          const std::size_t k = s * N + l;
-          if (x.top_speed.is_constant() != sampled) om[k] = x.top_speed.at(t);
-          if (x.wob.is_constant() != sampled) {
-            const double wob = x.wob.at(t);
-            ws[k] = wob / I.law_.wob_ref;
-            st[k] = I.law_.static_torque(wob);
-          }
-          if (x.eta.is_constant() != sampled) eta[k] = x.eta.at(t);
-        }
+      fill_inputs(I.law_, lane, dt, first, count, sampled, om.data(), nullptr, ws.data(), st.data(), eta.data());
     };
     fill(0, block, false);
-    bool any_sampled = false;
-    for (std::size_t l = 0; l < n; ++l)
-      any_sampled = any_sampled || !in[l].top_speed.is_constant() || !in[l].wob.is_constant() || !in[l].eta.is_constant();
+    const bool sampled = any_sampled(in, n);
     for (long first = 0; first < last; first += block) {
       const long count = std::min(block, last - first);
-      if (any_sampled) fill(first, count, true);
+      if (sampled) fill(first, count, true);
       args.first = first;
       args.count = count;
       HWY_DYNAMIC_DISPATCH(ExactSteps)(args);
@@ -399,31 +415,16 @@ class BatchedIntegrator {
     args.T = T.data();
     // the inputs of Integrator::run_euler's step first + s, in row s; a constant signal's rows are
     // filled once, a sampled one's at every block
+    std::vector<const Inputs*> lane(N);
+    for (std::size_t l = 0; l < N; ++l) lane[l] = &in[l < n ? l : 0];  // padding lanes repeat the first run
     auto fill = [&](long first, long count, bool sampled) {
-      for (long s = 0; s <= count; ++s)
-        for (std::size_t l = 0; l < N; ++l) {
-          const Inputs& x = in[l < n ? l : 0];
-          const double t = (first + s) * dt;
-          const std::size_t k = s * N + l;
-          if (x.top_speed.is_constant() != sampled) {
-            om[k] = x.top_speed.at(t);
-            dom[k] = x.top_speed.rate(t);
-          }
-          if (x.wob.is_constant() != sampled) {
-            const double wob = x.wob.at(t);
-            ws[k] = wob / I.law_.wob_ref;
-            st[k] = I.law_.static_torque(wob);
-          }
-          if (x.eta.is_constant() != sampled) eta[k] = x.eta.at(t);
-        }
+      fill_inputs(I.law_, lane, dt, first, count, sampled, om.data(), dom.data(), ws.data(), st.data(), eta.data());
     };
     fill(0, block, false);
-    bool any_sampled = false;
-    for (std::size_t l = 0; l < n; ++l)
-      any_sampled = any_sampled || !in[l].top_speed.is_constant() || !in[l].wob.is_constant() || !in[l].eta.is_constant();
+    const bool sampled = any_sampled(in, n);
     for (long first = 0; first <= last; first += block) {
       const long count = std::min(block, last + 1 - first);
-      if (any_sampled) fill(first, count, true);
+      if (sampled) fill(first, count, true);
       args.first = first;
       args.count = count;
       HWY_DYNAMIC_DISPATCH(BatchSteps)(args);
