@@ -55,7 +55,7 @@ def test_a_synthetic_stall_is_set_apart_and_a_short_stick_is_not():
 def test_the_error_scale_leaves_a_stall_out_and_a_model_file_carries_it():
     """E's spreads (rig_comparison.metric_scale) are taken outside the stalls: a stall holds the
     torque near its break-away value, which would widen the torque's spread and make every error
-    look smaller (sample 175, 20-30 s: 0.81 N m with its stall, 0.65 without). The loop model keeps
+    look smaller (sample 175, 20-30 s: docs/records.md, "One scale for E"). The loop model keeps
     the scale in model.json, and prepare scores a record on a scale given to it (drillpy predict)."""
     rec = synthetic_record((), duration_s=8.0, seed=2, fs_hz=RATE_HZ)
     cfg = analysis_config(declared_config(), 1.0 / RATE_HZ)

@@ -138,7 +138,7 @@ def metric_scale(bit_speed, torque, usable, dt: float, stick_threshold: float) -
     deviations of the bit speed and of the torque on bit over the usable samples, the stalls left out.
 
     A stall holds the torque near its break-away value for a second or more; counted in the spread it
-    inflates the torque's by a quarter on sample 175 (20-30 s: 0.81 N m with the stall, 0.64 without)
+    inflates the torque's (by a quarter on 20-30 s of sample 175: docs/records.md, "One scale for E")
     and makes every error look smaller. The loop takes the scale over its calibration part and a
     model file carries it (``metric_scale``), so that ``drillpy predict`` scores a record with the
     scale the model was calibrated with: the same E for the same horizons whichever command asks.
