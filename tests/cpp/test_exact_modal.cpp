@@ -54,6 +54,27 @@ std::vector<StepTrace> em_batched(const BatchedIntegrator& b, const std::vector<
   return tr;
 }
 
+/// A damping scan of the rig with a stick condition on the exact modal scheme: one simulation per
+/// modal damping ratio, with its inputs (run_many's arguments).
+struct DampingScan {
+  std::vector<std::unique_ptr<Simulation>> owned;
+  std::vector<const Simulation*> sims;
+  std::vector<Inputs> in;
+};
+DampingScan em_damping_scan(BitRockLaw::Kind law, const std::vector<double>& ratios) {
+  DampingScan scan;
+  for (double z : ratios) {
+    Config c = rig_with_stick(law);
+    c.sim.scheme = Scheme::exact_modal;
+    c.damping.kind = DampingSpec::Kind::modal;
+    c.damping.ratios = {z};
+    scan.owned.push_back(std::make_unique<Simulation>(c));
+    scan.sims.push_back(scan.owned.back().get());
+    scan.in.push_back(scan.sims.back()->inputs());
+  }
+  return scan;
+}
+
 }  // namespace
 
 TEST(ExactModal, ThePropagatorIsExactForAForcingLinearOverTheStep) {
@@ -279,18 +300,10 @@ TEST(ExactModal, ADampingScanWithADampingPerLaneHasEachRunsOwnBits) {
   // run the bits of a batch of its own (the shared coefficients), and the scalar path's severity to
   // 1e-4 relative (the lightly damped run's stick phases amplify the rounding into single steps:
   // up to 3e-3 rad/s at a damping ratio of 0.02, SS 1.3e-5 relative; the others within 2e-12 rad/s)
-  std::vector<std::unique_ptr<Simulation>> owned;
-  std::vector<const Simulation*> sims;
-  std::vector<Inputs> in;
-  for (double z : {0.02, 0.1, 0.3, 0.7, 0.95, 1.0}) {  // up to critical damping
-    Config c = rig_with_stick(BitRockLaw::Kind::polynomial_hysteretic);
-    c.sim.scheme = Scheme::exact_modal;
-    c.damping.kind = DampingSpec::Kind::modal;
-    c.damping.ratios = {z};
-    owned.push_back(std::make_unique<Simulation>(c));
-    sims.push_back(owned.back().get());
-    in.push_back(sims.back()->inputs());
-  }
+  // up to critical damping
+  DampingScan scan = em_damping_scan(BitRockLaw::Kind::polynomial_hysteretic, {0.02, 0.1, 0.3, 0.7, 0.95, 1.0});
+  const std::vector<const Simulation*>& sims = scan.sims;
+  std::vector<Inputs>& in = scan.in;
   const ManyRuns batched = run_many(sims, in, true, 2, true), scalar = run_many(sims, in, true, 1, false);
   for (std::size_t k = 0; k < sims.size(); ++k) {
     ASSERT_TRUE(batched.errors[k].empty()) << batched.errors[k];
@@ -305,18 +318,9 @@ TEST(ExactModal, ADampingScanWithADampingPerLaneHasEachRunsOwnBits) {
 TEST(ExactModal, ADivergingRunInABatchIsReportedAndLeavesTheOthersAlone) {
   // the batched kernel drops a lane whose bit speed or torque is no longer finite; the runs beside
   // it keep the bits they have in a batch of their own
-  std::vector<std::unique_ptr<Simulation>> owned;
-  std::vector<const Simulation*> sims;
-  std::vector<Inputs> in;
-  for (double z : {0.02, 0.1, 0.3, 0.7, 1.0}) {
-    Config c = rig_with_stick(BitRockLaw::Kind::polynomial);
-    c.sim.scheme = Scheme::exact_modal;
-    c.damping.kind = DampingSpec::Kind::modal;
-    c.damping.ratios = {z};
-    owned.push_back(std::make_unique<Simulation>(c));
-    sims.push_back(owned.back().get());
-    in.push_back(sims.back()->inputs());
-  }
+  DampingScan scan = em_damping_scan(BitRockLaw::Kind::polynomial, {0.02, 0.1, 0.3, 0.7, 1.0});
+  const std::vector<const Simulation*>& sims = scan.sims;
+  std::vector<Inputs>& in = scan.in;
   in[2].eta = Signal::constant(-5.0);  // the law reversed, four times over: the bit runs away
   for (bool batched : {true, false}) {
     const ManyRuns r = run_many(sims, in, true, 0, batched);
