@@ -450,7 +450,7 @@ def fit_dynamic(model: LoopModel, data: LoopData, names, opt: LoopOptions) -> tu
             return np.full(size, 10.0)
         if isinstance(r, BaseException):
             raise r
-        return np.where(np.isfinite(r), r, 10.0)
+        return r if np.isfinite(r).all() else np.where(np.isfinite(r), r, 10.0)
 
     last = {}  # the last evaluation: the Jacobian's f0 (the optimizer asks for J where it just evaluated)
 
