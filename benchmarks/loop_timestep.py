@@ -1,64 +1,122 @@
-"""The engine step of ``drillpy loop``'s predictions (issue 33): the loop on a record at several steps,
-its errors, every candidate's validation gain, its decisions and its wall time, measured in one run.
+"""The engine step of ``drillpy loop``'s predictions (issue 33): is a coarser step a free speed-up?
 
-    PYTHONPATH=python python3 benchmarks/loop_timestep.py [--steps 1e-4,2.5e-4,5e-4] [--record FILE]
-        [--preset thesis-rig] [--rate 1000]
+    PYTHONPATH=python python3 benchmarks/loop_timestep.py [--steps 1e-4,2.5e-4,5e-4] [--only sample175|stribeck]
 
-Default record: the test rig's sample 175 (0-40 s) with the ``thesis-rig`` preset, whose own step is
-1e-4 s (it serves long runs from rest). Short horizons restarted from the measured state every
-0.25 s need no such step: the loop's default, :data:`drillpy.loop.options.HORIZON_DT_S`, is chosen
-from this script's output (the same decisions, every gain within a fraction of the 5 % gate). Each
-step runs the whole loop (calibration, candidates, long runs) with ``LoopOptions(dt_s=step)``; the
-ratio is the wall time of the first step over each. The machine is shared: read the ratios.
+Two records: the test rig's sample 175 (0-40 s, 1000 Hz, every candidate) and a clean record of the
+second outside simulator (``benchmarks/stribeck_rig.py``, seed 1, 250 Hz, the ``static_friction``
+candidate alone: the record of ``tests/python/test_loop_gate.py``), both from ``thesis-rig`` (its
+own step 1e-4 s). For each, two measurements:
+
+* **the discretization alone**: the baseline calibrated at 1e-4 s, then that same model's
+  short-horizon errors E (calibration / validation) at 2e-5 .. 1e-3 s, nothing refitted;
+* **the whole loop** at each of ``--steps``: its wall time and ratio to the first step, the
+  baseline's E, every first-round candidate's validation gain, and its steps (the decisions).
+
+The first says how far the predictions are from converged at each step; the second whether the
+loop's answer follows them or depends on where its least squares stop. The machine is shared: read
+the ratios.
 """
 from __future__ import annotations
 
 import argparse
+import copy
+import os
 import sys
+import tempfile
 import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "benchmarks"))
 if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
     sys.path.insert(0, str(REPO / "python"))
 SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
+FIXED_STEPS = (2e-5, 5e-5, 1e-4, 2e-4, 2.5e-4, 5e-4, 1e-3)
+
+
+def records(only, folder):
+    """(name, path, rate [Hz], candidate effects or None for the whole catalogue)."""
+    out = []
+    if only in (None, "sample175"):
+        out.append(("sample 175", str(SAMPLE175), 1000.0, None))
+    if only in (None, "stribeck"):
+        import stribeck_rig
+        path = os.path.join(folder, "stribeck_clean_1.csv")
+        stribeck_rig.make_record("clean", 1, path)
+        out.append(("Stribeck rig, clean, seed 1", path, 250.0, ("static_friction",)))
+    return out
+
+
+def fixed_model(path, rate, effects) -> list:
+    """The baseline calibrated at 1e-4 s, evaluated unchanged at every step of FIXED_STEPS."""
+    import drillpy
+    from drillpy.loop import LoopOptions, run_loop
+    from drillpy.loop.model import evaluate
+    kw = {} if effects is None else {"effects": effects}
+    res = run_loop(path, drillpy.load_config(preset="thesis-rig"),
+                   LoopOptions(rate_hz=rate, dt_s=1e-4, max_steps=0, long_run=False, discovery=False, **kw),
+                   log=lambda *x: None)
+    rows = []
+    for dt in FIXED_STEPS:
+        m = res.baseline.model.copy()
+        m.cfg = copy.deepcopy(m.cfg)
+        m.cfg["simulation"]["dt_s"] = dt
+        try:
+            ev = evaluate(m, res.data)
+            rows.append((dt, ev.E_train, ev.E_test))
+        except (ValueError, RuntimeError) as err:  # e.g. a step above the stability bound
+            rows.append((dt, float("nan"), float("nan")))
+            print(f"  dt {dt:g}: {err}")
+    return rows
+
+
+def whole_loop(path, rate, effects, steps) -> list:
+    import drillpy
+    from drillpy.loop import LoopOptions, run_loop
+    kw = {} if effects is None else {"effects": effects}
+    rows = []
+    for dt in steps:
+        t0 = time.perf_counter()
+        res = run_loop(path, drillpy.load_config(preset="thesis-rig"), LoopOptions(rate_hz=rate, dt_s=dt, **kw),
+                       log=lambda *x: None)
+        wall = time.perf_counter() - t0
+        taken = [f"{'+' if s['action'] == 'add' else '-' if s['action'] == 'remove' else '~'}{s['effect']} "
+                 f"({s['error_before']:.4f}->{s['error_after']:.4f})" for s in res.steps] or ["none"]
+        gains = {c["effect"]: c.get("relative_gain", float("nan")) for c in (res.rounds[0] if res.rounds else [])}
+        rows.append((dt, wall, res, taken, gains))
+        print(f"  loop at dt {dt:g} s: {wall:.1f} s; baseline E {res.baseline.E_train:.4f} / {res.baseline.E_test:.4f}; "
+              f"steps: {', '.join(taken)}", flush=True)
+    return rows
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--steps", default="1e-4,2.5e-4,5e-4", help="engine steps [s], comma-separated")
-    ap.add_argument("--record", default=str(SAMPLE175))
-    ap.add_argument("--preset", default="thesis-rig")
-    ap.add_argument("--rate", type=float, default=1000.0, help="analysis rate [Hz]")
+    ap.add_argument("--steps", default="1e-4,2.5e-4,5e-4", help="engine steps of the whole loop [s], comma-separated")
+    ap.add_argument("--only", choices=("sample175", "stribeck"))
     a = ap.parse_args()
-    import drillpy
-    from drillpy.loop import LoopOptions, run_loop
-    rows = []
-    for dt in (float(x) for x in a.steps.split(",")):
-        t0 = time.perf_counter()
-        res = run_loop(a.record, drillpy.load_config(preset=a.preset), LoopOptions(rate_hz=a.rate, dt_s=dt),
-                       log=lambda *x: None)
-        wall = time.perf_counter() - t0
-        steps = [f"{'+' if s['action'] == 'add' else '-' if s['action'] == 'remove' else '~'}{s['effect']} "
-                 f"({s['error_before']:.4f}->{s['error_after']:.4f})" for s in res.steps] or ["none"]
-        gains = {c["effect"]: c.get("relative_gain", float("nan")) for c in (res.rounds[0] if res.rounds else [])}
-        rows.append((dt, wall, res, steps, gains))
-        print(f"dt {dt:g} s: {wall:.1f} s; E calibration {res.baseline.E_train:.4f}, validation "
-              f"{res.baseline.E_test:.4f} -> final {res.final.E_test:.4f}; steps: {', '.join(steps)}", flush=True)
-    names = sorted({n for r in rows for n in r[4]})
-    print("\n| step [s] | wall [s] | x faster | E cal | E val (baseline) | E val (final) | damping | steps |")
-    print("|---:|---:|---:|---:|---:|---:|---:|---|")
-    for dt, wall, res, steps, _ in rows:
-        z = res.final.model.damping_ratios or []
-        print(f"| {dt:g} | {wall:.1f} | {rows[0][1] / wall:.2f} | {res.baseline.E_train:.4f} | {res.baseline.E_test:.4f} | "
-              f"{res.final.E_test:.4f} | {', '.join(f'{x:.4f}' for x in z)} | {', '.join(steps)} |")
-    print("\nfirst round's validation gains [%] (the gate asks >= 5 %):")
-    print("| candidate | " + " | ".join(f"{r[0]:g} s" for r in rows) + " |")
-    print("|---|" + "---:|" * len(rows))
-    for n in names:
-        print(f"| {n} | " + " | ".join(f"{100 * r[4].get(n, float('nan')):+.2f}" for r in rows) + " |")
-    same = len({tuple(r[3]) for r in rows}) == 1
-    print(f"\nthe same steps at every engine step: {same}")
+    steps = [float(x) for x in a.steps.split(",")]
+    with tempfile.TemporaryDirectory() as folder:
+        for name, path, rate, effects in records(a.only, folder):
+            print(f"\n## {name} ({rate:g} Hz, candidates: {', '.join(effects) if effects else 'the catalogue'})\n",
+                  flush=True)
+            fixed = fixed_model(path, rate, effects)
+            print("The baseline calibrated at 1e-4 s, unchanged, at each step:\n")
+            print("| step [s] | E calibration | E validation |")
+            print("|---:|---:|---:|")
+            for dt, e1, e2 in fixed:
+                print(f"| {dt:g} | {e1:.4f} | {e2:.4f} |")
+            print(flush=True)
+            rows = whole_loop(path, rate, effects, steps)
+            names = sorted({n for r in rows for n in r[4]})
+            print("\nThe whole loop at each step:\n")
+            print("| step [s] | wall [s] | x faster | baseline E cal / val | final E val | steps | "
+                  + " | ".join(f"gain {n} [%]" for n in names) + " |")
+            print("|---:|---:|---:|---|---:|---|" + "---:|" * len(names))
+            for dt, wall, res, taken, gains in rows:
+                print(f"| {dt:g} | {wall:.1f} | {rows[0][1] / wall:.2f} | {res.baseline.E_train:.4f} / "
+                      f"{res.baseline.E_test:.4f} | {res.final.E_test:.4f} | {', '.join(taken)} | "
+                      + " | ".join(f"{100 * gains.get(n, float('nan')):+.1f}" for n in names) + " |")
+            print(f"\nthe same steps at every engine step: {len({tuple(r[3]) for r in rows}) == 1}", flush=True)
     return 0
 
 

@@ -254,8 +254,7 @@ def _add_loop(sub) -> argparse.ArgumentParser:
     s.add_argument("--min-delta-bic", type=float, default=6.0, help="minimum BIC improvement (calibration part)")
     s.add_argument("--max-steps", type=int, default=6, help="at most this many effects are added")
     s.add_argument("--effects", help="comma-separated candidate effects (default: the whole catalogue)")
-    s.add_argument("--dt", type=float, help="engine time step of the predictions [s] (default: 5e-4 s or the model's, "
-                        "whichever is coarser, within the stability bound; lowered to divide the analysis interval)")
+    s.add_argument("--dt", type=float, help="engine time step of the predictions [s] (default: the model's)")
     s.add_argument("--threads", type=threads_option, default=0, help="OpenMP threads (0: default)")
     s.add_argument("--scalar", action="store_true",
                    help="step the horizons with the scalar reference integrator (default: the batched SIMD one)")

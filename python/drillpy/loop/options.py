@@ -10,12 +10,6 @@ from drillpy.records.stick import STICK_FRACTION
 
 #: Values of :attr:`LoopOptions.wob_input`.
 WOB_INPUTS = ("auto", "measured", "trend")
-#: Default engine step of the loop's predictions [s] (:attr:`LoopOptions.dt_s`): short horizons
-#: restarted from the measured state need no finer step than this; on sample 175 the errors, the
-#: candidates' gains and the decisions at 5e-4 s are those at the rig preset's 1e-4 s (E 0.6827
-#: against 0.6830, every gain within 0.3 points) at a fifth of the engine's steps
-#: (``benchmarks/loop_timestep.py``).
-HORIZON_DT_S = 5e-4
 
 
 @dataclass
@@ -50,10 +44,11 @@ class LoopOptions:
     threads : int
         Engine threads (0: OpenMP default).
     dt_s : float, optional
-        Engine time step of the predictions and long runs [s]. Default: :data:`HORIZON_DT_S`, or the
-        declared configuration's step where that is coarser, kept below half the modified-Euler
-        stability bound of Eq. (A.7) for the declared model's modes (the declared step itself where
-        that bound is finer). It is then lowered, if needed, to divide the analysis sampling interval.
+        Engine time step of the predictions [s] (default: the declared configuration's); it is
+        lowered, if needed, to divide the analysis sampling interval. A coarser step is not a free
+        speed-up: the predictions of a fixed model converge (sample 175 and the Stribeck rig: E within
+        2 % from 2e-5 to 5e-4 s), but the calibration's least squares then end in other local minima
+        and a decision near the gate can flip (``benchmarks/loop_timestep.py``, docs/loop.md).
     nfev_per_parameter : int
         Optimizer budget: at most this many evaluations per fitted parameter, the same for the
         baseline, the null candidate and every candidate.

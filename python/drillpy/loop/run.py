@@ -11,7 +11,6 @@ from pathlib import Path
 
 import numpy as np
 
-from drillpy import _core
 from drillpy.model.config import normalize
 from drillpy.model.plausibility import fitted_values
 from drillpy.records.io import read_record
@@ -23,7 +22,7 @@ from .evidence import adequacy, evidence, law_evidence
 from .fitting import RESTART_GAIN, calibrate, e_train, fit_candidate, null_candidate, parameter_evidence, refit
 from .longrun import cycle_damage, long_run, missed_cycle, stick_collapse
 from .model import STIFFNESS, Evaluation, LoopModel, equation_residual, evaluate
-from .options import HORIZON_DT_S, LoopOptions
+from .options import LoopOptions
 from .rivals import confusable_note, rivals
 
 
@@ -165,26 +164,6 @@ class LoopResult:
                 "unexplained_fraction": self.unexplained_fraction,
                 "discovered_terms": self.discovery.get("terms", []), "parameters": self.final.model.parameters(),
                 "warnings": [w.as_dict() for w in self.warnings]}
-
-
-def horizon_step(cfg: dict) -> float:
-    """The loop's default engine step [s] (:attr:`LoopOptions.dt_s`): :data:`HORIZON_DT_S` or the
-    declared step where that is coarser, below half the modified-Euler stability bound of the
-    declared model's modes (Eq. A.7), never finer than the declared step.
-
-    Parameters
-    ----------
-    cfg : dict
-        The declared engine configuration (normalized).
-
-    Returns
-    -------
-    float
-        The step [s], before :func:`analysis_config` makes it divide the analysis interval.
-    """
-    declared = float(cfg["simulation"]["dt_s"])
-    bound = _core.Simulation(_core.Config.from_dict(cfg)).stability_bound
-    return max(declared, min(HORIZON_DT_S, 0.5 * bound))
 
 
 def analysis_config(cfg: dict, dt: float, dt_engine: float | None = None) -> dict:
@@ -589,7 +568,7 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
     if cfg["simulation"]["scheme"] != "modified_euler":
         cfg = normalize({**cfg, "simulation": {**cfg["simulation"], "scheme": "modified_euler"}})
         notes.append("the loop integrates with the modified Euler scheme (the motor top drive needs it)")
-    cfg = analysis_config(cfg, data.dt, opt.dt_s if opt.dt_s is not None else horizon_step(cfg))
+    cfg = analysis_config(cfg, data.dt, opt.dt_s)
     th = opt.threads
     log(f"record: {data.source}; {data.t.size} samples at {1 / data.dt:.0f} Hz; calibration t < {data.t_split:.2f} s "
         f"({int((~data.is_test).sum())} horizons), validation ({int(data.is_test.sum())} horizons of {opt.horizon_s:g} s)")
