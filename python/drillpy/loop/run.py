@@ -537,8 +537,52 @@ def run_loop(record, cfg: dict, options: LoopOptions | None = None, log=print) -
 
 
 def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
-    """:func:`run_loop` with validated options."""
+    """:func:`run_loop` with validated options: its stages in order."""
     cfg = normalize(cfg)
+    data, warns, notes = _read(record, cfg, opt, log)
+    cfg = _analysis(cfg, data, opt, notes)
+    base, base_lr, adeq = _baseline(cfg, data, opt, notes, log)
+    st = _State(data, opt, log, base, base_lr, notes)
+    if adeq["adequate"]:
+        _search(st)
+    else:
+        notes.append("the declared model predicts no better than a trivial predictor (mean or hold-last): no effect "
+                     "is attributed")
+        log("the declared model is not better than a trivial predictor: nothing is attributed")
+    _final_flags(st)
+    disc = _discovery(st.cur.model, data, log) if opt.discovery else {}
+    return LoopResult(data, base, st.cur, st.steps, st.rounds, opt, cfg, notes, list(base.model.effects), adeq,
+                      base_lr, disc, st.last, warns)
+
+
+@dataclass
+class _State:
+    """What the loop's stages share and change: the record, the options, the current model and its
+    long run, the steps and rounds so far, the last round's candidate evaluations, the notes, the
+    effects already tried and the recalibrations taken."""
+    data: LoopData
+    opt: LoopOptions
+    log: object
+    cur: Evaluation
+    cur_lr: dict
+    notes: list
+    steps: list = field(default_factory=list)
+    rounds: list = field(default_factory=list)
+    last: dict = field(default_factory=dict)
+    tried: set = field(default_factory=set)
+    recalibrated: int = 0
+
+    def backward(self, added: tuple) -> None:
+        """Try to remove every other effect after ``added`` (:func:`_backward`)."""
+        if self.opt.backward:
+            self.cur, self.cur_lr, rem = _backward(self.cur, self.cur_lr, self.data, self.opt, added, self.log,
+                                                   len(self.steps))
+            self.steps += rem
+
+
+def _read(record, cfg: dict, opt: LoopOptions, log) -> tuple:
+    """Stage 1, the record: read, checked against the configuration and brought to the analysis
+    grid; (data, plausibility warnings, notes on the horizons set apart and on the WOB's role)."""
     raw = read_record(record) if isinstance(record, (str, Path)) else record
     warns = check_record(raw, cfg)  # before prepare: a record it refuses (a time unit off) is explained
     emit(warns)
@@ -562,14 +606,25 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
                 "(--wob-input measured feeds the recorded one: a diagnosis, not a prediction)")
         notes.append(note)
         log(note)
+    return data, warns, notes
+
+
+def _analysis(cfg: dict, data: LoopData, opt: LoopOptions, notes: list) -> dict:
+    """Stage 2, the engine configuration of the analysis: modified Euler at a step dividing the
+    analysis interval (:func:`analysis_config`), with notes on what that changes."""
     if cfg["rom"]["modes"] > 1:
         notes.append(f"the model keeps {cfg['rom']['modes']} modes: the restart state puts the first mode in "
                      "motion and the others in quasi-static equilibrium (exact only with one mode)")
     if cfg["simulation"]["scheme"] != "modified_euler":
         cfg = normalize({**cfg, "simulation": {**cfg["simulation"], "scheme": "modified_euler"}})
         notes.append("the loop integrates with the modified Euler scheme (the motor top drive needs it)")
-    cfg = analysis_config(cfg, data.dt, opt.dt_s)
-    th = opt.threads
+    return analysis_config(cfg, data.dt, opt.dt_s)
+
+
+def _baseline(cfg: dict, data: LoopData, opt: LoopOptions, notes: list, log) -> tuple:
+    """Stage 3, the baseline: the declared model calibrated (its damping held by the limit cycle when
+    the short horizons over-damp it), evaluated and compared with trivial predictors; (evaluation,
+    long run, adequacy)."""
     log(f"record: {data.source}; {data.t.size} samples at {1 / data.dt:.0f} Hz; calibration t < {data.t_split:.2f} s "
         f"({int((~data.is_test).sum())} horizons), validation ({int(data.is_test.sum())} horizons of {opt.horizon_s:g} s)")
     m0, _ = calibrate(cfg, data, opt)
@@ -577,161 +632,197 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
     m0, base_lr, note = _hold_damping(m0, base_lr, data, opt, log)
     if note:
         notes.append(note)
-    base = evaluate(m0, data, th)
+    base = evaluate(m0, data, opt.threads)
     adeq = adequacy(base, data)
-    declared = list(m0.effects)
     gj = f", GJ x {m0.gj_factor:.4f} (within the declared +-{100 * m0.gj_tolerance:g} %)" if m0.gj_free else ""
-    log(f"baseline (declared model calibrated: damping {m0.damping_ratios}{gj}, effects {declared or 'none'}): validation "
-        f"error E = {base.E_test:.4f} (calibration {base.E_train:.4f}); mean predictor {adeq['mean_predictor_error']:.4f}, "
-        f"hold-last predictor {adeq['hold_last_predictor_error']:.4f}")
-    cur, cur_lr, steps, rounds, last = base, base_lr, [], [], {}
-    if not adeq["adequate"]:
-        notes.append("the declared model predicts no better than a trivial predictor (mean or hold-last): no effect "
-                     "is attributed")
-        log("the declared model is not better than a trivial predictor: nothing is attributed")
-    else:
-        if opt.backward and cur.model.effects:
-            cur, cur_lr, rem = _backward(cur, cur_lr, data, opt, (), log, len(steps))
-            steps += rem
-        tried = set(cur.model.effects) | {s["effect"] for s in steps}
-        recalibrated = 0
-        for _ in range(opt.max_steps + RECALIBRATIONS):
-            cands = [e for e in opt.effects if e not in tried and all(c in data.channels() for c in CATALOGUE[e].needs)
-                     and CATALOGUE[e].applicable(data)
-                     and not (cur.model.damping_held and "damping" in CATALOGUE[e].confounded_with)]
-            if not cands or sum(s["action"] == "add" for s in steps) >= opt.max_steps:
-                break
-            null_m, _ = null_candidate(cur.model, data, opt)
-            null = evaluate(null_m, data, th)
-            log(f"  null candidate (no effect, recalibrated) E_val {null.E_test:.4f}")
-            fits = {}
-            for name in cands:
-                try:
-                    fits[name] = fit_candidate(cur.model, data, name, opt)
-                except (ValueError, RuntimeError) as err:  # a candidate the engine refuses is not evidence
-                    fits[name] = err
-            step = _recalibration(fits.get(STIFFNESS), null, cur, cur_lr, data, opt, log) \
-                if recalibrated < RECALIBRATIONS else None
-            refused_recal = None
-            if step is not None and not step["evidence"]["accepted"]:
-                # proposed by the calibration part, refused by the validation part: kept in the round's evidence
-                refused_recal = {k: step[k] for k in ("error_before", "error_after", "evidence")}
-                step = None
-            if step is not None:
-                recalibrated += 1
-                steps.append(step)
-                log(f"step {len(steps)}: recalibrate (GJ x {step['evidence']['gj_factor']:.4f}): validation error "
-                    f"{cur.E_test:.4f} -> {step['error_after']:.4f}")
-                notes.append(step["evidence"]["reasons"][0])
-                cur, cur_lr = step["after"], step["after_long_run"]
-                continue  # the candidates refitted from the recalibrated model
-            results = []
-            for name in cands:
-                try:
-                    if isinstance(fits[name], Exception):
-                        raise fits[name]
-                    cm, ci = fits[name]
-                    ev = evaluate(cm, data, th)
-                    e = evidence(null, ev, data, len(cands), opt)
-                    e["parameters"], why = parameter_evidence(cm, name, ci, data)
-                    lb, la, lwhy = law_evidence(CATALOGUE[name], null.model, data, opt)
-                    if lb is not None:
-                        e["law_fit_rmse_before_nm"], e["law_fit_rmse_after_nm"] = lb, la
-                    why += lwhy
-                    if why:
-                        e["accepted"] = False
-                        e["reasons"] = e["reasons"] + why
-                    else:
-                        _direct(CATALOGUE[name], cur, e, data)
-                    if name == STIFFNESS and refused_recal is not None:
-                        e["recalibration"] = refused_recal
-                except (ValueError, RuntimeError) as err:  # a candidate the engine refuses is not evidence
-                    ev, e = None, {"accepted": False, "reasons": [f"fit failed: {err}"]}
-                results.append((name, ev, e))
-                log(f"  candidate {name:<20} " + (
-                    f"E_val {e['error_test_after']:.4f} (gain {100 * e['relative_gain']:+.1f} %), p {e['p_value']:.2g}, "
-                    f"dBIC {e['delta_bic']:.1f}" if ev is not None else "") + (
-                    "  <- passes" if e["accepted"] else f"  ({'; '.join(e['reasons'])})"))
-            rounds.append([{"effect": n, **e} for n, _, e in results])
-            last = {n: ev for n, ev, _ in results if ev is not None}
-            chosen = None
-            for name, ev, e in sorted([r for r in results if r[2]["accepted"]], key=lambda r: r[1].E_test):
-                nm, ci = refit(ev.model, data, opt)
-                new = evaluate(nm, data, th)
-                lr = _long(opt, nm, data)
-                held = None
-                if nm.damping_held:  # the limit cycle sets the damping: re-held with the new effect
-                    m2, lr2, held = _hold_damping(nm, lr, data, opt, log)
-                    if held:
-                        new, lr = evaluate(m2, data, th), lr2
-                gate = step_gate(cur.E_test, new.E_test, opt.min_gain)
-                if gate:  # the refitted step must itself lower E by the guard's margin (issue 29)
-                    e["accepted"] = False
-                    e["reasons"] = e["reasons"] + [f"refitted: {gate}"]
-                    log(f"  {name}: rejected, refitted {gate}")
-                    continue
-                damage = cycle_damage(cur_lr, lr) if opt.long_run else None
-                collapse = stick_collapse(cur_lr, lr) if opt.long_run and not damage else None
-                gain = (cur.E_test - new.E_test) / cur.E_test
-                if collapse and gain < COLLAPSE_GAIN:
-                    damage = f"{collapse}, with a validation gain of {100 * gain:.1f} % (below {100 * COLLAPSE_GAIN:.0f} %)"
-                elif collapse:
-                    e = dict(e, long_run_flag=collapse)
-                    notes.append(f"{name} added although {collapse}: its validation gain of {100 * gain:.1f} % is "
-                                 f"above {100 * COLLAPSE_GAIN:.0f} %; read the corrected model's limit cycle with care")
-                    log(f"  {name}: flagged, {collapse} (validation gain {100 * gain:.1f} %)")
-                if damage:
-                    e["accepted"] = False
-                    e["reasons"] = e["reasons"] + [damage]
-                    log(f"  {name}: rejected, {damage}")
-                    continue
-                chosen = (name, ev, e, new, lr, held)
-                break
-            # the round's record with the refusals after the refit (the gate, the long run) in it
-            rounds[-1] = [{"effect": n, **e} for n, _, e in results]
-            if chosen is None:
-                log("no candidate beats the null candidate with significant, physical parameters: stop")
-                break
-            name, ev, e, new, lr, held = chosen
-            e = dict(e, error_test_refit=new.E_test, error_test_null=null.E_test, candidates=rounds[-1])
-            margin = marginal(name, e, opt)
-            if margin:
-                e["marginal"] = margin
-                notes.append(margin)
-                log(f"  {margin}")
+    log(f"baseline (declared model calibrated: damping {m0.damping_ratios}{gj}, effects {list(m0.effects) or 'none'}): "
+        f"validation error E = {base.E_test:.4f} (calibration {base.E_train:.4f}); mean predictor "
+        f"{adeq['mean_predictor_error']:.4f}, hold-last predictor {adeq['hold_last_predictor_error']:.4f}")
+    return base, base_lr, adeq
+
+
+def _search(st: _State) -> None:
+    """Stage 4, the search: the declared effects questioned, then rounds of candidates against a
+    null candidate until none passes (each round: a recalibration the calibration part proposes, or
+    the candidates scored, the best that survives its refit, gate and long run added)."""
+    if st.cur.model.effects:
+        st.backward(())
+    st.tried = set(st.cur.model.effects) | {s["effect"] for s in st.steps}
+    for _ in range(st.opt.max_steps + RECALIBRATIONS):
+        cands = _candidates(st)
+        if not cands or sum(s["action"] == "add" for s in st.steps) >= st.opt.max_steps:
+            break
+        null_m, _ = null_candidate(st.cur.model, st.data, st.opt)
+        null = evaluate(null_m, st.data, st.opt.threads)
+        st.log(f"  null candidate (no effect, recalibrated) E_val {null.E_test:.4f}")
+        fits = {}
+        for name in cands:
+            try:
+                fits[name] = fit_candidate(st.cur.model, st.data, name, st.opt)
+            except (ValueError, RuntimeError) as err:  # a candidate the engine refuses is not evidence
+                fits[name] = err
+        recal, refused_recal = _round_recalibration(st, fits, null)
+        if recal:
+            continue  # the candidates refitted from the recalibrated model
+        results = _score(st, cands, fits, null, refused_recal)
+        st.rounds.append([{"effect": n, **e} for n, _, e in results])
+        st.last = {n: ev for n, ev, _ in results if ev is not None}
+        chosen = _choose(st, results)
+        # the round's record with the refusals after the refit (the gate, the long run) in it
+        st.rounds[-1] = [{"effect": n, **e} for n, _, e in results]
+        if chosen is None:
+            st.log("no candidate beats the null candidate with significant, physical parameters: stop")
+            break
+        _add(st, chosen, results, null)
+
+
+def _candidates(st: _State) -> list:
+    """The round's candidates: untried effects whose channels the record has, applicable to it, and
+    not confounded with a damping the limit cycle holds."""
+    return [e for e in st.opt.effects if e not in st.tried and all(c in st.data.channels() for c in CATALOGUE[e].needs)
+            and CATALOGUE[e].applicable(st.data)
+            and not (st.cur.model.damping_held and "damping" in CATALOGUE[e].confounded_with)]
+
+
+def _round_recalibration(st: _State, fits: dict, null: Evaluation) -> tuple:
+    """A recalibration the round's ``string_stiffness`` fit proposes (:func:`_recalibration`): taken
+    when the validation part agrees (True, None), kept in the round's evidence when it refuses
+    (False, the refused step's errors and evidence), or none (False, None)."""
+    step = _recalibration(fits.get(STIFFNESS), null, st.cur, st.cur_lr, st.data, st.opt, st.log) \
+        if st.recalibrated < RECALIBRATIONS else None
+    if step is None:
+        return False, None
+    if not step["evidence"]["accepted"]:
+        # proposed by the calibration part, refused by the validation part: kept in the round's evidence
+        return False, {k: step[k] for k in ("error_before", "error_after", "evidence")}
+    st.recalibrated += 1
+    st.steps.append(step)
+    st.log(f"step {len(st.steps)}: recalibrate (GJ x {step['evidence']['gj_factor']:.4f}): validation error "
+           f"{st.cur.E_test:.4f} -> {step['error_after']:.4f}")
+    st.notes.append(step["evidence"]["reasons"][0])
+    st.cur, st.cur_lr = step["after"], step["after_long_run"]
+    return True, None
+
+
+def _score(st: _State, cands: list, fits: dict, null: Evaluation, refused_recal) -> list:
+    """Every candidate's evidence against the null candidate (validation gain, paired test, BIC, its
+    parameters' intervals and bounds, the law's fit, a direct measurement); [(name, evaluation or
+    None, evidence)]."""
+    results = []
+    for name in cands:
+        try:
+            if isinstance(fits[name], Exception):
+                raise fits[name]
+            cm, ci = fits[name]
+            ev = evaluate(cm, st.data, st.opt.threads)
+            e = evidence(null, ev, st.data, len(cands), st.opt)
+            e["parameters"], why = parameter_evidence(cm, name, ci, st.data)
+            lb, la, lwhy = law_evidence(CATALOGUE[name], null.model, st.data, st.opt)
+            if lb is not None:
+                e["law_fit_rmse_before_nm"], e["law_fit_rmse_after_nm"] = lb, la
+            why += lwhy
+            if why:
+                e["accepted"] = False
+                e["reasons"] = e["reasons"] + why
+            else:
+                _direct(CATALOGUE[name], st.cur, e, st.data)
+            if name == STIFFNESS and refused_recal is not None:
+                e["recalibration"] = refused_recal
+        except (ValueError, RuntimeError) as err:  # a candidate the engine refuses is not evidence
+            ev, e = None, {"accepted": False, "reasons": [f"fit failed: {err}"]}
+        results.append((name, ev, e))
+        st.log(f"  candidate {name:<20} " + (
+            f"E_val {e['error_test_after']:.4f} (gain {100 * e['relative_gain']:+.1f} %), p {e['p_value']:.2g}, "
+            f"dBIC {e['delta_bic']:.1f}" if ev is not None else "") + (
+            "  <- passes" if e["accepted"] else f"  ({'; '.join(e['reasons'])})"))
+    return results
+
+
+def _choose(st: _State, results: list):
+    """The best accepted candidate (lowest validation E) that survives its refit: the step gate on the
+    refitted model, the damping re-held when the limit cycle sets it, and the long-run check (a
+    correction that destroys the measured cycle, or makes the stick collapse for a small gain, is
+    refused); (name, evaluation, evidence, refitted evaluation, long run, damping note) or None.
+    Refusals are written into the candidates' evidence."""
+    opt, data, cur, cur_lr = st.opt, st.data, st.cur, st.cur_lr
+    for name, ev, e in sorted([r for r in results if r[2]["accepted"]], key=lambda r: r[1].E_test):
+        nm, ci = refit(ev.model, data, opt)
+        new = evaluate(nm, data, opt.threads)
+        lr = _long(opt, nm, data)
+        held = None
+        if nm.damping_held:  # the limit cycle sets the damping: re-held with the new effect
+            m2, lr2, held = _hold_damping(nm, lr, data, opt, st.log)
             if held:
-                e["damping"] = held
-            rv = rivals(name, results, new, data, opt, th, log)
-            if rv:
-                e["rivals"] = rv
-                note = confusable_note(name, rv)
-                if note:
-                    e["confusable"] = note
-                    notes.append(note)
-                    log(f"  {note}")
-                    tried.update(r["effect"] for r in rv if r["verdict"] == "confusable")
-            steps.append({"action": "add", "effect": name, "error_before": cur.E_test, "error_after": new.E_test,
-                          "evidence": e, "long_run": _pair(cur_lr, lr), "before": cur, "candidate": ev, "after": new})
-            log(f"step {len(steps)}: add {name}: validation error {cur.E_test:.4f} -> {new.E_test:.4f}")
-            tried.add(name)
-            cur, cur_lr = new, lr
-            if opt.backward:
-                cur, cur_lr, rem = _backward(cur, cur_lr, data, opt, (name,), log, len(steps))
-                steps += rem
-    high = [z for z in (cur.model.damping_ratios or []) if z > PLAUSIBLE_DAMPING]
+                new, lr = evaluate(m2, data, opt.threads), lr2
+        gate = step_gate(cur.E_test, new.E_test, opt.min_gain)
+        if gate:  # the refitted step must itself lower E by the guard's margin (issue 29)
+            e["accepted"] = False
+            e["reasons"] = e["reasons"] + [f"refitted: {gate}"]
+            st.log(f"  {name}: rejected, refitted {gate}")
+            continue
+        damage = cycle_damage(cur_lr, lr) if opt.long_run else None
+        collapse = stick_collapse(cur_lr, lr) if opt.long_run and not damage else None
+        gain = (cur.E_test - new.E_test) / cur.E_test
+        if collapse and gain < COLLAPSE_GAIN:
+            damage = f"{collapse}, with a validation gain of {100 * gain:.1f} % (below {100 * COLLAPSE_GAIN:.0f} %)"
+        elif collapse:
+            e = dict(e, long_run_flag=collapse)
+            st.notes.append(f"{name} added although {collapse}: its validation gain of {100 * gain:.1f} % is "
+                            f"above {100 * COLLAPSE_GAIN:.0f} %; read the corrected model's limit cycle with care")
+            st.log(f"  {name}: flagged, {collapse} (validation gain {100 * gain:.1f} %)")
+        if damage:
+            e["accepted"] = False
+            e["reasons"] = e["reasons"] + [damage]
+            st.log(f"  {name}: rejected, {damage}")
+            continue
+        return name, ev, e, new, lr, held
+    return None
+
+
+def _add(st: _State, chosen: tuple, results: list, null: Evaluation) -> None:
+    """Stage 4's step: the chosen effect added with its evidence (the marginal note, the damping
+    re-held, its rivals and a confusable pair), then the others questioned (:meth:`_State.backward`)."""
+    name, ev, e, new, lr, held = chosen
+    e = dict(e, error_test_refit=new.E_test, error_test_null=null.E_test, candidates=st.rounds[-1])
+    margin = marginal(name, e, st.opt)
+    if margin:
+        e["marginal"] = margin
+        st.notes.append(margin)
+        st.log(f"  {margin}")
+    if held:
+        e["damping"] = held
+    rv = rivals(name, results, new, st.data, st.opt, st.opt.threads, st.log)
+    if rv:
+        e["rivals"] = rv
+        note = confusable_note(name, rv)
+        if note:
+            e["confusable"] = note
+            st.notes.append(note)
+            st.log(f"  {note}")
+            st.tried.update(r["effect"] for r in rv if r["verdict"] == "confusable")
+    st.steps.append({"action": "add", "effect": name, "error_before": st.cur.E_test, "error_after": new.E_test,
+                     "evidence": e, "long_run": _pair(st.cur_lr, lr), "before": st.cur, "candidate": ev, "after": new})
+    st.log(f"step {len(st.steps)}: add {name}: validation error {st.cur.E_test:.4f} -> {new.E_test:.4f}")
+    st.tried.add(name)
+    st.cur, st.cur_lr = new, lr
+    st.backward((name,))
+
+
+def _final_flags(st: _State) -> None:
+    """Stage 5, the final model's flags: damping ratios no steel string has, and a long run that
+    misses the record's cycle."""
+    high = [z for z in (st.cur.model.damping_ratios or []) if z > PLAUSIBLE_DAMPING]
     if high:
         note = (f"the final model's damping ratios {[round(z, 3) for z in high]} exceed the {PLAUSIBLE_DAMPING:g} a steel "
                 "string's modal damping can reach: an element the catalogue lacks (or one refused) stands in for them, "
-                "not a property of the string" + ("" if "viscous_damping" in cur.model.effects else
+                "not a property of the string" + ("" if "viscous_damping" in st.cur.model.effects else
                                                   "; a viscous torque at the bit is one such element that this record "
                                                   "cannot tell from the damping (with the top at a steady speed, "
                                                   "-c_v v is a string damping plus a constant: viscous_damping is "
                                                   "confounded with it, docs/loop.md), so it is not named"))
-        notes.append(note)
-        log(note)
-    miss = missed_cycle(cur_lr)
+        st.notes.append(note)
+        st.log(note)
+    miss = missed_cycle(st.cur_lr)
     if miss:
-        notes.append(miss)
-        log(miss)
-    disc = _discovery(cur.model, data, log) if opt.discovery else {}
-    return LoopResult(data, base, cur, steps, rounds, opt, cfg, notes, declared, adeq, base_lr, disc, last, warns)
+        st.notes.append(miss)
+        st.log(miss)
