@@ -234,7 +234,7 @@ def judge(case: Case, res) -> tuple:
         wrong = set(added) - truth - set(case.acceptable)
         named = bool(truth & final)
         said = named or any(VISCOUS_FLAG in n for n in res.notes)
-        why = ("named" if named else "flagged as told apart from the damping by nothing" if said else
+        why = ("named" if named else "flagged: it cannot be told from the damping" if said else
                "neither named nor flagged") + (f"; misnamed {sorted(wrong)}" if wrong else "")
         return said and not wrong, why
     if case.kind == "calibration":  # the load cell's scale, named first and recovered
