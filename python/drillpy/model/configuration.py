@@ -266,6 +266,13 @@ class Configuration(Block):
         super().__init__(_copy(data), None, "config")
 
     @classmethod
+    def _owning(cls, data: dict) -> Configuration:
+        """A configuration that takes ``data`` as its own (a fresh dict nobody else holds: no copy)."""
+        self = cls.__new__(cls)
+        Block.__init__(self, data, None, "config")
+        return self
+
+    @classmethod
     def of(cls, config) -> Configuration:
         """The configuration a function was given, at its entry: a :class:`Configuration` as is, a dict
         wrapped (copied, not normalized), an engine ``_core.Config`` by its normalized dict.
@@ -306,7 +313,7 @@ class Configuration(Block):
         ValueError
             Naming the field and the value when the configuration is invalid.
         """
-        return cls(_config.normalize(data))
+        return cls._owning(_config.normalize(data))
 
     @classmethod
     def from_json(cls, text: str) -> Configuration:
@@ -342,7 +349,7 @@ class Configuration(Block):
         -------
         Configuration
         """
-        return cls(_config.load_config(preset=preset, path=path, config=config))
+        return cls._owning(_config.load_config(preset=preset, path=path, config=config))
 
     def to_dict(self) -> dict:
         """The configuration as a dict (a copy): what files and results hold.
@@ -426,7 +433,7 @@ class Configuration(Block):
                 node.pop(keys[-1], None)
             else:
                 node[keys[-1]] = _copy(value)
-        return type(self)(data)
+        return type(self)._owning(data)
 
     def with_overrides(self, **overrides) -> Configuration:
         """A normalized copy with command-line style overrides (:func:`drillpy.model.config.with_overrides`:
@@ -446,7 +453,7 @@ class Configuration(Block):
         ValueError
             Naming the field and the value for an invalid override.
         """
-        return type(self)(_config.with_overrides(self._data, **overrides))
+        return type(self)._owning(_config.with_overrides(self._data, **overrides))
 
     def __eq__(self, other) -> bool:
         if isinstance(other, Configuration):
