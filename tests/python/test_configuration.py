@@ -42,6 +42,8 @@ def test_unknown_key_names_it(field, expr, needle):
 def test_get_gives_a_default_for_an_unset_key_but_refuses_an_unknown_one(field):
     assert field.get("craig_bampton") is None and "craig_bampton" not in field
     assert field.law.get("beta1") == 0.14
+    assert field.law.get("c0") is None  # a key of another law type
+    assert field.top_drive.get("inertia_kg_m2") is None
     with pytest.raises(AttributeError, match="law.bta1: no such key"):
         field.law.get("bta1")
     assert not hasattr(field.law, "c0")

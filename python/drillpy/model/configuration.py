@@ -106,8 +106,8 @@ class Block:
 
     Its attributes are the block's keys (``cfg.law.beta1``); a name the schema does not have for the
     block raises ``AttributeError`` naming it, and so does a key the block's ``type`` does not have or
-    that is not set (:meth:`get` gives a default instead). A key absent from the dict but with a
-    default in the schema gives that default (what the engine uses).
+    that is not set (:meth:`get` gives a default for those two instead). A key absent from the dict but
+    with a default in the schema gives that default (what the engine uses).
 
     Parameters
     ----------
@@ -143,7 +143,8 @@ class Block:
         name : str
             A key of the block (checked against the schema).
         default : object, optional
-            What an unset key gives (None); a key with a schema default gives that default.
+            What an unset key gives (None), or a key of another ``type`` of the block (``law.beta1`` of a
+            ``tucker_wang`` law); a key with a schema default gives that default.
 
         Returns
         -------
@@ -155,15 +156,13 @@ class Block:
         AttributeError
             For a name the block cannot have (``"law.bta1: no such key ..."``).
         """
-        known = self._known()
-        if name not in known:
-            every = _keys(self._schema_name)
+        known, every = self._known(), _keys(self._schema_name)
+        if name not in every:
             where = self._path if self._path != "config" else "a configuration"
-            if name in every:
-                raise AttributeError(f"{self._prefix(name)}: not a key of {self._path}.type = "
-                                     f"{self._data.get('type')!r} (its keys: {', '.join(sorted(known))})")
             raise AttributeError(f"{self._prefix(name)}: no such key (the keys of {where}: "
                                  f"{', '.join(sorted(every))})")
+        if name not in known:
+            return default
         prop = known[name]
         if name in self._data:
             return _view(self._data[name], prop, self._prefix(name))
@@ -176,6 +175,10 @@ class Block:
             raise AttributeError(name)
         value = self.get(name, _MISSING)
         if value is _MISSING:
+            known = self._known()
+            if name not in known:
+                raise AttributeError(f"{self._prefix(name)}: not a key of {self._path}.type = "
+                                     f"{self._data.get('type')!r} (its keys: {', '.join(sorted(known))})")
             raise AttributeError(f"{self._prefix(name)}: not set in this configuration")
         return value
 
@@ -405,8 +408,8 @@ class Configuration(Block):
             Dotted path -> value: ``{"simulation.dt_s": 1e-4, "top_drive.controller.kp_nms_rad": 2e3}``;
             a missing block on the way is created, None removes the key.
         **blocks
-            Whole blocks: ``law=thesis_law("tucker_wang")`` (a dict or a :class:`Block`); None removes the
-            block. Applied before ``changes``.
+            Whole blocks or top-level keys: ``law=thesis_law("tucker_wang")`` (a dict or a :class:`Block`),
+            ``name="field-2"``; None removes it. Applied before ``changes``.
 
         Returns
         -------
