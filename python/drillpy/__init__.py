@@ -18,6 +18,7 @@ __version__ = "0.1.0"
 #: public name -> the module that defines it
 _EXPORTS = {
     **dict.fromkeys(("load_config", "preset_names", "with_overrides"), "drillpy.model.config"),
+    "Configuration": "drillpy.model.configuration",
     **dict.fromkeys(("SimulationResult", "natural_frequencies", "simulate", "stability_map", "sweep_severity",
                      "severity_threshold", "severity_crossings", "law_torque"), "drillpy.model.simulation"),
     **dict.fromkeys(("FRFEnvelope", "cb_frequencies", "dispersions", "frf_envelope", "stochastic_model"),

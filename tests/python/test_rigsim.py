@@ -261,3 +261,22 @@ def test_a_coupling_section_is_not_checked_as_a_bar():
     assert check_config(cfg) == []
     cfg["string"]["sections"][0]["name"] = "bar"   # the same section as a bar is flagged
     assert any("outer_radius_m" in w.field for w in check_config(cfg))
+
+
+def test_coupling_on_and_off_by_copy_and_in_place():
+    """with_coupling / without_coupling (a Configuration, the argument untouched) are add_coupling /
+    remove_coupling (the dict in place): the same configuration, the node indices shifted and back."""
+    from drillpy.model.config import load_config
+    base = load_config(preset="thesis-rig")
+    base["string"]["lumped_inertias"].append({"inertia_kg_m2": 1.0, "node": 0})
+    on = rigsim.with_coupling(base, 40.0)
+    assert [s.name for s in on.string.sections][0] == "coupling" and len(on.string.sections) == 2
+    assert [li.node for li in on.string.lumped_inertias] == [-1, 1]
+    in_place = load_config(preset="thesis-rig")
+    in_place["string"]["lumped_inertias"].append({"inertia_kg_m2": 1.0, "node": 0})
+    rigsim.add_coupling(in_place, 40.0)
+    assert in_place == on.to_dict()
+    off, k = rigsim.without_coupling(on)
+    assert k == pytest.approx(40.0) and off.to_dict() == base
+    assert rigsim.remove_coupling(in_place) == pytest.approx(40.0) and in_place == base
+    assert rigsim.without_coupling(base)[1] is None and rigsim.remove_coupling(base) is None

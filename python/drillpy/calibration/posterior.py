@@ -36,7 +36,7 @@ import numpy as np
 from drillpy.calibration import abcsmc
 from drillpy.calibration.priors import FAMILIES, PriorSpec, prior_spec, split_config
 from drillpy.calibration.summaries import BOUNDS, NAMES, UNITS, noise_scale, statistics, summaries
-from drillpy.model.config import engine_config, load_config
+from drillpy.model.configuration import Configuration
 from drillpy.model.simulation import simulate
 from drillpy.records import rigsim
 from drillpy.records.io import Record
@@ -202,10 +202,9 @@ class RigSimulator:
         wob, trend, duration, thr, rec_dt = self._inputs[key]
         try:
             model = rig_model(self.base_law, family, values, self.spec.fixed)
-            cfg = model.config(model.command_rad_s, wob, duration_s=duration)
-            cfg["simulation"]["dt_s"] = self.dt_s
-            cfg["simulation"]["output_stride"] = max(1, int(round(rec_dt / self.dt_s)))
-            res = simulate(engine_config(cfg), model.command_rad_s, wob_series=trend, series_dt=rec_dt)
+            cfg = Configuration.of(model.config(model.command_rad_s, wob, duration_s=duration)).replace(
+                {"simulation.dt_s": self.dt_s, "simulation.output_stride": max(1, int(round(rec_dt / self.dt_s)))})
+            res = simulate(cfg.engine(), model.command_rad_s, wob_series=trend, series_dt=rec_dt)
             n = min(res.t.size, len(rec))
             fs = 1.0 / float(np.median(np.diff(res.t)))
             tq = platform_response(res.torque_on_bit[:n], fs, rigsim.PLATFORM_HZ, model.platform_damping)
@@ -360,11 +359,11 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
     section = {}
     if config is not None:
         config, section = split_config(config)
-        cfg = load_config(config=config)
+        cfg = Configuration.load(config=config)
     else:
-        cfg = load_config(preset=preset)
+        cfg = Configuration.load(preset=preset)
     spec = prior_spec(section)
-    base_law = cfg["law"]
+    base_law = cfg.law.to_dict()
     family_law(base_law, next(iter(spec.families)), 1.0, 2.0)  # the law's type, checked before any run
     rec = load_window(record, t0, t1)
     thr = rigsim.stick_threshold(rec)

@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from drillpy.calibration.posterior import SIM_DT_S, posterior_particles, read_posterior, rig_model
-from drillpy.model.config import engine_config
+from drillpy.model.configuration import Configuration
 from drillpy.model.simulation import simulate
 from drillpy.uncertainty.binomial import wilson_interval
 from drillpy.uncertainty.montecarlo import ETA_DT_S, SS_LEVEL
@@ -167,9 +167,9 @@ def stability_map(posterior, speeds, wobs, *, samples: int = 40, seed: int = 0, 
         om, wob = float(speeds[js]), float(wobs[iw])
         try:
             model = rig_model(base_law, fam, dict(values, command_rad_s=om), fixed)
-            cfg = model.config(om, wob, duration_s=duration_s)
-            cfg["simulation"].update(dt_s=dt_s, transient_s=transient_s, output_stride=1)
-            r = simulate(engine_config(cfg), om, eta_series=eta[i], series_dt=eta_dt, record=False)
+            cfg = Configuration.of(model.config(om, wob, duration_s=duration_s)).replace(
+                {"simulation.dt_s": dt_s, "simulation.transient_s": transient_s, "simulation.output_stride": 1})
+            r = simulate(cfg.engine(), om, eta_series=eta[i], series_dt=eta_dt, record=False)
             return float(r.severity), float(r.stick_fraction) > STALL_FRACTION
         except (ValueError, RuntimeError):
             return math.nan, False

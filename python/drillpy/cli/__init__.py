@@ -42,6 +42,7 @@ from typing import Callable
 import numpy as np
 
 from drillpy.model.config import load_config, with_overrides
+from drillpy.model.configuration import Configuration
 
 
 class OptionError(Exception):
@@ -346,7 +347,7 @@ def controlled_drive(a: argparse.Namespace, base: dict) -> dict | None:
         if given:
             raise ValueError(f"{given[0]} = {extra[given[0]]}: needs --controller")
         return None
-    inertia = a.drive_inertia if a.drive_inertia is not None else base.get("top_drive", {}).get("inertia_kg_m2")
+    inertia = a.drive_inertia if a.drive_inertia is not None else Configuration.of(base).top_drive.get("inertia_kg_m2")
     if inertia is None:
         raise ValueError(f"--controller = {a.controller}: give --drive-inertia, the top drive's inertia [kg m^2] "
                          "(the configuration's drive has none)")

@@ -7,6 +7,7 @@ import sys
 
 from drillpy.cli import add_figure_units_arg, integer, parse_grid, print_json, quantity, threads_option
 from drillpy.model.config import load_config, with_overrides
+from drillpy.model.configuration import Configuration
 
 
 def _add_control(sub) -> argparse.ArgumentParser:
@@ -107,10 +108,10 @@ def cmd_control(a: argparse.Namespace) -> int:
     validate.seed(a.seed, "--seed")
     if a.seed == 2**64 - 1:
         raise ValueError(f"--seed = {a.seed}: must be below 2^64 - 1 (the comparison uses seed + 1)")
-    op = cfg["operation"]
-    speeds = _grid(a.speeds, op["top_speed_rad_s"] * np.linspace(0.5, 1.25, 6), "--speeds", "speed")
+    op = Configuration.of(cfg).operation
+    speeds = _grid(a.speeds, op.top_speed_rad_s * np.linspace(0.5, 1.25, 6), "--speeds", "speed")
     wobs = (np.array([a.wob]) if a.wob is not None
-            else _grid(a.wobs_kn, op["wob_n"] * np.array([0.8, 1.0, 1.2]), "--wobs-kn", "force", "kN"))
+            else _grid(a.wobs_kn, op.wob_n * np.array([0.8, 1.0, 1.2]), "--wobs-kn", "force", "kN"))
     from drillpy.uncertainty.process import THESIS_PSD, scaled_to_std
     psd = THESIS_PSD
     if a.eta_std is not None:

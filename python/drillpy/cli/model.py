@@ -15,6 +15,7 @@ from drillpy.cli import (add_figure_units_arg, add_model_args, add_study_args, a
                          renamed, study_severity)
 from drillpy.jsonio import jsonable
 from drillpy.model.config import with_overrides
+from drillpy.model.configuration import Configuration
 
 
 def _add_report(sub) -> argparse.ArgumentParser:
@@ -78,7 +79,7 @@ def cmd_modes(a: argparse.Namespace) -> int:
     from drillpy import validate
     from drillpy.model.simulation import natural_frequencies
     cfg = model_config(a)
-    validate.integer("-n", a.n, 1, sum(s["elements"] for s in cfg["string"]["sections"]))  # the free DOFs
+    validate.integer("-n", a.n, 1, sum(s.elements for s in Configuration.of(cfg).string.sections))  # the free DOFs
     f = natural_frequencies(cfg, a.n)
     if a.json:
         print_json({"frequencies_hz": [float(x) for x in f]})
@@ -138,7 +139,7 @@ def cmd_simulate(a: argparse.Namespace) -> int:
         out.mkdir(parents=True, exist_ok=True)
         cols = np.column_stack([r.t, r.bit_speed, r.bit_accel, r.bit_angle, r.torque_on_bit,
                                 r.top_torque, r.top_speed])
-        prov = provenance(start=r.config.get("simulation", {}).get("start", a.start) or "rest")  # the start used
+        prov = provenance(start=Configuration.of(r.config).simulation.start or "rest")  # the start used
         with replacing(out / "series.csv") as tmp:
             np.savetxt(tmp, cols, delimiter=",", comments="", fmt=[_time_format(r.t)] + ["%.7g"] * 6,
                        header=header(prov) + "\ntime_s,bit_speed_rad_s,bit_accel_rad_s2,bit_angle_rad,torque_on_bit_Nm,"

@@ -16,6 +16,7 @@ import numpy as np
 from drillpy import validate
 from drillpy.cli import add_figure_units_arg, add_model_args, add_study_args, add_wob_arg, integer, model_config, parse_grid, print_json
 from drillpy.jsonio import jsonable
+from drillpy.model.configuration import Configuration
 from drillpy.uncertainty.binomial import wilson_interval
 
 
@@ -67,8 +68,8 @@ def cb_config(a: argparse.Namespace, controller: bool = False) -> dict:
     if a.cb_modes:
         from drillpy.uncertainty.frf import with_cb_modes
         cfg = with_cb_modes(cfg, [int(x) for x in parse_grid(a.cb_modes, "--cb-modes")])
-    elif getattr(a, "model", "SM_CB2") != "SM_full" and not cfg.get("craig_bampton", {}).get("modes"):
-        n = len(cfg["string"]["sections"])
+    elif getattr(a, "model", "SM_CB2") != "SM_full" and not _cb_modes(cfg):
+        n = len(Configuration.of(cfg).string.sections)
         raise ValueError(f"--cb-modes: the configuration {cfg.get('name', '')!r} sets no craig_bampton.modes; give "
                          f"one number of fixed-interface modes per section ({n} section{'s' if n != 1 else ''}, e.g. "
                          f"{','.join(['25'] * n)}) or use thesis-ch6")
@@ -77,6 +78,12 @@ def cb_config(a: argparse.Namespace, controller: bool = False) -> dict:
 
 #: Most Monte Carlo samples of a structural study (as drillpy mc: the engine's limit).
 MAX_SAMPLES = 10_000_000
+
+
+def _cb_modes(cfg) -> tuple:
+    """The ``craig_bampton.modes`` of a configuration (empty without the block)."""
+    craig = Configuration.of(cfg).get("craig_bampton")
+    return () if craig is None else craig.modes
 
 
 def _eta_samples(path: str) -> np.ndarray:

@@ -26,6 +26,7 @@ from drillpy.jsonio import jsonable
 from drillpy.control.tuning import Window, bootstrap_p, score, stalled_fraction, window_severity
 from drillpy.uncertainty.binomial import wilson_interval
 from drillpy.model.config import with_overrides
+from drillpy.model.configuration import Configuration
 from drillpy.uncertainty.robust_speed import bootstrap_interval, exceedance, grid_limit, p_speed
 
 #: SS a stalled run enters the crossings with (a large finite stand-in for +inf)
@@ -142,7 +143,7 @@ def compare_drives(cfg: dict, drives: dict, window: Window, *, reference: str, v
     """
     if reference not in drives:
         raise ValueError(f"reference = {reference!r}: not one of the drives ({', '.join(drives)})")
-    k = nominal_index(window, cfg["operation"]["wob_n"])
+    k = nominal_index(window, Configuration.of(cfg).operation.wob_n)
     tables = {}
     for label, d in drives.items():
         tables[label] = window_severity(cfg, d, window, seed=validation_seed, threads=threads)

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from drillpy.model.config import with_overrides
+from drillpy.model.configuration import Configuration
 from drillpy.model.simulation import simulate
 
 
@@ -137,11 +137,11 @@ def run_episode(cfg: dict, label: str, drive: dict | None, top_speed: float, wob
     Episode
         The series, the motor torque and the run's metrics.
     """
-    c = with_overrides(cfg, top_drive=drive)
+    c = Configuration.of(cfg).with_overrides(top_drive=drive)
     r = simulate(c, top_speed, wob)
-    td = c.get("top_drive", {})
-    inertia = td.get("inertia_kg_m2") if td.get("type") in ("controlled", "motor") else None
+    td = c.top_drive
+    inertia = td.inertia_kg_m2 if td.type in ("controlled", "motor") else None
     tm, u = motor_torque(np.asarray(r.t), np.asarray(r.top_speed), np.asarray(r.top_torque), inertia)
-    limit = td.get("controller", {}).get("torque_limit_nm") if td.get("type") == "controlled" else None
+    limit = td.controller.get("torque_limit_nm") if td.type == "controlled" else None
     return Episode(label, float(top_speed), np.asarray(r.t), np.asarray(r.bit_speed), np.asarray(r.top_speed),
                    np.asarray(r.top_torque), tm, u, float(r.severity), float(r.stick_fraction), limit)

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from drillpy.model.configuration import Configuration
 from drillpy.control.comparison import compare_drives, json_ready, nominal_index
 from drillpy.control.episode import run_episode
 from drillpy.control.tuning import FACTOR_RANGE, TUNABLE, Window, controlled_drive, tune
@@ -127,12 +128,12 @@ def control_study(cfg: dict, *, inertia: float, torque_limit: float | None, wind
                  window.transient, window.psd)
     comp = compare_drives(cfg, drives, val, reference=REFERENCE, validation_seed=validation_seed,
                           bootstrap=bootstrap, threads=threads, progress=progress)
-    k = nominal_index(window, cfg["operation"]["wob_n"])
+    k = nominal_index(window, Configuration.of(cfg).operation.wob_n)
     wob = float(window.wobs[k])
     speed = episode_speed(window.speeds, comp, tunings)
     episodes = {label: run_episode(cfg, label, drives[label], speed, wob)
                 for label in ["ideal", REFERENCE, *(f"{c}_tuned" for c in tunings)]}
-    t0 = cfg["simulation"]["transient_s"]
+    t0 = Configuration.of(cfg).simulation.transient_s
     motor = {label: [run_episode(cfg, label, d, float(s), wob).summary(t0) for s in window.speeds]
              for label, d in drives.items()}
     return ControlStudy(cfg, float(inertia), torque_limit, window, val, tunings, drives, comp, speed, episodes, motor,
@@ -182,7 +183,7 @@ def summary(study: ControlStudy) -> dict:
         ``validation_window``, ``tunings``, ``drives``, ``comparison``, ``episode_speed_rad_s``,
         ``episodes`` (summaries), ``motor_torque`` and ``config``.
     """
-    t0 = study.config["simulation"]["transient_s"]
+    t0 = Configuration.of(study.config).simulation.transient_s
     return {"preset": study.config.get("name"), "inertia_kg_m2": study.inertia,
             "torque_limit_nm": study.torque_limit, "reference": REFERENCE,
             "tuning_window": study.tuning_window.as_dict(), "validation_window": study.validation_window.as_dict(),

@@ -46,6 +46,7 @@ import numpy as np
 
 from drillpy import _core, validate
 from drillpy.model.config import engine_config, with_overrides
+from drillpy.model.configuration import Configuration
 from drillpy.uncertainty.montecarlo import (DURATION_S, ETA_DT_S, SS_LEVEL, TRANSIENT_S, WARMUP_S, study_config,
                                             study_engine)
 from drillpy.uncertainty.process import THESIS_PSD
@@ -129,7 +130,7 @@ def drive_gains(cfg: dict) -> dict:
     """
     g = _core.Simulation(engine_config(cfg)).drive_gains
     if g is None:
-        raise ValueError(f"top_drive.type = {cfg.get('top_drive', {}).get('type', 'ideal')!r}: has no controller gains")
+        raise ValueError(f"top_drive.type = {Configuration.of(cfg).top_drive.type!r}: has no controller gains")
     return dict(g)
 
 

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from drillpy.figures.simulation import _save, in_units, plt
+from drillpy.model.configuration import Configuration
 
 if TYPE_CHECKING:
     from drillpy.control.study import ControlStudy
@@ -167,8 +168,9 @@ def episode_plot(path, study: "ControlStudy", units: str = "si") -> plt.Figure:
         The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
-    t_end = study.config["simulation"]["duration_s"]
-    t_start = max(study.config["simulation"]["transient_s"], t_end - 60.0)
+    sim = Configuration.of(study.config).simulation
+    t_end = sim.duration_s
+    t_start = max(sim.transient_s, t_end - 60.0)
     for label, e in study.episodes.items():
         w = e.t >= t_start
         wm = e.t_motor >= t_start

@@ -20,6 +20,24 @@ def preset_names() -> list[str]:
     return list(_core.preset_names())
 
 
+def as_dict(config) -> dict:
+    """The dict of a configuration given as a dict or as a typed
+    :class:`~drillpy.model.configuration.Configuration` (its ``to_dict()``), at the JSON edge.
+
+    Parameters
+    ----------
+    config : dict or Configuration
+        A configuration; a dict (or an engine ``_core.Config``) is returned as is.
+
+    Returns
+    -------
+    dict or _core.Config
+    """
+    if isinstance(config, (dict, _core.Config)) or not hasattr(config, "to_dict"):
+        return config
+    return config.to_dict()
+
+
 def to_json_text(config: dict) -> str:
     """JSON text of a configuration for the engine.
 
@@ -27,7 +45,7 @@ def to_json_text(config: dict) -> str:
 
     Parameters
     ----------
-    config : dict
+    config : dict or Configuration
         A configuration (the JSON schema shared with drillsim, docs/presets.md).
 
     Returns
@@ -49,6 +67,7 @@ def to_json_text(config: dict) -> str:
                 walk(v, f"{path}[{i}]")
         elif isinstance(x, float) and not math.isfinite(x):
             raise ValueError(f"{path} = {x}: must be a finite number")
+    config = as_dict(config)
     walk(config, "")
     return json.dumps(config, allow_nan=False)
 
@@ -61,7 +80,7 @@ def engine_config(config) -> "_core.Config":
 
     Parameters
     ----------
-    config : dict or _core.Config
+    config : dict, Configuration or _core.Config
         A configuration (the JSON schema shared with drillsim); a ``_core.Config`` is returned as is.
         A dict is checked for implausible values first
         (:func:`drillpy.model.plausibility.warn_config`: warnings, not errors).
@@ -76,6 +95,7 @@ def engine_config(config) -> "_core.Config":
     ValueError
         Naming the field and the value when the configuration is invalid.
     """
+    config = as_dict(config)
     if isinstance(config, _core.Config):
         return config
     from drillpy.model import plausibility
@@ -88,7 +108,7 @@ def normalize(config: dict) -> dict:
 
     Parameters
     ----------
-    config : dict
+    config : dict or Configuration
         A configuration, possibly partial (missing fields take the engine's defaults).
 
     Returns
@@ -253,7 +273,7 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
 
     Parameters
     ----------
-    cfg : dict
+    cfg : dict or Configuration
         The configuration (not modified).
     elements : int, optional
         Re-mesh the string with this many finite elements, split in proportion to the section
@@ -300,7 +320,7 @@ def with_overrides(cfg: dict, *, elements: int | None = None, modes: int | None 
                         ("top_speed", top_speed), ("wob", wob)):
         if value is not None:  # the type here; the ranges are the configuration's (C++) checks
             validate.number(name, value)
-    c = copy.deepcopy(cfg)
+    c = copy.deepcopy(as_dict(cfg))
     if elements is not None:
         validate.integer("elements", elements, 1, _INT_MAX)
         c = _core.with_total_elements(engine_config(c), int(elements)).to_dict()

@@ -9,12 +9,11 @@
 """
 from __future__ import annotations
 
-import copy
-
 import numpy as np
 
 from drillpy import _core
 from drillpy.model.config import engine_config, normalize, with_overrides
+from drillpy.model.configuration import Configuration
 from drillpy.model.simulation import natural_frequencies, simulate
 
 
@@ -69,10 +68,9 @@ def space_study(cfg: dict, elements=(25, 50, 100, 200, 400), n_freq: int = 5) ->
 
 
 def _with_step(cfg: dict, scheme: str, dt: float, duration: float, sample_every: float) -> dict:
-    c = copy.deepcopy(cfg)
-    c["simulation"].update(scheme=scheme, dt_s=dt, duration_s=duration, transient_s=0.0,
-                           output_stride=int(round(sample_every / dt)))
-    return normalize(c)
+    return normalize(Configuration.of(cfg).replace({
+        "simulation.scheme": scheme, "simulation.dt_s": dt, "simulation.duration_s": duration,
+        "simulation.transient_s": 0.0, "simulation.output_stride": int(round(sample_every / dt))}))
 
 
 def time_study(cfg: dict, top_speed: float, duration: float, rigid_start: bool,
@@ -108,7 +106,7 @@ def time_study(cfg: dict, top_speed: float, duration: float, rigid_start: bool,
         "modified_euler" (appendix A) and "bdf2", ``max_error_rad_s`` per dt and the observed
         ``orders``.
     """
-    m = cfg["rom"]["modes"]
+    m = Configuration.of(cfg).rom.modes
     start = dict(q0=np.zeros(m), qdot0=np.zeros(m)) if rigid_start else {}
     ref_dt = min(dts) / 32
     ref = simulate(_with_step(cfg, "bdf2", ref_dt, duration, sample_every), top_speed, **start)
@@ -175,9 +173,9 @@ def branch_check(cfg: dict, top_speed: float | None = None, *, dt: float | None 
     """
     from drillpy.model.simulation import simulate_many
 
-    c = normalize(copy.deepcopy(cfg))
-    step = float(c["simulation"]["dt_s"] if dt is None else dt)
-    speed = float(c["operation"]["top_speed_rad_s"] if top_speed is None else top_speed)
+    c = Configuration.from_dict(cfg)
+    step = float(c.simulation.dt_s if dt is None else dt)
+    speed = float(c.operation.top_speed_rad_s if top_speed is None else top_speed)
     cfgs = [with_overrides(c, dt=h, top_speed=speed) for h in (step, step / 2)]
     res, err = simulate_many(cfgs, record=False, threads=threads)
     for e in err:

@@ -27,6 +27,7 @@ from drillpy.records import rig_comparison
 from drillpy.records import signals as sig
 from drillpy.records.cleaning import CleaningOptions, CleaningReport, clean
 from drillpy.model.config import load_config
+from drillpy.model.configuration import Configuration
 from drillpy.records.io import RPM, Record, read_record
 
 
@@ -459,7 +460,7 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log,
     (:func:`drillpy.records.rig_calibration.calibrate`) for comparison, and the prediction of the held-out pieces.
     Every case is compared with the same measured side ``side`` (:func:`drillpy.records.rig_comparison.measured_side`);
     ``horizon_error`` gives the held-out pieces' short-horizon E (None: not computed)."""
-    base = load_config(preset=preset)
+    base = Configuration.load(preset=preset)
 
     def sticky(fits):
         return [f for f in fits if f.name.startswith("polynomial")] or list(fits)
@@ -467,7 +468,7 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log,
     wob_fits = sticky(fits_by.get("measured_wob") or fits_by["constant_wob"])
     law_w = min(wob_fits, key=lambda f: f.bic)
     law_c = min(sticky(fits_by["constant_wob"]), key=lambda f: f.bic)
-    out = {"preset": preset, "preset_law": base["law"], "preset_damping": base["damping"], "cases": [],
+    out = {"preset": preset, "preset_law": base.law.to_dict(), "preset_damping": base.damping.to_dict(), "cases": [],
            "law": law_w.name,
            "law_rule": "the non-regularized law (Eqs. 5.1, 5.3: it sticks at its static torque) with the lower BIC, "
                        "identified with the torque scaled by the measured WOB (the whole rig's WOB is a state, "
@@ -487,8 +488,9 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log,
             f"(measured {cmp.measured['stick_fraction']:.3f}), cycle frequency {cmp.simulated['cycle_frequency_hz']:.2f} Hz "
             f"(measured {cmp.measured['cycle_frequency_hz']:.2f})")
 
-    z0 = base["damping"]["ratios"][0]
-    case(f"preset law, zeta {z0:g}, constant top speed", rigsim.RigModel(base["law"], z0, "constant", preset=preset))
+    z0 = base.damping.ratios[0]
+    case(f"preset law, zeta {z0:g}, constant top speed", rigsim.RigModel(base.law.to_dict(), z0, "constant",
+                                                                          preset=preset))
     simple = rig_calibration.calibrate(rec, law_c.law, thr, drives=("constant", "motor", "measured"), preset=preset, log=log)
     for drive, b in simple.per_drive.items():
         m = rigsim.RigModel(law_c.law, b["damping_ratio"], drive, b.get("motor_slope_nms_rad"),

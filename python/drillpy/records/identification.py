@@ -357,7 +357,7 @@ class LawFit:
     name : str
         Law name, one of :data:`LAWS` (equation number in :data:`EQUATIONS`).
     law : dict
-        The fitted engine law, ready for ``config["law"]`` or :func:`law_eval`.
+        The fitted engine law, ready for the ``law`` block of a configuration or :func:`law_eval`.
     names : tuple of str
         Names of the identified parameters (``a0`` first when identified from the stick phases).
     values, stderr : ndarray

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from drillpy.model.configuration import Configuration
 from drillpy.records import signals as sig
 from drillpy.records.io import Record
 from drillpy.records.stick import STICK_FRACTION, stick_threshold
@@ -131,9 +132,9 @@ def torque_capacity_nm(cfg: dict) -> float:
         The torque [N m].
     """
     out = 0.0
-    for s in cfg["string"]["sections"]:
-        ro, ri = float(s["outer_radius_m"]), float(s["inner_radius_m"])
-        g = float(s["youngs_modulus_pa"]) / (2.0 * (1.0 + float(s["poisson_ratio"])))
+    for s in Configuration.of(cfg).string.sections:
+        ro, ri = float(s.outer_radius_m), float(s.inner_radius_m)
+        g = float(s.youngs_modulus_pa) / (2.0 * (1.0 + float(s.poisson_ratio)))
         out = max(out, g * MAX_SHEAR_STRAIN * math.pi * (ro ** 4 - ri ** 4) / (2.0 * ro))
     return out
 
@@ -213,7 +214,8 @@ def _channel_checks(rec: Record, cfg: dict, name: str) -> list:
             "top_speed", "top_speed", f"top_speed: {p.format('top speed')} {_g(top)} rad/s ({_g(top * 30 / math.pi)} "
             f"RPM) is above {_g(MAX_TOP_SPEED_RAD_S)} rad/s, beyond any top drive or downhole motor; a speed unit "
             "error (RPM labelled rad/s)?", top, (0.0, MAX_TOP_SPEED_RAD_S), "rad/s"))
-    declared = float(cfg.get("operation", {}).get("top_speed_rad_s", 0.0))
+    c = Configuration.of(cfg)
+    declared = float(c.operation.top_speed_rad_s) if "operation" in c else 0.0
     if rec.top_speed is not None and rec.valid("top_speed").any() and declared > 0.0:
         med = float(np.median(np.abs(rec.top_speed[rec.valid("top_speed")])))
         ratio = med / declared

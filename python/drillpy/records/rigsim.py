@@ -28,13 +28,13 @@ is checked on data it was not calibrated on. This module holds the model and its
 """
 from __future__ import annotations
 
-import copy
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from drillpy.model.config import load_config, normalize
+from drillpy.model.config import normalize
+from drillpy.model.configuration import Configuration
 from drillpy.records import stick as _stick
 from drillpy.records.stick import STICK_FRACTION
 from drillpy.records.io import Flag, Record
@@ -136,41 +136,108 @@ def rig_config(law: dict | None = None, damping_ratio: float | None = None, *, p
     dict
         The normalized engine configuration.
     """
-    cfg = copy.deepcopy(load_config(preset=preset))
+    cfg = Configuration.load(preset=preset)
     if law is not None:
-        cfg["law"] = {k: (float(v) if isinstance(v, (np.floating, np.integer)) else v) for k, v in law.items()}
+        cfg = cfg.replace(law={k: (float(v) if isinstance(v, (np.floating, np.integer)) else v) for k, v in law.items()})
     if damping_ratio is not None:
-        cfg["damping"] = {"type": "modal", "ratios": [float(damping_ratio)]}
+        cfg = cfg.replace(damping={"type": "modal", "ratios": [float(damping_ratio)]})
     if duration_s is not None:
-        cfg["simulation"]["duration_s"] = float(duration_s)
-        cfg["simulation"]["transient_s"] = min(cfg["simulation"]["transient_s"], 0.5 * float(duration_s))
-    cfg["operation"]["wob_n"] = float(cfg["law"]["wob_ref_n"] if wob is None else wob)
+        cfg = cfg.replace({"simulation.duration_s": float(duration_s),
+                           "simulation.transient_s": min(cfg.simulation.transient_s, 0.5 * float(duration_s))})
+    cfg = cfg.replace({"operation.wob_n": float(cfg.law.wob_ref_n if wob is None else wob)})
     if top_speed is not None:
-        cfg["operation"]["top_speed_rad_s"] = float(top_speed)
-    cfg.pop("top_drive", None)
+        cfg = cfg.replace({"operation.top_speed_rad_s": float(top_speed)})
+    drive = None
     if motor is not None:
-        cfg["top_drive"] = {"type": "motor", "slope_nms_rad": float(motor[0]), "inertia_kg_m2": float(motor[1])}
+        drive = {"type": "motor", "slope_nms_rad": float(motor[0]), "inertia_kg_m2": float(motor[1])}
         if len(motor) > 2 and motor[2] is not None:
-            cfg["top_drive"]["max_torque_nm"] = float(motor[2])
-    cfg.pop("axial", None)
-    if axial is not None:
-        cfg["axial"] = {"type": "jack", "gain_n_rad": float(axial[0]), "relaxation_s": float(axial[1])}
+            drive["max_torque_nm"] = float(motor[2])
+    jack = None if axial is None else {"type": "jack", "gain_n_rad": float(axial[0]), "relaxation_s": float(axial[1])}
+    cfg = cfg.replace(top_drive=None, axial=None).replace(top_drive=drive, axial=jack)  # the preset's removed
     if gj_factor != 1.0:
-        for sec in cfg["string"]["sections"]:
-            sec["youngs_modulus_pa"] = float(sec["youngs_modulus_pa"]) * float(gj_factor)
-    if bit_inertia_factor != 1.0:
-        for li in cfg["string"].get("lumped_inertias", []):
-            if li["node"] == -1:
-                li["inertia_kg_m2"] = float(li["inertia_kg_m2"]) * float(bit_inertia_factor)
+        cfg = cfg.replace({"string.sections": [
+            {**s.to_dict(), "youngs_modulus_pa": float(s.youngs_modulus_pa) * float(gj_factor)}
+            for s in cfg.string.sections]})
+    if bit_inertia_factor != 1.0 and "lumped_inertias" in cfg.string:
+        cfg = cfg.replace({"string.lumped_inertias": [
+            {**li.to_dict(), "inertia_kg_m2": float(li.inertia_kg_m2) * float(bit_inertia_factor)} if li.node == -1
+            else li.to_dict() for li in cfg.string.lumped_inertias]})
     if coupling_stiffness is not None:
-        add_coupling(cfg, coupling_stiffness)
+        cfg = with_coupling(cfg, coupling_stiffness)
     return normalize(cfg)
 
 
+def _shifted_inertias(cfg: Configuration, first: int, by: int) -> dict:
+    """``string.lumped_inertias`` with the node indices from ``first`` on moved by ``by`` (nothing
+    when the configuration lists none)."""
+    if "lumped_inertias" not in cfg.string:
+        return {}
+    return {"string.lumped_inertias": [{**li.to_dict(), "node": li.node + by} if li.node >= first else li.to_dict()
+                                       for li in cfg.string.lumped_inertias]}
+
+
+def with_coupling(cfg, stiffness: float) -> Configuration:
+    """The configuration with a massless shaft coupling of torsional stiffness ``stiffness`` [N m/rad]
+    between the top drive and the string: a first section named ``"coupling"``,
+    :data:`COUPLING_LENGTH_M` long, of the top section's material, whose G J / L is the stiffness (its
+    inertia is negligible).
+
+    Parameters
+    ----------
+    cfg : dict or Configuration
+        Engine configuration (not modified).
+    stiffness : float
+        k_c [N m/rad], positive.
+
+    Returns
+    -------
+    Configuration
+        The copy with the coupling (the lumped inertias' node indices shifted by one).
+    """
+    cfg = Configuration.of(cfg)
+    top = cfg.string.sections[0]
+    E, nu, L = float(top.youngs_modulus_pa), float(top.poisson_ratio), COUPLING_LENGTH_M
+    G = E / (2.0 * (1.0 + nu))
+    r = (2.0 * float(stiffness) * L / (math.pi * G)) ** 0.25  # G pi r^4 / 2 / L = k_c
+    coupling = {"name": "coupling", "length_m": L, "outer_radius_m": r, "inner_radius_m": 0.0,
+                "youngs_modulus_pa": E, "poisson_ratio": nu, "density_kg_m3": float(top.density_kg_m3), "elements": 1}
+    return cfg.replace({"string.sections": [coupling, *cfg.string.sections],
+                        **_shifted_inertias(cfg, 0, 1)})  # the coupling's element comes first
+
+
+def without_coupling(cfg) -> tuple:
+    """The configuration without the shaft coupling of :func:`with_coupling`, and its stiffness.
+
+    Parameters
+    ----------
+    cfg : dict or Configuration
+        Engine configuration (not modified).
+
+    Returns
+    -------
+    config : Configuration
+        The copy without the coupling section (the configuration itself when it has none).
+    stiffness : float or None
+        k_c [N m/rad], or None when the configuration has no coupling section.
+    """
+    cfg = Configuration.of(cfg)
+    secs = cfg.string.sections
+    if not secs or secs[0].get("name") != "coupling":
+        return cfg, None
+    c = secs[0]
+    G = float(c.youngs_modulus_pa) / (2.0 * (1.0 + float(c.poisson_ratio)))
+    k = G * math.pi * float(c.outer_radius_m) ** 4 / 2.0 / float(c.length_m)
+    return cfg.replace({"string.sections": list(secs[1:]), **_shifted_inertias(cfg, 1, -1)}), k
+
+
+def _in_place(cfg: dict, new: Configuration) -> None:
+    """Make the dict ``cfg`` hold ``new`` (the in-place form of the functions above)."""
+    cfg.clear()
+    cfg.update(new.to_dict())
+
+
 def add_coupling(cfg: dict, stiffness: float) -> None:
-    """Put a massless shaft coupling of torsional stiffness ``stiffness`` [N m/rad] between the top
-    drive and the string: a first section named ``"coupling"``, :data:`COUPLING_LENGTH_M` long, of
-    the top section's material, whose G J / L is the stiffness (its inertia is negligible).
+    """:func:`with_coupling` in place.
 
     Parameters
     ----------
@@ -179,20 +246,11 @@ def add_coupling(cfg: dict, stiffness: float) -> None:
     stiffness : float
         k_c [N m/rad], positive.
     """
-    top = cfg["string"]["sections"][0]
-    E, nu, L = float(top["youngs_modulus_pa"]), float(top["poisson_ratio"]), COUPLING_LENGTH_M
-    G = E / (2.0 * (1.0 + nu))
-    r = (2.0 * float(stiffness) * L / (math.pi * G)) ** 0.25  # G pi r^4 / 2 / L = k_c
-    cfg["string"]["sections"].insert(0, {"name": "coupling", "length_m": L, "outer_radius_m": r,
-                                         "inner_radius_m": 0.0, "youngs_modulus_pa": E, "poisson_ratio": nu,
-                                         "density_kg_m3": float(top["density_kg_m3"]), "elements": 1})
-    for li in cfg["string"].get("lumped_inertias", []):
-        if li["node"] >= 0:
-            li["node"] += 1  # the coupling's element comes first
+    _in_place(cfg, with_coupling(cfg, stiffness))
 
 
 def remove_coupling(cfg: dict) -> float | None:
-    """Take the shaft coupling of :func:`add_coupling` out of a configuration.
+    """:func:`without_coupling` in place: take the shaft coupling out of a configuration.
 
     Parameters
     ----------
@@ -204,15 +262,10 @@ def remove_coupling(cfg: dict) -> float | None:
     float or None
         Its stiffness k_c [N m/rad], or None when the configuration has no coupling section.
     """
-    secs = cfg["string"]["sections"]
-    if not secs or secs[0].get("name") != "coupling":
-        return None
-    c = secs.pop(0)
-    G = float(c["youngs_modulus_pa"]) / (2.0 * (1.0 + float(c["poisson_ratio"])))
-    for li in cfg["string"].get("lumped_inertias", []):
-        if li["node"] >= 1:
-            li["node"] -= 1
-    return G * math.pi * float(c["outer_radius_m"]) ** 4 / 2.0 / float(c["length_m"])
+    new, k = without_coupling(cfg)
+    if k is not None:
+        _in_place(cfg, new)
+    return k
 
 
 def reliable_top_speed(record: Record) -> np.ndarray:
@@ -580,9 +633,8 @@ def drive_series(record: Record) -> np.ndarray:
 
 def _setup(model: RigModel, record: Record, command: float, wob: float) -> dict:
     """The engine configuration of ``model`` over ``record``'s span, output on its grid."""
-    cfg = model.config(command, wob, duration_s=float(record.time_s[-1] - record.time_s[0]))
-    cfg["simulation"]["output_stride"] = max(1, int(round(record.dt / cfg["simulation"]["dt_s"])))
-    return normalize(cfg)
+    cfg = Configuration.of(model.config(command, wob, duration_s=float(record.time_s[-1] - record.time_s[0])))
+    return normalize(cfg.replace({"simulation.output_stride": max(1, int(round(record.dt / cfg.simulation.dt_s)))}))
 
 
 def _channels(res, record: Record, filtered: bool, platform_damping: float | None = None):
@@ -769,8 +821,8 @@ def simulate_rig(record: Record, law: dict | None = None, damping_ratio: float |
         raise ValueError(f"drive = {drive!r}: use {', '.join(DRIVES)}")
     if drive == "motor" and motor is None:
         raise ValueError("drive = 'motor' needs motor = (slope c_m [N m s/rad], inertia J_m [kg m^2])")
-    base = load_config(preset=preset)
-    law = base["law"] if law is None else law
-    z = base["damping"]["ratios"][0] if damping_ratio is None else damping_ratio
+    base = Configuration.load(preset=preset)
+    law = base.law.to_dict() if law is None else law
+    z = base.damping.ratios[0] if damping_ratio is None else damping_ratio
     m = RigModel(law, float(z), drive, *(motor if motor else (None, None)), preset=preset)
     return simulate_model(m, record, filtered=filtered)

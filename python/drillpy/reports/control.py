@@ -7,6 +7,7 @@ from pathlib import Path
 
 from drillpy.outputs import write_text
 from drillpy.control.study import ControlStudy, summary
+from drillpy.model.configuration import Configuration
 from drillpy.control.tuning import TUNABLE, UNITS
 from drillpy.jsonio import dumps
 from drillpy.provenance import provenance, with_markdown_footer
@@ -76,7 +77,7 @@ def report_text(study: ControlStudy) -> str:
                      f"{pd['value']:+.3f} [{pd['low']:+.3f}, {pd['high']:+.3f}] | {r['stalled_fraction']:.3f} | "
                      f"{r['mean_ss']:.3f} | "
                      f"{_threshold_text(r)} | {p05} |")
-    t0 = study.config["simulation"]["transient_s"]
+    t0 = Configuration.of(study.config).simulation.transient_s
     lines += ["", f"## Stick-slip episode at {study.episode_speed:.4g} rad/s (nominal WOB)", "",
               "| drive | SS | stick fraction | peak motor torque [N m] | mean motor torque [N m] | within limit |",
               "|---|---|---|---|---|---|"]

@@ -13,6 +13,7 @@ import numpy as np
 from drillpy.outputs import write_text
 from drillpy.jsonio import dumps
 from drillpy.model.config import load_config, normalize
+from drillpy.model.configuration import Configuration
 from drillpy.loop.effects import CATALOGUE
 from drillpy.loop.options import LoopOptions
 from drillpy.loop.run import LoopResult, run_loop
@@ -117,7 +118,7 @@ def evidence_json(res: LoopResult) -> dict:
                        "horizons_set_apart": [{"start_s": float(d.t[s]), "reason": r}
                                               for s, r in sorted(d.set_apart.items())]},
             "options": {k: (list(v) if isinstance(v, tuple) else v) for k, v in vars(res.options).items()},
-            "engine_dt_s": res.config["simulation"]["dt_s"],
+            "engine_dt_s": Configuration.of(res.config).simulation.dt_s,
             "baseline": ev_summary(res.baseline), "final": ev_summary(res.final),
             "adequacy": res.adequacy, "declared": res.declared, "baseline_long_run": res.baseline_long_run,
             "steps": [{k: s[k] for k in ("action", "effect", "error_before", "error_after", "evidence", "long_run")}
@@ -142,20 +143,20 @@ def model_config(res: LoopResult) -> dict:
         The normalized configuration, named ``<name>-loop``, its description naming the record and
         the effects (``config.json``).
     """
-    c = res.final.model.engine_config()
-    c["name"] = f"{c.get('name', 'model')}-loop"
-    c["description"] = ("calibrated by drillpy loop on " + Path(res.data.source).name + "; effects: "
-                        + (", ".join(res.final.model.effects) or "none"))
-    return normalize(c)
+    c = Configuration.of(res.final.model.engine_config())
+    return normalize(c.replace(name=f"{c.name if 'name' in c else 'model'}-loop",
+                               description=("calibrated by drillpy loop on " + Path(res.data.source).name + "; effects: "
+                                            + (", ".join(res.final.model.effects) or "none"))))
 
 
 # ---------------------------------------------------------------------------------- report
 
 
-def _damping(d: dict) -> str:
-    if d.get("type") == "modal":
-        return "modal damping ratios " + ", ".join(f"{r:g}" for r in d["ratios"])
-    return "Rayleigh damping " + ", ".join(f"{z:g} at {f:g} Hz" for f, z in d["pairs"])
+def _damping(d) -> str:
+    """A configuration's ``damping`` block (a :class:`~drillpy.model.configuration.Block`) in words."""
+    if d.type == "modal":
+        return "modal damping ratios " + ", ".join(f"{r:g}" for r in d.ratios)
+    return "Rayleigh damping " + ", ".join(f"{z:g} at {f:g} Hz" for f, z in d.pairs)
 
 
 def _params(p: dict) -> str:
@@ -232,9 +233,10 @@ def render_report(res: LoopResult, files: dict) -> str:
     """
     d, b, f = res.data, res.baseline, res.final
     o = res.options
+    cfg = Configuration.of(res.config)
     L = [f"# drillpy loop: `{Path(d.source).name}`", "",
-         f"Declared model `{res.config.get('name')}` ({res.config['rom']['modes']} mode(s), law "
-         f"`{res.config['law']['type']}`, {_damping(res.config['damping'])}), calibrated on the record, then "
+         f"Declared model `{res.config.get('name')}` ({cfg.rom.modes} mode(s), law "
+         f"`{cfg.law.type}`, {_damping(cfg.damping)}), calibrated on the record, then "
          f"extended by the effects of the catalogue the evidence supports.", "",
          *markdown(res.warnings), "## Data", "",
          f"- {d.t.size} samples at {1 / d.dt:g} Hz (record {d.record_rate_hz:g} Hz, decimated by {d.decimation}), "
@@ -242,7 +244,7 @@ def render_report(res: LoopResult, files: dict) -> str:
          f"- **calibration part** t < {d.t_split:.3f} s ({int((~d.is_test).sum())} horizons), **validation part** "
          f"t >= {d.t_split:.3f} s ({int(d.is_test.sum())} horizons), horizons of {o.horizon_s:g} s. Nothing is fitted "
          "on the validation part; the errors reported are the validation part's.",
-         f"- engine step {res.config['simulation']['dt_s']:.3g} s (modified Euler); derivatives by Savitzky-Golay "
+         f"- engine step {cfg.simulation.dt_s:.3g} s (modified Euler); derivatives by Savitzky-Golay "
          f"filters of {o.derivative_window_s:g} s (order 4).", ""]
     L += ["## Metrics", "",
           "- **Law residual**: r_law = T - T_model(v, a, W) on the slip samples (bit speed above "

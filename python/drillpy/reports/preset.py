@@ -15,6 +15,7 @@ import numpy as np
 from drillpy.outputs import write_text
 from drillpy.figures import simulation as plotting
 from drillpy.model.config import with_overrides
+from drillpy.model.configuration import Configuration
 from drillpy.provenance import provenance
 from drillpy.model.simulation import natural_frequencies, simulate, stability_map, sweep_severity
 from drillpy.model.threshold import format_threshold, stick_slip_threshold
@@ -175,6 +176,7 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     summary: dict = {"preset": cfg.get("name"), "config": cfg}
+    view = Configuration.of(cfg)
 
     f = natural_frequencies(cfg, 5)
     summary["frequencies_hz"] = [round(float(x), 4) for x in f]
@@ -190,11 +192,11 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
                            title=f"{cfg.get('name')}: SS vs top speed" + (" (Fig. 4.8)" if thesis else ""),
                            units=figure_units)
 
-    op_speed = cfg["operation"]["top_speed_rad_s"]
+    op_speed = view.operation.top_speed_rad_s
     summary["run"] = _run_summary(simulate(cfg, op_speed), op_speed)
     # Converged reference for the periodic regime (section 4.2.1): all modes, BDF2, long run.
-    n_free = sum(sec["elements"] for sec in cfg["string"]["sections"])
-    duration = max(400.0, cfg["simulation"]["duration_s"])
+    n_free = sum(sec.elements for sec in view.string.sections)
+    duration = max(400.0, view.simulation.duration_s)
     ref_cfg = with_overrides(cfg, modes=n_free, scheme="bdf2", duration=duration, transient=duration / 2)
     ref = simulate(ref_cfg, op_speed)
     summary["reference_run"] = {**_run_summary(ref, op_speed), "modes": n_free, "scheme": "bdf2",
@@ -208,7 +210,7 @@ def field_report(cfg: dict, out_dir: str | Path, *, speeds=None, map_speeds_rpm=
                          title=f"{cfg.get('name')}: {op_speed:g} rad/s at the top, all modes, BDF2 "
                                "(last 60 s)", units=figure_units)
 
-    if cfg["law"]["type"] == "hysteretic":
+    if view.law.type == "hysteretic":
         sp_rpm = np.linspace(50, 160, 23) if map_speeds_rpm is None else np.asarray(map_speeds_rpm, float)
         w_kn = np.linspace(22, 267, 12) if map_wobs_kn is None else np.asarray(map_wobs_kn, float)
         maps = {}
@@ -296,11 +298,18 @@ def write_sweep(out_dir: str | Path, speeds, severity, threshold: float | None, 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     plotting.severity_plot(out / "severity_vs_top_speed.png", speeds, severity, threshold, units=figure_units)
-    start = start or cfg.get("simulation", {}).get("start", "rest")  # the start used
+    start = start or _start(cfg)  # the start used
     # the grid run, in the configuration: drillsim --job sweep on it repeats the sweep
-    cfg = {**cfg, "sweep": {"top_speeds_rad_s": [float(v) for v in speeds], "wobs_n": []}}
+    cfg = Configuration.of(cfg).replace(sweep={"top_speeds_rad_s": [float(v) for v in speeds], "wobs_n": []}).to_dict()
     write_text((out / "sweep.json"), dumps({**summary, "config": cfg, "provenance": provenance(start=start)}))
     return out
+
+
+def _start(cfg) -> str:
+    """The initial state a configuration's runs take (``simulation.start``; ``rest`` without a
+    ``simulation`` block)."""
+    sim = Configuration.of(cfg).get("simulation")
+    return "rest" if sim is None else sim.start
 
 
 def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict, cfg: dict,
@@ -336,10 +345,10 @@ def write_map(out_dir: str | Path, speeds_rpm, wobs_kn, severity, summary: dict,
     from drillpy.figures import simulation as plotting
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    plotting.stability_map_plot(out / "stability_map.png", speeds_rpm, wobs_kn, {cfg["law"]["type"]: severity},
-                                units=figure_units)
-    start = start or cfg.get("simulation", {}).get("start", "rest")  # the start used
-    cfg = {**cfg, "sweep": {"top_speeds_rad_s": [float(v) * np.pi / 30.0 for v in speeds_rpm],
-                            "wobs_n": [float(w) * 1e3 for w in wobs_kn]}}  # the grid run [rad/s, N]
+    plotting.stability_map_plot(out / "stability_map.png", speeds_rpm, wobs_kn,
+                                {Configuration.of(cfg).law.type: severity}, units=figure_units)
+    start = start or _start(cfg)  # the start used
+    cfg = Configuration.of(cfg).replace(sweep={"top_speeds_rad_s": [float(v) * np.pi / 30.0 for v in speeds_rpm],
+                                               "wobs_n": [float(w) * 1e3 for w in wobs_kn]}).to_dict()  # [rad/s, N]
     write_text((out / "map.json"), dumps({**summary, "config": cfg, "provenance": provenance(start=start)}))
     return out

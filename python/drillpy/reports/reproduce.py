@@ -26,6 +26,7 @@ import numpy as np
 
 from drillpy.outputs import write_text
 from drillpy.model.config import load_config, with_overrides
+from drillpy.model.configuration import Configuration
 from drillpy.provenance import provenance, with_markdown_footer
 from drillpy.jsonio import dumps
 
@@ -318,7 +319,7 @@ def chapter4(out: Path, o: Options) -> tuple[list, list]:
         c3 = with_overrides(c3, duration=400, transient=200)
         run = simulate(c3, speed)
         err = _cycle_error(run.period_stick, run.period_slip) if run.period_cycles == 3 else math.inf
-        name = "thesis-ch4" if c3["operation"]["wob_n"] == 200e3 else "thesis-field with 100 modes (245 kN)"
+        name = "thesis-ch4" if Configuration.of(c3).operation.wob_n == 200e3 else "thesis-field with 100 modes (245 kN)"
         if kind == "target":
             fig = out / "fig4_6.png"
             plotting.time_series_plot(fig, run.t, run.bit_speed, run.torque_on_bit, run.top_speed,

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from drillpy.model.configuration import Configuration
 from drillpy.model.simulation import natural_frequencies
 from drillpy.uncertainty.frf import band_widths, cb_frequencies, conv2_vs_modes, default_frequencies, frf_envelope
 
@@ -234,13 +235,14 @@ def chapter6_study(cfg: dict, *, samples: int = 2500, mode_samples: int = 400, s
     """
     f = default_frequencies() if freq_hz is None else np.asarray(freq_hz, dtype=float)
     kw = dict(samples=samples, seed=seed, freq_hz=f, progress=progress, threads=threads)
+    sections = Configuration.of(cfg).string.sections
     summary: dict = {"preset": cfg.get("name"), "samples": samples, "seed": seed,
                      "frequencies_hz": [float(f[0]), float(f[-1]), int(f.size)], "bands_hz": BANDS_HZ}
 
     n_fe = 8
     fe = natural_frequencies(cfg, n_fe)
     mode_list = [m for m in (3, 5, 7, 10, 15, 20, 25, 35, 50) if 2 * m + 1 >= n_fe]
-    errs = [np.abs(cb_frequencies(cfg, n_fe, [m] * len(cfg["string"]["sections"])) / fe - 1.0) for m in mode_list]
+    errs = [np.abs(cb_frequencies(cfg, n_fe, [m] * len(sections)) / fe - 1.0) for m in mode_list]
     summary["cb_convergence"] = {"fe_frequencies_hz": fe.round(5).tolist(), "modes": mode_list,
                                  "max_rel_error_first5": [float(e[:5].max()) for e in errs],
                                  "max_rel_error_first8": [float(e.max()) for e in errs]}
@@ -258,7 +260,7 @@ def chapter6_study(cfg: dict, *, samples: int = 2500, mode_samples: int = 400, s
                                 "relative_to_final": [(c2[n - 1] / c2[-1]).round(4).tolist()
                                                       for n in (100, 500, 1000, 1500, 2000, samples) if n <= samples]}
     curves_by = {}
-    for k, name in enumerate(s["name"] for s in cfg["string"]["sections"]):
+    for k, name in enumerate(s.name for s in sections):
         curves_by[name] = {sc: conv2_vs_modes(cfg, k, modes, "SM_CB2", samples=mode_samples, seed=seed, freq_hz=f,
                                               progress=progress, threads=threads, **a)
                            for sc, a in CONV2_SCENARIOS.items()}

@@ -12,13 +12,13 @@ inner column only.
 """
 from __future__ import annotations
 
-import copy
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from drillpy import _core, validate
 from drillpy.model.config import engine_config
+from drillpy.model.configuration import Configuration
 from drillpy.progress import progress_bar
 
 MODELS = ("SM_full", "SM_CB1", "SM_CB2")
@@ -66,9 +66,9 @@ def n_substructures(cfg: dict) -> int:
     Returns
     -------
     int
-        ``len(cfg["string"]["sections"])``.
+        ``len(cfg.string.sections)``.
     """
-    return len(cfg["string"]["sections"])
+    return len(Configuration.of(cfg).string.sections)
 
 
 def dispersions(cfg: dict, model: str = "SM_CB2", delta=None, case: int | None = None) -> np.ndarray:
@@ -158,9 +158,7 @@ def with_cb_modes(cfg: dict, modes) -> dict:
     dict
         A deep copy with ``craig_bampton = {"modes": [...]}``.
     """
-    c = copy.deepcopy(cfg)
-    c["craig_bampton"] = {"modes": [int(m) for m in modes]}
-    return c
+    return Configuration.of(cfg).replace(craig_bampton={"modes": [int(m) for m in modes]}).to_dict()
 
 
 def stochastic_model(cfg: dict, model: str = "SM_CB2", delta=None, case: int | None = None):
@@ -553,7 +551,7 @@ def conv2_vs_modes(cfg: dict, substructure: int, modes, model: str = "SM_CB2", d
     numpy.ndarray
         Conv2(samples) [rad/s^2 / (N m) sqrt(rad/s)] per mode count and observation point.
     """
-    base = list(cfg["craig_bampton"]["modes"])
+    base = list(Configuration.of(cfg).craig_bampton.modes)
     if not 0 <= substructure < len(base):
         raise ValueError(f"substructure = {substructure}: must be between 0 and {len(base) - 1}")
     out = []

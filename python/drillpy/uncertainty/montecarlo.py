@@ -29,6 +29,7 @@ import numpy as np
 
 from drillpy import _core, validate
 from drillpy.model.config import engine_config, with_overrides
+from drillpy.model.configuration import Configuration
 from drillpy.uncertainty.process import THESIS_PSD, Psd, psd_on_grid
 from drillpy.progress import progress_bar
 
@@ -237,7 +238,7 @@ def default_warmup(cfg: dict) -> float:
     cfg : dict
         The study's configuration.
     """
-    return 0.0 if (cfg.get("axial") or {}).get("type") == "rgd" else WARMUP_S
+    return 0.0 if Configuration.of(cfg).axial.type == "rgd" else WARMUP_S
 
 
 def study_engine(cfg: dict, psd: Psd, eta_dt: float, seed: int, warmup: float) -> "_core.MonteCarlo":
@@ -261,8 +262,7 @@ def study_engine(cfg: dict, psd: Psd, eta_dt: float, seed: int, warmup: float) -
     _core.MonteCarlo
         Its ``severity``/``severity_and_bit_speed`` run samples by index (common random numbers).
     """
-    sim = cfg["simulation"]
-    _, S = psd_on_grid(psd, eta_dt, sim["duration_s"])
+    _, S = psd_on_grid(psd, eta_dt, Configuration.of(cfg).simulation.duration_s)
     return _core.MonteCarlo(engine_config(cfg), S, float(eta_dt), seed, float(warmup))
 
 
@@ -372,8 +372,8 @@ def stochastic_study(cfg: dict, speeds, samples: int, seed: int, *, psd: Psd = T
 
 
 def _settings(c: dict, psd: Psd, eta_dt: float, warmup: float) -> dict:
-    return {"warmup_s": float(warmup), "duration_s": c["simulation"]["duration_s"],
-            "transient_s": c["simulation"]["transient_s"], "dt_s": c["simulation"]["dt_s"],
+    sim = Configuration.of(c).simulation
+    return {"warmup_s": float(warmup), "duration_s": sim.duration_s, "transient_s": sim.transient_s, "dt_s": sim.dt_s,
             "eta_dt_s": float(eta_dt),
             "psd": psd.as_dict() if hasattr(psd, "as_dict") else {"type": "callable"},
             "psd_convention": "one-sided, per Hz: Var[eta] = integral_0^inf S(f) df"}
@@ -609,7 +609,7 @@ def phase_study(cfg: dict, speed: float | None = None, *, seed: int, cycles: int
     ncyc = validate.integer("cycles", cycles, 1, 10**6)
     nb = validate.integer("batch", batch, 1, 100000)
     c = study_config(cfg, duration, transient)
-    om = float(c["operation"]["top_speed_rad_s"] if speed is None else speed)
+    om = float(Configuration.of(c).operation.top_speed_rad_s if speed is None else speed)
     speed_grid([om])
     warmup = default_warmup(c) if warmup is None else warmup
     mc = study_engine(c, psd, eta_dt, seed, warmup)
@@ -679,6 +679,6 @@ def stochastic_run(cfg: dict, top_speed: float, seed: int, *, sample: int = 0,
     from drillpy.uncertainty.process import generate
     from drillpy.model.simulation import simulate
     c = study_config(cfg, duration, transient)
-    t, eta = generate(psd, dt=eta_dt, duration=c["simulation"]["duration_s"], samples=1,
+    t, eta = generate(psd, dt=eta_dt, duration=Configuration.of(c).simulation.duration_s, samples=1,
                       seed=seed, first_sample=sample)
     return simulate(c, float(top_speed), eta_series=eta[0], series_dt=eta_dt), t, eta[0]

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from drillpy.model.config import with_overrides
+from drillpy.model.configuration import Configuration
 from drillpy.model.simulation import SimulationResult, simulate
 from drillpy.uncertainty.montecarlo import ETA_DT_S, PhaseStudy, StochasticStudy, phase_study, stochastic_run
 from drillpy.uncertainty.process import THESIS_PSD, Psd, PsdFit, fit_eta, generate, welch
@@ -122,7 +123,7 @@ def stochastic_analysis(study: StochasticStudy, cfg: dict, *, psd: Psd = THESIS_
     info: dict = {"psd_fit": {"record_s": FIT_RECORD_S, "f0_hz": m.f0, "A0": m.A0, "a": m.a, "b": m.b,
                               "rms_log_residual": fit.rms_log_residual}}
 
-    om = float(cfg["operation"]["top_speed_rad_s"])
+    om = float(Configuration.of(cfg).operation.top_speed_rad_s)
     sto, _, _ = stochastic_run(cfg, om, seed, psd=psd, eta_dt=eta_dt)
     det = simulate(with_overrides(cfg, duration=200.0, transient=100.0), om)
     t_end = float(sto.t[-1])

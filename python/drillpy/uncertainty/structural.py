@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from drillpy import _core, validate
+from drillpy.model.configuration import Configuration
 from drillpy.uncertainty.frf import stochastic_model
 from drillpy.uncertainty.montecarlo import ETA_DT_S
 from drillpy.uncertainty.process import psd_on_grid
@@ -158,7 +159,7 @@ def severity_study(cfg: dict, speeds, samples: int, *, model: str = "SM_CB2", de
     first = validate.integer("first_sample", first_sample, 0, 2**62)
     if eta is not None and eta_psd is not None:
         raise ValueError("give either eta or eta_psd, not both")
-    S = None if eta_psd is None else psd_on_grid(eta_psd, eta_dt, cfg["simulation"]["duration_s"])[1]
+    S = None if eta_psd is None else psd_on_grid(eta_psd, eta_dt, Configuration.of(cfg).simulation.duration_s)[1]
     sm = stochastic_model(cfg, model, delta, case)
     eta_arg = None if eta is None else np.ascontiguousarray(eta, dtype=float)
     with progress_bar(samples * sp.size, label or "SS under structural uncertainty", progress) as cb:
