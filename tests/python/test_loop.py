@@ -341,7 +341,7 @@ def test_damping_hold_is_searched_again_when_the_refit_leaves_the_cycle(monkeypa
     parameters moves that edge below it (validation case 13: the motor's droop 2.51 -> 2.81), the
     search is repeated from the refit model, so the held model stick-slips like the record. A
     stand-in long run sticks below a damping edge of 0.15 before any refit and 0.11 after one."""
-    from drillpy.loop import run as R
+    from drillpy.loop import damping_hold as R
     from drillpy.loop.model import LoopModel
     meas = {"ss": 1.05, "stick_fraction": 0.12, "cycle_frequency_hz": 2.6}
     refits = []
@@ -363,7 +363,7 @@ def test_damping_hold_is_searched_again_when_the_refit_leaves_the_cycle(monkeypa
     monkeypatch.setattr(R, "long_run", long_run)
     monkeypatch.setattr(R, "refit", refit)
     m0 = LoopModel({"damping": {"type": "modal", "ratios": [0.25]}}, {}, 8.0, 500.0)
-    held, lr, note = R._hold_damping(m0, long_run(m0, None), None, L.LoopOptions(), log=lambda *a: None)
+    held, lr, note = R.hold_damping(m0, long_run(m0, None), None, L.LoopOptions(), log=lambda *a: None)
     assert refits[0] > 0.11  # the first hold sat where only the model before the refit sticks
     assert 2 <= len(refits) <= R.HOLD_ROUNDS
     assert held.damping_held and held.damping_ratios[0] < 0.11 and lr["stick_slips"]["model"]

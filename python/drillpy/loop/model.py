@@ -54,7 +54,7 @@ class LoopModel:
         effects).
     damping_held : bool
         True: the modal damping ratios are set by the limit cycle, not fitted
-        (``run._hold_damping``); they then do not count in :attr:`k`.
+        (``damping_hold.hold_damping``); they then do not count in :attr:`k`.
     gj_tolerance : float
         Relative tolerance of the declared GJ (``LoopOptions.gj_tolerance``): the string's GJ is
         calibrated within 1 +- it while ``string_stiffness`` is not an effect; 0: held as declared.
@@ -81,7 +81,7 @@ class LoopModel:
     wob: float        #: WOB W_0 at which the law is evaluated [N]
     effects: dict = field(default_factory=dict)
     n_law: int = 0    #: free parameters of the law
-    damping_held: bool = False  #: the damping ratios are set by the limit cycle, not fitted (run._hold_damping)
+    damping_held: bool = False  #: the damping ratios are set by the limit cycle, not fitted (damping_hold.hold_damping)
     gj_tolerance: float = 0.0   #: relative tolerance of the declared GJ, within which it is calibrated
     gj_factor: float = 1.0      #: calibrated GJ over the declared GJ (within the tolerance)
     intervals: dict = field(default_factory=dict)  #: 95 % intervals of the effects' parameters

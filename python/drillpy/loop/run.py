@@ -9,12 +9,11 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
-
 from drillpy.model.config import normalize
 from drillpy.model.plausibility import fitted_values
 from drillpy.records.io import read_record
 from drillpy.records.plausibility import check_record, emit
+from .damping_hold import hold_damping
 from .data import LoopData, prepare
 from .discovery import discover, library, residual_structure
 from .effects import CATALOGUE
@@ -399,70 +398,6 @@ def _recalibration(fit, null: Evaluation, cur: Evaluation, cur_lr: dict, data: L
 #: A steel string's (bar's) modal damping ratio above this is implausible: the final model is flagged
 #: (a structural damping of a few per cent; the whole-rig model's range, ``rigsim.RIG_PARAMETERS``).
 PLAUSIBLE_DAMPING = 0.1
-#: Rounds of the damping hold: search, refit, and again while the refit model has left the cycle.
-HOLD_ROUNDS = 3
-
-
-def _hold_damping(model: LoopModel, lr: dict, data: LoopData, opt: LoopOptions, log) -> tuple:
-    """When the record stick-slips and the calibrated model does not, the short horizons have
-    over-damped it (a prediction that cannot follow the phase scores better when damped towards the
-    mean): the damping ratios are scaled down to the value whose long run matches the record's SS and
-    stick fraction best (a geometric grid down to a tenth of it), then held while the rest is
-    recalibrated. The best match lies near the edge of the stick-slip region, where the refit's
-    small changes of the other parameters can take the model off the cycle: while the refit model
-    no longer stick-slips, the search is repeated from it (grid 1.6 to 0.4), at most
-    :data:`HOLD_ROUNDS` times. Returns (model, long run, note) or the inputs with note None."""
-    retune = model.damping_held
-    first_hold = not retune
-    if not lr or "error" in lr or not lr["stick_slips"]["measured"] or model.damping_ratios is None \
-            or (lr["stick_slips"]["model"] and not retune):
-        return model, lr, None
-    meas = lr["measured"]
-    z_first = model.damping_ratios
-
-    def mismatch(r):
-        if "error" in r:
-            return math.inf
-        m = r["model"]
-        return abs((m["ss"] or 0.0) - meas["ss"]) / meas["ss"] + abs(
-            (m["stick_fraction"] or 0.0) - meas["stick_fraction"]) / max(meas["stick_fraction"], 0.01)
-
-    held, new_lr = None, lr
-    for _ in range(HOLD_ROUNDS):
-        z0 = model.damping_ratios
-        factors = np.geomspace(1.6, 0.4, 13) if retune else np.geomspace(1.0, 0.1, 13)[1:]
-        best = (mismatch(new_lr) if retune else math.inf, 1.0, new_lr)
-        for f in factors:
-            m = model.copy()
-            m.cfg["damping"]["ratios"] = [z * float(f) for z in z0]
-            r = long_run(m, data)
-            best = min(best, (mismatch(r), float(f), r), key=lambda b: b[0])
-        f = best[1]
-        if retune and f == 1.0:
-            break
-        held = model.copy()
-        held.cfg["damping"]["ratios"] = [z * f for z in z0]
-        held.damping_held = True
-        held, _ = refit(held, data, opt)
-        new_lr = long_run(held, data)
-        model, retune = held, True
-        if "error" in new_lr or new_lr["stick_slips"]["model"]:
-            break
-    if held is None:
-        return model, lr, None
-    z0, z = [round(x, 4) for x in z_first], [round(x, 4) for x in held.damping_ratios]
-    if first_hold:
-        note = (f"the short-horizon calibration gives damping ratios {z0}, with which the model does not "
-                f"stick-slip while the record does (SS {lr['model']['ss']:.3f} against {meas['ss']:.3f}); the "
-                f"ratios are held at {z}, the value whose long run matches the record's SS and stick fraction "
-                "best, and the rest is recalibrated")
-    else:
-        note = (f"damping ratios re-held at {z} (from {z0}): the value whose long run matches the record's SS "
-                "and stick fraction best with this step's model")
-    log(note)
-    return held, new_lr, note
-
-
 def _discovery(model: LoopModel, data: LoopData, log) -> dict:
     eq = equation_residual(model, data)
     if eq is None:
@@ -629,7 +564,7 @@ def _baseline(cfg: dict, data: LoopData, opt: LoopOptions, notes: list, log) -> 
         f"({int((~data.is_test).sum())} horizons), validation ({int(data.is_test.sum())} horizons of {opt.horizon_s:g} s)")
     m0, _ = calibrate(cfg, data, opt)
     base_lr = _long(opt, m0, data)
-    m0, base_lr, note = _hold_damping(m0, base_lr, data, opt, log)
+    m0, base_lr, note = hold_damping(m0, base_lr, data, opt, log)
     if note:
         notes.append(note)
     base = evaluate(m0, data, opt.threads)
@@ -751,7 +686,7 @@ def _choose(st: _State, results: list):
         lr = _long(opt, nm, data)
         held = None
         if nm.damping_held:  # the limit cycle sets the damping: re-held with the new effect
-            m2, lr2, held = _hold_damping(nm, lr, data, opt, st.log)
+            m2, lr2, held = hold_damping(nm, lr, data, opt, st.log)
             if held:
                 new, lr = evaluate(m2, data, opt.threads), lr2
         gate = step_gate(cur.E_test, new.E_test, opt.min_gain)

@@ -23,7 +23,7 @@ class ViscousDamping(Effect):
     #: calibration of the modal damping ratio absorbs) plus a constant torque c_v Omega outside the
     #: sensor, which ``string_friction`` describes while the bit slips. The effect is identifiable as
     #: such only when the top speed varies.
-    #: While the damping ratios are held by the limit cycle (loop.run._hold_damping) an extra viscous
+    #: While the damping ratios are held by the limit cycle (loop.damping_hold.hold_damping) an extra viscous
     #: torque would undo that choice: it is then not a candidate.
     confounded_with = ("damping",)
     defaults = {"bit_viscous_nms": 0.03}
