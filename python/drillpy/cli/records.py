@@ -380,7 +380,8 @@ def cmd_calibrate(a: argparse.Namespace) -> int:
         if grids is not None:
             from drillpy.calibration.stability import stability_map
             smap = stability_map(s, *grids, samples=a.map_samples, seed=a.seed, threads=a.threads)
-            s["files"].append(str(smap.save(Path(a.out) / "map.zarr")))
+            from drillpy.reports.calibration import write_map
+            s["files"] += write_map(smap, a.out)
     if a.json:
         extra = {} if smap is None else {"stability_map": {
             "speeds_rad_s": smap.speeds.tolist(), "wobs_n": smap.wobs.tolist(), "p_unstable": smap.p_unstable.tolist(),

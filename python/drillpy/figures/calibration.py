@@ -124,3 +124,40 @@ def predictive_plot(path, summary: dict) -> plt.Figure:
     ax.set_ylabel("predicted / measured")
     ax.set_title("posterior predictive 90 % intervals on the held-out window", fontsize=9)
     return _save(fig, path)
+
+
+def posterior_map_plot(path, smap) -> plt.Figure:
+    """The posterior stability map: P(SS > 0.5 or a stall) over the motor command x WOB, with the
+    P = 0.5 contour and the cells' Wilson 90 % interval widths as text, beside P(stall).
+
+    Parameters
+    ----------
+    path : str or Path or None
+        PNG to write.
+    smap : drillpy.calibration.stability.StabilityMap
+        The map (:func:`drillpy.calibration.stability.stability_map`).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    x, y = np.asarray(smap.speeds), np.asarray(smap.wobs)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.0), squeeze=False)
+    panels = (("P(SS > 0.5 or a stall)", smap.p_unstable), ("P(stall)", smap.p_stall))
+    for ax, (label, p) in zip(axes[0], panels):
+        pc = ax.pcolormesh(x, y, p, shading="nearest", cmap="viridis", vmin=0.0, vmax=1.0)
+        if min(p.shape) >= 2 and np.nanmin(p) < 0.5 < np.nanmax(p):
+            ax.contour(x, y, p, levels=[0.5], colors="w", linewidths=1.5)
+        if label.startswith("P(SS"):
+            for i, w in enumerate(y):
+                for j, s in enumerate(x):
+                    lo, hi = smap.ci90[0, i, j], smap.ci90[1, i, j]
+                    ax.text(s, w, f"{p[i, j]:.2f}\n[{lo:.2f}, {hi:.2f}]", ha="center", va="center", fontsize=6,
+                            color="w" if p[i, j] < 0.6 else "k")
+        ax.set_xlabel("motor command [rad/s]")
+        ax.set_ylabel("WOB (the jack's set force) [N]")
+        ax.set_title(label, fontsize=10)
+        fig.colorbar(pc, ax=ax)
+    fig.suptitle(f"posterior stability map: {smap.settings.get('samples', '?')} samples, each a posterior draw "
+                 "with its own eta (Eq. 4.1)", fontsize=9)
+    return _save(fig, path)

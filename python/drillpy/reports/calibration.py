@@ -47,6 +47,30 @@ def calibrate_to_folder(record, out, **options) -> dict:
     return s
 
 
+def write_map(smap, out) -> list:
+    """Write a posterior stability map into ``out``: ``map.zarr`` (:meth:`StabilityMap.save`) and
+    ``map.png`` (:func:`drillpy.figures.calibration.posterior_map_plot`).
+
+    Parameters
+    ----------
+    smap : drillpy.calibration.stability.StabilityMap
+        The map.
+    out : str or Path
+        Output folder (exists).
+
+    Returns
+    -------
+    list of str
+        The paths written.
+    """
+    from drillpy.figures.calibration import posterior_map_plot
+    out = Path(out)
+    files = [smap.save(out / "map.zarr")]
+    posterior_map_plot(out / "map.png", smap)
+    files.append(out / "map.png")
+    return [str(f) for f in files]
+
+
 def summary_lines(s: dict) -> list:
     """The text of a calibration's summary: the run, each family's probability with its Monte Carlo
     standard error and its parameters' medians and 90 % intervals against their priors, the
