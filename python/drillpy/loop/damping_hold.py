@@ -25,7 +25,26 @@ def hold_damping(model: LoopModel, lr: dict, data: LoopData, opt: LoopOptions, l
     recalibrated. The best match lies near the edge of the stick-slip region, where the refit's
     small changes of the other parameters can take the model off the cycle: while the refit model
     no longer stick-slips, the search is repeated from it (grid 1.6 to 0.4), at most
-    :data:`HOLD_ROUNDS` times. Returns (model, long run, note) or the inputs with note None."""
+    :data:`HOLD_ROUNDS` times.
+
+    Parameters
+    ----------
+    model : LoopModel
+        The calibrated model (its ``damping_held``: a re-hold after a step searches around it).
+    lr : dict
+        Its long run (:func:`drillpy.loop.longrun.long_run`).
+    data : LoopData
+        The record on the analysis grid.
+    opt : LoopOptions
+        The loop's options (the refit's).
+    log : callable
+        Called with the note.
+
+    Returns
+    -------
+    tuple
+        (model, long run, note), or the inputs with note None when nothing is held.
+    """
     retune = model.damping_held
     first_hold = not retune
     if not lr or "error" in lr or not lr["stick_slips"]["measured"] or model.damping_ratios is None \
