@@ -6,6 +6,7 @@ import numpy as np
 from drillpy.records.rigsim import RIG_PARAMETERS
 
 from .base import Effect, Param
+from ..view import view
 
 _G, _TAU = RIG_PARAMETERS["jack_gain_n_rad"], RIG_PARAMETERS["jack_relaxation_s"]
 
@@ -77,7 +78,7 @@ class AxialJack(Effect):
         return bool(data.wob_response and data.wob_response["response"])
 
     def declared(self, cfg):
-        """``cfg["axial"]`` when it is a jack (its ``gain_n_rad`` and ``relaxation_s``), else None;
+        """``cfg.axial`` when it is a jack (its ``gain_n_rad`` and ``relaxation_s``), else None;
         see :meth:`Effect.declared`.
 
         Parameters
@@ -85,10 +86,10 @@ class AxialJack(Effect):
         cfg : dict
             The declared engine configuration.
         """
-        ax = cfg.get("axial", {"type": "none"})
-        if ax.get("type") != "jack":
+        ax = view(cfg).axial
+        if ax.type != "jack":
             return None
-        return {"gain_n_rad": float(ax["gain_n_rad"]), "relaxation_s": float(ax["relaxation_s"])}
+        return {"gain_n_rad": float(ax.gain_n_rad), "relaxation_s": float(ax.relaxation_s)}
 
     def strip(self, cfg):
         """Remove ``axial`` (the WOB the law's input again); see :meth:`Effect.strip`.

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from .base import Effect, Param
+from ..view import view
 
 
 class ViscousDamping(Effect):
@@ -53,7 +54,7 @@ class ViscousDamping(Effect):
         cfg : dict
             The declared engine configuration.
         """
-        cv = float(cfg["operation"].get("bit_viscous_nms", 0.0))
+        cv = float(view(cfg).operation.get("bit_viscous_nms", 0.0))
         return {"bit_viscous_nms": cv} if cv > 0 else None
 
     def strip(self, cfg):
