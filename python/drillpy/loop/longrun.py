@@ -16,6 +16,7 @@ from drillpy.model.simulation import simulate
 from .data import LoopData
 from .effects import CATALOGUE
 from .model import LoopModel
+from .view import view
 
 METRICS = ("ss", "stick_fraction", "cycle_frequency_hz")
 #: A model stick-slips when its stick fraction reaches this.
@@ -52,7 +53,7 @@ def simulate_record(model: LoopModel, data: LoopData) -> Record:
     """
     rec = data.record
     t, dt = rec.time_s, rec.dt
-    cfg = Configuration._owning(model.engine_config())  # a fresh dict: no copy
+    cfg = view(model.engine_config())
     stride = max(1, int(round(dt / cfg.simulation.dt_s)))
     cfg = Configuration.from_dict(cfg.replace({"simulation.duration_s": float(t[-1] - t[0]) + SETTLE_S,
                                                "simulation.transient_s": 0.0, "simulation.output_stride": stride,

@@ -26,6 +26,7 @@ import numpy as np
 from drillpy.model.config import normalize
 from drillpy.model.configuration import Configuration
 from drillpy.loop.effects import CATALOGUE
+from drillpy.loop.view import view
 from drillpy.uncertainty.process import PsdTable, generate, process_variance
 from drillpy.records.io import Record
 from drillpy.model.simulation import simulate
@@ -98,7 +99,7 @@ def truth_config(seed: int, *, modes: int = 3, elements: int = 40, dt_factor: in
         ``elements`` and ``dt_s`` [s].
     """
     rng = np.random.default_rng([seed, 7919])
-    cfg = Configuration._owning(declared_config())
+    cfg = view(declared_config())
     z = float(rng.uniform(0.03, 0.08))
     gj = float(rng.uniform(0.985, 1.015))
     scale, slope = float(rng.uniform(0.92, 1.08)), float(rng.uniform(0.9, 1.1))
@@ -241,9 +242,9 @@ def synthetic_record(effects=(), *, duration_s: float = 12.0, seed: int = 0, fs_
         cfg = Configuration.of(config)
     elif nuisance:
         cfg, draws = truth_config(seed)
-        cfg = Configuration._owning(cfg)
+        cfg = view(cfg)
     else:
-        cfg = Configuration._owning(declared_config())
+        cfg = view(declared_config())
     dt_out, dt = 1.0 / fs_hz, cfg.simulation.dt_s
     stride = int(round(dt_out / dt))
     if stride < 1 or abs(stride * dt - dt_out) > 1e-9 * dt_out:
@@ -263,7 +264,7 @@ def synthetic_record(effects=(), *, duration_s: float = 12.0, seed: int = 0, fs_
         if name in CATALOGUE:
             CATALOGUE[name].inject(truth, eff[name])
         elif name == "top_speed_ramp":
-            om = float(Configuration._owning(truth.cfg).operation.top_speed_rad_s)  # a view: no copy
+            om = float(view(truth.cfg).operation.top_speed_rad_s)
             t = np.arange(n_series) * sdt
             truth.top = om * (1.0 + eff[name]["ramp_fraction"] * (t / total - 0.5))
     cfg = Configuration.from_dict(truth.cfg)

@@ -158,12 +158,12 @@ class AxialJack(Effect):
         Parameters
         ----------
         truth : drillpy.loop.synthetic.Truth
-            The synthetic truth (its configuration is modified).
+            The synthetic truth (its configuration replaced by a changed copy).
         p : dict
             ``{"gain_n_rad": g [N/rad], "relaxation_s": tau [s]}`` (defaults 130 and 0.1).
         """
-        truth.cfg["axial"] = {"type": "jack", "gain_n_rad": float(p["gain_n_rad"]),
-                              "relaxation_s": float(p["relaxation_s"])}
+        truth.cfg = view(truth.cfg).replace(axial={"type": "jack", "gain_n_rad": float(p["gain_n_rad"]),
+                                                   "relaxation_s": float(p["relaxation_s"])}).to_dict()
 
 
 EFFECT = AxialJack()

@@ -558,8 +558,9 @@ class Effect:
         Parameters
         ----------
         truth : drillpy.loop.synthetic.Truth
-            The synthetic truth being built; its configuration ``cfg``, input series (``wob``,
-            ``wob_law``, ``eta``, ``top``) or measurement functions ``post`` are modified in place.
+            The synthetic truth being built; its configuration ``cfg`` (edited in place or replaced
+            by a changed copy: read ``truth.cfg`` after), input series (``wob``, ``wob_law``, ``eta``,
+            ``top``) or measurement functions ``post`` are changed.
         p : dict
             The truth's parameters of the effect: :attr:`defaults` updated with the caller's values
             (the keys of :attr:`defaults`, which may differ from the fitted :attr:`params`).

@@ -309,18 +309,18 @@ class TopDriveDynamics(Effect):
         Parameters
         ----------
         truth : drillpy.loop.synthetic.Truth
-            The synthetic truth (its configuration is modified).
+            The synthetic truth (its configuration replaced by a changed copy).
         p : dict
             ``{"slope_nms_rad": c_m [N m s/rad], "inertia_kg_m2": J_m [kg m^2]}`` (defaults 0.25 and
             0.02).
         """
-        cfg = truth.cfg
-        cfg["top_drive"] = {"type": "motor", "slope_nms_rad": p["slope_nms_rad"], "inertia_kg_m2": p["inertia_kg_m2"]}
         from drillpy.model.simulation import law_torque
-        c = view(cfg)
+        c = view(truth.cfg)
         om0, w0 = float(c.operation.top_speed_rad_s), float(c.operation.wob_n)
         t_mean = float(law_torque(c.law.to_dict(), om0, 0.0, w0)[0]) + c.operation.get("bit_viscous_nms", 0.0) * om0
-        cfg["operation"]["top_speed_rad_s"] = om0 + t_mean / p["slope_nms_rad"]  # command above the mean by the droop
+        truth.cfg = c.replace({"operation.top_speed_rad_s": om0 + t_mean / p["slope_nms_rad"]},  # above the mean by the droop
+                              top_drive={"type": "motor", "slope_nms_rad": p["slope_nms_rad"],
+                                         "inertia_kg_m2": p["inertia_kg_m2"]}).to_dict()
 
 
 EFFECT = TopDriveDynamics()
