@@ -83,7 +83,7 @@ class AxialJack(Effect):
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration.
         """
         ax = view(cfg).axial

@@ -53,7 +53,7 @@ class BitHysteresis(Effect):
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration (its ``law``).
         """
         law = view(cfg).law

@@ -79,7 +79,7 @@ class SensorLag(Effect):
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration.
         """
         sensors = view(cfg).get("sensors")

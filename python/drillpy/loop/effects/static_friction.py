@@ -177,7 +177,7 @@ class StaticFriction(Effect):
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration (its ``law`` and ``operation.wob_n`` W [N]).
         """
         cfg = view(cfg)

@@ -97,7 +97,7 @@ class StringFriction(Effect):
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration.
         """
         t = float(view(cfg).operation.get("string_friction_nm", 0.0))

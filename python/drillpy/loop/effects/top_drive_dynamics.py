@@ -228,7 +228,7 @@ class TopDriveDynamics(Effect):
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration.
         """
         cfg = view(cfg)

@@ -51,7 +51,7 @@ class ViscousDamping(Effect):
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration.
         """
         cv = float(view(cfg).operation.get("bit_viscous_nms", 0.0))
