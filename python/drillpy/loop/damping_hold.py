@@ -12,6 +12,7 @@ from .fitting import refit
 from .longrun import long_run
 from .model import LoopModel
 from .options import LoopOptions
+from .view import view
 
 #: Rounds of the damping hold: search, refit, and again while the refit model has left the cycle.
 HOLD_ROUNDS = 3
@@ -67,14 +68,14 @@ def hold_damping(model: LoopModel, lr: dict, data: LoopData, opt: LoopOptions, l
         best = (mismatch(new_lr) if retune else math.inf, 1.0, new_lr)
         for f in factors:
             m = model.copy()
-            m.cfg["damping"]["ratios"] = [z * float(f) for z in z0]
+            m.cfg = view(m.cfg).replace({"damping.ratios": [z * float(f) for z in z0]}).to_dict()
             r = long_run(m, data)
             best = min(best, (mismatch(r), float(f), r), key=lambda b: b[0])
         f = best[1]
         if retune and f == 1.0:
             break
         held = model.copy()
-        held.cfg["damping"]["ratios"] = [z * f for z in z0]
+        held.cfg = view(held.cfg).replace({"damping.ratios": [z * f for z in z0]}).to_dict()
         held.damping_held = True
         held, _ = refit(held, data, opt)
         new_lr = long_run(held, data)

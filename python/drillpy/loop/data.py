@@ -16,6 +16,7 @@ from drillpy.records.io import Record, read_record
 from drillpy.records.rig_comparison import metric_scale, stalls
 from drillpy.records.rigsim import WOB_TREND_HZ, reliable_top_speed, wob_trend
 from .options import LoopOptions
+from .view import view
 
 #: Channels the cleaning searches for spikes: the encoders (the load cells' torque and WOB drop
 #: sharply, and genuinely, when the bit nearly sticks).
@@ -309,7 +310,7 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions, scale: tup
     dt = rec.dt * q
     v_meas, T_meas = filled(rec.bit_speed)[::q], filled(rec.torque_on_bit)[::q]
     has_top, has_wob = rec.top_speed is not None, rec.wob is not None
-    top_ref = float(np.median(ch["top"][ok])) if has_top else float(cfg["operation"]["top_speed_rad_s"])
+    top_ref = float(np.median(ch["top"][ok])) if has_top else float(view(cfg).operation.top_speed_rad_s)
     thr = opt.stick_fraction * abs(top_ref)
     t_split = float(t[0] + opt.calibration_fraction * (t[-1] - t[0]))
     L = int(round(opt.horizon_s / dt))

@@ -21,6 +21,7 @@ from .data import LoopData
 from .effects import CATALOGUE, declared_effects, stripped
 from .model import STIFFNESS, LoopModel, law_channels, law_torque, residual_vector, residual_vectors
 from .options import LoopOptions
+from .view import view
 
 LAW = "law"          #: pseudo-effect: the law's free parameters (and the WOB coupling gain)
 DAMPING = "damping"  #: pseudo-effect: the modal damping ratios
@@ -277,7 +278,9 @@ def _unpack(model: LoopModel, x, where, knot: bool, trial: bool = False) -> Loop
     """The model with the parameters ``x`` (:func:`_pack`'s ``where``). A copy of the model
     (configuration, law and effects); with ``trial`` (an optimizer's evaluation, read only) a copy of
     what the parameters change alone (the law, the effects' parameter dicts and, when fitted, the
-    damping section), the rest of the configuration shared with ``model``."""
+    damping section), the rest of the configuration shared with ``model``: dicts edited in place, the
+    copy-on-write a :meth:`Configuration.replace <drillpy.model.configuration.Configuration.replace>`
+    of the whole configuration would cost on every trial avoided."""
     if trial:
         damping = any(w[0] == DAMPING for w in where)
         cfg = {**model.cfg, "damping": {**model.cfg["damping"], "ratios": list(model.cfg["damping"]["ratios"])}} \
@@ -629,11 +632,12 @@ def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:
         (LoopModel, intervals as :func:`fit_dynamic`).
     """
     tr = data.valid & (data.t < data.t_split)
-    om = float(np.mean(data.ch["top"][tr])) if data.has_top else float(cfg["operation"]["top_speed_rad_s"])
-    w0 = float(np.mean(data.ch["W"][tr])) if data.has_wob else float(cfg["operation"]["wob_n"])
+    op = view(cfg).operation
+    om = float(np.mean(data.ch["top"][tr])) if data.has_top else float(op.top_speed_rad_s)
+    w0 = float(np.mean(data.ch["W"][tr])) if data.has_wob else float(op.wob_n)
     base = stripped(cfg)
     wr = data.wob_response
-    m = LoopModel(base, dict(base["law"]), om, w0, declared_effects(cfg), gj_tolerance=opt.gj_tolerance,
+    m = LoopModel(base, view(base).law.to_dict(), om, w0, declared_effects(cfg), gj_tolerance=opt.gj_tolerance,
                   wob_input=wr["input"] if wr else "measured", wob_is_response=bool(wr and wr["response"]),
                   metric_scale=(data.sigma_v, data.sigma_T))
     return refit(m, data, opt)

@@ -9,12 +9,14 @@ import numpy as np
 
 from drillpy.records import rig_comparison
 from drillpy import _core
-from drillpy.model.config import engine_config, normalize
+from drillpy.model.config import engine_config
+from drillpy.model.configuration import Configuration
 from drillpy.records.io import Record
 from drillpy.model.simulation import simulate
 from .data import LoopData
 from .effects import CATALOGUE
 from .model import LoopModel
+from .view import view
 
 METRICS = ("ss", "stick_fraction", "cycle_frequency_hz")
 #: A model stick-slips when its stick fraction reaches this.
@@ -51,11 +53,11 @@ def simulate_record(model: LoopModel, data: LoopData) -> Record:
     """
     rec = data.record
     t, dt = rec.time_s, rec.dt
-    cfg = model.engine_config()
-    stride = max(1, int(round(dt / cfg["simulation"]["dt_s"])))
-    cfg["simulation"].update({"duration_s": float(t[-1] - t[0]) + SETTLE_S, "transient_s": 0.0,
-                              "output_stride": stride, "dt_s": dt / stride})
-    cfg = normalize(cfg)
+    cfg = view(model.engine_config())
+    stride = max(1, int(round(dt / cfg.simulation.dt_s)))
+    cfg = Configuration.from_dict(cfg.replace({"simulation.duration_s": float(t[-1] - t[0]) + SETTLE_S,
+                                               "simulation.transient_s": 0.0, "simulation.output_stride": stride,
+                                               "simulation.dt_s": dt / stride}))
     pad = int(round(SETTLE_S / dt))
 
     def series(x):  # the record's channel, its first value held over the settling time
@@ -74,7 +76,7 @@ def simulate_record(model: LoopModel, data: LoopData) -> Record:
         if x is not None:
             wob = series(x)
     start = {}
-    if cfg.get("top_drive", {}).get("type") == "motor" and rec.top_speed is not None:
+    if _type(cfg, "top_drive") == "motor" and rec.top_speed is not None:
         # Eq. (2.10) at the measured top speed: the motor turns as the record's top does, not at
         # its command (two to three times faster on a soft motor, a start that flings the bit far
         # beyond the speeds the law was calibrated on)
@@ -86,15 +88,21 @@ def simulate_record(model: LoopModel, data: LoopData) -> Record:
     n = min(int(keep.sum()), t.size)
     chans = {"bit_speed": res.bit_speed[keep][:n], "top_speed": res.top_speed[keep][:n],
              "torque_on_bit": res.torque_on_bit[keep][:n]}
-    chans["torque_on_bit"] = chans["torque_on_bit"] - cfg["operation"].get("bit_viscous_nms", 0.0) * chans["bit_speed"]
+    chans["torque_on_bit"] = chans["torque_on_bit"] - cfg.operation.get("bit_viscous_nms", 0.0) * chans["bit_speed"]
     for name, p in model.effects.items():
         chans = CATALOGUE[name].measure(p, chans, 1.0 / dt)
     # the WOB the law saw: the jack's state (axial), else the constant W_0
-    w_out = res.wob[keep][:n] if cfg.get("axial", {}).get("type") == "jack" else np.full(n, model.wob)
+    w_out = res.wob[keep][:n] if _type(cfg, "axial") == "jack" else np.full(n, model.wob)
     return Record(time_s=t[:n], wob=w_out, **chans,
                   units={"time": "s", "bit_speed": "rad_s", "top_speed": "rad_s", "torque_on_bit": "Nm", "wob": "N"},
                   provenance={"source": "simulation", "format": "drillpy.simulate",
                               "drive": "measured" if top is not None else "model"})
+
+
+def _type(cfg: Configuration, block: str):
+    """The ``type`` of a block of the configuration, None without the block."""
+    b = cfg.get(block)
+    return None if b is None else b.get("type")
 
 
 def _filled(rec: Record, name: str) -> np.ndarray:

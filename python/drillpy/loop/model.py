@@ -20,6 +20,7 @@ from drillpy.records import identification as ident
 from drillpy.model.config import engine_config
 from .data import LoopData, measured
 from .effects import CATALOGUE
+from .view import view
 
 #: The catalogue's effect that carries a GJ beyond the declared geometry's tolerance.
 STIFFNESS = "string_stiffness"
@@ -35,7 +36,7 @@ class LoopModel:
     cfg : dict
         The declared engine configuration with every catalogue effect stripped
         (:func:`drillpy.loop.effects.stripped`): string geometry, reduced-order model, damping
-        (the calibrated modal ratios in ``cfg["damping"]["ratios"]``), law family, operation and
+        (the calibrated modal ratios in its ``damping.ratios``), law family, operation and
         simulation settings at the loop's engine step.
     law : dict
         The calibrated bit-rock law (engine ``law`` section: ``type``, ``speed_unit`` and its
@@ -106,8 +107,8 @@ class LoopModel:
     @property
     def damping_ratios(self) -> list | None:
         """Modal damping ratios (calibrated), or None for Rayleigh damping (held as declared)."""
-        d = self.cfg["damping"]
-        return list(d["ratios"]) if d.get("type") == "modal" else None
+        d = view(self.cfg).damping
+        return list(d.ratios) if d.type == "modal" else None
 
     @property
     def gj_free(self) -> bool:
@@ -122,7 +123,12 @@ class LoopModel:
 
     def engine_config(self) -> dict:
         """The engine configuration of the model, every effect applied (a new dict; the model's
-        configuration is not modified)."""
+        configuration is not modified).
+
+        A dict edited in place, not :meth:`Configuration.replace <drillpy.model.configuration.Configuration.replace>`:
+        the calibration builds one per trial, straight into ``_core.Config.from_dict``; one tree copy
+        (:func:`_copy_tree`) and the effects' in-place :meth:`~drillpy.loop.effects.base.Effect.configure`
+        cost no schema lookup and no second copy."""
         c = _copy_tree(self.cfg)
         c["law"] = dict(self.law)
         c["operation"]["wob_n"] = float(self.wob)
@@ -136,7 +142,7 @@ class LoopModel:
     def parameters(self) -> dict:
         """The model's parameters for ``loop.json`` (SI; the law in its own speed unit)."""
         return {"law": dict(self.law), "top_speed_rad_s": self.top_speed, "wob_n": self.wob,
-                "damping": self.cfg["damping"], "gj_factor": self.gj_factor, "effects": copy.deepcopy(self.effects)}
+                "damping": view(self.cfg).damping.to_dict(), "gj_factor": self.gj_factor, "effects": copy.deepcopy(self.effects)}
 
     def to_dict(self) -> dict:
         """``model.json``: the engine configuration with every effect applied, the effects and the
@@ -239,7 +245,7 @@ def motor_inertia_floor(model: LoopModel) -> float:
         The inertia J_m [kg m^2] between 1e-12 and 10 (60 bisections in ln J) at which the bound
         meets the step; 1e-12 when even that admits it.
     """
-    dt = model.cfg["simulation"]["dt_s"]
+    dt = view(model.cfg).simulation.dt_s
     c = model.engine_config()
     c.pop("top_drive", None)
     sim = simulation(c)
@@ -822,18 +828,18 @@ def bit_equation(model: LoopModel) -> dict:
         ``k_nm_rad`` k [N m/rad], ``J_kg_m2`` J [kg m^2], ``c_nms_rad`` c [N m s/rad] (0 with
         Rayleigh damping), ``viscous_nms_rad`` c_v [N m s/rad], ``string_friction_nm`` T_sf [N m].
     """
-    cfg = model.engine_config()
+    cfg = view(model.engine_config())
     flex, j_string = 0.0, 0.0
-    for s in cfg["string"]["sections"]:
-        jp = math.pi / 2.0 * (s["outer_radius_m"] ** 4 - s["inner_radius_m"] ** 4)
-        g = s["youngs_modulus_pa"] / (2.0 * (1.0 + s["poisson_ratio"]))
-        flex += s["length_m"] / (g * jp)
-        j_string += s["density_kg_m3"] * jp * s["length_m"]
+    for s in cfg.string.sections:
+        jp = math.pi / 2.0 * (s.outer_radius_m ** 4 - s.inner_radius_m ** 4)
+        g = s.youngs_modulus_pa / (2.0 * (1.0 + s.poisson_ratio))
+        flex += s.length_m / (g * jp)
+        j_string += s.density_kg_m3 * jp * s.length_m
     k = 1.0 / flex
-    j_bit = sum(li["inertia_kg_m2"] for li in cfg["string"].get("lumped_inertias", []) if li.get("node", -1) == -1)
+    j_bit = sum(li.inertia_kg_m2 for li in cfg.string.get("lumped_inertias", ()) if li.get("node", -1) == -1)
     J = j_bit + j_string / 3.0
     ratios = model.damping_ratios or [0.0]
-    op = cfg["operation"]
+    op = cfg.operation
     return {"k_nm_rad": k, "J_kg_m2": J, "c_nms_rad": 2.0 * ratios[0] * math.sqrt(k * J),
             "viscous_nms_rad": float(op.get("bit_viscous_nms", 0.0)),
             "string_friction_nm": float(op.get("string_friction_nm", 0.0))}

@@ -4,12 +4,12 @@ null candidate, check every corrected model's limit cycle, and regress what is l
 of terms (docs/loop.md)."""
 from __future__ import annotations
 
-import copy
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from drillpy.model.config import normalize
+from drillpy.model.configuration import Configuration
 from drillpy.model.plausibility import fitted_values
 from drillpy.records.io import read_record
 from drillpy.records.plausibility import check_record, emit
@@ -174,24 +174,24 @@ def analysis_config(cfg: dict, dt: float, dt_engine: float | None = None) -> dic
 
     Parameters
     ----------
-    cfg : dict
+    cfg : dict or Configuration
         Engine configuration (normalized); not modified.
     dt : float
         Analysis sampling interval [s].
     dt_engine : float, optional
-        Requested engine step [s] (default: ``cfg["simulation"]["dt_s"]``).
+        Requested engine step [s] (default: ``cfg.simulation.dt_s``).
 
     Returns
     -------
     dict
         A normalized copy with the new ``simulation.dt_s`` [s].
     """
-    c = copy.deepcopy(cfg)
-    k = max(1, math.ceil(dt / (dt_engine or c["simulation"]["dt_s"]) - 1e-9))
-    c["simulation"]["dt_s"] = dt / k
-    c["simulation"]["duration_s"] = max(c["simulation"]["duration_s"], 2 * dt)
-    c["simulation"]["transient_s"] = min(c["simulation"]["transient_s"], 0.5 * c["simulation"]["duration_s"])
-    return normalize(c)
+    c = Configuration.of(cfg)
+    sim = c.simulation
+    k = max(1, math.ceil(dt / (dt_engine or sim.dt_s) - 1e-9))
+    duration = max(sim.duration_s, 2 * dt)
+    return normalize(c.replace({"simulation.dt_s": dt / k, "simulation.duration_s": duration,
+                                "simulation.transient_s": min(sim.transient_s, 0.5 * duration)}))
 
 
 def _without(model: LoopModel, name: str) -> LoopModel:
@@ -547,11 +547,12 @@ def _read(record, cfg: dict, opt: LoopOptions, log) -> tuple:
 def _analysis(cfg: dict, data: LoopData, opt: LoopOptions, notes: list) -> dict:
     """Stage 2, the engine configuration of the analysis: modified Euler at a step dividing the
     analysis interval (:func:`analysis_config`), with notes on what that changes."""
-    if cfg["rom"]["modes"] > 1:
-        notes.append(f"the model keeps {cfg['rom']['modes']} modes: the restart state puts the first mode in "
+    c = Configuration.of(cfg)
+    if c.rom.modes > 1:
+        notes.append(f"the model keeps {c.rom.modes} modes: the restart state puts the first mode in "
                      "motion and the others in quasi-static equilibrium (exact only with one mode)")
-    if cfg["simulation"]["scheme"] != "modified_euler":
-        cfg = normalize({**cfg, "simulation": {**cfg["simulation"], "scheme": "modified_euler"}})
+    if c.simulation.scheme != "modified_euler":
+        cfg = normalize(c.replace({"simulation.scheme": "modified_euler"}))
         notes.append("the loop integrates with the modified Euler scheme (the motor top drive needs it)")
     return analysis_config(cfg, data.dt, opt.dt_s)
 

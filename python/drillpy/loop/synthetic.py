@@ -18,14 +18,15 @@ without the coupling, so that a loop must tell whether the torque follows it. Al
 """
 from __future__ import annotations
 
-import copy
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from drillpy.model.config import load_config, normalize
+from drillpy.model.config import normalize
+from drillpy.model.configuration import Configuration
 from drillpy.loop.effects import CATALOGUE
+from drillpy.loop.view import view
 from drillpy.uncertainty.process import PsdTable, generate, process_variance
 from drillpy.records.io import Record
 from drillpy.model.simulation import simulate
@@ -64,14 +65,10 @@ def declared_config(preset: str = "thesis-rig", damping_ratio: float = DAMPING_R
         Normalized engine configuration: the preset's law with ``beta1 = 0`` (if it has one), no
         bit viscous torque (``bit_viscous_nms = 0``), no ``top_drive`` and no ``sensors`` section.
     """
-    cfg = copy.deepcopy(load_config(preset=preset))
-    cfg["damping"] = {"type": "modal", "ratios": [float(damping_ratio)]}
-    if "beta1" in cfg["law"]:
-        cfg["law"]["beta1"] = 0.0
-    cfg["operation"]["bit_viscous_nms"] = 0.0
-    cfg.pop("top_drive", None)
-    cfg.pop("sensors", None)
-    return normalize(cfg)
+    cfg = Configuration.load(preset=preset)
+    changes = {"operation.bit_viscous_nms": 0.0, **({"law.beta1": 0.0} if "beta1" in cfg.law else {})}
+    return normalize(cfg.replace(changes, damping={"type": "modal", "ratios": [float(damping_ratio)]},
+                                 top_drive=None, sensors=None))
 
 
 def truth_config(seed: int, *, modes: int = 3, elements: int = 40, dt_factor: int = 4) -> tuple:
@@ -102,22 +99,19 @@ def truth_config(seed: int, *, modes: int = 3, elements: int = 40, dt_factor: in
         ``elements`` and ``dt_s`` [s].
     """
     rng = np.random.default_rng([seed, 7919])
-    cfg = copy.deepcopy(declared_config())
+    cfg = view(declared_config())
     z = float(rng.uniform(0.03, 0.08))
     gj = float(rng.uniform(0.985, 1.015))
     scale, slope = float(rng.uniform(0.92, 1.08)), float(rng.uniform(0.9, 1.1))
-    cfg["damping"] = {"type": "modal", "ratios": [z] * modes}
-    for s in cfg["string"]["sections"]:
-        s["youngs_modulus_pa"] *= gj
-        s["elements"] = elements
-    cfg["rom"]["modes"] = modes
-    law = cfg["law"]
-    for k in ("a4", "a5", "a6", "a7"):
-        law[k] *= scale
-    law["a5"] *= slope
-    cfg["simulation"]["dt_s"] /= dt_factor
+    sections = [{**s.to_dict(), "youngs_modulus_pa": s.youngs_modulus_pa * gj, "elements": elements}
+                for s in cfg.string.sections]
+    law = {f"law.{k}": getattr(cfg.law, k) * scale for k in ("a4", "a5", "a6", "a7")}
+    law["law.a5"] *= slope
+    dt = cfg.simulation.dt_s / dt_factor
+    cfg = cfg.replace({"string.sections": sections, "rom.modes": modes, **law, "simulation.dt_s": dt},
+                      damping={"type": "modal", "ratios": [z] * modes})
     draws = {"damping_ratio": z, "gj_factor": gj, "law_scale": scale, "law_slope_factor": slope, "modes": modes,
-             "elements": elements, "dt_s": cfg["simulation"]["dt_s"]}
+             "elements": elements, "dt_s": dt}
     return normalize(cfg), draws
 
 
@@ -245,42 +239,45 @@ def synthetic_record(effects=(), *, duration_s: float = 12.0, seed: int = 0, fs_
         validate.positive(name, val)
     draws = {}
     if config is not None:
-        cfg = copy.deepcopy(config)
+        cfg = Configuration.of(config)
     elif nuisance:
         cfg, draws = truth_config(seed)
+        cfg = view(cfg)
     else:
-        cfg = declared_config()
-    dt_out = 1.0 / fs_hz
-    stride = int(round(dt_out / cfg["simulation"]["dt_s"]))
-    if stride < 1 or abs(stride * cfg["simulation"]["dt_s"] - dt_out) > 1e-9 * dt_out:
-        raise ValueError(f"fs_hz = {fs_hz}: 1/fs must be a multiple of simulation.dt_s = {cfg['simulation']['dt_s']}")
+        cfg = view(declared_config())
+    dt_out, dt = 1.0 / fs_hz, cfg.simulation.dt_s
+    stride = int(round(dt_out / dt))
+    if stride < 1 or abs(stride * dt - dt_out) > 1e-9 * dt_out:
+        raise ValueError(f"fs_hz = {fs_hz}: 1/fs must be a multiple of simulation.dt_s = {dt}")
     total = settle_s + duration_s
-    cfg["simulation"].update({"duration_s": total, "transient_s": min(settle_s, 0.5 * total), "output_stride": stride})
-    w0 = float(cfg["operation"]["wob_n"])
+    cfg = cfg.replace({"simulation.duration_s": total, "simulation.transient_s": min(settle_s, 0.5 * total),
+                       "simulation.output_stride": stride})
+    w0 = float(cfg.operation.wob_n)
     sdt = 1e-3  # random inputs on the engine's series grid
     n_series = int(round((total + 1.0) / sdt))
     wob_psd = PsdTable([0.0, wob_band_hz, wob_band_hz * 1.01], [1.0, 1.0, 0.0])
     wob = w0 * (1.0 + wob_std * _unit_process(wob_psd, sdt, n_series * sdt, seed, _STREAMS["wob"])[:n_series])
-    truth = Truth(cfg, wob, sdt, int(seed))
+    truth = Truth(cfg.to_dict(), wob, sdt, int(seed))  # a dict: the effects' inject edit it in place
     # the configuration changes first (a motor's command depends on the law and the extra torques)
     order = sorted(eff, key=lambda n: n == "top_drive_dynamics")
     for name in order:
         if name in CATALOGUE:
             CATALOGUE[name].inject(truth, eff[name])
         elif name == "top_speed_ramp":
-            om = float(cfg["operation"]["top_speed_rad_s"])
+            om = float(view(truth.cfg).operation.top_speed_rad_s)
             t = np.arange(n_series) * sdt
             truth.top = om * (1.0 + eff[name]["ramp_fraction"] * (t / total - 0.5))
-    cfg = normalize(truth.cfg)
+    cfg = Configuration.from_dict(truth.cfg)
     res = simulate(cfg, wob_series=truth.wob_law, eta_series=truth.eta, top_speed_series=truth.top,
                    series_dt=sdt, start="rest")
     keep = res.t >= settle_s - 1e-12
     t = res.t[keep] - settle_s
     vb = res.bit_speed[keep]
-    c_v = cfg["operation"].get("bit_viscous_nms", 0.0)
+    c_v = cfg.operation.get("bit_viscous_nms", 0.0)
     tq = res.torque_on_bit[keep] - c_v * vb  # the load cell sees the contact torque
     w = np.interp(res.t[keep], np.arange(wob.size) * sdt, wob)
-    if cfg.get("axial", {}).get("type") == "jack":  # the load cells read the jack's WOB state
+    axial = cfg.get("axial")
+    if axial is not None and axial.get("type") == "jack":  # the load cells read the jack's WOB state
         w = res.wob[keep]
     chans = {"bit_speed": vb, "top_speed": res.top_speed[keep], "torque_on_bit": tq, "wob": w}
     for f in truth.post:
@@ -292,7 +289,7 @@ def synthetic_record(effects=(), *, duration_s: float = 12.0, seed: int = 0, fs_
             stream = _STREAMS["wob_noise" if k == "wob" else k]
             chans[k] = chans[k] + noise * sd * _unit_process(white, dt_out, n * dt_out, seed, stream)[:n]
     info = {"effects": eff, "seed": int(seed), "noise": float(noise), "fs_hz": float(fs_hz),
-            "duration_s": float(duration_s), "wob_std": float(wob_std), "truth": draws, "config": cfg}
+            "duration_s": float(duration_s), "wob_std": float(wob_std), "truth": draws, "config": cfg.to_dict()}
     return Record(time_s=t, **chans, units={"time": "s", "bit_speed": "rad_s", "top_speed": "rad_s",
                                             "torque_on_bit": "Nm", "wob": "N"},
                   provenance={"source": f"synthetic (seed {seed}; effects: {', '.join(eff) or 'none'})",

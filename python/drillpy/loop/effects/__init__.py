@@ -44,7 +44,7 @@ def declared_effects(cfg: dict) -> dict:
 
     Parameters
     ----------
-    cfg : dict
+    cfg : dict or Configuration
         The declared engine configuration (normalized).
 
     Returns

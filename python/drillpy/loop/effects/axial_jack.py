@@ -6,6 +6,7 @@ import numpy as np
 from drillpy.records.rigsim import RIG_PARAMETERS
 
 from .base import Effect, Param
+from ..view import view
 
 _G, _TAU = RIG_PARAMETERS["jack_gain_n_rad"], RIG_PARAMETERS["jack_relaxation_s"]
 
@@ -77,18 +78,18 @@ class AxialJack(Effect):
         return bool(data.wob_response and data.wob_response["response"])
 
     def declared(self, cfg):
-        """``cfg["axial"]`` when it is a jack (its ``gain_n_rad`` and ``relaxation_s``), else None;
+        """``cfg.axial`` when it is a jack (its ``gain_n_rad`` and ``relaxation_s``), else None;
         see :meth:`Effect.declared`.
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration.
         """
-        ax = cfg.get("axial", {"type": "none"})
-        if ax.get("type") != "jack":
+        ax = view(cfg).axial
+        if ax.type != "jack":
             return None
-        return {"gain_n_rad": float(ax["gain_n_rad"]), "relaxation_s": float(ax["relaxation_s"])}
+        return {"gain_n_rad": float(ax.gain_n_rad), "relaxation_s": float(ax.relaxation_s)}
 
     def strip(self, cfg):
         """Remove ``axial`` (the WOB the law's input again); see :meth:`Effect.strip`.
@@ -157,12 +158,12 @@ class AxialJack(Effect):
         Parameters
         ----------
         truth : drillpy.loop.synthetic.Truth
-            The synthetic truth (its configuration is modified).
+            The synthetic truth (its configuration replaced by a changed copy).
         p : dict
             ``{"gain_n_rad": g [N/rad], "relaxation_s": tau [s]}`` (defaults 130 and 0.1).
         """
-        truth.cfg["axial"] = {"type": "jack", "gain_n_rad": float(p["gain_n_rad"]),
-                              "relaxation_s": float(p["relaxation_s"])}
+        truth.cfg = view(truth.cfg).replace(axial={"type": "jack", "gain_n_rad": float(p["gain_n_rad"]),
+                                                   "relaxation_s": float(p["relaxation_s"])}).to_dict()
 
 
 EFFECT = AxialJack()

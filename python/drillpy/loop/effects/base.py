@@ -26,6 +26,13 @@ of :func:`drillpy.loop.model.state_channels` (``v`` bit speed [rad/s], ``a`` bit
 ``W`` recorded WOB [N], ``W_eff`` the law's WOB input [N]); ``idx`` are the restart sample indices
 on that grid (one per horizon); ``cfg`` is an engine configuration dict
 (:func:`drillpy.model.config.normalize`).
+
+Configurations: :meth:`Effect.declared` reads ``cfg`` by attribute (a dict or a
+:class:`~drillpy.model.configuration.Configuration`, through :func:`drillpy.loop.view.view`, no copy);
+:meth:`Effect.configure` and :meth:`Effect.strip` edit a dict in place, the loop's JSON edge: configure
+runs on every trial's configuration (:meth:`drillpy.loop.model.LoopModel.engine_config`, straight into
+``_core.Config.from_dict``), where a copy or a schema lookup per effect would cost on every trial, and
+strip also edits partial holders (a law and an operation block).
 """
 from __future__ import annotations
 
@@ -299,7 +306,7 @@ class Effect:
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration (normalized).
 
         Returns
@@ -558,8 +565,9 @@ class Effect:
         Parameters
         ----------
         truth : drillpy.loop.synthetic.Truth
-            The synthetic truth being built; its configuration ``cfg``, input series (``wob``,
-            ``wob_law``, ``eta``, ``top``) or measurement functions ``post`` are modified in place.
+            The synthetic truth being built; its configuration ``cfg`` (edited in place or replaced
+            by a changed copy: read ``truth.cfg`` after), input series (``wob``, ``wob_law``, ``eta``,
+            ``top``) or measurement functions ``post`` are changed.
         p : dict
             The truth's parameters of the effect: :attr:`defaults` updated with the caller's values
             (the keys of :attr:`defaults`, which may differ from the fitted :attr:`params`).

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from .base import Effect, Param
+from ..view import view
 
 
 class BitHysteresis(Effect):
@@ -52,11 +53,11 @@ class BitHysteresis(Effect):
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration (its ``law``).
         """
-        law = cfg["law"]
-        return {"beta1": float(law["beta1"]), "beta2": float(law["beta2"])} if float(law.get("beta1", 0)) > 0 else None
+        law = view(cfg).law
+        return {"beta1": float(law.beta1), "beta2": float(law.beta2)} if float(law.get("beta1", 0)) > 0 else None
 
     def strip(self, cfg):
         """Set the law's beta1 to 0 (H = 0: the reversible law) when the law has one; see
@@ -94,8 +95,9 @@ class BitHysteresis(Effect):
         p : dict
             ``{"beta1", "beta2"}`` (defaults 0.2 and 0.005).
         """
-        if "beta1" not in truth.cfg["law"]:
-            raise ValueError(f"bit_hysteresis: the law {truth.cfg['law']['type']!r} has no hysteresis term")
+        law = view(truth.cfg).law
+        if "beta1" not in law:
+            raise ValueError(f"bit_hysteresis: the law {law.type!r} has no hysteresis term")
         self.configure(truth.cfg, p, None)
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 
 from .base import Effect, Param
+from ..view import view
 
 SQRT2 = math.sqrt(2.0)
 #: Highest credible cutoff [Hz]: an acquisition filter sits above the dynamics of interest; above 30 Hz
@@ -73,15 +74,16 @@ class SensorLag(Effect):
         return []
 
     def declared(self, cfg):
-        """``{"lowpass_hz"}`` of ``cfg["sensors"]`` when it is > 0, else None; see
+        """``{"lowpass_hz"}`` of ``cfg.sensors`` when it is > 0, else None; see
         :meth:`Effect.declared`.
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration.
         """
-        fc = float(cfg.get("sensors", {}).get("lowpass_hz", 0.0))
+        sensors = view(cfg).get("sensors")
+        fc = 0.0 if sensors is None else float(sensors.get("lowpass_hz", 0.0))
         return {"lowpass_hz": fc} if fc > 0 else None
 
     def strip(self, cfg):

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from .base import Effect, Param
+from ..view import view
 
 
 def _a0(law: dict, torque: float, wob: float) -> float:
@@ -176,13 +177,14 @@ class StaticFriction(Effect):
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration (its ``law`` and ``operation.wob_n`` W [N]).
         """
-        law = cfg["law"]
-        if str(law["type"]).startswith("polynomial") and float(law.get("a0", 0.0)) > 0:
-            return {"static_torque_nm": float(law["gain"]) * float(law["a0"]) * float(cfg["operation"]["wob_n"])
-                    / float(law["wob_ref_n"])}
+        cfg = view(cfg)
+        law = cfg.law
+        if str(law.type).startswith("polynomial") and float(law.get("a0", 0.0)) > 0:
+            return {"static_torque_nm": float(law.gain) * float(law.a0) * float(cfg.operation.wob_n)
+                    / float(law.wob_ref_n)}
         return None
 
     def strip(self, cfg):

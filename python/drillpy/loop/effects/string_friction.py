@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from .base import Effect, Param
+from ..view import view
 
 
 class StringFriction(Effect):
@@ -82,7 +83,7 @@ class StringFriction(Effect):
         v, T = chs["v"][idx], chs["T"][idx]
         if tsf <= 0.0:
             return None
-        law = model.engine_config()["law"]
+        law = model.engine_config()["law"]  # every trial: the dict (a view: ~30 us of schema lookups)
         ts = np.zeros(v.size)
         if str(law["type"]).startswith("polynomial") and float(law.get("a0", 0.0)) > 0:
             ts = float(law["gain"]) * float(law["a0"]) * np.asarray(chs["W_eff"][idx], float) / float(law["wob_ref_n"])
@@ -96,10 +97,10 @@ class StringFriction(Effect):
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration.
         """
-        t = float(cfg["operation"].get("string_friction_nm", 0.0))
+        t = float(view(cfg).operation.get("string_friction_nm", 0.0))
         return {"string_friction_nm": t} if t > 0 else None
 
     def strip(self, cfg):

@@ -7,6 +7,7 @@ from drillpy.records.io import RPM
 from drillpy.records.rigsim import RIG_PARAMETERS, add_coupling, remove_coupling
 
 from .base import Effect, Param
+from ..view import view
 
 #: The coupling's range (the whole-rig model's, with its source: rigsim.RIG_PARAMETERS); at the upper
 #: bound the coupling is rigid next to the rig's bar (3.08 N m/rad), which is no coupling.
@@ -221,23 +222,24 @@ class TopDriveDynamics(Effect):
                 for s in starts for k, j in ((30.0, 0.02), (COUPLING[1] * 0.99, 0.0))]
 
     def declared(self, cfg):
-        """The motor variant when ``cfg["top_drive"]`` is a motor (droop 1 / ``slope_nms_rad``,
+        """The motor variant when ``cfg.top_drive`` is a motor (droop 1 / ``slope_nms_rad``,
         its ``inertia_kg_m2``, the command ``operation.top_speed_rad_s``), else None; see
         :meth:`Effect.declared`.
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration.
         """
-        td = cfg.get("top_drive", {"type": "ideal"})
-        if td.get("type") != "motor":
+        cfg = view(cfg)
+        td = cfg.top_drive
+        if td.type != "motor":
             return None
-        p = {"variant": "motor", "droop_rad_s_per_nm": 1.0 / float(td["slope_nms_rad"]),
-             "inertia_kg_m2": float(td["inertia_kg_m2"]), "command_rad_s": float(cfg["operation"]["top_speed_rad_s"])}
-        secs = cfg["string"]["sections"]
+        p = {"variant": "motor", "droop_rad_s_per_nm": 1.0 / float(td.slope_nms_rad),
+             "inertia_kg_m2": float(td.inertia_kg_m2), "command_rad_s": float(cfg.operation.top_speed_rad_s)}
+        secs = cfg.string.sections
         if secs and secs[0].get("name") == "coupling":
-            c = {"string": {"sections": [dict(secs[0])], "lumped_inertias": []}}
+            c = {"string": {"sections": [secs[0].to_dict()], "lumped_inertias": []}}  # a holder remove_coupling edits
             p["coupling_stiffness_nm_rad"] = remove_coupling(c)
         return p
 
@@ -307,17 +309,18 @@ class TopDriveDynamics(Effect):
         Parameters
         ----------
         truth : drillpy.loop.synthetic.Truth
-            The synthetic truth (its configuration is modified).
+            The synthetic truth (its configuration replaced by a changed copy).
         p : dict
             ``{"slope_nms_rad": c_m [N m s/rad], "inertia_kg_m2": J_m [kg m^2]}`` (defaults 0.25 and
             0.02).
         """
-        cfg = truth.cfg
-        cfg["top_drive"] = {"type": "motor", "slope_nms_rad": p["slope_nms_rad"], "inertia_kg_m2": p["inertia_kg_m2"]}
         from drillpy.model.simulation import law_torque
-        om0, w0 = float(cfg["operation"]["top_speed_rad_s"]), float(cfg["operation"]["wob_n"])
-        t_mean = float(law_torque(cfg["law"], om0, 0.0, w0)[0]) + cfg["operation"].get("bit_viscous_nms", 0.0) * om0
-        cfg["operation"]["top_speed_rad_s"] = om0 + t_mean / p["slope_nms_rad"]  # command above the mean by the droop
+        c = view(truth.cfg)
+        om0, w0 = float(c.operation.top_speed_rad_s), float(c.operation.wob_n)
+        t_mean = float(law_torque(c.law.to_dict(), om0, 0.0, w0)[0]) + c.operation.get("bit_viscous_nms", 0.0) * om0
+        truth.cfg = c.replace({"operation.top_speed_rad_s": om0 + t_mean / p["slope_nms_rad"]},  # above the mean by the droop
+                              top_drive={"type": "motor", "slope_nms_rad": p["slope_nms_rad"],
+                                         "inertia_kg_m2": p["inertia_kg_m2"]}).to_dict()
 
 
 EFFECT = TopDriveDynamics()

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from .base import Effect, Param
+from ..view import view
 
 
 class ViscousDamping(Effect):
@@ -50,10 +51,10 @@ class ViscousDamping(Effect):
 
         Parameters
         ----------
-        cfg : dict
+        cfg : dict or Configuration
             The declared engine configuration.
         """
-        cv = float(cfg["operation"].get("bit_viscous_nms", 0.0))
+        cv = float(view(cfg).operation.get("bit_viscous_nms", 0.0))
         return {"bit_viscous_nms": cv} if cv > 0 else None
 
     def strip(self, cfg):

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from .base import Effect, Param
+from ..view import view
 
 
 class WobCoupling(Effect):
@@ -69,7 +70,7 @@ class WobCoupling(Effect):
         p : dict
             ``{"gain": k [-]}`` (default 1).
         """
-        w0 = float(truth.cfg["operation"]["wob_n"])
+        w0 = float(view(truth.cfg).operation.wob_n)
         truth.wob_law = w0 * (1.0 + p["gain"] * (truth.wob / w0 - 1.0))
 
 
