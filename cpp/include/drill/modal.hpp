@@ -60,6 +60,13 @@ struct DampingSpec {
   std::vector<double> ratios{0.095, 0.02};
   double f1 = 1.0, z1 = 0.05, f2 = 10.0, z2 = 0.01;
 
+  static Kind parse_kind(const std::string& s) {
+    if (s == "modal") return Kind::modal;
+    if (s == "rayleigh") return Kind::rayleigh;
+    throw std::invalid_argument("damping.type = \"" + s + "\": unknown damping (use modal or rayleigh)");
+  }
+  static std::string kind_name(Kind k) { return k == Kind::rayleigh ? "rayleigh" : "modal"; }
+
   void validate() const {
     if (kind == Kind::modal) {
       require(!ratios.empty(), "damping.ratios", ratios.size(), "needs at least one ratio");
