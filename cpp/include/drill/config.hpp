@@ -70,6 +70,7 @@
 #include "drill/bitrock.hpp"
 #include "drill/config_keys.hpp"
 #include "drill/errors.hpp"
+#include "drill/names.hpp"
 #include "drill/fem.hpp"
 #include "drill/integrator.hpp"
 #include "drill/modal.hpp"
@@ -86,16 +87,12 @@ namespace drill {
 ///  * steady steady drilling, slightly disturbed (Simulation::steady_state).
 enum class StartMode { rest, rigid, steady };
 
+inline constexpr Named<StartMode> start_names[] = {
+    {StartMode::rest, "rest"}, {StartMode::rigid, "rigid"}, {StartMode::steady, "steady"}};
 inline StartMode parse_start(const std::string& s, const std::string& field = "start") {
-  if (s == "rest") return StartMode::rest;
-  if (s == "rigid") return StartMode::rigid;
-  if (s == "steady") return StartMode::steady;
-  throw std::invalid_argument(field + " = \"" + s + "\": unknown initial state (use rest, rigid or steady)");
+  return parse_name(start_names, s, field, "initial state");
 }
-
-inline std::string to_string(StartMode m) {
-  return m == StartMode::rest ? "rest" : m == StartMode::rigid ? "rigid" : "steady";
-}
+inline std::string to_string(StartMode m) { return name_of(start_names, m); }
 
 struct MetricsSpec {
   double stick_threshold_fraction = 0.05;  ///< stick when bit speed <= fraction x top speed
@@ -309,7 +306,7 @@ inline Tables make_tables() {
   t.damping = {
       "damping",
       "modal damping ratios, or Rayleigh damping D = a M + b K through two (frequency, ratio) pairs",
-      {{text("type", "damping model", {"modal", "rayleigh"}).req(),
+      {{text("type", "damping model", names_of(DampingSpec::kinds)).req(),
         [](const DampingSpec& s) { return DampingSpec::kind_name(s.kind); },
         [](DampingSpec& s, const std::string& v) { s.kind = DampingSpec::parse_kind(v); }}},
       {{"modal",
@@ -357,7 +354,7 @@ inline Tables make_tables() {
     t.law = {
         "law",
         "torque on bit as a function of bit speed v, bit acceleration a and WOB; it scales linearly with the WOB",
-        {{text("type", "law: Eq. (3.1), (3.2)-(3.3), (5.1) or (5.3)", {L::kind_name(L::Kind::tucker_wang), L::kind_name(L::Kind::hysteretic), L::kind_name(L::Kind::polynomial), L::kind_name(L::Kind::polynomial_hysteretic)}).req(),
+        {{text("type", "law: Eq. (3.1), (3.2)-(3.3), (5.1) or (5.3)", names_of(L::kinds)).req(),
           [](const L& l) { return L::kind_name(l.kind); }, [](L& l, const std::string& v) { l.kind = L::parse_kind(v); }},
          {text("speed_unit", "unit of v (and a per second) in the law's formulas", {"rad_s", "rad/s", "rpm", "RPM"}).req(),
           [](const L& l) { return to_string(l.speed_unit); },
@@ -397,7 +394,7 @@ inline Tables make_tables() {
         "top_drive",
         "ideal (the thesis: the top turns at top_speed_rad_s) or an open-loop motor commanded at it, "
         "J_m Omega' = c_m (Omega_c - Omega) - T_top",
-        {{text("type", "top-drive model", {D::kind_name(D::Kind::ideal), D::kind_name(D::Kind::motor), D::kind_name(D::Kind::controlled)}).req(), [](const D& s) { return D::kind_name(s.kind); },
+        {{text("type", "top-drive model", names_of(D::kinds)).req(), [](const D& s) { return D::kind_name(s.kind); },
           [](D& s, const std::string& v) { s.kind = D::parse_kind(v); }}},
         {{D::kind_name(D::Kind::ideal), {}},
          {D::kind_name(D::Kind::motor),
@@ -432,7 +429,7 @@ inline Tables make_tables() {
         "e = Omega_ref - Omega (cpp/include/drill/controller.hpp, docs/control.md)",
         {{text("type", "stiff (high-gain PI), pi (user gains), soft_speed (SoftSpeed: kp = Z, ki = J w_s^2) or "
                        "z_torque (ZTorque: set point corrected by -(T_top - T_mean) / Z)",
-               {C::kind_name(C::Kind::stiff), C::kind_name(C::Kind::pi), C::kind_name(C::Kind::soft_speed), C::kind_name(C::Kind::z_torque)})
+               names_of(C::kinds))
               .req(),
           [](const C& k) { return C::kind_name(k.kind); }, [](C& k, const std::string& v) { k.kind = C::parse_kind(v); }},
          {number("torque_limit_nm", "motor torque limit |u| <= L [N m] (anti-windup); absent: no limit").positive(),
@@ -463,7 +460,7 @@ inline Tables make_tables() {
         "axial",
         "none (the WOB is operation.wob_n), the rig's jack, W' = g (Omega_f - v) - (W - W_s) / tau (axial.hpp), or "
         "rgd: the string's axial modes with the Richard-Germay-Detournay bit (axial_torsional.hpp, docs/axial.md)",
-        {{text("type", "axial model", {A::kind_name(A::Kind::none), A::kind_name(A::Kind::jack), A::kind_name(A::Kind::rgd)}).req(), [](const A& a) { return A::kind_name(a.kind); },
+        {{text("type", "axial model", names_of(A::kinds)).req(), [](const A& a) { return A::kind_name(a.kind); },
           [](A& a, const std::string& v) { a.kind = A::parse_kind(v); }}},
         {{A::kind_name(A::Kind::none), {}},
          {A::kind_name(A::Kind::jack),
@@ -475,7 +472,7 @@ inline Tables make_tables() {
          {A::kind_name(A::Kind::rgd),
           {{text("top", "top boundary: hook_load (constant force operation.wob_n down at the top) or feed (constant "
                         "rate of penetration rop_m_s)",
-                 {"hook_load", "feed"})
+                 names_of(axial_top_names))
                 .def(to_string(ad.top)),
             [](const A& a) { return to_string(a.rgd.top); },
             [](A& a, const std::string& v) { a.rgd.top = parse_axial_top(v); }},
@@ -519,10 +516,10 @@ inline Tables make_tables() {
   t.simulation = {
       "simulation",
       "time integration",
-      {{text("scheme", "integrator", {to_string(Scheme::modified_euler), to_string(Scheme::bdf2), to_string(Scheme::exact_modal)}).def(to_string(d.sim.scheme)),
+      {{text("scheme", "integrator", names_of(scheme_names)).def(to_string(d.sim.scheme)),
         [](const Config& c) { return to_string(c.sim.scheme); },
         [](Config& c, const std::string& v) { c.sim.scheme = parse_scheme(v); }},
-       {text("acceleration", "bit acceleration in Eq. (3.3); lagged: modified_euler only", {to_string(Acceleration::implicit), to_string(Acceleration::lagged)})
+       {text("acceleration", "bit acceleration in Eq. (3.3); lagged: modified_euler only", names_of(acceleration_names))
             .def(to_string(d.sim.acceleration)),
         [](const Config& c) { return to_string(c.sim.acceleration); },
         [](Config& c, const std::string& v) { c.sim.acceleration = parse_acceleration(v); }},
@@ -536,7 +533,7 @@ inline Tables make_tables() {
        {integer("output_stride", "the series keeps every n-th step").at_least(1).def(d.output_stride),
         &Config::output_stride},
        {text("start", "initial state: rest (Eq. 2.10), rigid (Eq. 2.3) or steady (steady drilling, disturbed)",
-             {to_string(StartMode::rest), to_string(StartMode::rigid), to_string(StartMode::steady)})
+             names_of(start_names))
             .def(to_string(d.start)),
         [](const Config& c) { return to_string(c.start); },
         [](Config& c, const std::string& v, const std::string& path) { c.start = parse_start(v, path); }}}};

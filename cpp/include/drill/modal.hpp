@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "drill/errors.hpp"
+#include "drill/names.hpp"
 #include "drill/fem.hpp"
 
 namespace drill {
@@ -60,12 +61,10 @@ struct DampingSpec {
   std::vector<double> ratios{0.095, 0.02};
   double f1 = 1.0, z1 = 0.05, f2 = 10.0, z2 = 0.01;
 
-  static Kind parse_kind(const std::string& s) {
-    if (s == "modal") return Kind::modal;
-    if (s == "rayleigh") return Kind::rayleigh;
-    throw std::invalid_argument("damping.type = \"" + s + "\": unknown damping (use modal or rayleigh)");
-  }
-  static std::string kind_name(Kind k) { return k == Kind::rayleigh ? "rayleigh" : "modal"; }
+  /// The damping models by name (damping.type).
+  static constexpr Named<Kind> kinds[] = {{Kind::modal, "modal"}, {Kind::rayleigh, "rayleigh"}};
+  static Kind parse_kind(const std::string& s) { return parse_name(kinds, s, "damping.type", "damping"); }
+  static std::string kind_name(Kind k) { return name_of(kinds, k); }
 
   void validate() const {
     if (kind == Kind::modal) {
