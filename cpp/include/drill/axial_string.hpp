@@ -24,8 +24,8 @@
 #include <string>
 
 #include "drill/errors.hpp"
-#include "drill/names.hpp"
 #include "drill/fem.hpp"
+#include "drill/names.hpp"
 
 namespace drill {
 

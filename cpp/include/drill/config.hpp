@@ -70,10 +70,11 @@
 #include "drill/bitrock.hpp"
 #include "drill/config_keys.hpp"
 #include "drill/errors.hpp"
-#include "drill/names.hpp"
 #include "drill/fem.hpp"
 #include "drill/integrator.hpp"
+#include "drill/json_text.hpp"
 #include "drill/modal.hpp"
+#include "drill/names.hpp"
 #include "drill/topdrive.hpp"
 
 namespace drill {
@@ -253,7 +254,8 @@ inline Tables make_tables() {
               "drillpy / drillsim configuration (cpp/include/drill/config.hpp); unknown and repeated keys are refused",
               {{text("name", "name of the configuration").def(d.name), &Config::name},
                Key<Config>::ignored(text("description", "free text (ignored by the engine)")),
-               Key<Config>::ignored(text("$schema", "the JSON Schema of this file, for editors (ignored by the engine)")),
+               Key<Config>::ignored(
+                   text("$schema", "the JSON Schema of this file, for editors (ignored by the engine)")),
                object("string", "string", "the drill string: sections from the top to the bit").req(),
                object("rom", "rom", "reduced-order model (Eqs. 2.7-2.10)"),
                object("damping", "damping", "damping of the reduced model")
@@ -306,9 +308,7 @@ inline Tables make_tables() {
   t.damping = {
       "damping",
       "modal damping ratios, or Rayleigh damping D = a M + b K through two (frequency, ratio) pairs",
-      {{text("type", "damping model", names_of(DampingSpec::kinds)).req(),
-        [](const DampingSpec& s) { return DampingSpec::kind_name(s.kind); },
-        [](DampingSpec& s, const std::string& v) { s.kind = DampingSpec::parse_kind(v); }}},
+      {kind_key<DampingSpec>("damping model")},
       {{"modal",
         {{numbers("ratios", "damping ratio of modes 1, 2, ... (the last repeats), in [0, 1]")
               .non_negative()
@@ -342,7 +342,8 @@ inline Tables make_tables() {
         {number("beta2", "Eq. (3.3) [1 / (speed_unit/s)]").non_negative().req(), &L::beta2}};
     auto b = [](int i) { return [i](auto& l) -> auto& { return l.b[i]; }; };
     std::vector<Key<L>> hysteretic = {
-        {number("b0", "Eq. (3.2): T = b0 [tanh(b1 v) + b2 |v|^b4 sign(v) / (1 + b3 |v|^b5) (1 + H)] [N m]").req(), b(0)},
+        {number("b0", "Eq. (3.2): T = b0 [tanh(b1 v) + b2 |v|^b4 sign(v) / (1 + b3 |v|^b5) (1 + H)] [N m]").req(),
+         b(0)},
         {number("b1", "Eq. (3.2) [1 / speed_unit]").req(), b(1)},
         {number("b2", "Eq. (3.2)").req(), b(2)},
         {number("b3", "Eq. (3.2)").non_negative().req(), b(3)},
@@ -354,9 +355,9 @@ inline Tables make_tables() {
     t.law = {
         "law",
         "torque on bit as a function of bit speed v, bit acceleration a and WOB; it scales linearly with the WOB",
-        {{text("type", "law: Eq. (3.1), (3.2)-(3.3), (5.1) or (5.3)", names_of(L::kinds)).req(),
-          [](const L& l) { return L::kind_name(l.kind); }, [](L& l, const std::string& v) { l.kind = L::parse_kind(v); }},
-         {text("speed_unit", "unit of v (and a per second) in the law's formulas", {"rad_s", "rad/s", "rpm", "RPM"}).req(),
+        {kind_key<L>("law: Eq. (3.1), (3.2)-(3.3), (5.1) or (5.3)"),
+         {text("speed_unit", "unit of v (and a per second) in the law's formulas", {"rad_s", "rad/s", "rpm", "RPM"})
+              .req(),
           [](const L& l) { return to_string(l.speed_unit); },
           [](L& l, const std::string& v, const std::string& path) { l.speed_unit = parse_speed_unit(v, path); }},
          {number("wob_ref_n", "WOB at which the parameters hold [N]").positive().req(), &L::wob_ref}},
@@ -394,8 +395,7 @@ inline Tables make_tables() {
         "top_drive",
         "ideal (the thesis: the top turns at top_speed_rad_s) or an open-loop motor commanded at it, "
         "J_m Omega' = c_m (Omega_c - Omega) - T_top",
-        {{text("type", "top-drive model", names_of(D::kinds)).req(), [](const D& s) { return D::kind_name(s.kind); },
-          [](D& s, const std::string& v) { s.kind = D::parse_kind(v); }}},
+        {kind_key<D>("top-drive model")},
         {{D::kind_name(D::Kind::ideal), {}},
          {D::kind_name(D::Kind::motor),
           {{number("slope_nms_rad", "c_m: torque lost per unit speed [N m s/rad]").positive().req(), &D::slope},
@@ -427,11 +427,8 @@ inline Tables make_tables() {
         "top_drive.controller",
         "speed controller of a controlled top drive, J Omega' = u - T_top, u = sat(kp e + ki int e), "
         "e = Omega_ref - Omega (cpp/include/drill/controller.hpp, docs/control.md)",
-        {{text("type", "stiff (high-gain PI), pi (user gains), soft_speed (SoftSpeed: kp = Z, ki = J w_s^2) or "
-                       "z_torque (ZTorque: set point corrected by -(T_top - T_mean) / Z)",
-               names_of(C::kinds))
-              .req(),
-          [](const C& k) { return C::kind_name(k.kind); }, [](C& k, const std::string& v) { k.kind = C::parse_kind(v); }},
+        {kind_key<C>("stiff (high-gain PI), pi (user gains), soft_speed (SoftSpeed: kp = Z, ki = J w_s^2) or "
+                     "z_torque (ZTorque: set point corrected by -(T_top - T_mean) / Z)"),
          {number("torque_limit_nm", "motor torque limit |u| <= L [N m] (anti-windup); absent: no limit").positive(),
           &C::torque_limit},
          {number("sample_time_s", "sample time of the controller (zero-order hold) [s]; absent: continuous").positive(),
@@ -460,8 +457,7 @@ inline Tables make_tables() {
         "axial",
         "none (the WOB is operation.wob_n), the rig's jack, W' = g (Omega_f - v) - (W - W_s) / tau (axial.hpp), or "
         "rgd: the string's axial modes with the Richard-Germay-Detournay bit (axial_torsional.hpp, docs/axial.md)",
-        {{text("type", "axial model", names_of(A::kinds)).req(), [](const A& a) { return A::kind_name(a.kind); },
-          [](A& a, const std::string& v) { a.kind = A::parse_kind(v); }}},
+        {kind_key<A>("axial model")},
         {{A::kind_name(A::Kind::none), {}},
          {A::kind_name(A::Kind::jack),
           {{number("gain_n_rad", "g = k_ax d / (2 pi): WOB per radian the bit lags its steady rotation [N/rad]")
@@ -480,7 +476,10 @@ inline Tables make_tables() {
             [](auto& a) -> auto& { return a.rgd.feed_rate; }},
            {integer("modes", "retained axial modes, at most the free axial DOFs").at_least(1).def(ad.modes),
             [](auto& a) -> auto& { return a.rgd.modes; }},
-           {number("damping_ratio", "modal damping ratio of the axial modes").non_negative().at_most(1.0).def(ad.damping_ratio),
+           {number("damping_ratio", "modal damping ratio of the axial modes")
+                .non_negative()
+                .at_most(1.0)
+                .def(ad.damping_ratio),
             [](auto& a) -> auto& { return a.rgd.damping_ratio; }},
            {number("bit_mass_kg", "axial mass lumped at the bit [kg]").non_negative().def(ad.bit_mass),
             [](auto& a) -> auto& { return a.rgd.bit_mass; }},
@@ -497,7 +496,8 @@ inline Tables make_tables() {
            "the RGD bit: W_c = a zeta eps d, T_c = a^2 eps d / 2, W_f = a l sigma, T_f = gamma mu a W_f / 2, "
            "d = N [U(t) - U(t - t_N)]",
            {{number("radius_m", "a: bit radius [m]").positive().req(), &RgdBit::radius},
-            {number("specific_energy_pa", "eps: intrinsic specific energy [Pa]").positive().req(), &RgdBit::specific_energy},
+            {number("specific_energy_pa", "eps: intrinsic specific energy [Pa]").positive().req(),
+             &RgdBit::specific_energy},
             {number("contact_strength_pa", "sigma: contact strength of the wear flats [Pa]").non_negative().req(),
              &RgdBit::contact_strength},
             {number("zeta", "zeta: normal over tangential cutting force [-]").positive().req(), &RgdBit::force_ratio},
@@ -540,7 +540,8 @@ inline Tables make_tables() {
 
   t.metrics = {"metrics",
                "stick and slip detection",
-               {{number("stick_threshold_fraction", "stick when the bit speed is at most this fraction of the top speed")
+               {{number("stick_threshold_fraction",
+                        "stick when the bit speed is at most this fraction of the top speed")
                      .above(0.0)
                      .below(1.0)
                      .def(d.metrics.stick_threshold_fraction),
@@ -703,69 +704,6 @@ inline Config parse_config(const json& j) {
   if (j.contains("craig_bampton")) t.craig_bampton.read(j.at("craig_bampton"), "craig_bampton", c);
   c.validate();
   return c;
-}
-
-/// Deepest nesting of arrays and objects parse_json_text reads: a configuration nests 4 levels
-/// (the damping pairs), so deeper text is not one; refusing it at this depth keeps a hostile
-/// file (200 000 nested arrays) from costing minutes and a message as long as the file.
-inline constexpr int max_json_depth = 64;
-
-/// Parse JSON text, refusing a key repeated in an object (plain parsing keeps the last one
-/// silently): std::invalid_argument("<path>.<key>: duplicate key ..."), and nesting deeper than
-/// max_json_depth: std::invalid_argument("<what>: JSON nested too deep: ..."), raised by the
-/// parser's callback as it opens level max_json_depth + 1 (nothing deeper is read). Syntax errors
-/// become std::invalid_argument naming the position. `what` names the text in the messages
-/// (e.g. "config", or "--config FILE").
-inline json parse_json_text(const std::string& text, const std::string& what = "config") {
-  struct Frame {
-    std::string path;
-    bool array;
-    std::set<std::string> keys;
-  };
-  std::vector<Frame> stack;
-  std::string last_key;
-  auto child_path = [&]() -> std::string {
-    if (stack.empty()) return "";
-    const Frame& f = stack.back();
-    if (f.array) return f.path + "[]";
-    return f.path.empty() ? last_key : f.path + "." + last_key;
-  };
-  const json::parser_callback_t cb = [&](int, json::parse_event_t ev, json& parsed) {
-    switch (ev) {
-      case json::parse_event_t::object_start:
-      case json::parse_event_t::array_start:
-        if (stack.size() >= static_cast<std::size_t>(max_json_depth))
-          throw std::invalid_argument(what + ": JSON nested too deep: more than " + std::to_string(max_json_depth) +
-                                      " levels of arrays and objects (a configuration has 4)");
-        stack.push_back({child_path(), ev == json::parse_event_t::array_start, {}});
-        break;
-      case json::parse_event_t::object_end:
-      case json::parse_event_t::array_end:
-        if (!stack.empty()) stack.pop_back();
-        break;
-      case json::parse_event_t::key: {
-        const std::string key = parsed.get<std::string>();
-        Frame& f = stack.back();
-        const std::string field = f.path.empty() ? key : f.path + "." + key;
-        if (!f.keys.insert(key).second)
-          throw std::invalid_argument(field + ": duplicate key \"" + key + "\" in a JSON object of the " + what);
-        last_key = key;
-        break;
-      }
-      case json::parse_event_t::value:
-        break;
-    }
-    return true;
-  };
-  try {
-    return json::parse(text, cb);
-  } catch (const json::parse_error& e) {
-    // nlohmann's text starts with "[json.exception.parse_error.101] parse error at ...": keep the position
-    std::string why = e.what();
-    const std::size_t tag = why.find("] ");
-    if (why.rfind("[json.exception.", 0) == 0 && tag != std::string::npos) why = why.substr(tag + 2);
-    throw std::invalid_argument(what + ": malformed JSON: " + why);
-  }
 }
 
 /// Parse JSON text (parse_json_text) into a validated configuration.

@@ -31,6 +31,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "drill/names.hpp"
+
 namespace drill {
 
 using json = nlohmann::json;
@@ -277,6 +279,14 @@ struct Key {
       throw std::logic_error("configuration key " + field.key + ": bound to a member of another type");
   }
 };
+
+/// The "type" key of a block whose struct T has kinds listed by name (T::kinds, names.hpp): it picks
+/// the block's variant and sets T::kind.
+template <class T>
+Key<T> kind_key(const std::string& doc) {
+  return {schema::text("type", doc, names_of(T::kinds)).req(), [](const T& t) { return T::kind_name(t.kind); },
+          [](T& t, const std::string& v) { t.kind = T::parse_kind(v); }};
+}
 
 /// The keys of a variant of a block (the block's "type" has this value).
 template <class T>

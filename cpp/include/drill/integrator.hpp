@@ -49,9 +49,9 @@
 #include "drill/axial.hpp"
 #include "drill/bitrock.hpp"
 #include "drill/errors.hpp"
-#include "drill/names.hpp"
 #include "drill/exact_modal.hpp"
 #include "drill/modal.hpp"
+#include "drill/names.hpp"
 #include "drill/signal.hpp"
 #include "drill/topdrive.hpp"
 

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "drill/errors.hpp"
-#include "drill/names.hpp"
 #include "drill/fem.hpp"
+#include "drill/names.hpp"
 
 namespace drill {
 
