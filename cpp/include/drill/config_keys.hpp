@@ -12,8 +12,9 @@
 // an absent key is refused when required ("<path>: missing (required number)", unless the validator
 // refuses its absence: Field::req_in_validate), otherwise it takes the field's default, or keeps the
 // member's own value when the field has none (a default that depends on other keys, set before reading).
-// An absent array is empty (a required one is then refused by the validator). Bounds are checked by
-// the structs' validate(), which also checks configurations built in code, not by the reader.
+// An absent array is empty (a required one is then refused by the validator); absent rows are refused
+// with their shape. Bounds are checked by the structs' validate(), which also checks configurations
+// built in code, not by the reader (tests/cpp/test_config.cpp checks that the two agree).
 // Writing: every key is written, except a number without a default that is not finite (NaN or
 // infinite: the member's way of saying "absent").
 #pragma once
