@@ -283,6 +283,57 @@ TEST(Config, SchemaDefaultsAreWhatTheParserTakes) {
   EXPECT_EQ(c["simulation"]["transient_s"], 50.0);  // half the default duration
 }
 
+TEST(Config, SchemaBoundsAreTheValidatorsBounds) {
+  // every bound the table states for a number or an integer key (the schema's) is enforced: a value
+  // just outside it is refused, naming the key; in the presets and in the variants they lack
+  std::vector<json> bases;
+  for (const auto& name : preset_names()) bases.push_back(preset_json(name));
+  const json field = preset_json("thesis-field");
+  auto variant = [&](const std::string& pointer, const json& value) {
+    json j = field;
+    j[json::json_pointer(pointer)] = value;
+    bases.push_back(j);
+  };
+  for (const char* type : {"stiff", "pi", "soft_speed", "z_torque"})
+    variant("/top_drive", {{"type", "controlled"},
+                           {"inertia_kg_m2", 2000.0},
+                           {"controller",
+                            {{"type", type}, {"kp_nms_rad", 900.0}, {"ki_nm_rad", 250.0}, {"torque_limit_nm", 1e6},
+                             {"sample_time_s", 1e-3}}}});
+  variant("/top_drive", {{"type", "motor"}, {"slope_nms_rad", 1e4}, {"inertia_kg_m2", 2000.0}, {"max_torque_nm", 1e6}});
+  variant("/axial", {{"type", "jack"}, {"gain_n_rad", 1e5}, {"relaxation_s", 1.0}});
+  variant("/string/lumped_inertias", json::array({{{"node", -1}, {"inertia_kg_m2", 100.0}}}));
+  variant("/law", {{"type", "tucker_wang"}, {"speed_unit", "rad_s"}, {"wob_ref_n", 245e3}, {"c0", 4700.0},
+                   {"alpha0", 2.0}, {"alpha1", 0.5}, {"alpha2", 0.1}});
+  int checked = 0;
+  for (const json& base : bases)
+    for (const schema::Block& b : schema::blocks()) {
+      const std::string at = block_pointer(b.name);
+      const json::json_pointer ptr(at);
+      if (!base.contains(ptr) || !base.at(ptr).is_object()) continue;
+      std::vector<schema::Field> fields = b.fields;
+      for (const schema::Variant& v : b.variants)
+        if (base.at(ptr).value("type", "") == v.type) fields.insert(fields.end(), v.fields.begin(), v.fields.end());
+      std::string where = b.name == "config" ? "config" : b.name;
+      if (at.size() > 2 && at.substr(at.size() - 2) == "/0") where += "[0]";
+      for (const schema::Field& f : fields) {
+        if (f.type != schema::Field::Type::number && f.type != schema::Field::Type::integer) continue;
+        const double step = f.type == schema::Field::Type::integer ? 1.0 : 1e-3;
+        std::vector<double> outside;
+        if (f.min) outside.push_back(f.min->exclusive ? f.min->value : f.min->value - step);
+        if (f.max) outside.push_back(f.max->exclusive ? f.max->value : f.max->value + step);
+        for (const double value : outside) {
+          json j = base;
+          j[ptr][f.key] = f.type == schema::Field::Type::integer ? json(static_cast<int>(value)) : json(value);
+          const std::string e = parse_error_of(j.dump());
+          EXPECT_TRUE(mentions(e, where + "." + f.key + " = ")) << where << "." << f.key << " = " << value << ": " << e;
+          ++checked;
+        }
+      }
+    }
+  EXPECT_GT(checked, 100);
+}
+
 TEST(Config, SchemaKeyIsAcceptedAndIgnored) {
   json j = preset_json("thesis-field");
   j["$schema"] = "../python/drillpy/model/config.schema.json";

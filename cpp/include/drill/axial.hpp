@@ -27,6 +27,7 @@
 
 #include "drill/axial_string.hpp"
 #include "drill/errors.hpp"
+#include "drill/names.hpp"
 #include "drill/rgd_bit.hpp"
 
 namespace drill {
@@ -69,13 +70,10 @@ struct Axial {
   double feed_speed = NAN;    ///< Omega_f [rad/s]: set per run (Simulation::inputs); NaN: not set
   AxialTorsionalSpec rgd;     ///< Kind::rgd: the axial string and the RGD bit (axial_torsional.hpp)
 
-  static Kind parse_kind(const std::string& s) {
-    if (s == "none") return Kind::none;
-    if (s == "jack") return Kind::jack;
-    if (s == "rgd") return Kind::rgd;
-    throw std::invalid_argument("axial.type = \"" + s + "\": unknown axial model (use none, jack or rgd)");
-  }
-  static std::string kind_name(Kind k) { return k == Kind::jack ? "jack" : k == Kind::rgd ? "rgd" : "none"; }
+  /// The axial models by name (axial.type); their keys are the variants of the "axial" table (config.hpp).
+  static constexpr Named<Kind> kinds[] = {{Kind::none, "none"}, {Kind::jack, "jack"}, {Kind::rgd, "rgd"}};
+  static Kind parse_kind(const std::string& s) { return parse_name(kinds, s, "axial.type", "axial model"); }
+  static std::string kind_name(Kind k) { return name_of(kinds, k); }
   /// The jack is active: the WOB a single state driven by the bit speed (the integrators' path).
   bool active() const { return kind == Kind::jack; }
   /// The axial-torsional model (axial_torsional.hpp): Simulation::run's coupled path.

@@ -25,17 +25,17 @@
 
 #include "drill/errors.hpp"
 #include "drill/fem.hpp"
+#include "drill/names.hpp"
 
 namespace drill {
 
 enum class AxialTop { feed, hook_load };
 
+inline constexpr Named<AxialTop> axial_top_names[] = {{AxialTop::hook_load, "hook_load"}, {AxialTop::feed, "feed"}};
 inline AxialTop parse_axial_top(const std::string& s) {
-  if (s == "feed") return AxialTop::feed;
-  if (s == "hook_load") return AxialTop::hook_load;
-  throw std::invalid_argument("axial.top = \"" + s + "\": unknown top boundary (use hook_load or feed)");
+  return parse_name(axial_top_names, s, "axial.top", "top boundary");
 }
-inline std::string to_string(AxialTop t) { return t == AxialTop::feed ? "feed" : "hook_load"; }
+inline std::string to_string(AxialTop t) { return name_of(axial_top_names, t); }
 
 /// Axial FE matrices of the whole string over all nodes (top node included).
 inline FEMatrices assemble_axial(const StringModel& s, double bit_mass) {

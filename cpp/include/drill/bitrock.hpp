@@ -22,6 +22,7 @@
 #include <string>
 
 #include "drill/errors.hpp"
+#include "drill/names.hpp"
 
 namespace drill {
 
@@ -68,23 +69,13 @@ struct BitRockLaw {
   double ref_speed = 1.0;  ///< mean bit speed of Eq. (5.1), in speed_unit
   double gain = 1.36;      ///< the constant factor of Eq. (5.1) (ft.lbf -> N.m)
 
-  static Kind parse_kind(const std::string& s) {
-    if (s == "tucker_wang") return Kind::tucker_wang;
-    if (s == "hysteretic") return Kind::hysteretic;
-    if (s == "polynomial") return Kind::polynomial;
-    if (s == "polynomial_hysteretic") return Kind::polynomial_hysteretic;
-    throw std::invalid_argument("law.type = \"" + s +
-                                "\": unknown law (use tucker_wang, hysteretic, polynomial or "
-                                "polynomial_hysteretic)");
-  }
-  static std::string kind_name(Kind k) {
-    switch (k) {
-      case Kind::tucker_wang: return "tucker_wang";
-      case Kind::hysteretic: return "hysteretic";
-      case Kind::polynomial: return "polynomial";
-      default: return "polynomial_hysteretic";
-    }
-  }
+  /// The laws by name (law.type); their keys are the variants of the "law" table (config.hpp).
+  static constexpr Named<Kind> kinds[] = {{Kind::tucker_wang, "tucker_wang"},
+                                          {Kind::hysteretic, "hysteretic"},
+                                          {Kind::polynomial, "polynomial"},
+                                          {Kind::polynomial_hysteretic, "polynomial_hysteretic"}};
+  static Kind parse_kind(const std::string& s) { return parse_name(kinds, s, "law.type", "law"); }
+  static std::string kind_name(Kind k) { return name_of(kinds, k); }
   void validate() const {
     require_positive(wob_ref, "law.wob_ref_n");
     switch (kind) {

@@ -54,30 +54,31 @@
 // plus "description" (free text) and "$schema" (the JSON Schema an editor checks the file with), both
 // ignored. Unknown and duplicate keys are refused (they are usually typos); missing optional blocks
 // take the defaults written above. Integers are range-checked (never wrapped). Errors name the JSON
-// path and the offending value. The keys of every block, with their types, units, bounds and
-// defaults, are one table (schema::blocks() below); config_schema.hpp writes it as a JSON Schema.
+// path and the offending value. Each key is declared once, in its block's table (schema::make_tables()
+// below, config_keys.hpp): its type, unit, bounds, default and the member it binds to; parse_config,
+// to_json and the JSON Schema (config_schema.hpp) are all taken from the tables.
 #pragma once
 
 #include <nlohmann/json.hpp>
 #include <algorithm>
-#include <climits>
-#include <cstdint>
-#include <optional>
+#include <cmath>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "drill/axial.hpp"
 #include "drill/bitrock.hpp"
+#include "drill/config_keys.hpp"
 #include "drill/errors.hpp"
 #include "drill/fem.hpp"
 #include "drill/integrator.hpp"
+#include "drill/json_text.hpp"
 #include "drill/modal.hpp"
+#include "drill/names.hpp"
 #include "drill/topdrive.hpp"
 
 namespace drill {
 
-using json = nlohmann::json;
 
 /// How a run starts (the thesis is ambiguous, docs/validation.md):
 ///  * rest   Eq. (2.10) and Algorithm 1: string untwisted, at rest in the ground frame while the
@@ -87,16 +88,12 @@ using json = nlohmann::json;
 ///  * steady steady drilling, slightly disturbed (Simulation::steady_state).
 enum class StartMode { rest, rigid, steady };
 
+inline constexpr Named<StartMode> start_names[] = {
+    {StartMode::rest, "rest"}, {StartMode::rigid, "rigid"}, {StartMode::steady, "steady"}};
 inline StartMode parse_start(const std::string& s, const std::string& field = "start") {
-  if (s == "rest") return StartMode::rest;
-  if (s == "rigid") return StartMode::rigid;
-  if (s == "steady") return StartMode::steady;
-  throw std::invalid_argument(field + " = \"" + s + "\": unknown initial state (use rest, rigid or steady)");
+  return parse_name(start_names, s, field, "initial state");
 }
-
-inline std::string to_string(StartMode m) {
-  return m == StartMode::rest ? "rest" : m == StartMode::rigid ? "rigid" : "steady";
-}
+inline std::string to_string(StartMode m) { return name_of(start_names, m); }
 
 struct MetricsSpec {
   double stick_threshold_fraction = 0.05;  ///< stick when bit speed <= fraction x top speed
@@ -227,349 +224,367 @@ inline double top_impedance(const StringModel& s) {
   return characteristic_impedance(top.polar_moment(), top.shear_modulus(), top.density);
 }
 
-/// The keys of every block of the configuration: one table from which parse_config takes the keys
-/// it accepts and config_schema() (config_schema.hpp) writes the JSON Schema for editors, with each
-/// key's JSON type, meaning and unit, the bounds the validators enforce and the default.
+/// The configuration's keys, one table per block (config_keys.hpp): each key with its JSON type,
+/// meaning and unit, the bounds the validators enforce, its default and the member it binds to.
+/// parse_config and to_json read and write the blocks through them; config_schema() (config_schema.hpp)
+/// writes them as the JSON Schema. Blocks nest through `object` keys, which the tables describe
+/// and parse_config / to_json compose (a block's presence can depend on other blocks).
 namespace schema {
 
-/// A bound of a number (the validator's): its value and whether the value itself is refused.
-struct Bound {
-  double value;
-  bool exclusive;
+struct Tables {
+  Table<Config> config, string, rom, operation, sensors, simulation, sweep, craig_bampton;
+  Table<Section> sections;
+  Table<LumpedInertia> lumped_inertias;
+  Table<DampingSpec> damping;
+  Table<BitRockLaw> law;
+  Table<TopDrive> top_drive;
+  Table<Controller> controller;
+  Table<Axial> axial;
+  Table<RgdBit> bit;
+  Table<MetricsSpec> metrics;
 };
 
-/// One key of a block. `dflt` is the value taken when the key is absent (null: the key is required,
-/// or its default depends on other keys as `doc` says).
-struct Field {
-  enum class Type { number, integer, string, numbers, integers, rows, object, objects };
-  std::string key;
-  Type type;
-  std::string doc;
-  json dflt = nullptr;
-  bool required = false;             ///< must be present (an array: and not empty)
-  std::optional<Bound> min, max;     ///< number, integer (arrays of them: each item)
-  std::vector<std::string> choices;  ///< string: the accepted values (any string when empty)
-  std::string block;                 ///< object, objects: the name of the block describing it
-  std::vector<Field> columns;        ///< rows: each row is an array of these values
-  std::size_t count = 0;             ///< rows: the number of rows
+inline Tables make_tables() {
+  const Config d;               // the defaults of absent keys
+  const Controller dc;          // those of the controller's keys
+  const AxialTorsionalSpec ad;  // those of the rgd axial keys
+  Tables t;
 
-  Field& req() {
-    required = true;
-    return *this;
-  }
-  Field& def(json value) {
-    dflt = std::move(value);
-    return *this;
-  }
-  Field& above(double v) {
-    min = Bound{v, true};
-    return *this;
-  }
-  Field& at_least(double v) {
-    min = Bound{v, false};
-    return *this;
-  }
-  Field& below(double v) {
-    max = Bound{v, true};
-    return *this;
-  }
-  Field& at_most(double v) {
-    max = Bound{v, false};
-    return *this;
-  }
-  Field& positive() { return above(0.0); }
-  Field& non_negative() { return at_least(0.0); }
-};
+  t.config = {"config",
+              "drillpy / drillsim configuration (cpp/include/drill/config.hpp); unknown and repeated keys are refused",
+              {{text("name", "name of the configuration").def(d.name), &Config::name},
+               Key<Config>::ignored(text("description", "free text (ignored by the engine)")),
+               Key<Config>::ignored(
+                   text("$schema", "the JSON Schema of this file, for editors (ignored by the engine)")),
+               object("string", "string", "the drill string: sections from the top to the bit").req(),
+               object("rom", "rom", "reduced-order model (Eqs. 2.7-2.10)"),
+               object("damping", "damping", "damping of the reduced model")
+                   .def({{"type", "modal"}, {"ratios", d.damping.ratios}}),
+               object("law", "law",
+                      "bit-rock interaction law (required, except with axial.type = rgd, whose bit law is axial.bit)"),
+               object("operation", "operation", "operating point"),
+               object("top_drive", "top_drive", "how the top is turned").def({{"type", "ideal"}}),
+               object("axial", "axial",
+                      "the weight on bit: an input, a state driven by the rig's jack, or the axial-torsional "
+                      "string with the RGD bit")
+                   .def({{"type", "none"}}),
+               object("sensors", "sensors", "measurement chain of the recorded channels"),
+               object("simulation", "simulation", "time integration (appendices A, B)"),
+               object("metrics", "metrics", "stick and slip detection"),
+               object("sweep", "sweep", "grid of the sweep job (drillsim --job sweep)"),
+               object("craig_bampton", "craig_bampton", "Craig-Bampton substructuring (chapter 6)")}};
 
-inline Field number(std::string key, std::string doc) { return {std::move(key), Field::Type::number, std::move(doc)}; }
-inline Field integer(std::string key, std::string doc) { return {std::move(key), Field::Type::integer, std::move(doc)}; }
-inline Field numbers(std::string key, std::string doc) { return {std::move(key), Field::Type::numbers, std::move(doc)}; }
-inline Field integers(std::string key, std::string doc) {
-  return {std::move(key), Field::Type::integers, std::move(doc)};
-}
-inline Field text(std::string key, std::string doc, std::vector<std::string> choices = {}) {
-  Field f{std::move(key), Field::Type::string, std::move(doc)};
-  f.choices = std::move(choices);
-  return f;
-}
-inline Field object(std::string key, std::string block, std::string doc) {
-  Field f{std::move(key), Field::Type::object, std::move(doc)};
-  f.block = std::move(block);
-  return f;
-}
-inline Field objects(std::string key, std::string block, std::string doc) {
-  Field f{std::move(key), Field::Type::objects, std::move(doc)};
-  f.block = std::move(block);
-  return f;
-}
-inline Field rows(std::string key, std::string doc, std::size_t count, std::vector<Field> columns) {
-  Field f{std::move(key), Field::Type::rows, std::move(doc)};
-  f.count = count;
-  f.columns = std::move(columns);
-  return f;
-}
+  t.string = {"string",
+              "the drill string (Eqs. 2.1-2.6)",
+              {objects("sections", "string.sections", "uniform sections from the top to the bit").req(),
+               objects("lumped_inertias", "string.lumped_inertias", "rotary inertias added at nodes")
+                   .def(json::array())}};
 
-/// A variant of a block, picked by the block's "type", with the keys it adds.
-struct Variant {
-  std::string type;
-  std::vector<Field> fields;
-};
+  t.sections = {
+      "string.sections",
+      "a uniform section: a hollow or solid circular shaft of linear torsion elements",
+      {{text("name", "section name (default: section<index>)"), &Section::name},
+       {number("length_m", "length [m]").positive().req(), &Section::length},
+       {number("outer_radius_m", "outer radius [m]").positive().req(), &Section::outer_radius},
+       {number("inner_radius_m", "inner radius [m], below outer_radius_m; 0: a solid bar").non_negative().def(0.0),
+        &Section::inner_radius},
+       {number("youngs_modulus_pa", "Young's modulus [Pa]").positive().req(), &Section::youngs_modulus},
+       {number("poisson_ratio", "Poisson's ratio [-]").above(-1.0).below(0.5).req(), &Section::poisson_ratio},
+       {number("density_kg_m3", "density [kg/m^3]").positive().req(), &Section::density},
+       {integer("elements", "number of linear elements").at_least(1).req(), &Section::elements}}};
 
-/// A JSON object of the configuration, named as in error messages ("operation"; "string.sections"
-/// for each item of that array; "config" for the top level), with its keys and variants.
-struct Block {
-  std::string name, doc;
-  std::vector<Field> fields;      ///< the keys of every variant
-  std::vector<Variant> variants;  ///< empty, or one per value of the key "type"
-};
+  t.lumped_inertias = {
+      "string.lumped_inertias",
+      "a rotary inertia added at a node",
+      {{integer("node", "node index: 0 at the top, negative from the bit (-1: the bit)").def(-1), &LumpedInertia::node},
+       {number("inertia_kg_m2", "rotary inertia [kg m^2]").positive().req(), &LumpedInertia::inertia}}};
 
-inline std::vector<Block> make_blocks() {
-  const Config d;  // the defaults of absent keys
-  const std::vector<Field> poly_coefficients = [] {
-    std::vector<Field> a;
-    for (int i = 0; i < 8; ++i)
-      a.push_back(number("a" + std::to_string(i), "Eq. (5.1) coefficient a" + std::to_string(i)).req());
-    a.push_back(number("ref_speed", "mean bit speed of Eq. (5.1) [speed_unit]").positive().req());
-    a.push_back(number("gain", "constant factor of Eq. (5.1) (1.36: ft.lbf to N m)").req());
-    return a;
-  }();
-  const std::vector<Field> hysteresis = {
-      number("beta1", "Eq. (3.3): H = beta1 tanh(beta2 a) sign(v), in [0, 1)").at_least(0.0).below(1.0).req(),
-      number("beta2", "Eq. (3.3) [1 / (speed_unit/s)]").non_negative().req()};
-  std::vector<Field> hysteretic = {
-      number("b0", "Eq. (3.2): T = b0 [tanh(b1 v) + b2 |v|^b4 sign(v) / (1 + b3 |v|^b5) (1 + H)] [N m]").req(),
-      number("b1", "Eq. (3.2) [1 / speed_unit]").req(),
-      number("b2", "Eq. (3.2)").req(),
-      number("b3", "Eq. (3.2)").non_negative().req(),
-      number("b4", "Eq. (3.2) exponent").positive().req(),
-      number("b5", "Eq. (3.2) exponent").positive().req()};
-  hysteretic.insert(hysteretic.end(), hysteresis.begin(), hysteresis.end());
-  std::vector<Field> poly_hysteretic = poly_coefficients;
-  poly_hysteretic.insert(poly_hysteretic.end(), hysteresis.begin(), hysteresis.end());
-  using Law = BitRockLaw::Kind;
-  const std::vector<std::string> law_types = {BitRockLaw::kind_name(Law::tucker_wang), BitRockLaw::kind_name(Law::hysteretic),
-                                              BitRockLaw::kind_name(Law::polynomial),
-                                              BitRockLaw::kind_name(Law::polynomial_hysteretic)};
-  const std::vector<std::string> drives = {TopDrive::kind_name(TopDrive::Kind::ideal),
-                                           TopDrive::kind_name(TopDrive::Kind::motor),
-                                           TopDrive::kind_name(TopDrive::Kind::controlled)};
-  using Ctl = Controller::Kind;
-  const std::vector<std::string> controllers = {Controller::kind_name(Ctl::stiff), Controller::kind_name(Ctl::pi),
-                                                Controller::kind_name(Ctl::soft_speed),
-                                                Controller::kind_name(Ctl::z_torque)};
-  const Controller dc;  // the defaults of the controller's keys
-  const AxialTorsionalSpec ad;  // the defaults of the rgd axial keys
-  auto kp = [] { return number("kp_nms_rad", "kp: proportional gain [N m s/rad]").positive(); };
-  auto ki = [] { return number("ki_nm_rad", "ki: integral gain [N m/rad]").non_negative(); };
-  auto bandwidth = [&] {
-    return number("bandwidth_ratio", "closed-loop bandwidth of the speed loop over the string's first natural "
-                                     "frequency: kp = 2 J w_b, ki = J w_b^2, w_b = ratio w_1")
-        .positive()
-        .def(dc.bandwidth_ratio);
-  };
-  auto impedance = [] {
-    return number("impedance_nms_rad", "Z [N m s/rad] (default: the top section's J_p sqrt(G rho))").positive();
-  };
+  t.rom = {"rom",
+           "reduced-order model",
+           {{integer("modes", "retained modes, at most the number of elements (default: 20, or that number if smaller)")
+                 .at_least(1),
+             &Config::modes}}};
 
-  return {
-      {"config",
-       "drillpy / drillsim configuration (cpp/include/drill/config.hpp); unknown and repeated keys are refused",
-       {text("$schema", "the JSON Schema of this file, for editors (ignored by the engine)"),
-        text("name", "name of the configuration").def(d.name),
-        text("description", "free text (ignored by the engine)"),
-        object("string", "string", "the drill string: sections from the top to the bit").req(),
-        object("rom", "rom", "reduced-order model (Eqs. 2.7-2.10)"),
-        object("damping", "damping", "damping of the reduced model")
-            .def({{"type", "modal"}, {"ratios", d.damping.ratios}}),
-        object("law", "law", "bit-rock interaction law (required, except with axial.type = rgd, whose bit law is axial.bit)"),
-        object("operation", "operation", "operating point"),
-        object("top_drive", "top_drive", "how the top is turned").def({{"type", "ideal"}}),
-        object("axial", "axial", "the weight on bit: an input, a state driven by the rig's jack, or the axial-torsional "
-                                 "string with the RGD bit")
-            .def({{"type", "none"}}),
-        object("sensors", "sensors", "measurement chain of the recorded channels"),
-        object("simulation", "simulation", "time integration (appendices A, B)"),
-        object("metrics", "metrics", "stick and slip detection"),
-        object("sweep", "sweep", "grid of the sweep job (drillsim --job sweep)"),
-        object("craig_bampton", "craig_bampton", "Craig-Bampton substructuring (chapter 6)")}},
-      {"string",
-       "the drill string (Eqs. 2.1-2.6)",
-       {objects("sections", "string.sections", "uniform sections from the top to the bit").req(),
-        objects("lumped_inertias", "string.lumped_inertias", "rotary inertias added at nodes").def(json::array())}},
-      {"string.sections",
-       "a uniform section: a hollow or solid circular shaft of linear torsion elements",
-       {text("name", "section name (default: section<index>)"),
-        number("length_m", "length [m]").positive().req(),
-        number("outer_radius_m", "outer radius [m]").positive().req(),
-        number("inner_radius_m", "inner radius [m], below outer_radius_m; 0: a solid bar").non_negative().def(0.0),
-        number("youngs_modulus_pa", "Young's modulus [Pa]").positive().req(),
-        number("poisson_ratio", "Poisson's ratio [-]").above(-1.0).below(0.5).req(),
-        number("density_kg_m3", "density [kg/m^3]").positive().req(),
-        integer("elements", "number of linear elements").at_least(1).req()}},
-      {"string.lumped_inertias",
-       "a rotary inertia added at a node",
-       {integer("node", "node index: 0 at the top, negative from the bit (-1: the bit)").def(-1),
-        number("inertia_kg_m2", "rotary inertia [kg m^2]").positive().req()}},
-      {"rom",
-       "reduced-order model",
-       {integer("modes", "retained modes, at most the number of elements (default: 20, or that number if smaller)").at_least(1)}},
-      {"damping",
-       "modal damping ratios, or Rayleigh damping D = a M + b K through two (frequency, ratio) pairs",
-       {text("type", "damping model", {"modal", "rayleigh"}).req()},
-       {{"modal",
-         {numbers("ratios", "damping ratio of modes 1, 2, ... (the last repeats), in [0, 1]")
+  t.damping = {
+      "damping",
+      "modal damping ratios, or Rayleigh damping D = a M + b K through two (frequency, ratio) pairs",
+      {kind_key<DampingSpec>("damping model")},
+      {{"modal",
+        {{numbers("ratios", "damping ratio of modes 1, 2, ... (the last repeats), in [0, 1]")
               .non_negative()
               .at_most(1.0)
-              .req()}},
-        {"rayleigh",
-         {rows("pairs", "[[f1_hz, ratio1], [f2_hz, ratio2]]: the ratios at two distinct frequencies", 2,
+              .req(),
+          &DampingSpec::ratios}}},
+       {"rayleigh",
+        {{rows("pairs", "[[f1_hz, ratio1], [f2_hz, ratio2]]", "the ratios at two distinct frequencies", 2,
                {number("frequency_hz", "frequency [Hz]").positive(),
                 number("ratio", "damping ratio in [0, 1]").non_negative().at_most(1.0)})
-              .req()}}}},
-      {"law",
-       "torque on bit as a function of bit speed v, bit acceleration a and WOB; it scales linearly with the WOB",
-       {text("type", "law: Eq. (3.1), (3.2)-(3.3), (5.1) or (5.3)", law_types).req(),
-        text("speed_unit", "unit of v (and a per second) in the law's formulas", {"rad_s", "rad/s", "rpm", "RPM"})
-            .req(),
-        number("wob_ref_n", "WOB at which the parameters hold [N]").positive().req()},
-       {{law_types[0],
-         {number("c0", "Eq. (3.1): T = c0 [tanh(alpha0 v) + alpha1 v / (1 + alpha2 v^2)] [N m]").req(),
-          number("alpha0", "Eq. (3.1) [1 / speed_unit]").non_negative().req(),
-          number("alpha1", "Eq. (3.1) [1 / speed_unit]").req(),
-          number("alpha2", "Eq. (3.1) [1 / speed_unit^2]").non_negative().req()}},
-        {law_types[1], hysteretic},
-        {law_types[2], poly_coefficients},
-        {law_types[3], poly_hysteretic}}},
-      {"operation",
-       "operating point",
-       {number("top_speed_rad_s", "top-drive speed (commanded speed of a motor top drive) [rad/s]")
+              .req(),
+          [](const DampingSpec& s) { return json{{s.f1, s.z1}, {s.f2, s.z2}}; },
+          [](DampingSpec& s, const json& p) {
+            s.f1 = p[0][0];
+            s.z1 = p[0][1];
+            s.f2 = p[1][0];
+            s.z2 = p[1][1];
+          }}}}}};
+
+  {  // the bit-rock laws: common keys, then each law's parameters
+    using L = BitRockLaw;
+    std::vector<Key<L>> poly;
+    for (int i = 0; i < 8; ++i)
+      poly.push_back({number("a" + std::to_string(i), "Eq. (5.1) coefficient a" + std::to_string(i)).req(),
+                      [i](auto& l) -> auto& { return l.a[i]; }});
+    poly.push_back({number("ref_speed", "mean bit speed of Eq. (5.1) [speed_unit]").positive().req(), &L::ref_speed});
+    poly.push_back({number("gain", "constant factor of Eq. (5.1) (1.36: ft.lbf to N m)").req(), &L::gain});
+    const std::vector<Key<L>> hysteresis = {
+        {number("beta1", "Eq. (3.3): H = beta1 tanh(beta2 a) sign(v), in [0, 1)").at_least(0.0).below(1.0).req(),
+         &L::beta1},
+        {number("beta2", "Eq. (3.3) [1 / (speed_unit/s)]").non_negative().req(), &L::beta2}};
+    auto b = [](int i) { return [i](auto& l) -> auto& { return l.b[i]; }; };
+    std::vector<Key<L>> hysteretic = {
+        {number("b0", "Eq. (3.2): T = b0 [tanh(b1 v) + b2 |v|^b4 sign(v) / (1 + b3 |v|^b5) (1 + H)] [N m]").req(),
+         b(0)},
+        {number("b1", "Eq. (3.2) [1 / speed_unit]").req(), b(1)},
+        {number("b2", "Eq. (3.2)").req(), b(2)},
+        {number("b3", "Eq. (3.2)").non_negative().req(), b(3)},
+        {number("b4", "Eq. (3.2) exponent").positive().req(), b(4)},
+        {number("b5", "Eq. (3.2) exponent").positive().req(), b(5)}};
+    hysteretic.insert(hysteretic.end(), hysteresis.begin(), hysteresis.end());
+    std::vector<Key<L>> poly_hysteretic = poly;
+    poly_hysteretic.insert(poly_hysteretic.end(), hysteresis.begin(), hysteresis.end());
+    t.law = {
+        "law",
+        "torque on bit as a function of bit speed v, bit acceleration a and WOB; it scales linearly with the WOB",
+        {kind_key<L>("law: Eq. (3.1), (3.2)-(3.3), (5.1) or (5.3)"),
+         {text("speed_unit", "unit of v (and a per second) in the law's formulas", {"rad_s", "rad/s", "rpm", "RPM"})
+              .req(),
+          [](const L& l) { return to_string(l.speed_unit); },
+          [](L& l, const std::string& v, const std::string& path) { l.speed_unit = parse_speed_unit(v, path); }},
+         {number("wob_ref_n", "WOB at which the parameters hold [N]").positive().req(), &L::wob_ref}},
+        {{L::kind_name(L::Kind::tucker_wang),
+          {{number("c0", "Eq. (3.1): T = c0 [tanh(alpha0 v) + alpha1 v / (1 + alpha2 v^2)] [N m]").req(), &L::c0},
+           {number("alpha0", "Eq. (3.1) [1 / speed_unit]").non_negative().req(), &L::alpha0},
+           {number("alpha1", "Eq. (3.1) [1 / speed_unit]").req(), &L::alpha1},
+           {number("alpha2", "Eq. (3.1) [1 / speed_unit^2]").non_negative().req(), &L::alpha2}}},
+         {L::kind_name(L::Kind::hysteretic), hysteretic},
+         {L::kind_name(L::Kind::polynomial), poly},
+         {L::kind_name(L::Kind::polynomial_hysteretic), poly_hysteretic}}};
+  }
+
+  t.operation = {
+      "operation",
+      "operating point",
+      {{number("top_speed_rad_s", "top-drive speed (commanded speed of a motor top drive) [rad/s]")
             .positive()
             .def(d.top_speed),
-        number("wob_n", "weight on bit [N] (default: law.wob_ref_n)").non_negative(),
-        number("bit_viscous_nms", "viscous torque c_v v on the bit [N m s/rad] (not in the thesis)")
+        &Config::top_speed},
+       {number("wob_n", "weight on bit [N] (default: law.wob_ref_n)").non_negative(), &Config::wob},
+       {number("bit_viscous_nms", "viscous torque c_v v on the bit [N m s/rad] (not in the thesis)")
             .non_negative()
             .def(d.bit_viscous),
-        number("string_friction_nm", "Coulomb torque T_sf sign(v) of the string, lumped at the bit [N m] "
+        &Config::bit_viscous},
+       {number("string_friction_nm", "Coulomb torque T_sf sign(v) of the string, lumped at the bit [N m] "
                                      "(not in the thesis)")
             .non_negative()
-            .def(d.string_friction)}},
-      {"top_drive",
-       "ideal (the thesis: the top turns at top_speed_rad_s) or an open-loop motor commanded at it, "
-       "J_m Omega' = c_m (Omega_c - Omega) - T_top",
-       {text("type", "top-drive model", drives).req()},
-       {{drives[0], {}},
-        {drives[1],
-         {number("slope_nms_rad", "c_m: torque lost per unit speed [N m s/rad]").positive().req(),
-          number("inertia_kg_m2", "J_m: rotor and drive-train inertia [kg m^2]").positive().req(),
-          number("max_torque_nm", "T_max: the motor's torque limit [N m]; absent: unlimited").positive()}},
-        {drives[2],
-         {number("inertia_kg_m2", "J: rotor and drive-train inertia [kg m^2]").positive().req(),
-          object("controller", "top_drive.controller", "the speed controller driving the inertia").req()}}}},
-      {"top_drive.controller",
-       "speed controller of a controlled top drive, J Omega' = u - T_top, u = sat(kp e + ki int e), "
-       "e = Omega_ref - Omega (cpp/include/drill/controller.hpp, docs/control.md)",
-       {text("type", "stiff (high-gain PI), pi (user gains), soft_speed (SoftSpeed: kp = Z, ki = J w_s^2) or "
-                     "z_torque (ZTorque: set point corrected by -(T_top - T_mean) / Z)",
-             controllers)
-            .req(),
-        number("torque_limit_nm", "motor torque limit |u| <= L [N m] (anti-windup); absent: no limit").positive(),
-        number("sample_time_s", "sample time of the controller (zero-order hold) [s]; absent: continuous")
-            .positive()},
-       {{controllers[0], {bandwidth(), kp(), ki()}},
-        {controllers[1], {kp().req(), ki().req()}},
-        {controllers[2],
-         {kp(), ki(), impedance(),
-          number("stick_slip_frequency_rad_s", "w_s [rad/s] (default: the string's first natural frequency)")
-              .positive()}},
-        {controllers[3],
-         {bandwidth(), kp(), ki(), impedance(),
-          number("torque_filter_s", "time constant of the top torque's low-pass T_mean [s] (default: 5 / w_1)")
-              .positive()}}}},
-      {"axial",
-       "none (the WOB is operation.wob_n), the rig's jack, W' = g (Omega_f - v) - (W - W_s) / tau (axial.hpp), or rgd: "
-       "the string's axial modes with the Richard-Germay-Detournay bit (axial_torsional.hpp, docs/axial.md)",
-       {text("type", "axial model",
-             {Axial::kind_name(Axial::Kind::none), Axial::kind_name(Axial::Kind::jack), Axial::kind_name(Axial::Kind::rgd)})
-            .req()},
-       {{Axial::kind_name(Axial::Kind::none), {}},
-        {Axial::kind_name(Axial::Kind::jack),
-         {number("gain_n_rad", "g = k_ax d / (2 pi): WOB per radian the bit lags its steady rotation [N/rad]")
-              .non_negative()
-              .req(),
-          number("relaxation_s", "tau: the jack's time constant [s]").positive().req()}},
-        {Axial::kind_name(Axial::Kind::rgd),
-         {text("top", "top boundary: hook_load (constant force operation.wob_n down at the top) or feed (constant "
-                      "rate of penetration rop_m_s)",
-               {"hook_load", "feed"})
-              .def("hook_load"),
-          number("rop_m_s", "V0: the top's constant feed rate with top = feed [m/s]").positive(),
-          integer("modes", "retained axial modes, at most the free axial DOFs").at_least(1).def(ad.modes),
-          number("damping_ratio", "modal damping ratio of the axial modes").non_negative().at_most(1.0).def(ad.damping_ratio),
-          number("bit_mass_kg", "axial mass lumped at the bit [kg]").non_negative().def(ad.bit_mass),
-          number("disturbance", "start: the bit's axial speed is (1 - disturbance) times the steady rate of "
-                                "penetration (0: steady drilling; above 1: moving up)")
-              .at_least(-1000.0)
-              .at_most(1000.0)
-              .def(ad.disturbance),
-          object("bit", "axial.bit", "the Richard-Germay-Detournay bit law (rgd_bit.hpp)").req()}}}},
-      {"axial.bit",
-       "the RGD bit: W_c = a zeta eps d, T_c = a^2 eps d / 2, W_f = a l sigma, T_f = gamma mu a W_f / 2, "
-       "d = N [U(t) - U(t - t_N)]",
-       {number("radius_m", "a: bit radius [m]").positive().req(),
-        number("specific_energy_pa", "eps: intrinsic specific energy [Pa]").positive().req(),
-        number("contact_strength_pa", "sigma: contact strength of the wear flats [Pa]").non_negative().req(),
-        number("zeta", "zeta: normal over tangential cutting force [-]").positive().req(),
-        number("wear_flat_m", "l: total wear-flat length [m]").non_negative().req(),
-        number("gamma", "gamma: bit geometry factor [-]").non_negative().req(),
-        number("mu", "mu: friction coefficient of the wear flats [-]").non_negative().req(),
-        integer("blades", "N: blades").at_least(1).at_most(64).req()}},
-      {"sensors",
-       "measurement chain of the recorded channels",
-       {number("lowpass_hz", "cutoff of a second-order Butterworth low-pass [Hz]; 0: ideal sensors")
-            .non_negative()
-            .def(d.sensor_lowpass_hz)}},
-      {"simulation",
-       "time integration",
-       {text("scheme", "integrator",
-             {to_string(Scheme::modified_euler), to_string(Scheme::bdf2), to_string(Scheme::exact_modal)})
-            .def(to_string(d.sim.scheme)),
-        text("acceleration", "bit acceleration in Eq. (3.3); lagged: modified_euler only",
-             {to_string(Acceleration::implicit), to_string(Acceleration::lagged)})
+            .def(d.string_friction),
+        &Config::string_friction}}};
+
+  {
+    using D = TopDrive;
+    t.top_drive = {
+        "top_drive",
+        "ideal (the thesis: the top turns at top_speed_rad_s) or an open-loop motor commanded at it, "
+        "J_m Omega' = c_m (Omega_c - Omega) - T_top",
+        {kind_key<D>("top-drive model")},
+        {{D::kind_name(D::Kind::ideal), {}},
+         {D::kind_name(D::Kind::motor),
+          {{number("slope_nms_rad", "c_m: torque lost per unit speed [N m s/rad]").positive().req(), &D::slope},
+           {number("inertia_kg_m2", "J_m: rotor and drive-train inertia [kg m^2]").positive().req(), &D::inertia},
+           {number("max_torque_nm", "T_max: the motor's torque limit [N m]; absent: unlimited").positive(),
+            &D::max_torque}}},
+         {D::kind_name(D::Kind::controlled),
+          {{number("inertia_kg_m2", "J: rotor and drive-train inertia [kg m^2]").positive().req(), &D::inertia},
+           object("controller", "top_drive.controller", "the speed controller driving the inertia").req()}}}};
+  }
+
+  {
+    using C = Controller;
+    const Key<C> kp{number("kp_nms_rad", "kp: proportional gain [N m s/rad]").positive(), &C::kp_given};
+    const Key<C> ki{number("ki_nm_rad", "ki: integral gain [N m/rad]").non_negative(), &C::ki_given};
+    const Key<C> bandwidth{number("bandwidth_ratio", "closed-loop bandwidth of the speed loop over the string's first "
+                                                     "natural frequency: kp = 2 J w_b, ki = J w_b^2, w_b = ratio w_1")
+                               .positive()
+                               .def(dc.bandwidth_ratio),
+                           &C::bandwidth_ratio};
+    const Key<C> impedance{
+        number("impedance_nms_rad", "Z [N m s/rad] (default: the top section's J_p sqrt(G rho))").positive(),
+        &C::impedance_given};
+    // the pi controller needs both gains: its validate() refuses an absent one
+    Key<C> kp_pi = kp, ki_pi = ki;
+    kp_pi.field.req_in_validate();
+    ki_pi.field.req_in_validate();
+    t.controller = {
+        "top_drive.controller",
+        "speed controller of a controlled top drive, J Omega' = u - T_top, u = sat(kp e + ki int e), "
+        "e = Omega_ref - Omega (cpp/include/drill/controller.hpp, docs/control.md)",
+        {kind_key<C>("stiff (high-gain PI), pi (user gains), soft_speed (SoftSpeed: kp = Z, ki = J w_s^2) or "
+                     "z_torque (ZTorque: set point corrected by -(T_top - T_mean) / Z)"),
+         {number("torque_limit_nm", "motor torque limit |u| <= L [N m] (anti-windup); absent: no limit").positive(),
+          &C::torque_limit},
+         {number("sample_time_s", "sample time of the controller (zero-order hold) [s]; absent: continuous").positive(),
+          [](const C& k) { return k.sampled() ? k.sample_time : NAN; },
+          [](C& k, const double& v, const std::string& path) {
+            require(v > 0.0, path, v, "must be positive (omit it for a continuous controller)");
+            k.sample_time = v;
+          }}},
+        {{C::kind_name(C::Kind::stiff), {kp, ki, bandwidth}},
+         {C::kind_name(C::Kind::pi), {kp_pi, ki_pi}},
+         {C::kind_name(C::Kind::soft_speed),
+          {kp, ki, impedance,
+           {number("stick_slip_frequency_rad_s", "w_s [rad/s] (default: the string's first natural frequency)")
+                .positive(),
+            &C::stick_slip_frequency}}},
+         {C::kind_name(C::Kind::z_torque),
+          {kp, ki, bandwidth, impedance,
+           {number("torque_filter_s", "time constant of the top torque's low-pass T_mean [s] (default: 5 / w_1)")
+                .positive(),
+            &C::torque_filter_given}}}}};
+  }
+
+  {
+    using A = Axial;
+    t.axial = {
+        "axial",
+        "none (the WOB is operation.wob_n), the rig's jack, W' = g (Omega_f - v) - (W - W_s) / tau (axial.hpp), or "
+        "rgd: the string's axial modes with the Richard-Germay-Detournay bit (axial_torsional.hpp, docs/axial.md)",
+        {kind_key<A>("axial model")},
+        {{A::kind_name(A::Kind::none), {}},
+         {A::kind_name(A::Kind::jack),
+          {{number("gain_n_rad", "g = k_ax d / (2 pi): WOB per radian the bit lags its steady rotation [N/rad]")
+                .non_negative()
+                .req(),
+            &A::gain},
+           {number("relaxation_s", "tau: the jack's time constant [s]").positive().req(), &A::relaxation}}},
+         {A::kind_name(A::Kind::rgd),
+          {{text("top", "top boundary: hook_load (constant force operation.wob_n down at the top) or feed (constant "
+                        "rate of penetration rop_m_s)",
+                 names_of(axial_top_names))
+                .def(to_string(ad.top)),
+            [](const A& a) { return to_string(a.rgd.top); },
+            [](A& a, const std::string& v) { a.rgd.top = parse_axial_top(v); }},
+           {number("rop_m_s", "V0: the top's constant feed rate with top = feed [m/s]").positive(),
+            [](auto& a) -> auto& { return a.rgd.feed_rate; }},
+           {integer("modes", "retained axial modes, at most the free axial DOFs").at_least(1).def(ad.modes),
+            [](auto& a) -> auto& { return a.rgd.modes; }},
+           {number("damping_ratio", "modal damping ratio of the axial modes")
+                .non_negative()
+                .at_most(1.0)
+                .def(ad.damping_ratio),
+            [](auto& a) -> auto& { return a.rgd.damping_ratio; }},
+           {number("bit_mass_kg", "axial mass lumped at the bit [kg]").non_negative().def(ad.bit_mass),
+            [](auto& a) -> auto& { return a.rgd.bit_mass; }},
+           {number("disturbance", "start: the bit's axial speed is (1 - disturbance) times the steady rate of "
+                                  "penetration (0: steady drilling; above 1: moving up)")
+                .at_least(-1000.0)
+                .at_most(1000.0)
+                .def(ad.disturbance),
+            [](auto& a) -> auto& { return a.rgd.disturbance; }},
+           object("bit", "axial.bit", "the Richard-Germay-Detournay bit law (rgd_bit.hpp)").req()}}}};
+  }
+
+  t.bit = {"axial.bit",
+           "the RGD bit: W_c = a zeta eps d, T_c = a^2 eps d / 2, W_f = a l sigma, T_f = gamma mu a W_f / 2, "
+           "d = N [U(t) - U(t - t_N)]",
+           {{number("radius_m", "a: bit radius [m]").positive().req(), &RgdBit::radius},
+            {number("specific_energy_pa", "eps: intrinsic specific energy [Pa]").positive().req(),
+             &RgdBit::specific_energy},
+            {number("contact_strength_pa", "sigma: contact strength of the wear flats [Pa]").non_negative().req(),
+             &RgdBit::contact_strength},
+            {number("zeta", "zeta: normal over tangential cutting force [-]").positive().req(), &RgdBit::force_ratio},
+            {number("wear_flat_m", "l: total wear-flat length [m]").non_negative().req(), &RgdBit::wear_flat},
+            {number("gamma", "gamma: bit geometry factor [-]").non_negative().req(), &RgdBit::geometry},
+            {number("mu", "mu: friction coefficient of the wear flats [-]").non_negative().req(), &RgdBit::friction},
+            {integer("blades", "N: blades").at_least(1).at_most(64).req(), &RgdBit::blades}}};
+
+  t.sensors = {"sensors",
+               "measurement chain of the recorded channels",
+               {{number("lowpass_hz", "cutoff of a second-order Butterworth low-pass [Hz]; 0: ideal sensors")
+                     .non_negative()
+                     .def(d.sensor_lowpass_hz),
+                 &Config::sensor_lowpass_hz}}};
+
+  t.simulation = {
+      "simulation",
+      "time integration",
+      {{text("scheme", "integrator", names_of(scheme_names)).def(to_string(d.sim.scheme)),
+        [](const Config& c) { return to_string(c.sim.scheme); },
+        [](Config& c, const std::string& v) { c.sim.scheme = parse_scheme(v); }},
+       {text("acceleration", "bit acceleration in Eq. (3.3); lagged: modified_euler only", names_of(acceleration_names))
             .def(to_string(d.sim.acceleration)),
-        number("dt_s", "time step [s]").positive().def(d.sim.dt),
-        number("duration_s", "simulated time [s], at least one step").positive().def(d.sim.duration),
-        number("transient_s", "time discarded before the metrics [s], below duration_s "
+        [](const Config& c) { return to_string(c.sim.acceleration); },
+        [](Config& c, const std::string& v) { c.sim.acceleration = parse_acceleration(v); }},
+       {number("dt_s", "time step [s]").positive().def(d.sim.dt), [](auto& c) -> auto& { return c.sim.dt; }},
+       {number("duration_s", "simulated time [s], at least one step").positive().def(d.sim.duration),
+        [](auto& c) -> auto& { return c.sim.duration; }},
+       {number("transient_s", "time discarded before the metrics [s], below duration_s "
                               "(default: 100 or half the duration)")
             .non_negative(),
-        integer("output_stride", "the series keeps every n-th step").at_least(1).def(d.output_stride),
-        text("start", "initial state: rest (Eq. 2.10), rigid (Eq. 2.3) or steady (steady drilling, disturbed)",
-             {to_string(StartMode::rest), to_string(StartMode::rigid), to_string(StartMode::steady)})
-            .def(to_string(d.start))}},
-      {"metrics",
-       "stick and slip detection",
-       {number("stick_threshold_fraction", "stick when the bit speed is at most this fraction of the top speed")
-            .above(0.0)
-            .below(1.0)
-            .def(d.metrics.stick_threshold_fraction),
-        number("stick_debounce_s", "minimum duration of a phase change [s]")
-            .non_negative()
-            .def(d.metrics.stick_debounce_s),
-        number("slip_level_fraction", "a slip exceeds this fraction of the top speed, else it is chatter")
-            .above(0.0)
-            .below(1.0)
-            .def(d.metrics.slip_level_fraction)}},
-      {"sweep",
-       "grid of the sweep job",
-       {numbers("top_speeds_rad_s", "top speeds [rad/s]").positive().def(json::array()),
-        numbers("wobs_n", "weights on bit [N]; empty: operation.wob_n").non_negative().def(json::array())}},
-      {"craig_bampton",
-       "Craig-Bampton substructuring",
-       {integers("modes", "fixed-interface modes per substructure").at_least(1).def(json::array())}}};
+        &Config::transient},
+       {integer("output_stride", "the series keeps every n-th step").at_least(1).def(d.output_stride),
+        &Config::output_stride},
+       {text("start", "initial state: rest (Eq. 2.10), rigid (Eq. 2.3) or steady (steady drilling, disturbed)",
+             names_of(start_names))
+            .def(to_string(d.start)),
+        [](const Config& c) { return to_string(c.start); },
+        [](Config& c, const std::string& v, const std::string& path) { c.start = parse_start(v, path); }}}};
+
+  t.metrics = {"metrics",
+               "stick and slip detection",
+               {{number("stick_threshold_fraction",
+                        "stick when the bit speed is at most this fraction of the top speed")
+                     .above(0.0)
+                     .below(1.0)
+                     .def(d.metrics.stick_threshold_fraction),
+                 &MetricsSpec::stick_threshold_fraction},
+                {number("stick_debounce_s", "minimum duration of a phase change [s]")
+                     .non_negative()
+                     .def(d.metrics.stick_debounce_s),
+                 &MetricsSpec::stick_debounce_s},
+                {number("slip_level_fraction", "a slip exceeds this fraction of the top speed, else it is chatter")
+                     .above(0.0)
+                     .below(1.0)
+                     .def(d.metrics.slip_level_fraction),
+                 &MetricsSpec::slip_level_fraction}}};
+
+  t.sweep = {"sweep",
+             "grid of the sweep job",
+             {{numbers("top_speeds_rad_s", "top speeds [rad/s]").positive().def(json::array()), &Config::sweep_speeds},
+              {numbers("wobs_n", "weights on bit [N]; empty: operation.wob_n").non_negative().def(json::array()),
+               &Config::sweep_wobs}}};
+
+  t.craig_bampton = {"craig_bampton",
+                     "Craig-Bampton substructuring",
+                     {{integers("modes", "fixed-interface modes per substructure").at_least(1).def(json::array()),
+                       &Config::cb_modes}}};
+  return t;
+}
+
+inline const Tables& tables() {
+  static const Tables all = make_tables();
+  return all;
 }
 
 /// Every block of the configuration, the top level ("config") first.
 inline const std::vector<Block>& blocks() {
-  static const std::vector<Block> all = make_blocks();
+  static const std::vector<Block> all = [] {
+    const Tables& t = tables();
+    return std::vector<Block>{t.config.block(),     t.string.block(),    t.sections.block(),
+                              t.lumped_inertias.block(), t.rom.block(), t.damping.block(),
+                              t.law.block(),        t.operation.block(), t.top_drive.block(),
+                              t.controller.block(), t.axial.block(),     t.bit.block(),
+                              t.sensors.block(),    t.simulation.block(), t.metrics.block(),
+                              t.sweep.block(),      t.craig_bampton.block()};
+  }();
   return all;
 }
 
@@ -594,210 +609,44 @@ inline std::set<std::string> keys(const std::string& name, const std::string& ty
 
 namespace detail {
 
-inline void check_keys(const json& j, const std::string& where, const std::set<std::string>& allowed) {
-  if (!j.is_object()) throw std::invalid_argument(where + " = " + j.dump() + ": must be a JSON object");
-  for (auto it = j.begin(); it != j.end(); ++it)
-    if (!allowed.count(it.key())) {
-      // a key with a control character (a line break...) is shown JSON-escaped: the error stays one line
-      const bool plain = std::all_of(it.key().begin(), it.key().end(), [](unsigned char ch) { return ch >= 0x20; });
-      const std::string key = plain ? it.key() : json(it.key()).dump();
-      throw std::invalid_argument(where + "." + key + " = " + it.value().dump() + ": unknown key");
-    }
-}
-
-inline double get_number(const json& j, const std::string& key, const std::string& where) {
-  if (!j.contains(key)) throw std::invalid_argument(where + "." + key + ": missing (required number)");
-  const json& v = j.at(key);
-  if (!v.is_number()) throw std::invalid_argument(where + "." + key + " = " + v.dump() + ": must be a number");
-  return v.get<double>();
-}
-
-inline double get_number(const json& j, const std::string& key, const std::string& where, double dflt) {
-  return j.contains(key) ? get_number(j, key, where) : dflt;
-}
-
-/// An int-ranged JSON integer (a float such as 2.5 or 1e12 is refused, never truncated or wrapped).
-inline int checked_int(const json& v, const std::string& field) {
-  if (!v.is_number_integer()) throw std::invalid_argument(field + " = " + v.dump() + ": must be an integer");
-  const bool in_range = v.is_number_unsigned() ? v.get<std::uint64_t>() <= static_cast<std::uint64_t>(INT_MAX)
-                                               : v.get<std::int64_t>() >= INT_MIN && v.get<std::int64_t>() <= INT_MAX;
-  if (!in_range)
-    throw std::invalid_argument(field + " = " + v.dump() + ": out of range (integers are " + std::to_string(INT_MIN) +
-                                " to " + std::to_string(INT_MAX) + ")");
-  return static_cast<int>(v.get<std::int64_t>());
-}
-
-inline int get_int(const json& j, const std::string& key, const std::string& where, int dflt, bool required = false) {
-  if (!j.contains(key)) {
-    if (required) throw std::invalid_argument(where + "." + key + ": missing (required integer)");
-    return dflt;
-  }
-  return checked_int(j.at(key), where + "." + key);
-}
-
-inline std::vector<int> get_ints(const json& j, const std::string& key, const std::string& where) {
-  std::vector<int> out;
-  if (!j.contains(key)) return out;
-  const json& v = j.at(key);
-  if (!v.is_array()) throw std::invalid_argument(where + "." + key + " = " + v.dump() + ": must be an array of integers");
-  for (std::size_t k = 0; k < v.size(); ++k) out.push_back(checked_int(v[k], where + "." + key + "[" + std::to_string(k) + "]"));
-  return out;
-}
-
-inline std::string get_string(const json& j, const std::string& key, const std::string& where,
-                              const std::string& dflt, bool required = false) {
-  if (!j.contains(key)) {
-    if (required) throw std::invalid_argument(where + "." + key + ": missing (required string)");
-    return dflt;
-  }
-  const json& v = j.at(key);
-  if (!v.is_string()) throw std::invalid_argument(where + "." + key + " = " + v.dump() + ": must be a string");
-  return v.get<std::string>();
-}
-
-inline std::vector<double> get_numbers(const json& j, const std::string& key, const std::string& where) {
-  std::vector<double> out;
-  if (!j.contains(key)) return out;
-  const json& v = j.at(key);
-  if (!v.is_array()) throw std::invalid_argument(where + "." + key + " = " + v.dump() + ": must be an array of numbers");
-  for (std::size_t k = 0; k < v.size(); ++k) {
-    if (!v[k].is_number())
-      throw std::invalid_argument(where + "." + key + "[" + std::to_string(k) + "] = " + v[k].dump() +
-                                  ": must be a number");
-    out.push_back(v[k].get<double>());
-  }
-  return out;
-}
-
+/// A "law" block (also the Python binding's law_torque) into a law, unvalidated.
 inline BitRockLaw parse_law(const json& j) {
-  const std::string w = "law";
   BitRockLaw l;
-  l.kind = BitRockLaw::parse_kind(get_string(j, "type", w, "", true));
-  check_keys(j, w, schema::keys(w, BitRockLaw::kind_name(l.kind)));
-  l.speed_unit = parse_speed_unit(get_string(j, "speed_unit", w, "", true), w + ".speed_unit");
-  l.wob_ref = get_number(j, "wob_ref_n", w);
-  auto num = [&](const std::string& k) { return get_number(j, k, w); };
-  switch (l.kind) {
-    case BitRockLaw::Kind::tucker_wang:
-      l.c0 = num("c0");
-      l.alpha0 = num("alpha0");
-      l.alpha1 = num("alpha1");
-      l.alpha2 = num("alpha2");
-      break;
-    case BitRockLaw::Kind::hysteretic:
-      for (int i = 0; i < 6; ++i) l.b[i] = num("b" + std::to_string(i));
-      l.beta1 = num("beta1");
-      l.beta2 = num("beta2");
-      break;
-    case BitRockLaw::Kind::polynomial:
-    case BitRockLaw::Kind::polynomial_hysteretic:
-      for (int i = 0; i < 8; ++i) l.a[i] = num("a" + std::to_string(i));
-      l.ref_speed = num("ref_speed");
-      l.gain = num("gain");
-      if (l.kind == BitRockLaw::Kind::polynomial_hysteretic) {
-        l.beta1 = num("beta1");
-        l.beta2 = num("beta2");
-      }
-      break;
-  }
+  schema::tables().law.read(j, "law", l);
   return l;
-}
-
-inline json law_to_json(const BitRockLaw& l) {
-  json j{{"type", BitRockLaw::kind_name(l.kind)}, {"speed_unit", to_string(l.speed_unit)}, {"wob_ref_n", l.wob_ref}};
-  switch (l.kind) {
-    case BitRockLaw::Kind::tucker_wang:
-      j["c0"] = l.c0;
-      j["alpha0"] = l.alpha0;
-      j["alpha1"] = l.alpha1;
-      j["alpha2"] = l.alpha2;
-      break;
-    case BitRockLaw::Kind::hysteretic:
-      for (int i = 0; i < 6; ++i) j["b" + std::to_string(i)] = l.b[i];
-      j["beta1"] = l.beta1;
-      j["beta2"] = l.beta2;
-      break;
-    case BitRockLaw::Kind::polynomial:
-    case BitRockLaw::Kind::polynomial_hysteretic:
-      for (int i = 0; i < 8; ++i) j["a" + std::to_string(i)] = l.a[i];
-      j["ref_speed"] = l.ref_speed;
-      j["gain"] = l.gain;
-      if (l.kind == BitRockLaw::Kind::polynomial_hysteretic) {
-        j["beta1"] = l.beta1;
-        j["beta2"] = l.beta2;
-      }
-      break;
-  }
-  return j;
 }
 
 }  // namespace detail
 
-/// Parse and validate a configuration.
+/// Parse and validate a configuration: the blocks through their tables (schema::tables()), composed
+/// here with the defaults and checks that relate blocks.
 inline Config parse_config(const json& j) {
-  using namespace detail;
-  check_keys(j, "config", schema::keys("config"));
+  const schema::Tables& t = schema::tables();
   Config c;
-  c.name = get_string(j, "name", "config", c.name);
-  get_string(j, "description", "config", "");  // free text and the editors' "$schema": strings, else ignored
-  get_string(j, "$schema", "config", "");
+  t.config.read(j, "config", c);
   if (!j.contains("string")) throw std::invalid_argument("config.string: missing (required object)");
   const json& js = j.at("string");
-  check_keys(js, "string", schema::keys("string"));
+  t.string.read(js, "string", c);
   if (!js.contains("sections") || !js.at("sections").is_array())
     throw std::invalid_argument("string.sections: missing or not an array");
   for (std::size_t k = 0; k < js.at("sections").size(); ++k) {
-    const json& s = js.at("sections")[k];
-    const std::string w = "string.sections[" + std::to_string(k) + "]";
-    check_keys(s, w, schema::keys("string.sections"));
     Section sec;
-    sec.name = get_string(s, "name", w, "section" + std::to_string(k));
-    sec.length = get_number(s, "length_m", w);
-    sec.outer_radius = get_number(s, "outer_radius_m", w);
-    sec.inner_radius = get_number(s, "inner_radius_m", w, 0.0);
-    sec.youngs_modulus = get_number(s, "youngs_modulus_pa", w);
-    sec.poisson_ratio = get_number(s, "poisson_ratio", w);
-    sec.density = get_number(s, "density_kg_m3", w);
-    sec.elements = get_int(s, "elements", w, 0, true);
+    sec.name = "section" + std::to_string(k);
+    t.sections.read(js.at("sections")[k], "string.sections[" + std::to_string(k) + "]", sec);
     c.string.sections.push_back(sec);
   }
   if (js.contains("lumped_inertias")) {
     const json& li = js.at("lumped_inertias");
     if (!li.is_array()) throw std::invalid_argument("string.lumped_inertias = " + li.dump() + ": must be an array");
     for (std::size_t k = 0; k < li.size(); ++k) {
-      const std::string w = "string.lumped_inertias[" + std::to_string(k) + "]";
-      check_keys(li[k], w, schema::keys("string.lumped_inertias"));
-      c.string.lumped.push_back({get_int(li[k], "node", w, -1), get_number(li[k], "inertia_kg_m2", w)});
+      LumpedInertia l;
+      t.lumped_inertias.read(li[k], "string.lumped_inertias[" + std::to_string(k) + "]", l);
+      c.string.lumped.push_back(l);
     }
   }
   c.modes = std::min(20, c.string.n_elements());
-  if (j.contains("rom")) {
-    check_keys(j.at("rom"), "rom", schema::keys("rom"));
-    c.modes = get_int(j.at("rom"), "modes", "rom", c.modes);
-  }
-  if (j.contains("damping")) {
-    const json& d = j.at("damping");
-    const std::string type = get_string(d, "type", "damping", "", true);
-    if (type != "modal" && type != "rayleigh")
-      throw std::invalid_argument("damping.type = \"" + type + "\": unknown damping (use modal or rayleigh)");
-    check_keys(d, "damping", schema::keys("damping", type));
-    if (type == "modal") {
-      c.damping.kind = DampingSpec::Kind::modal;
-      c.damping.ratios = get_numbers(d, "ratios", "damping");
-    } else {
-      c.damping.kind = DampingSpec::Kind::rayleigh;
-      const json& p = d.contains("pairs") ? d.at("pairs") : json();
-      if (!p.is_array() || p.size() != 2 || !p[0].is_array() || !p[1].is_array() || p[0].size() != 2 ||
-          p[1].size() != 2 || !p[0][0].is_number() || !p[0][1].is_number() || !p[1][0].is_number() ||
-          !p[1][1].is_number())
-        throw std::invalid_argument("damping.pairs = " + p.dump() +
-                                    ": must be [[f1_hz, ratio1], [f2_hz, ratio2]]");
-      c.damping.f1 = p[0][0];
-      c.damping.z1 = p[0][1];
-      c.damping.f2 = p[1][0];
-      c.damping.z2 = p[1][1];
-    }
-  }
+  if (j.contains("rom")) t.rom.read(j.at("rom"), "rom", c);
+  if (j.contains("damping")) t.damping.read(j.at("damping"), "damping", c.damping);
   // with the axial-torsional model the bit law is axial.bit (RGD): a "law" block would be ignored
   const bool rgd = j.contains("axial") && j.at("axial").is_object() && j.at("axial").contains("type") &&
                    j.at("axial").at("type") == "rgd";
@@ -808,7 +657,7 @@ inline Config parse_config(const json& j) {
                                   ": not used with axial.type = rgd (the bit law is axial.bit): remove it");
   } else {
     if (!j.contains("law")) throw std::invalid_argument("config.law: missing (required object)");
-    c.law = parse_law(j.at("law"));
+    c.law = detail::parse_law(j.at("law"));
   }
   if (rgd && !feed && !(j.contains("operation") && j.at("operation").contains("wob_n")))
     throw std::invalid_argument("operation.wob_n: missing (required with axial.type = rgd, top = hook_load: the "
@@ -816,265 +665,77 @@ inline Config parse_config(const json& j) {
   if (feed && j.contains("operation") && j.at("operation").contains("wob_n"))
     throw std::invalid_argument("operation.wob_n = " + j.at("operation").at("wob_n").dump() +
                                 ": not used with axial.top = feed (the WOB follows from axial.rop_m_s): remove it");
-  if (j.contains("operation")) {
-    const json& o = j.at("operation");
-    check_keys(o, "operation", schema::keys("operation"));
-    c.top_speed = get_number(o, "top_speed_rad_s", "operation", c.top_speed);
-    c.wob = get_number(o, "wob_n", "operation", feed ? 0.0 : c.law.wob_ref);
-    c.bit_viscous = get_number(o, "bit_viscous_nms", "operation", 0.0);
-    c.string_friction = get_number(o, "string_friction_nm", "operation", 0.0);
-  } else {
-    c.wob = feed ? 0.0 : c.law.wob_ref;
-  }
+  c.wob = feed ? 0.0 : c.law.wob_ref;  // operation.wob_n's default
+  if (j.contains("operation")) t.operation.read(j.at("operation"), "operation", c);
   if (j.contains("top_drive")) {
-    const json& t = j.at("top_drive");
-    c.top_drive.kind = TopDrive::parse_kind(get_string(t, "type", "top_drive", "", true));
-    check_keys(t, "top_drive", schema::keys("top_drive", TopDrive::kind_name(c.top_drive.kind)));
-    if (c.top_drive.is_motor()) {
-      c.top_drive.slope = get_number(t, "slope_nms_rad", "top_drive");
-      c.top_drive.inertia = get_number(t, "inertia_kg_m2", "top_drive");
-      if (t.contains("max_torque_nm")) c.top_drive.max_torque = get_number(t, "max_torque_nm", "top_drive");
-    }
+    const json& td = j.at("top_drive");
+    t.top_drive.read(td, "top_drive", c.top_drive);
     if (c.top_drive.is_controlled()) {
-      c.top_drive.inertia = get_number(t, "inertia_kg_m2", "top_drive");
-      if (!t.contains("controller")) throw std::invalid_argument("top_drive.controller: missing (required object)");
-      const json& k = t.at("controller");
+      if (!td.contains("controller")) throw std::invalid_argument("top_drive.controller: missing (required object)");
+      const json& k = td.at("controller");
       const std::string w = "top_drive.controller";
       if (!k.is_object()) throw std::invalid_argument(w + " = " + k.dump() + ": must be a JSON object");
-      Controller& ctl = c.top_drive.controller;
-      ctl.kind = Controller::parse_kind(get_string(k, "type", w, "", true));
-      check_keys(k, w, schema::keys(w, Controller::kind_name(ctl.kind)));
-      ctl.torque_limit = get_number(k, "torque_limit_nm", w, ctl.torque_limit);
-      if (k.contains("sample_time_s")) {
-        ctl.sample_time = get_number(k, "sample_time_s", w);
-        require(ctl.sample_time > 0.0, w + ".sample_time_s", ctl.sample_time,
-                "must be positive (omit it for a continuous controller)");
-      }
-      ctl.kp_given = get_number(k, "kp_nms_rad", w, NAN);
-      ctl.ki_given = get_number(k, "ki_nm_rad", w, NAN);
-      ctl.bandwidth_ratio = get_number(k, "bandwidth_ratio", w, ctl.bandwidth_ratio);
-      ctl.impedance_given = get_number(k, "impedance_nms_rad", w, NAN);
-      ctl.stick_slip_frequency = get_number(k, "stick_slip_frequency_rad_s", w, NAN);
-      ctl.torque_filter_given = get_number(k, "torque_filter_s", w, NAN);
+      t.controller.read(k, w, c.top_drive.controller);
     }
   }
   if (j.contains("axial")) {
     const json& a = j.at("axial");
-    c.axial.kind = Axial::parse_kind(get_string(a, "type", "axial", "", true));
-    if (c.axial.coupled() && c.wob > 0.0) c.axial.rgd.top_force = c.wob;
-    check_keys(a, "axial", schema::keys("axial", Axial::kind_name(c.axial.kind)));
-    if (c.axial.active()) {
-      c.axial.gain = get_number(a, "gain_n_rad", "axial");
-      c.axial.relaxation = get_number(a, "relaxation_s", "axial");
-    }
+    t.axial.read(a, "axial", c.axial);
     if (c.axial.coupled()) {
       AxialTorsionalSpec& x = c.axial.rgd;
-      x.top = parse_axial_top(get_string(a, "top", "axial", to_string(x.top)));
-      if (x.top == AxialTop::feed) x.feed_rate = get_number(a, "rop_m_s", "axial");
-      else if (a.contains("rop_m_s"))
+      if (c.wob > 0.0) x.top_force = c.wob;
+      if (x.top == AxialTop::feed && !a.contains("rop_m_s"))
+        throw std::invalid_argument("axial.rop_m_s: missing (required number)");
+      if (x.top != AxialTop::feed && a.contains("rop_m_s"))
         throw std::invalid_argument("axial.rop_m_s = " + a.at("rop_m_s").dump() +
                                     ": only with axial.top = feed (hook_load sets the WOB, operation.wob_n)");
-      x.modes = get_int(a, "modes", "axial", x.modes);
-      x.damping_ratio = get_number(a, "damping_ratio", "axial", x.damping_ratio);
-      x.bit_mass = get_number(a, "bit_mass_kg", "axial", x.bit_mass);
-      x.disturbance = get_number(a, "disturbance", "axial", x.disturbance);
       if (!a.contains("bit")) throw std::invalid_argument("axial.bit: missing (required object with axial.type = rgd)");
-      const json& b = a.at("bit");
-      check_keys(b, "axial.bit", schema::keys("axial.bit"));
-      x.bit.radius = get_number(b, "radius_m", "axial.bit");
-      x.bit.specific_energy = get_number(b, "specific_energy_pa", "axial.bit");
-      x.bit.contact_strength = get_number(b, "contact_strength_pa", "axial.bit");
-      x.bit.force_ratio = get_number(b, "zeta", "axial.bit");
-      x.bit.wear_flat = get_number(b, "wear_flat_m", "axial.bit");
-      x.bit.geometry = get_number(b, "gamma", "axial.bit");
-      x.bit.friction = get_number(b, "mu", "axial.bit");
-      x.bit.blades = get_int(b, "blades", "axial.bit", 0, true);
+      t.bit.read(a.at("bit"), "axial.bit", x.bit);
     }
   }
-  if (j.contains("sensors")) {
-    check_keys(j.at("sensors"), "sensors", schema::keys("sensors"));
-    c.sensor_lowpass_hz = get_number(j.at("sensors"), "lowpass_hz", "sensors", 0.0);
-  }
+  if (j.contains("sensors")) t.sensors.read(j.at("sensors"), "sensors", c);
   {  // an absent block takes the same defaults as an empty one
     const json s = j.contains("simulation") ? j.at("simulation") : json::object();
-    check_keys(s, "simulation", schema::keys("simulation"));
-    c.sim.scheme = parse_scheme(get_string(s, "scheme", "simulation", to_string(c.sim.scheme)));
-    c.sim.acceleration =
-        parse_acceleration(get_string(s, "acceleration", "simulation", to_string(c.sim.acceleration)));
-    c.sim.dt = get_number(s, "dt_s", "simulation", c.sim.dt);
-    c.sim.duration = get_number(s, "duration_s", "simulation", c.sim.duration);
-    c.transient = get_number(s, "transient_s", "simulation", std::min(c.transient, 0.5 * c.sim.duration));
-    c.output_stride = get_int(s, "output_stride", "simulation", static_cast<int>(c.output_stride));
-    c.start = parse_start(get_string(s, "start", "simulation", to_string(c.start)), "simulation.start");
+    t.simulation.read(s, "simulation", c);
+    if (!s.contains("transient_s")) c.transient = std::min(c.transient, 0.5 * c.sim.duration);  // depends on duration_s
   }
-  if (j.contains("metrics")) {
-    const json& m = j.at("metrics");
-    check_keys(m, "metrics", schema::keys("metrics"));
-    c.metrics.stick_threshold_fraction =
-        get_number(m, "stick_threshold_fraction", "metrics", c.metrics.stick_threshold_fraction);
-    c.metrics.stick_debounce_s = get_number(m, "stick_debounce_s", "metrics", c.metrics.stick_debounce_s);
-    c.metrics.slip_level_fraction = get_number(m, "slip_level_fraction", "metrics", c.metrics.slip_level_fraction);
-  }
-  if (j.contains("sweep")) {
-    check_keys(j.at("sweep"), "sweep", schema::keys("sweep"));
-    c.sweep_speeds = get_numbers(j.at("sweep"), "top_speeds_rad_s", "sweep");
-    c.sweep_wobs = get_numbers(j.at("sweep"), "wobs_n", "sweep");
-  }
-  if (j.contains("craig_bampton")) {
-    check_keys(j.at("craig_bampton"), "craig_bampton", schema::keys("craig_bampton"));
-    c.cb_modes = get_ints(j.at("craig_bampton"), "modes", "craig_bampton");
-  }
+  if (j.contains("metrics")) t.metrics.read(j.at("metrics"), "metrics", c.metrics);
+  if (j.contains("sweep")) t.sweep.read(j.at("sweep"), "sweep", c);
+  if (j.contains("craig_bampton")) t.craig_bampton.read(j.at("craig_bampton"), "craig_bampton", c);
   c.validate();
   return c;
-}
-
-/// Deepest nesting of arrays and objects parse_json_text reads: a configuration nests 4 levels
-/// (the damping pairs), so deeper text is not one; refusing it at this depth keeps a hostile
-/// file (200 000 nested arrays) from costing minutes and a message as long as the file.
-inline constexpr int max_json_depth = 64;
-
-/// Parse JSON text, refusing a key repeated in an object (plain parsing keeps the last one
-/// silently): std::invalid_argument("<path>.<key>: duplicate key ..."), and nesting deeper than
-/// max_json_depth: std::invalid_argument("<what>: JSON nested too deep: ..."), raised by the
-/// parser's callback as it opens level max_json_depth + 1 (nothing deeper is read). Syntax errors
-/// become std::invalid_argument naming the position. `what` names the text in the messages
-/// (e.g. "config", or "--config FILE").
-inline json parse_json_text(const std::string& text, const std::string& what = "config") {
-  struct Frame {
-    std::string path;
-    bool array;
-    std::set<std::string> keys;
-  };
-  std::vector<Frame> stack;
-  std::string last_key;
-  auto child_path = [&]() -> std::string {
-    if (stack.empty()) return "";
-    const Frame& f = stack.back();
-    if (f.array) return f.path + "[]";
-    return f.path.empty() ? last_key : f.path + "." + last_key;
-  };
-  const json::parser_callback_t cb = [&](int, json::parse_event_t ev, json& parsed) {
-    switch (ev) {
-      case json::parse_event_t::object_start:
-      case json::parse_event_t::array_start:
-        if (stack.size() >= static_cast<std::size_t>(max_json_depth))
-          throw std::invalid_argument(what + ": JSON nested too deep: more than " + std::to_string(max_json_depth) +
-                                      " levels of arrays and objects (a configuration has 4)");
-        stack.push_back({child_path(), ev == json::parse_event_t::array_start, {}});
-        break;
-      case json::parse_event_t::object_end:
-      case json::parse_event_t::array_end:
-        if (!stack.empty()) stack.pop_back();
-        break;
-      case json::parse_event_t::key: {
-        const std::string key = parsed.get<std::string>();
-        Frame& f = stack.back();
-        const std::string field = f.path.empty() ? key : f.path + "." + key;
-        if (!f.keys.insert(key).second)
-          throw std::invalid_argument(field + ": duplicate key \"" + key + "\" in a JSON object of the " + what);
-        last_key = key;
-        break;
-      }
-      case json::parse_event_t::value:
-        break;
-    }
-    return true;
-  };
-  try {
-    return json::parse(text, cb);
-  } catch (const json::parse_error& e) {
-    // nlohmann's text starts with "[json.exception.parse_error.101] parse error at ...": keep the position
-    std::string why = e.what();
-    const std::size_t tag = why.find("] ");
-    if (why.rfind("[json.exception.", 0) == 0 && tag != std::string::npos) why = why.substr(tag + 2);
-    throw std::invalid_argument(what + ": malformed JSON: " + why);
-  }
 }
 
 /// Parse JSON text (parse_json_text) into a validated configuration.
 inline Config parse_config_text(const std::string& text) { return parse_config(parse_json_text(text)); }
 
-/// The configuration written back as JSON (all defaults made explicit).
+/// The configuration written back as JSON (all defaults made explicit), block by block through the
+/// tables; optional blocks are written when they differ from their defaults.
 inline json to_json(const Config& c) {
-  json secs = json::array();
-  for (const auto& s : c.string.sections)
-    secs.push_back({{"name", s.name}, {"length_m", s.length}, {"outer_radius_m", s.outer_radius},
-                    {"inner_radius_m", s.inner_radius}, {"youngs_modulus_pa", s.youngs_modulus},
-                    {"poisson_ratio", s.poisson_ratio}, {"density_kg_m3", s.density}, {"elements", s.elements}});
-  json li = json::array();
-  for (const auto& l : c.string.lumped) li.push_back({{"node", l.node}, {"inertia_kg_m2", l.inertia}});
-  json damping = c.damping.kind == DampingSpec::Kind::modal
-                     ? json{{"type", "modal"}, {"ratios", c.damping.ratios}}
-                     : json{{"type", "rayleigh"},
-                            {"pairs", {{c.damping.f1, c.damping.z1}, {c.damping.f2, c.damping.z2}}}};
-  json j{{"name", c.name},
-         {"string", {{"sections", secs}, {"lumped_inertias", li}}},
-         {"rom", {{"modes", c.modes}}},
-         {"damping", damping},
-         {"operation",
-          {{"top_speed_rad_s", c.top_speed},
-           {"wob_n", c.wob},
-           {"bit_viscous_nms", c.bit_viscous},
-           {"string_friction_nm", c.string_friction}}},
-         {"simulation",
-          {{"scheme", to_string(c.sim.scheme)}, {"acceleration", to_string(c.sim.acceleration)}, {"dt_s", c.sim.dt}, {"duration_s", c.sim.duration},
-           {"transient_s", c.transient}, {"output_stride", c.output_stride}, {"start", to_string(c.start)}}},
-         {"metrics",
-          {{"stick_threshold_fraction", c.metrics.stick_threshold_fraction},
-           {"stick_debounce_s", c.metrics.stick_debounce_s},
-           {"slip_level_fraction", c.metrics.slip_level_fraction}}}};
-  if (!c.sweep_speeds.empty() || !c.sweep_wobs.empty())
-    j["sweep"] = {{"top_speeds_rad_s", c.sweep_speeds}, {"wobs_n", c.sweep_wobs}};
-  if (!c.cb_modes.empty()) j["craig_bampton"] = {{"modes", c.cb_modes}};
-  if (c.top_drive.is_motor()) {
-    j["top_drive"] = {{"type", "motor"}, {"slope_nms_rad", c.top_drive.slope}, {"inertia_kg_m2", c.top_drive.inertia}};
-    if (std::isfinite(c.top_drive.max_torque)) j["top_drive"]["max_torque_nm"] = c.top_drive.max_torque;
+  const schema::Tables& t = schema::tables();
+  json j = t.config.write(c);
+  json sections = json::array(), lumped = json::array();
+  for (const Section& s : c.string.sections) sections.push_back(t.sections.write(s));
+  for (const LumpedInertia& l : c.string.lumped) lumped.push_back(t.lumped_inertias.write(l));
+  j["string"] = {{"sections", sections}, {"lumped_inertias", lumped}};
+  j["rom"] = t.rom.write(c);
+  j["damping"] = t.damping.write(c.damping);
+  j["operation"] = t.operation.write(c);
+  j["simulation"] = t.simulation.write(c);
+  j["metrics"] = t.metrics.write(c.metrics);
+  if (!c.sweep_speeds.empty() || !c.sweep_wobs.empty()) j["sweep"] = t.sweep.write(c);
+  if (!c.cb_modes.empty()) j["craig_bampton"] = t.craig_bampton.write(c);
+  if (c.top_drive.has_inertia()) {
+    j["top_drive"] = t.top_drive.write(c.top_drive);
+    if (c.top_drive.is_controlled()) j["top_drive"]["controller"] = t.controller.write(c.top_drive.controller);
   }
-  if (c.top_drive.is_controlled()) {  // the configured fields (the tuned gains follow from them)
-    const Controller& k = c.top_drive.controller;
-    json ctl{{"type", Controller::kind_name(k.kind)}};
-    auto put = [&](const char* key, double v) {
-      if (!std::isnan(v)) ctl[key] = v;
-    };
-    if (std::isfinite(k.torque_limit)) ctl["torque_limit_nm"] = k.torque_limit;
-    if (k.sampled()) ctl["sample_time_s"] = k.sample_time;
-    put("kp_nms_rad", k.kp_given);
-    put("ki_nm_rad", k.ki_given);
-    if (k.kind == Controller::Kind::stiff || k.kind == Controller::Kind::z_torque)
-      ctl["bandwidth_ratio"] = k.bandwidth_ratio;
-    if (k.kind == Controller::Kind::soft_speed || k.kind == Controller::Kind::z_torque)
-      put("impedance_nms_rad", k.impedance_given);
-    if (k.kind == Controller::Kind::soft_speed) put("stick_slip_frequency_rad_s", k.stick_slip_frequency);
-    if (k.kind == Controller::Kind::z_torque) put("torque_filter_s", k.torque_filter_given);
-    j["top_drive"] = {{"type", "controlled"}, {"inertia_kg_m2", c.top_drive.inertia}, {"controller", ctl}};
-  }
-  if (!c.axial.coupled()) j["law"] = detail::law_to_json(c.law);
-  if (c.axial.active())
-    j["axial"] = {{"type", "jack"}, {"gain_n_rad", c.axial.gain}, {"relaxation_s", c.axial.relaxation}};
+  if (!c.axial.coupled()) j["law"] = t.law.write(c.law);
+  if (c.axial.kind != Axial::Kind::none) j["axial"] = t.axial.write(c.axial);
   if (c.axial.coupled()) {
-    const AxialTorsionalSpec& x = c.axial.rgd;
-    const RgdBit& b = x.bit;
-    j["axial"] = {{"type", "rgd"},
-                  {"top", to_string(x.top)},
-                  {"modes", x.modes},
-                  {"damping_ratio", x.damping_ratio},
-                  {"bit_mass_kg", x.bit_mass},
-                  {"disturbance", x.disturbance},
-                  {"bit",
-                   {{"radius_m", b.radius},
-                    {"specific_energy_pa", b.specific_energy},
-                    {"contact_strength_pa", b.contact_strength},
-                    {"zeta", b.force_ratio},
-                    {"wear_flat_m", b.wear_flat},
-                    {"gamma", b.geometry},
-                    {"mu", b.friction},
-                    {"blades", b.blades}}}};
-    if (x.top == AxialTop::feed) {
-      j["axial"]["rop_m_s"] = x.feed_rate;
-      j["operation"].erase("wob_n");
-    }
+    j["axial"]["bit"] = t.bit.write(c.axial.rgd.bit);
+    if (c.axial.rgd.top == AxialTop::feed) j["operation"].erase("wob_n");  // the WOB follows from the feed
   }
-  if (c.sensor_lowpass_hz > 0.0) j["sensors"] = {{"lowpass_hz", c.sensor_lowpass_hz}};
+  if (c.sensor_lowpass_hz > 0.0) j["sensors"] = t.sensors.write(c);
   return j;
 }
 

@@ -1,6 +1,6 @@
-// The JSON Schema (draft 2020-12) of the configuration, for editors: written from the table of keys
-// that parse_config accepts (schema::blocks() in config.hpp) with their types, units, the
-// validators' bounds and the defaults. Blocks with variants (damping, law, top_drive) select the
+// The JSON Schema (draft 2020-12) of the configuration, for editors: written from the tables of keys
+// that parse_config reads and to_json writes (schema::blocks() in config.hpp, config_keys.hpp) with
+// their types, units, the validators' bounds and the defaults. Blocks with variants (damping, law, top_drive) select the
 // keys of each variant with if/then on their "type". `drillsim --schema` prints it;
 // python/drillpy/model/config.schema.json is its copy (scripts/generate-schema.sh). Some checks
 // stay with the parser: bounds that relate keys (inner below outer radius, transient below

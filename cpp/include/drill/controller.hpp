@@ -62,6 +62,7 @@
 #include <string>
 
 #include "drill/errors.hpp"
+#include "drill/names.hpp"
 
 namespace drill {
 
@@ -84,22 +85,14 @@ struct Controller {
   double impedance = NAN;     ///< Z used by z_torque [N m s/rad]
   double torque_filter = NAN; ///< tau of z_torque [s]
 
+  /// The controllers by name (top_drive.controller.type); their keys are the variants of the
+  /// "top_drive.controller" table (config.hpp).
+  static constexpr Named<Kind> kinds[] = {
+      {Kind::stiff, "stiff"}, {Kind::pi, "pi"}, {Kind::soft_speed, "soft_speed"}, {Kind::z_torque, "z_torque"}};
   static Kind parse_kind(const std::string& s) {
-    if (s == "stiff") return Kind::stiff;
-    if (s == "pi") return Kind::pi;
-    if (s == "soft_speed") return Kind::soft_speed;
-    if (s == "z_torque") return Kind::z_torque;
-    throw std::invalid_argument("top_drive.controller.type = \"" + s +
-                                "\": unknown controller (use stiff, pi, soft_speed or z_torque)");
+    return parse_name(kinds, s, "top_drive.controller.type", "controller");
   }
-  static std::string kind_name(Kind k) {
-    switch (k) {
-      case Kind::pi: return "pi";
-      case Kind::soft_speed: return "soft_speed";
-      case Kind::z_torque: return "z_torque";
-      default: return "stiff";
-    }
-  }
+  static std::string kind_name(Kind k) { return name_of(kinds, k); }
   bool sampled() const { return sample_time > 0.0; }
   bool tuned() const { return std::isfinite(kp) && std::isfinite(ki); }
   bool torque_feedback() const { return kind == Kind::z_torque; }

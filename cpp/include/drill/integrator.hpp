@@ -51,6 +51,7 @@
 #include "drill/errors.hpp"
 #include "drill/exact_modal.hpp"
 #include "drill/modal.hpp"
+#include "drill/names.hpp"
 #include "drill/signal.hpp"
 #include "drill/topdrive.hpp"
 
@@ -58,16 +59,10 @@ namespace drill {
 
 enum class Scheme { modified_euler, bdf2, exact_modal };
 
-inline Scheme parse_scheme(const std::string& s) {
-  if (s == "modified_euler") return Scheme::modified_euler;
-  if (s == "bdf2") return Scheme::bdf2;
-  if (s == "exact_modal") return Scheme::exact_modal;
-  throw std::invalid_argument("simulation.scheme = \"" + s +
-                              "\": unknown scheme (use modified_euler, bdf2 or exact_modal)");
-}
-inline std::string to_string(Scheme s) {
-  return s == Scheme::bdf2 ? "bdf2" : s == Scheme::exact_modal ? "exact_modal" : "modified_euler";
-}
+inline constexpr Named<Scheme> scheme_names[] = {
+    {Scheme::modified_euler, "modified_euler"}, {Scheme::bdf2, "bdf2"}, {Scheme::exact_modal, "exact_modal"}};
+inline Scheme parse_scheme(const std::string& s) { return parse_name(scheme_names, s, "simulation.scheme", "scheme"); }
+inline std::string to_string(Scheme s) { return name_of(scheme_names, s); }
 
 /// The bit acceleration in the hysteretic term of Eq. (3.3). `implicit`: the one the step itself
 /// produces (Eq. A.1's forward difference, solved with the torque; BDF2's derivative with bdf2).
@@ -76,12 +71,12 @@ inline std::string to_string(Scheme s) {
 /// computed); modified Euler only. The thesis does not say which it used (docs/numerics.md).
 enum class Acceleration { implicit, lagged };
 
+inline constexpr Named<Acceleration> acceleration_names[] = {{Acceleration::implicit, "implicit"},
+                                                             {Acceleration::lagged, "lagged"}};
 inline Acceleration parse_acceleration(const std::string& s) {
-  if (s == "implicit") return Acceleration::implicit;
-  if (s == "lagged") return Acceleration::lagged;
-  throw std::invalid_argument("simulation.acceleration = \"" + s + "\": unknown reading (use implicit or lagged)");
+  return parse_name(acceleration_names, s, "simulation.acceleration", "reading");
 }
-inline std::string to_string(Acceleration a) { return a == Acceleration::lagged ? "lagged" : "implicit"; }
+inline std::string to_string(Acceleration a) { return name_of(acceleration_names, a); }
 
 struct SimOptions {
   Scheme scheme = Scheme::modified_euler;

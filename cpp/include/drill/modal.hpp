@@ -8,6 +8,7 @@
 
 #include "drill/errors.hpp"
 #include "drill/fem.hpp"
+#include "drill/names.hpp"
 
 namespace drill {
 
@@ -59,6 +60,11 @@ struct DampingSpec {
   enum class Kind { modal, rayleigh } kind = Kind::modal;
   std::vector<double> ratios{0.095, 0.02};
   double f1 = 1.0, z1 = 0.05, f2 = 10.0, z2 = 0.01;
+
+  /// The damping models by name (damping.type).
+  static constexpr Named<Kind> kinds[] = {{Kind::modal, "modal"}, {Kind::rayleigh, "rayleigh"}};
+  static Kind parse_kind(const std::string& s) { return parse_name(kinds, s, "damping.type", "damping"); }
+  static std::string kind_name(Kind k) { return name_of(kinds, k); }
 
   void validate() const {
     if (kind == Kind::modal) {

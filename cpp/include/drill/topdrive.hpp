@@ -38,6 +38,7 @@
 
 #include "drill/controller.hpp"
 #include "drill/errors.hpp"
+#include "drill/names.hpp"
 
 namespace drill {
 
@@ -49,15 +50,10 @@ struct TopDrive {
   double max_torque = HUGE_VAL;  ///< T_max: the motor's torque limit [N m] (motor only; HUGE_VAL: none)
   Controller controller;  ///< controlled only
 
-  static Kind parse_kind(const std::string& s) {
-    if (s == "ideal") return Kind::ideal;
-    if (s == "motor") return Kind::motor;
-    if (s == "controlled") return Kind::controlled;
-    throw std::invalid_argument("top_drive.type = \"" + s + "\": unknown top drive (use ideal, motor or controlled)");
-  }
-  static std::string kind_name(Kind k) {
-    return k == Kind::motor ? "motor" : k == Kind::controlled ? "controlled" : "ideal";
-  }
+  /// The top drives by name (top_drive.type); their keys are the variants of the "top_drive" table (config.hpp).
+  static constexpr Named<Kind> kinds[] = {{Kind::ideal, "ideal"}, {Kind::motor, "motor"}, {Kind::controlled, "controlled"}};
+  static Kind parse_kind(const std::string& s) { return parse_name(kinds, s, "top_drive.type", "top drive"); }
+  static std::string kind_name(Kind k) { return name_of(kinds, k); }
   bool is_motor() const { return kind == Kind::motor; }
   bool is_controlled() const { return kind == Kind::controlled; }
   /// The top is a free inertia (motor or controlled): its speed is a state of the simulation.
