@@ -49,7 +49,7 @@ def child(name: str, rate: float, record: str) -> None:
     t0 = time.perf_counter()
     res = run_loop(record, cfg, LoopOptions(rate_hz=rate, **OPTIONS[name]), log=lambda *a: None)
     wall = time.perf_counter() - t0
-    steps = [[s["action"], s["effect"], round(s["error_before"], 4), round(s["error_after"], 4)] for s in res.steps]
+    steps = [[s.action, s.effect, round(s.error_before, 4), round(s.error_after, 4)] for s in res.steps]
     print(json.dumps({"wall": wall, "calls": calls["n"], "steps": steps, "baseline": res.baseline.E_test,
                       "final": res.final.E_test, "effects": list(res.final.model.effects)}))
 

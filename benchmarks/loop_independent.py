@@ -208,7 +208,7 @@ def _acceptable(case: Case, res) -> set:
 
 def judge(case: Case, res) -> tuple:
     """(pass, explanation) under the rules of the module docstring."""
-    added = [s["effect"] for s in res.steps if s["action"] == "add"]
+    added = [s.effect for s in res.steps if s.action == "add"]
     case = replace(case, acceptable=tuple(_acceptable(case, res)))
     final = set(res.final.model.effects)
     truth = {e for e in case.effects if e in NAMES}
@@ -275,17 +275,9 @@ def _lr(x) -> str:
     return f"{x['ss']:.2f}/{x['stick_fraction']:.2f}"
 
 
-def _errs(step: dict) -> str:
+def _errs(step) -> str:
     """A step's validation E before and after it, " (0.612->0.401)"."""
-    try:
-        return f" ({float(step['error_before']):.3f}->{float(step['error_after']):.3f})"
-    except (KeyError, TypeError, ValueError):
-        return ""
-
-
-def _strip(step: dict) -> dict:
-    keys = ("action", "effect", "error_before", "error_after", "evidence", "long_run")
-    return {k: step[k] for k in keys}
+    return f" ({float(step.error_before):.3f}->{float(step.error_after):.3f})"
 
 
 def run_case(i: int, case: Case, folder: str, rate: float, simulator: str = "tucker-wang") -> dict:
@@ -327,14 +319,14 @@ def run_case(i: int, case: Case, folder: str, rate: float, simulator: str = "tuc
         fh.write(jsonio.dumps({"case": {"kind": case.kind, "effects": eff, "seed": case.seed, "noise": case.noise},
                                "declared": res.declared, "baseline_error": res.baseline.E_test,
                                "final_error": res.final.E_test, "adequacy": res.adequacy,
-                               "baseline_long_run": res.baseline_long_run, "steps": [_strip(s) for s in res.steps],
+                               "baseline_long_run": res.baseline_long_run, "steps": [s.to_json() for s in res.steps],
                                "rounds": res.rounds, "final_effects": list(res.final.model.effects),
                                "parameters": res.final.model.parameters(), "notes": res.notes,
                                "unexplained_fraction": res.unexplained_fraction}))
     blr = res.baseline_long_run or {}
-    last_lr = next((s["long_run"] for s in reversed(res.steps) if s.get("long_run")), None)
+    last_lr = next((s.long_run for s in reversed(res.steps) if s.long_run), None)
     final_model_lr = last_lr.get("after") if last_lr else blr.get("model")
-    order = [{"add": "+", "remove": "-"}.get(s["action"], "~") + s["effect"] + _errs(s) for s in res.steps]
+    order = [{"add": "+", "remove": "-"}.get(s.action, "~") + s.effect + _errs(s) for s in res.steps]
     return {"ok": ok, "why": why, "order": order, "E0": res.baseline.E_test, "E1": res.final.E_test,
             "rec_lr": blr.get("measured"), "base_lr": blr.get("model"), "fin_lr": final_model_lr,
             "t_sim": t_sim, "t_loop": t_loop, "final": list(res.final.model.effects)}

@@ -42,11 +42,11 @@ def run(name: str, rate: float, record: str) -> float:
     wall = time.perf_counter() - t0
     print(f"{name} {CONFIGS[name] or '(defaults)'}: {wall:.1f} s; baseline E {res.baseline.E_test:.3f}")
     for s in res.steps:
-        lr = s["long_run"]
-        print(f"  {s['action']:<6} {s['effect']:<20} E {s['error_before']:.3f} -> {s['error_after']:.3f}   "
+        lr = s.long_run
+        print(f"  {s.action:<6} {s.effect:<20} E {s.error_before:.3f} -> {s.error_after:.3f}   "
               + (f"long run {_lr(lr['after'])}" if lr else ""))
     if res.steps:
-        print(f"  record's long run {_lr(res.steps[-1]['long_run']['measured'])}")
+        print(f"  record's long run {_lr(res.steps[-1].long_run['measured'])}")
     sys.stdout.flush()
     return wall
 

@@ -80,8 +80,8 @@ def whole_loop(path, rate, effects, steps) -> list:
         res = run_loop(path, drillpy.load_config(preset="thesis-rig"), LoopOptions(rate_hz=rate, dt_s=dt, **kw),
                        log=lambda *x: None)
         wall = time.perf_counter() - t0
-        taken = [f"{'+' if s['action'] == 'add' else '-' if s['action'] == 'remove' else '~'}{s['effect']} "
-                 f"({s['error_before']:.4f}->{s['error_after']:.4f})" for s in res.steps] or ["none"]
+        taken = [f"{'+' if s.action == 'add' else '-' if s.action == 'remove' else '~'}{s.effect} "
+                 f"({s.error_before:.4f}->{s.error_after:.4f})" for s in res.steps] or ["none"]
         gains = {c["effect"]: c.get("relative_gain", float("nan")) for c in (res.rounds[0] if res.rounds else [])}
         rows.append((dt, wall, res, taken, gains))
         print(f"  loop at dt {dt:g} s: {wall:.1f} s; baseline E {res.baseline.E_train:.4f} / {res.baseline.E_test:.4f}; "

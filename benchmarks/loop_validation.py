@@ -124,8 +124,8 @@ def _run(case: Case, truth_gj: bool) -> dict:
     if truth_gj:
         STRING_STIFFNESS.configure(declared, {"gj_factor": truth_config(case.seed)[1]["gj_factor"]}, None)
     res = run_loop(rec, declared, opt, log=lambda *a: None)
-    added = [s["effect"] for s in res.steps if s["action"] == "add"]
-    first = next((s for s in res.steps if s["action"] == "add"), None)
+    added = [s.effect for s in res.steps if s.action == "add"]
+    first = next((s for s in res.steps if s.action == "add"), None)
     truth = set(case.effects)
     if case.kind == "clean":
         ok = not added
@@ -143,7 +143,7 @@ def _run(case: Case, truth_gj: bool) -> dict:
         ok = first is not None and first["effect"] == name and abs(s / true_s - 1.0) <= SCALE_TOLERANCE
     else:  # outside the catalogue, or confounded with the calibrated damping: nothing misnamed
         ok = set(added) <= set(case.acceptable)
-    lr_b, lr_f = res.baseline_long_run, (res.steps[-1]["long_run"] if res.steps else res.baseline_long_run)
+    lr_b, lr_f = res.baseline_long_run, (res.steps[-1].long_run if res.steps else res.baseline_long_run)
     # every step with its validation E before and after; a step that raises E is a failure of the case
     steps = [({"add": "+", "remove": "-"}.get(st["action"], "~") + st["effect"],
               float(st["error_before"]), float(st["error_after"])) for st in res.steps]
@@ -151,7 +151,7 @@ def _run(case: Case, truth_gj: bool) -> dict:
     ok = ok and not raised
     return {"case": case, "found": added, "steps": steps, "raised": raised, "removed": res.removed, "baseline": res.baseline.E_test,
             "first_after": first["error_after"] if first else res.baseline.E_test, "final": res.final.E_test,
-            "params": {s["effect"]: s["evidence"].get("parameters", {}) for s in res.steps if s["action"] == "add"},
+            "params": {s.effect: s.evidence.get("parameters", {}) for s in res.steps if s.action == "add"},
             "long_run": {"measured": (lr_b or {}).get("measured"), "baseline": (lr_b or {}).get("model"),
                          "final": (lr_f or {}).get("after", (lr_f or {}).get("model"))},
             "unexplained": res.unexplained_fraction, "adequate": res.adequacy["adequate"],

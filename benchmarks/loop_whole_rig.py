@@ -39,7 +39,7 @@ def main(argv=None) -> int:
           f"takes the {w['input']}")
     print(f"baseline E {res.baseline.E_test:.4f} (damping {[round(z, 3) for z in res.baseline.model.damping_ratios]})")
     for s in res.steps:
-        print(f"  {s['action']:<7} {s['effect']:<20} E {s['error_before']:.4f} -> {s['error_after']:.4f}")
+        print(f"  {s.action:<7} {s.effect:<20} E {s.error_before:.4f} -> {s.error_after:.4f}")
     print(f"final E {res.final.E_test:.4f}, effects {list(res.final.model.effects)}, damping "
           f"{[round(z, 3) for z in res.final.model.damping_ratios]}")
     for name, p in res.final.model.effects.items():

@@ -348,8 +348,8 @@ def case_empty_out(tmp):
 def case_loop_labels(tmp):
     from drillpy.figures.loop import errors_plot
     ev = SimpleNamespace(E_train=0.3, E_test=0.3)
-    steps = [{"action": "add", "effect": "bit_hysteresis", "after": ev},
-             {"action": "remove", "effect": "bit_hysteresis", "after": ev}]
+    steps = [SimpleNamespace(action="add", effect="bit_hysteresis", after=ev),
+             SimpleNamespace(action="remove", effect="bit_hysteresis", after=ev)]
     res = SimpleNamespace(baseline=ev, steps=steps, rounds=[])
     fig = errors_plot(tmp / "errors.png", res)
     labels = [t.get_text() for t in fig.axes[0].get_xticklabels()]

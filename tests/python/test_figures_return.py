@@ -11,7 +11,7 @@ from drillpy.figures import control, frf, loop, records, simulation, stochastic
 
 def test_loop_steps_are_labelled_by_their_action(tmp_path):
     ev = SimpleNamespace(E_train=0.3, E_test=0.25)
-    steps = [{"action": a, "effect": e, "after": ev} for a, e in
+    steps = [SimpleNamespace(action=a, effect=e, after=ev) for a, e in
              (("add", "bit_hysteresis"), ("remove", "bit_hysteresis"), ("recalibrate", "string_stiffness"))]
     fig = loop.errors_plot(tmp_path / "errors.png", SimpleNamespace(baseline=ev, steps=steps, rounds=[]))
     assert [t.get_text() for t in fig.axes[0].get_xticklabels()] == [

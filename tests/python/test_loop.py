@@ -55,9 +55,9 @@ def test_a_declared_effect_the_record_lacks_is_calibrated_away_and_never_costs_a
     res = L.run_loop(rec, cfg, L.LoopOptions(rate_hz=RATE_HZ, dt_s=LOOP_DT_S), log=lambda *a: None)
     assert res.declared == ["bit_hysteresis"]
     assert res.baseline.model.effects["bit_hysteresis"]["beta1"] < 0.03  # the record lacks it: calibrated away
-    assert not [s for s in res.steps if s["action"] == "add"]
+    assert not [s for s in res.steps if s.action == "add"]
     for s in res.steps:
-        assert s["action"] == "remove" and s["effect"] == "bit_hysteresis" and s["error_after"] <= s["error_before"]
+        assert s.action == "remove" and s.effect == "bit_hysteresis" and s.error_after <= s.error_before
     if "bit_hysteresis" in res.final.model.effects:
         assert res.final.model.effects["bit_hysteresis"]["beta1"] < 0.03
 
@@ -418,7 +418,7 @@ def test_calibrated_knot_follows_a_law_that_rises_after_break_away(tmp_path):
         rms[knot] = float(np.sqrt(np.mean(law_fit_residual(m, data) ** 2)))
     assert rms[False] > 0.1 and rms[True] < 0.5 * rms[False], rms
     res = L.run_loop(str(path), cfg, L.LoopOptions(rate_hz=250), log=lambda *a: None)
-    assert [s["effect"] for s in res.steps if s["action"] == "add"] == []
+    assert [s.effect for s in res.steps if s.action == "add"] == []
     assert res.baseline.E_test < 0.1
 
 

@@ -187,3 +187,28 @@ def test_a_stiffness_fit_inside_the_tolerance_recalibrates_the_null_candidate():
     outside[0].effects["string_stiffness"]["gj_factor"] = 0.95
     assert _null_class(outside, stuck, {}, data, opt, logged.append) is None
     assert _null_class(fit, alt, {}, data, opt, logged.append) is None  # no better than the null: nothing
+
+
+def test_a_law_level_effect_is_fitted_through_its_hooks_not_its_name(monkeypatch):
+    """Fitting knows effects by their hooks (``law_params``, ``wob_input``, ``law_keys``), not by
+    name: a renamed copy of ``wob_coupling`` put into the catalogue is fitted with the law to the
+    same gain, bit for bit, as the original, on a truth whose law sees half the WOB's swing
+    (k = 0.5, seed 22); and the gain found is that truth's within 0.1."""
+    import copy
+    rec = synthetic_record({"wob_coupling": {"gain": 0.5}}, duration_s=12.0, seed=22, fs_hz=RATE_HZ)
+    opt = L.LoopOptions(rate_hz=RATE_HZ, dt_s=DT_S, gj_tolerance=0.0)
+    cfg = normalize(declared_config())
+    data = L.prepare(rec, cfg, opt)
+    m, _ = F.calibrate(analysis_config(cfg, data.dt, opt.dt_s), data, opt)
+    twin = copy.copy(F.CATALOGUE["wob_coupling"])
+    twin.name = "renamed_wob_gain"
+    monkeypatch.setitem(F.CATALOGUE, twin.name, twin)
+    fits = {}
+    for name in ("wob_coupling", twin.name):
+        c = m.copy()
+        c.effects[name] = {"gain": 1.0}
+        fits[name] = F.fit_law(c, data)
+    a, b = fits["wob_coupling"], fits[twin.name]
+    assert b.effects[twin.name]["gain"] == a.effects["wob_coupling"]["gain"]
+    assert b.law == a.law and b.n_law == a.n_law
+    assert a.effects["wob_coupling"]["gain"] == pytest.approx(0.5, abs=0.1)

@@ -170,7 +170,7 @@ def test_loop_decisions_are_the_same_with_either_jacobian():
                             discovery=False, effects=("sensor_lag", "viscous_damping"), batched_jacobian=bj)
         runs.append(L.run_loop(rec, declared_config(), opt, log=lambda *a: None))
     a, b = runs
-    assert [(s["action"], s["effect"]) for s in a.steps] == [(s["action"], s["effect"]) for s in b.steps]
-    assert [s["error_after"] for s in a.steps] == [s["error_after"] for s in b.steps]
+    assert [(s.action, s.effect) for s in a.steps] == [(s.action, s.effect) for s in b.steps]
+    assert [s.error_after for s in a.steps] == [s.error_after for s in b.steps]
     assert a.baseline.E_test == b.baseline.E_test
     assert a.final.E_test == b.final.E_test

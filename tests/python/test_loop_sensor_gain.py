@@ -77,13 +77,13 @@ def test_the_encoders_measure_the_torque_scale_and_tell_it_from_a_stiffness_mism
 
 def test_the_loop_names_the_gain_and_recovers_the_scale(records):
     res, log = _loop(records[1])
-    added = [s["effect"] for s in res.steps if s["action"] == "add"]
+    added = [s.effect for s in res.steps if s.action == "add"]
     assert added and added[0] == "sensor_gain", log
-    step = next(s for s in res.steps if s["effect"] == "sensor_gain")
-    assert step["error_after"] <= 0.95 * step["error_before"]  # the step gate
+    step = next(s for s in res.steps if s.effect == "sensor_gain")
+    assert step.error_after <= 0.95 * step.error_before  # the step gate
     p = res.final.model.effects["sensor_gain"]
     assert abs(p["torque_scale"] - GAIN["torque_scale"]) < 0.05
-    lo, hi = step["evidence"]["parameters"]["torque_scale"]["ci95"]
+    lo, hi = step.evidence["parameters"]["torque_scale"]["ci95"]
     assert lo <= p["torque_scale"] <= hi and hi - lo < 0.05
     assert abs(p["torque_offset_nm"]) <= 0.5  # reported, not identified by the dynamics
 
@@ -91,13 +91,13 @@ def test_the_loop_names_the_gain_and_recovers_the_scale(records):
 def test_a_clean_record_does_not_name_the_gain(records):
     res, log = _loop(records[0])
     assert "sensor_gain" not in res.final.model.effects, log
-    assert all(s["effect"] != "sensor_gain" for s in res.steps if s["action"] == "add")
+    assert all(s.effect != "sensor_gain" for s in res.steps if s.action == "add")
 
 
 def test_a_softer_bar_is_named_string_stiffness_not_a_gain(soft):
     """The confounded pair: a torque that does not balance the encoders' twist. The inertial term
     says the load cell is right, the twist term that the bar is soft."""
     res, log = _loop(soft)
-    added = [s["effect"] for s in res.steps if s["action"] == "add"]
+    added = [s.effect for s in res.steps if s.action == "add"]
     assert added == ["string_stiffness"], log
     assert abs(res.final.model.effects["string_stiffness"]["gj_factor"] - 0.85) < 0.02

@@ -119,7 +119,7 @@ def signature_plot(path, res: "LoopResult") -> plt.Figure:
     matplotlib.figure.Figure
         The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
-    rows = [(s["before"], s["candidate"], s["effect"], STEP_ACTIONS[s["action"]][1]) for s in res.steps]
+    rows = [(s.before, s.candidate, s.effect, STEP_ACTIONS[s.action][1]) for s in res.steps]
     last = res.last_round
     if last:
         name, ev = min(last.items(), key=lambda kv: kv[1].E_test)
@@ -241,16 +241,16 @@ def step_label(step: dict) -> str:
 
     Parameters
     ----------
-    step : dict
-        A step of :attr:`drillpy.loop.LoopResult.steps` (``action``, ``effect``).
+    step : Step
+        A step of :attr:`drillpy.loop.LoopResult.steps` (its ``action`` and ``effect``).
 
     Returns
     -------
     str
         The label.
     """
-    sign, done = STEP_ACTIONS[step["action"]]
-    return f"{sign} {step['effect']} ({done})"
+    sign, done = STEP_ACTIONS[step.action]
+    return f"{sign} {step.effect} ({done})"
 
 
 def errors_plot(path, res: "LoopResult") -> plt.Figure:
@@ -269,7 +269,7 @@ def errors_plot(path, res: "LoopResult") -> plt.Figure:
         The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.2))
-    ev = [res.baseline] + [s["after"] for s in res.steps]
+    ev = [res.baseline] + [s.after for s in res.steps]
     labels = ["baseline"] + [step_label(s) for s in res.steps]
     x = np.arange(len(ev))
     ax = axes[0]

@@ -51,7 +51,8 @@ from .longrun import long_run
 from .model import Evaluation, LoopModel, evaluate, predict
 from .options import LoopOptions
 from .run import LoopResult, run_loop
+from .step import Step
 
 __all__ = ["CATALOGUE", "NAMES", "Evaluation", "LoopData", "LoopModel", "LoopOptions", "LoopResult", "adequacy",
            "calibrate", "evaluate", "evidence", "fit_candidate", "long_run", "measured",
-           "null_candidate", "predict", "prepare", "refit", "run_loop", "trivial_predictors"]
+           "null_candidate", "predict", "prepare", "refit", "run_loop", "Step", "trivial_predictors"]

@@ -10,6 +10,7 @@ every candidate, so that a candidate gains only through its own parameters.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 
 import numpy as np
@@ -173,10 +174,25 @@ def _inside(bound: np.ndarray, sign: int) -> np.ndarray:
     return b
 
 
+def _law_owned(model: LoopModel) -> dict:
+    """Law key -> the model's effect that stands for it (:attr:`Effect.law_keys
+    <drillpy.loop.effects.base.Effect.law_keys>`: the hysteresis term's beta1, beta2)."""
+    return {k: n for n in model.effects for k in CATALOGUE[n].law_keys}
+
+
+def _law_joint(model: LoopModel) -> list:
+    """(effect name, Param) of the parameters fitted with the law's own
+    (:meth:`Effect.law_params <drillpy.loop.effects.base.Effect.law_params>`), in the model's order."""
+    return [(n, q) for n, p in model.effects.items() for q in CATALOGUE[n].law_params(p)]
+
+
 def fit_law(model: LoopModel, data: LoopData) -> LoopModel:
     """Least squares on the law residual of the calibration part's slip samples: the law's free
-    parameters, with the hysteresis term when ``bit_hysteresis`` is in the model and the coupling
-    gain k when ``wob_coupling`` is.
+    parameters, with the law's optional term when an effect stands for it (``bit_hysteresis``'s
+    Eq. 3.3, :attr:`Effect.law_keys <drillpy.loop.effects.base.Effect.law_keys>`) and the
+    parameters effects fit with the law (``wob_coupling``'s gain k, :meth:`Effect.law_params
+    <drillpy.loop.effects.base.Effect.law_params>`, which set the law's WOB input through
+    :meth:`Effect.wob_input <drillpy.loop.effects.base.Effect.wob_input>`).
 
     The law family follows the declared law (polynomial Eq. 5.1/5.3, hysteretic Eq. 3.2, or
     Tucker-Wang Eq. 3.1), its bounds those of :data:`drillpy.records.identification.FAMILIES`
@@ -192,48 +208,60 @@ def fit_law(model: LoopModel, data: LoopData) -> LoopModel:
     Returns
     -------
     LoopModel
-        A copy with the fitted law, ``n_law`` and, when present, the ``bit_hysteresis`` and
-        ``wob_coupling`` parameters updated.
+        A copy with the fitted law, ``n_law`` and the parameters of the effects fitted with the law
+        updated.
     """
     m = model.copy()
     chs = law_channels(m, data)
     idx = data.law_train
     v, a, T = chs["v"][idx], chs["a"][idx], chs["T"][idx]
-    hyst = "bit_hysteresis" in m.effects
-    wob = "wob_coupling" in m.effects
-    W = chs["W"][idx] if wob else np.full(idx.size, m.wob)
-    name, p0, fx, fd = _law_family(m.law, hyst, _a_scale(data), data.law_knot)
+    owned = _law_owned(m)
+    joint = _law_joint(m)
+    W = chs["W"][idx] if joint and "W" in chs else np.full(idx.size, m.wob)
+    name, p0, fx, fd = _law_family(m.law, bool(owned), _a_scale(data), data.law_knot)
     fam = _FAMILIES[name]
     unit = m.law["speed_unit"]
-    x0 = list(p0) + ([m.effects["wob_coupling"].get("gain", 1.0)] if wob else [])
+    x0 = list(p0) + [float(m.effects[n].get(q.name, CATALOGUE[n].defaults[q.name])) for n, q in joint]
     lo, hi = _law_bounds(m, data, fam)
-    lo, hi = np.r_[lo, [-5.0] if wob else []], np.r_[hi, [5.0] if wob else []]
+    jb = [CATALOGUE[n].bounds(q, m) for n, q in joint]
+    lo, hi = np.r_[lo, [b[0] for b in jb]], np.r_[hi, [b[1] for b in jb]]
     x0 = np.clip(np.array(x0, float), _inside(lo, +1), _inside(hi, -1))
     npar = len(fam.names)
 
     knot = "low_ratio" in fam.names
     r_at = fam.names.index("low_ratio") if knot else 0
 
+    def joint_values(x) -> dict:
+        out = {}
+        for (n, q), val in zip(joint, x[npar:]):
+            out.setdefault(n, {})[q.name] = float(val)
+        return out
+
+    def law_wob(x):
+        w = W
+        for n, p in joint_values(x).items():
+            w_n = CATALOGUE[n].wob_input(p, m, W)
+            w = w if w_n is None else w_n
+        return w
+
     def resid(x):
         law = fam.build(x[:npar], fd, unit, fx)
-        w = m.wob * (1.0 + x[npar] * (W / m.wob - 1.0)) if wob else W
-        r = ident.law_eval(law, v, a, w)[0] - T
+        r = ident.law_eval(law, v, a, law_wob(x))[0] - T
         return np.append(r, KNOT_PRIOR_NM * (1.0 - x[r_at])) if knot else r
 
     res = optimize.least_squares(resid, x0, bounds=(lo, hi), x_scale="jac", method="trf", max_nfev=200 * len(x0),
                                  xtol=1e-10, ftol=1e-10)
     law = fam.build(res.x[:npar], fd, unit, fx)
     m.law = law
-    m.n_law = npar - (2 if hyst else 0)
-    if hyst:
-        m.effects["bit_hysteresis"] = {"beta1": float(law["beta1"]), "beta2": float(law["beta2"])}
-    if wob:
-        m.effects["wob_coupling"] = {"gain": float(res.x[npar])}
+    m.n_law = npar - len(owned)
+    for n in dict.fromkeys(owned.values()):
+        m.effects[n] = CATALOGUE[n].from_law(law)
+    m.effects.update(joint_values(res.x))
     return m
 
 
 def _law_vector(model: LoopModel, knot: bool) -> tuple:
-    name, p0, fx, fd = _law_family(model.law, "bit_hysteresis" in model.effects, 1.0, knot)
+    name, p0, fx, fd = _law_family(model.law, bool(_law_owned(model)), 1.0, knot)
     return _FAMILIES[name], np.array(p0, float), fx, fd
 
 
@@ -258,8 +286,8 @@ def _pack(model: LoopModel, data: LoopData, names) -> tuple:
             flo, fhi = _law_bounds(model, data, fam)
             for i in range(p0.size):
                 add(float(p0[i]), flo[i], fhi[i], "lin", (LAW, fam.names[i]))
-            if "wob_coupling" in model.effects:
-                add(model.effects["wob_coupling"]["gain"], -5.0, 5.0, "lin", ("wob_coupling", "gain"))
+            for n, q in _law_joint(model):
+                add(float(model.effects[n][q.name]), *CATALOGUE[n].bounds(q, model), q.scale, (n, q.name))
         elif name == DAMPING:
             for i, z in enumerate(model.damping_ratios or ()):
                 add(float(z), *DAMPING_BOUNDS, "log", (DAMPING, i))
@@ -292,8 +320,8 @@ def _unpack(model: LoopModel, x, where, knot: bool, trial: bool = False) -> Loop
     if law_p:
         fam, _, fx, fd = _law_vector(model, knot)
         m.law = fam.build(np.array(law_p), fd, model.law["speed_unit"], fx)
-        if "bit_hysteresis" in m.effects:
-            m.effects["bit_hysteresis"] = {"beta1": float(m.law["beta1"]), "beta2": float(m.law["beta2"])}
+        for n in dict.fromkeys(_law_owned(m).values()):
+            m.effects[n] = CATALOGUE[n].from_law(m.law)
     for xi, (name, key, scale) in zip(x, where):
         val = float(math.exp(xi) if scale == "log" else xi)
         if name == DAMPING:
@@ -494,10 +522,10 @@ def fit_dynamic(model: LoopModel, data: LoopData, names, opt: LoopOptions) -> tu
             r = s
         if not gained:
             break
-    return _unpack(model, r.x, where, data.law_knot), _intervals(r, lo, hi, where)
+    return _unpack(model, r.x, where, data.law_knot), _intervals(r, lo, hi, where, _law_owned(model))
 
 
-def _intervals(r, lo, hi, where) -> dict:
+def _intervals(r, lo, hi, where, owned: dict) -> dict:
     J, f = r.jac, r.fun
     n, p = f.size, r.x.size
     tau = max(1.0, ident.autocorrelation_time(f)) if n > 3 and np.std(f) > 0 else 1.0
@@ -508,8 +536,8 @@ def _intervals(r, lo, hi, where) -> dict:
         cov = np.full((p, p), np.nan)
     out = {}
     for i, (name, key, scale) in enumerate(where):
-        if name == LAW and key in ("beta1", "beta2"):
-            name = "bit_hysteresis"  # the law's hysteresis term is that effect's
+        if name == LAW and key in owned:
+            name = owned[key]  # the law's optional term is that effect's
         elif name in (LAW, DAMPING, GJ):
             continue
         se = math.sqrt(max(cov[i, i], 0.0)) if np.isfinite(cov[i, i]) else math.nan
@@ -529,34 +557,17 @@ def _calibrate(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
                        + list(model.effects), opt)
 
 
-def eta_std(model: LoopModel, data: LoopData) -> float:
-    """Standard deviation of T / T_law - 1 over the calibration part's slip samples.
-
-    Samples where |T_law| is below 10 % of its median are left out. The ``std`` of
-    ``torque_fluctuation`` (eta of Eq. 4.1).
-
-    Parameters
-    ----------
-    model : LoopModel
-        The current model.
-    data : LoopData
-        The record on the analysis grid.
-
-    Returns
-    -------
-    float
-        The standard deviation of eta [-].
-    """
-    chs = law_channels(model, data)
-    idx = data.law_train
-    Tl = law_torque(model, chs, idx)
-    ok = np.abs(Tl) > 0.1 * np.median(np.abs(Tl))
-    return float(np.std(chs["T"][idx][ok] / Tl[ok] - 1.0, ddof=1))
-
-
 def _finish(model: LoopModel, data: LoopData) -> LoopModel:
-    if "torque_fluctuation" in model.effects:
-        model.effects["torque_fluctuation"]["std"] = eta_std(model, data)
+    """The values the effects estimate outside the fits (:meth:`Effect.estimate
+    <drillpy.loop.effects.base.Effect.estimate>`), from the calibrated model's slip samples."""
+    @functools.cache
+    def slip():
+        chs = law_channels(model, data)
+        idx = data.law_train
+        return chs["T"][idx], law_torque(model, chs, idx)
+
+    for n, p in model.effects.items():
+        p.update(CATALOGUE[n].estimate(p, slip))
     return model
 
 

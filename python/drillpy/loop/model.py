@@ -95,7 +95,7 @@ class LoopModel:
         """True when the model takes from a record only what is known beforehand: no top speed fed
         from the record (the kinematic drive) and no recorded WOB fed to the law where that WOB is a
         response of the rotation (it then carries the stick-slip cycle)."""
-        if self.effects.get("top_drive_dynamics", {}).get("variant") == "measured":
+        if any(CATALOGUE[n].feeds_cycle(p) for n, p in self.effects.items()):
             return False
         feeds = any(CATALOGUE[n].wob_input(p, self, np.zeros(1)) is not None for n, p in self.effects.items())
         return not (self.wob_is_response and self.wob_input == "measured" and feeds)

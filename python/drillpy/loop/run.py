@@ -23,6 +23,7 @@ from .longrun import cycle_damage, long_run, missed_cycle, stick_collapse
 from .model import STIFFNESS, Evaluation, LoopModel, equation_residual, evaluate
 from .options import LoopOptions
 from .rivals import confusable_note, rivals
+from .step import Step
 
 
 @dataclass
@@ -38,13 +39,9 @@ class LoopResult:
         The calibrated declared model (damping held by the limit cycle when needed).
     final : Evaluation
         The model after the last step (the baseline when nothing was added or removed).
-    steps : list of dict
-        Every step in order: ``action`` (``"add"``/``"remove"``, or ``"recalibrate"``: the
-        calibration replaced by a ``string_stiffness`` fit inside the GJ tolerance, proposed by the
-        calibration error, :func:`_null_class`, and accepted when it lowers the validation error),
-        ``effect``, ``error_before``,
-        ``error_after`` (E, validation part [-]), ``evidence``, ``long_run`` (measured / before /
-        after), and the Evaluations ``before``, ``candidate``, ``after``.
+    steps : list of Step
+        Every step in order (:class:`drillpy.loop.step.Step`: an effect added or removed, or a
+        recalibration, with E before and after, evidence, long runs and evaluations).
     rounds : list of list
         Every round's candidates: ``{"effect": name, **evidence}``.
     options : LoopOptions
@@ -71,7 +68,7 @@ class LoopResult:
     data: LoopData
     baseline: Evaluation
     final: Evaluation
-    steps: list        #: dicts: action, effect, error_before, error_after, evidence, long_run (+ evaluations)
+    steps: list        #: Step records, in order
     rounds: list       #: every round's candidates with their evidence
     options: LoopOptions
     config: dict       #: declared configuration (normalized, analysis time step)
@@ -127,14 +124,14 @@ class LoopResult:
     @property
     def removed(self) -> list:
         """Effects removed by a backward step, in order."""
-        return [s["effect"] for s in self.steps if s["action"] == "remove"]
+        return [s.effect for s in self.steps if s.action == "remove"]
 
     @property
     def confusable(self) -> list:
         """The added effects the record cannot tell from a rival (:mod:`.rivals`): per such step
         ``{"named": effect, "or": [rivals], "note": ...}``, in order."""
-        return [{"named": s["effect"], "or": [r["effect"] for r in s["evidence"]["rivals"] if r["verdict"] == "confusable"],
-                 "note": s["evidence"]["confusable"]} for s in self.steps if s["evidence"].get("confusable")]
+        return [{"named": s.effect, "or": [r["effect"] for r in s.evidence["rivals"] if r["verdict"] == "confusable"],
+                 "note": s.evidence["confusable"]} for s in self.steps if s.evidence.get("confusable")]
 
     @property
     def unexplained_fraction(self) -> float | None:
@@ -153,11 +150,10 @@ class LoopResult:
         dict
             JSON-ready apart from NumPy scalars and non-finite numbers (:func:`drillpy.jsonio.dumps` handles them).
         """
-        keys = ("action", "effect", "error_before", "error_after", "evidence", "long_run")
         return {"metric": self.metric(), "decision": self.decision(), "baseline_error": self.baseline.E_test,
                 "adequacy": self.adequacy, "wob_input": self.data.wob_response,
                 "declared": self.declared, "removed": self.removed, "baseline_long_run": self.baseline_long_run,
-                "steps": [{k: s[k] for k in keys} for s in self.steps],
+                "steps": [s.to_json() for s in self.steps],
                 "final_error": self.final.E_test, "final_effects": list(self.final.model.effects),
                 "confusable": self.confusable,
                 "unexplained_fraction": self.unexplained_fraction,
@@ -239,10 +235,9 @@ def _backward(cur: Evaluation, cur_lr: dict, data: LoopData, opt: LoopOptions, k
         if not trials:
             return cur, cur_lr, steps
         _, name, red, e, lr = min(trials, key=lambda r: r[0])
-        steps.append({"action": "remove", "effect": name, "error_before": cur.E_test, "error_after": red.E_test,
-                      "evidence": {**e, "accepted": True, "reasons": [f"the guard does not defend {name}: " +
-                                                                      "; ".join(e["reasons"])]},
-                      "long_run": _pair(cur_lr, lr), "before": cur, "candidate": red, "after": red})
+        steps.append(Step("remove", name, cur.E_test, red.E_test,
+                          {**e, "accepted": True, "reasons": [f"the guard does not defend {name}: " + "; ".join(e["reasons"])]},
+                          _pair(cur_lr, lr), cur, red, red))
         log(f"step {done + len(steps)}: remove {name}: validation error {cur.E_test:.4f} -> {red.E_test:.4f}")
         cur, cur_lr = red, lr
 
@@ -370,7 +365,7 @@ def _null_class(fit, null_m: LoopModel, cur_lr: dict, data: LoopData, opt: LoopO
 
 
 def _recalibration(fit, null: Evaluation, cur: Evaluation, cur_lr: dict, data: LoopData, opt: LoopOptions,
-                   log) -> dict | None:
+                   log) -> Step | None:
     """The step ``"action": "recalibrate"`` of a round whose ``string_stiffness`` fit is a better
     model of the null class (:func:`_null_class`), or None. Its evidence is taken against the null
     candidate, with the calibration errors and the factor; like the Evaluations ``before``,
@@ -390,9 +385,7 @@ def _recalibration(fit, null: Evaluation, cur: Evaluation, cur_lr: dict, data: L
              parameters={"gj_factor": {"value": cal["gj_factor"], "ci95": None, "at_bound": False, "unit": "-"}})
     if veto:
         log(f"  the recalibration is refused by the validation part: {veto}")
-    return {"action": "recalibrate", "effect": STIFFNESS, "error_before": cur.E_test, "error_after": new.E_test,
-            "evidence": e, "long_run": _pair(cur_lr, lr), "before": cur, "candidate": new, "after": new,
-            "after_long_run": lr}
+    return Step("recalibrate", STIFFNESS, cur.E_test, new.E_test, e, _pair(cur_lr, lr), cur, new, new, lr)
 
 
 #: A steel string's (bar's) modal damping ratio above this is implausible: the final model is flagged
@@ -583,10 +576,10 @@ def _search(st: _State) -> None:
     the candidates scored, the best that survives its refit, gate and long run added)."""
     if st.cur.model.effects:
         st.backward(())
-    st.tried = set(st.cur.model.effects) | {s["effect"] for s in st.steps}
+    st.tried = set(st.cur.model.effects) | {s.effect for s in st.steps}
     for _ in range(st.opt.max_steps + RECALIBRATIONS):
         cands = _candidates(st)
-        if not cands or sum(s["action"] == "add" for s in st.steps) >= st.opt.max_steps:
+        if not cands or sum(s.action == "add" for s in st.steps) >= st.opt.max_steps:
             break
         null_m, _ = null_candidate(st.cur.model, st.data, st.opt)
         null = evaluate(null_m, st.data, st.opt.threads)
@@ -628,15 +621,15 @@ def _round_recalibration(st: _State, fits: dict, null: Evaluation) -> tuple:
         if st.recalibrated < RECALIBRATIONS else None
     if step is None:
         return False, None
-    if not step["evidence"]["accepted"]:
+    if not step.accepted:
         # proposed by the calibration part, refused by the validation part: kept in the round's evidence
-        return False, {k: step[k] for k in ("error_before", "error_after", "evidence")}
+        return False, {"error_before": step.error_before, "error_after": step.error_after, "evidence": step.evidence}
     st.recalibrated += 1
     st.steps.append(step)
-    st.log(f"step {len(st.steps)}: recalibrate (GJ x {step['evidence']['gj_factor']:.4f}): validation error "
-           f"{st.cur.E_test:.4f} -> {step['error_after']:.4f}")
-    st.notes.append(step["evidence"]["reasons"][0])
-    st.cur, st.cur_lr = step["after"], step["after_long_run"]
+    st.log(f"step {len(st.steps)}: recalibrate (GJ x {step.evidence['gj_factor']:.4f}): validation error "
+           f"{st.cur.E_test:.4f} -> {step.error_after:.4f}")
+    st.notes.append(step.evidence["reasons"][0])
+    st.cur, st.cur_lr = step.after, step.after_long_run
     return True, None
 
 
@@ -736,8 +729,7 @@ def _add(st: _State, chosen: tuple, results: list, null: Evaluation) -> None:
             st.notes.append(note)
             st.log(f"  {note}")
             st.tried.update(r["effect"] for r in rv if r["verdict"] == "confusable")
-    st.steps.append({"action": "add", "effect": name, "error_before": st.cur.E_test, "error_after": new.E_test,
-                     "evidence": e, "long_run": _pair(st.cur_lr, lr), "before": st.cur, "candidate": ev, "after": new})
+    st.steps.append(Step("add", name, st.cur.E_test, new.E_test, e, _pair(st.cur_lr, lr), st.cur, ev, new))
     st.log(f"step {len(st.steps)}: add {name}: validation error {st.cur.E_test:.4f} -> {new.E_test:.4f}")
     st.tried.add(name)
     st.cur, st.cur_lr = new, lr
@@ -751,11 +743,9 @@ def _final_flags(st: _State) -> None:
     if high:
         note = (f"the final model's damping ratios {[round(z, 3) for z in high]} exceed the {PLAUSIBLE_DAMPING:g} a steel "
                 "string's modal damping can reach: an element the catalogue lacks (or one refused) stands in for them, "
-                "not a property of the string" + ("" if "viscous_damping" in st.cur.model.effects else
-                                                  "; a viscous torque at the bit is one such element that this record "
-                                                  "cannot tell from the damping (with the top at a steady speed, "
-                                                  "-c_v v is a string damping plus a constant: viscous_damping is "
-                                                  "confounded with it, docs/loop.md), so it is not named"))
+                "not a property of the string" + "".join(
+                    "; " + e.confounded_note for n, e in CATALOGUE.items()
+                    if "damping" in e.confounded_with and n not in st.cur.model.effects))
         st.notes.append(note)
         st.log(note)
     miss = missed_cycle(st.cur_lr)

@@ -259,7 +259,7 @@ def synthetic_record(effects=(), *, duration_s: float = 12.0, seed: int = 0, fs_
     wob = w0 * (1.0 + wob_std * _unit_process(wob_psd, sdt, n_series * sdt, seed, _STREAMS["wob"])[:n_series])
     truth = Truth(cfg.to_dict(), wob, sdt, int(seed))  # a dict: the effects' inject edit it in place
     # the configuration changes first (a motor's command depends on the law and the extra torques)
-    order = sorted(eff, key=lambda n: n == "top_drive_dynamics")
+    order = sorted(eff, key=lambda n: n in CATALOGUE and CATALOGUE[n].inject_last)
     for name in order:
         if name in CATALOGUE:
             CATALOGUE[name].inject(truth, eff[name])

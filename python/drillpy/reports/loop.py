@@ -121,8 +121,7 @@ def evidence_json(res: LoopResult) -> dict:
             "engine_dt_s": Configuration.of(res.config).simulation.dt_s,
             "baseline": ev_summary(res.baseline), "final": ev_summary(res.final),
             "adequacy": res.adequacy, "declared": res.declared, "baseline_long_run": res.baseline_long_run,
-            "steps": [{k: s[k] for k in ("action", "effect", "error_before", "error_after", "evidence", "long_run")}
-                      for s in res.steps],
+            "steps": [s.to_json() for s in res.steps],
             "rounds": res.rounds, "discovery": res.discovery, "notes": res.notes}
 
 
@@ -288,11 +287,11 @@ def render_report(res: LoopResult, files: dict) -> str:
           "| step | action | effect | E before | E after | gain | p | dBIC | parameters [95 %] | long run after |",
           "|---|---|---|---:|---:|---:|---:|---:|---|---|"]
     for k, s in enumerate(res.steps, 1):
-        e = s["evidence"]
+        e = s.evidence
         alt = "".join(f" or `{r['effect']}`" for r in e.get("rivals", []) if r["verdict"] == "confusable")
-        L.append(f"| {k} | {s['action']} | `{s['effect']}`{alt} | {s['error_before']:.4f} | {s['error_after']:.4f} | "
-                 f"{100 * (1 - s['error_after'] / s['error_before']):.1f} % | {e['p_value']:.2g} | {e['delta_bic']:.1f} | "
-                 f"{_params(e.get('parameters', {}))} | {_lr((s.get('long_run') or {}).get('after'))} |")
+        L.append(f"| {k} | {s.action} | `{s.effect}`{alt} | {s.error_before:.4f} | {s.error_after:.4f} | "
+                 f"{100 * (1 - s.error_after / s.error_before):.1f} % | {e['p_value']:.2g} | {e['delta_bic']:.1f} | "
+                 f"{_params(e.get('parameters', {}))} | {_lr((s.long_run or {}).get('after'))} |")
     if not res.steps:
         L.append("| - | | (none: no candidate beats the null candidate) | | | | | | | |")
     L += ["", f"Validation error **{b.E_test:.4f} -> {f.E_test:.4f}** (calibration {b.E_train:.4f} -> {f.E_train:.4f}); "
@@ -300,13 +299,13 @@ def render_report(res: LoopResult, files: dict) -> str:
           f"{f.channel_rmse['bit_speed_rad_s'] * RPM:.2f} RPM, torque {b.channel_rmse['torque_on_bit_nm']:.3f} -> "
           f"{f.channel_rmse['torque_on_bit_nm']:.3f} N m; law residual RMSE (validation) {_f(b.law_rmse_test)} -> "
           f"{_f(f.law_rmse_test)} N m.", ""]
-    added = [s for s in res.steps if s["action"] == "add"]
+    added = [s for s in res.steps if s.action == "add"]
     if added:
         L += ["### Physical reading", ""]
         for s in added:
-            L.append(f"- **{s['effect']}**: {reading(s['effect'], s['after'].model.effects[s['effect']])}"
-                     + (f" **Not told apart from a rival**: {s['evidence']['confusable']}."
-                        if s["evidence"].get("confusable") else ""))
+            L.append(f"- **{s.effect}**: {reading(s.effect, s.after.model.effects[s.effect])}"
+                     + (f" **Not told apart from a rival**: {s.evidence['confusable']}."
+                        if s.evidence.get("confusable") else ""))
         L.append("")
     disc = res.discovery
     if disc.get("terms") is not None:

@@ -128,6 +128,16 @@ class Effect:
     defaults : dict
         Parameters of the synthetic truth when the effect is switched on without values
         (:mod:`drillpy.loop.synthetic`; the keys are those :meth:`inject` reads).
+    law_keys : tuple of str
+        Keys of the law's own optional term that the effect stands for (``bit_hysteresis``: beta1
+        and beta2 of Eq. 3.3): with the effect in the model the law is fitted in its family with
+        that term, and the effect's values are read back from the fitted law (:meth:`from_law`).
+    inject_last : bool
+        True: :meth:`inject` reads what the other effects put into the truth's configuration (a
+        motor's command depends on the law and the extra torques), so it runs after them.
+    confounded_note : str
+        What the final model's note says when the damping ratios come out implausibly high and the
+        effect, confounded with the damping (:attr:`confounded_with`), is not in the model.
     """
     name: str = ""
     level: str = "dynamic"
@@ -144,6 +154,12 @@ class Effect:
     #: the effect makes the WOB a state of the model (an axial model): the law then sees the state,
     #: whose measurement is the recorded WOB, in the law fit and at the restarts
     wob_state: bool = False
+    #: keys of the law's optional term the effect stands for (read back from the fitted law)
+    law_keys: tuple = ()
+    #: the effect's injection reads the other effects' changes of the truth: it runs after them
+    inject_last: bool = False
+    #: the final note's words on the effect when it is confounded with implausibly high damping
+    confounded_note: str = ""
 
     # ------------------------------------------------------------------ parameters and fits
     def free(self, p: dict) -> tuple:
@@ -180,6 +196,76 @@ class Effect:
             parameters (a law-level effect overrides it: its parameters are fitted with the law).
         """
         return len(self.free(p))
+
+    def law_params(self, p: dict) -> tuple:
+        """Parameters fitted jointly with the law's own, on the law residual
+        (:func:`drillpy.loop.fitting.fit_law`) and in the law's block of the short-horizon fits
+        (default: none; ``wob_coupling``: its gain k, which sets the law's WOB input through
+        :meth:`wob_input`).
+
+        Parameters
+        ----------
+        p : dict
+            The effect's current parameter values (name -> value).
+
+        Returns
+        -------
+        tuple of Param
+            The parameters, each within :meth:`bounds` (a missing value starts at :attr:`defaults`).
+        """
+        return ()
+
+    def from_law(self, law: dict) -> dict:
+        """The effect's values read back from a fitted law (the keys of :attr:`law_keys`).
+
+        Parameters
+        ----------
+        law : dict
+            The law block of the engine configuration, as fitted.
+
+        Returns
+        -------
+        dict
+            Parameter name -> value (empty when the effect owns no law keys).
+        """
+        return {k: float(law[k]) for k in self.law_keys}
+
+    def estimate(self, p: dict, slip) -> dict:
+        """Values estimated outside the fits after every calibration (the parameters with
+        ``fitted`` False that are not set by the fit itself; default: none).
+
+        Parameters
+        ----------
+        p : dict
+            The effect's values after the calibration.
+        slip : callable
+            ``slip()`` returns (T, T_law) [N m]: the torque with the model's measurement chain
+            undone and the calibrated law's torque on the calibration part's slip samples
+            (computed once per calibration, on the first call).
+
+        Returns
+        -------
+        dict
+            Parameter name -> value, merged into ``p``.
+        """
+        return {}
+
+    def feeds_cycle(self, p: dict) -> bool:
+        """Whether the effect feeds the model a recorded channel that carries the stick-slip cycle
+        (the measured top speed as a kinematic drive): such a model explains a record, it does not
+        predict it (default False).
+
+        Parameters
+        ----------
+        p : dict
+            The effect's values (e.g. its ``"variant"``).
+
+        Returns
+        -------
+        bool
+            True makes :attr:`drillpy.loop.model.LoopModel.predictive` False.
+        """
+        return False
 
     def bounds(self, q: Param, model) -> tuple:
         """(lower, upper) of a parameter's fit for this model (default: the parameter's own).

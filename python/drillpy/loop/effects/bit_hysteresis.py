@@ -25,6 +25,7 @@ class BitHysteresis(Effect):
     reading = ("the bit-rock torque depends on where the bit is in the cycle, not only on its speed: the "
                "accelerating and decelerating branches of the rig's torque-speed loop (Figs. 3.5, 5.7)")
     defaults = {"beta1": 0.2, "beta2": 0.005}
+    law_keys = ("beta1", "beta2")  # the law's own hysteresis term (Eq. 3.3): fitted in the law's family
 
     def describe(self, p):
         """The hysteresis term of Eqs. (3.2)-(3.3); see :meth:`Effect.describe`.

@@ -74,6 +74,18 @@ class TopDriveDynamics(Effect):
                "stick-slip cycle (section 5.3.2); it stalls when the bit sticks at a torque it cannot overcome")
     needs = ("top_speed",)
     defaults = {"slope_nms_rad": 0.25, "inertia_kg_m2": 0.02}
+    inject_last = True  # the motor's command is set from the truth's law and extra torques
+
+    def feeds_cycle(self, p):
+        """True for the kinematic variant ``"measured"`` (the recorded top speed, which carries the
+        cycle, drives the top); see :meth:`Effect.feeds_cycle`.
+
+        Parameters
+        ----------
+        p : dict
+            The effect's values (``p["variant"]``).
+        """
+        return p.get("variant") == "measured"
 
     def free(self, p):
         """The motor's parameters (the coupling's when ``p`` has one); none for the kinematic

@@ -31,6 +31,22 @@ class TorqueFluctuation(Effect):
                "lateral friction of the bit in its hole (section 5.3.2); the fluctuation process of chapter 4")
     defaults = {"std": 0.15, "f0_hz": 0.25}
 
+    def estimate(self, p, slip):
+        """``std``: the standard deviation of eta = T / T_law - 1 (Eq. 4.1) over the calibration
+        part's slip samples, leaving out those where |T_law| is below 10 % of its median; see
+        :meth:`Effect.estimate`.
+
+        Parameters
+        ----------
+        p : dict
+            The effect's values (not read).
+        slip : callable
+            ``slip()`` -> (T, T_law) [N m] on the calibration part's slip samples.
+        """
+        T, Tl = slip()
+        ok = np.abs(Tl) > 0.1 * np.median(np.abs(Tl))
+        return {"std": float(np.std(T[ok] / Tl[ok] - 1.0, ddof=1))}
+
     def describe(self, p):
         """The fluctuation's standard deviation and memory tau (Eq. 4.1); see :meth:`Effect.describe`.
 

@@ -27,6 +27,9 @@ class ViscousDamping(Effect):
     #: While the damping ratios are held by the limit cycle (loop.damping_hold.hold_damping) an extra viscous
     #: torque would undo that choice: it is then not a candidate.
     confounded_with = ("damping",)
+    confounded_note = ("a viscous torque at the bit is one such element that this record cannot tell from the damping "
+                       "(with the top at a steady speed, -c_v v is a string damping plus a constant: viscous_damping is "
+                       "confounded with it, docs/loop.md), so it is not named")
     defaults = {"bit_viscous_nms": 0.03}
 
     def starts(self, model, data):

@@ -24,6 +24,17 @@ class WobCoupling(Effect):
     needs = ("wob",)
     defaults = {"gain": 1.0}
 
+    def law_params(self, p):
+        """The gain k, fitted with the law (it sets the law's WOB input, :meth:`wob_input`); see
+        :meth:`Effect.law_params`.
+
+        Parameters
+        ----------
+        p : dict
+            ``{"gain"}`` (not read).
+        """
+        return self.params
+
     def describe(self, p):
         """The gain k of the WOB in the law; see :meth:`Effect.describe`.
 
