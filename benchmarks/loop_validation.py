@@ -151,7 +151,7 @@ def _run(case: Case, truth_gj: bool) -> dict:
     ok = ok and not raised
     return {"case": case, "found": added, "steps": steps, "raised": raised, "removed": res.removed, "baseline": res.baseline.E_test,
             "first_after": first["error_after"] if first else res.baseline.E_test, "final": res.final.E_test,
-            "params": {s.effect: s.evidence.get("parameters", {}) for s in res.steps if s.action == "add"},
+            "params": {s.effect: s.evidence.parameters or {} for s in res.steps if s.action == "add"},
             "long_run": {"measured": (lr_b or {}).get("measured"), "baseline": (lr_b or {}).get("model"),
                          "final": (lr_f or {}).get("after", (lr_f or {}).get("model"))},
             "unexplained": res.unexplained_fraction, "adequate": res.adequacy["adequate"],

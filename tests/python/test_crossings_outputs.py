@@ -62,7 +62,7 @@ def test_sweep_json_crossings_on_the_preset():
 
 
 def test_time_format_follows_the_step():
-    from drillpy.cli.model import _time_format
+    from drillpy.reports.simulation import time_format as _time_format
     assert _time_format(np.arange(0, 1, 1e-3)) == "%.3f"
     assert _time_format(np.arange(0, 1, 2.5e-4)) == "%.5f"
     assert _time_format(np.arange(0, 10, 0.5)) == "%.1f"

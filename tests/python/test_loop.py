@@ -218,9 +218,9 @@ def test_guard_refuses_a_candidate_that_changes_nothing():
     data = L.prepare(rec, cfg, opt)
     base = L.evaluate(L.calibrate(cfg, data, opt)[0], data)
     e = L.evidence(base, base, data, 6, opt)
-    assert e["relative_gain"] == 0.0 and e["explained_fraction"] == 0.0
-    assert not e["accepted"] and len(e["reasons"]) == 3
-    assert e["level"] == pytest.approx(opt.alpha / 6)
+    assert e.relative_gain == 0.0 and e.explained_fraction == 0.0
+    assert not e.accepted and len(e.reasons) == 3
+    assert e.level == pytest.approx(opt.alpha / 6)
 
 
 def test_the_step_gate_asks_every_step_to_lower_the_validation_error():

@@ -83,7 +83,7 @@ def test_the_loop_names_the_gain_and_recovers_the_scale(records):
     assert step.error_after <= 0.95 * step.error_before  # the step gate
     p = res.final.model.effects["sensor_gain"]
     assert abs(p["torque_scale"] - GAIN["torque_scale"]) < 0.05
-    lo, hi = step.evidence["parameters"]["torque_scale"]["ci95"]
+    lo, hi = step.evidence.parameters["torque_scale"]["ci95"]
     assert lo <= p["torque_scale"] <= hi and hi - lo < 0.05
     assert abs(p["torque_offset_nm"]) <= 0.5  # reported, not identified by the dynamics
 

@@ -6,11 +6,9 @@ them into one library call and prints the result (text, or one JSON line with ``
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 import numpy as np
 
-from drillpy.outputs import replacing, write_text
 from drillpy.cli import (add_figure_units_arg, add_model_args, add_study_args, add_wob_arg, model_config, parse_grid, print_json, quantity,
                          renamed, study_severity)
 from drillpy.jsonio import jsonable
@@ -107,12 +105,9 @@ def _add_simulate(sub) -> argparse.ArgumentParser:
 def cmd_simulate(a: argparse.Namespace) -> int:
     """Run one simulation at ``--top-speed`` and ``--wob`` (SI or with a unit); print its stick-slip metrics.
 
-    With ``--out`` writes ``series.csv`` (time series, SI units), ``time_series.png`` and
-    ``summary.json`` (the summary with the effective configuration), and with the axial-torsional
-    model (``axial.type = rgd``) ``axial.csv`` (WOB, rate of penetration, bit position, depth of cut
-    and delay, SI units) and ``axial.png`` (WOB, ROP and depth of cut versus time). ``series.csv`` holds the data's
-    precision, not the float64's: the time in fixed point to the recording step's resolution
-    (see :func:`_time_format`), the other columns at 7 significant digits (``%.7g``).
+    With ``--out`` the run's files are written by :func:`drillpy.reports.simulation.write_simulation`
+    (``series.csv``, ``time_series.png``, ``summary.json``; ``axial.csv`` and ``axial.png`` for the
+    axial-torsional model).
 
     Parameters
     ----------
@@ -124,36 +119,13 @@ def cmd_simulate(a: argparse.Namespace) -> int:
     int
         Exit status 0; prints the summary as JSON or SS, stick fraction and periodic cycles as text.
     """
-    # The run-summary writing below is being unified with the other run outputs (one schema) in
-    # the library; it stays here, unchanged, until then.
-    from drillpy.figures import simulation as plotting
     from drillpy.jsonio import dumps
     from drillpy.model.simulation import simulate
-    from drillpy.provenance import header, provenance
     # the effective configuration (overrides, operating point and start) is the one saved
-    cfg = with_overrides(model_config(a), top_speed=a.top_speed)
-    r = simulate(cfg)
-    summary = r.summary()  # drill/run_summary.hpp: the keys drillsim writes
+    r = simulate(with_overrides(model_config(a), top_speed=a.top_speed))
     if a.out:
-        out = Path(a.out)
-        out.mkdir(parents=True, exist_ok=True)
-        cols = np.column_stack([r.t, r.bit_speed, r.bit_accel, r.bit_angle, r.torque_on_bit,
-                                r.top_torque, r.top_speed])
-        prov = provenance(start=Configuration.of(r.config).simulation.start or "rest")  # the start used
-        with replacing(out / "series.csv") as tmp:
-            np.savetxt(tmp, cols, delimiter=",", comments="", fmt=[_time_format(r.t)] + ["%.7g"] * 6,
-                       header=header(prov) + "\ntime_s,bit_speed_rad_s,bit_accel_rad_s2,bit_angle_rad,torque_on_bit_Nm,"
-                              "top_torque_Nm,top_speed_rad_s")
-        plotting.time_series_plot(out / "time_series.png", r.t, r.bit_speed, r.torque_on_bit, r.top_speed,
-                                  units=a.figure_units)
-        ax = r.axial
-        if ax is not None:  # the axial-torsional model's channels (docs/axial.md), same sampling
-            acols = np.column_stack([ax.t, ax.wob, ax.rop, ax.position, ax.depth_of_cut, ax.delay])
-            with replacing(out / "axial.csv") as tmp:
-                np.savetxt(tmp, acols, delimiter=",", comments="", fmt=[_time_format(ax.t)] + ["%.7g"] * 5,
-                           header=header(prov) + "\ntime_s,wob_N,rop_m_s,bit_position_m,depth_of_cut_m,delay_s")
-            plotting.axial_series_plot(out / "axial.png", ax)
-        write_text((out / "summary.json"), dumps({**summary, "config": r.config, "provenance": prov}, indent=2))
+        from drillpy.reports.simulation import write_simulation
+        write_simulation(r, a.out, a.figure_units)
     text = (f"SS = {r.severity:.3f}, stick fraction = {r.stick_fraction:.3f}, "
             f"periodic over {r.period_cycles} cycle(s)")
     ax = r.axial  # the axial-torsional model (axial.type = rgd): WOB, ROP and bit bounce beside SS
@@ -162,32 +134,8 @@ def cmd_simulate(a: argparse.Namespace) -> int:
                  f"ROP = {ax.mean_rop * 3600:.2f} +- {ax.rop_std * 3600:.2f} m/h (steady {ax.steady_rop * 3600:.2f} m/h), "
                  f"bit bounce fraction = {ax.bounce_fraction:.3f}, MSE = {ax.mse / 1e6:.1f} MPa "
                  f"(steady {ax.steady_mse / 1e6:.1f} MPa)")
-    print(dumps(summary, indent=None) if a.json else text)
+    print(dumps(r.summary(), indent=None) if a.json else text)
     return 0
-
-
-def _time_format(t) -> str:
-    """The ``printf`` format writing times ``t`` [s] to their step's resolution: fixed point with
-    the fewest decimals (at most 9) that hold the step, e.g. ``"%.3f"`` for a 1 ms step.
-
-    Parameters
-    ----------
-    t : array_like
-        Recorded times [s], evenly spaced (the median step is used).
-
-    Returns
-    -------
-    str
-        A format such as ``"%.4f"``; ``"%.9f"`` for fewer than two times or a step finer than 1 ns.
-    """
-    t = np.asarray(t, float)
-    if t.size < 2:
-        return "%.9f"
-    step = float(np.median(np.diff(t)))
-    for d in range(10):
-        if step > 0 and abs(round(step, d) - step) <= 1e-6 * step:
-            return f"%.{d}f"
-    return "%.9f"
 
 
 def _add_sweep(sub) -> argparse.ArgumentParser:

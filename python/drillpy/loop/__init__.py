@@ -45,7 +45,7 @@ from __future__ import annotations
 
 from .data import LoopData, measured, prepare
 from .effects import CATALOGUE, NAMES
-from .evidence import adequacy, evidence, trivial_predictors
+from .evidence import Evidence, adequacy, evidence, trivial_predictors
 from .fitting import calibrate, fit_candidate, null_candidate, refit
 from .longrun import long_run
 from .model import Evaluation, LoopModel, evaluate, predict
@@ -53,6 +53,6 @@ from .options import LoopOptions
 from .run import LoopResult, run_loop
 from .step import Step
 
-__all__ = ["CATALOGUE", "NAMES", "Evaluation", "LoopData", "LoopModel", "LoopOptions", "LoopResult", "adequacy",
+__all__ = ["CATALOGUE", "NAMES", "Evaluation", "Evidence", "LoopData", "LoopModel", "LoopOptions", "LoopResult", "adequacy",
            "calibrate", "evaluate", "evidence", "fit_candidate", "long_run", "measured",
            "null_candidate", "predict", "prepare", "refit", "run_loop", "Step", "trivial_predictors"]

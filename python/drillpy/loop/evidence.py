@@ -3,7 +3,9 @@ candidate beat the null candidate (validation gain, paired test over the validat
 information criterion), and are its parameters significant and physical."""
 from __future__ import annotations
 
+import dataclasses
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from scipy import stats
@@ -21,7 +23,151 @@ def _autocorrelation_time(x: np.ndarray) -> float:
     return max(1.0, ident.autocorrelation_time(x))
 
 
-def evidence(before: Evaluation, after: Evaluation, data: LoopData, n_candidates: int, opt: LoopOptions) -> dict:
+@dataclass
+class Evidence:
+    """The evidence of a candidate or a step (:func:`evidence`, completed by the loop's stages).
+
+    The first fields are the guard's test of ``after`` against ``before`` (:func:`evidence`); the
+    rest are set where they apply and are None (left out of the JSON) otherwise. A candidate whose
+    fit failed carries only ``accepted`` (False) and ``reasons`` (:meth:`failed`).
+
+    Attributes
+    ----------
+    explained_fraction : float
+        Share of the calibration residual the prediction change explains [-].
+    error_train_before, error_train_after, error_test_before, error_test_after : float
+        E on the calibration and validation parts before and after [-].
+    relative_gain : float
+        1 - E_val(after) / E_val(before) [-].
+    t_statistic, p_value, level : float
+        The one-sided paired test over the validation horizons and its Bonferroni level.
+    validation_horizons : int
+        Number of validation horizons.
+    effective_horizons, n_eff : float
+        Effective sample sizes of the test and of the BIC (n / tau).
+    delta_bic : float
+        dBIC of the step.
+    added_parameters : int
+        Parameters the step adds (dk).
+    law_rmse_train_before_nm, law_rmse_train_after_nm, law_rmse_test_before_nm, law_rmse_test_after_nm : float
+        Law residual RMSEs [N m] before and after, on both parts.
+    accepted : bool
+        The guard's decision (with every later refusal of the loop).
+    reasons : list of str
+        Why not (empty when accepted).
+    parameters : dict or None
+        The candidate's parameters with their 95 % intervals (:func:`drillpy.loop.fitting.parameter_evidence`).
+    law_fit_rmse_before_nm, law_fit_rmse_after_nm : float or None
+        A law-level effect's law residual RMSE without and with it (:func:`law_evidence`).
+    direct : str or None
+        The direct measurement that proposed the candidate.
+    recalibration : dict or None
+        A recalibration of the round proposed and refused (``string_stiffness``'s candidate).
+    calibration_error_before, calibration_error_after, gj_factor : float or None
+        A recalibration step's calibration errors and GJ factor.
+    long_run_flag : str or None
+        The long run's warning on an effect added despite it.
+    error_test_refit, error_test_null : float or None
+        An added effect's E_val refitted and the null candidate's.
+    candidates : list or None
+        The round's candidates (JSON rows) an added effect was chosen from.
+    marginal, confusable : str or None
+        Notes on a small gain and on a rival the record cannot tell apart.
+    damping : dict or None
+        The damping ratios re-held with the added effect.
+    rivals : list or None
+        The rivals of an added effect (:func:`drillpy.loop.rivals.rivals`).
+    """
+    explained_fraction: float | None = None
+    error_train_before: float | None = None
+    error_train_after: float | None = None
+    error_test_before: float | None = None
+    error_test_after: float | None = None
+    relative_gain: float | None = None
+    t_statistic: float | None = None
+    p_value: float | None = None
+    level: float | None = None
+    validation_horizons: int | None = None
+    effective_horizons: float | None = None
+    delta_bic: float | None = None
+    n_eff: float | None = None
+    added_parameters: int | None = None
+    law_rmse_train_before_nm: float | None = None
+    law_rmse_train_after_nm: float | None = None
+    law_rmse_test_before_nm: float | None = None
+    law_rmse_test_after_nm: float | None = None
+    accepted: bool = False
+    reasons: list = dataclasses.field(default_factory=list)
+    parameters: dict | None = None
+    law_fit_rmse_before_nm: float | None = None
+    law_fit_rmse_after_nm: float | None = None
+    direct: str | None = None
+    recalibration: dict | None = None
+    calibration_error_before: float | None = None
+    calibration_error_after: float | None = None
+    gj_factor: float | None = None
+    long_run_flag: str | None = None
+    error_test_refit: float | None = None
+    error_test_null: float | None = None
+    candidates: list | None = None
+    marginal: str | None = None
+    damping: dict | None = None
+    rivals: list | None = None
+    confusable: str | None = None
+    fit_failed: bool = False  #: the candidate's fit failed: only ``accepted`` and ``reasons`` hold
+
+    @classmethod
+    def failed(cls, reason: str) -> "Evidence":
+        """The evidence of a candidate whose fit failed (not evidence of anything).
+
+        Parameters
+        ----------
+        reason : str
+            Why, e.g. ``"fit failed: ..."``.
+
+        Returns
+        -------
+        Evidence
+            Refused, with that reason alone.
+        """
+        return cls(accepted=False, reasons=[reason], fit_failed=True)
+
+    def refuse(self, *why: str) -> None:
+        """Refuse the candidate, adding the reasons (in place).
+
+        Parameters
+        ----------
+        *why : str
+            The reasons, in order.
+        """
+        self.accepted = False
+        self.reasons = self.reasons + list(why)
+
+    def to_json(self) -> dict:
+        """The evidence as written to ``loop.json`` and ``evidence.json``: the guard's test (all of
+        it, nulls included) and the fields the loop set (those left None are left out); a failed
+        fit's ``accepted`` and ``reasons`` alone.
+
+        Returns
+        -------
+        dict
+            Field name -> value.
+        """
+        out = {}
+        for f in dataclasses.fields(self):
+            v = getattr(self, f.name)
+            if f.name == "fit_failed":
+                continue
+            if f.name in _TEST_FIELDS and not self.fit_failed or f.name in ("accepted", "reasons") or v is not None:
+                out[f.name] = v
+        return out
+
+
+#: The guard's test (:func:`evidence`): always written, nulls included.
+_TEST_FIELDS = frozenset(f.name for f in dataclasses.fields(Evidence)[:20])
+
+
+def evidence(before: Evaluation, after: Evaluation, data: LoopData, n_candidates: int, opt: LoopOptions) -> Evidence:
     """The evidence for ``after`` against ``before`` (the null candidate of the round, or the model
     with an effect removed): signature, validation improvement and its significance, information
     criterion, and the guard's decision.
@@ -46,7 +192,7 @@ def evidence(before: Evaluation, after: Evaluation, data: LoopData, n_candidates
 
     Returns
     -------
-    dict
+    Evidence
         ``explained_fraction`` (share of the calibration residual the prediction change explains),
         the errors before and after on both parts, ``relative_gain``, ``t_statistic``, ``p_value``,
         ``level``, ``validation_horizons``, ``effective_horizons``, ``delta_bic``, ``n_eff``,
@@ -77,13 +223,9 @@ def evidence(before: Evaluation, after: Evaluation, data: LoopData, n_candidates
         reasons.append(f"p = {p:.2g} >= {level:.2g}")
     if not dbic > opt.min_delta_bic:
         reasons.append(f"dBIC = {dbic:.1f} <= {opt.min_delta_bic:g}")
-    return {"explained_fraction": explained, "error_train_before": before.E_train, "error_train_after": after.E_train,
-            "error_test_before": before.E_test, "error_test_after": after.E_test, "relative_gain": gain,
-            "t_statistic": tstat, "p_value": p, "level": level, "validation_horizons": int(d.size),
-            "effective_horizons": k_eff, "delta_bic": dbic, "n_eff": n_eff, "added_parameters": dk,
-            "law_rmse_train_before_nm": before.law_rmse_train, "law_rmse_train_after_nm": after.law_rmse_train,
-            "law_rmse_test_before_nm": before.law_rmse_test, "law_rmse_test_after_nm": after.law_rmse_test,
-            "accepted": not reasons, "reasons": reasons}
+    return Evidence(explained, before.E_train, after.E_train, before.E_test, after.E_test, gain, tstat, p, level,
+                    int(d.size), k_eff, dbic, n_eff, dk, before.law_rmse_train, after.law_rmse_train,
+                    before.law_rmse_test, after.law_rmse_test, accepted=not reasons, reasons=reasons)
 
 
 def trivial_predictors(data: LoopData) -> dict:

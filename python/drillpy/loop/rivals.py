@@ -44,7 +44,7 @@ def distinct(chosen: Evaluation, other: Evaluation, data: LoopData, opt: LoopOpt
         one is better by the guard's test, the other is no rival).
     """
     e = evidence(other, chosen, data, 1, opt)
-    gain, p = float(e["relative_gain"]), float(e["p_value"])
+    gain, p = float(e.relative_gain), float(e.p_value)
     return {"gain": gain, "p_value": p, "distinct": bool(gain >= opt.min_gain and p < opt.alpha)}
 
 
@@ -78,8 +78,8 @@ def joint(after: Evaluation, name: str, data: LoopData, opt: LoopOptions, thread
     except (ValueError, RuntimeError) as err:  # a joint model the engine refuses is no evidence of presence
         return {"error": str(err), "present": False}
     e = evidence(after, both, data, 1, opt)
-    return {"error_test_joint": both.E_test, "gain": float(e["relative_gain"]), "p_value": float(e["p_value"]),
-            "delta_bic": float(e["delta_bic"]), "present": bool(e["accepted"])}
+    return {"error_test_joint": both.E_test, "gain": float(e.relative_gain), "p_value": float(e.p_value),
+            "delta_bic": float(e.delta_bic), "present": bool(e.accepted)}
 
 
 def rivals(chosen: str, results: list, after: Evaluation, data: LoopData, opt: LoopOptions, threads: int,
@@ -91,7 +91,7 @@ def rivals(chosen: str, results: list, after: Evaluation, data: LoopData, opt: L
     ----------
     chosen : str
         The effect the loop is about to add.
-    results : list of (str, Evaluation or None, dict)
+    results : list of (str, Evaluation or None, Evidence)
         The round's candidates with their evaluations and evidence (``accepted``: passed the guard
         against the null candidate).
     after : Evaluation
@@ -116,7 +116,7 @@ def rivals(chosen: str, results: list, after: Evaluation, data: LoopData, opt: L
     ev_chosen = next(ev for n, ev, _ in results if n == chosen)
     close = []
     for name, ev, e in results:
-        if name == chosen or ev is None or not e["accepted"]:
+        if name == chosen or ev is None or not e.accepted:
             continue
         d = distinct(ev_chosen, ev, data, opt)
         if not d["distinct"]:

@@ -4,6 +4,7 @@ null candidate, check every corrected model's limit cycle, and regress what is l
 of terms (docs/loop.md)."""
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -17,7 +18,7 @@ from .damping_hold import hold_damping
 from .data import LoopData, prepare
 from .discovery import discover, library, residual_structure
 from .effects import CATALOGUE
-from .evidence import adequacy, evidence, law_evidence
+from .evidence import Evidence, adequacy, evidence, law_evidence
 from .fitting import RESTART_GAIN, calibrate, e_train, fit_candidate, null_candidate, parameter_evidence, refit
 from .longrun import cycle_damage, long_run, missed_cycle, stick_collapse
 from .model import STIFFNESS, Evaluation, LoopModel, equation_residual, evaluate
@@ -130,8 +131,8 @@ class LoopResult:
     def confusable(self) -> list:
         """The added effects the record cannot tell from a rival (:mod:`.rivals`): per such step
         ``{"named": effect, "or": [rivals], "note": ...}``, in order."""
-        return [{"named": s.effect, "or": [r["effect"] for r in s.evidence["rivals"] if r["verdict"] == "confusable"],
-                 "note": s.evidence["confusable"]} for s in self.steps if s.evidence.get("confusable")]
+        return [{"named": s.effect, "or": [r["effect"] for r in s.evidence.rivals if r["verdict"] == "confusable"],
+                 "note": s.evidence.confusable} for s in self.steps if s.evidence.confusable]
 
     @property
     def unexplained_fraction(self) -> float | None:
@@ -227,34 +228,35 @@ def _backward(cur: Evaluation, cur_lr: dict, data: LoopData, opt: LoopOptions, k
             kept = (cycle_damage(cur_lr, lr) or stick_collapse(cur_lr, lr)) if opt.long_run else None
             if not kept and red.E_test > cur.E_test:  # no step of the loop raises the validation error (issue 29)
                 kept = f"the validation error would rise ({cur.E_test:.4f} -> {red.E_test:.4f})"
-            log(f"  remove {name:<20} E_val {red.E_test:.4f} (the effect's gain {100 * e['relative_gain']:+.1f} %)"
-                + ("" if e["accepted"] else f"  <- kept: without it {kept}" if kept else
+            log(f"  remove {name:<20} E_val {red.E_test:.4f} (the effect's gain {100 * e.relative_gain:+.1f} %)"
+                + ("" if e.accepted else f"  <- kept: without it {kept}" if kept else
                    "  <- not defended: removed"))
-            if not e["accepted"] and not kept:
+            if not e.accepted and not kept:
                 trials.append((red.E_test, name, red, e, lr))
         if not trials:
             return cur, cur_lr, steps
         _, name, red, e, lr = min(trials, key=lambda r: r[0])
         steps.append(Step("remove", name, cur.E_test, red.E_test,
-                          {**e, "accepted": True, "reasons": [f"the guard does not defend {name}: " + "; ".join(e["reasons"])]},
+                          dataclasses.replace(e, accepted=True,
+                                              reasons=[f"the guard does not defend {name}: " + "; ".join(e.reasons)]),
                           _pair(cur_lr, lr), cur, red, red))
         log(f"step {done + len(steps)}: remove {name}: validation error {cur.E_test:.4f} -> {red.E_test:.4f}")
         cur, cur_lr = red, lr
 
 
-def _direct(effect, cur: Evaluation, e: dict, data: LoopData) -> None:
+def _direct(effect, cur: Evaluation, e: Evidence, data: LoopData) -> None:
     """An effect measured directly on the record (its ``direct`` hook, e.g. the break-away torques
     of the stick phases) is *proposed* by that measurement: the candidate is started from the
     measured value (:func:`.fitting.fit_candidate`), and the measurement is recorded in its evidence
-    (``e["direct"]``). It never replaces the validation test (issue 29): a candidate the guard
+    (``e.direct``). It never replaces the validation test (issue 29): a candidate the guard
     refuses stays refused, with the measurement named among the reasons."""
     d = effect.direct(cur.model, data)
     if not d or not d["significant"]:
         return
-    e["direct"] = d["detail"]
-    if not e["accepted"]:
-        e["reasons"] = e["reasons"] + [f"proposed by its direct measurement ({d['detail']}), but a direct "
-                                       "measurement does not replace the validation test"]
+    e.direct = d["detail"]
+    if not e.accepted:
+        e.refuse(f"proposed by its direct measurement ({d['detail']}), but a direct measurement does not replace "
+                 "the validation test")
 
 
 def step_gate(before: float, after: float, margin: float) -> str | None:
@@ -300,7 +302,7 @@ def marginal(name: str, e: dict, opt: LoopOptions) -> str | None:
     ----------
     name : str
         The effect.
-    e : dict
+    e : Evidence
         Its evidence (:func:`drillpy.loop.evidence.evidence`: ``relative_gain``).
     opt : LoopOptions
         The loop's options (``min_gain``).
@@ -312,7 +314,7 @@ def marginal(name: str, e: dict, opt: LoopOptions) -> str | None:
         None. (No effect is added below ``min_gain``: a direct measurement no longer stands in for
         the validation test, :func:`step_gate`.)
     """
-    g = float(e.get("relative_gain", 0.0))
+    g = float(e.relative_gain or 0.0)
     if g >= MARGIN_FACTOR * opt.min_gain:
         return None
     why = f"the {100 * opt.min_gain:.0f} % asked is passed by little"
@@ -370,7 +372,7 @@ def _recalibration(fit, null: Evaluation, cur: Evaluation, cur_lr: dict, data: L
     model of the null class (:func:`_null_class`), or None. Its evidence is taken against the null
     candidate, with the calibration errors and the factor; like the Evaluations ``before``,
     ``candidate`` and ``after``, ``after_long_run`` (the recalibrated model's whole long run) stays
-    out of ``loop.json``. The calibration part proposes it; it is accepted (``evidence["accepted"]``)
+    out of ``loop.json``. The calibration part proposes it; it is accepted (``evidence.accepted``)
     only when it also lowers the validation error (:func:`step_gate` at :data:`RECALIBRATION_GAIN`),
     else the returned step is refused (``accepted`` False, with the reason) and the loop records it
     in the round's evidence instead of taking it."""
@@ -381,8 +383,9 @@ def _recalibration(fit, null: Evaluation, cur: Evaluation, cur_lr: dict, data: L
     new = evaluate(alt, data, opt.threads)
     veto = step_gate(cur.E_test, new.E_test, RECALIBRATION_GAIN)
     reasons = [note] + ([f"refused: {veto}"] if veto else [])
-    e = dict(evidence(null, new, data, 1, opt), accepted=veto is None, reasons=reasons, **cal,
-             parameters={"gj_factor": {"value": cal["gj_factor"], "ci95": None, "at_bound": False, "unit": "-"}})
+    e = dataclasses.replace(evidence(null, new, data, 1, opt), accepted=veto is None, reasons=reasons, **cal,
+                            parameters={"gj_factor": {"value": cal["gj_factor"], "ci95": None, "at_bound": False,
+                                                      "unit": "-"}})
     if veto:
         log(f"  the recalibration is refused by the validation part: {veto}")
     return Step("recalibrate", STIFFNESS, cur.E_test, new.E_test, e, _pair(cur_lr, lr), cur, new, new, lr)
@@ -594,11 +597,11 @@ def _search(st: _State) -> None:
         if recal:
             continue  # the candidates refitted from the recalibrated model
         results = _score(st, cands, fits, null, refused_recal)
-        st.rounds.append([{"effect": n, **e} for n, _, e in results])
+        st.rounds.append([{"effect": n, **e.to_json()} for n, _, e in results])
         st.last = {n: ev for n, ev, _ in results if ev is not None}
         chosen = _choose(st, results)
         # the round's record with the refusals after the refit (the gate, the long run) in it
-        st.rounds[-1] = [{"effect": n, **e} for n, _, e in results]
+        st.rounds[-1] = [{"effect": n, **e.to_json()} for n, _, e in results]
         if chosen is None:
             st.log("no candidate beats the null candidate with significant, physical parameters: stop")
             break
@@ -623,12 +626,12 @@ def _round_recalibration(st: _State, fits: dict, null: Evaluation) -> tuple:
         return False, None
     if not step.accepted:
         # proposed by the calibration part, refused by the validation part: kept in the round's evidence
-        return False, {"error_before": step.error_before, "error_after": step.error_after, "evidence": step.evidence}
+        return False, {"error_before": step.error_before, "error_after": step.error_after, "evidence": step.evidence.to_json()}
     st.recalibrated += 1
     st.steps.append(step)
-    st.log(f"step {len(st.steps)}: recalibrate (GJ x {step.evidence['gj_factor']:.4f}): validation error "
+    st.log(f"step {len(st.steps)}: recalibrate (GJ x {step.evidence.gj_factor:.4f}): validation error "
            f"{st.cur.E_test:.4f} -> {step.error_after:.4f}")
-    st.notes.append(step.evidence["reasons"][0])
+    st.notes.append(step.evidence.reasons[0])
     st.cur, st.cur_lr = step.after, step.after_long_run
     return True, None
 
@@ -645,25 +648,24 @@ def _score(st: _State, cands: list, fits: dict, null: Evaluation, refused_recal)
             cm, ci = fits[name]
             ev = evaluate(cm, st.data, st.opt.threads)
             e = evidence(null, ev, st.data, len(cands), st.opt)
-            e["parameters"], why = parameter_evidence(cm, name, ci, st.data)
+            e.parameters, why = parameter_evidence(cm, name, ci, st.data)
             lb, la, lwhy = law_evidence(CATALOGUE[name], null.model, st.data, st.opt)
             if lb is not None:
-                e["law_fit_rmse_before_nm"], e["law_fit_rmse_after_nm"] = lb, la
+                e.law_fit_rmse_before_nm, e.law_fit_rmse_after_nm = lb, la
             why += lwhy
             if why:
-                e["accepted"] = False
-                e["reasons"] = e["reasons"] + why
+                e.refuse(*why)
             else:
                 _direct(CATALOGUE[name], st.cur, e, st.data)
             if name == STIFFNESS and refused_recal is not None:
-                e["recalibration"] = refused_recal
+                e.recalibration = refused_recal
         except (ValueError, RuntimeError) as err:  # a candidate the engine refuses is not evidence
-            ev, e = None, {"accepted": False, "reasons": [f"fit failed: {err}"]}
+            ev, e = None, Evidence.failed(f"fit failed: {err}")
         results.append((name, ev, e))
         st.log(f"  candidate {name:<20} " + (
-            f"E_val {e['error_test_after']:.4f} (gain {100 * e['relative_gain']:+.1f} %), p {e['p_value']:.2g}, "
-            f"dBIC {e['delta_bic']:.1f}" if ev is not None else "") + (
-            "  <- passes" if e["accepted"] else f"  ({'; '.join(e['reasons'])})"))
+            f"E_val {e.error_test_after:.4f} (gain {100 * e.relative_gain:+.1f} %), p {e.p_value:.2g}, "
+            f"dBIC {e.delta_bic:.1f}" if ev is not None else "") + (
+            "  <- passes" if e.accepted else f"  ({'; '.join(e.reasons)})"))
     return results
 
 
@@ -674,7 +676,7 @@ def _choose(st: _State, results: list):
     refused); (name, evaluation, evidence, refitted evaluation, long run, damping note) or None.
     Refusals are written into the candidates' evidence."""
     opt, data, cur, cur_lr = st.opt, st.data, st.cur, st.cur_lr
-    for name, ev, e in sorted([r for r in results if r[2]["accepted"]], key=lambda r: r[1].E_test):
+    for name, ev, e in sorted([r for r in results if r[2].accepted], key=lambda r: r[1].E_test):
         nm, ci = refit(ev.model, data, opt)
         new = evaluate(nm, data, opt.threads)
         lr = _long(opt, nm, data)
@@ -685,8 +687,7 @@ def _choose(st: _State, results: list):
                 new, lr = evaluate(m2, data, opt.threads), lr2
         gate = step_gate(cur.E_test, new.E_test, opt.min_gain)
         if gate:  # the refitted step must itself lower E by the guard's margin (issue 29)
-            e["accepted"] = False
-            e["reasons"] = e["reasons"] + [f"refitted: {gate}"]
+            e.refuse(f"refitted: {gate}")
             st.log(f"  {name}: rejected, refitted {gate}")
             continue
         damage = cycle_damage(cur_lr, lr) if opt.long_run else None
@@ -695,13 +696,12 @@ def _choose(st: _State, results: list):
         if collapse and gain < COLLAPSE_GAIN:
             damage = f"{collapse}, with a validation gain of {100 * gain:.1f} % (below {100 * COLLAPSE_GAIN:.0f} %)"
         elif collapse:
-            e = dict(e, long_run_flag=collapse)
+            e = dataclasses.replace(e, long_run_flag=collapse)
             st.notes.append(f"{name} added although {collapse}: its validation gain of {100 * gain:.1f} % is "
                             f"above {100 * COLLAPSE_GAIN:.0f} %; read the corrected model's limit cycle with care")
             st.log(f"  {name}: flagged, {collapse} (validation gain {100 * gain:.1f} %)")
         if damage:
-            e["accepted"] = False
-            e["reasons"] = e["reasons"] + [damage]
+            e.refuse(damage)
             st.log(f"  {name}: rejected, {damage}")
             continue
         return name, ev, e, new, lr, held
@@ -712,20 +712,20 @@ def _add(st: _State, chosen: tuple, results: list, null: Evaluation) -> None:
     """Stage 4's step: the chosen effect added with its evidence (the marginal note, the damping
     re-held, its rivals and a confusable pair), then the others questioned (:meth:`_State.backward`)."""
     name, ev, e, new, lr, held = chosen
-    e = dict(e, error_test_refit=new.E_test, error_test_null=null.E_test, candidates=st.rounds[-1])
+    e = dataclasses.replace(e, error_test_refit=new.E_test, error_test_null=null.E_test, candidates=st.rounds[-1])
     margin = marginal(name, e, st.opt)
     if margin:
-        e["marginal"] = margin
+        e.marginal = margin
         st.notes.append(margin)
         st.log(f"  {margin}")
     if held:
-        e["damping"] = held
+        e.damping = held
     rv = rivals(name, results, new, st.data, st.opt, st.opt.threads, st.log)
     if rv:
-        e["rivals"] = rv
+        e.rivals = rv
         note = confusable_note(name, rv)
         if note:
-            e["confusable"] = note
+            e.confusable = note
             st.notes.append(note)
             st.log(f"  {note}")
             st.tried.update(r["effect"] for r in rv if r["verdict"] == "confusable")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from .evidence import Evidence
 from .model import Evaluation
 
 #: The step's fields written to ``loop.json`` -> ``steps`` (the evaluations stay in memory).
@@ -25,10 +26,9 @@ class Step:
         The effect's catalogue name.
     error_before, error_after : float
         E on the validation part [-] of the model before and after the step.
-    evidence : dict
-        The evidence (:func:`drillpy.loop.evidence.evidence`, with the step's ``parameters``,
-        ``rivals``, ``confusable`` or ``direct`` entries where they apply): the JSON document of
-        ``evidence.json``.
+    evidence : Evidence
+        The evidence (:class:`drillpy.loop.evidence.Evidence`, with the step's ``parameters``,
+        ``rivals``, ``confusable`` or ``direct`` where they apply).
     long_run : dict or None
         The long runs measured / before / after (:func:`drillpy.loop.longrun.long_run`); None when
         switched off.
@@ -41,7 +41,7 @@ class Step:
     effect: str
     error_before: float
     error_after: float
-    evidence: dict
+    evidence: Evidence
     long_run: dict | None
     before: Evaluation
     candidate: Evaluation
@@ -51,7 +51,7 @@ class Step:
     @property
     def accepted(self) -> bool:
         """Whether the evidence accepted the step (a refused recalibration is recorded, not taken)."""
-        return bool(self.evidence["accepted"])
+        return bool(self.evidence.accepted)
 
     def to_json(self) -> dict:
         """The step as written to ``loop.json`` -> ``steps`` (:data:`JSON_FIELDS`).
@@ -61,4 +61,4 @@ class Step:
         dict
             ``action``, ``effect``, ``error_before``, ``error_after``, ``evidence``, ``long_run``.
         """
-        return {k: getattr(self, k) for k in JSON_FIELDS}
+        return {k: self.evidence.to_json() if k == "evidence" else getattr(self, k) for k in JSON_FIELDS}

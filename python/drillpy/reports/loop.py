@@ -288,10 +288,10 @@ def render_report(res: LoopResult, files: dict) -> str:
           "|---|---|---|---:|---:|---:|---:|---:|---|---|"]
     for k, s in enumerate(res.steps, 1):
         e = s.evidence
-        alt = "".join(f" or `{r['effect']}`" for r in e.get("rivals", []) if r["verdict"] == "confusable")
+        alt = "".join(f" or `{r['effect']}`" for r in e.rivals or [] if r["verdict"] == "confusable")
         L.append(f"| {k} | {s.action} | `{s.effect}`{alt} | {s.error_before:.4f} | {s.error_after:.4f} | "
-                 f"{100 * (1 - s.error_after / s.error_before):.1f} % | {e['p_value']:.2g} | {e['delta_bic']:.1f} | "
-                 f"{_params(e.get('parameters', {}))} | {_lr((s.long_run or {}).get('after'))} |")
+                 f"{100 * (1 - s.error_after / s.error_before):.1f} % | {e.p_value:.2g} | {e.delta_bic:.1f} | "
+                 f"{_params(e.parameters or {})} | {_lr((s.long_run or {}).get('after'))} |")
     if not res.steps:
         L.append("| - | | (none: no candidate beats the null candidate) | | | | | | | |")
     L += ["", f"Validation error **{b.E_test:.4f} -> {f.E_test:.4f}** (calibration {b.E_train:.4f} -> {f.E_train:.4f}); "
@@ -304,8 +304,8 @@ def render_report(res: LoopResult, files: dict) -> str:
         L += ["### Physical reading", ""]
         for s in added:
             L.append(f"- **{s.effect}**: {reading(s.effect, s.after.model.effects[s.effect])}"
-                     + (f" **Not told apart from a rival**: {s.evidence['confusable']}."
-                        if s.evidence.get("confusable") else ""))
+                     + (f" **Not told apart from a rival**: {s.evidence.confusable}."
+                        if s.evidence.confusable else ""))
         L.append("")
     disc = res.discovery
     if disc.get("terms") is not None:
