@@ -21,12 +21,15 @@ Every error prints one line ``drillpy: error: ...`` and exits with status 2.
 """
 # Layout: this module holds main(), the parser assembly and what several commands share (the model
 # options, grids, typed option values); each command group lives in its own module, which registers
-# its subcommands' arguments next to their handlers:
+# its subcommands' arguments next to their handlers in its ``SUBCOMMANDS`` (name -> the function that
+# adds the subparser), and GROUPS lists the modules in the order of ``drillpy --help``:
 #   cli/model.py        report, modes, simulate, sweep, map, convergence
 #   cli/uncertainty.py  frf, frf-report, robust-ss, mc, mc-merge
-#   cli/records.py      analyze, predict, loop
 #   cli/reproduce.py    reproduce
+#   cli/records.py      analyze, predict, loop, calibrate
 #   cli/control.py      control
+# Adding a command: its ``_add_*`` and ``cmd_*`` in a group module and its entry in that module's
+# SUBCOMMANDS (a new group: its module and its name in GROUPS).
 # A handler parses its arguments, calls the library and prints; files are written by the library.
 from __future__ import annotations
 
@@ -520,9 +523,34 @@ def plausibility_lines():
         yield
 
 
-# Order of the subcommands in ``drillpy --help`` (unchanged from the single-module CLI).
-COMMANDS = ("report", "modes", "simulate", "sweep", "map", "convergence", "analyze", "predict", "frf",
-            "frf-report", "robust-ss", "reproduce", "mc", "mc-merge", "loop", "calibrate", "control")
+#: The command groups (modules of ``drillpy.cli``), in the order of ``drillpy --help``.
+GROUPS = ("model", "uncertainty", "reproduce", "records", "control")
+
+
+def registry() -> dict:
+    """Every subcommand: name -> the function that adds its parser, group by group (:data:`GROUPS`)
+    in each group's ``SUBCOMMANDS`` order.
+
+    Returns
+    -------
+    dict
+        Command name -> ``_add_*(subparsers)``.
+    """
+    import importlib
+    out = {}
+    for g in GROUPS:
+        for name, add in importlib.import_module(f"drillpy.cli.{g}").SUBCOMMANDS.items():
+            if name in out:
+                raise RuntimeError(f"drillpy.cli.{g}: the command {name!r} is registered twice")
+            out[name] = add
+    return out
+
+
+def __getattr__(name: str):
+    """``COMMANDS``: every command's name in the order of ``drillpy --help`` (from :func:`registry`)."""
+    if name == "COMMANDS":
+        return tuple(registry())
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -533,16 +561,13 @@ def build_parser() -> argparse.ArgumentParser:
     argparse.ArgumentParser
         Each subcommand's parsed namespace carries its handler as ``func``.
     """
-    from drillpy.cli import control, model, records, reproduce, uncertainty
-    registry = {**model.SUBCOMMANDS, **records.SUBCOMMANDS, **uncertainty.SUBCOMMANDS, **reproduce.SUBCOMMANDS,
-                **control.SUBCOMMANDS}
-    assert set(registry) == set(COMMANDS), sorted(set(registry) ^ set(COMMANDS))
+    commands = registry()
     p = _Parser(prog="drillpy", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     from drillpy import __version__
     p.add_argument("--version", action="version", version=f"drillpy {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
-    for name in COMMANDS:
-        registry[name](sub)
+    for add in commands.values():
+        add(sub)
     return p
 
 
