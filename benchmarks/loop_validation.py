@@ -130,27 +130,27 @@ def _run(case: Case, truth_gj: bool) -> dict:
     if case.kind == "clean":
         ok = not added
     elif case.kind in ("single", "noise"):
-        named = first is not None and (first["effect"] in truth or first["effect"] in case.acceptable)
-        ok = named and first["error_after"] <= 0.6 * res.baseline.E_test
+        named = first is not None and (first.effect in truth or first.effect in case.acceptable)
+        ok = named and first.error_after <= 0.6 * res.baseline.E_test
     elif case.kind == "half":
-        ok = first is not None and (first["effect"] in truth or first["effect"] in case.acceptable)
+        ok = first is not None and (first.effect in truth or first.effect in case.acceptable)
     elif case.kind == "two":
         ok = truth <= set(added)
     elif case.kind == "calibration":
         (name,) = case.effects
         true_s = case.effects[name].get("torque_scale", CATALOGUE[name].defaults["torque_scale"])
         s = float(res.final.model.effects.get(name, {}).get("torque_scale", 1.0))
-        ok = first is not None and first["effect"] == name and abs(s / true_s - 1.0) <= SCALE_TOLERANCE
+        ok = first is not None and first.effect == name and abs(s / true_s - 1.0) <= SCALE_TOLERANCE
     else:  # outside the catalogue, or confounded with the calibrated damping: nothing misnamed
         ok = set(added) <= set(case.acceptable)
     lr_b, lr_f = res.baseline_long_run, (res.steps[-1].long_run if res.steps else res.baseline_long_run)
     # every step with its validation E before and after; a step that raises E is a failure of the case
-    steps = [({"add": "+", "remove": "-"}.get(st["action"], "~") + st["effect"],
-              float(st["error_before"]), float(st["error_after"])) for st in res.steps]
+    steps = [({"add": "+", "remove": "-"}.get(st.action, "~") + st.effect,
+              float(st.error_before), float(st.error_after)) for st in res.steps]
     raised = [name for name, e0, e1 in steps if e1 > e0]
     ok = ok and not raised
     return {"case": case, "found": added, "steps": steps, "raised": raised, "removed": res.removed, "baseline": res.baseline.E_test,
-            "first_after": first["error_after"] if first else res.baseline.E_test, "final": res.final.E_test,
+            "first_after": first.error_after if first else res.baseline.E_test, "final": res.final.E_test,
             "params": {s.effect: s.evidence.parameters or {} for s in res.steps if s.action == "add"},
             "long_run": {"measured": (lr_b or {}).get("measured"), "baseline": (lr_b or {}).get("model"),
                          "final": (lr_f or {}).get("after", (lr_f or {}).get("model"))},
