@@ -33,7 +33,7 @@ import numpy as np
 
 from drillpy.calibration import abcsmc
 from drillpy.calibration.priors import FAMILIES, PriorSpec, prior_spec, split_config
-from drillpy.calibration.sampler import Sampler
+from drillpy.calibration.sampler import Sampler, check_backend
 from drillpy.calibration.summaries import BOUNDS, NAMES, UNITS, noise_scale, statistics, summaries
 from drillpy.model.configuration import Configuration
 from drillpy.model.simulation import simulate
@@ -365,6 +365,7 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
                  ("predictive_draws", predictive_draws)):
         if not isinstance(v, (int, np.integer)) or v < 1:
             raise ValueError(f"{k} = {v!r}: a positive integer")
+    check_backend(scheduler, chunk)
     if config_path is not None:
         config = json.loads(Path(config_path).read_text())
     section = {}
@@ -547,6 +548,7 @@ def predict_posterior(posterior, record, *, t0: float | None = None, t1: float |
     s = read_posterior(posterior)
     if not isinstance(draws, (int, np.integer)) or draws < 2:
         raise ValueError(f"draws = {draws!r}: an integer of at least 2")
+    check_backend(scheduler, chunk)
     spec, jobs, weight = posterior_particles(s)
     target = load_window(record, t0, t1)
     win = s["record"]["window_s"]

@@ -27,6 +27,31 @@ from drillpy.study.cluster import open_client, parse_scheduler
 TASKS_PER_WORKER = 4
 
 
+def check_backend(scheduler: str | None, chunk: int | None):
+    """Check ``scheduler`` and ``chunk`` before any work (nothing is opened).
+
+    Parameters
+    ----------
+    scheduler : str or None
+        ``local`` (or None), ``local:N`` or ``tcp://HOST:PORT``.
+    chunk : int or None
+        Simulations per Dask task (at least 1).
+
+    Returns
+    -------
+    None, int or str
+        The backend (:func:`drillpy.study.cluster.parse_scheduler`).
+
+    Raises
+    ------
+    ValueError
+        ``scheduler = '<text>': use local, local:N ...`` or ``chunk = <value>: a positive integer ...``.
+    """
+    if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 1):
+        raise ValueError(f"chunk = {chunk!r}: a positive integer (simulations per Dask task)")
+    return parse_scheduler(scheduler)
+
+
 def _run_chunk(sim, jobs: list, record) -> list:
     """The statistics of ``jobs`` [(family, values)] on a Dask worker (the simulator and the record
     are the worker's copies)."""
@@ -58,10 +83,8 @@ class Sampler:
     """
 
     def __init__(self, threads: int = 0, scheduler: str | None = None, chunk: int | None = None, log=None):
-        if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 1):
-            raise ValueError(f"chunk = {chunk!r}: a positive integer (simulations per Dask task)")
-        self.scheduler = None if scheduler in (None, "local") else scheduler
-        sched = parse_scheduler(scheduler)
+        sched = check_backend(scheduler, chunk)
+        self.scheduler = None if sched is None else scheduler
         self.threads = threads if threads > 0 else (os.cpu_count() or 1)
         self.chunk = None if chunk is None else int(chunk)
         self._sent = {}
