@@ -111,7 +111,7 @@ def _backend(run: dict) -> str:
     """Where the simulations ran: ``N threads`` or ``Dask SCHEDULER, N workers``."""
     b = run.get("backend") or {}
     if b.get("backend") == "dask":
-        return f"Dask {b['scheduler']}, {b['workers']} workers"
+        return f"Dask {b['scheduler']}, {b['workers']} worker{'s' if b['workers'] != 1 else ''}"
     return f"{run['threads']} threads"
 
 
