@@ -365,6 +365,8 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
                  ("predictive_draws", predictive_draws)):
         if not isinstance(v, (int, np.integer)) or v < 1:
             raise ValueError(f"{k} = {v!r}: a positive integer")
+    if not isinstance(max_generations, (int, np.integer)) or max_generations < 0:
+        raise ValueError(f"max_generations = {max_generations!r}: a non-negative integer")
     check_backend(scheduler, chunk)
     if config_path is not None:
         config = json.loads(Path(config_path).read_text())
