@@ -66,20 +66,60 @@ def test_posterior_90_percent_intervals_contain_a_different_time_step_truth_and_
     assert post.model_probability == {"polynomial": 1.0}
 
 
+#: The tiny budget of the determinism tests (8 particles, 40 simulations, 4 predictive draws).
+TINY = {"preset": "thesis-rig", "population": 8, "max_simulations": 40, "predictive_draws": 4, "seed": 11}
+#: The fields of ``run`` that tell where and how fast a calibration ran (all else is the same bits).
+PROVENANCE = ("wall_s", "cpu_s", "simulations_per_s", "threads", "backend")
+
+
+def _posterior_json(post) -> str:
+    """``posterior.json``'s text without the provenance fields of its run (:data:`PROVENANCE`)."""
+    from drillpy.jsonio import dumps
+    s = post.summary()
+    s["run"] = {k: v for k, v in s["run"].items() if k not in PROVENANCE}
+    return dumps(s)
+
+
 def test_same_seed_same_numbers_whatever_the_threads():
     rec = _truth_record(duration=6.0)
-    a = calibrate_record(rec, preset="thesis-rig", population=8, max_simulations=40, predictive_draws=4, seed=11,
-                         threads=1).summary()
-    b = calibrate_record(rec, preset="thesis-rig", population=8, max_simulations=40, predictive_draws=4, seed=11,
-                         threads=2).summary()
-    for s in (a, b):
-        s["run"].pop("wall_s")
-        s["run"].pop("cpu_s")
-        s["run"].pop("simulations_per_s")
-        s["run"].pop("threads")
-    assert json.dumps(a, sort_keys=True, default=str) == json.dumps(b, sort_keys=True, default=str)
+    a = calibrate_record(rec, threads=1, **TINY)
+    b = calibrate_record(rec, threads=2, **TINY)
+    assert _posterior_json(a) == _posterior_json(b)
+    a = a.summary()
     assert set(a["model_probability"]) == {"polynomial_hysteretic", "polynomial"}
     assert math.isclose(sum(a["model_probability"].values()), 1.0)
+
+
+def test_same_bits_on_threads_and_on_a_dask_local_cluster():
+    """The tiny calibration on 2 threads and on a LocalCluster of 2 workers, 3 simulations per task:
+    the same particles, weights, model probabilities and posterior.json but for the run's provenance;
+    the predictive draws of predict_posterior likewise (default chunks)."""
+    pytest.importorskip("dask.distributed")
+    from drillpy.calibration.posterior import predict_posterior
+    rec = _truth_record(duration=6.0)
+    a = calibrate_record(rec, threads=2, **TINY)
+    lines = []
+    b = calibrate_record(rec, scheduler="local:2", chunk=3, log=lines.append, **TINY)
+    assert any("Dask LocalCluster: 2 workers, dashboard http" in line for line in lines)
+    assert b.run["backend"] == {"backend": "dask", "scheduler": "local:2", "workers": 2, "chunk": 3}
+    assert a.run["backend"] == {"backend": "threads", "threads": 2} and b.run["threads"] is None
+    assert a.particles == b.particles and a.particles["polynomial"]["weight"]
+    assert a.model_probability == b.model_probability and a.model_probability_se == b.model_probability_se
+    assert a.predictive == b.predictive and a.run["history"] == b.run["history"]
+    assert _posterior_json(a) == _posterior_json(b)
+    s = a.summary()
+    pa = predict_posterior(s, rec, draws=6, seed=3, threads=2)
+    pb = predict_posterior(s, rec, draws=6, seed=3, scheduler="local:2")
+    assert pa == pb and pa["statistics"]
+
+
+def test_a_bad_scheduler_or_chunk_is_one_error_naming_it_before_any_simulation():
+    rec = _truth_record(duration=6.0)
+    for kw, match in (({"scheduler": "local:0"}, r"^scheduler = 'local:0': use local, local:N"),
+                      ({"scheduler": "tcp://"}, r"^scheduler = 'tcp://': use local"),
+                      ({"scheduler": "local:2", "chunk": 0}, r"^chunk = 0: a positive integer")):
+        with pytest.raises(ValueError, match=match):
+            calibrate_record(rec, **{**TINY, **kw})
 
 
 @pytest.mark.parametrize("section, match", [
@@ -151,6 +191,10 @@ def test_calibrate_command_writes_the_posterior_and_predict_applies_it(tmp_path)
                   "--map", "20:10:2,500:600:2")
     assert bad.returncode != 0 and "--map = '20:10:2,500:600:2': give COMMANDS,WOBS" in bad.stderr
     assert not (tmp_path / "y").exists()
+    bad = run_cli("calibrate", str(tmp_path / "rec.csv"), "--preset", "thesis-rig", "--out", str(tmp_path / "z"),
+                  "--scheduler", "local:0")
+    assert bad.returncode != 0 and "scheduler = 'local:0': use local, local:N" in bad.stderr
+    assert not (tmp_path / "z").exists()
 
 
 def test_predictive_intervals_are_weighted_quantiles_held_in_each_statistics_range():

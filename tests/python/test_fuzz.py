@@ -529,7 +529,10 @@ CLI["analyze"]["refused"] = {
     "--calibrate": (st.sampled_from(["1:0", "0:x", "x", "0:1:2", "nan:1"]), ("calibrate",)),
 }
 CLI["predict"]["refused"] = {"--horizon": (st.sampled_from(["0", "-1", "nan", "x"]), ("horizon",)),
-                             "--t0": (st.sampled_from(["5", "nan", "x"]), ("t0",))}
+                             "--t0": (st.sampled_from(["5", "nan", "x"]), ("t0",)),
+                             # a model.json is one run: a Dask scheduler or chunk is for a posterior.json only
+                             "--scheduler": (st.sampled_from(["bogus", "local:0", "local:2"]), ("scheduler",)),
+                             "--chunk": (st.sampled_from(["0", "3", "x"]), ("chunk",))}
 
 
 # calibrate: a tiny budget on the 2-s record; one refused option in every case (a run costs seconds)
@@ -549,6 +552,9 @@ CLI["calibrate"]["refused"] = {
     "--map": (st.sampled_from(["x", "20:10:2,400:800:2", "6:30:0,400:800:2", "6:30:2", "nan:1:2,1:2:2",
                                "6:30:101,400:800:2"]), ("map",)),
     "--map-samples": (st.sampled_from(["1", "0", "-3", "x"]), ("map-samples", "map_samples")),
+    # refused values only: a Dask cluster takes seconds to start, a tcp:// scheduler that is not there a timeout
+    "--scheduler": (st.sampled_from(["bogus", "", "local:0", "local:x", "local:-1", "LOCAL", "tcp://"]), ("scheduler",)),
+    "--chunk": (st.sampled_from(["0", "-1", "x"]), ("chunk",)),
 }
 
 CLI = {k: v for k, v in CLI.items() if k in COMMANDS}  # a command being added elsewhere: fuzzed once it exists

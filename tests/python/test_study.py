@@ -114,6 +114,20 @@ def test_bad_scheduler_is_one_clear_error(text, message):
         study_run.parse_scheduler(text)
 
 
+def test_an_unreachable_scheduler_is_one_clear_error_within_its_timeout():
+    pytest.importorskip("dask.distributed")
+    import socket
+    import time
+    from drillpy.study.cluster import open_client
+    with socket.socket() as s:  # a port of this machine that nothing listens on
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match=rf"^scheduler = 'tcp://127.0.0.1:{port}': no Dask scheduler reached within 1 s"):
+        open_client(f"tcp://127.0.0.1:{port}", print, timeout_s=1.0)
+    assert time.perf_counter() - start < 10
+
+
 def test_bad_study_definitions_name_the_field(cfg):
     with pytest.raises(ValueError, match=r"^kind = 'grid'"):
         Study("grid", cfg, SPEEDS)

@@ -25,9 +25,7 @@ from __future__ import annotations
 import copy
 import json
 import math
-import os
 import time
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -35,6 +33,7 @@ import numpy as np
 
 from drillpy.calibration import abcsmc
 from drillpy.calibration.priors import FAMILIES, PriorSpec, prior_spec, split_config
+from drillpy.calibration.sampler import Sampler, check_backend
 from drillpy.calibration.summaries import BOUNDS, NAMES, UNITS, noise_scale, statistics, summaries
 from drillpy.model.configuration import Configuration
 from drillpy.model.simulation import simulate
@@ -139,13 +138,15 @@ class RigSimulator:
     spec : PriorSpec
     base_law : dict
     threads : int
-        Runs at once (0: one per core).
+        Runs at once (0: one per core) when no ``sampler`` is given.
     dt_s : float
         The engine's time step [s] (:data:`SIM_DT_S`); the output stays on the record's grid.
+    sampler : Sampler, optional
+        Where the batches run (:mod:`drillpy.calibration.sampler`; default ``threads`` threads here).
     """
 
     def __init__(self, record: Record, stick_threshold: float, spec: PriorSpec, base_law: dict, threads: int = 0,
-                 dt_s: float = SIM_DT_S):
+                 dt_s: float = SIM_DT_S, sampler: Sampler | None = None):
         ratio = record.dt / dt_s if isinstance(dt_s, (int, float)) and math.isfinite(dt_s) and dt_s > 0 else 0.0
         if ratio < 1 - 1e-6 or abs(ratio - round(ratio)) > 1e-6 * ratio:
             raise ValueError(f"dt_s = {dt_s!r}: a time step that divides the record's sampling interval "
@@ -153,9 +154,14 @@ class RigSimulator:
         self.record, self.thr, self.spec, self.base_law = record, stick_threshold, spec, base_law
         self.dt_s = float(dt_s)
         self.families = list(spec.families)
-        self.threads = threads if threads > 0 else (os.cpu_count() or 1)
+        self.sampler = sampler if sampler is not None else Sampler(threads)
+        self.threads = self.sampler.threads
         self.runs = 0
         self._inputs = {}
+
+    def __getstate__(self) -> dict:
+        """What a Dask worker gets: no sampler (its client), no cache of the windows' inputs."""
+        return {**self.__dict__, "sampler": None, "_inputs": {}}
 
     def values(self, family: str, z) -> dict:
         """Parameter name -> value at unit coordinates ``z``.
@@ -218,8 +224,7 @@ class RigSimulator:
         fam = self.families[m]
         vals = [self.values(fam, z) for z in Z]
         self.runs += len(vals)
-        with ThreadPoolExecutor(max_workers=self.threads) as pool:
-            return np.array(list(pool.map(lambda v: self.one(fam, v), vals)))
+        return self.sampler.map(self, [(fam, v) for v in vals])
 
 
 @dataclass
@@ -306,7 +311,7 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
                      t0: float | None = None, t1: float | None = None, heldout: tuple | None = None,
                      population: int = 200, max_simulations: int = 20000, max_generations: int = 12,
                      predictive_draws: int = 100, seed: int = 0, threads: int = 0, dt_s: float = SIM_DT_S,
-                     log=None) -> Posterior:
+                     scheduler: str | None = None, chunk: int | None = None, log=None) -> Posterior:
     """Posterior of the rig model given a record (module docstring).
 
     Parameters
@@ -330,13 +335,19 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
     predictive_draws : int
         Posterior draws simulated for the predictive intervals.
     seed : int
-        Seed of every random draw (same seed, same numbers, whatever ``threads``).
+        Seed of every random draw (same seed, same numbers, whatever ``threads``, ``scheduler`` or
+        ``chunk``).
     threads : int
-        Simulations at once (0: one per core).
+        Simulations at once on threads (0: one per core).
     dt_s : float
         The rig simulations' time step [s] (:data:`SIM_DT_S`).
+    scheduler : str, optional
+        ``local`` (or None: ``threads`` threads here), ``local:N`` (a Dask LocalCluster of N workers)
+        or ``tcp://HOST:PORT`` (:mod:`drillpy.calibration.sampler`).
+    chunk : int, optional
+        Simulations per Dask task (default: each batch cut into 4 tasks per worker).
     log : callable, optional
-        Progress lines.
+        Progress lines (and the LocalCluster's dashboard address).
 
     Returns
     -------
@@ -345,7 +356,7 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
     Raises
     ------
     ValueError
-        Naming the field and the value (configuration, priors, window, budget).
+        Naming the field and the value (configuration, priors, window, budget, scheduler, chunk).
     """
     given = [x is not None for x in (preset, config_path, config)]
     if sum(given) != 1:
@@ -354,6 +365,9 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
                  ("predictive_draws", predictive_draws)):
         if not isinstance(v, (int, np.integer)) or v < 1:
             raise ValueError(f"{k} = {v!r}: a positive integer")
+    if not isinstance(max_generations, (int, np.integer)) or max_generations < 0:
+        raise ValueError(f"max_generations = {max_generations!r}: a non-negative integer")
+    check_backend(scheduler, chunk)
     if config_path is not None:
         config = json.loads(Path(config_path).read_text())
     section = {}
@@ -373,13 +387,20 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
     if not ok.all():
         missing = [n for n, o in zip(NAMES, ok) if not o]
         raise ValueError(f"record: statistics {', '.join(missing)} cannot be measured on the window")
-    sim = RigSimulator(rec, thr, spec, base_law, threads, dt_s=dt_s)
-    dims = [len(spec.families[f]) for f in sim.families]
-    start, cpu = time.perf_counter(), time.process_time()
-    res = abcsmc.run(sim, dims, observed, scale, population=population, max_simulations=max_simulations,
-                     max_generations=max_generations, seed=seed, log=log)
-    wall, cpu = time.perf_counter() - start, time.process_time() - cpu
-    post = res.posterior
+    target = load_window(record, *heldout) if heldout is not None else rec
+    with Sampler(threads, scheduler, chunk, log) as sampler:
+        sim = RigSimulator(rec, thr, spec, base_law, dt_s=dt_s, sampler=sampler)
+        dims = [len(spec.families[f]) for f in sim.families]
+        start, cpu = time.perf_counter(), time.process_time()
+        res = abcsmc.run(sim, dims, observed, scale, population=population, max_simulations=max_simulations,
+                         max_generations=max_generations, seed=seed, log=log)
+        wall, cpu = time.perf_counter() - start, time.process_time() - cpu
+        post = res.posterior
+        # posterior predictive on the held-out window
+        jobs = [(sim.families[m], sim.values(sim.families[m], z)) for m, z in zip(post.model, post.z)]
+        predictive = _predictive(sim, jobs, post.weight, target, scale, float(rec.time_s[-1] - rec.time_s[0]),
+                                 predictive_draws, seed)
+        backend = sampler.describe()
     p, se = post.model_probabilities(len(dims))
     parameters, particles = {}, {}
     for m, fam in enumerate(sim.families):
@@ -398,16 +419,11 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
                 ratio = (hi - lo) / (pr.high - pr.low)
             parameters[fam][pr.name] = {"median": med, "ci90": [lo, hi], "prior": [pr.low, pr.high],
                                         "unit": pr.unit, "width_ratio": ratio}
-    # posterior predictive on the held-out window
-    target = load_window(record, *heldout) if heldout is not None else rec
-    jobs = [(sim.families[m], sim.values(sim.families[m], z)) for m, z in zip(post.model, post.z)]
-    predictive = _predictive(sim, jobs, post.weight, target, scale, float(rec.time_s[-1] - rec.time_s[0]),
-                             predictive_draws, seed)
     run = {"simulations": res.simulations + int(predictive_draws), "abc_simulations": res.simulations,
            "generations": len(res.populations) - 1, "population": population, "stopped": res.stopped,
            "eps": [h["eps"] for h in res.history], "history": res.history, "wall_s": wall,
            "simulations_per_s": res.simulations / wall if wall > 0 else None, "cpu_s": cpu, "seed": seed,
-           "threads": sim.threads, "dt_s": sim.dt_s, "method": "ABC-SMC with model choice (drillpy.calibration.abcsmc)",
+           "threads": backend.get("threads"), "backend": backend, "dt_s": sim.dt_s, "method": "ABC-SMC with model choice (drillpy.calibration.abcsmc)",
            "heldout_s": list(heldout) if heldout is not None else None}
     rec_info = {"source": str(record) if isinstance(record, (str, Path)) else rec.provenance.get("source"),
                 "window_s": [float(rec.time_s[0]), float(rec.time_s[-1])], "stick_threshold_rad_s": thr,
@@ -476,8 +492,7 @@ def _predictive(sim: RigSimulator, jobs: list, weight: np.ndarray, target: Recor
     cw = np.cumsum(weight / weight.sum())
     picks = np.minimum(np.searchsorted(cw, (rng.random() + np.arange(int(draws))) / int(draws)), len(jobs) - 1)
     idx, count = np.unique(picks, return_counts=True)
-    with ThreadPoolExecutor(max_workers=sim.threads) as pool:
-        pred = np.array(list(pool.map(lambda i: sim.one(jobs[i][0], jobs[i][1], target), idx)))
+    pred = sim.sampler.map(sim, [jobs[i] for i in idx], target)
     len_t = float(target.time_s[-1] - target.time_s[0]) - SKIP_S
     noise = scale * math.sqrt(max(calibration_s - SKIP_S, 1e-9) / max(len_t, 1e-9))
     q = predictive_intervals(pred, count.astype(float), noise, rng)
@@ -494,7 +509,8 @@ def _predictive(sim: RigSimulator, jobs: list, weight: np.ndarray, target: Recor
 
 
 def predict_posterior(posterior, record, *, t0: float | None = None, t1: float | None = None, draws: int = 100,
-                      seed: int = 0, threads: int = 0) -> dict:
+                      seed: int = 0, threads: int = 0, scheduler: str | None = None, chunk: int | None = None,
+                      log=None) -> dict:
     """Posterior predictive 90 % intervals of the long-run statistics on a record window, from a
     calibration's ``posterior.json`` (``drillpy predict POSTERIOR.json RECORD``).
 
@@ -511,7 +527,14 @@ def predict_posterior(posterior, record, *, t0: float | None = None, t1: float |
     seed : int
         Seed of the draws and of the statistics' sampling noise.
     threads : int
-        Simulations at once (0: one per core).
+        Simulations at once on threads (0: one per core).
+    scheduler : str, optional
+        ``local`` (or None: threads), ``local:N`` or ``tcp://HOST:PORT`` (:mod:`drillpy.calibration.sampler`);
+        the same numbers on any.
+    chunk : int, optional
+        Simulations per Dask task.
+    log : callable, optional
+        Receives the LocalCluster's dashboard address.
 
     Returns
     -------
@@ -522,18 +545,21 @@ def predict_posterior(posterior, record, *, t0: float | None = None, t1: float |
     Raises
     ------
     ValueError
-        When the file is not a drillpy posterior, or naming a bad ``draws``.
+        When the file is not a drillpy posterior, or naming a bad ``draws``, ``scheduler`` or ``chunk``.
     """
     s = read_posterior(posterior)
     if not isinstance(draws, (int, np.integer)) or draws < 2:
         raise ValueError(f"draws = {draws!r}: an integer of at least 2")
+    check_backend(scheduler, chunk)
     spec, jobs, weight = posterior_particles(s)
     target = load_window(record, t0, t1)
-    sim = RigSimulator(target, rigsim.stick_threshold(target), spec, s["record"]["base_law"], threads,
-                       dt_s=float(s["run"].get("dt_s", 1e-4)))  # a posterior written before dt_s ran at 1e-4 s
     win = s["record"]["window_s"]
-    out = _predictive(sim, jobs, weight, target, np.array([s["scale"][n] for n in NAMES]),
-                      float(win[1] - win[0]), draws, seed)
+    with Sampler(threads, scheduler, chunk, log) as sampler:
+        sim = RigSimulator(target, rigsim.stick_threshold(target), spec, s["record"]["base_law"],
+                           dt_s=float(s["run"].get("dt_s", 1e-4)),  # a posterior written before dt_s ran at 1e-4 s
+                           sampler=sampler)
+        out = _predictive(sim, jobs, weight, target, np.array([s["scale"][n] for n in NAMES]),
+                          float(win[1] - win[0]), draws, seed)
     return {"statistics": out, "window_s": [float(target.time_s[0]), float(target.time_s[-1])], "draws": int(draws),
             "model_probability": s["model_probability"]}
 

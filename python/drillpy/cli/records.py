@@ -10,7 +10,7 @@ import json
 from pathlib import Path
 
 from drillpy import validate
-from drillpy.cli import add_figure_units_arg, print_json, threads_option
+from drillpy.cli import add_figure_units_arg, integer, print_json, threads_option
 from drillpy.cli import removed_on_failure as _removed_on_failure
 
 
@@ -161,9 +161,20 @@ def _add_predict(sub) -> argparse.ArgumentParser:
     s.add_argument("--threads", type=threads_option, default=0, help="OpenMP threads (0: default)")
     s.add_argument("--draws", type=int, default=100, help="posterior draws simulated (posterior.json only)")
     s.add_argument("--seed", type=int, default=0, help="seed of the posterior draws (posterior.json only)")
+    _add_scheduler_args(s, " (posterior.json only)")
     s.add_argument("--json", action="store_true", help="print the short-horizon error and the long-run metrics")
     s.set_defaults(func=cmd_predict)
     return s
+
+
+def _add_scheduler_args(s: argparse.ArgumentParser, note: str) -> None:
+    """Add ``--scheduler`` and ``--chunk`` (:mod:`drillpy.calibration.sampler`) to ``s``; ``note`` ends the help."""
+    s.add_argument("--scheduler", default="local",
+                   help="where the rig simulations run: local (--threads threads here, default), local:N (a Dask "
+                        "LocalCluster of N workers) or tcp://HOST:PORT (a running Dask scheduler); the same numbers "
+                        "on any" + note)
+    s.add_argument("--chunk", type=integer("chunk"),
+                   help="simulations per Dask task (default: each batch in 4 tasks per worker)")
 
 
 def _is_posterior(path: str) -> bool:
@@ -197,7 +208,8 @@ def cmd_predict(a: argparse.Namespace) -> int:
     validate.positive("--horizon", a.horizon, "s")
     if _is_posterior(a.model):
         from drillpy.calibration.posterior import predict_posterior
-        r = predict_posterior(a.model, a.record, t0=a.t0, t1=a.t1, draws=a.draws, seed=a.seed, threads=a.threads)
+        r = predict_posterior(a.model, a.record, t0=a.t0, t1=a.t1, draws=a.draws, seed=a.seed, threads=a.threads,
+                              scheduler=a.scheduler, chunk=a.chunk, log=None if a.json else print)
         if a.json:
             print_json(r)
             return 0
@@ -208,6 +220,10 @@ def cmd_predict(a: argparse.Namespace) -> int:
             print(f"  {name}: [{v['interval90'][0]:.4g}, {v['interval90'][1]:.4g}] {v['unit']}, measured "
                   f"{v['measured']:.4g}{'' if v['contained'] else '  (outside)'}")
         return 0
+    if a.scheduler != "local" or a.chunk is not None:
+        opt = "--scheduler" if a.scheduler != "local" else "--chunk"
+        raise ValueError(f"{opt} = {a.scheduler if opt == '--scheduler' else a.chunk!r}: only with a posterior.json of "
+                         "drillpy calibrate (a model.json is one run, on --threads)")
     model = load_model(a.model)
     pred = predict_record(model, a.record, t0=a.t0, t1=a.t1, horizon_s=a.horizon, threads=a.threads)
     if a.out:
@@ -331,6 +347,7 @@ def _add_calibrate(sub) -> argparse.ArgumentParser:
     s.add_argument("--draws", type=int, default=100, help="posterior draws of the predictive intervals")
     s.add_argument("--seed", type=int, default=0, help="seed (same seed, same numbers)")
     s.add_argument("--threads", type=threads_option, default=0, help="simulations at once (0: one per core)")
+    _add_scheduler_args(s, "; the posterior stability map of --map runs on --threads")
     s.add_argument("--map", metavar="A:B:N,A:B:N", help="also the posterior stability map P(SS > 0.5) over N motor "
                                                        "commands from A to B [rad/s] x N WOB from A to B [N] "
                                                        "(e.g. 6:30:7,400:800:5), stored in OUT/map.zarr")
@@ -376,7 +393,8 @@ def cmd_calibrate(a: argparse.Namespace) -> int:
         s = calibrate_to_folder(a.record, a.out, preset=a.preset, config_path=a.config, t0=a.t0, t1=a.t1,
                                 heldout=held, population=a.population, max_simulations=a.simulations,
                                 max_generations=a.generations, predictive_draws=a.draws, seed=a.seed,
-                                threads=a.threads, log=None if a.json else print)
+                                threads=a.threads, scheduler=a.scheduler, chunk=a.chunk,
+                                log=None if a.json else print)
         if grids is not None:
             from drillpy.calibration.stability import stability_map
             smap = stability_map(s, *grids, samples=a.map_samples, seed=a.seed, threads=a.threads)

@@ -249,7 +249,7 @@ def cmd_robust_ss(a: argparse.Namespace) -> int:
     speeds = parse_grid(a.speeds, "--speeds", "speed")
     client = cluster = None
     if a.out or a.scheduler != "local":
-        from drillpy.study.run import open_client, parse_scheduler
+        from drillpy.study.cluster import open_client, parse_scheduler
         client, cluster = open_client(parse_scheduler(a.scheduler), lambda m: print(m, file=sys.stderr))
     try:
         studies, res = robust_severity(cfg, speeds, a.samples, delta=a.delta,

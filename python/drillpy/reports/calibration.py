@@ -87,9 +87,10 @@ def summary_lines(s: dict) -> list:
         One line each, as ``drillpy calibrate`` prints them.
     """
     run, pred = s["run"], s["predictive"]
-    cpu = f", {run['cpu_s']:.0f} s of processor time" if run.get("cpu_s") is not None else ""
+    here = " in this process" if (run.get("backend") or {}).get("backend") == "dask" else ""
+    cpu = f", {run['cpu_s']:.0f} s of processor time{here}" if run.get("cpu_s") is not None else ""
     lines = [f"{run['abc_simulations']} simulations in {run['wall_s']:.1f} s ({run['simulations_per_s']:.1f}/s, "
-             f"{run['threads']} threads{cpu}), {run['generations']} generations, final eps {run['eps'][-1]:.3g} "
+             f"{_backend(run)}{cpu}), {run['generations']} generations, final eps {run['eps'][-1]:.3g} "
              f"({run['stopped']})"]
     for fam in s["families"]:
         lines.append(f"P({fam}, Eq. {s['equations'][fam]}) = {s['model_probability'][fam]:.3f} "
@@ -104,6 +105,14 @@ def summary_lines(s: dict) -> list:
     if "files" in s:
         lines.append("written: " + ", ".join(s["files"]))
     return lines
+
+
+def _backend(run: dict) -> str:
+    """Where the simulations ran: ``N threads`` or ``Dask SCHEDULER, N workers``."""
+    b = run.get("backend") or {}
+    if b.get("backend") == "dask":
+        return f"Dask {b['scheduler']}, {b['workers']} worker{'s' if b['workers'] != 1 else ''}"
+    return f"{run['threads']} threads"
 
 
 def map_lines(m) -> list:

@@ -3,7 +3,8 @@ in this process, or Dask distributed) and stored as a labelled Zarr store that r
 
 * :mod:`drillpy.study.definition` -- :class:`Study` (sweep, map, mc), :func:`mc_study` and one block's computation;
 * :mod:`drillpy.study.store` -- ``DIR/study.zarr``: the Dataset, the done flags, resume and extend;
-* :mod:`drillpy.study.run` -- :func:`run_study` on the ``local`` or ``dask`` backend.
+* :mod:`drillpy.study.run` -- :func:`run_study` on the ``local`` or ``dask`` backend;
+* :mod:`drillpy.study.cluster` -- the ``--scheduler`` option and its Dask client (the calibration's too).
 """
 from drillpy.study.definition import Study, mc_study
 from drillpy.study.run import run_study

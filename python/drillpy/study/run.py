@@ -5,7 +5,8 @@
 * ``dask``: the blocks are submitted to a Dask ``distributed`` cluster: ``local:N`` starts a
   ``LocalCluster`` of N single-threaded worker processes (its dashboard address is printed),
   ``tcp://HOST:PORT`` joins a running scheduler whose workers have drillpy installed; from Python,
-  ``run_study(study, client=client)``. Each worker builds the engine once and keeps it.
+  ``run_study(study, client=client)``. Each worker builds the engine once and keeps it. The option
+  and the client: :mod:`drillpy.study.cluster`.
 
 Results stream to the store block by block as they complete (the driver is the only writer), so no
 process holds more than a block; the numbers do not depend on the backend, the number of workers,
@@ -21,79 +22,13 @@ import numpy as np
 from drillpy import validate
 from drillpy.progress import progress_bar
 from drillpy.study import store as st
+from drillpy.study.cluster import open_client, parse_scheduler
 from drillpy.study.definition import DEFAULT_CHUNK, Study, compute_block, deterministic_curve
 
 
 def _blocks(done: np.ndarray, chunk: int) -> list:
     """(lo, hi) of every store chunk with a task not done."""
     return [(lo, min(lo + chunk, done.size)) for lo in range(0, done.size, chunk) if not done[lo:lo + chunk].all()]
-
-
-def parse_scheduler(text: str | None):
-    """``--scheduler``: None or ``local`` -> None (OpenMP in this process); ``local:N`` -> N workers;
-    ``tcp://...`` (or any address with ``://``) -> the address.
-
-    Parameters
-    ----------
-    text : str or None
-        The option's value.
-
-    Returns
-    -------
-    None, int or str
-        The backend.
-
-    Raises
-    ------
-    ValueError
-        ``scheduler = '<text>': use local, local:N or tcp://HOST:PORT``.
-    """
-    if text is None or text == "local":
-        return None
-    if text.startswith("local:"):
-        try:
-            n = int(text[6:])
-        except ValueError:
-            n = 0
-        if n >= 1:
-            return n
-    elif "://" in text:
-        return text
-    raise ValueError(f"scheduler = {text!r}: use local, local:N (N >= 1 Dask workers) or tcp://HOST:PORT")
-
-
-def open_client(scheduler, log):
-    """A Dask client for a backend of :func:`parse_scheduler`: ``N`` starts a LocalCluster of N
-    single-threaded workers (its dashboard address goes to ``log``), an address joins that scheduler.
-
-    Parameters
-    ----------
-    scheduler : None, int or str
-        What :func:`parse_scheduler` returned.
-    log : callable
-        Receives the dashboard line.
-
-    Returns
-    -------
-    (Client or None, LocalCluster or None)
-        ``(None, None)`` for the local backend; close both when done.
-
-    Raises
-    ------
-    ValueError
-        When Dask is not installed.
-    """
-    if scheduler is None:
-        return None, None
-    try:
-        from dask.distributed import Client, LocalCluster
-    except ImportError:
-        raise ValueError(f"scheduler = {scheduler!r}: needs Dask (pip install 'drillpy[distributed]')") from None
-    if isinstance(scheduler, int):
-        cluster = LocalCluster(n_workers=scheduler, threads_per_worker=1, processes=True, dashboard_address=":0")
-        log(f"Dask LocalCluster: {scheduler} workers, dashboard {cluster.dashboard_link}")
-        return Client(cluster), cluster
-    return Client(scheduler), None
 
 
 def run_study(study: Study, out=None, *, client=None, scheduler=None, chunk: int | None = None, threads: int = 0,
@@ -109,8 +44,8 @@ def run_study(study: Study, out=None, *, client=None, scheduler=None, chunk: int
     client : dask.distributed.Client, optional
         Run the blocks on this cluster.
     scheduler : str, optional
-        ``--scheduler``: ``local`` (default), ``local:N`` or ``tcp://HOST:PORT`` (:func:`parse_scheduler`);
-        ignored when ``client`` is given.
+        ``--scheduler``: ``local`` (default), ``local:N`` or ``tcp://HOST:PORT``
+        (:func:`drillpy.study.cluster.parse_scheduler`); ignored when ``client`` is given.
     chunk : int, optional
         Tasks per block along the task dimension (default ``DEFAULT_CHUNK[kind]``; an existing store
         keeps its own).
