@@ -429,9 +429,9 @@ def test_a_step_near_the_threshold_is_reported_as_marginal():
     the note for that case is gone.)"""
     from drillpy.loop.run import marginal
     opt = L.LoopOptions()
-    assert "6.2 %" in marginal("torque_fluctuation", {"relative_gain": 0.062}, opt)
-    assert marginal("wob_coupling", {"relative_gain": 0.121}, opt) is None
-    assert marginal("x", {"relative_gain": 0.062}, L.LoopOptions(min_gain=0.02)) is None
+    assert "6.2 %" in marginal("torque_fluctuation", L.Evidence(relative_gain=0.062), opt)
+    assert marginal("wob_coupling", L.Evidence(relative_gain=0.121), opt) is None
+    assert marginal("x", L.Evidence(relative_gain=0.062), L.LoopOptions(min_gain=0.02)) is None
 
 
 def test_a_soft_motor_long_run_starts_at_the_measured_top_speed(tmp_path):

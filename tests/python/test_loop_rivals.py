@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from drillpy.loop import LoopOptions
+from drillpy.loop import Evidence, LoopOptions
 from drillpy.loop.data import prepare
 from drillpy.loop.fitting import calibrate, fit_candidate
 from drillpy.loop.model import evaluate
@@ -39,8 +39,8 @@ def test_an_equal_candidate_that_adds_nothing_beside_the_chosen_one_is_confusabl
     motor's evaluation) is not beaten by the guard's test; fitted on top of the motor model it adds
     nothing (the truth has no filter), so the pair is reported as confusable, both names in the note."""
     opt, data, base, motor = motor_case
-    results = [(MOTOR, motor, {"accepted": True}), ("sensor_lag", motor, {"accepted": True}),
-               ("string_friction", base, {"accepted": True})]   # beaten by the motor: no rival
+    results = [(MOTOR, motor, Evidence(accepted=True)), ("sensor_lag", motor, Evidence(accepted=True)),
+               ("string_friction", base, Evidence(accepted=True))]   # beaten by the motor: no rival
     lines = []
     rv = rivals(MOTOR, results, motor, data, opt, 1, log=lines.append)
     assert [r["effect"] for r in rv] == ["sensor_lag"]
@@ -55,7 +55,7 @@ def test_a_rival_present_beside_the_chosen_effect_is_no_confusion(motor_case):
     """The other way round: the chosen model is the baseline (no motor) and the motor has the
     baseline's own evaluation in the round; fitted on top, it is present (the truth has it)."""
     opt, data, base, _ = motor_case
-    results = [("sensor_lag", base, {"accepted": True}), (MOTOR, base, {"accepted": True})]
+    results = [("sensor_lag", base, Evidence(accepted=True)), (MOTOR, base, Evidence(accepted=True))]
     rv = rivals("sensor_lag", results, base, data, opt, 1, log=lambda s: None)
     assert len(rv) == 1 and rv[0]["verdict"] == "both" and rv[0]["joint"]["gain"] > 0.3
     assert confusable_note("sensor_lag", rv) is None
