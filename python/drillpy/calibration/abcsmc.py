@@ -62,6 +62,10 @@ class Population:
         Simulations this generation ran.
     proposals : int
         Proposals drawn (with those outside the prior's support).
+    model_proposals : ndarray, optional
+        Proposals of each model.
+    raw_weight_sum : float
+        Sum of the accepted particles' weights before normalization (prior / proposal).
     """
     eps: float
     model: np.ndarray
@@ -71,6 +75,8 @@ class Population:
     stats: np.ndarray
     simulations: int
     proposals: int
+    model_proposals: np.ndarray | None = None
+    raw_weight_sum: float = math.nan
 
     def model_probabilities(self, n_models: int) -> tuple:
         """(P(m) per model, its Monte Carlo standard error) from the weights.
@@ -88,6 +94,52 @@ class Population:
         p = np.array([w[self.model == m].sum() for m in range(n_models)])
         se = np.array([math.sqrt(float(np.sum(w ** 2 * ((self.model == m) - p[m]) ** 2))) for m in range(n_models)])
         return p, se
+
+    def upper95(self, m: int) -> float | None:
+        """95 % upper bound of P(m) for a model with no particle (None otherwise), where the
+        standard error of :meth:`model_probabilities` (0) says nothing.
+
+        With no hit among its n_m proposals, the model's acceptance rate is below 3 / n_m at 95 %
+        (the rule of three); at that rate its proposals would add at most 3 n / (n_m M) to the sum
+        of weights (n proposals in all, a prior proposal's weight 1 / (M q(m)); a kernel proposal's
+        is smaller where the kernel's density exceeds the prior's), against the population's
+        ``raw_weight_sum`` W: P(m) < B / (W + B), B = 3 n / (n_m M); 1 when the model had no proposal.
+
+        Parameters
+        ----------
+        m : int
+            Model index.
+
+        Returns
+        -------
+        float or None
+        """
+        if np.any(self.model == m):
+            return None
+        if self.model_proposals is None or not math.isfinite(self.raw_weight_sum):
+            return 1.0
+        n_m = int(self.model_proposals[m])
+        if n_m == 0:
+            return 1.0
+        bound = 3.0 * self.proposals / (n_m * self.model_proposals.size)
+        return float(bound / (self.raw_weight_sum + bound))
+
+    def difference_se(self, a: int, b: int) -> float:
+        """Monte Carlo standard error of P(a) - P(b), the self-normalized importance sampling one
+        (:meth:`model_probabilities`) of the indicator difference 1[m = a] - 1[m = b].
+
+        Parameters
+        ----------
+        a, b : int
+            Model indices.
+
+        Returns
+        -------
+        float
+        """
+        w = self.weight / self.weight.sum()
+        d = (self.model == a).astype(float) - (self.model == b)
+        return math.sqrt(float(np.sum(w ** 2 * (d - np.sum(w * d)) ** 2)))
 
     def ess(self) -> float:
         """Effective sample size of the weights."""
@@ -121,6 +173,76 @@ class ABCResult:
     def posterior(self) -> Population:
         """The last population."""
         return self.populations[-1]
+
+
+#: Monte Carlo standard errors by which the most probable model must lead every other to be told
+#: apart from it (:func:`model_choice`): a lead of 2 s.e. arises from Monte Carlo noise alone in about
+#: 2.3 % of runs (one-sided, normal).
+RESOLVE_SE = 2.0
+#: Smallest Bayes factor of the most probable model over the next that :func:`model_choice` calls a
+#: choice (Kass & Raftery 1995, J. Am. Stat. Assoc. 90:773: below 3, "not worth more than a bare
+#: mention").
+MIN_BAYES_FACTOR = 3.0
+
+
+def model_choice(pop: Population, names: list, resolve_se: float = RESOLVE_SE,
+                 min_bayes_factor: float = MIN_BAYES_FACTOR) -> dict:
+    """Which model the population supports, or that it cannot tell (equal prior probabilities).
+
+    The most probable model is the choice when its probability leads every other model's by more than
+    ``resolve_se`` Monte Carlo standard errors of the difference (:meth:`Population.difference_se`),
+    exceeds the 95 % upper bound of every model left without particles (:meth:`Population.upper95`),
+    and its Bayes factor over the next (that bound for such a model) is at least
+    ``min_bayes_factor``; otherwise the result cannot
+    tell (``family`` None) and ``reason`` says which test failed: the Monte Carlo error (more
+    particles or simulations could tell) or the evidence (the record does not tell, at this
+    tolerance).
+
+    Parameters
+    ----------
+    pop : Population
+        The final population.
+    names : list of str
+        Model names, by index.
+    resolve_se : float
+        Leads, in standard errors of the difference, that tell two models apart.
+    min_bayes_factor : float
+        Smallest Bayes factor called a choice.
+
+    Returns
+    -------
+    dict
+        ``family`` (the choice or None), ``most_probable``, ``runner_up``, ``lead`` (P difference),
+        ``lead_se``, ``bayes_factor``, ``resolved`` (the lead exceeds ``resolve_se`` s.e. over
+        every other model), ``reason``, ``upper95`` (model without particles -> 95 % upper bound of
+        its probability) and the thresholds.
+    """
+    M = len(names)
+    p, _ = pop.model_probabilities(M)
+    top = int(np.argmax(p))
+    upper = {m: pop.upper95(m) for m in range(M)}
+    out = {"most_probable": names[top], "resolve_se": resolve_se, "min_bayes_factor": min_bayes_factor,
+           "upper95": {names[m]: u for m, u in upper.items() if u is not None}}
+    if M < 2:
+        return {**out, "family": names[top], "runner_up": None, "lead": 1.0, "lead_se": 0.0, "bayes_factor": None,
+                "resolved": True, "reason": "one model"}
+    # a model without particles counts at its 95 % upper bound (its s.e. of 0 says nothing)
+    ceiling = [p[m] if upper[m] is None else upper[m] for m in range(M)]
+    others = [m for m in range(M) if m != top]
+    second = max(others, key=lambda m: ceiling[m])
+    resolved = all(p[top] - p[m] > resolve_se * pop.difference_se(top, m) if upper[m] is None
+                   else p[top] > upper[m] for m in others)
+    bf = float(p[top] / ceiling[second]) if ceiling[second] > 0 else math.inf
+    if not resolved:
+        reason = (f"cannot tell: the lead over another model is within {resolve_se:g} Monte Carlo s.e. or below "
+                  "the 95 % upper bound of a model left without particles")
+    elif bf < min_bayes_factor:
+        reason = f"cannot tell: Bayes factor {bf:.3g} over {names[second]} below {min_bayes_factor:g}"
+    else:
+        reason = "chosen"
+    return {**out, "family": names[top] if reason == "chosen" else None, "runner_up": names[second],
+            "lead": float(p[top] - p[second]), "lead_se": pop.difference_se(top, second),
+            "bayes_factor": bf if math.isfinite(bf) else None, "resolved": bool(resolved), "reason": reason}
 
 
 #: Smallest kernel standard deviation, in unit coordinates (a share of the prior range).
@@ -226,7 +348,8 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
     zs = [rng.random(dims[m]) for m in models]
     stats = sim_all(models, zs)
     d = distance(stats, observed, scale)
-    pops = [Population(math.inf, np.array(models), zs, np.full(N, 1.0 / N), d, stats, N, N)]
+    pops = [Population(math.inf, np.array(models), zs, np.full(N, 1.0 / N), d, stats, N, N,
+                       np.bincount(models, minlength=M), float(N))]
     total = N
     history = []
     stopped = "max_generations"
@@ -274,6 +397,7 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
             kern.append((Zm, Wm, L, Li, log_norm))
         acc_m, acc_z, acc_s, acc_d, acc_w = [], [], [], [], []
         sims = props = hits = 0
+        n_prop = np.zeros(M, int)
         # proposals per accepted particle: the last generation's rate, times the share of its
         # population the new eps keeps (the quantile); each batch is sized to the particles still
         # needed, so that few simulations run past the N-th acceptance
@@ -288,6 +412,7 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
             b += 1
             rng = np.random.default_rng([seed, t, b])
             bm = rng.choice(M, size=size, p=qm / qm.sum())
+            n_prop += np.bincount(bm, minlength=M)
             bz, inside = [], []
             for m in bm:
                 k = kern[m]
@@ -322,7 +447,7 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
             break
         w = np.array(acc_w)
         pops.append(Population(eps, np.array(acc_m), acc_z, w / w.sum(), np.array(acc_d), np.array(acc_s), sims,
-                               props))
+                               props, n_prop, float(w.sum())))
         note(pops[-1], t, hits)
         if hits / sims < min_acceptance:
             stopped = "min_acceptance"

@@ -98,6 +98,11 @@ def summary_lines(s: dict) -> list:
         lines += [f"  {name}: {p['median']:.4g} [{p['ci90'][0]:.4g}, {p['ci90'][1]:.4g}] {p['unit']} "
                   f"(90 %; prior [{p['prior'][0]:g}, {p['prior'][1]:g}], width {p['width_ratio']:.2f} of it)"
                   for name, p in s["parameters"][fam].items()]
+    mc = s.get("model_choice") or {}
+    if mc and len(s["families"]) > 1:
+        bf = "" if mc["bayes_factor"] is None else f", Bayes factor {mc['bayes_factor']:.3g} over {mc['runner_up']}"
+        lines.append(f"model choice: {mc['family'] or 'cannot tell'} ({mc['reason']}; {mc['most_probable']} leads by "
+                     f"{mc['lead']:.3f} +- {mc['lead_se']:.3f}{bf})")
     lines.append(f"posterior predictive 90 % intervals: {sum(v['contained'] for v in pred.values())} of "
                  f"{len(pred)} contain the measured value")
     lines += [f"  {name}: [{v['interval90'][0]:.4g}, {v['interval90'][1]:.4g}] {v['unit']}, measured "
