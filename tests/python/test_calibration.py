@@ -323,7 +323,8 @@ def test_the_model_choice_names_a_family_only_beyond_its_monte_carlo_error_and_a
     choice (lead 0.6, s.e. of the difference 0.08, Bayes factor 4); 65 of 100 is resolved (lead 0.3
     above 2 s.e. = 0.19) but no choice (Bayes factor 1.86); leads within 2 s.e. are not (4 of 5
     equal weights: lead 0.6, s.e. 0.36; one particle of weight 0.73 against nine of 0.03: lead 0.46,
-    s.e. 0.42); a model without particles counts at its rule-of-three upper bound (120 proposals of
+    s.e. 0.42); an ESS below 30 is not (90 of 100 particles in model 0, 25 of them holding
+    nearly all the weight: ESS 28.8); a model without particles counts at its rule-of-three upper bound (120 proposals of
     model 1, 40 of model 0, raw weight sum 50: B = 3 * 160 / (120 * 2) = 2, P(1) < 2 / 52)."""
     names = ["a", "b"]
     c = abcsmc.model_choice(_population([0] * 80 + [1] * 20, np.ones(100), [50, 50], 100.0), names)
@@ -335,6 +336,9 @@ def test_the_model_choice_names_a_family_only_beyond_its_monte_carlo_error_and_a
     assert c["family"] is None and not c["resolved"] and math.isclose(c["lead_se"], 2 * math.sqrt(0.8 * 0.2 / 5))
     c = abcsmc.model_choice(_population([0] * 9 + [1], [0.03] * 9 + [0.73], [5, 5], 1.0), names)
     assert c["family"] is None and not c["resolved"] and c["most_probable"] == "b"
+    c = abcsmc.model_choice(_population([0] * 90 + [1] * 10, [1.0] * 25 + [1e-3] * 65 + [0.2] * 10, [50, 50], 1.0),
+                            names)
+    assert c["family"] is None and c["resolved"] and c["ess"] < 30 and "effective sample size" in c["reason"]
     c = abcsmc.model_choice(_population([0] * 40, np.ones(40), [40, 120], 50.0), names)
     assert math.isclose(c["upper95"]["b"], 2.0 / 52.0) and c["family"] == "a"
     c = abcsmc.model_choice(_population([0] * 40, np.ones(40), [40, 0], 50.0), names)
@@ -351,7 +355,8 @@ TW_TRUTH = {**{k: TRUTH[k] for k in ("damping_ratio", "motor_slope_nms_rad", "co
 def test_on_a_tucker_wang_record_the_four_family_comparison_picks_tucker_wang_or_says_it_cannot_tell():
     """Four families, 40 particles, 1200 simulations on 8 s of a Tucker-Wang truth: the choice is
     Eq. (3.1) or none, and a 'cannot tell' is backed by the numbers the result reports (a lead within
-    2 Monte Carlo s.e. or below a bound of a family without particles, or a Bayes factor below 3)."""
+    2 Monte Carlo s.e. or below a bound of a family without particles, an ESS below 30, or a Bayes
+    factor below 3)."""
     rec = _truth_record(duration=8.0, family="tucker_wang", truth=TW_TRUTH)
     fams = ["polynomial_hysteretic", "polynomial", "tucker_wang", "hysteretic"]
     post = calibrate_record(rec, config=_config(families=fams), population=40, max_simulations=1200,
@@ -364,6 +369,6 @@ def test_on_a_tucker_wang_record_the_four_family_comparison_picks_tucker_wang_or
         top = c["most_probable"]
         unresolved = any(p[top] - p[f] <= 2 * post.model_probability_se[f] + 2 * post.model_probability_se[top]
                          if f not in c["upper95"] else p[top] <= c["upper95"][f] for f in fams if f != top)
-        assert unresolved or c["bayes_factor"] < 3.0, c
+        assert unresolved or c["ess"] < 30.0 or c["bayes_factor"] < 3.0, c
     s = post.summary()
     assert s["equations"]["tucker_wang"].startswith("3.1") and s["model_choice"] == c

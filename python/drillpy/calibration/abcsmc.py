@@ -183,17 +183,23 @@ RESOLVE_SE = 2.0
 #: choice (Kass & Raftery 1995, J. Am. Stat. Assoc. 90:773: below 3, "not worth more than a bare
 #: mention").
 MIN_BAYES_FACTOR = 3.0
+#: Smallest effective sample size at which :func:`model_choice` trusts the Monte Carlo standard error:
+#: the error is a normal approximation on the ESS effective particles, which for a proportion p wants
+#: ESS p (1 - p) of at least 5 or so (ESS 30 serves p from 0.2 to 0.8). One accepted prior draw of a
+#: family the proposals seldom try can take most of the weight (docs/calibration.md, sample 175 with
+#: four families) and leave an ESS of a few particles whose s.e. says little.
+MIN_ESS = 30.0
 
 
 def model_choice(pop: Population, names: list, resolve_se: float = RESOLVE_SE,
-                 min_bayes_factor: float = MIN_BAYES_FACTOR) -> dict:
+                 min_bayes_factor: float = MIN_BAYES_FACTOR, min_ess: float = MIN_ESS) -> dict:
     """Which model the population supports, or that it cannot tell (equal prior probabilities).
 
     The most probable model is the choice when its probability leads every other model's by more than
     ``resolve_se`` Monte Carlo standard errors of the difference (:meth:`Population.difference_se`),
     exceeds the 95 % upper bound of every model left without particles (:meth:`Population.upper95`),
     and its Bayes factor over the next (that bound for such a model) is at least
-    ``min_bayes_factor``; otherwise the result cannot
+    ``min_bayes_factor``, on a population of at least ``min_ess`` effective particles; otherwise the result cannot
     tell (``family`` None) and ``reason`` says which test failed: the Monte Carlo error (more
     particles or simulations could tell) or the evidence (the record does not tell, at this
     tolerance).
@@ -208,13 +214,15 @@ def model_choice(pop: Population, names: list, resolve_se: float = RESOLVE_SE,
         Leads, in standard errors of the difference, that tell two models apart.
     min_bayes_factor : float
         Smallest Bayes factor called a choice.
+    min_ess : float
+        Smallest effective sample size at which the standard errors are trusted (:data:`MIN_ESS`).
 
     Returns
     -------
     dict
         ``family`` (the choice or None), ``most_probable``, ``runner_up``, ``lead`` (P difference),
         ``lead_se``, ``bayes_factor``, ``resolved`` (the lead exceeds ``resolve_se`` s.e. over
-        every other model), ``reason``, ``upper95`` (model without particles -> 95 % upper bound of
+        every other model), ``ess``, ``reason``, ``upper95`` (model without particles -> 95 % upper bound of
         its probability) and the thresholds.
     """
     M = len(names)
@@ -222,7 +230,7 @@ def model_choice(pop: Population, names: list, resolve_se: float = RESOLVE_SE,
     top = int(np.argmax(p))
     upper = {m: pop.upper95(m) for m in range(M)}
     out = {"most_probable": names[top], "resolve_se": resolve_se, "min_bayes_factor": min_bayes_factor,
-           "upper95": {names[m]: u for m, u in upper.items() if u is not None}}
+           "min_ess": min_ess, "ess": pop.ess(), "upper95": {names[m]: u for m, u in upper.items() if u is not None}}
     if M < 2:
         return {**out, "family": names[top], "runner_up": None, "lead": 1.0, "lead_se": 0.0, "bayes_factor": None,
                 "resolved": True, "reason": "one model"}
@@ -236,6 +244,8 @@ def model_choice(pop: Population, names: list, resolve_se: float = RESOLVE_SE,
     if not resolved:
         reason = (f"cannot tell: the lead over another model is within {resolve_se:g} Monte Carlo s.e. or below "
                   "the 95 % upper bound of a model left without particles")
+    elif out["ess"] < min_ess:
+        reason = f"cannot tell: an effective sample size of {out['ess']:.3g} (below {min_ess:g}) leaves the s.e. unreliable"
     elif bf < min_bayes_factor:
         reason = f"cannot tell: Bayes factor {bf:.3g} over {names[second]} below {min_bayes_factor:g}"
     else:
