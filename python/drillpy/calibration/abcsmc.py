@@ -241,15 +241,15 @@ def model_choice(pop: Population, names: list, resolve_se: float = RESOLVE_SE,
     resolved = all(p[top] - p[m] > resolve_se * pop.difference_se(top, m) if upper[m] is None
                    else p[top] > upper[m] for m in others)
     bf = float(p[top] / ceiling[second]) if ceiling[second] > 0 else math.inf
+    failed = []
     if not resolved:
-        reason = (f"cannot tell: the lead over another model is within {resolve_se:g} Monte Carlo s.e. or below "
-                  "the 95 % upper bound of a model left without particles")
-    elif out["ess"] < min_ess:
-        reason = f"cannot tell: an effective sample size of {out['ess']:.3g} (below {min_ess:g}) leaves the s.e. unreliable"
-    elif bf < min_bayes_factor:
-        reason = f"cannot tell: Bayes factor {bf:.3g} over {names[second]} below {min_bayes_factor:g}"
-    else:
-        reason = "chosen"
+        failed.append(f"the lead over another model is within {resolve_se:g} Monte Carlo s.e. or below the 95 % "
+                      "upper bound of a model left without particles")
+    if out["ess"] < min_ess:
+        failed.append(f"an effective sample size of {out['ess']:.3g} (below {min_ess:g}) leaves the s.e. unreliable")
+    if bf < min_bayes_factor:
+        failed.append(f"Bayes factor {bf:.3g} over {names[second]} below {min_bayes_factor:g}")
+    reason = "cannot tell: " + "; ".join(failed) if failed else "chosen"
     return {**out, "family": names[top] if reason == "chosen" else None, "runner_up": names[second],
             "lead": float(p[top] - p[second]), "lead_se": pop.difference_se(top, second),
             "bayes_factor": bf if math.isfinite(bf) else None, "resolved": bool(resolved), "reason": reason}

@@ -93,8 +93,10 @@ def summary_lines(s: dict) -> list:
              f"{_backend(run)}{cpu}), {run['generations']} generations, final eps {run['eps'][-1]:.3g} "
              f"({run['stopped']})"]
     for fam in s["families"]:
+        up = (s.get("model_choice") or {}).get("upper95", {}).get(fam)
         lines.append(f"P({fam}, Eq. {s['equations'][fam]}) = {s['model_probability'][fam]:.3f} "
-                     f"+- {s['model_probability_se'][fam]:.3f} (Monte Carlo s.e.)")
+                     f"+- {s['model_probability_se'][fam]:.3f} (Monte Carlo s.e.)"
+                     + ("" if up is None else f"; no particle left: below {up:.3f} at 95 %"))
         lines += [f"  {name}: {p['median']:.4g} [{p['ci90'][0]:.4g}, {p['ci90'][1]:.4g}] {p['unit']} "
                   f"(90 %; prior [{p['prior'][0]:g}, {p['prior'][1]:g}], width {p['width_ratio']:.2f} of it)"
                   for name, p in s["parameters"][fam].items()]
