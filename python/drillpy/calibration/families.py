@@ -54,8 +54,8 @@ LAW_PARAMETERS = {
                             "at 0.54 rad/s (section 3.1, docs/units.md)"),
     "hy_b0_nm": (0.15, 2.0, "N m", "uniform",
                  "Eq. (3.2) b0, the torque of the tanh term: at the thesis's shape (g 5.1, v_s 0.25 rad/s, "
-                 "below) the law is 2.3-3.7 b0 over 1-20 rad/s, so the thesis-rig law's 0.96-2.69 N m there, "
-                 "x0.6-x1.6, puts b0 within 0.15-1.9 N m"),
+                 "below) the law is 2.2-3.7 b0 over 1-20 rad/s, so the thesis-rig law's 0.96-2.69 N m there, "
+                 "x0.6-x1.6, puts b0 within 0.16-2.0 N m"),
     "hy_hump_gain": (0.3, 10.0, "-", "log-uniform",
                      "Eq. (3.2) g = b2 v_s^b4, the height of the speed-dependent term (its peak is 0.55 g): the "
                      "thesis's fit g = 5.1 (section 3.2, b2 = 2.56, b3 = 0.38 in RPM); 0.3-10 from a small "
