@@ -189,17 +189,27 @@ MIN_BAYES_FACTOR = 3.0
 #: family the proposals seldom try can take most of the weight (docs/calibration.md, sample 175 with
 #: four families) and leave an ESS of a few particles whose s.e. says little.
 MIN_ESS = 30.0
+#: Generations (after the prior's) over which :func:`model_choice` asks the chosen model's probability
+#: to have settled as eps fell: ABC model probabilities from summary statistics are those of the
+#: statistics at that tolerance (Robert et al. 2011, PNAS 108:15112), and a probability still moving
+#: with eps is not the answer yet (docs/calibration.md: an Eq. 5.1 record whose P(Tucker-Wang) fell
+#: from 0.93 to 0.81 over the last four generations).
+SETTLE_GENERATIONS = 3
 
 
-def model_choice(pop: Population, names: list, resolve_se: float = RESOLVE_SE,
-                 min_bayes_factor: float = MIN_BAYES_FACTOR, min_ess: float = MIN_ESS) -> dict:
+def model_choice(pop: Population, names: list, history: list | None = None, resolve_se: float = RESOLVE_SE,
+                 min_bayes_factor: float = MIN_BAYES_FACTOR, min_ess: float = MIN_ESS,
+                 settle: int = SETTLE_GENERATIONS) -> dict:
     """Which model the population supports, or that it cannot tell (equal prior probabilities).
 
     The most probable model is the choice when its probability leads every other model's by more than
     ``resolve_se`` Monte Carlo standard errors of the difference (:meth:`Population.difference_se`),
     exceeds the 95 % upper bound of every model left without particles (:meth:`Population.upper95`),
     and its Bayes factor over the next (that bound for such a model) is at least
-    ``min_bayes_factor``, on a population of at least ``min_ess`` effective particles; otherwise the result cannot
+    ``min_bayes_factor``, on a population of at least ``min_ess`` effective particles, and when
+    (given the run's ``history``) its probability over the last ``settle`` generations after the
+    prior's has moved by no more than ``resolve_se`` standard errors of the difference between its
+    highest and lowest values (sqrt(se_a^2 + se_b^2)); otherwise the result cannot
     tell (``family`` None) and ``reason`` says which test failed: the Monte Carlo error (more
     particles or simulations could tell) or the evidence (the record does not tell, at this
     tolerance).
@@ -210,19 +220,25 @@ def model_choice(pop: Population, names: list, resolve_se: float = RESOLVE_SE,
         The final population.
     names : list of str
         Model names, by index.
+    history : list of dict, optional
+        :attr:`ABCResult.history` (``model_probabilities``, ``model_probability_se`` per generation,
+        the last being ``pop``'s); None skips the test that the probability has settled.
     resolve_se : float
         Leads, in standard errors of the difference, that tell two models apart.
     min_bayes_factor : float
         Smallest Bayes factor called a choice.
     min_ess : float
         Smallest effective sample size at which the standard errors are trusted (:data:`MIN_ESS`).
+    settle : int
+        Generations over which the probability must have settled (:data:`SETTLE_GENERATIONS`).
 
     Returns
     -------
     dict
         ``family`` (the choice or None), ``most_probable``, ``runner_up``, ``lead`` (P difference),
         ``lead_se``, ``bayes_factor``, ``resolved`` (the lead exceeds ``resolve_se`` s.e. over
-        every other model), ``ess``, ``reason``, ``upper95`` (model without particles -> 95 % upper bound of
+        every other model), ``ess``, ``drift`` (the probability at the first and the last of the
+        settling generations), ``reason``, ``upper95`` (model without particles -> 95 % upper bound of
         its probability) and the thresholds.
     """
     M = len(names)
@@ -230,7 +246,7 @@ def model_choice(pop: Population, names: list, resolve_se: float = RESOLVE_SE,
     top = int(np.argmax(p))
     upper = {m: pop.upper95(m) for m in range(M)}
     out = {"most_probable": names[top], "resolve_se": resolve_se, "min_bayes_factor": min_bayes_factor,
-           "min_ess": min_ess, "ess": pop.ess(), "upper95": {names[m]: u for m, u in upper.items() if u is not None}}
+           "min_ess": min_ess, "ess": pop.ess(), "drift": None, "upper95": {names[m]: u for m, u in upper.items() if u is not None}}
     if M < 2:
         return {**out, "family": names[top], "runner_up": None, "lead": 1.0, "lead_se": 0.0, "bayes_factor": None,
                 "resolved": True, "reason": "one model"}
@@ -247,6 +263,19 @@ def model_choice(pop: Population, names: list, resolve_se: float = RESOLVE_SE,
                       "upper bound of a model left without particles")
     if out["ess"] < min_ess:
         failed.append(f"an effective sample size of {out['ess']:.3g} (below {min_ess:g}) leaves the s.e. unreliable")
+    if history is not None:
+        last = [h for h in history if h["generation"] > 0][-int(settle):]
+        if len(last) < settle:
+            failed.append(f"{len(last)} generations after the prior's, fewer than the {settle:g} over which the "
+                          "probability must settle")
+        else:
+            ps = [h["model_probabilities"][top] for h in last]
+            hi, lo = int(np.argmax(ps)), int(np.argmin(ps))
+            se = math.hypot(last[hi]["model_probability_se"][top], last[lo]["model_probability_se"][top])
+            out["drift"] = [float(ps[0]), float(ps[-1])]
+            if ps[hi] - ps[lo] > resolve_se * se:
+                failed.append(f"P({names[top]}) still moved from {ps[0]:.3f} to {ps[-1]:.3f} over the last {settle} "
+                              "generations (more than its Monte Carlo error)")
     if bf < min_bayes_factor:
         failed.append(f"Bayes factor {bf:.3g} over {names[second]} below {min_bayes_factor:g}")
     reason = "cannot tell: " + "; ".join(failed) if failed else "chosen"

@@ -387,7 +387,7 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
                 "base_law": base_law}
     return Posterior(sim.families, dict(zip(sim.families, map(float, p))), dict(zip(sim.families, map(float, se))),
                      parameters, particles, dict(zip(NAMES, map(float, observed))), dict(zip(NAMES, map(float, scale))),
-                     predictive, run, spec.summary(), rec_info, abcsmc.model_choice(post, sim.families))
+                     predictive, run, spec.summary(), rec_info, abcsmc.model_choice(post, sim.families, res.history))
 
 
 #: Sampling-noise replicates per simulated predictive draw (:func:`predictive_intervals`).
