@@ -11,7 +11,7 @@ statistics lie within a shrinking tolerance eps_t of the observed ones.
 * Generation 0 draws N particles from the prior, all kept. Generation t >= 1 sets eps_t to the
   weighted median of the previous population's distances and proposes particles in **batches**
   (the simulator runs a whole batch at once) until N have distance <= eps_t: the model from
-  q(m) = (1 - delta) P_{t-1}(m) + delta / M (a model never dies out), then with probability rho a
+  q(m) = (1 - delta) P_{t-1}(m) + delta / M (a model is always proposed, though it may end a generation without particles), then with probability rho a
   fresh prior draw (always, for a model with fewer than 2 particles), else a particle of that model
   drawn by weight and moved by a Gaussian kernel of twice the model's weighted covariance
   (Beaumont's choice) plus (:data:`KERNEL_FLOOR`)^2 I, or of :data:`KERNEL_FEW` on every axis when the

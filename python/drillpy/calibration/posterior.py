@@ -227,8 +227,8 @@ class Posterior:
         return {"format": "drillpy.posterior", "version": 1, "record": self.record, "families": self.families,
                 "equations": {f: FAMILIES[f].equation for f in self.families},
                 "model_probability": self.model_probability, "model_probability_se": self.model_probability_se,
-                "model_choice": self.model_choice, "parameters": self.parameters, "predictive": self.predictive, "observed": self.observed,
-                "scale": self.scale, "units": dict(zip(NAMES, UNITS)), "run": self.run, "priors": self.spec,
+                "model_choice": self.model_choice, "parameters": self.parameters, "predictive": self.predictive,
+                "observed": self.observed, "scale": self.scale, "units": dict(zip(NAMES, UNITS)), "run": self.run, "priors": self.spec,
                 "particles": self.particles}
 
 

@@ -12,7 +12,8 @@ replaces any of them, fixes the parameters not calibrated, and names the law fam
     }
 
 The families (default Eqs. 5.3 and 5.1) and their law parameters' ranges are those of
-:mod:`drillpy.calibration.families`. The section is read here and removed before the engine validates the rest of the configuration.
+:mod:`drillpy.calibration.families`. The section is read here and removed before the engine
+validates the rest of the configuration.
 """
 from __future__ import annotations
 
