@@ -11,8 +11,8 @@ statistics lie within a shrinking tolerance eps_t of the observed ones.
 * Generation 0 draws N particles from the prior, all kept. Generation t >= 1 sets eps_t to the
   weighted median of the previous population's distances and proposes particles in **batches**
   (the simulator runs a whole batch at once) until N have distance <= eps_t: the model from
-  q(m) = (1 - delta) P_{t-1}(m) + delta / M (a model is always proposed, though it may end a generation without particles), then with probability rho a
-  fresh prior draw (always, for a model with fewer than 2 particles), else a particle of that model
+  q(m) = (1 - delta) P_{t-1}(m) + delta / M (a model is always proposed, though it may end a
+  generation without particles), then with probability rho a fresh prior draw (always, for a model with fewer than 2 particles), else a particle of that model
   drawn by weight and moved by a Gaussian kernel of twice the model's weighted covariance
   (Beaumont's choice) plus (:data:`KERNEL_FLOOR`)^2 I, or of :data:`KERNEL_FEW` on every axis when the
   model has fewer effective particles than its dimension + 2 (no covariance can be estimated). A proposal outside the unit cube has prior density 0: it counts as
@@ -20,7 +20,9 @@ statistics lie within a shrinking tolerance eps_t of the observed ones.
   with q(m, z) = q(m) (rho + (1 - rho) sum_j W_j N(z; z_j, Sigma_m)): the importance weights of an
   exact accept-reject step, so model probabilities stay unbiased for the ABC posterior at eps_t.
 * Model probabilities P(m) = sum of the weights of model m's particles; their Monte Carlo standard
-  error is the self-normalized importance sampling one, sqrt(sum_i wn_i^2 (1[m_i = m] - P(m))^2).
+  error is the self-normalized importance sampling one, sqrt(sum_i wn_i^2 (1[m_i = m] - P(m))^2);
+  a model without particles has a rule-of-three upper bound instead (:meth:`Population.upper95`),
+  and :func:`model_choice` names the model the population supports or says that it cannot tell.
 * Batches are sized to the particles still needed at the acceptance rate expected (the previous
   generation's, times the share of it the new eps keeps, then the rate measured so far), so that few
   simulations run past the N-th acceptance of a generation.
