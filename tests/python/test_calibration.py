@@ -22,19 +22,20 @@ TRUTH = {"damping_ratio": 0.03, "motor_slope_nms_rad": 0.25, "command_rad_s": 17
          "coupling_stiffness_nm_rad": 40.0, "jack_gain_n_rad": 180.0, "law_scale": 1.0, "static_torque_nm": 3.0}
 
 
-def _truth_record(seed: int = 5, duration: float = 12.0, dt_s: float = 5e-5) -> Record:
-    """The rig model at TRUTH, stepped at ``dt_s`` (the calibration steps at the preset's 1e-4 s),
-    sensors (platform, 10 Hz filter) and white noise on every channel, on a 1 kHz grid."""
+def _truth_record(seed: int = 5, duration: float = 12.0, dt_s: float = 5e-5, family: str = "polynomial",
+                  truth: dict = TRUTH) -> Record:
+    """The rig model of ``family`` at ``truth``, stepped at ``dt_s`` (the calibration steps at
+    2.5e-4 s), sensors (platform, 10 Hz filter) and white noise on every channel, on a 1 kHz grid."""
     t = np.arange(0.0, duration, 1e-3)
     wob = 557.1 + 25.0 * np.sin(2 * np.pi * 0.1 * t)
     template = Record(time_s=t, bit_speed=np.full(t.size, 9.0), top_speed=np.full(t.size, 9.0),
                       torque_on_bit=np.full(t.size, 2.0), wob=wob)
     base = load_config(preset="thesis-rig")["law"]
-    model = rig_model(base, "polynomial", TRUTH, FIXED)
-    cfg = model.config(TRUTH["command_rad_s"], float(wob.mean()), duration_s=duration)
+    model = rig_model(base, family, truth, FIXED)
+    cfg = model.config(truth["command_rad_s"], float(wob.mean()), duration_s=duration)
     cfg["simulation"]["dt_s"] = dt_s
     cfg["simulation"]["output_stride"] = int(round(1e-3 / dt_s))
-    res = simulate(normalize(cfg), TRUTH["command_rad_s"], wob_series=rigsim.wob_trend(template, wob.mean()),
+    res = simulate(normalize(cfg), truth["command_rad_s"], wob_series=rigsim.wob_trend(template, wob.mean()),
                    series_dt=1e-3)
     n = min(res.t.size, t.size)
     tq = platform_response(res.torque_on_bit[:n], 1000.0, rigsim.PLATFORM_HZ, FIXED["platform_damping"])
@@ -141,7 +142,7 @@ def test_bad_budget_and_law_are_refused_before_any_simulation():
     with pytest.raises(ValueError, match=r"population = 0: a positive integer"):
         calibrate_record(rec, preset="thesis-rig", population=0)
     cfg = load_config(preset="thesis-ch4")
-    with pytest.raises(ValueError, match=r"law\.type = '\w+': the calibration's families are Eq\. \(5\.1\)/\(5\.3\)"):
+    with pytest.raises(ValueError, match=r"law\.type = '\w+': the calibration's families are built on an Eq\. \(5\.1\)/\(5\.3\) law"):
         calibrate_record(rec, config=cfg)
 
 
@@ -272,3 +273,124 @@ def test_a_time_step_that_does_not_divide_the_record_grid_is_refused():
     spec = prior_spec({})
     with pytest.raises(ValueError, match=r"dt_s = 0\.0003: a time step that divides the record's sampling interval"):
         RigSimulator(rec, 0.5, spec, load_config(preset="thesis-rig")["law"], dt_s=3e-4)
+
+
+def test_each_familys_law_from_prior_draws_is_valid_for_the_engine_and_has_its_physical_shape():
+    """Every family of the table (Eqs. 5.3, 5.1, 3.1, 3.2-3.3) at 12 prior draws, the prior's corners
+    among them: the engine's configuration accepts the law, its torque is positive and finite over
+    0.05-40 rad/s, the regularized families' is 0 at rest, and Eq. (3.1)'s parameters mean what the
+    priors say (the hump c0 h at the peak speed, c0 at high speed)."""
+    from drillpy import _core
+    from drillpy.calibration.families import FAMILIES, family_law
+    from drillpy.model.simulation import law_torque
+    cfg = load_config(preset="thesis-rig")
+    spec = prior_spec({"families": list(FAMILIES)})
+    rng = np.random.default_rng(0)
+    v = np.geomspace(0.05, 40.0, 30)
+    for fam, priors in spec.families.items():
+        law_priors = [p for p in priors if p.name in FAMILIES[fam].parameters]
+        for z in [np.zeros(len(law_priors)), np.ones(len(law_priors))] + list(rng.random((10, len(law_priors)))):
+            values = {p.name: float(p.from_unit(zi)) for p, zi in zip(law_priors, z)}
+            law = family_law(cfg["law"], fam, values)
+            engine = _core.Config.from_dict(normalize({**cfg, "law": law}))
+            assert engine.to_dict()["law"]["type"] == fam
+            T = law_torque(law, v)
+            assert np.all(np.isfinite(T)) and np.all(T > 0), (fam, values)
+            if fam != "polynomial":
+                assert law_torque(law, [0.0])[0] == 0.0
+            if fam == "tucker_wang":
+                c0, h, vp = values["tw_c0_nm"], values["tw_hump_ratio"], values["tw_peak_speed_rad_s"]
+                hump = law_torque(law, [vp])[0] / c0 - math.tanh(law["alpha0"] * vp * 30 / math.pi)
+                assert math.isclose(hump, h, rel_tol=1e-9)
+                assert math.isclose(law_torque(law, [1e5])[0], c0, rel_tol=1e-3)
+    with pytest.raises(ValueError, match=r"family 'tucker_wang': parameter 'tw_c0_nm' missing"):
+        family_law(cfg["law"], "tucker_wang", {"law_scale": 1.0})
+    with pytest.raises(ValueError, match=r"calibration\.priors\.hy_beta1\.range = \[0\.0, 1\.2\]: .*\[0, 1\)"):
+        prior_spec({"priors": {"hy_beta1": {"range": [0.0, 1.2]}}})
+    with pytest.raises(ValueError, match=r"calibration\.families = \['hysteretic', 'hysteretic'\]: a family named twice"):
+        prior_spec({"families": ["hysteretic", "hysteretic"]})
+
+
+def _population(model, weight, proposals, raw):
+    M = len(proposals)
+    return abcsmc.Population(1.0, np.array(model), [np.zeros(1)] * len(model), np.asarray(weight, float) / np.sum(weight),
+                             np.zeros(len(model)), np.zeros((len(model), 1)), len(model), int(np.sum(proposals)),
+                             np.array(proposals), float(raw)) if M else None
+
+
+def test_the_model_choice_names_a_family_only_beyond_its_monte_carlo_error_and_a_bayes_factor_of_3():
+    """The rule alone on populations built by hand: 80 of 100 equal-weight particles in model 0 is a
+    choice (lead 0.6, s.e. of the difference 0.08, Bayes factor 4); 65 of 100 is resolved (lead 0.3
+    above 2 s.e. = 0.19) but no choice (Bayes factor 1.86); leads within 2 s.e. are not (4 of 5
+    equal weights: lead 0.6, s.e. 0.36; one particle of weight 0.73 against nine of 0.03: lead 0.46,
+    s.e. 0.42); an ESS below 30 is not (90 of 100 particles in model 0, 25 of them holding
+    nearly all the weight: ESS 28.8); a model without particles counts at its rule-of-three upper bound (120 proposals of
+    model 1, 40 of model 0, raw weight sum 50: B = 3 * 160 / (120 * 2) = 2, P(1) < 2 / 52)."""
+    names = ["a", "b"]
+    c = abcsmc.model_choice(_population([0] * 80 + [1] * 20, np.ones(100), [50, 50], 100.0), names)
+    assert c["family"] == "a" and c["resolved"] and math.isclose(c["bayes_factor"], 4.0)
+    assert math.isclose(c["lead"], 0.6) and math.isclose(c["lead_se"], 0.08)
+    c = abcsmc.model_choice(_population([0] * 65 + [1] * 35, np.ones(100), [50, 50], 100.0), names)
+    assert c["family"] is None and c["resolved"] and c["reason"].startswith("cannot tell: Bayes factor 1.86")
+    c = abcsmc.model_choice(_population([0, 0, 0, 0, 1], np.ones(5), [3, 2], 5.0), names)
+    assert c["family"] is None and not c["resolved"] and math.isclose(c["lead_se"], 2 * math.sqrt(0.8 * 0.2 / 5))
+    c = abcsmc.model_choice(_population([0] * 9 + [1], [0.03] * 9 + [0.73], [5, 5], 1.0), names)
+    assert c["family"] is None and not c["resolved"] and c["most_probable"] == "b"
+    c = abcsmc.model_choice(_population([0] * 90 + [1] * 10, [1.0] * 25 + [1e-3] * 65 + [0.2] * 10, [50, 50], 1.0),
+                            names)
+    assert c["family"] is None and c["resolved"] and c["ess"] < 30 and "effective sample size" in c["reason"]
+    c = abcsmc.model_choice(_population([0] * 40, np.ones(40), [40, 120], 50.0), names)
+    assert math.isclose(c["upper95"]["b"], 2.0 / 52.0) and c["family"] == "a"
+    c = abcsmc.model_choice(_population([0] * 40, np.ones(40), [40, 0], 50.0), names)
+    assert c["upper95"]["b"] == 1.0 and c["family"] is None
+
+
+def test_the_model_choice_waits_for_the_probability_to_settle_as_eps_falls():
+    """The choice of 80 of 100 particles (above) stands when P(a) held 0.78-0.80 over the last three
+    generations (s.e. 0.04: a spread of 0.02 against 2 x 0.057) and is withheld when it fell from
+    0.95 through 0.88 to 0.80 (0.15 against 2 x 0.05), or with only two generations after the prior's."""
+    pop = _population([0] * 80 + [1] * 20, np.ones(100), [50, 50], 100.0)
+
+    def hist(ps, se=0.04):
+        return [{"generation": g, "model_probabilities": [p, 1 - p], "model_probability_se": [se, se]}
+                for g, p in enumerate([0.5] + ps)]
+    c = abcsmc.model_choice(pop, ["a", "b"], hist([0.6, 0.78, 0.80, 0.80]))
+    assert c["family"] == "a" and c["drift"] == [0.78, 0.80]
+    c = abcsmc.model_choice(pop, ["a", "b"], hist([0.95, 0.88, 0.80], se=0.035))
+    assert c["family"] is None and "P(a) still moved from 0.950 to 0.800 over the last 3 generations" in c["reason"]
+    c = abcsmc.model_choice(pop, ["a", "b"], hist([0.80, 0.80]))
+    assert c["family"] is None and "2 generations after the prior's" in c["reason"]
+
+
+#: A Tucker-Wang truth (Eq. 3.1) at the rig's scale: the rig of TRUTH, c0 1.3 N m, the hump c0 at
+#: 0.5 rad/s; it drills without stick-slip at about 11 rad/s (SS 0.04).
+TW_TRUTH = {**{k: TRUTH[k] for k in ("damping_ratio", "motor_slope_nms_rad", "command_rad_s",
+                                     "coupling_stiffness_nm_rad", "jack_gain_n_rad")},
+            "tw_c0_nm": 1.3, "tw_hump_ratio": 1.0, "tw_peak_speed_rad_s": 0.5}
+
+
+def test_on_a_tucker_wang_record_the_four_family_comparison_picks_tucker_wang_or_says_it_cannot_tell():
+    """Four families, 40 particles, 1200 simulations on 8 s of a Tucker-Wang truth: the choice is
+    Eq. (3.1) or none, and a 'cannot tell' is backed by the numbers the result reports (a lead within
+    2 Monte Carlo s.e. or below a bound of a family without particles, an ESS below 30, a probability
+    still moving over the last 3 generations, or a Bayes factor below 3)."""
+    rec = _truth_record(duration=8.0, family="tucker_wang", truth=TW_TRUTH)
+    fams = ["polynomial_hysteretic", "polynomial", "tucker_wang", "hysteretic"]
+    post = calibrate_record(rec, config=_config(families=fams), population=40, max_simulations=1200,
+                            predictive_draws=4, seed=2)
+    p, c = post.model_probability, post.model_choice
+    assert set(p) == set(fams) and math.isclose(sum(p.values()), 1.0)
+    assert c["family"] in ("tucker_wang", None), c
+    assert c["most_probable"] == max(p, key=p.get)
+    if c["family"] is None:
+        top = c["most_probable"]
+        unresolved = any(p[top] - p[f] <= 2 * post.model_probability_se[f] + 2 * post.model_probability_se[top]
+                         if f not in c["upper95"] else p[top] <= c["upper95"][f] for f in fams if f != top)
+        last = [h for h in post.run["history"] if h["generation"] > 0][-3:]
+        k = fams.index(top)
+        ps = [h["model_probabilities"][k] for h in last]
+        unsettled = len(last) < 3 or max(ps) - min(ps) > 2 * math.hypot(*(last[ps.index(x)]["model_probability_se"][k]
+                                                                          for x in (max(ps), min(ps))))
+        assert unresolved or unsettled or c["ess"] < 30.0 or c["bayes_factor"] < 3.0, c
+    s = post.summary()
+    assert s["equations"]["tucker_wang"].startswith("3.1") and s["model_choice"] == c

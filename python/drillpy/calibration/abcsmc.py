@@ -11,8 +11,8 @@ statistics lie within a shrinking tolerance eps_t of the observed ones.
 * Generation 0 draws N particles from the prior, all kept. Generation t >= 1 sets eps_t to the
   weighted median of the previous population's distances and proposes particles in **batches**
   (the simulator runs a whole batch at once) until N have distance <= eps_t: the model from
-  q(m) = (1 - delta) P_{t-1}(m) + delta / M (a model never dies out), then with probability rho a
-  fresh prior draw (always, for a model with fewer than 2 particles), else a particle of that model
+  q(m) = (1 - delta) P_{t-1}(m) + delta / M (a model is always proposed, though it may end a
+  generation without particles), then with probability rho a fresh prior draw (always, for a model with fewer than 2 particles), else a particle of that model
   drawn by weight and moved by a Gaussian kernel of twice the model's weighted covariance
   (Beaumont's choice) plus (:data:`KERNEL_FLOOR`)^2 I, or of :data:`KERNEL_FEW` on every axis when the
   model has fewer effective particles than its dimension + 2 (no covariance can be estimated). A proposal outside the unit cube has prior density 0: it counts as
@@ -20,7 +20,9 @@ statistics lie within a shrinking tolerance eps_t of the observed ones.
   with q(m, z) = q(m) (rho + (1 - rho) sum_j W_j N(z; z_j, Sigma_m)): the importance weights of an
   exact accept-reject step, so model probabilities stay unbiased for the ABC posterior at eps_t.
 * Model probabilities P(m) = sum of the weights of model m's particles; their Monte Carlo standard
-  error is the self-normalized importance sampling one, sqrt(sum_i wn_i^2 (1[m_i = m] - P(m))^2).
+  error is the self-normalized importance sampling one, sqrt(sum_i wn_i^2 (1[m_i = m] - P(m))^2);
+  a model without particles has a rule-of-three upper bound instead (:meth:`Population.upper95`),
+  and :func:`model_choice` names the model the population supports or says that it cannot tell.
 * Batches are sized to the particles still needed at the acceptance rate expected (the previous
   generation's, times the share of it the new eps keeps, then the rate measured so far), so that few
   simulations run past the N-th acceptance of a generation.
@@ -62,6 +64,10 @@ class Population:
         Simulations this generation ran.
     proposals : int
         Proposals drawn (with those outside the prior's support).
+    model_proposals : ndarray, optional
+        Proposals of each model.
+    raw_weight_sum : float
+        Sum of the accepted particles' weights before normalization (prior / proposal).
     """
     eps: float
     model: np.ndarray
@@ -71,6 +77,8 @@ class Population:
     stats: np.ndarray
     simulations: int
     proposals: int
+    model_proposals: np.ndarray | None = None
+    raw_weight_sum: float = math.nan
 
     def model_probabilities(self, n_models: int) -> tuple:
         """(P(m) per model, its Monte Carlo standard error) from the weights.
@@ -88,6 +96,52 @@ class Population:
         p = np.array([w[self.model == m].sum() for m in range(n_models)])
         se = np.array([math.sqrt(float(np.sum(w ** 2 * ((self.model == m) - p[m]) ** 2))) for m in range(n_models)])
         return p, se
+
+    def upper95(self, m: int) -> float | None:
+        """95 % upper bound of P(m) for a model with no particle (None otherwise), where the
+        standard error of :meth:`model_probabilities` (0) says nothing.
+
+        With no hit among its n_m proposals, the model's acceptance rate is below 3 / n_m at 95 %
+        (the rule of three); at that rate its proposals would add at most 3 n / (n_m M) to the sum
+        of weights (n proposals in all, a prior proposal's weight 1 / (M q(m)); a kernel proposal's
+        is smaller where the kernel's density exceeds the prior's), against the population's
+        ``raw_weight_sum`` W: P(m) < B / (W + B), B = 3 n / (n_m M); 1 when the model had no proposal.
+
+        Parameters
+        ----------
+        m : int
+            Model index.
+
+        Returns
+        -------
+        float or None
+        """
+        if np.any(self.model == m):
+            return None
+        if self.model_proposals is None or not math.isfinite(self.raw_weight_sum):
+            return 1.0
+        n_m = int(self.model_proposals[m])
+        if n_m == 0:
+            return 1.0
+        bound = 3.0 * self.proposals / (n_m * self.model_proposals.size)
+        return float(bound / (self.raw_weight_sum + bound))
+
+    def difference_se(self, a: int, b: int) -> float:
+        """Monte Carlo standard error of P(a) - P(b), the self-normalized importance sampling one
+        (:meth:`model_probabilities`) of the indicator difference 1[m = a] - 1[m = b].
+
+        Parameters
+        ----------
+        a, b : int
+            Model indices.
+
+        Returns
+        -------
+        float
+        """
+        w = self.weight / self.weight.sum()
+        d = (self.model == a).astype(float) - (self.model == b)
+        return math.sqrt(float(np.sum(w ** 2 * (d - np.sum(w * d)) ** 2)))
 
     def ess(self) -> float:
         """Effective sample size of the weights."""
@@ -121,6 +175,115 @@ class ABCResult:
     def posterior(self) -> Population:
         """The last population."""
         return self.populations[-1]
+
+
+#: Monte Carlo standard errors by which the most probable model must lead every other to be told
+#: apart from it (:func:`model_choice`): a lead of 2 s.e. arises from Monte Carlo noise alone in about
+#: 2.3 % of runs (one-sided, normal).
+RESOLVE_SE = 2.0
+#: Smallest Bayes factor of the most probable model over the next that :func:`model_choice` calls a
+#: choice (Kass & Raftery 1995, J. Am. Stat. Assoc. 90:773: below 3, "not worth more than a bare
+#: mention").
+MIN_BAYES_FACTOR = 3.0
+#: Smallest effective sample size at which :func:`model_choice` trusts the Monte Carlo standard error:
+#: the error is a normal approximation on the ESS effective particles, which for a proportion p wants
+#: ESS p (1 - p) of at least 5 or so (ESS 30 serves p from 0.2 to 0.8). One accepted prior draw of a
+#: family the proposals seldom try can take most of the weight (docs/calibration.md, sample 175 with
+#: four families) and leave an ESS of a few particles whose s.e. says little.
+MIN_ESS = 30.0
+#: Generations (after the prior's) over which :func:`model_choice` asks the chosen model's probability
+#: to have settled as eps fell: ABC model probabilities from summary statistics are those of the
+#: statistics at that tolerance (Robert et al. 2011, PNAS 108:15112), and a probability still moving
+#: with eps is not the answer yet (docs/calibration.md: an Eq. 5.1 record whose P(Tucker-Wang) fell
+#: from 0.93 to 0.81 over the last four generations).
+SETTLE_GENERATIONS = 3
+
+
+def model_choice(pop: Population, names: list, history: list | None = None, resolve_se: float = RESOLVE_SE,
+                 min_bayes_factor: float = MIN_BAYES_FACTOR, min_ess: float = MIN_ESS,
+                 settle: int = SETTLE_GENERATIONS) -> dict:
+    """Which model the population supports, or that it cannot tell (equal prior probabilities).
+
+    The most probable model is the choice when its probability leads every other model's by more than
+    ``resolve_se`` Monte Carlo standard errors of the difference (:meth:`Population.difference_se`),
+    exceeds the 95 % upper bound of every model left without particles (:meth:`Population.upper95`),
+    and its Bayes factor over the next (that bound for such a model) is at least
+    ``min_bayes_factor``, on a population of at least ``min_ess`` effective particles, and when
+    (given the run's ``history``) its probability over the last ``settle`` generations after the
+    prior's has moved by no more than ``resolve_se`` standard errors of the difference between its
+    highest and lowest values (sqrt(se_a^2 + se_b^2)); otherwise the result cannot
+    tell (``family`` None) and ``reason`` says which test failed: the Monte Carlo error (more
+    particles or simulations could tell) or the evidence (the record does not tell, at this
+    tolerance).
+
+    Parameters
+    ----------
+    pop : Population
+        The final population.
+    names : list of str
+        Model names, by index.
+    history : list of dict, optional
+        :attr:`ABCResult.history` (``model_probabilities``, ``model_probability_se`` per generation,
+        the last being ``pop``'s); None skips the test that the probability has settled.
+    resolve_se : float
+        Leads, in standard errors of the difference, that tell two models apart.
+    min_bayes_factor : float
+        Smallest Bayes factor called a choice.
+    min_ess : float
+        Smallest effective sample size at which the standard errors are trusted (:data:`MIN_ESS`).
+    settle : int
+        Generations over which the probability must have settled (:data:`SETTLE_GENERATIONS`).
+
+    Returns
+    -------
+    dict
+        ``family`` (the choice or None), ``most_probable``, ``runner_up``, ``lead`` (P difference),
+        ``lead_se``, ``bayes_factor``, ``resolved`` (the lead exceeds ``resolve_se`` s.e. over
+        every other model), ``ess``, ``drift`` (the probability at the first and the last of the
+        settling generations), ``reason``, ``upper95`` (model without particles -> 95 % upper bound of
+        its probability) and the thresholds.
+    """
+    M = len(names)
+    p, _ = pop.model_probabilities(M)
+    top = int(np.argmax(p))
+    upper = {m: pop.upper95(m) for m in range(M)}
+    out = {"most_probable": names[top], "resolve_se": resolve_se, "min_bayes_factor": min_bayes_factor,
+           "min_ess": min_ess, "ess": pop.ess(), "drift": None, "upper95": {names[m]: u for m, u in upper.items() if u is not None}}
+    if M < 2:
+        return {**out, "family": names[top], "runner_up": None, "lead": 1.0, "lead_se": 0.0, "bayes_factor": None,
+                "resolved": True, "reason": "one model"}
+    # a model without particles counts at its 95 % upper bound (its s.e. of 0 says nothing)
+    ceiling = [p[m] if upper[m] is None else upper[m] for m in range(M)]
+    others = [m for m in range(M) if m != top]
+    second = max(others, key=lambda m: ceiling[m])
+    resolved = all(p[top] - p[m] > resolve_se * pop.difference_se(top, m) if upper[m] is None
+                   else p[top] > upper[m] for m in others)
+    bf = float(p[top] / ceiling[second]) if ceiling[second] > 0 else math.inf
+    failed = []
+    if not resolved:
+        failed.append(f"the lead over another model is within {resolve_se:g} Monte Carlo s.e. or below the 95 % "
+                      "upper bound of a model left without particles")
+    if out["ess"] < min_ess:
+        failed.append(f"an effective sample size of {out['ess']:.3g} (below {min_ess:g}) leaves the s.e. unreliable")
+    if history is not None:
+        last = [h for h in history if h["generation"] > 0][-int(settle):]
+        if len(last) < settle:
+            failed.append(f"{len(last)} generations after the prior's, fewer than the {settle:g} over which the "
+                          "probability must settle")
+        else:
+            ps = [h["model_probabilities"][top] for h in last]
+            hi, lo = int(np.argmax(ps)), int(np.argmin(ps))
+            se = math.hypot(last[hi]["model_probability_se"][top], last[lo]["model_probability_se"][top])
+            out["drift"] = [float(ps[0]), float(ps[-1])]
+            if ps[hi] - ps[lo] > resolve_se * se:
+                failed.append(f"P({names[top]}) still moved from {ps[0]:.3f} to {ps[-1]:.3f} over the last {settle} "
+                              "generations (more than its Monte Carlo error)")
+    if bf < min_bayes_factor:
+        failed.append(f"Bayes factor {bf:.3g} over {names[second]} below {min_bayes_factor:g}")
+    reason = "cannot tell: " + "; ".join(failed) if failed else "chosen"
+    return {**out, "family": names[top] if reason == "chosen" else None, "runner_up": names[second],
+            "lead": float(p[top] - p[second]), "lead_se": pop.difference_se(top, second),
+            "bayes_factor": bf if math.isfinite(bf) else None, "resolved": bool(resolved), "reason": reason}
 
 
 #: Smallest kernel standard deviation, in unit coordinates (a share of the prior range).
@@ -226,7 +389,8 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
     zs = [rng.random(dims[m]) for m in models]
     stats = sim_all(models, zs)
     d = distance(stats, observed, scale)
-    pops = [Population(math.inf, np.array(models), zs, np.full(N, 1.0 / N), d, stats, N, N)]
+    pops = [Population(math.inf, np.array(models), zs, np.full(N, 1.0 / N), d, stats, N, N,
+                       np.bincount(models, minlength=M), float(N))]
     total = N
     history = []
     stopped = "max_generations"
@@ -274,6 +438,7 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
             kern.append((Zm, Wm, L, Li, log_norm))
         acc_m, acc_z, acc_s, acc_d, acc_w = [], [], [], [], []
         sims = props = hits = 0
+        n_prop = np.zeros(M, int)
         # proposals per accepted particle: the last generation's rate, times the share of its
         # population the new eps keeps (the quantile); each batch is sized to the particles still
         # needed, so that few simulations run past the N-th acceptance
@@ -288,6 +453,7 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
             b += 1
             rng = np.random.default_rng([seed, t, b])
             bm = rng.choice(M, size=size, p=qm / qm.sum())
+            n_prop += np.bincount(bm, minlength=M)
             bz, inside = [], []
             for m in bm:
                 k = kern[m]
@@ -322,7 +488,7 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
             break
         w = np.array(acc_w)
         pops.append(Population(eps, np.array(acc_m), acc_z, w / w.sum(), np.array(acc_d), np.array(acc_s), sims,
-                               props))
+                               props, n_prop, float(w.sum())))
         note(pops[-1], t, hits)
         if hits / sims < min_acceptance:
             stopped = "min_acceptance"

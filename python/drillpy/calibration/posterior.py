@@ -4,7 +4,7 @@
 (:mod:`drillpy.calibration.summaries`), and runs the ABC-SMC of :mod:`drillpy.calibration.abcsmc`
 with the whole rig model (:class:`drillpy.records.rigsim.RigModel`, the ``rig`` drive: motor,
 coupling, jack, platform, 10 Hz filter) as the simulator, each law family of
-:data:`drillpy.calibration.priors.FAMILIES` with its priors (:mod:`drillpy.calibration.priors`).
+:data:`drillpy.calibration.families.FAMILIES` with its priors (:mod:`drillpy.calibration.priors`).
 The distance is the root mean square of the statistics' differences in units of their own
 sampling uncertainty on the record (:func:`~drillpy.calibration.summaries.noise_scale`).
 
@@ -22,7 +22,6 @@ that it changes the statistics no more than the preset's step does is in docs/ca
 """
 from __future__ import annotations
 
-import copy
 import json
 import math
 import time
@@ -32,7 +31,8 @@ from pathlib import Path
 import numpy as np
 
 from drillpy.calibration import abcsmc
-from drillpy.calibration.priors import FAMILIES, PriorSpec, prior_spec, split_config
+from drillpy.calibration.families import FAMILIES, check_base, family_law
+from drillpy.calibration.priors import PriorSpec, prior_spec, split_config
 from drillpy.calibration.sampler import Sampler, check_backend
 from drillpy.calibration.summaries import BOUNDS, NAMES, UNITS, noise_scale, statistics, summaries
 from drillpy.model.configuration import Configuration
@@ -51,59 +51,13 @@ PREDICTED = NAMES
 SIM_DT_S = 2.5e-4
 
 
-def family_law(base: dict, family: str, law_scale: float, static_torque_nm: float | None = None) -> dict:
-    """The engine law of ``family`` from the configuration's polynomial law ``base`` (Eq. 5.1/5.3).
-
-    The slip branch a2..a7 is multiplied by ``law_scale``; a1 ties the law from its value at rest
-    (0 for the regularized Eq. 5.3 reading, ``static_torque_nm`` / gain for Eq. 5.1) to a2 at 1 %
-    of the reference speed, as :mod:`drillpy.records.identification` ties it. Eq. (5.1) drops the
-    hysteresis (beta1 = beta2 = 0).
-
-    Parameters
-    ----------
-    base : dict
-        A ``polynomial`` or ``polynomial_hysteretic`` engine law.
-    family : str
-        ``polynomial_hysteretic`` or ``polynomial``.
-    law_scale : float
-        Factor on the slip branch [-].
-    static_torque_nm : float, optional
-        Static torque gain x a0 at W_ref [N m] (``polynomial`` only).
-
-    Returns
-    -------
-    dict
-    """
-    if base.get("type") not in ("polynomial", "polynomial_hysteretic"):
-        raise ValueError(f"law.type = {base.get('type')!r}: the calibration's families are Eq. (5.1)/(5.3): give a "
-                         "'polynomial' or 'polynomial_hysteretic' law")
-    law = copy.deepcopy(base)
-    for k in ("a2", "a3", "a4", "a5", "a6", "a7"):
-        law[k] = float(base.get(k, 0.0)) * law_scale
-    ref = float(base["ref_speed"])
-    if family == "polynomial":
-        law["type"] = "polynomial"
-        law["a0"] = float(static_torque_nm) / float(base.get("gain", 1.36))
-        law.pop("beta1", None)
-        law.pop("beta2", None)
-    elif family == "polynomial_hysteretic":
-        law["type"] = "polynomial_hysteretic"
-        law["a0"] = 0.0
-        law.setdefault("beta1", 0.0)
-        law.setdefault("beta2", 0.0)
-    else:
-        raise ValueError(f"family = {family!r}: use {', '.join(FAMILIES)}")
-    law["a1"] = (law["a2"] - law["a0"]) / (0.01 * ref)
-    return law
-
-
 def rig_model(base_law: dict, family: str, values: dict, fixed: dict, preset: str = "thesis-rig") -> rigsim.RigModel:
     """The ``rig``-drive model of ``family`` at the parameter ``values`` with the ``fixed`` rig parameters.
 
     Parameters
     ----------
     base_law : dict
-        The configuration's polynomial law (:func:`family_law`).
+        The configuration's polynomial law (:func:`drillpy.calibration.families.family_law`).
     family : str
         Law family.
     values : dict
@@ -117,7 +71,7 @@ def rig_model(base_law: dict, family: str, values: dict, fixed: dict, preset: st
     -------
     RigModel
     """
-    law = family_law(base_law, family, values["law_scale"], values.get("static_torque_nm"))
+    law = family_law(base_law, family, values)
     return rigsim.RigModel(law, values["damping_ratio"], "rig", values["motor_slope_nms_rad"],
                            fixed["motor_inertia_kg_m2"], preset=preset, command_rad_s=values["command_rad_s"],
                            jack_gain_n_rad=values["jack_gain_n_rad"], jack_relaxation_s=fixed["jack_relaxation_s"],
@@ -252,6 +206,8 @@ class Posterior:
     record : dict
         The record's source, calibration window [s], stick threshold [rad/s] and the configuration's
         law the families are built on (``base_law``).
+    model_choice : dict
+        The family the record supports, or that it cannot tell (:func:`drillpy.calibration.abcsmc.model_choice`).
     """
     families: list
     model_probability: dict
@@ -264,14 +220,15 @@ class Posterior:
     run: dict
     spec: dict
     record: dict = field(default_factory=dict)
+    model_choice: dict = field(default_factory=dict)
 
     def summary(self) -> dict:
         """JSON-ready dict (``posterior.json``)."""
         return {"format": "drillpy.posterior", "version": 1, "record": self.record, "families": self.families,
-                "equations": {f: FAMILIES[f] for f in self.families},
+                "equations": {f: FAMILIES[f].equation for f in self.families},
                 "model_probability": self.model_probability, "model_probability_se": self.model_probability_se,
-                "parameters": self.parameters, "predictive": self.predictive, "observed": self.observed,
-                "scale": self.scale, "units": dict(zip(NAMES, UNITS)), "run": self.run, "priors": self.spec,
+                "model_choice": self.model_choice, "parameters": self.parameters, "predictive": self.predictive,
+                "observed": self.observed, "scale": self.scale, "units": dict(zip(NAMES, UNITS)), "run": self.run, "priors": self.spec,
                 "particles": self.particles}
 
 
@@ -378,7 +335,7 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
         cfg = Configuration.load(preset=preset)
     spec = prior_spec(section)
     base_law = cfg.law.to_dict()
-    family_law(base_law, next(iter(spec.families)), 1.0, 2.0)  # the law's type, checked before any run
+    check_base(base_law)  # the law's type, checked before any run
     rec = load_window(record, t0, t1)
     thr = rigsim.stick_threshold(rec)
     observed = summaries(rec, thr, SKIP_S)
@@ -430,7 +387,7 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
                 "base_law": base_law}
     return Posterior(sim.families, dict(zip(sim.families, map(float, p))), dict(zip(sim.families, map(float, se))),
                      parameters, particles, dict(zip(NAMES, map(float, observed))), dict(zip(NAMES, map(float, scale))),
-                     predictive, run, spec.summary(), rec_info)
+                     predictive, run, spec.summary(), rec_info, abcsmc.model_choice(post, sim.families, res.history))
 
 
 #: Sampling-noise replicates per simulated predictive draw (:func:`predictive_intervals`).

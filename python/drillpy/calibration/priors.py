@@ -8,10 +8,12 @@ replaces any of them, fixes the parameters not calibrated, and names the law fam
     "calibration": {
         "priors": {"damping_ratio": {"range": [0.005, 0.1], "scale": "uniform"}, ...},
         "fixed": {"jack_relaxation_s": 0.2, ...},
-        "families": ["polynomial_hysteretic", "polynomial"]
+        "families": ["polynomial_hysteretic", "polynomial", "tucker_wang", "hysteretic"]
     }
 
-The section is read here and removed before the engine validates the rest of the configuration.
+The families (default Eqs. 5.3 and 5.1) and their law parameters' ranges are those of
+:mod:`drillpy.calibration.families`. The section is read here and removed before the engine
+validates the rest of the configuration.
 """
 from __future__ import annotations
 
@@ -21,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from drillpy.calibration.families import DEFAULT_FAMILIES, FAMILIES, FRACTION, LAW_PARAMETERS, POSITIVE
 from drillpy.records.rigsim import RIG_PARAMETERS
 
 #: The calibrated parameters by default: (low, high, unit, scale, the source of the range).
@@ -41,16 +44,12 @@ PARAMETERS = {
                          "the static (break-away) torque gain x a0 of Eq. (5.1) at W_ref: above the slip branch's "
                          "low-speed level would be needed for a stick, and below the 8 N m the motor gives at stall "
                          "(section 5.1); a stuck bit above c_m Omega_c stalls the rig"),
+    **LAW_PARAMETERS,
 }
 
-#: Parameters of each law family (besides the rig's): the families of :data:`FAMILIES`.
-FAMILY_PARAMETERS = {
-    "polynomial_hysteretic": ("law_scale",),
-    "polynomial": ("law_scale", "static_torque_nm"),
-}
-#: The law families compared: Eq. (5.3) regularized (a0 = 0, the ``thesis-rig`` declaration) and
-#: Eq. (5.1) non-regularized (a static torque: the bit sticks until the string's torque reaches it).
-FAMILIES = {"polynomial_hysteretic": "5.3 (regularized, hysteretic)", "polynomial": "5.1 (non-regularized, sticks)"}
+#: Parameters of each law family (besides the rig's): the families of
+#: :data:`drillpy.calibration.families.FAMILIES` (Eqs. 5.3, 5.1, 3.1, 3.2-3.3).
+FAMILY_PARAMETERS = {name: fam.parameters for name, fam in FAMILIES.items()}
 #: The rig parameters calibrated in every family.
 RIG_CALIBRATED = ("damping_ratio", "motor_slope_nms_rad", "command_rad_s", "coupling_stiffness_nm_rad",
                   "jack_gain_n_rad")
@@ -99,9 +98,12 @@ class Prior:
             raise ValueError(f"{field}.range = [{self.low!r}, {self.high!r}]: a log-uniform prior needs low > 0")
         lo, hi = PARAMETERS[self.name][:2] if self.name in PARAMETERS else (-math.inf, math.inf)
         if self.name in ("damping_ratio", "motor_slope_nms_rad", "command_rad_s", "coupling_stiffness_nm_rad",
-                         "law_scale", "static_torque_nm") and self.low <= 0:
+                         "law_scale", "static_torque_nm") + POSITIVE and self.low <= 0:
             raise ValueError(f"{field}.range = [{self.low!r}, {self.high!r}]: the parameter is positive "
                              f"(default range [{lo:g}, {hi:g}] {self.unit})")
+        if self.name in FRACTION and not (0 <= self.low and self.high < 1):
+            raise ValueError(f"{field}.range = [{self.low!r}, {self.high!r}]: the parameter lies in [0, 1) "
+                             f"(default range [{lo:g}, {hi:g}])")
 
     def to_unit(self, x):
         """The parameter value(s) ``x`` mapped to [0, 1], where the prior is uniform.
@@ -206,12 +208,14 @@ def prior_spec(section: dict | None = None) -> PriorSpec:
     if unknown:
         k = sorted(unknown)[0]
         raise ValueError(f"calibration.{k} = {sec[k]!r}: unknown key (use priors, fixed, families)")
-    fams = sec.get("families", list(FAMILIES))
+    fams = sec.get("families", list(DEFAULT_FAMILIES))
     if not isinstance(fams, (list, tuple)) or not fams:
         raise ValueError(f"calibration.families = {fams!r}: a non-empty list of {', '.join(FAMILIES)}")
     for f in fams:
         if f not in FAMILIES:
             raise ValueError(f"calibration.families = {fams!r}: unknown family {f!r} (use {', '.join(FAMILIES)})")
+    if len(set(fams)) != len(fams):
+        raise ValueError(f"calibration.families = {fams!r}: a family named twice")
     given = sec.get("priors", {})
     if not isinstance(given, dict):
         raise ValueError(f"calibration.priors = {given!r}: must be an object name -> {{range, scale}}")

@@ -404,7 +404,8 @@ def cmd_calibrate(a: argparse.Namespace) -> int:
         extra = {} if smap is None else {"stability_map": {
             "speeds_rad_s": smap.speeds.tolist(), "wobs_n": smap.wobs.tolist(), "p_unstable": smap.p_unstable.tolist(),
             "ci90": smap.ci90.tolist(), "p_stall": smap.p_stall.tolist()}}
-        print_json({k: s[k] for k in ("model_probability", "model_probability_se", "parameters", "predictive")}
+        print_json({k: s[k] for k in ("model_probability", "model_probability_se", "model_choice", "parameters",
+                                      "predictive")}
                    | {"simulations": s["run"]["simulations"], "wall_s": s["run"]["wall_s"]} | extra)
         return 0
     print("\n".join(summary_lines(s)))

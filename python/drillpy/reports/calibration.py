@@ -93,11 +93,18 @@ def summary_lines(s: dict) -> list:
              f"{_backend(run)}{cpu}), {run['generations']} generations, final eps {run['eps'][-1]:.3g} "
              f"({run['stopped']})"]
     for fam in s["families"]:
+        up = (s.get("model_choice") or {}).get("upper95", {}).get(fam)
         lines.append(f"P({fam}, Eq. {s['equations'][fam]}) = {s['model_probability'][fam]:.3f} "
-                     f"+- {s['model_probability_se'][fam]:.3f} (Monte Carlo s.e.)")
+                     f"+- {s['model_probability_se'][fam]:.3f} (Monte Carlo s.e.)"
+                     + ("" if up is None else f"; no particle left: below {up:.3f} at 95 %"))
         lines += [f"  {name}: {p['median']:.4g} [{p['ci90'][0]:.4g}, {p['ci90'][1]:.4g}] {p['unit']} "
                   f"(90 %; prior [{p['prior'][0]:g}, {p['prior'][1]:g}], width {p['width_ratio']:.2f} of it)"
                   for name, p in s["parameters"][fam].items()]
+    mc = s.get("model_choice") or {}
+    if mc and len(s["families"]) > 1:
+        bf = "" if mc["bayes_factor"] is None else f", Bayes factor {mc['bayes_factor']:.3g} over {mc['runner_up']}"
+        lines.append(f"model choice: {mc['family'] or 'cannot tell'} ({mc['reason']}; {mc['most_probable']} leads by "
+                     f"{mc['lead']:.3f} +- {mc['lead_se']:.3f}{bf})")
     lines.append(f"posterior predictive 90 % intervals: {sum(v['contained'] for v in pred.values())} of "
                  f"{len(pred)} contain the measured value")
     lines += [f"  {name}: [{v['interval90'][0]:.4g}, {v['interval90'][1]:.4g}] {v['unit']}, measured "
