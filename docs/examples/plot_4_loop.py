@@ -28,7 +28,7 @@ res = drillpy.run_loop(rec, declared_config(), options, log=print)
 # %%
 # The steps: what was added, and the validation error before and after.
 for s in res.steps:
-    print(f"{s['action']} {s['effect']}: E {s['error_before']:.3f} -> {s['error_after']:.3f}")
+    print(f"{s.action} {s.effect}: E {s.error_before:.3f} -> {s.error_after:.3f}")
 print("fitted:", res.final.model.effects)
 
 # %%
