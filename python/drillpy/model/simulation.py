@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -12,10 +12,10 @@ from drillpy.model.config import engine_config, to_json_text, with_overrides
 from drillpy.progress import progress_bar
 
 
-@dataclass
 class SimulationResult:
-    """Time series (SI, absolute frame) and metrics of one run: the fields of the engine's
-    ``_core.RunReport``; :meth:`summary` is the run's summary.json content
+    """Time series (SI, absolute frame) and metrics of one run: the engine's ``_core.RunReport``
+    with the configuration it ran; its fields are the report's, read from it on first use (they
+    are declared once, in the engine's binding); :meth:`summary` is the run's summary.json content
     (``drill/run_summary.hpp``, shared with drillsim).
 
     Attributes
@@ -51,30 +51,33 @@ class SimulationResult:
         Reduced state (modal coordinates and their rates) at the end of the run.
     config : dict
         The normalized configuration the run used.
-    report : _core.RunReport or None
+    report : _core.RunReport
         The engine's report the fields come from.
+
+    Parameters
+    ----------
+    report : _core.RunReport
+        The engine's report of the run.
+    config : dict
+        The normalized configuration the run used.
     """
-    t: np.ndarray
-    bit_speed: np.ndarray
-    bit_accel: np.ndarray
-    bit_angle: np.ndarray
-    torque_on_bit: np.ndarray
-    top_torque: np.ndarray
-    top_speed: np.ndarray
-    wob: np.ndarray
-    severity: float
-    mean_top_speed: float
-    stick_fraction: float
-    stick_durations: np.ndarray
-    slip_durations: np.ndarray
-    slip_first: bool
-    period_cycles: int
-    period_stick: np.ndarray
-    period_slip: np.ndarray
-    final_q: np.ndarray
-    final_qdot: np.ndarray
-    config: dict = field(repr=False, default_factory=dict)
-    report: "_core.RunReport | None" = field(repr=False, default=None, compare=False)
+
+    def __init__(self, report: "_core.RunReport", config: dict):
+        self.report = report
+        self.config = config
+
+    def __getattr__(self, name: str):
+        # the report's fields (t, bit_speed, ..., final_qdot): read once, then kept as attributes
+        report = self.__dict__.get("report")
+        if report is None or name.startswith("_"):
+            raise AttributeError(name)
+        value = getattr(report, name)
+        self.__dict__[name] = value
+        return value
+
+    def __repr__(self) -> str:
+        return (f"SimulationResult(severity={self.severity!r}, stick_fraction={self.stick_fraction!r}, "
+                f"period_cycles={self.period_cycles!r}, samples={len(self.t)})")
 
     @property
     def axial(self) -> "_core.AxialReport | None":
@@ -104,12 +107,6 @@ class SimulationResult:
         if self.report is None:
             raise ValueError("summary: this result holds no engine report")
         return self.report.summary()
-
-
-#: the fields of SimulationResult that come from the engine's RunReport (RunReport.to_dict keys)
-_REPORT_FIELDS = ("t", "bit_speed", "bit_accel", "bit_angle", "torque_on_bit", "top_torque", "top_speed", "wob",
-                  "severity", "mean_top_speed", "stick_fraction", "stick_durations", "slip_durations",
-                  "slip_first", "period_cycles", "period_stick", "period_slip", "final_q", "final_qdot")
 
 
 def _engine(cfg) -> "_core.Simulation":
@@ -201,8 +198,7 @@ def simulate(cfg: "dict | _core.Config", top_speed: float | None = None, wob: fl
                 record=record,
                 q0=_opt(q0), qdot0=_opt(qdot0),
                 top_speed0=None if top_speed0 is None else float(top_speed0))
-    return SimulationResult(**{k: getattr(r, k) for k in _REPORT_FIELDS},
-                            config=sim.config.to_dict(), report=r)
+    return SimulationResult(r, sim.config.to_dict())
 
 
 def simulate_many(cfgs, *, top_speed_series=None, series_dt: float = 1e-3, series_t0: float = 0.0,
@@ -246,9 +242,7 @@ def simulate_many(cfgs, *, top_speed_series=None, series_dt: float = 1e-3, serie
     sims = [_engine(c) for c in cfgs]
     reports, errors = _core.run_many(sims, _opt(top_speed_series), series_dt, series_t0, bool(record), int(threads),
                                      bool(batched))
-    results = [None if r is None else SimulationResult(**{k: getattr(r, k) for k in _REPORT_FIELDS},
-                                                       config=s.config.to_dict(), report=r)
-               for s, r in zip(sims, reports)]
+    results = [None if r is None else SimulationResult(r, s.config.to_dict()) for s, r in zip(sims, reports)]
     return results, list(errors)
 
 
