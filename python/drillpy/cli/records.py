@@ -377,14 +377,8 @@ def cmd_calibrate(a: argparse.Namespace) -> int:
     for name in ("t0", "t1"):
         if getattr(a, name) is not None:
             validate.number("--" + name, getattr(a, name), unit="s")
-    held = None
-    if a.heldout is not None:
-        try:
-            held = tuple(float(x) for x in a.heldout.split(":"))
-            if len(held) != 2 or not held[0] < held[1]:
-                raise ValueError
-        except ValueError:
-            raise ValueError(f"--heldout = {a.heldout!r}: give T0:T1 in s with T0 < T1") from None
+    from drillpy.records.samples import parse_window
+    held = None if a.heldout is None else parse_window(a.heldout, "--heldout")
     grids = None if a.map is None else _map_grids(a.map)
     if not 2 <= a.map_samples <= 100000:
         raise ValueError(f"--map-samples = {a.map_samples}: an integer from 2 to 100000")

@@ -234,7 +234,8 @@ def parse_window(text: str, name: str = "window") -> tuple:
     try:
         a, b = (float(x) for x in text.split(":"))
     except ValueError:
-        raise ValueError(f"{name} = {text!r}: use T0:T1 [s], e.g. 0:10 (or sample.mat@0:10)") from None
+        raise ValueError(f"{name} = {text!r}: use T0:T1 [s], e.g. 0:10" + (" (or sample.mat@0:10)" if name == "window" else
+                                                                           "")) from None
     if not (math.isfinite(a) and math.isfinite(b) and a < b):
         raise ValueError(f"{name} = {text!r}: needs finite T0 < T1 [s]")
     return a, b
