@@ -382,18 +382,13 @@ def cmd_calibrate(a: argparse.Namespace) -> int:
     grids = None if a.map is None else _map_grids(a.map)
     if not 2 <= a.map_samples <= 100000:
         raise ValueError(f"--map-samples = {a.map_samples}: an integer from 2 to 100000")
-    smap = None
     with _removed_on_failure(a.out):
-        s = calibrate_to_folder(a.record, a.out, preset=a.preset, config_path=a.config, t0=a.t0, t1=a.t1,
-                                heldout=held, population=a.population, max_simulations=a.simulations,
-                                max_generations=a.generations, predictive_draws=a.draws, seed=a.seed,
-                                threads=a.threads, scheduler=a.scheduler, chunk=a.chunk,
-                                log=None if a.json else print)
-        if grids is not None:
-            from drillpy.calibration.stability import stability_map
-            smap = stability_map(s, *grids, samples=a.map_samples, seed=a.seed, threads=a.threads)
-            from drillpy.reports.calibration import write_map
-            s["files"] += write_map(smap, a.out)
+        s = calibrate_to_folder(a.record, a.out, map_grids=grids, map_samples=a.map_samples, preset=a.preset,
+                                config_path=a.config, t0=a.t0, t1=a.t1, heldout=held, population=a.population,
+                                max_simulations=a.simulations, max_generations=a.generations,
+                                predictive_draws=a.draws, seed=a.seed, threads=a.threads, scheduler=a.scheduler,
+                                chunk=a.chunk, log=None if a.json else print)
+    smap = s.get("stability_map")
     if a.json:
         extra = {} if smap is None else {"stability_map": {
             "speeds_rad_s": smap.speeds.tolist(), "wobs_n": smap.wobs.tolist(), "p_unstable": smap.p_unstable.tolist(),

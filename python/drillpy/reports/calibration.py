@@ -6,10 +6,11 @@ from pathlib import Path
 from drillpy.calibration.posterior import calibrate_record
 
 
-def calibrate_to_folder(record, out, **options) -> dict:
+def calibrate_to_folder(record, out, *, map_grids=None, map_samples: int = 40, **options) -> dict:
     """Calibrate (:func:`drillpy.calibration.posterior.calibrate_record`) and write ``out``:
     ``posterior.json``, ``marginals.png``, ``pair.png`` (the most probable family's first two
-    parameters) and ``predictive.png``.
+    parameters) and ``predictive.png``; with ``map_grids`` also the posterior stability map
+    (:func:`drillpy.calibration.stability.stability_map`, :func:`write_map`).
 
     Parameters
     ----------
@@ -17,13 +18,19 @@ def calibrate_to_folder(record, out, **options) -> dict:
         The record.
     out : str or Path
         Output folder (created if missing).
+    map_grids : tuple of array_like, optional
+        (motor commands [rad/s], WOB [N]) of the stability map; None: no map.
+    map_samples : int
+        Monte Carlo samples of the map (posterior draw and eta realization each).
     **options
-        Passed to :func:`~drillpy.calibration.posterior.calibrate_record`.
+        Passed to :func:`~drillpy.calibration.posterior.calibrate_record` (its ``seed`` and
+        ``threads`` also to the map).
 
     Returns
     -------
     dict
-        ``Posterior.summary()`` with ``files`` (the paths written).
+        ``Posterior.summary()`` with ``files`` (the paths written) and, with a map, ``stability_map``
+        (the :class:`~drillpy.calibration.stability.StabilityMap`).
     """
     from drillpy.figures.calibration import marginals_plot, pair_plot, predictive_plot
     from drillpy.jsonio import dumps
@@ -44,6 +51,12 @@ def calibrate_to_folder(record, out, **options) -> dict:
         predictive_plot(out / "predictive.png", s)
         files.append(out / "predictive.png")
     s["files"] = [str(f) for f in files]
+    if map_grids is not None:
+        from drillpy.calibration.stability import stability_map
+        smap = stability_map(s, *map_grids, samples=map_samples, seed=options.get("seed", 0),
+                             threads=options.get("threads", 0))
+        s["files"] += write_map(smap, out)
+        s["stability_map"] = smap
     return s
 
 
