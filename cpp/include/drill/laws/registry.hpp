@@ -36,6 +36,7 @@
 #include "drill/laws/tucker_wang.hpp"
 #include "drill/laws/hysteretic.hpp"
 #include "drill/laws/polynomial.hpp"
+#include "drill/laws/constant_torque.hpp"
 
 #ifndef DRILL_LAWS_REGISTRY_HPP_
 #define DRILL_LAWS_REGISTRY_HPP_
@@ -46,6 +47,7 @@
   X(tucker_wang, TuckerWang)     \
   X(hysteretic, Hysteretic)      \
   X(polynomial, Polynomial)      \
-  X(polynomial_hysteretic, PolynomialHysteretic)
+  X(polynomial_hysteretic, PolynomialHysteretic) \
+  X(constant_torque, ConstantTorque)
 
 #endif  // DRILL_LAWS_REGISTRY_HPP_
