@@ -176,12 +176,3 @@ TEST(BitRock, ValueOnlyTorqueIsBitIdenticalToEval) {
         }
   EXPECT_EQ(compared, 6 * 10 * 5 * 2);
 }
-
-TEST(BitRock, ConstantTorqueIsOdd) {  // SCRATCH
-  BitRockLaw l;
-  l.kind = BitRockLaw::Kind::constant_torque;
-  l.t0 = 100.0;
-  l.wob_ref = 1.0;
-  EXPECT_EQ(l.torque(2.0, 0.0, 1.0), 100.0);
-  EXPECT_EQ(l.torque(-2.0, 0.0, 1.0), -100.0);
-}

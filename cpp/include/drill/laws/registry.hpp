@@ -36,7 +36,6 @@
 #include "drill/laws/tucker_wang.hpp"
 #include "drill/laws/hysteretic.hpp"
 #include "drill/laws/polynomial.hpp"
-#include "drill/laws/constant_torque.hpp"
 
 #ifndef DRILL_LAWS_REGISTRY_HPP_
 #define DRILL_LAWS_REGISTRY_HPP_
@@ -47,7 +46,6 @@
   X(tucker_wang, TuckerWang)     \
   X(hysteretic, Hysteretic)      \
   X(polynomial, Polynomial)      \
-  X(polynomial_hysteretic, PolynomialHysteretic) \
-  X(constant_torque, ConstantTorque)
+  X(polynomial_hysteretic, PolynomialHysteretic)
 
 #endif  // DRILL_LAWS_REGISTRY_HPP_
