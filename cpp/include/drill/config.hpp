@@ -246,7 +246,6 @@ struct Tables {
 
 inline Tables make_tables() {
   const Config d;               // the defaults of absent keys
-  const Controller dc;          // those of the controller's keys
   const AxialTorsionalSpec ad;  // those of the rgd axial keys
   Tables t;
 
@@ -383,20 +382,9 @@ inline Tables make_tables() {
 
   {
     using C = Controller;
-    const Key<C> kp{number("kp_nms_rad", "kp: proportional gain [N m s/rad]").positive(), &C::kp_given};
-    const Key<C> ki{number("ki_nm_rad", "ki: integral gain [N m/rad]").non_negative(), &C::ki_given};
-    const Key<C> bandwidth{number("bandwidth_ratio", "closed-loop bandwidth of the speed loop over the string's first "
-                                                     "natural frequency: kp = 2 J w_b, ki = J w_b^2, w_b = ratio w_1")
-                               .positive()
-                               .def(dc.bandwidth_ratio),
-                           &C::bandwidth_ratio};
-    const Key<C> impedance{
-        number("impedance_nms_rad", "Z [N m s/rad] (default: the top section's J_p sqrt(G rho))").positive(),
-        &C::impedance_given};
-    // the pi controller needs both gains: its validate() refuses an absent one
-    Key<C> kp_pi = kp, ki_pi = ki;
-    kp_pi.field.req_in_validate();
-    ki_pi.field.req_in_validate();
+    std::vector<Case<C>> variants;  // each controller's keys (controllers/registry.hpp)
+    for (const Named<C::Kind>& k : C::kinds)
+      C::visit(k.value, [&](auto ctl) { variants.push_back({k.name, decltype(ctl)::template keys<C>()}); });
     t.controller = {
         "top_drive.controller",
         "speed controller of a controlled top drive, J Omega' = u - T_top, u = sat(kp e + ki int e), "
@@ -411,18 +399,7 @@ inline Tables make_tables() {
             require(v > 0.0, path, v, "must be positive (omit it for a continuous controller)");
             k.sample_time = v;
           }}},
-        {{C::kind_name(C::Kind::stiff), {kp, ki, bandwidth}},
-         {C::kind_name(C::Kind::pi), {kp_pi, ki_pi}},
-         {C::kind_name(C::Kind::soft_speed),
-          {kp, ki, impedance,
-           {number("stick_slip_frequency_rad_s", "w_s [rad/s] (default: the string's first natural frequency)")
-                .positive(),
-            &C::stick_slip_frequency}}},
-         {C::kind_name(C::Kind::z_torque),
-          {kp, ki, bandwidth, impedance,
-           {number("torque_filter_s", "time constant of the top torque's low-pass T_mean [s] (default: 5 / w_1)")
-                .positive(),
-            &C::torque_filter_given}}}}};
+        variants};
   }
 
   {
