@@ -26,6 +26,7 @@
 #pragma once
 
 #include "drill/controllers/pi.hpp"
+#include "drill/controllers/proportional.hpp"
 #include "drill/controllers/soft_speed.hpp"
 #include "drill/controllers/stiff.hpp"
 #include "drill/controllers/z_torque.hpp"
@@ -36,4 +37,5 @@
   X(stiff, Stiff)            \
   X(pi, Pi)                  \
   X(soft_speed, SoftSpeed)   \
-  X(z_torque, ZTorque)
+  X(z_torque, ZTorque)      \
+  X(proportional, Proportional)
