@@ -317,11 +317,3 @@ TEST(Controller, EveryRegisteredControllerIsNamedParsedAndWrittenBack) {
     EXPECT_TRUE(tuned.tuned()) << k.name;
   }
 }
-
-TEST(Controller, ProportionalHasNoIntegral) {  // SCRATCH
-  Controller c;
-  c.kind = Controller::Kind::proportional;
-  c.tune(10.0, 1.0, 2.0);
-  EXPECT_EQ(c.ki, 0.0);
-  EXPECT_EQ(c.kp, 2.0 * 10.0 * 20.0 * 2.0);
-}

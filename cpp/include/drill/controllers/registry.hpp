@@ -26,7 +26,6 @@
 #pragma once
 
 #include "drill/controllers/pi.hpp"
-#include "drill/controllers/proportional.hpp"
 #include "drill/controllers/soft_speed.hpp"
 #include "drill/controllers/stiff.hpp"
 #include "drill/controllers/z_torque.hpp"
@@ -37,5 +36,4 @@
   X(stiff, Stiff)            \
   X(pi, Pi)                  \
   X(soft_speed, SoftSpeed)   \
-  X(z_torque, ZTorque)      \
-  X(proportional, Proportional)
+  X(z_torque, ZTorque)
