@@ -36,4 +36,5 @@
   X(stiff, Stiff)            \
   X(pi, Pi)                  \
   X(soft_speed, SoftSpeed)   \
-  X(z_torque, ZTorque)
+  X(z_torque, ZTorque)       \
+  /* end of the list */

@@ -42,10 +42,11 @@
 
 /// X(name, Law) for every law, in the order of law.type's choices: the law's name (law.type and the
 /// enumerator BitRockLaw::Kind::name) and its struct in drill::laws.
-#define DRILL_BIT_ROCK_LAWS(X)   \
-  X(tucker_wang, TuckerWang)     \
-  X(hysteretic, Hysteretic)      \
-  X(polynomial, Polynomial)      \
-  X(polynomial_hysteretic, PolynomialHysteretic)
+#define DRILL_BIT_ROCK_LAWS(X)                   \
+  X(tucker_wang, TuckerWang)                     \
+  X(hysteretic, Hysteretic)                      \
+  X(polynomial, Polynomial)                      \
+  X(polynomial_hysteretic, PolynomialHysteretic) \
+  /* end of the list */
 
 #endif  // DRILL_LAWS_REGISTRY_HPP_
