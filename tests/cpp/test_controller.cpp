@@ -1,10 +1,13 @@
 // Controlled top drives (controller.hpp, issue 15 item 1): the stiff limit against the ideal drive,
 // integral action and the torque limit, the SoftSpeed tuning by hand, the soft drives against the
-// stiff one under stick-slip, the refused inputs and the JSON round trip.
+// stiff one under stick-slip, the refused inputs, the JSON round trip and the registry of controllers.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <iterator>
+#include <set>
+#include <string>
 #include <vector>
 
 #include "drill/presets.hpp"
@@ -284,4 +287,33 @@ TEST(Controller, ConfigRoundTrip) {
                     {"inertia_kg_m2", 1500.0},
                     {"controller", {{"type", "pi"}, {"kp_nms_rad", 900.0}, {"ki_nm_rad", 250.0}}}};
   EXPECT_EQ(to_json(parse_config(p))["top_drive"], p["top_drive"]);
+}
+
+TEST(Controller, EveryRegisteredControllerIsNamedParsedAndWrittenBack) {
+  // controllers/registry.hpp: unique names in the list's order, the block's and each variant's keys
+  // not repeated, and every key of a variant (at 0.5, which all their bounds admit) read and written back
+  const schema::Block& block = schema::block("top_drive.controller");
+  ASSERT_EQ(block.variants.size(), std::size(Controller::kinds));
+  std::set<std::string> names;
+  for (std::size_t n = 0; n < std::size(Controller::kinds); ++n) {
+    const Named<Controller::Kind>& k = Controller::kinds[n];
+    EXPECT_TRUE(names.insert(k.name).second) << k.name;
+    EXPECT_EQ(static_cast<std::size_t>(k.value), n) << k.name;
+    EXPECT_EQ(Controller::parse_kind(k.name), k.value);
+    EXPECT_EQ(block.variants[n].type, k.name);
+    std::set<std::string> keys;
+    for (const schema::Field& f : block.fields) keys.insert(f.key);
+    for (const schema::Field& f : block.variants[n].fields) EXPECT_TRUE(keys.insert(f.key).second) << k.name << "." << f.key;
+    json ctl = {{"type", k.name}, {"torque_limit_nm", 1e6}};
+    for (const std::string& key : schema::keys("top_drive.controller", k.name))
+      if (!ctl.contains(key)) ctl[key] = 0.5;
+    json j = preset_json("thesis-field");
+    j["top_drive"] = {{"type", "controlled"}, {"inertia_kg_m2", 1500.0}, {"controller", ctl}};
+    const Config c = parse_config(j);
+    EXPECT_EQ(c.top_drive.controller.kind, k.value);
+    EXPECT_EQ(to_json(c)["top_drive"], j["top_drive"]) << k.name;
+    Controller tuned = c.top_drive.controller;
+    tuned.tune(1500.0, 400.0, 1.0);
+    EXPECT_TRUE(tuned.tuned()) << k.name;
+  }
 }

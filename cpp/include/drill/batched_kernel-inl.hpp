@@ -45,7 +45,7 @@ HWY_INLINE V Sign(D d, V x) {
   return hn::IfThenElse(x > hn::Zero(d), hn::Set(d, 1.0), hn::IfThenElse(x < hn::Zero(d), hn::Set(d, -1.0), hn::Zero(d)));
 }
 
-/// tanh_sat of bitrock.hpp: +-1 beyond |x| > 19.1, 1 - 2 / (e^2x + 1) otherwise.
+/// tanh_sat of laws/at_speed.hpp: +-1 beyond |x| > 19.1, 1 - 2 / (e^2x + 1) otherwise.
 HWY_INLINE V TanhSat(D d, V x) {
   const V lim = hn::Set(d, 19.1), one = hn::Set(d, 1.0);
   const M up = x > lim, dn = x < hn::Neg(lim);
@@ -58,52 +58,6 @@ HWY_INLINE V TanhSat(D d, V x) {
 HWY_INLINE V StdMax(V a, V b) { return hn::IfThenElse(a < b, b, a); }
 HWY_INLINE V StdMin(V a, V b) { return hn::IfThenElse(b < a, b, a); }
 
-/// BitRockLaw::at_speed for a vector of SI bit speeds (per-lane WOB factor w = W / W_ref): base,
-/// frac and c of T(a) = base + frac (1 + c tanh(k a)); the speed derivatives are not needed here.
-HWY_INLINE void AtSpeed(D d, const BitRockLaw& law, double s, V v_si, V w, V& base, V& frac, V& c) {
-  const V v = v_si * hn::Set(d, s), sg = Sign(d, v), one = hn::Set(d, 1.0);
-  base = hn::Zero(d);
-  frac = hn::Zero(d);
-  c = hn::Zero(d);
-  switch (law.kind) {
-    case BitRockLaw::Kind::tucker_wang: {  // Eq. (3.1)
-      const V t = TanhSat(d, hn::Set(d, law.alpha0) * v), den = one + hn::Set(d, law.alpha2) * v * v;
-      base = hn::Set(d, law.c0) * (t + hn::Set(d, law.alpha1) * v / den);
-      break;
-    }
-    case BitRockLaw::Kind::hysteretic: {  // Eq. (3.2)
-      const auto& b = law.b;
-      base = hn::Set(d, b[0]) * TanhSat(d, hn::Set(d, b[1]) * v);
-      const V av = StdMax(hn::Abs(v), hn::Set(d, 1e-300)), lv = hn::Log(d, av);
-      const V p4 = hn::Exp(d, hn::Set(d, b[4]) * lv), p5 = hn::Exp(d, hn::Set(d, b[5]) * lv);
-      const V den = one + hn::Set(d, b[3]) * p5;
-      frac = hn::Set(d, b[0]) * sg * hn::Set(d, b[2]) * p4 / den;
-      c = hn::Set(d, law.beta1) * sg;  // Eq. (3.3)
-      break;
-    }
-    case BitRockLaw::Kind::polynomial:
-    case BitRockLaw::Kind::polynomial_hysteretic: {  // Eqs. (5.1), (5.3)
-      const auto& a = law.a;
-      const bool odd = a[0] > 0.0;
-      const V u = odd ? hn::Abs(v) : v;
-      const V p1 = hn::Set(d, a[0]) + hn::Set(d, a[1]) * u, p2 = hn::Set(d, a[2]) + hn::Set(d, a[3]) * u;
-      const V p3 = hn::Set(d, a[4]) + u * (hn::Set(d, a[5]) + u * (hn::Set(d, a[6]) + u * hn::Set(d, a[7])));
-      V p = hn::IfThenElse(u <= hn::Set(d, 0.01 * law.ref_speed), p1,
-                           hn::IfThenElse(u <= hn::Set(d, 0.05 * law.ref_speed), p2, p3));
-      if (odd) p = hn::IfThenElse(v < hn::Zero(d), hn::Set(d, -1.0), one) * p;
-      if (law.kind == BitRockLaw::Kind::polynomial) {
-        base = hn::Set(d, law.gain) * p;
-      } else {
-        frac = hn::Set(d, law.gain) * p;
-        c = hn::Set(d, law.beta1) * sg;
-      }
-      break;
-    }
-  }
-  base = base * w;
-  frac = frac * w;
-}
-
 /// TanhSat without its exp where every lane is saturated (the same values lane by lane).
 HWY_INLINE V TanhSatSkip(D d, V x) {
   const V lim = hn::Set(d, 19.1);
@@ -111,59 +65,56 @@ HWY_INLINE V TanhSatSkip(D d, V x) {
   return TanhSat(d, x);
 }
 
+}  // namespace batched_detail
+}  // namespace HWY_NAMESPACE
+}  // namespace drill
+HWY_AFTER_NAMESPACE();
+
+// each law's LawAtSpeed and LawAtSpeedDv for this target (laws/registry.hpp), which use the above
+#define DRILL_LAW_LANES
+#include "drill/laws/registry.hpp"
+#undef DRILL_LAW_LANES
+
+HWY_BEFORE_NAMESPACE();
+namespace drill {
+namespace HWY_NAMESPACE {
+namespace batched_detail {
+
+/// BitRockLaw::at_speed for a vector of SI bit speeds (per-lane WOB factor w = W / W_ref): base,
+/// frac and c of T(a) = base + frac (1 + c tanh(k a)); the speed derivatives are not needed here.
+/// The law of law.kind by its LawAtSpeed (the switch is written here, not through BitRockLaw::visit,
+/// so that the laws' code is inlined into this target's kernel).
+HWY_INLINE void AtSpeed(D d, const BitRockLaw& law, double s, V v_si, V w, V& base, V& frac, V& c) {
+  const V v = v_si * hn::Set(d, s), sg = Sign(d, v);
+  base = hn::Zero(d);
+  frac = hn::Zero(d);
+  c = hn::Zero(d);
+  switch (law.kind) {
+#define DRILL_LAW_CASE(name, Law)                                \
+  case BitRockLaw::Kind::name:                                   \
+    LawAtSpeed(laws::Law{}, d, law, v, sg, base, frac, c);       \
+    break;
+    DRILL_BIT_ROCK_LAWS(DRILL_LAW_CASE)
+#undef DRILL_LAW_CASE
+  }
+  base = base * w;
+  frac = frac * w;
+}
+
 /// BitRockLaw::at_speed with the speed derivatives, for the exact modal scheme's Newton iteration
 /// (the bit speed moves with the unknown there): T(v, a) = base + frac (1 + c tanh(k a)), SI
-/// derivatives dbase, dfrac (Eqs. 3.1-3.3, 5.1, 5.3, WOB factor w applied).
+/// derivatives dbase, dfrac (Eqs. 3.1-3.3, 5.1, 5.3, WOB factor w applied), by the law's LawAtSpeedDv.
 HWY_INLINE void AtSpeedDv(D d, const BitRockLaw& law, double s, V v_si, V w, V& base, V& frac, V& c, V& dbase,
                           V& dfrac) {
-  const V v = v_si * hn::Set(d, s), sg = Sign(d, v), one = hn::Set(d, 1.0);
+  const V v = v_si * hn::Set(d, s), sg = Sign(d, v);
   base = frac = c = dbase = dfrac = hn::Zero(d);
   switch (law.kind) {
-    case BitRockLaw::Kind::tucker_wang: {  // Eq. (3.1)
-      const V t = TanhSatSkip(d, hn::Set(d, law.alpha0) * v), v2 = v * v, den = hn::MulAdd(hn::Set(d, law.alpha2), v2, one);
-      const V inv = one / den;
-      base = hn::Set(d, law.c0) * hn::MulAdd(hn::Set(d, law.alpha1) * v, inv, t);
-      dbase = hn::Set(d, law.c0) * hn::MulAdd(hn::Set(d, law.alpha0), hn::NegMulAdd(t, t, one),
-                                              hn::Set(d, law.alpha1) * hn::NegMulAdd(hn::Set(d, law.alpha2), v2, one) * inv * inv);
-      break;
-    }
-    case BitRockLaw::Kind::hysteretic: {  // Eq. (3.2)
-      const auto& b = law.b;
-      const V t = TanhSatSkip(d, hn::Set(d, b[1]) * v);
-      base = hn::Set(d, b[0]) * t;
-      dbase = hn::Set(d, b[0] * b[1]) * hn::NegMulAdd(t, t, one);
-      const V av = StdMax(hn::Abs(v), hn::Set(d, 1e-300)), lv = hn::Log(d, av);
-      const V p4 = hn::Exp(d, hn::Set(d, b[4]) * lv), p5 = hn::Exp(d, hn::Set(d, b[5]) * lv);
-      // q = |v|^b4 / (1 + b3 |v|^b5) and its derivative (b4 den - b3 b5 |v|^b5) |v|^b4 / (|v| den^2) of
-      // q sign(v), with one division (off the Newton iteration's chain of latencies)
-      const V den = hn::MulAdd(hn::Set(d, b[3]), p5, one), r = one / (av * den), q = p4 * av * r;
-      frac = hn::Set(d, b[0] * b[2]) * sg * q;
-      dfrac = hn::Set(d, b[0] * b[2]) * hn::MulSub(hn::Set(d, b[4]), den, hn::Set(d, b[3] * b[5]) * p5) * q * r;
-      c = hn::Set(d, law.beta1) * sg;  // Eq. (3.3)
-      break;
-    }
-    case BitRockLaw::Kind::polynomial:
-    case BitRockLaw::Kind::polynomial_hysteretic: {  // Eqs. (5.1), (5.3)
-      const auto& a = law.a;
-      const bool odd = a[0] > 0.0;
-      const V u = odd ? hn::Abs(v) : v;
-      const V p1 = hn::MulAdd(hn::Set(d, a[1]), u, hn::Set(d, a[0])), p2 = hn::MulAdd(hn::Set(d, a[3]), u, hn::Set(d, a[2]));
-      const V p3 = hn::MulAdd(u, hn::MulAdd(u, hn::MulAdd(u, hn::Set(d, a[7]), hn::Set(d, a[6])), hn::Set(d, a[5])), hn::Set(d, a[4]));
-      const V dp3 = hn::MulAdd(u, hn::MulAdd(hn::Set(d, 3.0 * a[7]), u, hn::Set(d, 2.0 * a[6])), hn::Set(d, a[5]));
-      const M m1 = u <= hn::Set(d, 0.01 * law.ref_speed), m2 = u <= hn::Set(d, 0.05 * law.ref_speed);
-      V p = hn::IfThenElse(m1, p1, hn::IfThenElse(m2, p2, p3));
-      const V dp = hn::IfThenElse(m1, hn::Set(d, a[1]), hn::IfThenElse(m2, hn::Set(d, a[3]), dp3));
-      if (odd) p = hn::IfThenElse(v < hn::Zero(d), hn::Neg(p), p);  // d(su p(|v|))/dv = p'(|v|)
-      if (law.kind == BitRockLaw::Kind::polynomial) {
-        base = hn::Set(d, law.gain) * p;
-        dbase = hn::Set(d, law.gain) * dp;
-      } else {
-        frac = hn::Set(d, law.gain) * p;
-        dfrac = hn::Set(d, law.gain) * dp;
-        c = hn::Set(d, law.beta1) * sg;
-      }
-      break;
-    }
+#define DRILL_LAW_CASE(name, Law)                                              \
+  case BitRockLaw::Kind::name:                                                 \
+    LawAtSpeedDv(laws::Law{}, d, law, v, sg, base, frac, c, dbase, dfrac);     \
+    break;
+    DRILL_BIT_ROCK_LAWS(DRILL_LAW_CASE)
+#undef DRILL_LAW_CASE
   }
   const V ws = w * hn::Set(d, s);
   base = base * w;

@@ -9,8 +9,8 @@
 //   "damping": {"type": "modal", "ratios": [0.095, 0.02]}
 //            | {"type": "rayleigh", "pairs": [[f1_hz, zeta1], [f2_hz, zeta2]]},
 //   "law": {"type": "hysteretic", "speed_unit": "rpm", "wob_ref_n": 245000,
-//           "b0".."b5", "beta1", "beta2"}          (tucker_wang: "c0", "alpha0".."alpha2";
-//           polynomial[_hysteretic]: "a0".."a7", "ref_speed", "gain", "beta1", "beta2"),
+//           "b0".."b5", "beta1", "beta2"}          (the keys of each law: its header, listed in
+//                                                   laws/registry.hpp),
 //   "operation": {"top_speed_rad_s": 16, "wob_n": 245000, "bit_viscous_nms": 0, "string_friction_nm": 0},
 //                                                  (bit_viscous_nms: extra viscous torque c_v v on the bit;
 //                                                   string_friction_nm: Coulomb torque T_sf sign(v) of the
@@ -246,7 +246,6 @@ struct Tables {
 
 inline Tables make_tables() {
   const Config d;               // the defaults of absent keys
-  const Controller dc;          // those of the controller's keys
   const AxialTorsionalSpec ad;  // those of the rgd axial keys
   Tables t;
 
@@ -328,30 +327,11 @@ inline Tables make_tables() {
             s.z2 = p[1][1];
           }}}}}};
 
-  {  // the bit-rock laws: common keys, then each law's parameters
+  {  // the bit-rock laws: common keys, then each law's parameters (laws/registry.hpp)
     using L = BitRockLaw;
-    std::vector<Key<L>> poly;
-    for (int i = 0; i < 8; ++i)
-      poly.push_back({number("a" + std::to_string(i), "Eq. (5.1) coefficient a" + std::to_string(i)).req(),
-                      [i](auto& l) -> auto& { return l.a[i]; }});
-    poly.push_back({number("ref_speed", "mean bit speed of Eq. (5.1) [speed_unit]").positive().req(), &L::ref_speed});
-    poly.push_back({number("gain", "constant factor of Eq. (5.1) (1.36: ft.lbf to N m)").req(), &L::gain});
-    const std::vector<Key<L>> hysteresis = {
-        {number("beta1", "Eq. (3.3): H = beta1 tanh(beta2 a) sign(v), in [0, 1)").at_least(0.0).below(1.0).req(),
-         &L::beta1},
-        {number("beta2", "Eq. (3.3) [1 / (speed_unit/s)]").non_negative().req(), &L::beta2}};
-    auto b = [](int i) { return [i](auto& l) -> auto& { return l.b[i]; }; };
-    std::vector<Key<L>> hysteretic = {
-        {number("b0", "Eq. (3.2): T = b0 [tanh(b1 v) + b2 |v|^b4 sign(v) / (1 + b3 |v|^b5) (1 + H)] [N m]").req(),
-         b(0)},
-        {number("b1", "Eq. (3.2) [1 / speed_unit]").req(), b(1)},
-        {number("b2", "Eq. (3.2)").req(), b(2)},
-        {number("b3", "Eq. (3.2)").non_negative().req(), b(3)},
-        {number("b4", "Eq. (3.2) exponent").positive().req(), b(4)},
-        {number("b5", "Eq. (3.2) exponent").positive().req(), b(5)}};
-    hysteretic.insert(hysteretic.end(), hysteresis.begin(), hysteresis.end());
-    std::vector<Key<L>> poly_hysteretic = poly;
-    poly_hysteretic.insert(poly_hysteretic.end(), hysteresis.begin(), hysteresis.end());
+    std::vector<Case<L>> variants;
+    for (const Named<L::Kind>& k : L::kinds)
+      L::visit(k.value, [&](auto law) { variants.push_back({k.name, decltype(law)::template keys<L>()}); });
     t.law = {
         "law",
         "torque on bit as a function of bit speed v, bit acceleration a and WOB; it scales linearly with the WOB",
@@ -361,14 +341,7 @@ inline Tables make_tables() {
           [](const L& l) { return to_string(l.speed_unit); },
           [](L& l, const std::string& v, const std::string& path) { l.speed_unit = parse_speed_unit(v, path); }},
          {number("wob_ref_n", "WOB at which the parameters hold [N]").positive().req(), &L::wob_ref}},
-        {{L::kind_name(L::Kind::tucker_wang),
-          {{number("c0", "Eq. (3.1): T = c0 [tanh(alpha0 v) + alpha1 v / (1 + alpha2 v^2)] [N m]").req(), &L::c0},
-           {number("alpha0", "Eq. (3.1) [1 / speed_unit]").non_negative().req(), &L::alpha0},
-           {number("alpha1", "Eq. (3.1) [1 / speed_unit]").req(), &L::alpha1},
-           {number("alpha2", "Eq. (3.1) [1 / speed_unit^2]").non_negative().req(), &L::alpha2}}},
-         {L::kind_name(L::Kind::hysteretic), hysteretic},
-         {L::kind_name(L::Kind::polynomial), poly},
-         {L::kind_name(L::Kind::polynomial_hysteretic), poly_hysteretic}}};
+        variants};
   }
 
   t.operation = {
@@ -409,20 +382,9 @@ inline Tables make_tables() {
 
   {
     using C = Controller;
-    const Key<C> kp{number("kp_nms_rad", "kp: proportional gain [N m s/rad]").positive(), &C::kp_given};
-    const Key<C> ki{number("ki_nm_rad", "ki: integral gain [N m/rad]").non_negative(), &C::ki_given};
-    const Key<C> bandwidth{number("bandwidth_ratio", "closed-loop bandwidth of the speed loop over the string's first "
-                                                     "natural frequency: kp = 2 J w_b, ki = J w_b^2, w_b = ratio w_1")
-                               .positive()
-                               .def(dc.bandwidth_ratio),
-                           &C::bandwidth_ratio};
-    const Key<C> impedance{
-        number("impedance_nms_rad", "Z [N m s/rad] (default: the top section's J_p sqrt(G rho))").positive(),
-        &C::impedance_given};
-    // the pi controller needs both gains: its validate() refuses an absent one
-    Key<C> kp_pi = kp, ki_pi = ki;
-    kp_pi.field.req_in_validate();
-    ki_pi.field.req_in_validate();
+    std::vector<Case<C>> variants;  // each controller's keys (controllers/registry.hpp)
+    for (const Named<C::Kind>& k : C::kinds)
+      C::visit(k.value, [&](auto ctl) { variants.push_back({k.name, decltype(ctl)::template keys<C>()}); });
     t.controller = {
         "top_drive.controller",
         "speed controller of a controlled top drive, J Omega' = u - T_top, u = sat(kp e + ki int e), "
@@ -437,18 +399,7 @@ inline Tables make_tables() {
             require(v > 0.0, path, v, "must be positive (omit it for a continuous controller)");
             k.sample_time = v;
           }}},
-        {{C::kind_name(C::Kind::stiff), {kp, ki, bandwidth}},
-         {C::kind_name(C::Kind::pi), {kp_pi, ki_pi}},
-         {C::kind_name(C::Kind::soft_speed),
-          {kp, ki, impedance,
-           {number("stick_slip_frequency_rad_s", "w_s [rad/s] (default: the string's first natural frequency)")
-                .positive(),
-            &C::stick_slip_frequency}}},
-         {C::kind_name(C::Kind::z_torque),
-          {kp, ki, bandwidth, impedance,
-           {number("torque_filter_s", "time constant of the top torque's low-pass T_mean [s] (default: 5 / w_1)")
-                .positive(),
-            &C::torque_filter_given}}}}};
+        variants};
   }
 
   {

@@ -23,25 +23,14 @@
 // (J_p the polar moment of area [m^4], G the shear modulus [Pa], rho the density [kg/m^3] of the
 // top section) absorbs the waves coming up the string (reflection coefficient (Z_d - Z) / (Z_d + Z) = 0).
 //
-// Controllers (their tuning, done by Controller::tune with the string's properties):
-//  * stiff       high-gain PI, the loop J s^2 + kp s + ki with a double pole at -w_b, w_b =
-//                bandwidth_ratio x w_1 (w_1 the string's first natural frequency, top clamped):
-//                kp = 2 J w_b, ki = J w_b^2. With bandwidth_ratio -> infinity the top turns at the
-//                command whatever the torque: the thesis's ideal drive (test_controller.cpp).
-//  * pi          the user's kp_nms_rad and ki_nm_rad.
-//  * soft_speed  the SoftTorque / SoftSpeed principle (Kyllingstad and Nessjoen 2009, SPE 119660;
-//                Kyllingstad and Nessjoen 2010): a PI speed controller whose I term cancels the
-//                drive's inertia at the stick-slip frequency w_s, ki = J w_s^2, so that Z_d(i w_s) = kp
-//                is real (a pure damper at that frequency), and whose P term is the damping that
-//                absorbs the waves, kp = Z. w_s is the string's first natural frequency from the
-//                engine unless `stick_slip_frequency_rad_s` is given.
-//  * z_torque    the ZTorque principle (Dwars 2015, SPE/IADC 173037): the speed set point is
-//                corrected by the measured top torque so that the drive behaves as the impedance Z
-//                over a broad band, not at one frequency:
-//                  Omega_ref = Omega_c - (T_top - T_mean) / Z,   tau T_mean' = T_top - T_mean,
-//                T_mean the low-passed top torque (time constant tau = `torque_filter_s`, default
-//                5 / w_1, so that the correction passes the stick-slip frequency almost unchanged
-//                and has no steady effect), fed to a stiff PI loop (gains as `stiff`).
+// Controllers (their tuning, done by Controller::tune with the string's properties), one header
+// each, listed in controllers/registry.hpp:
+//  * stiff       high-gain PI with a double pole at -w_b, w_b = bandwidth_ratio x w_1 (w_1 the string's
+//                first natural frequency, top clamped): the thesis's ideal drive as the ratio grows
+//  * pi          the user's kp_nms_rad and ki_nm_rad
+//  * soft_speed  SoftTorque / SoftSpeed (Kyllingstad and Nessjoen 2009): kp = Z, ki = J w_s^2
+//  * z_torque    ZTorque (Dwars 2015): the set point corrected by the measured top torque,
+//                Omega_ref = Omega_c - (T_top - T_mean) / Z, fed to a stiff PI loop
 // Every gain can be overridden (kp_nms_rad, ki_nm_rad); Z by impedance_nms_rad.
 //
 // Sampling: with `sample_time_s` = T_s the motor torque is computed at the sample instants k T_s
@@ -59,8 +48,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
+#include "drill/controllers/registry.hpp"
 #include "drill/errors.hpp"
 #include "drill/names.hpp"
 
@@ -69,7 +60,9 @@ namespace drill {
 /// A controller of a `controlled` top drive: the configuration (the fields of
 /// top_drive.controller) and the gains it resolves to (tune()).
 struct Controller {
-  enum class Kind { stiff, pi, soft_speed, z_torque };
+#define DRILL_CONTROLLER_KIND(name, Ctl) name,
+  enum class Kind { DRILL_CONTROLLERS(DRILL_CONTROLLER_KIND) };
+#undef DRILL_CONTROLLER_KIND
   Kind kind = Kind::stiff;
   // configured (NaN: absent, tuned from the string)
   double kp_given = NAN;              ///< kp_nms_rad [N m s/rad]
@@ -87,44 +80,43 @@ struct Controller {
 
   /// The controllers by name (top_drive.controller.type); their keys are the variants of the
   /// "top_drive.controller" table (config.hpp).
-  static constexpr Named<Kind> kinds[] = {
-      {Kind::stiff, "stiff"}, {Kind::pi, "pi"}, {Kind::soft_speed, "soft_speed"}, {Kind::z_torque, "z_torque"}};
+#define DRILL_CONTROLLER_NAME(name, Ctl) {Kind::name, #name},
+  static constexpr Named<Kind> kinds[] = {DRILL_CONTROLLERS(DRILL_CONTROLLER_NAME)};
+#undef DRILL_CONTROLLER_NAME
   static Kind parse_kind(const std::string& s) {
     return parse_name(kinds, s, "top_drive.controller.type", "controller");
   }
   static std::string kind_name(Kind k) { return name_of(kinds, k); }
+
+  /// f(Ctl{}) for the struct Ctl of kind k (controllers/registry.hpp).
+  template <class F>
+  static decltype(auto) visit(Kind k, F&& f) {
+    switch (k) {
+#define DRILL_CONTROLLER_CASE(name, Ctl) \
+  case Kind::name:                       \
+    return f(controllers::Ctl{});
+      DRILL_CONTROLLERS(DRILL_CONTROLLER_CASE)
+#undef DRILL_CONTROLLER_CASE
+    }
+    throw std::logic_error("a controller kind outside controllers/registry.hpp");
+  }
+
   bool sampled() const { return sample_time > 0.0; }
   bool tuned() const { return std::isfinite(kp) && std::isfinite(ki); }
-  bool torque_feedback() const { return kind == Kind::z_torque; }
+  bool torque_feedback() const {
+    return visit(kind, [](auto ctl) { return decltype(ctl)::torque_feedback; });
+  }
 
   /// Resolve the gains from the drive's inertia J [kg m^2], the top section's characteristic
   /// impedance Z [N m s/rad] and the string's first natural frequency w1 [rad/s] (top clamped).
   void tune(double J, double Z, double w1) {
-    const double wb = bandwidth_ratio * w1;
     double p = NAN, i = NAN;
     impedance = std::isfinite(impedance_given) ? impedance_given : Z;
-    switch (kind) {
-      case Kind::stiff:
-      case Kind::z_torque:
-        p = 2.0 * J * wb;
-        i = J * wb * wb;
-        break;
-      case Kind::pi:
-        break;
-      case Kind::soft_speed: {
-        const double ws = std::isfinite(stick_slip_frequency) ? stick_slip_frequency : w1;
-        p = impedance;
-        i = J * ws * ws;
-        break;
-      }
-    }
+    visit(kind, [&](auto ctl) { decltype(ctl)::gains(*this, J, w1, p, i); });
     kp = std::isfinite(kp_given) ? kp_given : p;
     ki = std::isfinite(ki_given) ? ki_given : i;
     torque_filter = std::isfinite(torque_filter_given) ? torque_filter_given : 5.0 / w1;
-    if (kind == Kind::z_torque) {
-      require_positive(impedance, "top_drive.controller.impedance_nms_rad");
-      require_positive(torque_filter, "top_drive.controller.torque_filter_s");
-    }
+    visit(kind, [&](auto ctl) { decltype(ctl)::check_tuned(*this); });
   }
 
   /// The user's gains when both are given (pi, or overrides): checked before tuning.
@@ -140,10 +132,7 @@ struct Controller {
   /// The configured fields (before tuning).
   void validate() const {
     const std::string w = "top_drive.controller.";
-    if (kind == Kind::pi) {
-      require(!std::isnan(kp_given), w + "kp_nms_rad", kp_given, "is required for the pi controller");
-      require(!std::isnan(ki_given), w + "ki_nm_rad", ki_given, "is required for the pi controller");
-    }
+    visit(kind, [&](auto ctl) { decltype(ctl)::validate(*this); });
     if (!std::isnan(kp_given)) require_positive(kp_given, w + "kp_nms_rad");
     if (!std::isnan(ki_given)) require_non_negative(ki_given, w + "ki_nm_rad");
     require(!std::isnan(torque_limit) && torque_limit > 0.0, w + "torque_limit_nm", torque_limit, "must be positive");
