@@ -261,6 +261,9 @@ def test_stability_map_stick_slip_grows_with_wob_and_vanishes_at_high_speed_same
     assert np.all((m.ci90[0] <= p) & (p <= m.ci90[1]))
     two = stability_map(_truth_posterior(), speeds, wobs, samples=6, seed=4, threads=2)
     assert np.array_equal(m.severity, two.severity, equal_nan=True)
+    # the same map on a Dask LocalCluster (two worker processes, 5 runs per task)
+    dask = stability_map(_truth_posterior(), speeds, wobs, samples=6, seed=4, scheduler="local:2", chunk=5)
+    assert np.array_equal(m.severity, dask.severity, equal_nan=True) and np.array_equal(m.stalled, dask.stalled)
     ds = xr.open_zarr(m.save(tmp_path / "map.zarr"), consolidated=False).load()
     assert np.array_equal(ds["p_unstable"].values, p) and ds.attrs["format"] == "drillpy.stability_map"
     with pytest.raises(ValueError, match=r"speeds = \[-1\.0\]: one or more positive values"):

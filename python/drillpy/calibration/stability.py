@@ -15,20 +15,21 @@ fraction above :data:`STALL_FRACTION`: the motor at its torque limit cannot brea
 a stall: its SS, 0 or undefined with a bit at rest, says nothing of stability; a stall counts as
 unstable in P (the bit does not drill) and its own probability is reported apart.
 
-Sample i depends only on (seed, i): any thread count gives the same map. The map is stored in Zarr
+Sample i depends only on (seed, i): any thread count, and a Dask cluster of any size (the runs go
+through :class:`drillpy.calibration.sampler.Sampler`, as the calibration's), give the same map. The map is stored in Zarr
 (:meth:`StabilityMap.save`: an ``xarray.Dataset`` readable with ``xarray.open_zarr``), like the
 Monte Carlo studies of chapter 4.
 """
 from __future__ import annotations
 
 import math
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from drillpy.calibration.posterior import SIM_DT_S, posterior_particles, read_posterior, rig_model
+from drillpy.calibration.sampler import Sampler
 from drillpy.model.configuration import Configuration
 from drillpy.model.simulation import simulate
 from drillpy.uncertainty.binomial import wilson_interval
@@ -111,9 +112,34 @@ def _grid(name: str, values, unit: str) -> np.ndarray:
     return a
 
 
+class _MapRuns:
+    """The map's runs for a :class:`~drillpy.calibration.sampler.Sampler`: job (i, (iw, js)) is
+    sample i (its posterior draw and eta realization) at WOB ``wobs[iw]`` and command
+    ``speeds[js]``; every random draw is made before (picklable, sent once to each Dask worker)."""
+
+    def __init__(self, base_law, fixed, draws, eta, eta_dt, speeds, wobs, duration_s, transient_s, dt_s):
+        self.base_law, self.fixed, self.draws, self.eta, self.eta_dt = base_law, fixed, draws, eta, eta_dt
+        self.speeds, self.wobs = speeds, wobs
+        self.duration_s, self.transient_s, self.dt_s = duration_s, transient_s, dt_s
+
+    def one(self, i, cell, record=None):
+        """(SS, stalled) of sample ``i`` at ``cell`` = (iw, js); (NaN, False) where the engine refuses the run."""
+        fam, values = self.draws[i]
+        om, wob = float(self.speeds[cell[1]]), float(self.wobs[cell[0]])
+        try:
+            model = rig_model(self.base_law, fam, dict(values, command_rad_s=om), self.fixed)
+            cfg = Configuration.of(model.config(om, wob, duration_s=self.duration_s)).replace(
+                {"simulation.dt_s": self.dt_s, "simulation.transient_s": self.transient_s,
+                 "simulation.output_stride": 1})
+            r = simulate(cfg.engine(), om, eta_series=self.eta[i], series_dt=self.eta_dt, record=False)
+            return float(r.severity), float(r.stick_fraction) > STALL_FRACTION
+        except (ValueError, RuntimeError):
+            return math.nan, False
+
+
 def stability_map(posterior, speeds, wobs, *, samples: int = 40, seed: int = 0, duration_s: float = 30.0,
                   transient_s: float = 10.0, psd=THESIS_PSD, eta_dt: float = ETA_DT_S, dt_s: float = SIM_DT_S,
-                  threads: int = 0) -> StabilityMap:
+                  threads: int = 0, scheduler: str | None = None, chunk: int | None = None) -> StabilityMap:
     """P(SS > 0.5) of the calibrated rig over motor command x WOB (module docstring).
 
     Parameters
@@ -137,7 +163,12 @@ def stability_map(posterior, speeds, wobs, *, samples: int = 40, seed: int = 0, 
     dt_s : float
         The engine's time step [s].
     threads : int
-        Runs at once (0: one per core).
+        Runs at once on the threads backend (0: one per core).
+    scheduler : str, optional
+        Where the runs go: ``local`` (or None: threads), ``local:N`` or ``tcp://HOST:PORT``
+        (:mod:`drillpy.calibration.sampler`); the same map on any.
+    chunk : int, optional
+        Runs per Dask task.
 
     Returns
     -------
@@ -159,27 +190,14 @@ def stability_map(posterior, speeds, wobs, *, samples: int = 40, seed: int = 0, 
     cw = np.cumsum(weight)
     picks = np.minimum(np.searchsorted(cw, (rng.random() + np.arange(int(samples))) / int(samples)), len(jobs) - 1)
     _, eta = generate(psd, dt=eta_dt, duration=duration_s, samples=int(samples), seed=seed)
-    base_law, fixed = s["record"]["base_law"], spec.fixed
-
-    def run(task):
-        i, iw, js = task
-        fam, values = jobs[picks[i]]
-        om, wob = float(speeds[js]), float(wobs[iw])
-        try:
-            model = rig_model(base_law, fam, dict(values, command_rad_s=om), fixed)
-            cfg = Configuration.of(model.config(om, wob, duration_s=duration_s)).replace(
-                {"simulation.dt_s": dt_s, "simulation.transient_s": transient_s, "simulation.output_stride": 1})
-            r = simulate(cfg.engine(), om, eta_series=eta[i], series_dt=eta_dt, record=False)
-            return float(r.severity), float(r.stick_fraction) > STALL_FRACTION
-        except (ValueError, RuntimeError):
-            return math.nan, False
-
-    tasks = [(i, iw, js) for i in range(int(samples)) for iw in range(wobs.size) for js in range(speeds.size)]
-    with ThreadPoolExecutor(max_workers=threads if threads > 0 else None) as pool:
-        out = list(pool.map(run, tasks))
+    runs = _MapRuns(s["record"]["base_law"], spec.fixed, [jobs[k] for k in picks], eta, eta_dt, speeds, wobs,
+                    duration_s, transient_s, dt_s)
+    tasks = [(i, (iw, js)) for i in range(int(samples)) for iw in range(wobs.size) for js in range(speeds.size)]
+    with Sampler(threads, scheduler, chunk) as sampler:
+        out = sampler.map(runs, tasks)
     shape = (int(samples), wobs.size, speeds.size)
-    sev = np.array([o[0] for o in out]).reshape(shape)
-    stalled = np.array([o[1] for o in out]).reshape(shape)
+    sev = out[:, 0].reshape(shape)
+    stalled = out[:, 1].reshape(shape) > 0.5
     ok = np.isfinite(sev) | stalled
     unstable = stalled | (np.nan_to_num(sev, nan=0.0) > SS_LEVEL)
     n_ok = np.maximum(ok.sum(axis=0), 1)

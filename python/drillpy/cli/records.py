@@ -347,7 +347,7 @@ def _add_calibrate(sub) -> argparse.ArgumentParser:
     s.add_argument("--draws", type=int, default=100, help="posterior draws of the predictive intervals")
     s.add_argument("--seed", type=int, default=0, help="seed (same seed, same numbers)")
     s.add_argument("--threads", type=threads_option, default=0, help="simulations at once (0: one per core)")
-    _add_scheduler_args(s, "; the posterior stability map of --map runs on --threads")
+    _add_scheduler_args(s, ", the posterior stability map of --map included")
     s.add_argument("--map", metavar="A:B:N,A:B:N", help="also the posterior stability map P(SS > 0.5) over N motor "
                                                        "commands from A to B [rad/s] x N WOB from A to B [N] "
                                                        "(e.g. 6:30:7,400:800:5), stored in OUT/map.zarr")

@@ -23,8 +23,8 @@ def calibrate_to_folder(record, out, *, map_grids=None, map_samples: int = 40, *
     map_samples : int
         Monte Carlo samples of the map (posterior draw and eta realization each).
     **options
-        Passed to :func:`~drillpy.calibration.posterior.calibrate_record` (its ``seed`` and
-        ``threads`` also to the map).
+        Passed to :func:`~drillpy.calibration.posterior.calibrate_record` (its ``seed``, ``threads``,
+        ``scheduler`` and ``chunk`` also to the map).
 
     Returns
     -------
@@ -54,7 +54,8 @@ def calibrate_to_folder(record, out, *, map_grids=None, map_samples: int = 40, *
     if map_grids is not None:
         from drillpy.calibration.stability import stability_map
         smap = stability_map(s, *map_grids, samples=map_samples, seed=options.get("seed", 0),
-                             threads=options.get("threads", 0))
+                             threads=options.get("threads", 0), scheduler=options.get("scheduler"),
+                             chunk=options.get("chunk"))
         s["files"] += write_map(smap, out)
         s["stability_map"] = smap
     return s
