@@ -397,3 +397,28 @@ def test_on_a_tucker_wang_record_the_four_family_comparison_picks_tucker_wang_or
         assert unresolved or unsettled or c["ess"] < 30.0 or c["bayes_factor"] < 3.0, c
     s = post.summary()
     assert s["equations"]["tucker_wang"].startswith("3.1") and s["model_choice"] == c
+
+
+def test_posterior_map_command_maps_an_existing_posterior_as_the_function_does(tmp_path, capsys):
+    """``drillpy posterior-map POSTERIOR --map ...`` (a calibration's posterior, no record): the same P
+    as :func:`stability_map` with the same seed, map.zarr and map.png written; a file that is not a
+    posterior, or a bad grid, is one error naming it."""
+    import json
+    from drillpy.calibration.stability import stability_map
+    from drillpy.cli import main
+    post = tmp_path / "posterior.json"
+    post.write_text(json.dumps(_truth_posterior()))
+    out = tmp_path / "map"
+    rc = main(["posterior-map", str(post), "--map", "8:26:2,400:720:2", "--samples", "3", "--seed", "4",
+               "--threads", "2", "--out", str(out), "--json"])
+    assert rc == 0 and (out / "map.png").stat().st_size > 0 and (out / "map.zarr").is_dir()
+    ref = stability_map(_truth_posterior(), [8.0, 26.0], [400.0, 720.0], samples=3, seed=4, threads=1)
+    import xarray as xr
+    ds = xr.open_zarr(out / "map.zarr", consolidated=False).load()
+    assert np.array_equal(ds["p_unstable"].values, ref.p_unstable)
+    assert ref.p_stall[-1, 0] == 1.0  # 8 rad/s under 720 N: the motor cannot break the bit away
+    capsys.readouterr()
+    assert main(["posterior-map", str(tmp_path / "map" / "map.png"), "--map", "8:26:2,400:720:2"]) == 2
+    assert "posterior = " in capsys.readouterr().err
+    assert main(["posterior-map", str(post), "--map", "8:26"]) == 2
+    assert "--map = '8:26'" in capsys.readouterr().err

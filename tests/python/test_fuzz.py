@@ -557,6 +557,20 @@ CLI["calibrate"]["refused"] = {
     "--chunk": (st.sampled_from(["0", "-1", "x"]), ("chunk",)),
 }
 
+# posterior-map: a posterior of six particles of Eq. (5.1) (the fixture), 2 x 1 cells, 2 samples
+CLI["posterior-map"] = _cmd(["posterior-map", "{tmp}/posterior.json", "--map", "8:26:2,560:560:1", "--samples", "2",
+                             "--json"], {
+    "--seed": (_ints((-1, 0, 7)), ("seed",)),
+    "--threads": _MODEL["--threads"],
+    "--samples": (_ints((-1, 0, 1, 2, 100001)), ("samples",)),
+    **_OUT}, cheap=False)
+CLI["posterior-map"]["refused"] = {
+    "--map": (st.sampled_from(["x", "20:10:2,400:800:2", "6:30:0,400:800:2", "6:30:2", "nan:1:2,1:2:2"]), ("map",)),
+    "--samples": (st.sampled_from(["1", "0", "-3", "x"]), ("samples",)),
+    "--scheduler": (st.sampled_from(["bogus", "", "local:0", "local:x", "LOCAL", "tcp://"]), ("scheduler",)),
+    "--chunk": (st.sampled_from(["0", "-1", "x"]), ("chunk",)),
+}
+
 CLI = {k: v for k, v in CLI.items() if k in COMMANDS}  # a command being added elsewhere: fuzzed once it exists
 
 
@@ -576,6 +590,15 @@ def _fixtures(tmp: Path) -> None:
     from drillpy.records.io import write_csv
     from drillpy.loop.synthetic import synthetic_record
     write_csv(synthetic_record(duration_s=3.0, seed=1), tmp / "syn.csv")  # a rig record predict accepts
+    from drillpy.calibration.priors import prior_spec
+    truth = {"damping_ratio": 0.03, "motor_slope_nms_rad": 0.25, "command_rad_s": 17.0, "coupling_stiffness_nm_rad": 40.0,
+             "jack_gain_n_rad": 180.0, "law_scale": 1.0, "static_torque_nm": 3.0}
+    rng = np.random.default_rng(0)
+    parts = {"weight": [1.0] * 6, **{k: list(v * (1 + 0.05 * rng.standard_normal(6))) for k, v in truth.items()}}
+    (tmp / "posterior.json").write_text(json.dumps({
+        "format": "drillpy.posterior", "families": ["polynomial"], "priors": prior_spec({"families": ["polynomial"]}).summary(),
+        "particles": {"polynomial": parts}, "model_probability": {"polynomial": 1.0},
+        "record": {"base_law": base["law"], "source": "fuzz"}, "run": {}}))
     model = rigsim.RigModel(base["law"], 0.3, "constant")
     (tmp / "model.json").write_text(json.dumps(jsonable(model.to_dict(top_speed=8.0, wob=560.0))))
 

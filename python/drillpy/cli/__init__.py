@@ -26,7 +26,7 @@ Every error prints one line ``drillpy: error: ...`` and exits with status 2.
 #   cli/model.py        report, modes, simulate, sweep, map, convergence
 #   cli/uncertainty.py  frf, frf-report, robust-ss, mc, mc-merge
 #   cli/reproduce.py    reproduce
-#   cli/records.py      analyze, predict, loop, calibrate
+#   cli/records.py      analyze, predict, loop, calibrate, posterior-map
 #   cli/control.py      control
 # Adding a command: its ``_add_*`` and ``cmd_*`` in a group module and its entry in that module's
 # SUBCOMMANDS (a new group: its module and its name in GROUPS).

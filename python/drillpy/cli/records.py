@@ -390,9 +390,7 @@ def cmd_calibrate(a: argparse.Namespace) -> int:
                                 chunk=a.chunk, log=None if a.json else print)
     smap = s.get("stability_map")
     if a.json:
-        extra = {} if smap is None else {"stability_map": {
-            "speeds_rad_s": smap.speeds.tolist(), "wobs_n": smap.wobs.tolist(), "p_unstable": smap.p_unstable.tolist(),
-            "ci90": smap.ci90.tolist(), "p_stall": smap.p_stall.tolist()}}
+        extra = {} if smap is None else {"stability_map": _map_json(smap)}
         print_json({k: s[k] for k in ("model_probability", "model_probability_se", "model_choice", "parameters",
                                       "predictive")}
                    | {"simulations": s["run"]["simulations"], "wall_s": s["run"]["wall_s"]} | extra)
@@ -404,7 +402,60 @@ def cmd_calibrate(a: argparse.Namespace) -> int:
     return 0
 
 
-def _map_grids(text: str) -> tuple:
+def _add_posterior_map(sub) -> argparse.ArgumentParser:
+    """Register ``drillpy posterior-map`` on the subparsers ``sub``; returns its parser."""
+    s = sub.add_parser("posterior-map", help="the posterior stability map P(SS > 0.5) of a calibration's "
+                                              "posterior.json over motor command x WOB (docs/calibration.md)")
+    s.add_argument("posterior", help="posterior.json written by drillpy calibrate")
+    s.add_argument("--map", required=True, metavar="A:B:N,A:B:N",
+                   help="the grid: N motor commands from A to B [rad/s], N WOB values from A to B [N]")
+    s.add_argument("--samples", type=int, default=40, help="Monte Carlo samples (posterior draw and torque "
+                                                            "fluctuation each)")
+    s.add_argument("--seed", type=int, default=0, help="seed of the draws and of the fluctuation")
+    s.add_argument("--threads", type=threads_option, default=0, help="runs at once (0: one per core)")
+    _add_scheduler_args(s, " backend")
+    s.add_argument("--out", help="folder for map.zarr and map.png")
+    s.add_argument("--json", action="store_true", help="print the grid and P with its 90 %% interval as JSON")
+    s.set_defaults(func=cmd_posterior_map)
+    return s
+
+
+def cmd_posterior_map(a: argparse.Namespace) -> int:
+    """The posterior stability map of an existing calibration (:func:`drillpy.reports.calibration.map_to_folder`).
+
+    Parameters
+    ----------
+    a : argparse.Namespace
+        Arguments of ``drillpy posterior-map``.
+
+    Returns
+    -------
+    int
+        Exit status 0; prints P(SS > 0.5 or a stall) per cell with its Wilson 90 % interval (text or JSON).
+    """
+    from drillpy.reports.calibration import map_lines, map_to_folder
+    grids = _map_grids(a.map, "--map")
+    validate.integer("--samples", a.samples, 2, 100000)
+    validate.integer("--seed", a.seed, 0, 2 ** 63 - 1)
+    if not _is_posterior(a.posterior):
+        raise ValueError(f"posterior = {a.posterior!r}: not a posterior.json of drillpy calibrate")
+    with _removed_on_failure(a.out):
+        smap, files = map_to_folder(a.posterior, a.out, grids, samples=a.samples, seed=a.seed, threads=a.threads,
+                                    scheduler=a.scheduler, chunk=a.chunk)
+    if a.json:
+        print_json(_map_json(smap))
+        return 0
+    print("\n".join(map_lines(smap) + (["written: " + ", ".join(files)] if files else [])))
+    return 0
+
+
+def _map_json(smap) -> dict:
+    """A stability map's grid, P(SS > 0.5 or a stall), its 90 % interval and P(stall), as JSON lists."""
+    return {"speeds_rad_s": smap.speeds.tolist(), "wobs_n": smap.wobs.tolist(), "p_unstable": smap.p_unstable.tolist(),
+            "ci90": smap.ci90.tolist(), "p_stall": smap.p_stall.tolist()}
+
+
+def _map_grids(text: str, name: str = "--map") -> tuple:
     """``--map A:B:N,A:B:N``: (motor commands [rad/s], WOB [N]), each N values from A to B."""
     import math
 
@@ -422,10 +473,11 @@ def _map_grids(text: str) -> tuple:
                 raise ValueError
             grids.append(np.linspace(lo, hi, n))
     except ValueError:
-        raise ValueError(f"--map = {text!r}: give COMMANDS,WOBS as A:B:N,A:B:N (rad/s, N; 0 < A < B, 1 <= N <= 100; "
+        raise ValueError(f"{name} = {text!r}: give COMMANDS,WOBS as A:B:N,A:B:N (rad/s, N; 0 < A < B, 1 <= N <= 100; "
                          "A = B with N = 1)") from None
     return tuple(grids)
 
 
 #: subcommand -> function registering it (``drillpy.cli.build_parser`` orders them)
-SUBCOMMANDS = {"analyze": _add_analyze, "predict": _add_predict, "loop": _add_loop, "calibrate": _add_calibrate}
+SUBCOMMANDS = {"analyze": _add_analyze, "predict": _add_predict, "loop": _add_loop, "calibrate": _add_calibrate,
+               "posterior-map": _add_posterior_map}

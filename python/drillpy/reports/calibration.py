@@ -52,13 +52,41 @@ def calibrate_to_folder(record, out, *, map_grids=None, map_samples: int = 40, *
         files.append(out / "predictive.png")
     s["files"] = [str(f) for f in files]
     if map_grids is not None:
-        from drillpy.calibration.stability import stability_map
-        smap = stability_map(s, *map_grids, samples=map_samples, seed=options.get("seed", 0),
-                             threads=options.get("threads", 0), scheduler=options.get("scheduler"),
-                             chunk=options.get("chunk"))
-        s["files"] += write_map(smap, out)
+        smap, written = map_to_folder(s, out, map_grids, samples=map_samples, seed=options.get("seed", 0),
+                                      threads=options.get("threads", 0), scheduler=options.get("scheduler"),
+                                      chunk=options.get("chunk"))
+        s["files"] += written
         s["stability_map"] = smap
     return s
+
+
+def map_to_folder(posterior, out, grids, **options) -> tuple:
+    """The posterior stability map of a calibration (:func:`drillpy.calibration.stability.stability_map`),
+    written into ``out`` when given (:func:`write_map`).
+
+    Parameters
+    ----------
+    posterior : str or Path or dict
+        A calibration's ``posterior.json`` (or its dict).
+    out : str or Path or None
+        Output folder (created if missing); None: nothing written.
+    grids : tuple of array_like
+        (motor commands [rad/s], WOB [N]).
+    **options
+        Passed to :func:`~drillpy.calibration.stability.stability_map` (``samples``, ``seed``,
+        ``threads``, ``scheduler``, ``chunk``...).
+
+    Returns
+    -------
+    tuple
+        (StabilityMap, list of the paths written).
+    """
+    from drillpy.calibration.stability import stability_map
+    smap = stability_map(posterior, *grids, **options)
+    if out is None:
+        return smap, []
+    Path(out).mkdir(parents=True, exist_ok=True)
+    return smap, write_map(smap, out)
 
 
 def write_map(smap, out) -> list:
