@@ -56,6 +56,13 @@ def test_analyze_sample175_from_the_command_line(tmp_path, capsys):
         assert abs(held["metrics"][k]["relative_error"]) < 0.25, (k, held["metrics"][k])
     assert held["metrics"]["stalls"]["measured"]["count"] == 1  # 28.05 s, 1.43 s: counted apart
     assert 0 < held["short_horizon_error"] < 1.0
+    # Eq. (4.1): the stochastic part is what eta_exp leaves beyond the deterministic model's own departures
+    fl = rig["torque_fluctuation"]
+    assert 0 < fl["model_eta_std"] < fl["record_eta_std"]
+    assert fl["std"] ** 2 == pytest.approx(fl["record_eta_std"] ** 2 - fl["model_eta_std"] ** 2)
+    iv = held["predictive"]
+    assert iv["realizations"] == 20 and set(iv["metrics"]) >= {"ss", "stick_fraction", "cycle_frequency_hz"}
+    assert all(v["interval"][0] <= v["median"] <= v["interval"][1] for v in iv["metrics"].values())
     model = json.loads((out / "model.json").read_text())
     assert model["format"] == "drillpy.rig_model" and model["config"]["law"]["a0"] > 0
     assert model["drive"] == "rig" and model["predictive"] and model["config"]["axial"]["type"] == "jack"

@@ -159,8 +159,9 @@ def _add_predict(sub) -> argparse.ArgumentParser:
     s.add_argument("--t1", type=float, help="end of the predicted window [s]")
     s.add_argument("--horizon", type=float, default=0.25, help="short-horizon length [s] (docs/loop.md)")
     s.add_argument("--threads", type=threads_option, default=0, help="OpenMP threads (0: default)")
-    s.add_argument("--draws", type=int, default=100, help="posterior draws simulated (posterior.json only)")
-    s.add_argument("--seed", type=int, default=0, help="seed of the posterior draws (posterior.json only)")
+    s.add_argument("--draws", type=int, default=100, help="posterior draws simulated (posterior.json), or realizations of "
+                                                          "a rig model's torque fluctuation, Eq. (4.1) (model.json)")
+    s.add_argument("--seed", type=int, default=0, help="seed of the posterior draws or of the realizations")
     _add_scheduler_args(s, " (posterior.json only)")
     s.add_argument("--json", action="store_true", help="print the short-horizon error and the long-run metrics")
     s.set_defaults(func=cmd_predict)
@@ -225,12 +226,13 @@ def cmd_predict(a: argparse.Namespace) -> int:
         raise ValueError(f"{opt} = {a.scheduler if opt == '--scheduler' else a.chunk!r}: only with a posterior.json of "
                          "drillpy calibrate (a model.json is one run, on --threads)")
     model = load_model(a.model)
-    pred = predict_record(model, a.record, t0=a.t0, t1=a.t1, horizon_s=a.horizon, threads=a.threads)
+    pred = predict_record(model, a.record, t0=a.t0, t1=a.t1, horizon_s=a.horizon, threads=a.threads,
+                          realizations=a.draws, seed=a.seed)
     if a.out:
         write_prediction(pred, a.out, a.figure_units)
     s = pred.summary()
     if a.json:
-        print_json({k: s[k] for k in ("short_horizon_error", "long_run")})
+        print_json({k: s[k] for k in ("short_horizon_error", "long_run", "predictive_intervals")})
     else:
         lr = s["long_run"]
         print(f"{describe(model)} at the record's operating point; short-horizon error E = {s['short_horizon_error']:.3f}")
@@ -248,6 +250,13 @@ def cmd_predict(a: argparse.Namespace) -> int:
               + ", ".join([str(st["measured"]["count"])] + [f"{d:.2f} s" for d in st["measured"]["durations_s"]])
               + "; predicted " + ", ".join([str(st["predicted"]["count"])]
                                            + [f"{d:.2f} s" for d in st["predicted"]["durations_s"]]))
+        iv = s["predictive_intervals"]
+        if iv:
+            print(f"  with the torque fluctuation of Eq. (4.1), {iv['realizations']} realizations: {iv['inside']} of "
+                  f"{iv['of']} measured metrics inside their {100 * iv['level']:.0f} % predictive intervals")
+            for k, v in iv["metrics"].items():
+                print(f"    {k}: [{v['interval'][0]:.4g}, {v['interval'][1]:.4g}], measured {v['measured']:.4g}"
+                      + ("" if v["inside"] else "  (outside)"))
     return 0
 
 

@@ -24,6 +24,7 @@ import numpy as np
 from drillpy import loop
 from drillpy.records import rigsim
 from drillpy.records import rig_comparison
+from drillpy.records import rig_fluctuation
 from drillpy.jsonio import jsonable
 from drillpy.records.cleaning import clean
 from drillpy.model.config import read_json
@@ -56,6 +57,10 @@ class Prediction:
     stick_threshold : float
         Bit speed at or below which the bit counted as stuck [rad/s], 5 % of the median reliable
         top speed of the predicted record itself.
+    intervals : dict or None
+        Predictive intervals of the long-run metrics over realizations of the rig model's torque
+        fluctuation, Eq. (4.1) (:func:`drillpy.records.rig_fluctuation.predictive`); None for a
+        model without one.
     """
     model: "rigsim.RigModel | loop.LoopModel"
     measured: Record
@@ -63,6 +68,7 @@ class Prediction:
     comparison: rig_comparison.RigComparison
     short_horizon_error: float
     stick_threshold: float
+    intervals: dict | None = None
 
     def summary(self) -> dict:
         """The ``--json`` output (and ``summary.json``)."""
@@ -87,7 +93,8 @@ class Prediction:
             "operating_point": self.simulated.provenance.get("operating_point"),
             "record": {"source": str(self.measured.provenance.get("source")),
                        "window_s": [float(self.measured.time_s[0]), float(self.measured.time_s[-1])]},
-            "stick_threshold_rad_s": self.stick_threshold})
+            "stick_threshold_rad_s": self.stick_threshold,
+            "predictive_intervals": self.intervals})
 
 
 def describe(model) -> str:
@@ -190,7 +197,8 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
 
 
 def predict_record(model, record: Record | str | Path, *, t0: float | None = None,
-                   t1: float | None = None, horizon_s: float = 0.25, threads: int = 0) -> Prediction:
+                   t1: float | None = None, horizon_s: float = 0.25, threads: int = 0, realizations: int = 100,
+                   seed: int = 0) -> Prediction:
     """Apply ``model`` (a :class:`~drillpy.records.rigsim.RigModel` or a :class:`~drillpy.loop.LoopModel`) to
     a record (path or Record, cleaned here) without refitting anything.
 
@@ -211,6 +219,11 @@ def predict_record(model, record: Record | str | Path, *, t0: float | None = Non
         Horizon of the short-horizon error E [s].
     threads : int
         Engine threads (0: the OpenMP default).
+    realizations : int
+        Realizations of a rig model's torque fluctuation (Eq. 4.1) behind the predictive
+        intervals (a model without one: none are drawn).
+    seed : int
+        Their seed.
 
     Returns
     -------
@@ -235,7 +248,8 @@ def predict_record(model, record: Record | str | Path, *, t0: float | None = Non
     sim = rigsim.simulate_model(model, rec)
     cmp = rig_comparison.compare(rec, sim, thr)
     E = short_horizon_error(model, rec, sim.provenance["command_rad_s"], horizon_s, threads)
-    return Prediction(model, rec, sim, cmp, E, thr)
+    iv = rig_fluctuation.predictive(model, rec, thr, realizations, seed) if model.torque_fluctuation else None
+    return Prediction(model, rec, sim, cmp, E, thr, iv)
 
 
 def load_model(path: str | Path):

@@ -24,6 +24,7 @@ from drillpy.uncertainty import process
 from drillpy.records import rigsim
 from drillpy.records import rig_calibration
 from drillpy.records import rig_comparison
+from drillpy.records import rig_fluctuation
 from drillpy.records import signals as sig
 from drillpy.records.cleaning import CleaningOptions, CleaningReport, clean
 from drillpy.model.config import load_config
@@ -65,6 +66,9 @@ class AnalysisOptions:
         model and reported with the same metrics.
     min_holdout_s : float
         Shortest held-out piece predicted [s].
+    realizations : int
+        Realizations of the rig model's torque fluctuation (Eq. 4.1) behind the held-out pieces'
+        predictive intervals (:func:`drillpy.records.rig_fluctuation.predictive`).
     """
     t0: float | None = None
     t1: float | None = None
@@ -79,6 +83,7 @@ class AnalysisOptions:
     preset: str = "thesis-rig"
     calibrate: tuple | None = None
     min_holdout_s: float = 2.0
+    realizations: int = 20
 
 
 def _stats(x) -> dict:
@@ -382,13 +387,22 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
 
     if "measured_wob" in fits_by:
         S["identification"]["wob_versus_hysteresis"] = _wob_effect(fits_by)
-        log(f"identification: {S['identification']['wob_versus_hysteresis']['statement']}")
+        if "statement" in S["identification"]["wob_versus_hysteresis"]:  # with both laws of a pair identified
+            log(f"identification: {S['identification']['wob_versus_hysteresis']['statement']}")
 
     # ---------------------------------------------------------------- rig simulation
     sims, model = {}, None
     if opt.simulate and rec.top_speed is not None and rigsim.reliable_top_speed(rec).sum() >= 10:
         held = _held_out(full, rec, opt.min_holdout_s) if opt.calibrate is not None else []
         S["rig"], sims, model = _rig_section(rec, thr, side, fits_by, opt.preset, log, held, horizon_error)
+        model.torque_fluctuation = _torque_fluctuation(S, psd, sims, opt, log)
+        S["rig"]["torque_fluctuation"] = model.torque_fluctuation
+        for row, piece in zip(S["rig"]["held_out"], held):
+            if "metrics" in row:
+                row["predictive"] = rig_fluctuation.predictive(model, piece, thr, opt.realizations)
+                log(f"rig: held-out {row['window_s'][0]:.1f}-{row['window_s'][1]:.1f} s, with Eq. (4.1): "
+                    f"{row['predictive']['inside']} of {row['predictive']['of']} measured metrics inside their "
+                    f"{100 * row['predictive']['level']:.0f} % predictive intervals ({opt.realizations} realizations)")
     elif opt.simulate:
         S["rig"] = {"skipped": "the record has no top-speed channel with reliable samples to set the rig's speed"}
 
@@ -451,6 +465,32 @@ def _metric_row(cmp: rig_comparison.RigComparison) -> dict:
            for k in METRIC_ROWS}
     row["stalls"] = {"measured": m["stalls"], "simulated": s["stalls"]}
     return row
+
+
+def _torque_fluctuation(S: dict, psd: process.PsdFit, sims: dict, opt: AnalysisOptions, log) -> dict | None:
+    """The stochastic torque of Eq. (4.1) for the calibrated rig model (:mod:`drillpy.records.rig_fluctuation`):
+    the record's Eq. (4.4) shape at the level eta_exp leaves beyond the deterministic model's own.
+
+    eta_exp (Eq. 4.2) measures every departure of a cycle from the mean cycle, and a deterministic
+    model has such departures too (its cycles differ through the motor, the jack and the WOB trend):
+    the same analysis of the calibrated model's simulation of the calibration window gives its
+    own eta_exp. The stochastic part is what is left, var = var(record) - var(model) (None when
+    nothing is left)."""
+    sim = next((v[0] for k, v in sims.items() if k.endswith("(calibrated model)")), None)
+    if sim is None:
+        return None
+    own = compute_analysis(sim, AnalysisOptions(simulate=False, folds=0, laws=("polynomial",),
+                                                psd_fmax_hz=opt.psd_fmax_hz, eta_reference=opt.eta_reference),
+                           log=lambda *_: None)
+    rec_std, model_std = S["eta"]["std"], own.eta.statistics()["std"]
+    left = rec_std ** 2 - model_std ** 2
+    log(f"rig: eta_exp (Eq. 4.2) std {rec_std:.3f} on the record, {model_std:.3f} on the calibrated model's own "
+        f"simulation: Eq. (4.1)'s stochastic part " + (f"std {math.sqrt(left):.3f}" if left > 0 else "none"))
+    if not left > 0:
+        return None
+    out = rig_fluctuation.identify(psd.model.as_dict(), math.sqrt(left), opt.psd_fmax_hz)
+    out.update(record_eta_std=rec_std, model_eta_std=model_std)
+    return out
 
 
 def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log, held: list, horizon_error) -> tuple:

@@ -391,6 +391,10 @@ class RigModel:
         Stiffness of the coupling between the motor and the bar [N m/rad] (``rig`` drive).
     intervals : dict
         Parameter name -> [low, high], a 95 % interval (``rig`` drive: :func:`drillpy.records.rig_calibration.calibrate_rig`).
+    torque_fluctuation : dict or None
+        The stochastic torque of Eq. (4.1) identified on the calibration window
+        (:func:`drillpy.records.rig_fluctuation.identify`); None: none. A simulation is deterministic
+        unless it is given a realization (``eta`` of :func:`simulate_model`).
     """
     law: dict
     damping_ratio: float
@@ -407,6 +411,7 @@ class RigModel:
     bit_inertia_factor: float = 1.0
     coupling_stiffness_nm_rad: float | None = None
     intervals: dict = field(default_factory=dict)
+    torque_fluctuation: dict | None = None
 
     def __post_init__(self):
         if self.drive not in DRIVES:
@@ -523,6 +528,8 @@ class RigModel:
                           "coupling_stiffness_nm_rad": self.coupling_stiffness_nm_rad,
                           "wob_trend_hz": WOB_TREND_HZ,
                           "parameters": self.parameters()}
+        if self.torque_fluctuation:
+            out["torque_fluctuation"] = self.torque_fluctuation
         return out
 
     @classmethod
@@ -572,7 +579,8 @@ class RigModel:
             return cls(law=cfg["law"], damping_ratio=float(damp["ratios"][0]), drive=drive,
                        motor_slope_nms_rad=td.get("slope_nms_rad") if motor else None,
                        motor_inertia_kg_m2=td.get("inertia_kg_m2") if motor else None,
-                       calibration=d.get("calibration", {}), **extra)  # rebuilt on the thesis-rig geometry
+                       calibration=d.get("calibration", {}), torque_fluctuation=d.get("torque_fluctuation"),
+                       **extra)  # rebuilt on the thesis-rig geometry
         except KeyError as e:
             raise ValueError(f"model: config lacks {e}") from None
 
@@ -650,11 +658,11 @@ def _channels(res, record: Record, filtered: bool, platform_damping: float | Non
     return n, vb, vt, tq, w
 
 
-def _run(model: RigModel, record: Record, command: float, wob: float):
+def _run(model: RigModel, record: Record, command: float, wob: float, eta=None):
     measured, rig = model.drive == "measured", model.drive == "rig"
     return simulate(_setup(model, record, command, wob), None if measured else command,
                     top_speed_series=drive_series(record) if measured else None,
-                    wob_series=wob_trend(record, wob) if rig else None, series_dt=record.dt)
+                    wob_series=wob_trend(record, wob) if rig else None, eta_series=eta, series_dt=record.dt)
 
 
 def _as_record(model: RigModel, record: Record, res, command: float, op: dict, wob: float, filtered: bool) -> Record:
@@ -668,7 +676,8 @@ def _as_record(model: RigModel, record: Record, res, command: float, op: dict, w
                               "operating_point": op, "config": res.config})
 
 
-def simulate_model(model: RigModel, record: Record, *, filtered: bool = True, skip_s: float = 2.0) -> Record:
+def simulate_model(model: RigModel, record: Record, *, filtered: bool = True, skip_s: float = 2.0,
+                   eta=None) -> Record:
     """Simulate ``model`` over the span of a cleaned ``record`` at the record's operating point.
 
     The constant drive turns at the record's reliable mean top speed; the measured drive follows
@@ -691,6 +700,9 @@ def simulate_model(model: RigModel, record: Record, *, filtered: bool = True, sk
         (:func:`drillpy.records.signals.rig_lowpass`), as the measured ones were.
     skip_s : float
         Start-up left out of the mean top speed when the motor command is searched [s].
+    eta : array_like, optional
+        A realization of the torque fluctuation of Eq. (4.1) [-] on the record's grid from its
+        start (:func:`drillpy.records.rig_fluctuation.realization`); None: eta = 0.
 
     Returns
     -------
@@ -712,7 +724,7 @@ def simulate_model(model: RigModel, record: Record, *, filtered: bool = True, sk
         sel = record.time_s >= record.time_s[0] + skip_s
 
         def gap(c):
-            res = _run(model, record, c, wob)
+            res = _run(model, record, c, wob, eta)
             _, _, top, _, _ = _channels(res, record, False)
             return float(np.mean(top[sel[:top.size]])) - target
 
@@ -734,7 +746,7 @@ def simulate_model(model: RigModel, record: Record, *, filtered: bool = True, sk
                 break
             lo, hi = (mid, hi) if g < 0 else (lo, mid)
         command = best[1]
-    return _as_record(model, record, _run(model, record, command, wob), command, op, wob, filtered)
+    return _as_record(model, record, _run(model, record, command, wob, eta), command, op, wob, filtered)
 
 
 def simulate_models(models, record: Record, *, filtered: bool = True, threads: int = 0, batched: bool = True) -> list:
