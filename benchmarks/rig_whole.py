@@ -12,7 +12,9 @@ jack's slow WOB trend only) and prints, for each direction:
 * the same metrics of the calibration half itself offered as the prediction ("persistence"): how
   far the record's two halves differ by themselves, which no model driven by constants and the
   slow WOB trend can follow unless the trend explains it;
-* the parameters with their 95 % intervals, physical ranges and flags.
+* the parameters with their 95 % intervals, physical ranges and flags;
+* the predictive intervals over realizations of the model's torque fluctuation, Eq. (4.1)
+  (``records.rig_fluctuation``), and which measured metrics lie in them.
 
 About 2 x 50 s on one core. Every number of docs/records.md section 3 comes from this script.
 """
@@ -75,6 +77,16 @@ def main() -> None:
                 print(f"  stalls: measured {st['measured']['count']} {st['measured']['durations_s']}, "
                       f"predicted {st['simulated']['count']} {st['simulated']['durations_s']}")
                 print(f"  targets within 10 %: {within} of 7")
+                iv = h.get("predictive")
+                if iv:
+                    fl = rg["torque_fluctuation"]
+                    print(f"  with Eq. (4.1)'s torque fluctuation (std {fl['std']:.3f}: eta_exp {fl['record_eta_std']:.3f} "
+                          f"measured, {fl['model_eta_std']:.3f} the deterministic model's own), {iv['realizations']} "
+                          f"realizations: {iv['inside']} of {iv['of']} measured metrics inside their "
+                          f"{100 * iv['level']:.0f} % predictive intervals")
+                    for k, v in iv["metrics"].items():
+                        print(f"    {k:22s} [{v['interval'][0]:9.4g}, {v['interval'][1]:9.4g}] measured {v['measured']:9.4g}"
+                              + ("" if v["inside"] else "  outside"))
             print("  parameters (value, 95 % interval, range, flag):")
             for k, v in rg["parameters"].items():
                 ci = "n/a" if v["ci95"] is None else f"[{v['ci95'][0]:.4g}, {v['ci95'][1]:.4g}]"
