@@ -1,0 +1,57 @@
+"""How far the calibrated rig model sits from the edge of its stick-slip cycle: one parameter moved at a time.
+
+    PYTHONPATH=python python3 benchmarks/rig_sensitivity.py MODEL.json [--record FILE.mat] [--t0 0 --t1 20]
+
+MODEL.json is ``drillpy analyze --calibrate T0:T1``'s model (the rig modelled whole). Each row runs the
+model over the record's window with one parameter moved (the others at their calibrated values) and
+prints the long-run metrics the calibration matches, and the mismatch (``rig_comparison.compare``).
+A cycle that vanishes (SS below 0.5, no stick phase) when a parameter moves by a few per cent of its
+value marks a model whose stick-slip is marginal where the record's is robust. About 10 s.
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+from pathlib import Path
+
+from drillpy.loop.prediction import load_model
+from drillpy.records import rig_comparison, rigsim
+from drillpy.records.cleaning import clean
+from drillpy.records.io import read_record
+
+SAMPLE175 = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
+KEYS = ("ss", "stick_fraction", "cycle_frequency_hz", "median_period_s", "bit_speed_p95", "torque_p5", "torque_p95",
+        "top_speed_std", "wob_std", "mean_top_speed")
+#: Relative moves of each parameter (factors on its calibrated value).
+MOVES = (0.8, 0.95, 1.05, 1.25)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("model")
+    ap.add_argument("--record", default=str(SAMPLE175))
+    ap.add_argument("--t0", type=float, default=0.0)
+    ap.add_argument("--t1", type=float, default=20.0)
+    a = ap.parse_args()
+    m0 = load_model(a.model)
+    rec, _ = clean(read_record(a.record).select(a.t0, a.t1))
+    thr = rigsim.stick_threshold(rec)
+    print(f"{'':34s}" + " ".join(f"{k[:9]:>9s}" for k in KEYS) + "  mismatch")
+
+    def row(label, m):
+        c = rig_comparison.compare(rec, rigsim.simulate_model(m, rec), thr)
+        print(f"{label:34s}" + " ".join(f"{c.simulated[k]:9.3f}" for k in KEYS) + f"  {c.mismatch:8.3f}")
+        return c
+
+    c = row("calibrated", m0)
+    print(f"{'measured':34s}" + " ".join(f"{c.measured[k]:9.3f}" for k in KEYS))
+    for name, (lo, hi, _, _) in rigsim.RIG_PARAMETERS.items():
+        v0 = float(getattr(m0, name))
+        for f in MOVES:
+            v = min(max(v0 * f, lo), hi)
+            if v != v0:
+                row(f"{name} x{f:g} ({v:.4g})", dataclasses.replace(m0, **{name: v}))
+
+
+if __name__ == "__main__":
+    main()
