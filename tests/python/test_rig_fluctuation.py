@@ -75,3 +75,22 @@ def test_predictive_intervals_widen_with_the_fluctuation_and_collapse_without_it
     with pytest.raises(ValueError, match="torque_fluctuation"):
         rf.predictive(none, win, thr, n=3)
     assert "torque_fluctuation" not in none.to_dict()
+
+
+def test_no_stochastic_part_when_the_deterministic_model_departs_from_its_mean_cycle_as_much_as_the_record():
+    from drillpy.records.analysis import AnalysisOptions, _torque_fluctuation
+    from drillpy.uncertainty import process
+    rec, rep = sample175_cleaned()
+    win, thr = rec.select(30.0, 38.0), rep.stick_threshold_rad_s
+    m = _model(win, thr, None)
+    sims = {"polynomial, the rig modelled whole (calibrated model)": (rigsim.simulate_model(m, win), None)}
+    fit = process.fit_psd_model(*process.periodogram(np.random.default_rng(0).normal(size=4096) * 0.1, 1e-2))
+    for record_std, expect in ((1e-3, None), (5.0, "some")):
+        S = {"eta": {"std": record_std}, "rig": {}}
+        fl = _torque_fluctuation(S, fit, sims, AnalysisOptions(), lambda *_: None)
+        own = S["rig"]["eta_exp_std"]["model"]
+        assert 0.01 < own < 1.0  # the deterministic model's cycles depart from their mean cycle too
+        if expect is None:
+            assert fl is None  # nothing left for Eq. (4.1)
+        else:
+            assert fl["std"] == pytest.approx(np.sqrt(record_std ** 2 - own ** 2))

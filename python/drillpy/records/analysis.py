@@ -398,7 +398,7 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
         model.torque_fluctuation = _torque_fluctuation(S, psd, sims, opt, log)
         S["rig"]["torque_fluctuation"] = model.torque_fluctuation
         for row, piece in zip(S["rig"]["held_out"], held):
-            if "metrics" in row:
+            if "metrics" in row and model.torque_fluctuation:
                 row["predictive"] = rig_fluctuation.predictive(model, piece, thr, opt.realizations)
                 log(f"rig: held-out {row['window_s'][0]:.1f}-{row['window_s'][1]:.1f} s, with Eq. (4.1): "
                     f"{row['predictive']['inside']} of {row['predictive']['of']} measured metrics inside their "
@@ -483,6 +483,7 @@ def _torque_fluctuation(S: dict, psd: process.PsdFit, sims: dict, opt: AnalysisO
                                                 psd_fmax_hz=opt.psd_fmax_hz, eta_reference=opt.eta_reference),
                            log=lambda *_: None)
     rec_std, model_std = S["eta"]["std"], own.eta.statistics()["std"]
+    S["rig"]["eta_exp_std"] = {"record": rec_std, "model": model_std}
     left = rec_std ** 2 - model_std ** 2
     log(f"rig: eta_exp (Eq. 4.2) std {rec_std:.3f} on the record, {model_std:.3f} on the calibrated model's own "
         f"simulation: Eq. (4.1)'s stochastic part " + (f"std {math.sqrt(left):.3f}" if left > 0 else "none"))
