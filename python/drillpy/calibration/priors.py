@@ -252,7 +252,7 @@ def prior_spec(section: dict | None = None) -> PriorSpec:
 
 #: The model discrepancy's factor by default (:func:`discrepancy_factor`; docs/calibration.md,
 #: "The model discrepancy").
-DEFAULT_DISCREPANCY = 0.0
+DEFAULT_DISCREPANCY = 3.0
 #: Largest discrepancy factor accepted (at that size the statistics say nothing the prior does not).
 MAX_DISCREPANCY = 100.0
 
