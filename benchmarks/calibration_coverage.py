@@ -3,7 +3,10 @@
 held-out statistics?
 
     PYTHONPATH=python python3 benchmarks/calibration_coverage.py [--truths 6] [--population 100] \
-        [--simulations 2000] [--duration 24]
+        [--simulations 2000] [--duration 24] [--first-truth 0] [--discrepancy F]
+
+``--first-truth N`` skips the first N truths of the seed's sequence (to choose an option such as the
+model discrepancy's factor ``--discrepancy`` on truths other than the reported ones).
 
 The truth is ``benchmarks/whole_rig.py`` (ten lumped Kelvin-Voigt segments, an exponential Stribeck
 law with static-friction ageing, an RGD-like cut under a drooping jack, a one-way load cell on a
