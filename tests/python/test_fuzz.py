@@ -542,8 +542,10 @@ CLI["calibrate"] = _cmd(["calibrate", "{tmp}/rec.csv", *_RIG, "--out", "{tmp}/ca
     "--threads": _MODEL["--threads"],
     "--t0": (_floats((0, 0.5, -1, 5)), ("t0",)),
     "--t1": (_floats((1, 2, 0, 5)), ("t1",)),
+    "--discrepancy": (_floats((0, 2, -1, 101)), ("discrepancy",)),
     **_OUT}, cheap=False)
 CLI["calibrate"]["refused"] = {
+    "--discrepancy": (st.sampled_from(["-1", "nan", "inf", "x", "101", "-0.5"]), ("discrepancy",)),
     "--population": (st.sampled_from(["0", "-1", "x", "nan"]), ("population",)),
     "--simulations": (st.sampled_from(["0", "-1", "x"]), ("simulations",)),
     "--generations": (st.sampled_from(["-1", "x"]), ("generations",)),

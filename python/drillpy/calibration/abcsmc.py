@@ -27,8 +27,15 @@ statistics lie within a shrinking tolerance eps_t of the observed ones.
   generation's, times the share of it the new eps keeps, then the rate measured so far), so that few
   simulations run past the N-th acceptance of a generation.
 * It stops after ``max_generations``, when the budget ``max_simulations`` runs out in a generation
-  (that generation's simulations are spent but not used), or when a generation accepts fewer than
-  ``min_acceptance`` of its simulations.
+  (that generation's simulations are spent but not used), when a generation accepts fewer than
+  ``min_acceptance`` of its simulations, or, with a model discrepancy, when eps reaches its level.
+* A model discrepancy (``discrepancy``: noisy ABC, Wilkinson 2013, "Approximate Bayesian
+  computation (ABC) gives exact results under the assumption of model error", Stat. Appl. Genet.
+  Mol. Biol. 12(2):129) adds to every simulated statistic a Gaussian draw of the error the model is
+  allowed to make: the record is then the model's output plus that error, and the ABC posterior is
+  the one of that statement rather than of a model taken as exact. The tolerance is not shrunk
+  below the discrepancy's level (:func:`discrepancy_floor`): a smaller eps would only select the
+  draws of the error that happened to be small.
 
 The proposals of generation t and batch b come from a generator keyed by (seed, t, b), and the
 first N accepted in proposal order are kept: the result depends on the seed only, never on the
@@ -317,6 +324,26 @@ def distance(stats: np.ndarray, observed: np.ndarray, scale: np.ndarray) -> np.n
     return d
 
 
+def discrepancy_floor(discrepancy, scale) -> float:
+    """The tolerance at which ABC under a model discrepancy stops: the root mean square of the
+    discrepancy's standard deviations in the distance's units, sqrt(mean_k (sd_k / scale_k)^2) (the
+    distance a draw of the discrepancy alone puts between a simulation and itself); 0 without one.
+
+    Parameters
+    ----------
+    discrepancy : array_like
+        Standard deviation of each statistic's discrepancy (K).
+    scale : array_like
+        Scale of each statistic in the distance (K).
+
+    Returns
+    -------
+    float
+    """
+    r = np.asarray(discrepancy, float) / np.asarray(scale, float)
+    return float(np.sqrt(np.mean(r ** 2))) if r.size else 0.0
+
+
 def _kernel_density(z, centers, weights, chol_inv, log_norm):
     """sum_j W_j N(z; c_j, Sigma) for each row of z (Sigma given by its inverse Cholesky factor)."""
     diff = (z[:, None, :] - centers[None, :, :]) @ chol_inv.T
@@ -326,7 +353,7 @@ def _kernel_density(z, centers, weights, chol_inv, log_norm):
 
 def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, population: int = 200,
         max_simulations: int = 20000, max_generations: int = 20, min_acceptance: float = 0.02, seed: int = 0,
-        rho: float = 0.0, delta: float = 0.1, quantile: float = 0.5, log=None) -> ABCResult:
+        rho: float = 0.0, delta: float = 0.1, quantile: float = 0.5, discrepancy=None, log=None) -> ABCResult:
     """Run ABC-SMC with model choice.
 
     Parameters
@@ -358,6 +385,15 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
         Share of the model proposal spread uniformly over the models.
     quantile : float
         eps_t is this weighted quantile of the previous population's distances.
+    discrepancy : array_like, optional
+        Standard deviation of the model discrepancy of each statistic (K, in the statistics' units;
+        None or all 0: none). Noisy ABC under model error (Wilkinson 2013, Stat. Appl. Genet. Mol.
+        Biol. 12:129): each simulated statistic gets a draw of e ~ N(0, diag(discrepancy^2)) before
+        its distance is taken, so that the accepted particles are those whose model *plus an error
+        of that size* could have given the observation; the draws come from a generator keyed by
+        (seed, t, b, 1), apart from the proposals'. eps_t is then held at the discrepancy's level,
+        :func:`discrepancy_floor` (below it the draws of e alone keep most distances out), and the
+        run stops after the generation that reaches it (``stopped`` = ``discrepancy``).
     log : callable, optional
         Called with one line per generation.
 
@@ -373,6 +409,17 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
         raise ValueError(f"quantile = {quantile!r}: between 0 and 1")
     N, M = int(population), len(dims)
     observed, scale = np.asarray(observed, float), np.asarray(scale, float)
+    disc = np.zeros(observed.size) if discrepancy is None else np.asarray(discrepancy, float)
+    if disc.shape != observed.shape or not np.all(np.isfinite(disc) & (disc >= 0)):
+        raise ValueError(f"discrepancy = {discrepancy!r}: one non-negative standard deviation per statistic")
+    floor = discrepancy_floor(disc, scale)
+
+    def noisy(stats, key):
+        """The statistics plus their draw of the discrepancy (unchanged without one)."""
+        if not disc.any():
+            return stats
+        e = np.random.default_rng(key + [1]).standard_normal(stats.shape)
+        return stats + disc * e
 
     def sim_all(models, zs):
         K = observed.size
@@ -387,7 +434,7 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
     rng = np.random.default_rng([seed, 0, 0])
     models = list(rng.integers(0, M, N))
     zs = [rng.random(dims[m]) for m in models]
-    stats = sim_all(models, zs)
+    stats = noisy(sim_all(models, zs), [seed, 0, 0])
     d = distance(stats, observed, scale)
     pops = [Population(math.inf, np.array(models), zs, np.full(N, 1.0 / N), d, stats, N, N,
                        np.bincount(models, minlength=M), float(N))]
@@ -416,7 +463,7 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
             break
         order = np.argsort(prev.distance)
         cw = np.cumsum(prev.weight[order]) / prev.weight.sum()
-        eps = float(prev.distance[order][min(np.searchsorted(cw, quantile), N - 1)])
+        eps = max(float(prev.distance[order][min(np.searchsorted(cw, quantile), N - 1)]), floor)
         p_prev, _ = prev.model_probabilities(M)
         qm = (1 - delta) * p_prev + delta / M
         kern = []
@@ -466,7 +513,7 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
                 inside.append(bool(np.all((z >= 0) & (z <= 1))))
             props += size
             keep = [i for i in range(size) if inside[i]]
-            st = sim_all([int(bm[i]) for i in keep], [bz[i] for i in keep])
+            st = noisy(sim_all([int(bm[i]) for i in keep], [bz[i] for i in keep]), [seed, t, b])
             sims += len(keep)
             dd = distance(st, observed, scale)
             hits += int(np.sum(dd <= eps))
@@ -492,5 +539,8 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
         note(pops[-1], t, hits)
         if hits / sims < min_acceptance:
             stopped = "min_acceptance"
+            break
+        if floor > 0 and eps <= floor:
+            stopped = "discrepancy"
             break
     return ABCResult(pops, M, total, stopped, history)

@@ -32,7 +32,7 @@ import numpy as np
 
 from drillpy.calibration import abcsmc
 from drillpy.calibration.families import FAMILIES, check_base, family_law
-from drillpy.calibration.priors import PriorSpec, prior_spec, split_config
+from drillpy.calibration.priors import PriorSpec, discrepancy_factor, prior_spec, split_config
 from drillpy.calibration.sampler import Sampler, check_backend
 from drillpy.calibration.summaries import BOUNDS, NAMES, UNITS, noise_scale, statistics, summaries
 from drillpy.model.configuration import Configuration
@@ -268,7 +268,8 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
                      t0: float | None = None, t1: float | None = None, heldout: tuple | None = None,
                      population: int = 200, max_simulations: int = 20000, max_generations: int = 12,
                      predictive_draws: int = 100, seed: int = 0, threads: int = 0, dt_s: float = SIM_DT_S,
-                     scheduler: str | None = None, chunk: int | None = None, log=None) -> Posterior:
+                     scheduler: str | None = None, chunk: int | None = None, discrepancy: float | None = None,
+                     log=None) -> Posterior:
     """Posterior of the rig model given a record (module docstring).
 
     Parameters
@@ -303,6 +304,12 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
         or ``tcp://HOST:PORT`` (:mod:`drillpy.calibration.sampler`).
     chunk : int, optional
         Simulations per Dask task (default: each batch cut into 4 tasks per worker).
+    discrepancy : float, optional
+        The model discrepancy's factor (:func:`drillpy.calibration.priors.discrepancy_factor`): each
+        statistic's discrepancy standard deviation in units of its window-to-window spread on the
+        record; default the configuration's ``calibration.discrepancy``, else
+        :data:`~drillpy.calibration.priors.DEFAULT_DISCREPANCY`. It enters the ABC as noise on the
+        simulated statistics (:func:`drillpy.calibration.abcsmc.run`) and the predictive intervals.
     log : callable, optional
         Progress lines (and the LocalCluster's dashboard address).
 
@@ -325,6 +332,8 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
     if not isinstance(max_generations, (int, np.integer)) or max_generations < 0:
         raise ValueError(f"max_generations = {max_generations!r}: a non-negative integer")
     check_backend(scheduler, chunk)
+    if discrepancy is not None:
+        discrepancy_factor(discrepancy, "discrepancy")
     if config_path is not None:
         config = json.loads(Path(config_path).read_text())
     section = {}
@@ -334,6 +343,8 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
     else:
         cfg = Configuration.load(preset=preset)
     spec = prior_spec(section)
+    factor = discrepancy_factor(section.get("discrepancy") if discrepancy is None else discrepancy,
+                                "calibration.discrepancy" if discrepancy is None else "discrepancy")
     base_law = cfg.law.to_dict()
     check_base(base_law)  # the law's type, checked before any run
     rec = load_window(record, t0, t1)
@@ -344,19 +355,20 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
     if not ok.all():
         missing = [n for n, o in zip(NAMES, ok) if not o]
         raise ValueError(f"record: statistics {', '.join(missing)} cannot be measured on the window")
+    disc = factor * scale  # the discrepancy's standard deviation of each statistic, in its unit
     target = load_window(record, *heldout) if heldout is not None else rec
     with Sampler(threads, scheduler, chunk, log) as sampler:
         sim = RigSimulator(rec, thr, spec, base_law, dt_s=dt_s, sampler=sampler)
         dims = [len(spec.families[f]) for f in sim.families]
         start, cpu = time.perf_counter(), time.process_time()
         res = abcsmc.run(sim, dims, observed, scale, population=population, max_simulations=max_simulations,
-                         max_generations=max_generations, seed=seed, log=log)
+                         max_generations=max_generations, seed=seed, discrepancy=disc, log=log)
         wall, cpu = time.perf_counter() - start, time.process_time() - cpu
         post = res.posterior
         # posterior predictive on the held-out window
         jobs = [(sim.families[m], sim.values(sim.families[m], z)) for m, z in zip(post.model, post.z)]
         predictive = _predictive(sim, jobs, post.weight, target, scale, float(rec.time_s[-1] - rec.time_s[0]),
-                                 predictive_draws, seed)
+                                 predictive_draws, seed, disc)
         backend = sampler.describe()
     p, se = post.model_probabilities(len(dims))
     parameters, particles = {}, {}
@@ -381,7 +393,11 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
            "eps": [h["eps"] for h in res.history], "history": res.history, "wall_s": wall,
            "simulations_per_s": res.simulations / wall if wall > 0 else None, "cpu_s": cpu, "seed": seed,
            "threads": backend.get("threads"), "backend": backend, "dt_s": sim.dt_s, "method": "ABC-SMC with model choice (drillpy.calibration.abcsmc)",
-           "heldout_s": list(heldout) if heldout is not None else None}
+           "heldout_s": list(heldout) if heldout is not None else None,
+           "discrepancy": {"factor": factor, "sd": dict(zip(NAMES, map(float, disc))),
+                           "eps_floor": abcsmc.discrepancy_floor(disc, scale),
+                           "method": "noisy ABC under model error (Wilkinson 2013): N(0, sd^2) on each simulated "
+                                     "statistic, sd = factor x its window-to-window spread on the record"}}
     rec_info = {"source": str(record) if isinstance(record, (str, Path)) else rec.provenance.get("source"),
                 "window_s": [float(rec.time_s[0]), float(rec.time_s[-1])], "stick_threshold_rad_s": thr,
                 "base_law": base_law}
@@ -439,12 +455,13 @@ def predictive_intervals(stats: np.ndarray, weight: np.ndarray, noise: np.ndarra
 
 
 def _predictive(sim: RigSimulator, jobs: list, weight: np.ndarray, target: Record, scale: np.ndarray,
-                calibration_s: float, draws: int, seed: int) -> dict:
+                calibration_s: float, draws: int, seed: int, discrepancy=None) -> dict:
     """Posterior predictive 90 % intervals of the statistics on ``target`` (module docstring):
     ``draws`` particles of ``jobs`` [(family, values)] taken by systematic resampling on ``weight``,
     each distinct particle simulated once at the target's operating point and weighted by its count,
     with each statistic's sampling noise ``scale`` (over ``calibration_s`` seconds) scaled to the
-    target's length (:func:`predictive_intervals`)."""
+    target's length and, in quadrature, the model ``discrepancy``'s standard deviation (the same on
+    any window: the model's error, not the record's sampling) (:func:`predictive_intervals`)."""
     rng = np.random.default_rng([seed, 10 ** 6])
     cw = np.cumsum(weight / weight.sum())
     picks = np.minimum(np.searchsorted(cw, (rng.random() + np.arange(int(draws))) / int(draws)), len(jobs) - 1)
@@ -452,6 +469,8 @@ def _predictive(sim: RigSimulator, jobs: list, weight: np.ndarray, target: Recor
     pred = sim.sampler.map(sim, [jobs[i] for i in idx], target)
     len_t = float(target.time_s[-1] - target.time_s[0]) - SKIP_S
     noise = scale * math.sqrt(max(calibration_s - SKIP_S, 1e-9) / max(len_t, 1e-9))
+    if discrepancy is not None:
+        noise = np.hypot(noise, discrepancy)
     q = predictive_intervals(pred, count.astype(float), noise, rng)
     measured = summaries(target, rigsim.stick_threshold(target), SKIP_S)
     out = {}
@@ -515,8 +534,9 @@ def predict_posterior(posterior, record, *, t0: float | None = None, t1: float |
         sim = RigSimulator(target, rigsim.stick_threshold(target), spec, s["record"]["base_law"],
                            dt_s=float(s["run"].get("dt_s", 1e-4)),  # a posterior written before dt_s ran at 1e-4 s
                            sampler=sampler)
+        disc = s["run"].get("discrepancy", {}).get("sd")  # none in a posterior written before the discrepancy
         out = _predictive(sim, jobs, weight, target, np.array([s["scale"][n] for n in NAMES]),
-                          float(win[1] - win[0]), draws, seed)
+                          float(win[1] - win[0]), draws, seed, None if disc is None else np.array([disc[n] for n in NAMES]))
     return {"statistics": out, "window_s": [float(target.time_s[0]), float(target.time_s[-1])], "draws": int(draws),
             "model_probability": s["model_probability"]}
 

@@ -8,11 +8,13 @@ replaces any of them, fixes the parameters not calibrated, and names the law fam
     "calibration": {
         "priors": {"damping_ratio": {"range": [0.005, 0.1], "scale": "uniform"}, ...},
         "fixed": {"jack_relaxation_s": 0.2, ...},
-        "families": ["polynomial_hysteretic", "polynomial", "tucker_wang", "hysteretic"]
+        "families": ["polynomial_hysteretic", "polynomial", "tucker_wang", "hysteretic"],
+        "discrepancy": 2.0
     }
 
 The families (default Eqs. 5.3 and 5.1) and their law parameters' ranges are those of
-:mod:`drillpy.calibration.families`. The section is read here and removed before the engine
+:mod:`drillpy.calibration.families`. ``discrepancy`` is the model discrepancy's factor
+(:func:`discrepancy_factor`). The section is read here and removed before the engine
 validates the rest of the configuration.
 """
 from __future__ import annotations
@@ -181,7 +183,7 @@ def split_config(cfg: dict) -> tuple:
     if sec is None:
         return cfg, {}
     if not isinstance(sec, dict):
-        raise ValueError(f"calibration = {sec!r}: must be an object (priors, fixed, families)")
+        raise ValueError(f"calibration = {sec!r}: must be an object (priors, fixed, families, discrepancy)")
     return cfg, sec
 
 
@@ -204,10 +206,12 @@ def prior_spec(section: dict | None = None) -> PriorSpec:
         Naming the field and the value of an unknown key, parameter or family, or a bad range.
     """
     sec = dict(section or {})
-    unknown = set(sec) - {"priors", "fixed", "families"}
+    unknown = set(sec) - {"priors", "fixed", "families", "discrepancy"}
     if unknown:
         k = sorted(unknown)[0]
-        raise ValueError(f"calibration.{k} = {sec[k]!r}: unknown key (use priors, fixed, families)")
+        raise ValueError(f"calibration.{k} = {sec[k]!r}: unknown key (use priors, fixed, families, discrepancy)")
+    if "discrepancy" in sec:
+        discrepancy_factor(sec["discrepancy"], "calibration.discrepancy")
     fams = sec.get("families", list(DEFAULT_FAMILIES))
     if not isinstance(fams, (list, tuple)) or not fams:
         raise ValueError(f"calibration.families = {fams!r}: a non-empty list of {', '.join(FAMILIES)}")
@@ -244,3 +248,42 @@ def prior_spec(section: dict | None = None) -> PriorSpec:
                              f"[{lo:g}, {hi:g}] {RIG_PARAMETERS[k][2]}")
         fixed[k] = float(v)
     return PriorSpec({f: tuple(priors[p] for p in RIG_CALIBRATED + FAMILY_PARAMETERS[f]) for f in fams}, fixed)
+
+
+#: The model discrepancy's factor by default (:func:`discrepancy_factor`; docs/calibration.md,
+#: "The model discrepancy").
+DEFAULT_DISCREPANCY = 3.0
+#: Largest discrepancy factor accepted (at that size the statistics say nothing the prior does not).
+MAX_DISCREPANCY = 100.0
+
+
+def discrepancy_factor(value, field: str = "calibration.discrepancy") -> float:
+    """The model discrepancy's factor: each statistic's discrepancy standard deviation in units of
+    its window-to-window spread on the calibration record (the distance's unit,
+    :func:`drillpy.calibration.summaries.noise_scale`); 0 for none.
+
+    Parameters
+    ----------
+    value : float or None
+        The factor (None: :data:`DEFAULT_DISCREPANCY`).
+    field : str
+        The option's name in the error (``calibration.discrepancy`` or ``--discrepancy``).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        ``<field> = <value>: a number from 0 (no discrepancy) to 100 ...``.
+    """
+    if value is None:
+        return DEFAULT_DISCREPANCY
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
+            or not (math.isfinite(value) and 0 <= value <= MAX_DISCREPANCY):
+        raise ValueError(f"{field} = {value!r}: a number from 0 (no discrepancy) to {MAX_DISCREPANCY:g}, the "
+                         "discrepancy's standard deviation of each statistic in units of its window-to-window "
+                         "spread on the record")
+    return float(value)
+

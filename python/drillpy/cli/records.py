@@ -356,6 +356,10 @@ def _add_calibrate(sub) -> argparse.ArgumentParser:
     s.add_argument("--draws", type=int, default=100, help="posterior draws of the predictive intervals")
     s.add_argument("--seed", type=int, default=0, help="seed (same seed, same numbers)")
     s.add_argument("--threads", type=threads_option, default=0, help="simulations at once (0: one per core)")
+    s.add_argument("--discrepancy", type=float, metavar="F",
+                   help="model discrepancy: each statistic's standard deviation in units of its window-to-window "
+                        "spread on the record (noisy ABC under model error; 0: none; default the configuration's "
+                        "calibration.discrepancy, else the built-in default; docs/calibration.md)")
     _add_scheduler_args(s, ", the posterior stability map of --map included")
     s.add_argument("--map", metavar="A:B:N,A:B:N", help="also the posterior stability map P(SS > 0.5) over N motor "
                                                        "commands from A to B [rad/s] x N WOB from A to B [N] "
@@ -391,12 +395,15 @@ def cmd_calibrate(a: argparse.Namespace) -> int:
     grids = None if a.map is None else _map_grids(a.map)
     if not 2 <= a.map_samples <= 100000:
         raise ValueError(f"--map-samples = {a.map_samples}: an integer from 2 to 100000")
+    if a.discrepancy is not None:
+        from drillpy.calibration.priors import discrepancy_factor
+        discrepancy_factor(a.discrepancy, "--discrepancy")
     with _removed_on_failure(a.out):
         s = calibrate_to_folder(a.record, a.out, map_grids=grids, map_samples=a.map_samples, preset=a.preset,
                                 config_path=a.config, t0=a.t0, t1=a.t1, heldout=held, population=a.population,
                                 max_simulations=a.simulations, max_generations=a.generations,
                                 predictive_draws=a.draws, seed=a.seed, threads=a.threads, scheduler=a.scheduler,
-                                chunk=a.chunk, log=None if a.json else print)
+                                chunk=a.chunk, discrepancy=a.discrepancy, log=None if a.json else print)
     smap = s.get("stability_map")
     if a.json:
         extra = {} if smap is None else {"stability_map": _map_json(smap)}

@@ -134,6 +134,10 @@ def summary_lines(s: dict) -> list:
     lines = [f"{run['abc_simulations']} simulations in {run['wall_s']:.1f} s ({run['simulations_per_s']:.1f}/s, "
              f"{_backend(run)}{cpu}), {run['generations']} generations, final eps {run['eps'][-1]:.3g} "
              f"({run['stopped']})"]
+    disc = run.get("discrepancy") or {}
+    if disc.get("factor"):
+        lines.append(f"model discrepancy: {disc['factor']:g} x each statistic's window-to-window spread (noisy ABC); "
+                     f"eps held at {disc['eps_floor']:.3g} and above")
     for fam in s["families"]:
         up = (s.get("model_choice") or {}).get("upper95", {}).get(fam)
         lines.append(f"P({fam}, Eq. {s['equations'][fam]}) = {s['model_probability'][fam]:.3f} "
