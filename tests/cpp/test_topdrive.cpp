@@ -137,7 +137,7 @@ TEST(TopDrive, ConfigParsesRoundTripsAndNamesBadFields) {
   json j = preset_json("thesis-rig");
   j["top_drive"] = {{"type", "motor"}, {"slope_nms_rad", 0.25}, {"inertia_kg_m2", 0.03}};
   const Config c = parse_config(j);
-  EXPECT_TRUE(c.top_drive.is_motor());
+  EXPECT_EQ(c.top_drive.kind, TopDrive::Kind::motor);
   EXPECT_DOUBLE_EQ(c.top_drive.slope, 0.25);
   EXPECT_DOUBLE_EQ(c.top_drive.inertia, 0.03);
   const Config back = parse_config(to_json(c));

@@ -158,7 +158,7 @@ class AxialTorsional {
   template <class Observer>
   CoupledState run(const Inputs& in, Observer&& obs, const ModelState* start = nullptr) const {
     in.top_speed.validate("operation.top_speed_rad_s");
-    require(in.top_drive.kind == TopDrive::Kind::ideal, "top_drive.type", TopDrive::kind_name(in.top_drive.kind),
+    require(!in.top_drive.has_inertia(), "top_drive.type", TopDrive::kind_name(in.top_drive.kind),
             "axial.type = rgd is implemented with an ideal top drive only");
     const double dt = opt_.dt;
     const long n = opt_.steps();

@@ -125,7 +125,7 @@ class BatchedIntegrator {
     const SimOptions& o = in_.opt_;
     const bool scheme = (o.scheme == Scheme::modified_euler && o.acceleration == Acceleration::implicit) ||
                         o.scheme == Scheme::exact_modal;
-    return scheme && in_.diag_damping_ && in.top_drive.kind == TopDrive::Kind::ideal && !in.axial.active() && !in.axial.coupled();
+    return scheme && in_.diag_damping_ && !in.top_drive.has_inertia() && !in.axial.active() && !in.axial.coupled();
   }
 
   /// Whether `other` can step in lockstep with this integrator's runs with its own damping: the

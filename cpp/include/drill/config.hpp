@@ -17,7 +17,8 @@
 //                                                   string on its guides, lumped at the bit, set-valued at
 //                                                   rest (adds to the stick capacity); both act outside the
 //                                                   bit's torque sensor and are not in the thesis),
-//   "top_drive": {"type": "ideal"}                 (the thesis: the top turns at top_speed_rad_s)
+//   "top_drive": {"type": "ideal"}                 (the thesis: the top turns at top_speed_rad_s; the keys
+//                                                   of each drive: its header, listed in drives/registry.hpp)
 //              | {"type": "motor", "slope_nms_rad": c_m, "inertia_kg_m2": J_m}
 //                                                  (open-loop motor commanded at top_speed_rad_s:
 //                                                   J_m Omega' = c_m (Omega_c - Omega) - T_top)
@@ -137,7 +138,7 @@ struct Config {
     top_drive.validate();
     require(!top_drive.has_inertia() || sim.scheme == Scheme::modified_euler, "top_drive.type",
             TopDrive::kind_name(top_drive.kind), "is implemented for simulation.scheme = modified_euler only");
-    if (top_drive.is_controlled()) {
+    if (top_drive.has_controller()) {
       const Controller& ctl = top_drive.controller;
       require(!ctl.sampled() || sim.dt <= ctl.sample_time * (1.0 + 1e-12), "simulation.dt_s", sim.dt,
               "is larger than top_drive.controller.sample_time_s = " + show(ctl.sample_time) + " s");
@@ -151,7 +152,7 @@ struct Config {
     require(!(axial.active() || axial.coupled()) || sim.scheme == Scheme::modified_euler, "axial.type",
             Axial::kind_name(axial.kind), "is implemented for simulation.scheme = modified_euler only");
     if (axial.coupled()) {
-      require(top_drive.kind == TopDrive::Kind::ideal, "top_drive.type", TopDrive::kind_name(top_drive.kind),
+      require(!top_drive.has_inertia(), "top_drive.type", TopDrive::kind_name(top_drive.kind),
               "is not implemented with axial.type = rgd (use ideal)");
       const int free_axial = string.n_elements() + (axial.rgd.top == AxialTop::hook_load ? 1 : 0);
       require(axial.rgd.modes <= free_axial, "axial.modes", axial.rgd.modes,
@@ -364,20 +365,14 @@ inline Tables make_tables() {
 
   {
     using D = TopDrive;
-    t.top_drive = {
-        "top_drive",
-        "ideal (the thesis: the top turns at top_speed_rad_s) or an open-loop motor commanded at it, "
-        "J_m Omega' = c_m (Omega_c - Omega) - T_top",
-        {kind_key<D>("top-drive model")},
-        {{D::kind_name(D::Kind::ideal), {}},
-         {D::kind_name(D::Kind::motor),
-          {{number("slope_nms_rad", "c_m: torque lost per unit speed [N m s/rad]").positive().req(), &D::slope},
-           {number("inertia_kg_m2", "J_m: rotor and drive-train inertia [kg m^2]").positive().req(), &D::inertia},
-           {number("max_torque_nm", "T_max: the motor's torque limit [N m]; absent: unlimited").positive(),
-            &D::max_torque}}},
-         {D::kind_name(D::Kind::controlled),
-          {{number("inertia_kg_m2", "J: rotor and drive-train inertia [kg m^2]").positive().req(), &D::inertia},
-           object("controller", "top_drive.controller", "the speed controller driving the inertia").req()}}}};
+    std::vector<Case<D>> variants;  // each drive's keys (drives/registry.hpp)
+    for (const Named<D::Kind>& k : D::kinds)
+      D::visit(k.value, [&](auto drive) { variants.push_back({k.name, decltype(drive)::template keys<D>()}); });
+    t.top_drive = {"top_drive",
+                   "ideal (the thesis: the top turns at top_speed_rad_s) or an open-loop motor commanded at it, "
+                   "J_m Omega' = c_m (Omega_c - Omega) - T_top",
+                   {kind_key<D>("top-drive model")},
+                   variants};
   }
 
   {
@@ -621,7 +616,7 @@ inline Config parse_config(const json& j) {
   if (j.contains("top_drive")) {
     const json& td = j.at("top_drive");
     t.top_drive.read(td, "top_drive", c.top_drive);
-    if (c.top_drive.is_controlled()) {
+    if (c.top_drive.has_controller()) {
       if (!td.contains("controller")) throw std::invalid_argument("top_drive.controller: missing (required object)");
       const json& k = td.at("controller");
       const std::string w = "top_drive.controller";
@@ -676,9 +671,9 @@ inline json to_json(const Config& c) {
   j["metrics"] = t.metrics.write(c.metrics);
   if (!c.sweep_speeds.empty() || !c.sweep_wobs.empty()) j["sweep"] = t.sweep.write(c);
   if (!c.cb_modes.empty()) j["craig_bampton"] = t.craig_bampton.write(c);
-  if (c.top_drive.has_inertia()) {
+  if (c.top_drive.kind != TopDrive{}.kind) {  // the default drive (ideal) is not written
     j["top_drive"] = t.top_drive.write(c.top_drive);
-    if (c.top_drive.is_controlled()) j["top_drive"]["controller"] = t.controller.write(c.top_drive.controller);
+    if (c.top_drive.has_controller()) j["top_drive"]["controller"] = t.controller.write(c.top_drive.controller);
   }
   if (!c.axial.coupled()) j["law"] = t.law.write(c.law);
   if (c.axial.kind != Axial::Kind::none) j["axial"] = t.axial.write(c.axial);

@@ -200,7 +200,7 @@ class HorizonRun {
     // and the string friction T_sf sign(v)
     double Tb = st.torque + in.bit_viscous * st.bit_speed;
     if (in.string_friction > 0.0) Tb += in.string_friction * ((st.bit_speed > 0.0) - (st.bit_speed < 0.0));
-    s0 = in.top_drive.is_motor() && !std::isfinite(st.top_accel)
+    s0 = in.top_drive.accel_from_torque() && !std::isfinite(st.top_accel)
              ? integ_.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, in.top_drive, in.top_speed.at(0.0))
              : integ_.state_from_bit(st.bit_speed, st.bit_accel, Tb, st.top_speed, st.top_accel);
     s0.wob = st.wob;

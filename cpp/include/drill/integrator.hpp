@@ -12,9 +12,11 @@
 // static_torque(W) (1 + eta) + T_sf, and it applies whenever that capacity is positive (so T_sf
 // alone makes the laws without a static torque stick).
 // Omega(t) is the commanded speed (ideal top drive) or the state of a motor model driven by it
-// (topdrive.hpp: J_m Omega' = c_m (Omega_c - Omega) - T_top; modified Euler only), or of a
+// (drives/motor.hpp: J_m Omega' = c_m (Omega_c - Omega) - T_top; modified Euler only), or of a
 // controlled drive J Omega' = u - T_top with the motor torque u of a speed controller
-// (controller.hpp; modified Euler only, the same coupling and stability bound as the motor).
+// (drives/controlled.hpp, controller.hpp; modified Euler only, the same coupling and stability
+// bound as the motor). The drives are listed in drives/registry.hpp; run_euler is instantiated
+// once per drive, with its update of the top speed (its Run) inlined.
 // The reduced matrices are first brought to M = I, K = diag(omega^2) by the generalized
 // eigenvectors of (K~, M~); D~ stays diagonal for modal or Rayleigh damping and is used dense
 // otherwise (random matrices, Craig-Bampton).
@@ -221,14 +223,13 @@ class Integrator {
   /// scheme's motor step makes it, (J_m + c_m dt) domega = c_m (command - omega) - T_top(domega), with
   /// T_top linear in domega through the state: domega = (c_m (command - omega) - T_top(0)) /
   /// (J_m + c_m dt + dT_top/ddomega).
+  /// (The drive's equation: TopDrive::top_accel, drives/motor.hpp; refused for a drive without one.)
   ModelState state_from_bit(double v, double a, double T, double omega, const TopDrive& td, double command) const {
-    require(td.is_motor(), "top_drive.type", std::string(TopDrive::kind_name(td.kind)), "must be motor here");
+    require(td.accel_from_torque(), "top_drive.type", TopDrive::kind_name(td.kind),
+            "has no equation for the top's acceleration here");
     const double t0 = top_torque(state_from_bit(v, a, T, omega, 0.0));
     const double slope = top_torque(state_from_bit(v, a, T, omega, 1.0)) - t0;
-    const double den = td.inertia + td.slope * opt_.dt + slope;
-    require(den > 0.0, "top_drive.inertia_kg_m2", td.inertia,
-            "is too small for the string's inertia load at the top (J_m + dT_top/dOmega' = " + show(den) + " <= 0)");
-    return state_from_bit(v, a, T, omega, (td.slope * (command - omega) - t0) / den);
+    return state_from_bit(v, a, T, omega, td.top_accel(command, omega, opt_.dt, t0, slope));
   }
 
   ModelState state_from_bit(double v, double a, double T, double omega, double domega) const {
@@ -271,7 +272,7 @@ class Integrator {
     require(!in.axial.coupled(), "axial.type", Axial::kind_name(in.axial.kind),
             "runs through Simulation::run only (drillpy simulate, drillsim --job run): sweeps, maps, Monte Carlo, "
             "control and horizons are not implemented for the axial-torsional model");
-    if (in.top_drive.is_controlled()) {
+    if (in.top_drive.has_controller()) {
       const Controller& c = in.top_drive.controller;
       require(c.tuned(), "top_drive.controller", Controller::kind_name(c.kind),
               "has no gains: tune it (TopDrive::tune_controller; Simulation does it from the string)");
@@ -293,8 +294,8 @@ class Integrator {
     Eigen::VectorXd z = Vinv_ * s0.q, p = Vinv_ * s0.qdot;
     if (opt_.scheme == Scheme::bdf2) return run_bdf2(in, obs, z, p);
     if (opt_.scheme == Scheme::exact_modal) return run_exact(in, obs, z, p);
-    if (in.top_drive.is_controlled()) return run_euler<true>(in, obs, z, p, s0);
-    return run_euler<false>(in, obs, z, p, s0);
+    return TopDrive::visit(in.top_drive.kind,
+                           [&](auto drive) { return run_euler<decltype(drive)>(in, obs, z, p, s0); });
   }
 
  private:
@@ -341,9 +342,9 @@ class Integrator {
 
   ModelState to_model(const Eigen::VectorXd& z, const Eigen::VectorXd& p) const { return {V_ * z, V_ * p}; }
 
-  /// Modified Euler; `Controlled`: the top is a controlled drive (a separate instantiation, so the
-  /// ideal and motor paths are the same code as without controllers).
-  template <bool Controlled, class Observer>
+  /// Modified Euler with the top drive `Drive` of drives/registry.hpp (one instantiation per drive:
+  /// its update of the top speed, Drive::Run, is inlined in the step).
+  template <class Drive, class Observer>
   ModelState run_euler(const Inputs& in, Observer& obs, Eigen::VectorXd& z, Eigen::VectorXd& p,
                        const ModelState& s0) const {
     const double top0 = s0.top_speed;
@@ -355,33 +356,23 @@ class Integrator {
     double a1 = 0.0, a2 = 0.0, a3 = 0.0;  // the accelerations of the last three solves of Eq. (A.1)
     bool newton = false;                  // the last step solved Eq. (A.1) by Newton
     const double k_law = law_.beta2 * speed_factor(law_.speed_unit);  // k of BitRockLaw::AtSpeed
-    const double inv_dt = 1.0 / dt;
-    const bool motor = Controlled || in.top_drive.is_motor(), lagged = opt_.acceleration == Acceleration::lagged;
+    const bool lagged = opt_.acceleration == Acceleration::lagged;
     double om_state = std::isfinite(top0) ? top0 : in.top_speed.at(0.0);  // motor speed
     const bool axial = in.axial.active();
     double wob_state = std::isfinite(s0.wob) ? s0.wob : in.wob.at(0.0);  // the axial state (axial.hpp)
-    // a controlled drive's loop, starting in equilibrium with the string's top torque unless given
-    const double T0 = Controlled ? top_torque_.dot(z) : 0.0;
-    ControlLoop loop(in.top_drive.controller, in.top_drive.inertia, dt,
-                     std::isfinite(s0.drive_integral) ? s0.drive_integral : T0,
-                     std::isfinite(s0.drive_mean) ? s0.drive_mean : T0);
+    // the drive's update of the top speed (a controlled drive's loop starts in equilibrium with
+    // the string's top torque unless the state gives it)
+    typename Drive::template Run<TopDrive> drive(in.top_drive, in.top_speed, dt, s0,
+                                                 [&] { return top_torque_.dot(z); });
     for (long i = 0;; ++i) {
       const double t = i * dt;
-      const double om = motor ? om_state : in.top_speed.at(t);
+      const double om = drive.speed(t, om_state);
       const double T_top = top_torque_.dot(z);  // the string's elastic torque at the top (reported too)
       // the motor's speed at the next step, from the string's top torque of this step
-      double om_next;
-      if constexpr (Controlled)
-        om_next = loop.step(t, om, in.top_speed.at(t), T_top);
-      else
-        om_next = motor ? in.top_drive.step(om, in.top_speed.at(t), T_top, dt) : in.top_speed.at(t + dt);
+      const double om_next = drive.next(t, om, T_top);
       // the top's acceleration; a controlled drive's by a product (off a division's latency; the
       // motor's division stays: drillpy loop's results move with its rounding)
-      double domega;
-      if constexpr (Controlled)
-        domega = (om_next - om) * inv_dt;
-      else
-        domega = motor ? (om_next - om) / dt : in.top_speed.rate(t);
+      const double domega = drive.accel(t, om, om_next);
       const double wob = axial ? wob_state : in.wob.at(t), eta = in.eta.at(t);
       // Newton's start for Eq. (A.1) (below). Its tanh does not depend on this step: evaluated
       // here, where it overlaps the step's chain of dependent operations (the controller's, the
@@ -461,10 +452,8 @@ class Integrator {
       if (Ts + in.string_friction > 0.0) stick_euler(v, om, alpha, g, dt, Ts, in.string_friction, visc, a, T, fric);
       if (!std::isfinite(v) || !std::isfinite(T)) diverged(t);
       const double T_bit = fric != 0.0 ? T - fric : T;  // the string friction acts outside the torque sensor
-      if constexpr (Controlled)
-        obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, T_top, om, loop.torque, wob}));
-      else
-        obs(static_cast<const StepState&>(StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, T_top, om, NAN, wob}));
+      obs(static_cast<const StepState&>(
+          StepState{i, t, v, a, theta_top + bit_.dot(z), T_bit, T_top, om, drive.torque(), wob}));
       if (i == n) break;
       v_prev = v;
       p += dt * (f - bit_ * T);  // Eq. (A.5): velocity first, with the torque of step i ...
@@ -476,10 +465,7 @@ class Integrator {
     ModelState out = to_model(z, p);
     out.top_speed = om_state;
     if (axial) out.wob = wob_state;
-    if constexpr (Controlled) {
-      out.drive_integral = loop.integral;
-      out.drive_mean = loop.mean;
-    }
+    drive.finish(out);
     return out;
   }
 

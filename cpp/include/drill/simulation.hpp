@@ -64,7 +64,7 @@ class Simulation {
     if (cfg_.axial.coupled()) coupled_.emplace(rom_.model, cfg_.string, cfg_.axial.rgd, cfg_.sim);
     // a controlled top drive is tuned from the top section's characteristic impedance and the
     // first natural frequency of the reduced model (string clamped at the top): controller.hpp
-    if (cfg_.top_drive.is_controlled()) cfg_.top_drive.tune_controller(top_impedance(), rom_.omega(0));
+    if (cfg_.top_drive.has_controller()) cfg_.top_drive.tune_controller(top_impedance(), rom_.omega(0));
   }
 
   /// The characteristic torsional impedance of the top section, Z = J_p sqrt(G rho) [N m s/rad].
@@ -116,7 +116,7 @@ class Simulation {
     if (td.has_inertia()) s.top_speed = om;
     // the integral carries the reduced model's top torque of this twist (T(Omega) to the modal
     // truncation of the static twist), so that the drive starts in equilibrium
-    if (td.is_controlled()) s.drive_integral = s.drive_mean = td.controller.ki > 0.0 ? integ_.top_torque(s) : 0.0;
+    if (td.has_controller()) s.drive_integral = s.drive_mean = td.controller.ki > 0.0 ? integ_.top_torque(s) : 0.0;
     return s;
   }
 
@@ -136,9 +136,9 @@ class Simulation {
     auto torque = [&](double om) { return steady_torque(om, wob); };
     double om = top_speed;
     const TopDrive& td = cfg_.top_drive;
-    // a controller with integral action turns at the command (om = top_speed); a P-only one droops
-    const bool droops = td.is_motor() || (td.is_controlled() && !(td.controller.ki > 0.0));
-    if (droops && top_speed > 0.0) {
+    // the speed depends on the torque (TopDrive::droops: a motor, a P-only controller), or it is the
+    // command (the ideal drive, a controller with integral action)
+    if (td.droops() && top_speed > 0.0) {
       double lo = 0.0, hi = top_speed;  // g(om) = om - Omega_c + T(om) / c_m is negative at 0 unless stalled
       auto g = [&](double x) { return x - cfg_.top_drive.steady_speed(top_speed, torque(x)); };
       if (g(lo) >= 0.0) hi = lo;

@@ -84,7 +84,7 @@ inline double first_natural_frequency(const ReducedModel& m) {
 /// for every realization.
 inline TopDrive study_top_drive(const StochasticModel& sm) {
   TopDrive td = sm.config().top_drive;
-  if (td.is_controlled()) td.tune_controller(top_impedance(sm.config().string), first_natural_frequency(sm.mean()));
+  if (td.has_controller()) td.tune_controller(top_impedance(sm.config().string), first_natural_frequency(sm.mean()));
   return td;
 }
 

@@ -2,81 +2,100 @@
 //
 // The thesis clamps the top node in a frame rotating at a prescribed speed Omega(t) (Eqs. 2.1-2.6):
 // an ideal drive that holds its speed whatever the torque. The test rig's drive is an open-loop DC
-// motor (section 5.3.2: "top drive speed decreases between 40 % and 60 % during drilling ... because
-// the top drive control is based on open-loop system"; the bit sometimes sticks at a torque "that
-// the electrical motor is not able to overcome"). The motor model gives it a linear torque-speed
-// characteristic (speed droop) and an inertia:
+// motor with a torque-speed characteristic, a torque limit and an inertia (thesis sections 5.3.2,
+// 5.1), and a `controlled` drive (issue 15) is the same free top inertia driven by a speed
+// controller (controller.hpp). The drives, one header each, are listed in drives/registry.hpp:
 //
-//   J_m Omega' = c_m (Omega_c(t) - Omega) - T_top,      T_top = elastic torque of the string at the top
+//   ideal       drives/ideal.hpp       Omega = Omega_c(t)
+//   motor       drives/motor.hpp       J_m Omega' = min(c_m (Omega_c - Omega), T_max) - T_top
+//   controlled  drives/controlled.hpp  J Omega' = u - T_top, u = sat_L(kp (Omega_ref - Omega) + T_I)
 //
-// Omega_c is the commanded (no-load) speed, c_m [N m s/rad] the slope of the characteristic: under a
-// steady torque T the motor turns at Omega_c - T / c_m (droop 1 / c_m per N m) and it stalls above
-// c_m Omega_c. The motor speed is a state of the simulation; its own damping term is integrated
-// implicitly (backward Euler: stable for any c_m dt / J_m), the string torque explicitly.
-//
-// The motor's torque is limited (`max_torque_nm`, T_max; the rig's motor: 8 N m, thesis section 5.1):
-//
-//   J_m Omega' = min(c_m (Omega_c - Omega), T_max) - T_top
-//
-// so that a bit stuck at a torque above min(c_m Omega_c, T_max) stalls the top ("the bit sticks and
-// achieves a reactive torque that the electrical motor is not able to overcome", section 5.3.2).
-// Without the key the characteristic is unlimited (the previous model).
-//
-// A `controlled` drive (issue 15) is the same free top inertia J driven by the torque of a speed
-// controller instead of the motor's characteristic (controller.hpp: stiff, pi, soft_speed, z_torque,
-// with a torque limit and a sample time):
-//
-//   J Omega' = u - T_top,   u = sat_L(kp (Omega_ref - Omega) + T_I),   T_I' = ki (Omega_ref - Omega)
-//
-// Its gains are tuned from the string (Simulation's constructor calls tune_controller with the top
-// section's characteristic impedance and the first natural frequency of the reduced model). With
-// integral action the drive turns at the command in steady drilling (steady_speed).
+// TopDrive is the configured drive (the "top_drive" block): its kind, the parameters of every drive
+// (each drive's Params, and the top's inertia J that the drives with inertia share) and the hooks
+// that dispatch to the drive of its kind. Integrator::run_euler is instantiated once per drive
+// (TopDrive::visit), with the drive's per-step update of the top speed inlined.
 #pragma once
 
 #include <cmath>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "drill/controller.hpp"
+#include "drill/drives/registry.hpp"
 #include "drill/errors.hpp"
 #include "drill/names.hpp"
 
 namespace drill {
 
-struct TopDrive {
-  enum class Kind { ideal, motor, controlled };
-  Kind kind = Kind::ideal;
-  double slope = 0.0;    ///< c_m: torque lost per unit speed [N m s/rad] (motor only)
-  double inertia = 0.0;  ///< J_m, J: rotor and drive train inertia [kg m^2] (motor, controlled)
-  double max_torque = HUGE_VAL;  ///< T_max: the motor's torque limit [N m] (motor only; HUGE_VAL: none)
-  Controller controller;  ///< controlled only
+namespace drives {
+
+/// The parameters of the drives, each struct once (as laws::Parameters in bitrock.hpp).
+template <class... P>
+struct Parameters : P... {};
+template <class Acc, class... P>
+struct UniqueParameters {
+  using type = Acc;
+};
+template <class... Acc, class P, class... Rest>
+struct UniqueParameters<Parameters<Acc...>, P, Rest...>
+    : UniqueParameters<std::conditional_t<(... || std::is_same_v<P, Acc>), Parameters<Acc...>, Parameters<Acc..., P>>,
+                       Rest...> {};
+
+#define DRILL_DRIVE_PARAMS(name, Drive) , Drive::Params
+using AllParameters = UniqueParameters<Parameters<> DRILL_TOP_DRIVES(DRILL_DRIVE_PARAMS)>::type;
+#undef DRILL_DRIVE_PARAMS
+
+}  // namespace drives
+
+struct TopDrive : drives::AllParameters {
+#define DRILL_DRIVE_KIND(name, Drive) name,
+  enum class Kind { DRILL_TOP_DRIVES(DRILL_DRIVE_KIND) };
+#undef DRILL_DRIVE_KIND
+  Kind kind = Kind{};    ///< the first of the list (ideal)
+  double inertia = 0.0;  ///< J_m, J: rotor and drive train inertia [kg m^2] (the drives with inertia)
 
   /// The top drives by name (top_drive.type); their keys are the variants of the "top_drive" table (config.hpp).
-  static constexpr Named<Kind> kinds[] = {{Kind::ideal, "ideal"}, {Kind::motor, "motor"}, {Kind::controlled, "controlled"}};
+#define DRILL_DRIVE_NAME(name, Drive) {Kind::name, #name},
+  static constexpr Named<Kind> kinds[] = {DRILL_TOP_DRIVES(DRILL_DRIVE_NAME)};
+#undef DRILL_DRIVE_NAME
   static Kind parse_kind(const std::string& s) { return parse_name(kinds, s, "top_drive.type", "top drive"); }
   static std::string kind_name(Kind k) { return name_of(kinds, k); }
-  bool is_motor() const { return kind == Kind::motor; }
-  bool is_controlled() const { return kind == Kind::controlled; }
-  /// The top is a free inertia (motor or controlled): its speed is a state of the simulation.
-  bool has_inertia() const { return kind != Kind::ideal; }
+
+  /// f(Drive{}) for the struct Drive of kind k (drives/registry.hpp).
+  template <class F>
+  static decltype(auto) visit(Kind k, F&& f) {
+    switch (k) {
+#define DRILL_DRIVE_CASE(name, Drive) \
+  case Kind::name:                    \
+    return f(drives::Drive{});
+      DRILL_TOP_DRIVES(DRILL_DRIVE_CASE)
+#undef DRILL_DRIVE_CASE
+    }
+    throw std::logic_error("a top drive kind outside drives/registry.hpp");
+  }
+
+  /// The top is a free inertia (motor, controlled): its speed is a state of the simulation.
+  bool has_inertia() const {
+    return visit(kind, [](auto d) { return decltype(d)::has_inertia; });
+  }
+  /// The drive is run by a speed controller (top_drive.controller, tuned from the string).
+  bool has_controller() const {
+    return visit(kind, [](auto d) { return decltype(d)::has_controller; });
+  }
+  /// The drive's equation gives the top's acceleration from the string's top torque (top_accel).
+  bool accel_from_torque() const {
+    return visit(kind, [](auto d) { return decltype(d)::accel_from_torque; });
+  }
 
   void validate() const {
-    if (kind == Kind::ideal) return;
-    if (kind == Kind::motor) {
-      require_positive(slope, "top_drive.slope_nms_rad");
-      require(max_torque > 0.0, "top_drive.max_torque_nm", max_torque, "must be positive (absent: unlimited)");
-    }
-    require_positive(inertia, "top_drive.inertia_kg_m2");
-    if (kind == Kind::controlled) {
-      controller.validate();
-      const Controller c = controller.tuned() ? controller : controller.with_given_gains();
-      if (c.tuned()) c.validate_tuned(inertia);
-    }
+    visit(kind, [&](auto d) { decltype(d)::validate(*this); });
   }
 
   /// Tune a controlled drive's gains from the top section's characteristic impedance Z [N m s/rad]
   /// and the string's first natural frequency w1 [rad/s] (Controller::tune), and check them.
   void tune_controller(double Z, double w1) {
-    if (kind != Kind::controlled) return;
+    if (!has_controller()) return;
     controller.tune(inertia, Z, w1);
     controller.validate_tuned(inertia);
   }
@@ -84,19 +103,26 @@ struct TopDrive {
   /// Steady speed under a torque T [N m] at command Omega_c [rad/s]: Omega_c - T / c_m for the motor;
   /// the command for the ideal drive and a controller (the integral carries the torque; ki > 0).
   double steady_speed(double command, double torque) const {
-    if (is_motor()) return torque >= max_torque ? 0.0 : command - torque / slope;
-    if (is_controlled() && !(controller.ki > 0.0)) return command - torque / controller.kp;  // P only: droop
-    return command;
+    return visit(kind, [&](auto d) { return decltype(d)::steady_speed(*this, command, torque); });
+  }
+  /// Whether the steady speed depends on the torque (motor, P-only controller): Simulation::steady_speed.
+  bool droops() const {
+    return visit(kind, [&](auto d) { return decltype(d)::droops(*this); });
   }
 
-  /// Motor speed after one step dt from `omega` with the command and the string's top torque of
-  /// the current step: (Omega + dt (c_m Omega_c - T_top) / J_m) / (1 + dt c_m / J_m) on the
-  /// characteristic; Omega + dt (T_max - T_top) / J_m where the characteristic's torque at the new
-  /// speed would exceed the limit (the step is implicit in the characteristic, explicit in the limit).
-  double step(double omega, double command, double top_torque, double dt) const {
-    const double next = (omega + dt / inertia * (slope * command - top_torque)) / (1.0 + dt * slope / inertia);
-    if (slope * (command - next) <= max_torque) return next;
-    return omega + dt / inertia * (max_torque - top_torque);
+  /// The top's acceleration at speed omega and the command, from the drive's equation with the
+  /// string's top torque t0 + dT domega, time step dt (the motor: drives/motor.hpp); refused for a
+  /// drive without such an equation (accel_from_torque).
+  double top_accel(double command, double omega, double dt, double t0, double dT) const {
+    return visit(kind, [&](auto d) -> double {
+      using Drive = decltype(d);
+      if constexpr (Drive::accel_from_torque) {
+        return Drive::top_accel(*this, command, omega, dt, t0, dT);
+      } else {
+        require(false, "top_drive.type", kind_name(kind), "has no equation for the top's acceleration here");
+        return NAN;
+      }
+    });
   }
 };
 

@@ -164,7 +164,7 @@ void init_simulation(py::module_& m) {
           "drive_gains",
           [](const Simulation& s) -> py::object {
             const TopDrive& td = s.config().top_drive;
-            if (!td.is_controlled()) return py::none();
+            if (!td.has_controller()) return py::none();
             const Controller& c = td.controller;
             return py::dict(py::arg("type") = Controller::kind_name(c.kind), py::arg("kp_nms_rad") = c.kp,
                             py::arg("ki_nm_rad") = c.ki, py::arg("impedance_nms_rad") = c.impedance,
