@@ -188,12 +188,54 @@ def outcome(s: dict, om: float) -> dict:
                 wob_min=s["wob"][m].min(), wob_max=s["wob"][m].max(), tob_mean=s["tob"][m].mean())
 
 
+def feed_boundary(mdir: Path, om: float, lo: float, hi: float, steps: int, delta: float) -> dict:
+    """The feed [m/s] at which steady drilling turns unstable at top speed om, in each model:
+    bisection on the sign of the bit speed's growth rate (windows from 2.5 s to 12 s, after the
+    fastest-decaying modes), between a stable lo and an unstable hi."""
+    def rate(model, v0):
+        if model == "octave":
+            s, _ = run_octave(mdir, om, v0, 12.0, delta, KA)
+        elif model == "drillpy":
+            s, _ = run_drillpy(om, v0, 12.0, delta, KA)
+        else:  # drillpy with the axial ratio theirs has on the second axial mode
+            import drillpy
+            from drillpy.model.simulation import simulate
+            cfg = drillpy_config(om, v0, 12.0, delta)
+            cfg["axial"]["damping_ratio"] = KA / (2 * np.pi * 3 * C_A / (4 * L))
+            r = simulate(drillpy.load_config(config=cfg))
+            s = dict(t=r.axial.t, ob=r.bit_speed)
+        t, ob = s["t"], s["ob"]
+        m = t >= 2.0
+        r = envelope_growth(t[m] - 2.0, ob[m], om, t_end=10.0)
+        if np.isnan(r):  # grown past 20 % of the top speed within the windows: unstable
+            r = float("inf") if np.ptp(ob[m]) >= 0.2 * om else r
+        return r
+    out = {}
+    for model in ("octave", "drillpy", "drillpy, axial ratio of mode 2"):
+        a, b = lo, hi
+        ra, rb = rate(model, a), rate(model, b)
+        trail = [(a, ra), (b, rb)]
+        if not (ra < 0.0 < rb):
+            out[model] = (None, trail)
+            continue
+        for _ in range(steps):
+            c = 0.5 * (a + b)
+            rc = rate(model, c)
+            trail.append((c, rc))
+            a, b = (c, b) if rc < 0.0 else (a, c)
+        out[model] = ((a, b), trail)
+    return out
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--matlab-dir", type=Path, default=None,
                     help="folder with their parameters.m and waveStep_transportBRI.m (or its parent)")
     ap.add_argument("--duration", type=float, default=30.0, help="simulated time per run [s]")
     ap.add_argument("--disturbance", type=float, default=0.01)
+    ap.add_argument("--boundary", action="store_true",
+                    help="also bisect the feed at which steady drilling turns unstable at 30 RPM "
+                         "(between 30 and 120 m/h) in both models")
     a = ap.parse_args()
     if shutil.which("octave") is None:
         print("skipped: octave is not on the PATH (Debian: apt-get install octave)")
@@ -274,6 +316,17 @@ def main() -> int:
         print(f"  {am:3d} axial modes, dt {dt * 1e3:g} ms: growth of the bit speed range "
               f"{envelope_growth(t, r.bit_speed, om):.3f} 1/s, dominant period over 2-10 s "
               f"{dominant_period(t[t >= 2.0], r.bit_speed[t >= 2.0]):.3f} s")
+    if a.boundary:
+        om = np.pi
+        res = feed_boundary(mdir, om, 30 / 3600, 120 / 3600, 5, a.disturbance)
+        print(f"\nstability boundary of steady drilling at {om:.4f} rad/s: the feed where the bit speed's "
+              "growth rate (2.5-12 s) changes sign")
+        for model, (bracket, trail) in res.items():
+            pts = ", ".join(f"{v * 3600:.1f} m/h: {r:+.3f}/s" for v, r in trail)
+            if bracket is None:
+                print(f"  {model}: no sign change between the ends ({pts})")
+            else:
+                print(f"  {model}: between {bracket[0] * 3600:.1f} and {bracket[1] * 3600:.1f} m/h ({pts})")
     return 0
 
 

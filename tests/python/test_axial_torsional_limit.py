@@ -46,3 +46,15 @@ def test_no_config_stiffens_the_axial_string_alone():
     sec["poisson_ratio"] = 3.5 / 2.0 - 1.0
     with pytest.raises(ValueError, match="poisson_ratio"):
         load_config(config=cfg)
+
+
+def test_the_octave_comparison_skips_without_the_matlab_folder(tmp_path):
+    """benchmarks/axial_octave_comparison.py fetches nothing: no folder (or no octave), a message, exit 0."""
+    import subprocess
+    import sys
+    from pathlib import Path
+    script = Path(__file__).resolve().parents[2] / "benchmarks" / "axial_octave_comparison.py"
+    r = subprocess.run([sys.executable, str(script), "--matlab-dir", str(tmp_path / "absent")],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.startswith("skipped: ")
