@@ -232,7 +232,8 @@ def cmd_predict(a: argparse.Namespace) -> int:
         write_prediction(pred, a.out, a.figure_units)
     s = pred.summary()
     if a.json:
-        print_json({k: s[k] for k in ("short_horizon_error", "long_run", "predictive_intervals")})
+        print_json({k: s[k] for k in ("short_horizon_error", "long_run", "predictive_intervals")
+                    if s[k] is not None})  # the intervals: a rig model with Eq. (4.1)'s fluctuation
     else:
         lr = s["long_run"]
         print(f"{describe(model)} at the record's operating point; short-horizon error E = {s['short_horizon_error']:.3f}")
