@@ -218,3 +218,22 @@ def test_frf_and_robust_ss_commands_store_the_same_numbers(tmp_path, capsys):
     groups = set(zarr.open_group(str(tmp_path / "rss" / "study.zarr")).group_keys())
     assert groups == {"deterministic", "structure_SM_CB2"}
     assert open_study(tmp_path / "rss", group="structure_SM_CB2")["done"].values.all()
+
+
+def test_a_cluster_that_loses_its_workers_is_one_error_not_a_hang():
+    """A study's or a calibration's results awaited on a cluster with no worker left: a RuntimeError
+    naming the scheduler after ``workerless_s``, not a wait without end."""
+    pytest.importorskip("dask.distributed")
+    import time
+    from dask.distributed import Client, LocalCluster
+    from drillpy.study.cluster import completed
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cl, \
+            Client(cl) as client:
+        done = list(completed(client, [client.submit(abs, -k, pure=False) for k in range(5)]))
+        assert sorted(f.result() for f in done) == [0, 1, 2, 3, 4]  # every future once
+        futures = [client.submit(time.sleep, 6.0, pure=False)]
+        cl.scale(0)
+        start = time.perf_counter()
+        with pytest.raises(RuntimeError, match=r"scheduler .*: no Dask worker for 2 s while 1 result"):
+            list(completed(client, futures, workerless_s=2.0))
+        assert time.perf_counter() - start < 30.0

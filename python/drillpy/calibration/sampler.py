@@ -21,7 +21,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from drillpy.study.cluster import open_client, parse_scheduler
+from drillpy.study.cluster import completed, open_client, parse_scheduler
 
 #: Dask tasks per worker a batch is cut into when no chunk is given.
 TASKS_PER_WORKER = 4
@@ -149,8 +149,12 @@ class Sampler:
         remote_rec = None if record is None else self._remote(record)
         futures = [self.client.submit(_run_chunk, remote_sim, jobs[i:i + size], remote_rec, pure=False)
                    for i in range(0, len(jobs), size)]
+        index = {f: i for i, f in enumerate(futures)}
+        parts = [None] * len(futures)
         try:
-            rows = [row for part in self.client.gather(futures) for row in part]
+            for f in completed(self.client, futures):
+                parts[index[f]] = f.result()
+            rows = [row for part in parts for row in part]
         finally:
             for f in futures:
                 f.cancel()

@@ -13,6 +13,11 @@ from __future__ import annotations
 
 #: Seconds a ``tcp://`` scheduler has to answer before the option is refused.
 CONNECT_TIMEOUT_S = 10.0
+#: Seconds a cluster may go without a single worker while results are awaited: past that its workers
+#: are lost (a worker process killed or crashed) and :func:`completed` raises instead of waiting forever.
+WORKERLESS_S = 60.0
+#: Seconds between two looks at the pending results (and the cluster's workers).
+POLL_S = 0.5
 
 
 def parse_scheduler(text: str | None, option: str = "scheduler"):
@@ -89,3 +94,48 @@ def open_client(scheduler, log, timeout_s: float = CONNECT_TIMEOUT_S, option: st
         return Client(scheduler, timeout=timeout_s), None
     except (OSError, ValueError, TypeError) as e:
         raise ValueError(f"{option} = {scheduler!r}: no Dask scheduler reached within {timeout_s:g} s ({e})") from None
+
+
+def completed(client, futures, workerless_s: float = WORKERLESS_S):
+    """Yield ``futures`` as they complete (each once), as ``dask.distributed.as_completed`` does, but
+    raise when the cluster has had no worker for ``workerless_s`` seconds: a study or a calibration
+    whose workers died is one error naming the scheduler, not a hang.
+
+    Parameters
+    ----------
+    client : dask.distributed.Client
+        The client the futures belong to.
+    futures : iterable of Future
+        The pending results.
+    workerless_s : float
+        Seconds without a worker before giving up [s].
+
+    Yields
+    ------
+    Future
+        A finished future (its ``result()`` raises a task's own error).
+
+    Raises
+    ------
+    RuntimeError
+        ``scheduler <address>: no Dask worker for <s> s ...``.
+    """
+    import time
+    from dask.distributed import as_completed
+    ac = as_completed(futures)
+    since = None
+    while not ac.is_empty():
+        batch = ac.next_batch(block=False)
+        if batch:
+            since = None
+            yield from batch
+            continue
+        time.sleep(POLL_S)
+        if client.scheduler_info().get("workers"):
+            since = None
+        elif since is None:
+            since = time.monotonic()
+        elif time.monotonic() - since > workerless_s:
+            raise RuntimeError(f"scheduler {client.scheduler.address}: no Dask worker for {workerless_s:g} s while "
+                               f"{ac.count()} result(s) were awaited: the workers were lost (killed or crashed); "
+                               "run again, or on local")

@@ -22,7 +22,7 @@ import numpy as np
 from drillpy import validate
 from drillpy.progress import progress_bar
 from drillpy.study import store as st
-from drillpy.study.cluster import open_client, parse_scheduler
+from drillpy.study.cluster import completed, open_client, parse_scheduler
 from drillpy.study.definition import DEFAULT_CHUNK, Study, compute_block, deterministic_curve
 
 
@@ -123,10 +123,9 @@ def _compute(study: Study, blocks: list, client, threads: int):
         for lo, hi in blocks:
             yield lo, compute_block(study, lo, hi, threads)
         return
-    from dask.distributed import as_completed
     futures = {client.submit(compute_block, study, lo, hi, 1, pure=False): lo for lo, hi in blocks}
     try:
-        for fut in as_completed(futures):
+        for fut in completed(client, futures):
             yield futures[fut], fut.result()
     finally:
         for fut in futures:
