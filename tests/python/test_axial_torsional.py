@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from drillpy.model.config import load_config
-from drillpy.model.simulation import simulate
+from drillpy.model.simulation import law_torque, simulate
 
 from conftest import run_cli
 
@@ -65,6 +65,34 @@ def test_config_round_trips_and_refuses_a_law():
     bad = dict(cfg, law=load_config(preset="thesis-field")["law"])
     with pytest.raises(ValueError, match=r"config.law = .*axial.type = rgd"):
         load_config(config=bad)
+    assert load_config(config=cfg)["axial"]["torque"] == "rgd"  # RGD's torque law by default
+
+
+def test_the_thesis_law_takes_the_torque_on_the_axial_wob():
+    """axial.torque = "law": the torque on bit is the "law" block's at the bit speed with the WOB the
+    axial state W (T_law scaling with W / wob_ref_n); steady drilling keeps RGD's W0 and V0 and carries
+    T_law(Omega; W0). An unknown value, or "law" without a law block, is refused naming axial.torque."""
+    cfg = _short(2.0)
+    law = load_config(preset="thesis-field")["law"]
+    cfg["axial"].update(torque="law", disturbance=0.0)
+    cfg["law"] = law
+    cfg["simulation"]["start"] = "steady"
+    cfg = load_config(config=cfg)
+    assert cfg["axial"]["torque"] == "law" and cfg["law"] == law
+    r = simulate(cfg)
+    ax = r.axial
+    assert ax.steady_wob == pytest.approx(150e3, rel=1e-12)
+    T0 = float(law_torque(law, 4.0, 0.0, ax.steady_wob)[0])
+    assert ax.steady_torque == pytest.approx(T0, rel=1e-12)
+    assert T0 == pytest.approx(float(law_torque(law, 4.0)[0]) * 150e3 / law["wob_ref_n"], rel=1e-12)
+    # the run starts in steady drilling with the bit lagging the top by 1 % (the torsional disturbance)
+    assert ax.wob[0] == pytest.approx(150e3, rel=1e-9)
+    assert np.allclose(r.torque_on_bit, T0, rtol=0.02) and np.allclose(ax.wob, 150e3, rtol=0.01)
+    with pytest.raises(ValueError, match="axial.torque"):
+        load_config(config=dict(cfg, axial=dict(cfg["axial"], torque="xyz")))
+    bare = {k: v for k, v in cfg.items() if k != "law"}
+    with pytest.raises(ValueError, match="axial.torque"):
+        load_config(config=bare)
 
 
 def test_cli_simulate_prints_wob_rop_and_bounce_beside_ss():

@@ -32,9 +32,22 @@
 
 namespace drill {
 
+/// The torque on the bit of the coupled string (axial.torque):
+///  * rgd  RGD's own torque law, T_c + T_f (rgd_bit.hpp);
+///  * law  the configuration's thesis law (the "law" block: Eqs. 3.1, 3.2-3.3, 5.1, 5.3) at the bit's
+///         speed and acceleration with the WOB the model's axial state W (RGD's axial law kept):
+///         T = T_law(v, a) W / W_ref (axial_torsional.hpp).
+enum class AxialTorque { rgd, law };
+inline constexpr Named<AxialTorque> axial_torque_names[] = {{AxialTorque::rgd, "rgd"}, {AxialTorque::law, "law"}};
+inline AxialTorque parse_axial_torque(const std::string& s, const std::string& field = "axial.torque") {
+  return parse_name(axial_torque_names, s, field, "torque on bit");
+}
+inline std::string to_string(AxialTorque t) { return name_of(axial_torque_names, t); }
+
 /// The axial model of the coupled string: RGD bit, axial modes, top boundary and its load.
 struct AxialTorsionalSpec {
   RgdBit bit;
+  AxialTorque torque = AxialTorque::rgd;  ///< the torque on the bit: RGD's or the thesis law's on the axial W
   AxialTop top = AxialTop::hook_load;
   int modes = 10;             ///< retained axial modes
   double damping_ratio = 0.05;  ///< modal damping ratio of the axial modes

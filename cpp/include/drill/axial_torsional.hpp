@@ -28,6 +28,17 @@
 // Stability: the explicit parts need dt < pi / (5 omega_max) (Eq. A.7) with omega_max the largest of
 // the retained torsional frequencies and of the axial ones stiffened by the cutting law's stiffness at
 // the bit, sqrt(k_max^2 + N a zeta eps g_a) (the depth of cut is explicit).
+//
+// The thesis's laws on the axial state (spec.torque = AxialTorque::law, axial.torque = "law"): the
+// axial inclusion is RGD's as above (W its cutting and wear-flat force, its switches and bit bounce),
+// and the torque on the bit is the configuration's law (F. F. Real 2018: Eq. 3.1 Tucker-Wang, Eqs.
+// 3.2-3.3 hysteretic, Eq. 5.1 polynomial, Eq. 5.3 polynomial hysteretic) at the bit speed Omega_b and
+// the step's own bit acceleration, with the WOB the axial state W:
+//   T = (1 + eta) T_law(Omega_b, a; W),   T_law(v, a; W) = T_law(v, a; W_ref) W / W_ref   (section 3.3),
+// Eq. (A.1) solved for a with the torque as the torsional engine does (solve_euler_accel), and the
+// stick condition of the non-regularized laws (Eqs. 5.1, 5.3, a0 > 0: a bit at rest holds up to the
+// static torque gain a0 W / W_ref at the current W; stick_euler, both in euler_bit.hpp). Off the rock
+// W = 0, so T = 0. Steady drilling: RGD's W0 and V0, the torque T_law(Omega; W0).
 #pragma once
 
 #include <Eigen/Dense>
@@ -38,7 +49,9 @@
 #include "drill/axial.hpp"
 #include "drill/axial_string.hpp"
 #include "drill/bit_profile.hpp"
+#include "drill/bitrock.hpp"
 #include "drill/errors.hpp"
+#include "drill/euler_bit.hpp"
 #include "drill/integrator.hpp"
 #include "drill/modal.hpp"
 #include "drill/rgd_bit.hpp"
@@ -65,13 +78,21 @@ struct CoupledState {
 
 class AxialTorsional {
  public:
+  /// `law`: the thesis law of spec.torque = AxialTorque::law (the configuration's "law" block);
+  /// not used with AxialTorque::rgd.
   AxialTorsional(const ReducedModel& torsion, const StringModel& string, const AxialTorsionalSpec& spec,
-                 const SimOptions& opt)
-      : spec_(spec), opt_(opt) {
+                 const SimOptions& opt, const BitRockLaw& law = BitRockLaw{})
+      : spec_(spec), opt_(opt), law_(law) {
     spec_.validate();
     opt_.validate();
     require(opt_.scheme == Scheme::modified_euler, "simulation.scheme", to_string(opt_.scheme),
             "axial.type = rgd is implemented for simulation.scheme = modified_euler only");
+    if (spec_.torque == AxialTorque::law) {
+      law_.validate();
+      require(opt_.acceleration == Acceleration::implicit, "axial.torque", to_string(spec_.torque),
+              "is implemented with simulation.acceleration = implicit only (the step's own bit acceleration "
+              "in Eq. 3.3), not " + to_string(opt_.acceleration));
+    }
     Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(torsion.K, torsion.M);
     if (es.info() != Eigen::Success) throw std::runtime_error("reduced eigenproblem failed");
     V_ = es.eigenvectors();
@@ -110,7 +131,8 @@ class AxialTorsional {
   }
 
   /// Steady drilling at bit speed omega [rad/s]: the depth of cut d0, the rate of penetration V0,
-  /// the WOB W0 and the torque T0 (W0 = a zeta eps d0 + a l sigma, T0 = a^2 eps d0 / 2 + gamma mu a W_f / 2).
+  /// the WOB W0 and the torque T0 (W0 = a zeta eps d0 + a l sigma, T0 = a^2 eps d0 / 2 + gamma mu a W_f / 2;
+  /// with spec.torque = law, T0 = T_law(omega, 0; W0), the law at zero acceleration and W0 / W_ref).
   struct Steady {
     double depth, rop, wob, torque;
   };
@@ -125,7 +147,7 @@ class AxialTorsional {
       s.rop = omega * s.depth / (2.0 * M_PI);
     }
     s.wob = b.steady_wob(s.depth);
-    s.torque = b.steady_torque(s.depth);
+    s.torque = spec_.torque == AxialTorque::law ? law_.torque(omega, 0.0, s.wob) : b.steady_torque(s.depth);
     return s;
   }
 
@@ -175,6 +197,8 @@ class AxialTorsional {
     const double cw = b.cutting_wob_per_depth(), ct = b.cutting_torque_per_depth(), Wf_max = b.contact_wob(),
                  ctw = b.contact_torque_per_wob();
     const double gt = bit_.squaredNorm(), ga = ax_.bit.squaredNorm();
+    const bool by_law = spec_.torque == AxialTorque::law;
+    LawHistory hist;  // Eq. (A.1)'s accelerations of the last steps (by_law)
     double theta_top = 0.0;
     BitProfile profile(b.blades, 0.0, bit_.dot(z), ax_.bit.dot(eta), st.depth, om0);
     Eigen::VectorXd ft(z.size()), fa(eta.size());
@@ -191,7 +215,7 @@ class AxialTorsional {
       if (F_top != 0.0) fa += ax_.top_row * F_top;
       const double alpha_t = bit_.dot(ft) + dom, alpha_a = ax_.bit.dot(fa);
       const bool contact = d > 0.0;
-      const bool turning = Ob > rest_tolerance(om);
+      const bool turning = Ob > bit_rest_tolerance(om);
       // axial inclusion: W in [W_lo, W_hi] set-valued at V+ = 0 (rgd_bit.hpp's switches)
       double W = 0.0, Wf = 0.0, T = 0.0;
       if (contact) {
@@ -205,10 +229,14 @@ class AxialTorsional {
         // torque's fluctuation of Eq. (4.1) scales both, (1 + eta) floored at 0 (a set-valued
         // contact cannot drive the bit)
         const double fl = std::max(0.0, 1.0 + in.eta.at(t));
-        const double T_fwd = fl * (ct * d + ctw * Wf), T_bwd = fl * ctw * Wf;
-        const double Oa = Ob + dt * alpha_t;
-        if (Oa > 0.0) T = Oa - dt * gt * T_fwd >= 0.0 ? T_fwd : Oa / (dt * gt);
-        else T = Oa + dt * gt * T_bwd <= 0.0 ? -T_bwd : Oa / (dt * gt);
+        if (by_law) {
+          T = law_torque(Ob, om, alpha_t, gt, dt, fl, W, hist);  // the thesis law on the axial W
+        } else {
+          const double T_fwd = fl * (ct * d + ctw * Wf), T_bwd = fl * ctw * Wf;
+          const double Oa = Ob + dt * alpha_t;
+          if (Oa > 0.0) T = Oa - dt * gt * T_fwd >= 0.0 ? T_fwd : Oa / (dt * gt);
+          else T = Oa + dt * gt * T_bwd <= 0.0 ? -T_bwd : Oa / (dt * gt);
+        }
       }
       if (!std::isfinite(Ob) || !std::isfinite(T) || !std::isfinite(W) || !std::isfinite(V))
         throw std::runtime_error(Integrator::divergence(t));
@@ -230,10 +258,43 @@ class AxialTorsional {
 
  private:
   double top_force() const { return spec_.top == AxialTop::hook_load ? spec_.top_force : 0.0; }
-  static double rest_tolerance(double om) { return 1e-12 * (1.0 + std::fabs(om)); }
+
+  /// The last accelerations of Eq. (A.1) (Newton's start: the parabola through them, as run_euler's)
+  /// and whether the last step needed Newton.
+  struct LawHistory {
+    double a1 = 0.0, a2 = 0.0, a3 = 0.0;
+    bool newton = false;
+  };
+
+  /// The torque on the bit from the thesis law (spec.torque = law) at the bit speed Ob and the WOB W
+  /// of the axial inclusion, T = scale T_law(Ob, a; W) with T_law scaling with W / W_ref (section 3.3)
+  /// and scale = 1 + eta of Eq. (4.1) floored at 0: Eq. (A.1) solved for the step's bit acceleration
+  /// a = alpha - g T(a) (Eqs. 3.2-3.3, 5.3: solve_euler_accel), then the stick condition of Eqs. (5.1),
+  /// (5.3) at the static torque scale a0 W / W_ref (stick_euler); om the top speed, alpha the bit
+  /// acceleration without the bit torque, g the bit's modal gain.
+  double law_torque(double Ob, double om, double alpha, double g, double dt, double scale, double W,
+                    LawHistory& h) const {
+    const BitRockLaw::AtSpeed ts = law_.at_speed(Ob, W);
+    double T = scale * (ts.base + ts.frac), a = alpha - g * T;
+    const bool newton_last = h.newton;
+    h.newton = false;
+    if (ts.frac * ts.c != 0.0 && ts.k != 0.0) {
+      const double guess = 3.0 * (h.a1 - h.a2) + h.a3;
+      const double th_guess = newton_last ? tanh_sat(ts.k * guess) : 0.0;
+      h.newton = solve_euler_accel(ts, alpha, g, scale, 0.0, guess, th_guess, newton_last, a, T);
+      h.a3 = h.a2;
+      h.a2 = h.a1;
+      h.a1 = a;
+    }
+    const double Ts = scale * law_.static_torque(W);
+    double fric = 0.0;
+    if (Ts > 0.0) stick_euler(Ob, om, alpha, g, dt, Ts, 0.0, 0.0, a, T, fric);
+    return T;
+  }
 
   AxialTorsionalSpec spec_;
   SimOptions opt_;
+  BitRockLaw law_;  ///< the thesis law of spec_.torque = law
   AxialROM ax_;
   Eigen::MatrixXd V_, Vinv_, D_;
   Eigen::VectorXd d_;          ///< diag(D_)

@@ -194,7 +194,7 @@ HWY_INLINE V ExactUpdate(D d, int m, const double* HWY_RESTRICT coef, double* HW
   return WSum(a0, a1, a2, a3);
 }
 
-/// sign(F) min(max(|F| - Ts, 0), Tsf): Integrator::string_share.
+/// sign(F) min(max(|F| - Ts, 0), Tsf): string_share (euler_bit.hpp).
 HWY_INLINE V StringShare(D d, V F, V Ts, V Tsf) {
   return Sign(d, F) * StdMin(StdMax(hn::Abs(F) - Ts, hn::Zero(d)), Tsf);
 }
@@ -230,7 +230,7 @@ HWY_INLINE void ExactStepsT(const ExactStepArgs& a) {
     M at_rest = hn::FirstN(d, 0), hold = at_rest;
     V T_hold = zero;
     if (any_sticky) {
-      at_rest = hn::And(sticky, hn::Abs(v0) <= hn::Set(d, 1e-12) * (one + hn::Abs(om0)));  // Integrator::rest_tolerance
+      at_rest = hn::And(sticky, hn::Abs(v0) <= hn::Set(d, 1e-12) * (one + hn::Abs(om0)));  // bit_rest_tolerance (euler_bit.hpp)
       T_hold = (w + hn::MulAdd(c0, T0, om1)) / (c + c0);
       hold = hn::And(at_rest, hn::Abs(T_hold) <= cap);
     }
@@ -403,18 +403,18 @@ inline void BatchSteps(const BatchStepArgs& a) {
         a1 = hn::IfThenElse(branch, acc, a1);
       }
     }
-    // the stick condition (Integrator::stick_euler) where the static capacity is positive
+    // the stick condition (stick_euler, euler_bit.hpp) where the static capacity is positive
     const V Ts = scale * static0, cap = Ts + Tsf;
     const M sticky = cap > zero;
     if (!hn::AllFalse(d, sticky)) {
       const V T_req = (alpha + v / dt) / g, F_req = T_req - visc;
       const V sv = Sign(d, v), sf = Sign(d, F_req);
-      const M at_rest = hn::Abs(v) <= hn::Set(d, 1e-12) * (one + hn::Abs(om));  // Integrator::rest_tolerance
+      const M at_rest = hn::Abs(v) <= hn::Set(d, 1e-12) * (one + hn::Abs(om));  // bit_rest_tolerance (euler_bit.hpp)
       const M crossing = hn::AndNot(at_rest, v * (v + dt * acc) <= zero);
       const M holds = hn::Or(hn::Abs(F_req) <= cap, hn::And(crossing, sf == sv));
       const M stuck = hn::And(sticky, hn::And(hn::Or(at_rest, crossing), holds));
       const M breaks = hn::AndNot(stuck, hn::And(sticky, at_rest));
-      const V share = sf * StdMin(StdMax(hn::Abs(F_req) - Ts, zero), Tsf);  // Integrator::string_share
+      const V share = sf * StdMin(StdMax(hn::Abs(F_req) - Ts, zero), Tsf);  // string_share (euler_bit.hpp)
       const V T_brk = sf * cap + visc;
       T = hn::IfThenElse(stuck, T_req, hn::IfThenElse(breaks, T_brk, T));
       acc = hn::IfThenElse(stuck, hn::Neg(v) / dt, hn::IfThenElse(breaks, alpha - g * T_brk, acc));

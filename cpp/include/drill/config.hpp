@@ -34,12 +34,15 @@
 //                                                  (the WOB as a state, axial.hpp:
 //                                                   W' = g (Omega_f - v) - (W - W_s) / tau),
 //          | {"type": "rgd", "top": "hook_load" | "feed", "rop_m_s" (feed), "modes", "damping_ratio",
-//             "bit_mass_kg", "disturbance",
+//             "bit_mass_kg", "disturbance", "torque": "rgd" | "law",
 //             "bit": {"radius_m", "specific_energy_pa", "contact_strength_pa", "zeta", "wear_flat_m",
 //                     "gamma", "mu", "blades"}}
 //                                                  (axial-torsional string with the Richard-Germay-
-//                                                   Detournay bit, axial_torsional.hpp; no "law" block:
-//                                                   the bit law is axial.bit; hook_load pushes the top
+//                                                   Detournay bit, axial_torsional.hpp; with torque =
+//                                                   "rgd" (default) no "law" block: the bit law is
+//                                                   axial.bit; with torque = "law" the torque on bit
+//                                                   is the "law" block's at the axial WOB, the axial
+//                                                   law stays axial.bit's; hook_load pushes the top
 //                                                   with operation.wob_n),
 //   "sensors": {"lowpass_hz": 10}                  (measurement chain of recorded channels: second-
 //                                                   order Butterworth low-pass; 0 = ideal sensors;
@@ -128,7 +131,8 @@ struct Config {
     require(modes >= 1 && modes <= string.n_elements(), "rom.modes", modes,
             "must be between 1 and the number of free DOFs (" + show(string.n_elements()) + ")");
     damping.validate();
-    if (!axial.coupled()) law.validate();  // with axial.type = rgd the bit law is axial.bit
+    // with axial.type = rgd the bit law is axial.bit, unless axial.torque = law takes the torque from the law
+    if (!axial.coupled() || axial.rgd.torque == AxialTorque::law) law.validate();
     // The law, the stick threshold and SS (Eq. 3.4) are written for a top turning forward: SS divides
     // by the top speed (0 gave NaN) and a negative speed is a negative torque on bit.
     require_positive(top_speed, "operation.top_speed_rad_s");
@@ -160,6 +164,10 @@ struct Config {
       require(bit_viscous == 0.0, "operation.bit_viscous_nms", bit_viscous, "is not implemented with axial.type = rgd");
       require(string_friction == 0.0, "operation.string_friction_nm", string_friction,
               "is not implemented with axial.type = rgd");
+      require(axial.rgd.torque != AxialTorque::law || sim.acceleration == Acceleration::implicit, "axial.torque",
+              to_string(axial.rgd.torque),
+              "is implemented with simulation.acceleration = implicit only (the step's own bit acceleration in "
+              "Eq. 3.3), not " + to_string(sim.acceleration));
     }
     require_non_negative(sensor_lowpass_hz, "sensors.lowpass_hz");
     sim.validate();
@@ -261,7 +269,8 @@ inline Tables make_tables() {
                object("damping", "damping", "damping of the reduced model")
                    .def({{"type", "modal"}, {"ratios", d.damping.ratios}}),
                object("law", "law",
-                      "bit-rock interaction law (required, except with axial.type = rgd, whose bit law is axial.bit)"),
+                      "bit-rock interaction law (required, except with axial.type = rgd, whose bit law is axial.bit "
+                      "unless axial.torque = law)"),
                object("operation", "operation", "operating point"),
                object("top_drive", "top_drive", "how the top is turned").def({{"type", "ideal"}}),
                object("axial", "axial",
@@ -435,6 +444,13 @@ inline Tables make_tables() {
                 .at_most(1000.0)
                 .def(ad.disturbance),
             [](auto& a) -> auto& { return a.rgd.disturbance; }},
+           {text("torque", "torque on bit: rgd (RGD's T_c + T_f, axial.bit) or law (the \"law\" block, Eqs. 3.1, "
+                           "3.2-3.3, 5.1 or 5.3, at the bit speed and acceleration with the WOB the axial state W, "
+                           "T scaling with W / law.wob_ref_n; the axial law stays axial.bit's)",
+                 names_of(axial_torque_names))
+                .def(to_string(ad.torque)),
+            [](const A& a) { return to_string(a.rgd.torque); },
+            [](A& a, const std::string& v, const std::string& path) { a.rgd.torque = parse_axial_torque(v, path); }},
            object("bit", "axial.bit", "the Richard-Germay-Detournay bit law (rgd_bit.hpp)").req()}}}};
   }
 
@@ -593,16 +609,27 @@ inline Config parse_config(const json& j) {
   c.modes = std::min(20, c.string.n_elements());
   if (j.contains("rom")) t.rom.read(j.at("rom"), "rom", c);
   if (j.contains("damping")) t.damping.read(j.at("damping"), "damping", c.damping);
-  // with the axial-torsional model the bit law is axial.bit (RGD): a "law" block would be ignored
+  // with the axial-torsional model the bit law is axial.bit (RGD): a "law" block would be ignored,
+  // unless axial.torque = law takes the torque on bit from it (the axial law staying axial.bit's)
   const bool rgd = j.contains("axial") && j.at("axial").is_object() && j.at("axial").contains("type") &&
                    j.at("axial").at("type") == "rgd";
   const bool feed = rgd && j.at("axial").contains("top") && j.at("axial").at("top") == "feed";
-  if (rgd) {
+  bool by_law = false;  // axial.torque = "law" (its value checked first: an unknown one is named as such)
+  if (rgd && j.at("axial").contains("torque")) {
+    const json& tq = j.at("axial").at("torque");
+    if (!tq.is_string()) throw std::invalid_argument("axial.torque = " + tq.dump() + ": must be a string (rgd or law)");
+    by_law = parse_axial_torque(tq.get<std::string>()) == AxialTorque::law;
+  }
+  if (rgd && !by_law) {
     if (j.contains("law"))
       throw std::invalid_argument("config.law = " + j.at("law").dump() +
-                                  ": not used with axial.type = rgd (the bit law is axial.bit): remove it");
+                                  ": not used with axial.type = rgd (the bit law is axial.bit): remove it, or set "
+                                  "axial.torque = \"law\" to drive the torque on bit by it");
   } else {
-    if (!j.contains("law")) throw std::invalid_argument("config.law: missing (required object)");
+    if (!j.contains("law"))
+      throw std::invalid_argument(by_law ? "axial.torque = \"law\": needs a \"law\" block (config.law missing): the "
+                                           "thesis law whose torque the axial WOB drives"
+                                         : "config.law: missing (required object)");
     c.law = detail::parse_law(j.at("law"));
   }
   if (rgd && !feed && !(j.contains("operation") && j.at("operation").contains("wob_n")))
@@ -611,7 +638,7 @@ inline Config parse_config(const json& j) {
   if (feed && j.contains("operation") && j.at("operation").contains("wob_n"))
     throw std::invalid_argument("operation.wob_n = " + j.at("operation").at("wob_n").dump() +
                                 ": not used with axial.top = feed (the WOB follows from axial.rop_m_s): remove it");
-  c.wob = feed ? 0.0 : c.law.wob_ref;  // operation.wob_n's default
+  c.wob = feed ? 0.0 : c.law.wob_ref;  // operation.wob_n's default (required with rgd's hook_load)
   if (j.contains("operation")) t.operation.read(j.at("operation"), "operation", c);
   if (j.contains("top_drive")) {
     const json& td = j.at("top_drive");
@@ -675,7 +702,7 @@ inline json to_json(const Config& c) {
     j["top_drive"] = t.top_drive.write(c.top_drive);
     if (c.top_drive.has_controller()) j["top_drive"]["controller"] = t.controller.write(c.top_drive.controller);
   }
-  if (!c.axial.coupled()) j["law"] = t.law.write(c.law);
+  if (!c.axial.coupled() || c.axial.rgd.torque == AxialTorque::law) j["law"] = t.law.write(c.law);
   if (c.axial.kind != Axial::Kind::none) j["axial"] = t.axial.write(c.axial);
   if (c.axial.coupled()) {
     j["axial"]["bit"] = t.bit.write(c.axial.rgd.bit);

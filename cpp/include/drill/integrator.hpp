@@ -51,6 +51,7 @@
 #include "drill/axial.hpp"
 #include "drill/bitrock.hpp"
 #include "drill/errors.hpp"
+#include "drill/euler_bit.hpp"
 #include "drill/exact_modal.hpp"
 #include "drill/modal.hpp"
 #include "drill/names.hpp"
@@ -332,14 +333,6 @@ class Integrator {
 
   static double sign(double v) { return (v > 0.0) - (v < 0.0); }
 
-  /// The share of a stuck bit's friction F (string torque at the bit less c_v v) that the string
-  /// friction carries: the bit-rock contact takes F up to the static torque Ts, the string friction
-  /// the rest up to T_sf (the split of two set-valued frictions is otherwise indeterminate; this one
-  /// reports the whole string torque as contact torque when there is no string friction).
-  static double string_share(double F, double Ts, double Tsf) {
-    return sign(F) * std::min(std::max(std::fabs(F) - Ts, 0.0), Tsf);
-  }
-
   ModelState to_model(const Eigen::VectorXd& z, const Eigen::VectorXd& p) const { return {V_ * z, V_ * p}; }
 
   /// Modified Euler with the top drive `Drive` of drives/registry.hpp (one instantiation per drive:
@@ -404,46 +397,7 @@ class Integrator {
         T = scale * ts.eval(a_lag).T + rest;
         a = alpha - g * T;
       } else if (ts.frac * ts.c != 0.0 && ts.k != 0.0) {
-        // saturated branches first (tanh = +-1 to double precision), Newton otherwise
-        const double T_up = scale * (ts.base + ts.frac * (1.0 + ts.c)) + rest;
-        const double T_dn = scale * (ts.base + ts.frac * (1.0 - ts.c)) + rest;
-        const double up = alpha - g * T_up, dn = alpha - g * T_dn;
-        if (ts.k * up > 19.1) {
-          a = up;
-          T = T_up;
-        } else if (ts.k * dn < -19.1) {
-          a = dn;
-          T = T_dn;
-        } else {
-          // F(x) = x + g T(x) - alpha is increasing with F' >= 1 and changes sign on [lo, hi]:
-          // Newton steps kept inside the shrinking bracket (bisection when a step leaves it or
-          // does not halve the previous one); converged when the step is below tol, the next
-          // Newton error being of the order of its square. Faster than the generic solve_root
-          // below (one evaluation less per step, no bracket search) on the Monte Carlo runs.
-          // The start is the parabola through the last three solutions extrapolated to this step:
-          // within tol of the root at almost every step of a smooth run, so that one evaluation
-          // converges (the last solution alone needed two: benchmarks/bench_controller.py).
-          newton = true;
-          double lo = std::min(up, dn), hi = std::max(up, dn), x = std::min(std::max(guess, lo), hi);
-          const double tol = 1e-9 * (1.0 + std::fabs(alpha));
-          double dx_old = HUGE_VAL;
-          T = NAN;  // stays NaN (and is reported as a divergence) only if 200 steps do not converge
-          for (int it = 0; it < 200; ++it) {
-            const TorqueEval e = newton_last && x == guess ? ts.eval_tanh(th_guess) : ts.eval(x);
-            const double F = x + g * (scale * e.T + rest) - alpha;
-            (F < 0.0 ? lo : hi) = x;
-            double xn = x - F / (1.0 + g * scale * e.dT_da);
-            if (!(xn >= lo && xn <= hi) || std::fabs(xn - x) > 0.5 * dx_old) xn = 0.5 * (lo + hi);
-            dx_old = std::fabs(xn - x);
-            if (std::fabs(xn - x) <= tol || hi - lo <= 1e-15 * (1.0 + std::fabs(alpha))) {
-              T = scale * (e.T + e.dT_da * (xn - x)) + rest;  // to second order in the last step
-              x = xn;
-              break;
-            }
-            x = xn;
-          }
-          a = x;
-        }
+        newton = solve_euler_accel(ts, alpha, g, scale, rest, guess, th_guess, newton_last, a, T);  // euler_bit.hpp
         a3 = a2;
         a2 = a1;
         a1 = a;
@@ -467,35 +421,6 @@ class Integrator {
     if (axial) out.wob = wob_state;
     drive.finish(out);
     return out;
-  }
-
-  /// Bit speeds below this are "at rest" (a stuck bit's speed is zero up to rounding).
-  static double rest_tolerance(double om) { return 1e-12 * (1.0 + std::fabs(om)); }
-
-  /// Stick condition of the non-regularized laws (Eqs. 5.1, 5.3) in the modified Euler step: the
-  /// law is set-valued at rest, T in [-Ts, Ts], and so is the string friction, in [-Tsf, Tsf]. The
-  /// torque that brings the bit to rest at the end of the step, v + dt (alpha - g T) = 0, is
-  /// T_req = (alpha + v / dt) / g. A bit at rest stays stuck while the friction T_req - c_v v it
-  /// would need is within the static capacity Ts + Tsf, and breaks away with the static torque and
-  /// the string friction otherwise; a moving bit whose slip step would reverse its speed comes to
-  /// rest when the friction can hold it (or the string pushes it on in its own direction).
-  /// On return (a, T) are the step's bit acceleration and total torque, and fric the part of T that
-  /// is string friction (unchanged when the bit slips on).
-  static void stick_euler(double v, double om, double alpha, double g, double dt, double Ts, double Tsf, double visc,
-                          double& a, double& T, double& fric) {
-    const double T_req = (alpha + v / dt) / g, F_req = T_req - visc;
-    const double sv = (v > 0.0) - (v < 0.0), sf = (F_req > 0.0) - (F_req < 0.0);
-    const bool at_rest = std::fabs(v) <= rest_tolerance(om);
-    const bool crossing = !at_rest && v * (v + dt * a) <= 0.0;
-    if ((at_rest || crossing) && (std::fabs(F_req) <= Ts + Tsf || (crossing && sf == sv))) {
-      T = T_req;  // stuck: the bit is at rest at the end of the step
-      a = -v / dt;
-      fric = Tsf > 0.0 ? string_share(F_req, Ts, Tsf) : 0.0;
-    } else if (at_rest) {
-      fric = sf * Tsf;
-      T = sf * (Ts + Tsf) + visc;  // break-away: sign(0) = 0, so H = 0 in Eq. (5.3)
-      a = alpha - g * T;
-    }
   }
 
   template <class Observer>
@@ -542,8 +467,8 @@ class Integrator {
       const double c = im.gamma * im.g;
       const double Ts = (1.0 + eta) * law_.static_torque(wob), Tsf = in.string_friction, cap = Ts + Tsf;
       const double om0 = in.top_speed.at(t1 - dt), v_n = om0 + x_n;
-      const bool at_rest = cap > 0.0 && std::fabs(v_n) <= rest_tolerance(om0);
-      // Stick condition of Eqs. (5.1), (5.3) (see stick_euler): at rest (x = -om1) the friction
+      const bool at_rest = cap > 0.0 && std::fabs(v_n) <= bit_rest_tolerance(om0);
+      // Stick condition of Eqs. (5.1), (5.3) (see stick_euler, euler_bit.hpp): at rest (x = -om1) the friction
       // needed is T_req = (w + om1) / c, held by the static torque and the string friction.
       const double T_req = (w + om1) / c, sf = (T_req > 0.0) - (T_req < 0.0);
       bool stuck = at_rest && std::fabs(T_req) <= cap;
@@ -551,7 +476,7 @@ class Integrator {
       if (!stuck) {
         x = solve_bit(w, c, om1, ca, a0 + domega, wob, eta, in.bit_viscous, Tsf, x_n, t1, Tnew);
         const double v1 = om1 + x, sv = (v_n > 0.0) - (v_n < 0.0);
-        const bool lands = v_n * v1 <= 0.0 || std::fabs(v1) <= rest_tolerance(om1);  // at the jump of the law
+        const bool lands = v_n * v1 <= 0.0 || std::fabs(v1) <= bit_rest_tolerance(om1);  // at the jump of the law
         stuck = cap > 0.0 && !at_rest && lands && (std::fabs(T_req) <= cap || sf == sv);
         if (Tsf > 0.0) fric = Tsf * sign(v1);
       }
@@ -657,7 +582,7 @@ class Integrator {
                  bool& hold) const {
     const double dt = opt_.dt;
     const double Ts = (1.0 + eta) * law_.static_torque(wob), cap = Ts + Tsf;
-    const bool at_rest = cap > 0.0 && std::fabs(v0) <= rest_tolerance(om0);
+    const bool at_rest = cap > 0.0 && std::fabs(v0) <= bit_rest_tolerance(om0);
     const double T_hold = (w + c0 * T0 + om1) / (c + c0);
     hold = at_rest && std::fabs(T_hold) <= cap;
     fric = 0.0;
@@ -670,7 +595,7 @@ class Integrator {
     const double T_req = (w + om1) / c, sf = sign(T_req);
     x = exact_newton(w, c, om1, v0, wob, eta, cv, Tsf, guess, t1, T);
     const double v1 = om1 + x, sv = sign(v0);
-    const bool lands = v0 * v1 <= 0.0 || std::fabs(v1) <= rest_tolerance(om1);
+    const bool lands = v0 * v1 <= 0.0 || std::fabs(v1) <= bit_rest_tolerance(om1);
     const bool stuck = cap > 0.0 && !at_rest && lands && (std::fabs(T_req) <= cap || sf == sv);
     if (Tsf > 0.0) fric = Tsf * sign(v1);
     if (stuck) {

@@ -61,7 +61,7 @@ class Simulation {
       : cfg_(validated(std::move(cfg))),
         rom_(build_modal_rom(cfg_.string, cfg_.modes, cfg_.damping)),
         integ_(rom_.model, torsional_law(cfg_), cfg_.sim) {
-    if (cfg_.axial.coupled()) coupled_.emplace(rom_.model, cfg_.string, cfg_.axial.rgd, cfg_.sim);
+    if (cfg_.axial.coupled()) coupled_.emplace(rom_.model, cfg_.string, cfg_.axial.rgd, cfg_.sim, cfg_.law);
     // a controlled top drive is tuned from the top section's characteristic impedance and the
     // first natural frequency of the reduced model (string clamped at the top): controller.hpp
     if (cfg_.top_drive.has_controller()) cfg_.top_drive.tune_controller(top_impedance(), rom_.omega(0));
@@ -108,7 +108,7 @@ class Simulation {
   /// The twist and the motor carry the total torque at the bit, c_v Omega and the string friction
   /// T_sf sign(Omega) of `operation.string_friction_nm` included.
   ModelState steady_state(double top_speed, double wob, double disturbance = 0.01) const {
-    if (coupled_) return coupled_->steady_torsion(top_speed, disturbance);  // RGD's steady torque (axial.type = rgd)
+    if (coupled_) return coupled_->steady_torsion(top_speed, disturbance);  // axial.type = rgd: its steady torque
     const ReducedModel& r = rom_.model;
     const double om = steady_speed(top_speed, wob);
     ModelState s{r.K.ldlt().solve(-steady_torque(om, wob) * r.bit.transpose()), -disturbance * om * r.init_velocity};
@@ -246,7 +246,7 @@ class Simulation {
       for (double wi : wobs) {
         AxialTorsionalSpec spec = base;
         spec.top_force = wi;
-        models.emplace_back(rom_.model, cfg_.string, spec, cfg_.sim);
+        models.emplace_back(rom_.model, cfg_.string, spec, cfg_.sim, cfg_.law);
       }
     }
     const double w0 = cfg_.wob;
@@ -433,7 +433,8 @@ class Simulation {
 
  private:
   /// The law of the torsional integrator: the configuration's; with axial.type = rgd, whose bit law is
-  /// axial.bit, a zero law (Tucker-Wang with c0 = 0) that nothing evaluates (Integrator::run refuses
+  /// axial.bit (or, with axial.torque = law, the configuration's law driven by the coupled model's WOB,
+  /// which the coupled model evaluates itself), a zero law (Tucker-Wang with c0 = 0) that nothing evaluates (Integrator::run refuses
   /// the coupled inputs; run() takes the coupled path).
   static BitRockLaw torsional_law(const Config& c) {
     if (!c.axial.coupled()) return c.law;

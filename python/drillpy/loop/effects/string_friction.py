@@ -52,7 +52,7 @@ class StringFriction(Effect):
         tens of milliseconds of wind-up, for a stuck horizon), while the contact torque is measured
         well: both frictions oppose the same slip, so a creeping bit's contact torque has the sign
         of its speed, and a stuck bit's string friction carries what the contact does not, in the
-        model's own split (``Integrator::string_share``: the contact up to the static torque T_s,
+        model's own split (``string_share`` in ``drill/euler_bit.hpp``: the contact up to the static torque T_s,
         the string friction the rest up to T_sf). The estimate inverts that split,
         share = sign(T) T_sf clip((|T| - T_s) / T_sf, 0, 1): none while the contact alone can hold
         the bit (|T| < T_s), all of T_sf once the contact torque exceeds T_s by T_sf, and across the
