@@ -29,8 +29,6 @@ from pathlib import Path
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
-if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
-    sys.path.insert(0, str(REPO / "python"))
 
 OMEGA, FEED = 4.0, 30 / 3600
 
@@ -93,4 +91,8 @@ def main() -> None:
 
 
 if __name__ == "__main__":
+    # run as a script: the in-tree build when there is one, else the installed drillpy (imported by a test, the
+    # module leaves sys.path alone: a Dask worker spawned later inherits it and would import the source tree)
+    if any((REPO / "python" / "drillpy").glob("_core*")):
+        sys.path.insert(0, str(REPO / "python"))
     main()
