@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "drill/presets.hpp"
+#include "coupled_trace.hpp"
 #include "drill/simulation.hpp"
 #include "error_text.hpp"
 
@@ -48,22 +49,7 @@ BitRockLaw hysteretic_field_law(double wob_ref = 245e3) {
   return l;
 }
 
-struct LawTrace {
-  std::vector<StepState> s;
-  std::vector<AxialStep> a;
-};
-
-LawTrace law_trace(const Simulation& sim, const ModelState* start = nullptr) {
-  LawTrace out;
-  sim.coupled()->run(
-      sim.inputs(),
-      [&](const StepState& s, const AxialStep& a) {
-        out.s.push_back(s);
-        out.a.push_back(a);
-      },
-      start);
-  return out;
-}
+using test::coupled_trace;
 
 }  // namespace
 
@@ -90,7 +76,7 @@ TEST(AxialLawTorque, SteadyDrillingIsAnEquilibriumAtTheLawsTorqueOnTheSteadyWob)
       EXPECT_NEAR(T0, law.torque(om, 0.0, law.wob_ref) * st.wob / law.wob_ref, 1e-12 * T0) << what;
       EXPECT_GT(T0, 0.0) << what;
       const ModelState s0 = m.steady_torsion(om, 0.0);
-      const LawTrace tr = law_trace(sim, &s0);
+      const test::CoupledTrace tr = coupled_trace(sim, &s0);
       ASSERT_EQ(static_cast<long>(tr.s.size()), c.sim.steps() + 1);
       for (std::size_t i = 0; i < tr.a.size(); i += 97) {
         ASSERT_NEAR(tr.a[i].wob, st.wob, 1e-7 * st.wob) << what << " t = " << tr.a[i].t;
@@ -114,7 +100,7 @@ TEST(AxialLawTorque, DoublingTheReferenceWobHalvesTheTorqueAtTheSameState) {
     // the bit slipping slower and faster than the top (a bit coming to rest is held by whatever the
     // string applies, up to the static torque: not a torque of the law's level)
     for (const ModelState& s0 : {a.coupled()->steady_torsion(om, 0.3), a.coupled()->steady_torsion(om, -0.5)}) {
-      const LawTrace ta = law_trace(a, &s0), tb = law_trace(b, &s0);
+      const test::CoupledTrace ta = coupled_trace(a, &s0), tb = coupled_trace(b, &s0);
       const std::string what = BitRockLaw::kind_name(law.kind) + " from v = " + std::to_string(ta.s[0].bit_speed);
       ASSERT_EQ(ta.a[0].wob, tb.a[0].wob) << what;
       ASSERT_EQ(ta.s[0].bit_speed, tb.s[0].bit_speed) << what;
@@ -141,7 +127,7 @@ TEST(AxialLawTorque, ANonRegularizedLawSticksAndBreaksAwayAtItsStaticTorqueAtThe
   Simulation sim(config_by_law(law, 3.0));
   const double om = sim.config().top_speed;
   const ModelState rest = sim.integrator().initial_state(om);
-  const LawTrace tr = law_trace(sim, &rest);
+  const test::CoupledTrace tr = coupled_trace(sim, &rest);
   const double tol = 1e-12 * (1.0 + om);  // bit_rest_tolerance
   std::size_t k0 = 0;
   while (k0 < tr.s.size() && std::fabs(tr.s[k0].bit_speed) > tol) ++k0;
@@ -182,7 +168,7 @@ TEST(AxialLawTorque, BitBounceGivesZeroTorqueAndNoNaN) {
     Config c = config_by_law(law, 3.0);
     c.axial.rgd.disturbance = 50.0;  // the bit thrown up at 49 V0
     Simulation sim(c);
-    const LawTrace tr = law_trace(sim);
+    const test::CoupledTrace tr = coupled_trace(sim);
     long off = 0, back = 0;
     for (std::size_t i = 0; i < tr.a.size(); ++i) {
       const AxialStep& a = tr.a[i];

@@ -10,6 +10,7 @@
 
 #include "drill/presets.hpp"
 #include "drill/simulation.hpp"
+#include "coupled_trace.hpp"
 #include "error_text.hpp"
 
 using namespace drill;
@@ -23,23 +24,9 @@ Config rgd(double duration = 5.0) {
   return c;
 }
 
-struct Trace {
-  std::vector<StepState> s;
-  std::vector<AxialStep> a;
-};
+using Trace = test::CoupledTrace;
 
-Trace trace(const Config& c, const ModelState* start = nullptr) {
-  Simulation sim(c);
-  Trace out;
-  sim.coupled()->run(
-      sim.inputs(),
-      [&](const StepState& s, const AxialStep& a) {
-        out.s.push_back(s);
-        out.a.push_back(a);
-      },
-      start);
-  return out;
-}
+Trace trace(const Config& c, const ModelState* start = nullptr) { return test::coupled_trace(Simulation(c), start); }
 
 }  // namespace
 

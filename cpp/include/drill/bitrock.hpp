@@ -24,6 +24,7 @@
 #include "drill/laws/hysteresis.hpp"
 #include "drill/laws/registry.hpp"
 #include "drill/names.hpp"
+#include "drill/parameter_set.hpp"
 
 namespace drill {
 
@@ -39,22 +40,6 @@ inline std::string to_string(SpeedUnit u) { return u == SpeedUnit::rpm ? "rpm" :
 inline double speed_factor(SpeedUnit u) { return u == SpeedUnit::rpm ? 30.0 / M_PI : 1.0; }
 
 namespace laws {
-
-/// A struct deriving from each of the parameter structs P once (laws may share theirs: Eqs. 5.1, 5.3).
-template <class... P>
-struct Parameters : P... {
-  bool operator==(const Parameters& o) const {
-    return (... && (static_cast<const P&>(*this) == static_cast<const P&>(o)));
-  }
-};
-template <class Acc, class... P>
-struct UniqueParameters {
-  using type = Acc;
-};
-template <class... Acc, class P, class... Rest>
-struct UniqueParameters<Parameters<Acc...>, P, Rest...>
-    : UniqueParameters<std::conditional_t<(... || std::is_same_v<P, Acc>), Parameters<Acc...>, Parameters<Acc..., P>>,
-                       Rest...> {};
 
 /// The parameters of every law of laws/registry.hpp.
 #define DRILL_LAW_PARAMS(name, Law) , Law::Params

@@ -25,23 +25,13 @@
 #include "drill/drives/registry.hpp"
 #include "drill/errors.hpp"
 #include "drill/names.hpp"
+#include "drill/parameter_set.hpp"
 
 namespace drill {
 
 namespace drives {
 
-/// The parameters of the drives, each struct once (as laws::Parameters in bitrock.hpp).
-template <class... P>
-struct Parameters : P... {};
-template <class Acc, class... P>
-struct UniqueParameters {
-  using type = Acc;
-};
-template <class... Acc, class P, class... Rest>
-struct UniqueParameters<Parameters<Acc...>, P, Rest...>
-    : UniqueParameters<std::conditional_t<(... || std::is_same_v<P, Acc>), Parameters<Acc...>, Parameters<Acc..., P>>,
-                       Rest...> {};
-
+/// The parameters of the drives, each struct once (parameter_set.hpp).
 #define DRILL_DRIVE_PARAMS(name, Drive) , Drive::Params
 using AllParameters = UniqueParameters<Parameters<> DRILL_TOP_DRIVES(DRILL_DRIVE_PARAMS)>::type;
 #undef DRILL_DRIVE_PARAMS
