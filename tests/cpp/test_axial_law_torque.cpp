@@ -59,17 +59,14 @@ TEST(AxialLawTorque, SteadyDrillingIsAnEquilibriumAtTheLawsTorqueOnTheSteadyWob)
   for (const BitRockLaw& law : {hysteretic_field_law(), thesis_tucker_wang(), axial_coulomb_law(9000.0)}) {
     for (AxialTop top : {AxialTop::hook_load, AxialTop::feed}) {
       Config c = config_by_law(law);
-      c.axial.rgd.top = top;
-      c.axial.rgd.feed_rate = 0.005;
-      c.axial.rgd.disturbance = 0.0;
+      test::steady_start(c, top);
       Simulation sim(c);
       const AxialTorsional& m = *sim.coupled();
       const double om = c.top_speed;
       const AxialTorsional::Steady st = m.steady(om);
       const RgdBit& b = c.axial.rgd.bit;
       const std::string what = BitRockLaw::kind_name(law.kind) + " " + to_string(top);
-      EXPECT_NEAR(st.wob, b.radius * b.force_ratio * b.specific_energy * st.depth +
-                              b.radius * b.wear_flat * b.contact_strength, 1e-9 * st.wob) << what;
+      EXPECT_NEAR(st.wob, test::rgd_steady_wob(b, st.depth), 1e-9 * st.wob) << what;
       if (top == AxialTop::hook_load) EXPECT_NEAR(st.wob, 150e3, 1e-9 * 150e3) << what;
       const double T0 = law.torque(om, 0.0, st.wob);
       EXPECT_EQ(st.torque, T0) << what;

@@ -33,17 +33,14 @@ Trace trace(const Config& c, const ModelState* start = nullptr) { return test::c
 TEST(AxialTorsional, SteadyDrillingIsAnEquilibriumWithRgdBalance) {
   for (AxialTop top : {AxialTop::hook_load, AxialTop::feed}) {
     Config c = rgd(2.0);
-    c.axial.rgd.top = top;
-    c.axial.rgd.feed_rate = 0.005;
-    c.axial.rgd.disturbance = 0.0;
+    test::steady_start(c, top);
     Simulation sim(c);
     const AxialTorsional& m = *sim.coupled();
     const double om = c.top_speed;
     const AxialTorsional::Steady st = m.steady(om);
     const RgdBit& b = c.axial.rgd.bit;
     // RGD's steady drilling: W = a zeta eps d + a l sigma, T = a^2 eps d / 2 + gamma mu a^2 l sigma / 2
-    EXPECT_NEAR(st.wob, b.radius * b.force_ratio * b.specific_energy * st.depth +
-                            b.radius * b.wear_flat * b.contact_strength, 1e-9 * st.wob);
+    EXPECT_NEAR(st.wob, test::rgd_steady_wob(b, st.depth), 1e-9 * st.wob);
     EXPECT_NEAR(st.torque, 0.5 * b.radius * b.radius * b.specific_energy * st.depth +
                                0.5 * b.geometry * b.friction * b.radius * b.radius * b.wear_flat * b.contact_strength,
                 1e-9 * st.torque);
