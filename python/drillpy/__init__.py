@@ -33,7 +33,7 @@ _EXPORTS = {
     **dict.fromkeys(("LoopOptions", "run_loop"), "drillpy.loop"),
     "loop_record": "drillpy.reports.loop",
     "synthetic_record": "drillpy.loop.synthetic",
-    **dict.fromkeys(("Study", "run_study", "open_study"), "drillpy.study"),
+    **dict.fromkeys(("Study", "run_study", "compute_study", "open_study"), "drillpy.study"),
 }
 
 __all__ = ["_core", "__version__", *_EXPORTS]

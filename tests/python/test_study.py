@@ -44,6 +44,7 @@ def test_mc_study_is_bit_identical_for_any_chunk_and_labelled(cfg, reference, ch
     assert json.loads(ds.attrs["study"])["seed"] == 4 and "drillpy_version" in json.loads(ds.attrs["provenance"])
     lazily = xr.open_zarr(tmp_path / "study.zarr", consolidated=False)  # what a user opens
     np.testing.assert_array_equal(lazily["severity"].values, reference.severity)
+    xr.testing.assert_identical(lazily.load(), ds)  # the zarr-written store reads as the labelled study
 
 
 def test_interrupted_store_resumes_with_only_the_missing_blocks(cfg, reference, tmp_path, monkeypatch):

@@ -482,10 +482,10 @@ def cmd_mc(a: argparse.Namespace) -> int:
                      duration=mcm.DURATION_S if a.duration is None else a.duration,
                      transient=mcm.TRANSIENT_S if a.transient is None else a.transient)
     if a.first_sample == 0 and (a.out or a.scheduler != "local"):  # a stored or distributed study
-        from drillpy.study import mc_study, run_study
-        ds = run_study(mc_study(cfg, speeds, a.samples, a.seed, psd=psd, eta_dt=a.eta_dt, **durations),
-                       a.out, scheduler=a.scheduler, chunk=a.chunk, threads=a.threads, progress=not a.no_progress)
-        study = mcm.from_dataset(ds)
+        from drillpy.study import compute_study, mc_study
+        data = compute_study(mc_study(cfg, speeds, a.samples, a.seed, psd=psd, eta_dt=a.eta_dt, **durations),
+                             a.out, scheduler=a.scheduler, chunk=a.chunk, threads=a.threads, progress=not a.no_progress)
+        study = mcm.from_study_data(data)
     else:
         study = mcm.stochastic_study(cfg, speeds, a.samples, a.seed, psd=psd, eta_dt=a.eta_dt, **durations,
                                      first_sample=a.first_sample, threads=a.threads, progress=not a.no_progress)

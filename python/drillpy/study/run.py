@@ -62,7 +62,34 @@ def run_study(study: Study, out=None, *, client=None, scheduler=None, chunk: int
     -------
     xarray.Dataset
         The study's variables with named dimensions and units, ``done``, the study's attributes (and
-        for mc ``deterministic_severity`` and ``eta_std``).
+        for mc ``deterministic_severity`` and ``eta_std``): :func:`compute_study`'s numbers, labelled.
+
+    Raises
+    ------
+    ValueError
+        For a bad chunk or scheduler, or a store holding another study.
+    KeyboardInterrupt
+        On Ctrl-C; the store keeps every block finished before it.
+    """
+    return compute_study(study, out, client=client, scheduler=scheduler, chunk=chunk, threads=threads,
+                         progress=progress, log=log, group=group).dataset()
+
+
+def compute_study(study: Study, out=None, *, client=None, scheduler=None, chunk: int | None = None, threads: int = 0,
+                  progress: bool = True, log=None, group: str | None = None) -> st.StudyData:
+    """:func:`run_study` without xarray: the same numbers and labels as a :class:`~drillpy.study.store.StudyData`.
+
+    Parameters
+    ----------
+    study : Study
+        What to compute.
+    out, client, scheduler, chunk, threads, progress, log, group
+        As for :func:`run_study`.
+
+    Returns
+    -------
+    StudyData
+        The study's variables, ``done``, coordinates and attributes as numpy arrays and dicts.
 
     Raises
     ------
@@ -76,14 +103,14 @@ def run_study(study: Study, out=None, *, client=None, scheduler=None, chunk: int
     sched = None if client is not None else parse_scheduler(scheduler)
     init = {}
     path = None if out is None else Path(out) / st.STORE_NAME
-    if study.kind == "mc" and (path is None or not st._has_group(path, group)):
+    if study.kind == "mc" and (path is None or not st.has_group(path, group)):
         init = {"deterministic_severity": deterministic_curve(study, threads), "eta_std": _eta_std(study)}
     if path is None:
-        done, results = np.zeros(study.task_size, dtype=bool), {}
+        data = st.empty(study, chunk, init)
+        done = data.variables["done"][1]
     else:
         Path(out).mkdir(parents=True, exist_ok=True)
         done, chunk = st.prepare(study, path, chunk, init, group)
-        results = None
     blocks = _blocks(done, chunk)
     own = None
     if client is None and sched is not None and blocks:
@@ -93,10 +120,12 @@ def run_study(study: Study, out=None, *, client=None, scheduler=None, chunk: int
             finished = 0
             for lo, values in _compute(study, blocks, client, threads):
                 n = next(iter(values.values())).shape[0]
-                if results is None:
+                if path is not None:
                     st.write_block(study, path, lo, values, group)
                 else:
-                    results[lo] = values
+                    for name, v in values.items():
+                        data.variables[name][1][lo:lo + n] = v
+                    done[lo:lo + n] = True
                 finished += n
                 if cb is not None:
                     cb(finished, 0)
@@ -104,17 +133,7 @@ def run_study(study: Study, out=None, *, client=None, scheduler=None, chunk: int
         if own is not None:
             client.close()
             own.close()
-    if path is not None:
-        return st.open_study(path, group)
-    ds = st._empty(study, 0, study.task_size, chunk, {k: v for k, v in init.items() if np.isscalar(v)})
-    for lo, values in results.items():
-        for name, v in values.items():
-            ds[name][{study.task_dim: slice(lo, lo + v.shape[0])}] = v
-    ds["done"][:] = True
-    for k, v in init.items():
-        if not np.isscalar(v):
-            ds[k] = ("top_speed", np.asarray(v, dtype=float), {"units": "1"})
-    return ds
+    return data if path is None else st.read(path, group)
 
 
 def _compute(study: Study, blocks: list, client, threads: int):

@@ -379,13 +379,13 @@ def _settings(c: dict, psd: Psd, eta_dt: float, warmup: float) -> dict:
             "psd_convention": "one-sided, per Hz: Var[eta] = integral_0^inf S(f) df"}
 
 
-def from_dataset(ds) -> StochasticStudy:
-    """The :class:`StochasticStudy` of a stored mc study (:func:`drillpy.study.run_study`'s Dataset):
+def from_study_data(data) -> StochasticStudy:
+    """The :class:`StochasticStudy` of a stored mc study (:func:`drillpy.study.compute_study`'s numbers):
     the same statistics as :func:`stochastic_study` of the same samples, bit for bit.
 
     Parameters
     ----------
-    ds : xarray.Dataset
+    data : drillpy.study.store.StudyData or xarray.Dataset
         A finished ``"mc"`` study (``severity`` (sample, top_speed), ``deterministic_severity``,
         ``eta_std`` and ``study`` attributes).
 
@@ -401,14 +401,19 @@ def from_dataset(ds) -> StochasticStudy:
     """
     import json
     from drillpy.uncertainty.process import psd_from_dict
-    if not bool(ds["done"].values.all()):
-        raise ValueError(f"done: {int((~ds['done'].values).sum())} samples of the study are not computed yet")
-    ident = json.loads(ds.attrs["study"])
+
+    def values(name):
+        return np.asarray(data[name])
+
+    done = values("done")
+    if not bool(done.all()):
+        raise ValueError(f"done: {int((~done).sum())} samples of the study are not computed yet")
+    ident = json.loads(data.attrs["study"])
     o = ident["options"]
     c = ident["config"]
-    return study_from_samples(ds["top_speed"].values, ds["severity"].values,
-                              deterministic=ds["deterministic_severity"].values, seed=ident["seed"], first_sample=0,
-                              eta_std=float(ds.attrs["eta_std"]),
+    return study_from_samples(values("top_speed"), values("severity"),
+                              deterministic=values("deterministic_severity"), seed=ident["seed"], first_sample=0,
+                              eta_std=float(data.attrs["eta_std"]),
                               settings=_settings(c, psd_from_dict(o["psd"]), o["eta_dt_s"], o["warmup_s"]), config=c)
 
 
