@@ -38,9 +38,13 @@ def main() -> None:
     del torsional["axial"]
     torsional["law"] = drillpy.load_config(preset="thesis-field")["law"]
     torsional["simulation"].update(duration_s=a.duration, transient_s=a.duration / 2, start="rest")
+    law = drillpy.load_config(preset="rgd-field")
+    law["axial"]["torque"] = "law"
+    law["law"] = dict(drillpy.load_config(preset="thesis-field")["law"], wob_ref_n=166.8e3)
+    law["simulation"].update(duration_s=a.duration, transient_s=a.duration / 2)
     steps = round(a.duration / coupled["simulation"]["dt_s"])
     med = {}
-    for name, cfg in (("torsional", torsional), ("axial-torsional", coupled)):
+    for name, cfg in (("torsional", torsional), ("axial-torsional", coupled), ("axial, law torque", law)):
         sim = _core.Simulation(engine_config(cfg))
         times = []
         for _ in range(a.repeats):
@@ -51,6 +55,7 @@ def main() -> None:
         print(f"{name:16s} median {med[name]:.3f} s per {a.duration:g}-s run, {1e9 * med[name] / steps:.0f} ns per "
               f"step ({steps} steps, {cfg['rom']['modes']} torsional modes; SS {r.severity:.3f})")
     print(f"ratio axial-torsional / torsional per step: {med['axial-torsional'] / med['torsional']:.2f}")
+    print(f"ratio axial with the law's torque / torsional per step: {med['axial, law torque'] / med['torsional']:.2f}")
 
 
 if __name__ == "__main__":
