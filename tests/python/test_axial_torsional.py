@@ -174,6 +174,23 @@ def test_monte_carlo_runs_the_coupled_model_with_the_stochastic_torque():
         stochastic_study(cfg, speeds, 2, 7, warmup=5.0, **kw)
 
 
+def test_stored_coupled_monte_carlo_is_the_same_bits_for_any_chunk(tmp_path):
+    """mc of the axial-torsional model through a study store (``drillpy mc --out``): the samples do
+    not depend on how the study is cut into blocks, and equal the in-memory study's."""
+    from drillpy.study import compute_study, mc_study
+    from drillpy.uncertainty.montecarlo import stochastic_study
+    from drillpy.uncertainty.process import PsdModel
+    cfg = _short(6.0)
+    psd = PsdModel(2.0, -3.22, -3.0, -1.14)
+    kw = dict(psd=psd, duration=6.0, transient=3.0)
+    ref = stochastic_study(cfg, [3.0, 9.0], 5, 11, threads=2, progress=False, **kw).severity
+    for chunk in (1, 3):
+        data = compute_study(mc_study(cfg, [3.0, 9.0], 5, 11, **kw), tmp_path / str(chunk), chunk=chunk,
+                             threads=2, progress=False)
+        assert np.array_equal(data["severity"], ref)
+        assert data["done"].all()
+
+
 def test_mse_of_steady_drilling_is_the_rock_energy_plus_wob_and_friction_terms():
     """Teale's MSE = W / A + T Omega / (A V). At RGD's steady drilling the cutting part gives the
     intrinsic specific energy eps exactly (T_c = a^2 eps d / 2, V = Omega d / 2 pi), the wear flats
