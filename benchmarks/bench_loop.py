@@ -13,7 +13,9 @@ Configurations:
   differences, one engine call per perturbed model (the trials' configurations built without
   ``copy.deepcopy`` and JSON text, as in ``batched``);
 * ``batched``: this tree's defaults: every perturbed model of one Jacobian in one
-  ``_core.predict_horizons_many`` call.
+  ``_core.predict_horizons_many`` call;
+* ``exact_modal``: the defaults with ``LoopOptions(scheme="exact_modal", dt_s=1e-3)``: every
+  prediction on the exact modal scheme at 1 ms instead of the modified Euler at the preset's 0.1 ms.
 
 Prints per configuration: the wall time of ``run_loop`` (the record read, no figures, no files),
 engine calls, the steps (action, effect, E before -> after) and the final validation E; then the
@@ -32,7 +34,8 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
-OPTIONS = {"base": {}, "per-perturbation": {"batched_jacobian": False}, "batched": {}}
+OPTIONS = {"base": {}, "per-perturbation": {"batched_jacobian": False}, "batched": {},
+           "exact_modal": {"scheme": "exact_modal", "dt_s": 1e-3}}
 
 
 def child(name: str, rate: float, record: str) -> None:
@@ -89,6 +92,10 @@ def main() -> int:
             if n != "batched":
                 same = r["steps"] == b["steps"] and r["effects"] == b["effects"]
                 print(f"{n} / batched: {r['wall'] / b['wall']:.2f} x; same decisions: {same}")
+        if "base" in res and "exact_modal" in res:
+            e = res["exact_modal"]
+            same = e["steps"] == res["base"]["steps"] and e["effects"] == res["base"]["effects"]
+            print(f"base / exact_modal: {res['base']['wall'] / e['wall']:.2f} x; same decisions: {same}")
     return 0
 
 

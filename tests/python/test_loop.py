@@ -86,12 +86,16 @@ def test_trivial_predictors_are_what_they_say():
     assert 0.6 < triv["mean"] < 1.2
 
 
-def test_noise_free_declared_model_predicts_its_own_record():
+@pytest.mark.parametrize("scheme,dt", [("modified_euler", 1e-4), ("exact_modal", 1e-3)])
+def test_noise_free_declared_model_predicts_its_own_record(scheme, dt):
     """Restarted from the states read off a noise-free record of the declared model itself, the
-    calibrated model predicts the record: E below 0.05 (the channel spreads are 1)."""
+    calibrated model predicts the record: E below 0.05 (the channel spreads are 1); on the exact
+    modal scheme at a step ten times the record's generator's too (issue 33), the scheme named in
+    the engine configuration the loop used."""
     rec = synthetic_record((), duration_s=8.0, seed=3, fs_hz=RATE_HZ, noise=0.0, nuisance=False)
-    res = L.run_loop(rec, declared_config(), L.LoopOptions(rate_hz=RATE_HZ, dt_s=1e-4, max_steps=0, long_run=False,
-                                                           discovery=False), log=lambda *a: None)
+    res = L.run_loop(rec, declared_config(), L.LoopOptions(rate_hz=RATE_HZ, dt_s=dt, scheme=scheme, max_steps=0,
+                                                           long_run=False, discovery=False), log=lambda *a: None)
+    assert res.baseline.model.cfg["simulation"]["scheme"] == scheme
     assert res.baseline.E_test < 0.05
     assert res.baseline.channel_rmse["bit_speed_rad_s"] < 0.05 * res.data.sigma_v
 

@@ -162,6 +162,11 @@ def test_a_gj_tolerance_out_of_range_is_refused():
         L.LoopOptions(gj_tolerance=0.7).validate()
 
 
+def test_an_unknown_scheme_is_refused_naming_it():
+    with pytest.raises(ValueError, match="scheme = 'bdf2'"):
+        L.LoopOptions(scheme="bdf2").validate()
+
+
 def test_a_stiffness_fit_inside_the_tolerance_recalibrates_the_null_candidate():
     """A model whose GJ sits at the wrong edge of the tolerance (0.971, the truth's 1.0146) with the
     rest calibrated around it: the ``string_stiffness`` candidate, from its own starts, lands inside

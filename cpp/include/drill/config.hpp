@@ -140,8 +140,8 @@ struct Config {
     require_non_negative(bit_viscous, "operation.bit_viscous_nms");
     require_non_negative(string_friction, "operation.string_friction_nm");
     top_drive.validate();
-    require(!top_drive.has_inertia() || sim.scheme == Scheme::modified_euler, "top_drive.type",
-            TopDrive::kind_name(top_drive.kind), "is implemented for simulation.scheme = modified_euler only");
+    require(!top_drive.has_inertia() || sim.scheme != Scheme::bdf2, "top_drive.type",
+            TopDrive::kind_name(top_drive.kind), "is implemented for simulation.scheme = modified_euler and exact_modal only");
     if (top_drive.has_controller()) {
       const Controller& ctl = top_drive.controller;
       require(!ctl.sampled() || sim.dt <= ctl.sample_time * (1.0 + 1e-12), "simulation.dt_s", sim.dt,
@@ -153,8 +153,10 @@ struct Config {
                   show(top_speed) + " rad/s, wob_n = " + show(wob) + " N");
     }
     axial.validate();
-    require(!(axial.active() || axial.coupled()) || sim.scheme == Scheme::modified_euler, "axial.type",
-            Axial::kind_name(axial.kind), "is implemented for simulation.scheme = modified_euler only");
+    require(!axial.active() || sim.scheme != Scheme::bdf2, "axial.type", Axial::kind_name(axial.kind),
+            "is implemented for simulation.scheme = modified_euler and exact_modal only");
+    require(!axial.coupled() || sim.scheme == Scheme::modified_euler, "axial.type", Axial::kind_name(axial.kind),
+            "is implemented for simulation.scheme = modified_euler only");
     if (axial.coupled()) {
       require(!top_drive.has_inertia(), "top_drive.type", TopDrive::kind_name(top_drive.kind),
               "is not implemented with axial.type = rgd (use ideal)");

@@ -12,11 +12,11 @@
 // static_torque(W) (1 + eta) + T_sf, and it applies whenever that capacity is positive (so T_sf
 // alone makes the laws without a static torque stick).
 // Omega(t) is the commanded speed (ideal top drive) or the state of a motor model driven by it
-// (drives/motor.hpp: J_m Omega' = c_m (Omega_c - Omega) - T_top; modified Euler only), or of a
-// controlled drive J Omega' = u - T_top with the motor torque u of a speed controller
-// (drives/controlled.hpp, controller.hpp; modified Euler only, the same coupling and stability
-// bound as the motor). The drives are listed in drives/registry.hpp; run_euler is instantiated
-// once per drive, with its update of the top speed (its Run) inlined.
+// (drives/motor.hpp: J_m Omega' = c_m (Omega_c - Omega) - T_top; modified Euler and exact modal),
+// or of a controlled drive J Omega' = u - T_top with the motor torque u of a speed controller
+// (drives/controlled.hpp, controller.hpp; the same coupling and stability bound as the motor). The
+// drives are listed in drives/registry.hpp; run_euler and run_exact are instantiated once per
+// drive, with its update of the top speed (its Run) inlined.
 // The reduced matrices are first brought to M = I, K = diag(omega^2) by the generalized
 // eigenvectors of (K~, M~); D~ stays diagonal for modal or Rayleigh damping and is used dense
 // otherwise (random matrices, Craig-Bampton).
@@ -38,7 +38,10 @@
 //  * exact_modal (exact_modal.hpp): each mode's linear part integrated exactly over the step (its
 //    2x2 propagator and the exact response to a forcing linear over the step), the bit torque
 //    implicit at the step's end with Eq. (A.1)'s forward-difference acceleration in Eq. (3.3) and
-//    the stick condition of the bdf2 step. No stability bound; diagonal modal damping only.
+//    the stick condition of the bdf2 step. No stability bound of its own; diagonal modal damping
+//    only. A drive with inertia and the rig's jack are stepped as run_euler steps them (explicit in
+//    the string's top torque, in the bit speed), with the modified Euler's bound of the string
+//    coupled to the drive's inertia.
 #pragma once
 
 #include <Eigen/Dense>
@@ -281,20 +284,24 @@ class Integrator {
               "is larger than top_drive.controller.sample_time_s = " + show(c.sample_time) + " s");
     }
     if (in.top_drive.has_inertia()) {
-      require(opt_.scheme == Scheme::modified_euler, "top_drive.type", TopDrive::kind_name(in.top_drive.kind),
-              "is implemented for simulation.scheme = modified_euler only");
+      require(opt_.scheme != Scheme::bdf2, "top_drive.type", TopDrive::kind_name(in.top_drive.kind),
+              "is implemented for simulation.scheme = modified_euler and exact_modal only");
+      // the drive's step is explicit in the string's top torque in both schemes: Eq. (A.7)'s bound
+      // of the string coupled to the drive's inertia holds for both (exact_modal's modes need none)
       const double bound = stability_bound(in.top_drive);
       require(opt_.dt < bound, "simulation.dt_s", opt_.dt,
-              "exceeds the modified-Euler stability bound with the motor top drive, dt < " + show(bound) +
-                  " s (Eq. A.7 for the string coupled to top_drive.inertia_kg_m2 = " + show(in.top_drive.inertia) +
-                  ")");
+              "exceeds the stability bound with the " + TopDrive::kind_name(in.top_drive.kind) +
+                  " top drive, dt < " + show(bound) + " s (Eq. A.7 for the string coupled to top_drive.inertia_kg_m2 = " +
+                  show(in.top_drive.inertia) + ")");
     }
     const ModelState s0 = start ? *start : initial_state(in.top_speed.at(0.0));
     require(s0.q.size() == V_.rows() && s0.qdot.size() == V_.rows(), "initial_state", s0.q.size(),
             "has the wrong size (the model has " + show(V_.rows()) + " coordinates)");
     Eigen::VectorXd z = Vinv_ * s0.q, p = Vinv_ * s0.qdot;
     if (opt_.scheme == Scheme::bdf2) return run_bdf2(in, obs, z, p);
-    if (opt_.scheme == Scheme::exact_modal) return run_exact(in, obs, z, p);
+    if (opt_.scheme == Scheme::exact_modal)
+      return TopDrive::visit(in.top_drive.kind,
+                             [&](auto drive) { return run_exact<decltype(drive)>(in, obs, z, p, s0); });
     return TopDrive::visit(in.top_drive.kind,
                            [&](auto drive) { return run_euler<decltype(drive)>(in, obs, z, p, s0); });
   }
@@ -542,14 +549,48 @@ class Integrator {
     return x;
   }
 
-  /// The exact modal scheme on one run: run_exact_lanes with one lane.
-  template <class Observer>
-  ModelState run_exact(const Inputs& in, Observer& obs, Eigen::VectorXd& z, Eigen::VectorXd& p) const {
+  /// The exact modal scheme on one run: run_exact_lanes with one lane, the top drive `Drive` of
+  /// drives/registry.hpp. An ideal drive's top speed is the command (the step's top acceleration its
+  /// average over the step); a drive with inertia (the motor, a controlled drive) is stepped as in
+  /// run_euler, by Drive::Run from the string's top torque at the step's start, explicit in it, and
+  /// the modes then see the top's acceleration (Omega_i+1 - Omega_i) / dt over the step, the scheme's
+  /// own assumption (exact_modal.hpp). The rig's jack (axial.hpp) is stepped the same way: its WOB at
+  /// the step's end from the bit speed at its start, before the bit's equation is solved there.
+  template <class Drive, class Observer>
+  ModelState run_exact(const Inputs& in, Observer& obs, Eigen::VectorXd& z, Eigen::VectorXd& p,
+                       const ModelState& s0) const {
     const Inputs* lane = &in;
+    const double dt = opt_.dt;
     double theta_top = 0.0, om_prev = in.top_speed.at(0.0);
     const int m = static_cast<int>(w2_.size());
+    constexpr bool stepped = Drive::has_inertia || Drive::has_controller;
+    double om_state = std::isfinite(s0.top_speed) ? s0.top_speed : in.top_speed.at(0.0);  // a drive's speed
+    const bool axial = in.axial.active();
+    double wob_state = std::isfinite(s0.wob) ? s0.wob : in.wob.at(0.0), wob_next = wob_state;  // the jack's
+    typename Drive::template Run<TopDrive> drive(in.top_drive, in.top_speed, dt, s0,
+                                                 [&] { return top_torque_.dot(z); });
+    auto top = [&](long i, double t0, double t1, double& om0, double& om1, double& dom) {
+      if constexpr (stepped) {
+        om0 = drive.speed(t0, om_state);
+        om1 = drive.next(t0, om0, top_torque_.dot(z));
+        dom = (om1 - om0) / dt;
+        om_state = om1;
+      } else {
+        om0 = in.top_speed.at(t0);
+        om1 = in.top_speed.at(t1);
+        dom = (om1 - om0) / dt;  // the top's acceleration averaged over the step
+      }
+      (void)i;
+    };
+    auto wob_at = [&](double t1, double v0) {
+      if (!axial) return in.wob.at(t1);
+      wob_next = in.axial.step(wob_state, v0, in.wob.at(t1 - dt), dt);
+      return wob_next;
+    };
+    if constexpr (stepped) om_prev = om_state;
     run_exact_lanes(
-        &lane, 1, em_.k.data(), &em_.c, &em_.c0, z.data(), p.data(),
+        &lane, 1, em_.k.data(), &em_.c, &em_.c0, z.data(), p.data(), stepped ? om_state : NAN,
+        axial ? wob_state : NAN, top, wob_at,
         [&](const double* dom, const double* T0, double* zs, double* ps, double* w) {
           exact_modal_free(m, 1, em_.k.data(), bit_.data(), z.data(), p.data(), dom, T0, zs, ps, w);
         },
@@ -560,11 +601,17 @@ class Integrator {
           theta_top += 0.5 * opt_.dt * (om_prev + om);
           if (i == 0) theta_top = 0.0;
           om_prev = om;
+          if (i > 0) wob_state = wob_next;
+          const double wob = axial ? wob_state : in.wob.at(t);
           obs(static_cast<const StepState&>(
-              StepState{i, t, v, a, theta_top + bit_.dot(z), T, top_torque_.dot(z), om, NAN, in.wob.at(t)}));
+              StepState{i, t, v, a, theta_top + bit_.dot(z), T, top_torque_.dot(z), om, drive.torque(), wob}));
         },
         [](std::size_t, double t) { diverged(t); });
-    return to_model(z, p);
+    ModelState out = to_model(z, p);
+    if constexpr (stepped) out.top_speed = om_state;
+    if (axial) out.wob = wob_state;
+    drive.finish(out);
+    return out;
   }
 
   /// Eqs. (3.3), (5.1), (5.3) at the end of an exact modal step (exact_modal.hpp): the relative bit
@@ -639,11 +686,13 @@ class Integrator {
   /// fail(l, t) is called when lane l's bit speed or torque is non-finite at t (it throws, or
   /// returns and the lane is dropped: its state set to zero, emit no longer called for it).
   /// free(dom, T0, zs, ps, w) and close(zs, ps, T1, dT0) are exact_modal_free and exact_modal_close on these
-  /// lanes.
-  template <class Free, class Close, class Emit, class Fail>
+  /// lanes. One lane (N = 1, run_exact): top0 and wob0 its top speed and WOB at t = 0 (NaN: the
+  /// inputs'), top(i, t0, t1, om0, om1, dom) its step's top speeds and top acceleration, wob_at(t1, v0)
+  /// its WOB at the step's end from the bit speed v0 at its start.
+  template <class Top, class Wob, class Free, class Close, class Emit, class Fail>
   void run_exact_lanes(const Inputs* const* in, std::size_t N, const double* coef, const double* c,
-                       const double* c0, double* z, double* p, Free&& free, Close&& close, Emit&& emit,
-                       Fail&& fail) const {
+                       const double* c0, double* z, double* p, double top0, double wob0, Top&& top, Wob&& wob_at,
+                       Free&& free, Close&& close, Emit&& emit, Fail&& fail) const {
     const double dt = opt_.dt;
     const long n = opt_.steps();
     const int m = static_cast<int>(w2_.size());
@@ -661,9 +710,9 @@ class Integrator {
     exact_modal_dot(m, N, bit_.data(), p, v.data());
     for (std::size_t l = 0; l < N; ++l) {
       const Inputs& x0 = *in[l];
-      om0[l] = x0.top_speed.at(0.0);
+      om0[l] = std::isfinite(top0) ? top0 : x0.top_speed.at(0.0);
       v[l] = om0[l] + v[l];
-      const double wob = x0.wob.at(0.0);
+      const double wob = std::isfinite(wob0) ? wob0 : x0.wob.at(0.0);
       const TorqueEval e = total_torque(v[l], 0.0, wob, x0.eta.at(0.0), x0.bit_viscous, x0.string_friction);
       T0[l] = e.T;
       if (!std::isfinite(v[l]) || !std::isfinite(e.T)) {
@@ -675,11 +724,7 @@ class Integrator {
     }
     for (long i = 0; i < n; ++i) {
       const double t0 = i * dt, t1 = (i + 1) * dt;
-      for (std::size_t l = 0; l < N; ++l) {
-        om0[l] = in[l]->top_speed.at(t0);
-        om1[l] = in[l]->top_speed.at(t1);
-        dom[l] = (om1[l] - om0[l]) / dt;  // the top's acceleration averaged over the step
-      }
+      for (std::size_t l = 0; l < N; ++l) top(i, t0, t1, om0[l], om1[l], dom[l]);
       free(dom.data(), T0.data(), zs.data(), ps.data(), w.data());
       for (std::size_t l = 0; l < N; ++l) {
         const Inputs& r = *in[l];
@@ -688,7 +733,7 @@ class Integrator {
         bool hold = false;
         try {
           // Newton starts from the line through the last two relative bit speeds, extrapolated
-          exact_bit(w[l], c[l], c0[l], T0[l], om0[l], om1[l], v[l], r.wob.at(t1), r.eta.at(t1), r.bit_viscous,
+          exact_bit(w[l], c[l], c0[l], T0[l], om0[l], om1[l], v[l], wob_at(t1, v[l]), r.eta.at(t1), r.bit_viscous,
                     r.string_friction, t1, 2.0 * x1[l] - x2[l], x[l], T[l], fr[l], hold);
         } catch (const std::runtime_error&) {
           x[l] = NAN;

@@ -541,15 +541,17 @@ def _read(record, cfg: dict, opt: LoopOptions, log) -> tuple:
 
 
 def _analysis(cfg: dict, data: LoopData, opt: LoopOptions, notes: list) -> dict:
-    """Stage 2, the engine configuration of the analysis: modified Euler at a step dividing the
-    analysis interval (:func:`analysis_config`), with notes on what that changes."""
+    """Stage 2, the engine configuration of the analysis: the options' scheme (``LoopOptions.scheme``)
+    at a step dividing the analysis interval (:func:`analysis_config`), with notes on what that
+    changes."""
     c = Configuration.of(cfg)
     if c.rom.modes > 1:
         notes.append(f"the model keeps {c.rom.modes} modes: the restart state puts the first mode in "
                      "motion and the others in quasi-static equilibrium (exact only with one mode)")
-    if c.simulation.scheme != "modified_euler":
-        cfg = normalize(c.replace({"simulation.scheme": "modified_euler"}))
-        notes.append("the loop integrates with the modified Euler scheme (the motor top drive needs it)")
+    if c.simulation.scheme != opt.scheme:
+        cfg = normalize(c.replace({"simulation.scheme": opt.scheme}))
+        notes.append(f"the loop integrates with the {opt.scheme} scheme (its option scheme), not the declared "
+                     f"{c.simulation.scheme}")
     return analysis_config(cfg, data.dt, opt.dt_s)
 
 
