@@ -214,6 +214,51 @@ TEST(AxialTorsional, ConfigurationErrorsNameTheField) {
       EXPECT_NE(std::string(e.what()).find("sweep.wobs_n"), std::string::npos) << e.what();
     }
   }
+  // axial.damping: an unknown kind, distributed without its rate, with a negative one or with a modal
+  // ratio beside it, modal with a rate, and a rate too large for the step are each refused naming the key
+  {
+    json x = j;
+    x["axial"]["damping"] = "viscous";
+    refused(x, "axial.damping");
+  }
+  json dist = j;
+  dist["axial"]["damping"] = "distributed";
+  dist["axial"].erase("damping_ratio");
+  refused(dist, "axial.damping_rate_per_s");
+  {
+    json x = dist;
+    x["axial"]["damping_rate_per_s"] = -1.0;
+    refused(x, "axial.damping_rate_per_s");
+  }
+  {
+    json x = dist;
+    x["axial"]["damping_rate_per_s"] = 1.0;
+    x["axial"]["damping_ratio"] = 0.05;
+    refused(x, "axial.damping_ratio");
+  }
+  {
+    json x = j;
+    x["axial"]["damping_rate_per_s"] = 1.0;
+    refused(x, "axial.damping_rate_per_s");
+  }
+  {
+    json x = dist;
+    x["axial"]["damping_rate_per_s"] = 2000.0;  // 2 k dt = 2 at dt = 0.5 ms
+    try {
+      Simulation s(parse_config(x));
+      ADD_FAILURE() << "a damping rate accepted beyond the step's stability";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("axial.damping_rate_per_s"), std::string::npos) << e.what();
+    }
+  }
+  {  // a distributed string round-trips without a modal ratio
+    json x = dist;
+    x["axial"]["damping_rate_per_s"] = 1.0;
+    const Config c = parse_config(x);
+    EXPECT_EQ(c.axial.rgd.damping, AxialDamping::distributed);
+    EXPECT_FALSE(to_json(c)["axial"].contains("damping_ratio"));
+    EXPECT_EQ(to_json(parse_config(to_json(c))), to_json(c));
+  }
   // the configuration round-trips through JSON
   const Config c = preset("rgd-field");
   const Config back = parse_config(to_json(c));

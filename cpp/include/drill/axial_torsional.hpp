@@ -6,6 +6,8 @@
 //   z'' + D z' + diag(w^2) z = -b T - l Omega'(t),          bit speed  Omega_b = Omega(t) + b . z'
 //   e'' + C e' + diag(k^2) e = -c W + h F_top,              bit advance U = V0 t + c . e   (feed)
 //                                                                       U = c . e        (hook_load)
+// (C diagonal: 2 zeta k_j with axial.damping = modal, 2 k_d on the elastic modes with distributed,
+// D = 2 k_d M; axial_string.hpp)
 // with F_top the constant net force at the top (hook_load; 0 with feed), and W, T the RGD weight and
 // torque on bit at the depth of cut d = N [U - S(Phi_b - 2 pi / N)] (the rock surface S of the blade
 // ahead, bit_profile.hpp). A uniform string with infinite axial stiffness and one torsional mode is
@@ -108,7 +110,15 @@ class AxialTorsional {
     top_torque_ = (torsion.top_torque * V_).transpose();
     top_load_ = V_.transpose() * torsion.top_load;
     init_vel_ = V_.transpose() * torsion.M * torsion.init_velocity;
-    ax_ = build_axial_rom(string, spec_.top, spec_.modes, spec_.damping_ratio, spec_.bit_mass);
+    ax_ = build_axial_rom(string, spec_.top, spec_.modes, spec_.modal_damping(), spec_.bit_mass);
+    // distributed axial damping (D = 2 k M, axial_string.hpp): the modified-Euler step of a mode with
+    // damping c and frequency w is stable iff c dt < 2 and w^2 dt^2 + 2 c dt < 4 (Jury's conditions on
+    // its 2x2 step matrix, trace 2 - c dt - w^2 dt^2, determinant 1 - c dt); with Eq. (A.7)'s w dt < pi / 5
+    // the bound c dt = 2 k dt <= 1 keeps a margin (a modal ratio <= 1 gives c dt <= 2 pi / 5 already)
+    if (spec_.damping == AxialDamping::distributed)
+      require(2.0 * spec_.damping_rate * opt_.dt <= 1.0, "axial.damping_rate_per_s", spec_.damping_rate,
+              "is too large for simulation.dt_s = " + show(opt_.dt) +
+                  " s: the modified-Euler step needs 2 k dt <= 1 (a smaller dt or k)");
     const double bound = stability_bound();
     require(opt_.dt < bound, "simulation.dt_s", opt_.dt,
             "exceeds the modified-Euler stability bound of the coupled model dt < pi / (5 omega_max) = " +
