@@ -57,13 +57,13 @@ POINTS = [("30 RPM, 30 m/h (their parameters.m)", np.pi, 30 / 3600, KA),
           ("30 RPM, 90 m/h", np.pi, 90 / 3600, KA),
           ("30 RPM, 90 m/h, no axial damping (k_a = 0 in both)", np.pi, 90 / 3600, 0.0)]
 
-DRIVER = r"""function axval_driver(mdir, OM, V0, T1, delta, outfile, KA)
+DRIVER = r"""function axval_driver(mdir, OM, V0, T1, delta, outfile, KA, OMX)
 %% Steps their waveStep_transportBRI from steady drilling; writes t, vb, ob, d, W, T at the bit.
 addpath(mdir);
 p = parameters(); p.ka = KA;
 p.omega0 = OM; p.V0 = V0; p.dNom = 2*pi*V0/(OM*p.N); p.tN = 2*pi/(p.N*OM); p.R = V0/OM;
 dx = p.L/p.P; dts = dx/max(p.c_a, p.c_t)*0.99; dts = p.dt/ceil(p.dt/dts);
-p.omegaMAX = 5*OM; p.Pl = floor(1/(dts*p.omegaMAX));   %% their rule for the sector grid
+p.omegaMAX = OMX*OM; p.Pl = floor(1/(dts*p.omegaMAX));   %% their rule for the sector grid: OMX = 5
 Nt = round(T1/p.dt);
 W0 = p.K_a*p.N*p.dNom + p.Wf; T0 = p.K_t*p.N*p.dNom + p.Tf*p.Wf;
 i = (1:p.P).';
@@ -90,11 +90,14 @@ def matlab_folder(d: Path) -> Path | None:
     return None
 
 
-def run_octave(mdir: Path, om: float, v0: float, duration: float, delta: float, ka: float) -> tuple[dict, float]:
+def run_octave(mdir: Path, om: float, v0: float, duration: float, delta: float, ka: float,
+               omx: float = 5.0) -> tuple[dict, float]:
+    """Their model from steady drilling; ``omx``: their sector grid is sized for bit speeds up to ``omx``
+    times the top's (their rule 5: Courant number N / (2 pi omx) at the top's speed)."""
     with tempfile.TemporaryDirectory(prefix="axval-octave-") as tmp:
         (Path(tmp) / "axval_driver.m").write_text(DRIVER)
         out = Path(tmp) / "bit.csv"
-        expr = f"axval_driver('{mdir}', {om!r}, {v0!r}, {duration!r}, {delta!r}, '{out}', {ka!r})"
+        expr = f"axval_driver('{mdir}', {om!r}, {v0!r}, {duration!r}, {delta!r}, '{out}', {ka!r}, {omx!r})"
         t0 = time.perf_counter()
         r = subprocess.run(["octave", "--no-gui", "--quiet", "--no-init-file", "--eval", expr],
                            cwd=tmp, capture_output=True, text=True, timeout=3600)
@@ -137,7 +140,10 @@ def drillpy_config(om: float, v0: float, duration: float, delta: float, *, ka=KA
 def run_drillpy(om, v0, duration, delta, ka, damping="modal"):
     import drillpy
     from drillpy.model.simulation import simulate
-    cfg = drillpy_config(om, v0, duration, delta, ka=ka, damping=damping)
+    # distributed: the axial modes' ratio falls as 1 / omega_j, and 40 axial modes leave the highest one
+    # unstable (a truncation artefact, the script's "as the axial modes grow" lines): 80 modes at 0.1 ms
+    am, dt = (80, 1e-4) if damping == "distributed" else (40, 2.5e-4)
+    cfg = drillpy_config(om, v0, duration, delta, ka=ka, damping=damping, axial_modes=am, dt=dt)
     t0 = time.perf_counter()
     r = simulate(drillpy.load_config(config=cfg))
     wall = time.perf_counter() - t0
@@ -146,7 +152,7 @@ def run_drillpy(om, v0, duration, delta, ka, damping="modal"):
     return dict(t=ax.t, vb=ax.rop, ob=r.bit_speed, d=ax.depth_of_cut, wob=ax.wob, tob=r.torque_on_bit,
                 steady_wob=s["steady_wob_n"], steady_torque=s["steady_torque_nm"],
                 steady_depth=s["steady_depth_of_cut_m"], steady_rop=s["steady_rop_m_s"],
-                info=f"200 elements, 40 torsional + 40 axial modes, dt 0.25 ms, {damping} axial damping",
+                info=f"200 elements, 40 torsional + {am} axial modes, dt {dt * 1e3:g} ms, {damping} axial damping",
                 cfg=cfg), wall
 
 
@@ -198,13 +204,14 @@ def outcome(s: dict, om: float) -> dict:
 MODELS = ("octave", "drillpy, distributed", "drillpy, modal, ratio of mode 1", "drillpy, modal, ratio of mode 2")
 
 
-def feed_boundary(mdir: Path, om: float, lo: float, hi: float, steps: int, delta: float, models=MODELS) -> dict:
+def feed_boundary(mdir: Path, om: float, lo: float, hi: float, steps: int, delta: float, models=MODELS,
+                  omx: float = 5.0) -> dict:
     """The feed [m/s] at which steady drilling turns unstable at top speed om, in each model:
     bisection on the sign of the bit speed's growth rate (windows from 2.5 s to 12 s, after the
     fastest-decaying modes), between a stable lo and an unstable hi."""
     def rate(model, v0):
         if model == "octave":
-            s, _ = run_octave(mdir, om, v0, 12.0, delta, KA)
+            s, _ = run_octave(mdir, om, v0, 12.0, delta, KA, omx)
         elif model == "drillpy, distributed":
             s, _ = run_drillpy(om, v0, 12.0, delta, KA, "distributed")
         elif model == "drillpy, modal, ratio of mode 1":
@@ -248,7 +255,12 @@ def main() -> int:
     ap.add_argument("--boundary", action="store_true",
                     help="also bisect the feed at which steady drilling turns unstable at 30 RPM "
                          "(between 30 and 120 m/h) in both models")
+    ap.add_argument("--sector-courant", type=float, default=None,
+                    help="size their depth-of-cut grid for this Courant number at the top's speed instead of their "
+                         "rule (bit speeds up to 5 x the top's: Courant N / (10 pi) = 0.127); near 1 their transport of "
+                         "the rock surface is nearly exact, but bit speeds above 1 / C times the top's break it")
     a = ap.parse_args()
+    omx = 5.0 if a.sector_courant is None else BIT["blades"] / (2 * np.pi * a.sector_courant)
     if shutil.which("octave") is None:
         print("skipped: octave is not on the PATH (Debian: apt-get install octave)")
         return 0
@@ -269,7 +281,7 @@ def main() -> int:
     print(f"  axial:     wave equation (theirs, continuum) {C_A / (4 * L):.4f}, {3 * C_A / (4 * L):.4f}; "
           f"drillpy's bar elements (200) {fa[0]:.4f}, {fa[1]:.4f}")
     for name, om, v0, ka in POINTS:
-        oc, wall_o = run_octave(mdir, om, v0, a.duration, a.disturbance, ka)
+        oc, wall_o = run_octave(mdir, om, v0, a.duration, a.disturbance, ka, omx)
         runs = [oc] + [run_drillpy(om, v0, a.duration, a.disturbance, ka, damping)[0]
                        for damping in ("distributed", "modal")]
         print(f"\n{name}: top speed {om:.4f} rad/s, feed {v0 * 3600:.0f} m/h, {a.duration:g} s, "
@@ -306,6 +318,29 @@ def main() -> int:
         print(f"  {'':{w}}  " + "  ".join(f"{c:>11}" for c in cols))
         for label, xs, fmt in rows:
             print(f"  {label:{w}}  " + "  ".join(f"{x:>11{fmt}}" for x in xs))
+    # Their depth of cut is transported over one blade sector by first-order upwind at a Courant number
+    # of 0.13 (their grid rule): a numerical diffusion of the rock surface that damps a ripple of 10 Hz
+    # by about 90 % over a sector. Their parameters.m's point with that grid at Courant 0.95 (nearly
+    # exact; valid while the bit turns below 1.05 x the top's speed, the linear growth here) beside
+    # drillpy with their distributed damping, as the axial modes converge.
+    name, om, v0, ka = POINTS[0]
+    print(f"\n{name}: the growth of the disturbance (bit speed range, 2-12 s) and its period")
+    for omx_c, label in ((5.0, "their sector grid rule (Courant 0.127)"),
+                         (BIT["blades"] / (2 * np.pi * 0.95), "their sector grid at Courant 0.95")):
+        s, _ = run_octave(mdir, om, v0, 12.0, a.disturbance, ka, omx_c)
+        m = s["t"] >= 2.0
+        print(f"  Octave, {label} ({s['info']}): growth "
+              f"{envelope_growth(s['t'][m] - 2.0, s['ob'][m], om):.3f} 1/s, period "
+              f"{dominant_period(s['t'][m], s['ob'][m]):.4f} s")
+    import drillpy
+    from drillpy.model.simulation import simulate
+    for el, am, dt in ((200, 80, 1e-4), (200, 199, 4e-5), (400, 160, 5e-5)):
+        cfg = drillpy_config(om, v0, 12.0, a.disturbance, elements=el, axial_modes=am, dt=dt, damping="distributed")
+        r = simulate(drillpy.load_config(config=cfg))
+        t, ob = r.axial.t, r.bit_speed
+        m = t >= 2.0
+        print(f"  drillpy, distributed, {el} elements, {am} axial modes, dt {dt * 1e3:g} ms: growth "
+              f"{envelope_growth(t[m] - 2.0, ob[m], om):.3f} 1/s, period {dominant_period(t[m], ob[m]):.4f} s")
     # Their axial damping is mass-proportional (ratio k_a / omega_k on the k-th axial mode); drillpy's
     # one ratio for all axial modes can take it on one mode only: the growth at the second point as
     # drillpy's ratio takes the values theirs has on axial modes 1, 2 and 3.
@@ -336,7 +371,7 @@ def main() -> int:
                   f"{dominant_period(t[t >= 2.0], r.bit_speed[t >= 2.0]):.3f} s")
     if a.boundary:
         om = np.pi
-        res = feed_boundary(mdir, om, 30 / 3600, 120 / 3600, 5, a.disturbance)
+        res = feed_boundary(mdir, om, 30 / 3600, 120 / 3600, 5, a.disturbance, omx=omx)
         print(f"\nstability boundary of steady drilling at {om:.4f} rad/s: the feed where the bit speed's "
               "growth rate (2.5-12 s) changes sign")
         for model, (bracket, trail) in res.items():
