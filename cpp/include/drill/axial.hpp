@@ -58,6 +58,12 @@ struct AxialTorsionalSpec {
   double top_force = NAN;     ///< net force down at the top with top = hook_load [N] (the steady WOB)
   double disturbance = 0.01;  ///< start: the bit's axial speed is (1 - disturbance) V0 (0: steady; > 1: upwards)
 
+  /// The depth of cut per revolution of steady drilling at bit speed omega [rad/s]: 2 pi V0 / omega with
+  /// top = feed, RGD's balance W0 = a zeta eps d0 + a l sigma with the hook load's W0 (rgd_bit.hpp).
+  double steady_depth(double omega) const {
+    return top == AxialTop::feed ? 2.0 * M_PI * feed_rate / omega : bit.steady_depth(top_force);
+  }
+
   /// The axial modes' damping (axial_string.hpp).
   AxialModalDamping modal_damping() const { return {damping, damping_ratio, damping_rate}; }
 

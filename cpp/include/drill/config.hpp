@@ -147,8 +147,15 @@ struct Config {
       const Controller& ctl = top_drive.controller;
       require(!ctl.sampled() || sim.dt <= ctl.sample_time * (1.0 + 1e-12), "simulation.dt_s", sim.dt,
               "is larger than top_drive.controller.sample_time_s = " + show(ctl.sample_time) + " s");
-      // the drive must carry the steady torque of the operating point (law, c_v Omega, T_sf)
-      const double steady = law.torque(top_speed, 0.0, wob) + bit_viscous * top_speed + string_friction;
+      // the drive must carry the steady torque of the operating point (law, c_v Omega, T_sf; with
+      // axial.type = rgd the coupled model's: RGD's T0 at its steady depth of cut, or the law's at W0)
+      double steady = law.torque(top_speed, 0.0, wob) + bit_viscous * top_speed + string_friction;
+      if (axial.coupled()) {
+        const AxialTorsionalSpec& x = axial.rgd;
+        x.validate();  // its feed rate or top force first
+        const double d0 = x.steady_depth(top_speed);
+        steady = x.torque == AxialTorque::law ? law.torque(top_speed, 0.0, x.bit.steady_wob(d0)) : x.bit.steady_torque(d0);
+      }
       require(ctl.torque_limit > steady, "top_drive.controller.torque_limit_nm", ctl.torque_limit,
               "is below the steady torque " + show(steady) + " N m the drive carries at operation.top_speed_rad_s = " +
                   show(top_speed) + " rad/s, wob_n = " + show(wob) + " N");
@@ -157,8 +164,8 @@ struct Config {
     require(!(axial.active() || axial.coupled()) || sim.scheme == Scheme::modified_euler, "axial.type",
             Axial::kind_name(axial.kind), "is implemented for simulation.scheme = modified_euler only");
     if (axial.coupled()) {
-      require(!top_drive.has_inertia(), "top_drive.type", TopDrive::kind_name(top_drive.kind),
-              "is not implemented with axial.type = rgd (use ideal)");
+      require(!top_drive.has_inertia() || top_drive.has_controller(), "top_drive.type",
+              TopDrive::kind_name(top_drive.kind), "is not implemented with axial.type = rgd (use ideal or controlled)");
       const int free_axial = string.n_elements() + (axial.rgd.top == AxialTop::hook_load ? 1 : 0);
       require(axial.rgd.modes <= free_axial, "axial.modes", axial.rgd.modes,
               "must be at most the number of free axial DOFs (" + show(free_axial) + ")");

@@ -50,7 +50,9 @@ def _add_control(sub) -> argparse.ArgumentParser:
     s.add_argument("--factor-range", default="0.1,10",
                    help="LOW,HIGH: factors of the nominal tuning searched for every gain (log scale; default 0.1,10)")
     s.add_argument("--bootstrap", type=integer("bootstrap"), default=400, help="bootstrap resamples")
-    s.add_argument("--warmup", type=float, default=100.0, help="deterministic warm start of every run [s]")
+    s.add_argument("--warmup", type=float,
+                   help="deterministic warm start of every run [s] (default 100; 0 with axial.type = rgd, whose "
+                        "runs start in steady drilling)")
     s.add_argument("--duration", type=float, default=60.0, help="run with eta after the warm start [s]")
     s.add_argument("--transient", type=float, default=20.0, help="discarded before SS [s]")
     s.add_argument("--eta-std", type=float,
@@ -117,7 +119,9 @@ def cmd_control(a: argparse.Namespace) -> int:
     if a.eta_std is not None:
         validate.positive("--eta-std", a.eta_std)
         psd = scaled_to_std(THESIS_PSD, a.eta_std)
-    window = Window(speeds, wobs, a.samples, a.seed, warmup=a.warmup, duration=a.duration, transient=a.transient,
+    from drillpy.uncertainty.montecarlo import default_warmup
+    warmup = default_warmup(cfg) if a.warmup is None else a.warmup
+    window = Window(speeds, wobs, a.samples, a.seed, warmup=warmup, duration=a.duration, transient=a.transient,
                     psd=psd)
 
     def progress(text: str) -> None:
