@@ -40,8 +40,6 @@ from pathlib import Path
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
-if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
-    sys.path.insert(0, str(REPO / "python"))
 
 # Their parameters.m (Coupled): drill pipe radii, steel, length, damping, bit.
 L, RO, RI, E, G, RHO = 2000.0, 0.0635, 0.054, 200e9, 77e9, 8e3
@@ -384,4 +382,8 @@ def main() -> int:
 
 
 if __name__ == "__main__":
+    # run as a script: the in-tree build when there is one, else the installed drillpy (imported by a test, the
+    # module leaves sys.path alone, as benchmarks/axial_torsional_limit.py)
+    if any((REPO / "python" / "drillpy").glob("_core*")):
+        sys.path.insert(0, str(REPO / "python"))
     sys.exit(main())

@@ -79,3 +79,23 @@ def test_bad_damping_is_one_error_naming_the_field(change, field):
     cfg["axial"].update(change)
     with pytest.raises(ValueError, match=field.replace(".", r"\.")):
         load_config(config=cfg)
+
+
+def test_their_distributed_damping_leaves_a_10_hz_axial_mode_growing_at_their_point():
+    """docs/axial.md "Validation": on the string and bit of Aarsnes and van de Wouw's code at their
+    30 RPM, 30 m/h, drillpy with their damping D = 2 k M (k = 1/s) grows from steady drilling through
+    an axial mode of period 0.1031 s (their code finds it too once its delay line is not diffused),
+    while one ratio k / omega_1 on every axial mode, which over-damps the modes above the first, decays."""
+    import axial_octave_comparison as B
+    from drillpy.model.config import load_config as load
+    om, v0 = np.pi, 30 / 3600
+    growth = {}
+    for damping, am, dt in (("distributed", 80, 1e-4), ("modal", 40, 2.5e-4)):
+        r = simulate(load(config=B.drillpy_config(om, v0, 12.0, 0.01, damping=damping, axial_modes=am, dt=dt)))
+        t, ob = r.axial.t, r.bit_speed
+        m = t >= 2.0
+        growth[damping] = B.envelope_growth(t[m] - 2.0, ob[m], om)
+        if damping == "distributed":
+            assert B.dominant_period(t[m], ob[m]) == pytest.approx(0.1031, rel=0.02)
+    assert growth["distributed"] > 0.2  # +0.359/s
+    assert growth["modal"] < -0.05
