@@ -47,3 +47,13 @@ def test_drillpy_control_runs_on_the_coupled_model(capsys, tmp_path):
     assert {"ideal", "stiff", "z_torque_tuned"} <= set(one["drives"])
     control = json.loads((tmp_path / "a" / "control.json").read_text())
     assert control["tuning_window"]["warmup_s"] == 0.0  # the coupled runs start in steady drilling
+
+
+def test_a_constant_feed_is_refused_naming_axial_top(capsys, tmp_path):
+    cfg = load_config(preset="rgd-field")
+    cfg["axial"].update(top="feed", rop_m_s=0.01)
+    del cfg["operation"]["wob_n"]
+    path = tmp_path / "feed.json"
+    path.write_text(json.dumps(cfg))
+    assert main(["control", "--config", str(path), "--drive-inertia", "2000", "--out", str(tmp_path / "o")]) == 2
+    assert "axial.top = 'feed'" in capsys.readouterr().err

@@ -110,6 +110,10 @@ def cmd_control(a: argparse.Namespace) -> int:
     validate.seed(a.seed, "--seed")
     if a.seed == 2**64 - 1:
         raise ValueError(f"--seed = {a.seed}: must be below 2^64 - 1 (the comparison uses seed + 1)")
+    ax = Configuration.of(cfg).axial
+    if ax.type == "rgd" and ax.top == "feed":
+        raise ValueError("axial.top = 'feed': drillpy control's window is top speeds x WOBs, and with a constant "
+                         "feed the WOB is the bit's response, not an input (use axial.top = hook_load)")
     op = Configuration.of(cfg).operation
     speeds = _grid(a.speeds, op.top_speed_rad_s * np.linspace(0.5, 1.25, 6), "--speeds", "speed")
     wobs = (np.array([a.wob]) if a.wob is not None
