@@ -15,9 +15,10 @@ Their model: one uniform 2000 m pipe, the axial and torsional wave equations in 
 viscous damping -2 k v (k = 1/s for both motions), no bit mass or inertia, and the bit law of RGD
 with the depth of cut transported on a grid over one blade sector (first-order upwind). drillpy is
 configured with the same string, the feed top (``axial.top = feed``), the torsional damping as
-Rayleigh damping D = 2 k_t M (exactly theirs), the axial modal damping ratio k_a / omega_1 (theirs
-on the first axial mode only: drillpy has one ratio for all axial modes) and gamma = 2, because
-their contact torque is gamma mu a W_f, without RGD's 1/2.
+Rayleigh damping D = 2 k_t M (exactly theirs), the axial damping two ways: ``axial.damping =
+distributed`` with ``damping_rate_per_s = k_a`` (D = 2 k_a M, exactly theirs: the ratio k_a / omega_j
+on axial mode j) and, for comparison, ``modal`` with one ratio for all axial modes, theirs on the first
+mode (k_a / omega_1); and gamma = 2, because their contact torque is gamma mu a W_f, without RGD's 1/2.
 
 Both start from steady drilling with the bit's axial speed 1 % below V0 (and the torsion disturbed
 by 1 %: drillpy at the bit, theirs along the whole string) and the script prints, per operating
@@ -39,8 +40,6 @@ from pathlib import Path
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
-if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
-    sys.path.insert(0, str(REPO / "python"))
 
 # Their parameters.m (Coupled): drill pipe radii, steel, length, damping, bit.
 L, RO, RI, E, G, RHO = 2000.0, 0.0635, 0.054, 200e9, 77e9, 8e3
@@ -51,19 +50,18 @@ GAMMA_THEIRS = 1.0
 C_A, C_T = np.sqrt(E / RHO), np.sqrt(G / RHO)
 
 # (name, top speed [rad/s], feed [m/s], axial damping k_a [1/s]): their parameters.m's point, three
-# times its feed, and that again without axial damping in either model (the one damping that drillpy
-# cannot take as theirs is: see the docstring).
+# times its feed, and that again without axial damping in either model.
 POINTS = [("30 RPM, 30 m/h (their parameters.m)", np.pi, 30 / 3600, KA),
           ("30 RPM, 90 m/h", np.pi, 90 / 3600, KA),
           ("30 RPM, 90 m/h, no axial damping (k_a = 0 in both)", np.pi, 90 / 3600, 0.0)]
 
-DRIVER = r"""function axval_driver(mdir, OM, V0, T1, delta, outfile, KA)
+DRIVER = r"""function axval_driver(mdir, OM, V0, T1, delta, outfile, KA, OMX)
 %% Steps their waveStep_transportBRI from steady drilling; writes t, vb, ob, d, W, T at the bit.
 addpath(mdir);
 p = parameters(); p.ka = KA;
 p.omega0 = OM; p.V0 = V0; p.dNom = 2*pi*V0/(OM*p.N); p.tN = 2*pi/(p.N*OM); p.R = V0/OM;
 dx = p.L/p.P; dts = dx/max(p.c_a, p.c_t)*0.99; dts = p.dt/ceil(p.dt/dts);
-p.omegaMAX = 5*OM; p.Pl = floor(1/(dts*p.omegaMAX));   %% their rule for the sector grid
+p.omegaMAX = OMX*OM; p.Pl = floor(1/(dts*p.omegaMAX));   %% their rule for the sector grid: OMX = 5
 Nt = round(T1/p.dt);
 W0 = p.K_a*p.N*p.dNom + p.Wf; T0 = p.K_t*p.N*p.dNom + p.Tf*p.Wf;
 i = (1:p.P).';
@@ -90,11 +88,14 @@ def matlab_folder(d: Path) -> Path | None:
     return None
 
 
-def run_octave(mdir: Path, om: float, v0: float, duration: float, delta: float, ka: float) -> tuple[dict, float]:
+def run_octave(mdir: Path, om: float, v0: float, duration: float, delta: float, ka: float,
+               omx: float = 5.0) -> tuple[dict, float]:
+    """Their model from steady drilling; ``omx``: their sector grid is sized for bit speeds up to ``omx``
+    times the top's (their rule 5: Courant number N / (2 pi omx) at the top's speed)."""
     with tempfile.TemporaryDirectory(prefix="axval-octave-") as tmp:
         (Path(tmp) / "axval_driver.m").write_text(DRIVER)
         out = Path(tmp) / "bit.csv"
-        expr = f"axval_driver('{mdir}', {om!r}, {v0!r}, {duration!r}, {delta!r}, '{out}', {ka!r})"
+        expr = f"axval_driver('{mdir}', {om!r}, {v0!r}, {duration!r}, {delta!r}, '{out}', {ka!r}, {omx!r})"
         t0 = time.perf_counter()
         r = subprocess.run(["octave", "--no-gui", "--quiet", "--no-init-file", "--eval", expr],
                            cwd=tmp, capture_output=True, text=True, timeout=3600)
@@ -110,7 +111,9 @@ def run_octave(mdir: Path, om: float, v0: float, duration: float, delta: float, 
 
 
 def drillpy_config(om: float, v0: float, duration: float, delta: float, *, ka=KA, elements=200, modes=40,
-                   axial_modes=40, dt=2.5e-4, gamma=2.0 * GAMMA_THEIRS, axial_e=E):
+                   axial_modes=40, dt=2.5e-4, gamma=2.0 * GAMMA_THEIRS, axial_e=E, damping="modal"):
+    """drillpy on their parameters; ``damping``: ``"modal"`` (the ratio k_a / omega_1 on every axial
+    mode) or ``"distributed"`` (D = 2 k_a M, theirs)."""
     import drillpy
     cfg = drillpy.load_config(preset="rgd-field")
     cfg["string"] = {"lumped_inertias": [], "sections": [dict(
@@ -120,18 +123,25 @@ def drillpy_config(om: float, v0: float, duration: float, delta: float, *, ka=KA
     cfg["damping"] = {"type": "rayleigh", "pairs": [[f1, KT / (2 * np.pi * f1)], [f2, KT / (2 * np.pi * f2)]]}
     cfg["rom"] = {"modes": modes}
     ax = cfg["axial"]
-    ax.update(top="feed", rop_m_s=v0, modes=axial_modes, disturbance=delta,
-              damping_ratio=ka / (2 * np.pi * np.sqrt(axial_e / RHO) / (4 * L)))
+    ax.update(top="feed", rop_m_s=v0, modes=axial_modes, disturbance=delta)
+    if damping == "distributed":
+        ax.pop("damping_ratio", None)
+        ax.update(damping="distributed", damping_rate_per_s=ka)
+    else:
+        ax.update(damping="modal", damping_ratio=ka / (2 * np.pi * np.sqrt(axial_e / RHO) / (4 * L)))
     ax["bit"] = dict(BIT, gamma=gamma)
     cfg["operation"] = {"top_speed_rad_s": om, "bit_viscous_nms": 0.0, "string_friction_nm": 0.0}
     cfg["simulation"].update(duration_s=duration, transient_s=duration / 2, dt_s=dt, output_stride=1)
     return cfg
 
 
-def run_drillpy(om, v0, duration, delta, ka):
+def run_drillpy(om, v0, duration, delta, ka, damping="modal"):
     import drillpy
     from drillpy.model.simulation import simulate
-    cfg = drillpy_config(om, v0, duration, delta, ka=ka)
+    # distributed: the axial modes' ratio falls as 1 / omega_j, and 40 axial modes leave the highest one
+    # unstable (a truncation artefact, the script's "as the axial modes grow" lines): 80 modes at 0.1 ms
+    am, dt = (80, 1e-4) if damping == "distributed" else (40, 2.5e-4)
+    cfg = drillpy_config(om, v0, duration, delta, ka=ka, damping=damping, axial_modes=am, dt=dt)
     t0 = time.perf_counter()
     r = simulate(drillpy.load_config(config=cfg))
     wall = time.perf_counter() - t0
@@ -140,7 +150,8 @@ def run_drillpy(om, v0, duration, delta, ka):
     return dict(t=ax.t, vb=ax.rop, ob=r.bit_speed, d=ax.depth_of_cut, wob=ax.wob, tob=r.torque_on_bit,
                 steady_wob=s["steady_wob_n"], steady_torque=s["steady_torque_nm"],
                 steady_depth=s["steady_depth_of_cut_m"], steady_rop=s["steady_rop_m_s"],
-                info="200 elements, 40 torsional + 40 axial modes, dt 0.25 ms", cfg=cfg), wall
+                info=f"200 elements, 40 torsional + {am} axial modes, dt {dt * 1e3:g} ms, {damping} axial damping",
+                cfg=cfg), wall
 
 
 def axial_fe_frequencies(n_el: int, n: int) -> np.ndarray:
@@ -188,14 +199,20 @@ def outcome(s: dict, om: float) -> dict:
                 wob_min=s["wob"][m].min(), wob_max=s["wob"][m].max(), tob_mean=s["tob"][m].mean())
 
 
-def feed_boundary(mdir: Path, om: float, lo: float, hi: float, steps: int, delta: float) -> dict:
+MODELS = ("octave", "drillpy, distributed", "drillpy, modal, ratio of mode 1", "drillpy, modal, ratio of mode 2")
+
+
+def feed_boundary(mdir: Path, om: float, lo: float, hi: float, steps: int, delta: float, models=MODELS,
+                  omx: float = 5.0) -> dict:
     """The feed [m/s] at which steady drilling turns unstable at top speed om, in each model:
     bisection on the sign of the bit speed's growth rate (windows from 2.5 s to 12 s, after the
     fastest-decaying modes), between a stable lo and an unstable hi."""
     def rate(model, v0):
         if model == "octave":
-            s, _ = run_octave(mdir, om, v0, 12.0, delta, KA)
-        elif model == "drillpy":
+            s, _ = run_octave(mdir, om, v0, 12.0, delta, KA, omx)
+        elif model == "drillpy, distributed":
+            s, _ = run_drillpy(om, v0, 12.0, delta, KA, "distributed")
+        elif model == "drillpy, modal, ratio of mode 1":
             s, _ = run_drillpy(om, v0, 12.0, delta, KA)
         else:  # drillpy with the axial ratio theirs has on the second axial mode
             import drillpy
@@ -211,7 +228,7 @@ def feed_boundary(mdir: Path, om: float, lo: float, hi: float, steps: int, delta
             r = float("inf") if np.ptp(ob[m]) >= 0.2 * om else r
         return r
     out = {}
-    for model in ("octave", "drillpy", "drillpy, axial ratio of mode 2"):
+    for model in models:
         a, b = lo, hi
         ra, rb = rate(model, a), rate(model, b)
         trail = [(a, ra), (b, rb)]
@@ -236,7 +253,12 @@ def main() -> int:
     ap.add_argument("--boundary", action="store_true",
                     help="also bisect the feed at which steady drilling turns unstable at 30 RPM "
                          "(between 30 and 120 m/h) in both models")
+    ap.add_argument("--sector-courant", type=float, default=None,
+                    help="size their depth-of-cut grid for this Courant number at the top's speed instead of their "
+                         "rule (bit speeds up to 5 x the top's: Courant N / (10 pi) = 0.127); near 1 their transport of "
+                         "the rock surface is nearly exact, but bit speeds above 1 / C times the top's break it")
     a = ap.parse_args()
+    omx = 5.0 if a.sector_courant is None else BIT["blades"] / (2 * np.pi * a.sector_courant)
     if shutil.which("octave") is None:
         print("skipped: octave is not on the PATH (Debian: apt-get install octave)")
         return 0
@@ -257,39 +279,66 @@ def main() -> int:
     print(f"  axial:     wave equation (theirs, continuum) {C_A / (4 * L):.4f}, {3 * C_A / (4 * L):.4f}; "
           f"drillpy's bar elements (200) {fa[0]:.4f}, {fa[1]:.4f}")
     for name, om, v0, ka in POINTS:
-        oc, wall_o = run_octave(mdir, om, v0, a.duration, a.disturbance, ka)
-        dp, wall_d = run_drillpy(om, v0, a.duration, a.disturbance, ka)
+        oc, wall_o = run_octave(mdir, om, v0, a.duration, a.disturbance, ka, omx)
+        runs = [oc] + [run_drillpy(om, v0, a.duration, a.disturbance, ka, damping)[0]
+                       for damping in ("distributed", "modal")]
         print(f"\n{name}: top speed {om:.4f} rad/s, feed {v0 * 3600:.0f} m/h, {a.duration:g} s, "
               f"start: steady drilling, bit {a.disturbance:g} slower")
-        print(f"  Octave ({oc['info']}): {wall_o:.1f} s wall;  drillpy ({dp['info']}): {wall_d:.2f} s wall")
-        rows = [("steady WOB [kN]", oc["steady_wob"] / 1e3, dp["steady_wob"] / 1e3, ".3f"),
-                ("steady torque [kN m]", oc["steady_torque"] / 1e3, dp["steady_torque"] / 1e3, ".4f"),
-                ("steady depth of cut [mm/rev]", oc["steady_depth"] * 1e3, dp["steady_depth"] * 1e3, ".4f"),
-                ("steady ROP [m/h]", oc["steady_rop"] * 3600, dp["steady_rop"] * 3600, ".3f"),
-                ("bit WOB at t = 0 [kN]", oc["wob"][0] / 1e3, dp["wob"][0] / 1e3, ".3f")]
-        go = (envelope_growth(oc["t"], oc["vb"], v0), envelope_growth(oc["t"], oc["ob"], om))
-        gd = (envelope_growth(dp["t"], dp["vb"], v0), envelope_growth(dp["t"], dp["ob"], om))
-        rows += [("growth rate of the bit's axial speed range while small [1/s]", go[0], gd[0], ".3f"),
-                 ("growth rate of the bit speed range while small [1/s]", go[1], gd[1], ".3f")]
-        early = [s["t"] < 6.0 for s in (oc, dp)]
-        rows += [("dominant period of the bit speed over 0-6 s [s]",
-                  dominant_period(oc["t"][early[0]], oc["ob"][early[0]]),
-                  dominant_period(dp["t"][early[1]], dp["ob"][early[1]]), ".3f")]
-        uo, ud = outcome(oc, om), outcome(dp, om)
+        print(f"  Octave ({oc['info']}): {wall_o:.1f} s wall;  drillpy ({runs[1]['info']} / modal)")
+        cols = ("Octave", "distributed", "modal")
+
+        def row(label, f, fmt):
+            return (label, [f(r) for r in runs], fmt)
+        rows = [row("steady WOB [kN]", lambda r: r["steady_wob"] / 1e3, ".3f"),
+                row("steady torque [kN m]", lambda r: r["steady_torque"] / 1e3, ".4f"),
+                row("steady depth of cut [mm/rev]", lambda r: r["steady_depth"] * 1e3, ".4f"),
+                row("steady ROP [m/h]", lambda r: r["steady_rop"] * 3600, ".3f"),
+                row("bit WOB at t = 0 [kN]", lambda r: r["wob"][0] / 1e3, ".3f"),
+                row("growth rate of the bit's axial speed range while small [1/s]",
+                    lambda r: envelope_growth(r["t"], r["vb"], v0), ".3f"),
+                row("growth rate of the bit speed range while small [1/s]",
+                    lambda r: envelope_growth(r["t"], r["ob"], om), ".3f"),
+                row("dominant period of the bit speed over 0-6 s [s]",
+                    lambda r: dominant_period(r["t"][r["t"] < 6.0], r["ob"][r["t"] < 6.0]), ".3f")]
         late = f"second half ({a.duration / 2:g}-{a.duration:g} s)"
-        rows += [(f"{late}: bit speed min [rad/s]", uo["ob_min"], ud["ob_min"], ".3f"),
-                 (f"{late}: bit speed max [rad/s]", uo["ob_max"], ud["ob_max"], ".3f"),
-                 (f"{late}: stick fraction (bit speed < 5 % of the top's)", uo["stick"], ud["stick"], ".3f"),
-                 (f"{late}: dominant period of the bit speed [s]", uo["period"], ud["period"], ".3f"),
-                 (f"{late}: bit axial speed min [mm/s]", uo["vb_min"] * 1e3, ud["vb_min"] * 1e3, ".3f"),
-                 (f"{late}: bit axial speed max [mm/s]", uo["vb_max"] * 1e3, ud["vb_max"] * 1e3, ".3f"),
-                 (f"{late}: WOB min [kN]", uo["wob_min"] / 1e3, ud["wob_min"] / 1e3, ".2f"),
-                 (f"{late}: WOB max [kN]", uo["wob_max"] / 1e3, ud["wob_max"] / 1e3, ".2f"),
-                 (f"{late}: mean torque on bit [kN m]", uo["tob_mean"] / 1e3, ud["tob_mean"] / 1e3, ".4f")]
+        us = [outcome(r, om) for r in runs]
+        for label, key, scale, fmt in (("bit speed min [rad/s]", "ob_min", 1, ".3f"),
+                                       ("bit speed max [rad/s]", "ob_max", 1, ".3f"),
+                                       ("stick fraction (bit speed < 5 % of the top's)", "stick", 1, ".3f"),
+                                       ("dominant period of the bit speed [s]", "period", 1, ".3f"),
+                                       ("bit axial speed min [mm/s]", "vb_min", 1e3, ".3f"),
+                                       ("bit axial speed max [mm/s]", "vb_max", 1e3, ".3f"),
+                                       ("WOB min [kN]", "wob_min", 1e-3, ".2f"),
+                                       ("WOB max [kN]", "wob_max", 1e-3, ".2f"),
+                                       ("mean torque on bit [kN m]", "tob_mean", 1e-3, ".4f")):
+            rows.append((f"{late}: {label}", [u[key] * scale for u in us], fmt))
         w = max(len(r[0]) for r in rows)
-        print(f"  {'':{w}}  {'Octave':>10}  {'drillpy':>10}")
-        for label, x, y, fmt in rows:
-            print(f"  {label:{w}}  {x:>10{fmt}}  {y:>10{fmt}}")
+        print(f"  {'':{w}}  " + "  ".join(f"{c:>11}" for c in cols))
+        for label, xs, fmt in rows:
+            print(f"  {label:{w}}  " + "  ".join(f"{x:>11{fmt}}" for x in xs))
+    # Their depth of cut is transported over one blade sector by first-order upwind at a Courant number
+    # of 0.13 (their grid rule): a numerical diffusion of the rock surface that damps a ripple of 10 Hz
+    # by about 90 % over a sector. Their parameters.m's point with that grid at Courant 0.95 (nearly
+    # exact; valid while the bit turns below 1.05 x the top's speed, the linear growth here) beside
+    # drillpy with their distributed damping, as the axial modes converge.
+    name, om, v0, ka = POINTS[0]
+    print(f"\n{name}: the growth of the disturbance (bit speed range, 2-12 s) and its period")
+    for omx_c, label in ((5.0, "their sector grid rule (Courant 0.127)"),
+                         (BIT["blades"] / (2 * np.pi * 0.95), "their sector grid at Courant 0.95")):
+        s, _ = run_octave(mdir, om, v0, 12.0, a.disturbance, ka, omx_c)
+        m = s["t"] >= 2.0
+        print(f"  Octave, {label} ({s['info']}): growth "
+              f"{envelope_growth(s['t'][m] - 2.0, s['ob'][m], om):.3f} 1/s, period "
+              f"{dominant_period(s['t'][m], s['ob'][m]):.4f} s")
+    import drillpy
+    from drillpy.model.simulation import simulate
+    for el, am, dt in ((200, 80, 1e-4), (200, 199, 4e-5), (400, 160, 5e-5)):
+        cfg = drillpy_config(om, v0, 12.0, a.disturbance, elements=el, axial_modes=am, dt=dt, damping="distributed")
+        r = simulate(drillpy.load_config(config=cfg))
+        t, ob = r.axial.t, r.bit_speed
+        m = t >= 2.0
+        print(f"  drillpy, distributed, {el} elements, {am} axial modes, dt {dt * 1e3:g} ms: growth "
+              f"{envelope_growth(t[m] - 2.0, ob[m], om):.3f} 1/s, period {dominant_period(t[m], ob[m]):.4f} s")
     # Their axial damping is mass-proportional (ratio k_a / omega_k on the k-th axial mode); drillpy's
     # one ratio for all axial modes can take it on one mode only: the growth at the second point as
     # drillpy's ratio takes the values theirs has on axial modes 1, 2 and 3.
@@ -309,16 +358,18 @@ def main() -> int:
     # torsional modes, the rgd-field preset's 10 axial modes and more).
     name, om, v0, ka = POINTS[0]
     print(f"\n{name}: drillpy (100 elements, 20 torsional modes) as the axial modes grow")
-    for am, dt in ((10, 5e-4), (20, 5e-4), (40, 2.5e-4), (99, 1e-4)):
-        cfg = drillpy_config(om, v0, 10.0, a.disturbance, elements=100, modes=20, axial_modes=am, dt=dt)
-        r = simulate(drillpy.load_config(config=cfg))
-        t = r.axial.t
-        print(f"  {am:3d} axial modes, dt {dt * 1e3:g} ms: growth of the bit speed range "
-              f"{envelope_growth(t, r.bit_speed, om):.3f} 1/s, dominant period over 2-10 s "
-              f"{dominant_period(t[t >= 2.0], r.bit_speed[t >= 2.0]):.3f} s")
+    for damping in ("modal", "distributed"):
+        for am, dt in ((10, 5e-4), (20, 5e-4), (40, 2.5e-4), (99, 1e-4)):
+            cfg = drillpy_config(om, v0, 10.0, a.disturbance, elements=100, modes=20, axial_modes=am, dt=dt,
+                                 damping=damping)
+            r = simulate(drillpy.load_config(config=cfg))
+            t = r.axial.t
+            print(f"  {damping:11s} {am:3d} axial modes, dt {dt * 1e3:g} ms: growth of the bit speed range "
+                  f"{envelope_growth(t, r.bit_speed, om):.3f} 1/s, dominant period over 2-10 s "
+                  f"{dominant_period(t[t >= 2.0], r.bit_speed[t >= 2.0]):.3f} s")
     if a.boundary:
         om = np.pi
-        res = feed_boundary(mdir, om, 30 / 3600, 120 / 3600, 5, a.disturbance)
+        res = feed_boundary(mdir, om, 30 / 3600, 120 / 3600, 5, a.disturbance, omx=omx)
         print(f"\nstability boundary of steady drilling at {om:.4f} rad/s: the feed where the bit speed's "
               "growth rate (2.5-12 s) changes sign")
         for model, (bracket, trail) in res.items():
@@ -331,4 +382,8 @@ def main() -> int:
 
 
 if __name__ == "__main__":
+    # run as a script: the in-tree build when there is one, else the installed drillpy (imported by a test, the
+    # module leaves sys.path alone, as benchmarks/axial_torsional_limit.py)
+    if any((REPO / "python" / "drillpy").glob("_core*")):
+        sys.path.insert(0, str(REPO / "python"))
     sys.exit(main())

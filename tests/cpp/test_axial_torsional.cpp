@@ -4,6 +4,7 @@
 // speed (RGD's result), runs repeat bit for bit, and bad input is one error naming the field.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -149,6 +150,59 @@ TEST(AxialTorsional, SweepRunsEveryGridPointAsASingleRun) {
   }
 }
 
+// A controlled top drive (drives/controlled.hpp) on the coupled model: from RGD's steady drilling
+// without a disturbance the top turns at the command and the motor carries the string's top torque
+// (J Omega' = u - T_top = 0), the integral action's steady state, on both top boundaries.
+TEST(AxialTorsional, ControlledDriveHoldsSteadyDrillingAtItsCommand) {
+  for (AxialTop top : {AxialTop::hook_load, AxialTop::feed}) {
+    Config c = rgd(2.0);
+    test::steady_start(c, top);
+    c.top_drive.kind = TopDrive::Kind::controlled;
+    c.top_drive.inertia = 2000.0;  // [kg m^2] an assumed field drive, as tests/cpp/test_controller.cpp
+    c.top_drive.controller.kind = Controller::Kind::soft_speed;
+    Simulation sim(c);
+    const AxialTorsional& m = *sim.coupled();
+    const double om = c.top_speed;
+    const AxialTorsional::Steady st = m.steady(om);
+    const ModelState s0 = m.steady_torsion(om, 0.0);
+    const Trace tr = test::coupled_trace(sim, &s0);
+    ASSERT_EQ(tr.s.size(), static_cast<std::size_t>(c.sim.steps() + 1));
+    for (std::size_t i = 0; i < tr.s.size(); i += 97) {
+      const StepState& s = tr.s[i];
+      ASSERT_NEAR(s.top_speed, om, 1e-9 * om) << to_string(top) << " t = " << s.t;
+      ASSERT_NEAR(s.bit_speed, om, 1e-9 * om) << to_string(top) << " t = " << s.t;
+      ASSERT_NEAR(s.drive_torque, s.top_torque, 1e-7 * st.torque) << to_string(top) << " t = " << s.t;
+      ASSERT_NEAR(tr.a[i].wob, st.wob, 1e-7 * st.wob) << to_string(top) << " t = " << s.t;
+      ASSERT_NEAR(s.torque_on_bit, st.torque, 1e-7 * st.torque) << to_string(top) << " t = " << s.t;
+    }
+    // the string's top torque of the static twist is the bit's steady torque to the modal truncation
+    // (20 torsional modes: 1.3 % below it on this string, both tops)
+    EXPECT_NEAR(tr.s[0].top_torque, st.torque, 2e-2 * st.torque);
+  }
+}
+
+// The controlled drive turns the coupled model away from its ideal-drive run: a drive that gives way
+// moves the top (its speed is a state), and a sweep gives the same numbers on 1 and 2 threads.
+TEST(AxialTorsional, ControlledDriveSweepIsTheSameForAnyThreadCount) {
+  Config c = rgd(6.0);
+  c.top_drive.kind = TopDrive::Kind::controlled;
+  c.top_drive.inertia = 2000.0;
+  c.top_drive.controller.kind = Controller::Kind::z_torque;
+  Simulation sim(c);
+  const std::vector<double> speeds{3.0, 4.0, 6.0};
+  const std::vector<double> ss = sim.sweep_severity(speeds, {}, nullptr, 2);
+  ASSERT_EQ(ss.size(), 3u);
+  EXPECT_EQ(ss, sim.sweep_severity(speeds, {}, nullptr, 1));
+  const RunReport r = sim.run(sim.inputs(), true);
+  double lo = INFINITY, hi = -INFINITY;
+  for (double v : r.series.top_speed) {
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  EXPECT_GT(hi - lo, 1e-3 * c.top_speed);  // the top moves: not the ideal drive
+  EXPECT_TRUE(std::isfinite(r.severity));
+}
+
 TEST(AxialTorsional, ConfigurationErrorsNameTheField) {
   json j = preset_json("rgd-field");
   auto refused = [](json x, const std::string& field) {
@@ -213,6 +267,76 @@ TEST(AxialTorsional, ConfigurationErrorsNameTheField) {
     } catch (const std::invalid_argument& e) {
       EXPECT_NE(std::string(e.what()).find("sweep.wobs_n"), std::string::npos) << e.what();
     }
+  }
+  // axial.damping: an unknown kind, distributed without its rate, with a negative one or with a modal
+  // ratio beside it, modal with a rate, and a rate too large for the step are each refused naming the key
+  {
+    json x = j;
+    x["axial"]["damping"] = "viscous";
+    refused(x, "axial.damping");
+  }
+  json dist = j;
+  dist["axial"]["damping"] = "distributed";
+  dist["axial"].erase("damping_ratio");
+  refused(dist, "axial.damping_rate_per_s");
+  {
+    json x = dist;
+    x["axial"]["damping_rate_per_s"] = -1.0;
+    refused(x, "axial.damping_rate_per_s");
+  }
+  {
+    json x = dist;
+    x["axial"]["damping_rate_per_s"] = 1.0;
+    x["axial"]["damping_ratio"] = 0.05;
+    refused(x, "axial.damping_ratio");
+  }
+  {
+    json x = j;
+    x["axial"]["damping_rate_per_s"] = 1.0;
+    refused(x, "axial.damping_rate_per_s");
+  }
+  {
+    json x = dist;
+    x["axial"]["damping_rate_per_s"] = 2000.0;  // 2 k dt = 2 at dt = 0.5 ms
+    try {
+      Simulation s(parse_config(x));
+      ADD_FAILURE() << "a damping rate accepted beyond the step's stability";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("axial.damping_rate_per_s"), std::string::npos) << e.what();
+    }
+  }
+  {  // a distributed string round-trips without a modal ratio
+    json x = dist;
+    x["axial"]["damping_rate_per_s"] = 1.0;
+    const Config c = parse_config(x);
+    EXPECT_EQ(c.axial.rgd.damping, AxialDamping::distributed);
+    EXPECT_FALSE(to_json(c)["axial"].contains("damping_ratio"));
+    EXPECT_EQ(to_json(parse_config(to_json(c))), to_json(c));
+  }
+  // the top drives the coupled model does not run, and a controlled drive's bad limit, named
+  {
+    json x = j;
+    x["top_drive"] = {{"type", "motor"}, {"inertia_kg_m2", 2000.0}, {"slope_nms_rad", 1e5}, {"max_torque_nm", 5e4}};
+    refused(x, "top_drive.type");
+  }
+  {
+    json x = j;
+    x["top_drive"] = {{"type", "controlled"},
+                      {"inertia_kg_m2", 2000.0},
+                      {"controller", {{"type", "pi"}, {"kp_nms_rad", 1e4}, {"ki_nm_rad", 0.0}}}};
+    try {
+      Simulation s(parse_config(x));
+      ADD_FAILURE() << "a drive without integral action accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("top_drive.controller.ki_nm_rad"), std::string::npos) << e.what();
+    }
+  }
+  {  // RGD's steady torque at 150 kN is 9394 N m: a 5 kN m limit cannot carry it
+    json x = j;
+    x["top_drive"] = {{"type", "controlled"},
+                      {"inertia_kg_m2", 2000.0},
+                      {"controller", {{"type", "stiff"}, {"torque_limit_nm", 5000.0}}}};
+    refused(x, "top_drive.controller.torque_limit_nm");
   }
   // the configuration round-trips through JSON
   const Config c = preset("rgd-field");

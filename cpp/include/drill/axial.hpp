@@ -50,17 +50,35 @@ struct AxialTorsionalSpec {
   AxialTorque torque = AxialTorque::rgd;  ///< the torque on the bit: RGD's or the thesis law's on the axial W
   AxialTop top = AxialTop::hook_load;
   int modes = 10;             ///< retained axial modes
-  double damping_ratio = 0.05;  ///< modal damping ratio of the axial modes
+  AxialDamping damping = AxialDamping::modal;  ///< modal: damping_ratio on every mode; distributed: D = 2 k M
+  double damping_ratio = 0.05;  ///< modal damping ratio of the axial modes (damping = modal)
+  double damping_rate = NAN;    ///< k [1/s] of damping = distributed: ratio k / omega_j on mode j
   double bit_mass = 0.0;      ///< lumped axial mass at the bit [kg]
   double feed_rate = NAN;     ///< V0 with top = feed [m/s]
   double top_force = NAN;     ///< net force down at the top with top = hook_load [N] (the steady WOB)
   double disturbance = 0.01;  ///< start: the bit's axial speed is (1 - disturbance) V0 (0: steady; > 1: upwards)
 
+  /// The depth of cut per revolution of steady drilling at bit speed omega [rad/s]: 2 pi V0 / omega with
+  /// top = feed, RGD's balance W0 = a zeta eps d0 + a l sigma with the hook load's W0 (rgd_bit.hpp).
+  double steady_depth(double omega) const {
+    return top == AxialTop::feed ? 2.0 * M_PI * feed_rate / omega : bit.steady_depth(top_force);
+  }
+
+  /// The axial modes' damping (axial_string.hpp).
+  AxialModalDamping modal_damping() const { return {damping, damping_ratio, damping_rate}; }
+
   void validate(const std::string& where = "axial") const {
     bit.validate(where + ".bit");
     require(modes >= 1, where + ".modes", modes, "must be at least 1");
-    require(damping_ratio >= 0.0 && damping_ratio <= 1.0, where + ".damping_ratio", damping_ratio,
-            "must be in [0, 1]");
+    if (damping == AxialDamping::modal) {
+      require(damping_ratio >= 0.0 && damping_ratio <= 1.0, where + ".damping_ratio", damping_ratio,
+              "must be in [0, 1]");
+      require(std::isnan(damping_rate), where + ".damping_rate_per_s", damping_rate,
+              "is used with " + where + ".damping = distributed only (modal takes " + where + ".damping_ratio)");
+    } else {
+      require(std::isfinite(damping_rate) && damping_rate >= 0.0, where + ".damping_rate_per_s", damping_rate,
+              "must be a finite number >= 0 (required with " + where + ".damping = distributed: D = 2 k M)");
+    }
     require_non_negative(bit_mass, where + ".bit_mass_kg");
     require(std::isfinite(disturbance) && std::fabs(disturbance) <= 1000.0, where + ".disturbance", disturbance,
             "must be in [-1000, 1000]");

@@ -16,10 +16,23 @@
 //               bar it shifts only the static state, so applying the net force at the top leaves the
 //               motion relative to that state, and the bit's force, unchanged.)
 // The reduction keeps the lowest `modes` mass-normalised modes (Phi^T M Phi = I, Phi^T K Phi =
-// diag(omega^2)) with modal damping ratios (0 for the rigid mode).
+// diag(omega^2)) with a damping diagonal in them (0 for the rigid mode), one of (axial.damping):
+//  * modal        one ratio zeta on every mode: Phi^T D Phi = diag(2 zeta omega_j);
+//  * distributed  viscous damping proportional to the mass, D = 2 k M: the distributed damping of
+//                 Aarsnes and van de Wouw (J. Sound Vib. 2019), whose wave equations carry -2 k v
+//                 (v_t = c^2 u_xx - 2 k v: their public MATLAB code, ulfjakob/AxialTorsionalDrillString,
+//                 Coupled/waveStep_transportBRI.m, takes k (alpha + beta) = 2 k v from the rate of each Riemann invariant;
+//                 the paper could not be read here, so its equation numbers are not given). With
+//                 Phi^T M Phi = I it is Phi^T D Phi = 2 k I: the same decay rate k on every mode, the
+//                 ratio k / omega_j on mode j, and no truncation error. The rigid mode of hook_load is
+//                 left undamped: its motion is the string's steady advance, which a damping of the
+//                 absolute velocity would brake (with feed the coordinates are relative to V0 t, so the
+//                 steady advance is not damped either; on the motion about steady drilling both are
+//                 theirs).
 #pragma once
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -30,6 +43,31 @@
 namespace drill {
 
 enum class AxialTop { feed, hook_load };
+
+/// The damping of the axial modes (axial.damping; the header's comment).
+enum class AxialDamping { modal, distributed };
+inline constexpr Named<AxialDamping> axial_damping_names[] = {{AxialDamping::modal, "modal"},
+                                                              {AxialDamping::distributed, "distributed"}};
+inline AxialDamping parse_axial_damping(const std::string& s, const std::string& field = "axial.damping") {
+  return parse_name(axial_damping_names, s, field, "axial damping");
+}
+inline std::string to_string(AxialDamping d) { return name_of(axial_damping_names, d); }
+
+/// The axial modes' damping: a ratio on every mode (modal) or D = 2 k M (distributed).
+struct AxialModalDamping {
+  AxialDamping kind = AxialDamping::modal;
+  double ratio = 0.05;  ///< zeta of kind = modal
+  double rate = NAN;    ///< k of kind = distributed [1/s]
+
+  /// The modal damping coefficients Phi^T D Phi (diagonal) at the natural frequencies omega [rad/s]:
+  /// 2 zeta omega_j (modal), 2 k (distributed), 0 on a rigid mode (omega_j = 0).
+  Eigen::VectorXd coefficients(const Eigen::VectorXd& omega) const {
+    if (kind == AxialDamping::modal) return 2.0 * ratio * omega;
+    Eigen::VectorXd c(omega.size());
+    for (Eigen::Index j = 0; j < omega.size(); ++j) c(j) = omega(j) > 0.0 ? 2.0 * rate : 0.0;
+    return c;
+  }
+};
 
 inline constexpr Named<AxialTop> axial_top_names[] = {{AxialTop::hook_load, "hook_load"}, {AxialTop::feed, "feed"}};
 inline AxialTop parse_axial_top(const std::string& s) {
@@ -67,8 +105,9 @@ struct AxialROM {
   int size() const { return static_cast<int>(omega.size()); }
 };
 
-/// Modal reduction of the axial string with the top boundary `top`, `modes` modes, damping ratio zeta.
-inline AxialROM build_axial_rom(const StringModel& s, AxialTop top, int modes, double zeta, double bit_mass = 0.0) {
+/// Modal reduction of the axial string with the top boundary `top`, `modes` modes and the damping `damping`.
+inline AxialROM build_axial_rom(const StringModel& s, AxialTop top, int modes, const AxialModalDamping& damping,
+                                double bit_mass = 0.0) {
   const FEMatrices fe = assemble_axial(s, bit_mass);
   const Eigen::Index nn = fe.M.rows();
   const Eigen::Index first = top == AxialTop::feed ? 1 : 0;  // feed: the top node is clamped (moving frame)
@@ -83,12 +122,17 @@ inline AxialROM build_axial_rom(const StringModel& s, AxialTop top, int modes, d
   const Eigen::MatrixXd phi = es.eigenvectors().leftCols(modes);
   r.omega = es.eigenvalues().head(modes).cwiseMax(0.0).cwiseSqrt();
   if (top == AxialTop::hook_load) r.omega(0) = 0.0;  // the rigid mode (its eigenvalue is 0 up to rounding)
-  r.damping = 2.0 * zeta * r.omega;
+  r.damping = damping.coefficients(r.omega);
   r.bit = phi.row(n - 1).transpose();
   r.top_row = top == AxialTop::hook_load ? Eigen::VectorXd(phi.row(0).transpose()) : Eigen::VectorXd::Zero(modes);
   r.uniform = phi.transpose() * M * Eigen::VectorXd::Ones(n);
   r.mass = fe.M.sum();
   return r;
+}
+
+/// Modal reduction with one damping ratio zeta on every mode (axial.damping = modal).
+inline AxialROM build_axial_rom(const StringModel& s, AxialTop top, int modes, double zeta, double bit_mass = 0.0) {
+  return build_axial_rom(s, top, modes, AxialModalDamping{AxialDamping::modal, zeta, NAN}, bit_mass);
 }
 
 /// The first n axial natural frequencies [Hz] of the string with this top boundary (all FE modes).

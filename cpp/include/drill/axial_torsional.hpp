@@ -6,6 +6,8 @@
 //   z'' + D z' + diag(w^2) z = -b T - l Omega'(t),          bit speed  Omega_b = Omega(t) + b . z'
 //   e'' + C e' + diag(k^2) e = -c W + h F_top,              bit advance U = V0 t + c . e   (feed)
 //                                                                       U = c . e        (hook_load)
+// (C diagonal: 2 zeta k_j with axial.damping = modal, 2 k_d on the elastic modes with distributed,
+// D = 2 k_d M; axial_string.hpp)
 // with F_top the constant net force at the top (hook_load; 0 with feed), and W, T the RGD weight and
 // torque on bit at the depth of cut d = N [U - S(Phi_b - 2 pi / N)] (the rock surface S of the blade
 // ahead, bit_profile.hpp). A uniform string with infinite axial stiffness and one torsional mode is
@@ -108,7 +110,15 @@ class AxialTorsional {
     top_torque_ = (torsion.top_torque * V_).transpose();
     top_load_ = V_.transpose() * torsion.top_load;
     init_vel_ = V_.transpose() * torsion.M * torsion.init_velocity;
-    ax_ = build_axial_rom(string, spec_.top, spec_.modes, spec_.damping_ratio, spec_.bit_mass);
+    ax_ = build_axial_rom(string, spec_.top, spec_.modes, spec_.modal_damping(), spec_.bit_mass);
+    // distributed axial damping (D = 2 k M, axial_string.hpp): the modified-Euler step of a mode with
+    // damping c and frequency w is stable iff c dt < 2 and w^2 dt^2 + 2 c dt < 4 (Jury's conditions on
+    // its 2x2 step matrix, trace 2 - c dt - w^2 dt^2, determinant 1 - c dt); with Eq. (A.7)'s w dt < pi / 5
+    // the bound c dt = 2 k dt <= 1 keeps a margin (a modal ratio <= 1 gives c dt <= 2 pi / 5 already)
+    if (spec_.damping == AxialDamping::distributed)
+      require(2.0 * spec_.damping_rate * opt_.dt <= 1.0, "axial.damping_rate_per_s", spec_.damping_rate,
+              "is too large for simulation.dt_s = " + show(opt_.dt) +
+                  " s: the modified-Euler step needs 2 k dt <= 1 (a smaller dt or k)");
     const double bound = stability_bound();
     require(opt_.dt < bound, "simulation.dt_s", opt_.dt,
             "exceeds the modified-Euler stability bound of the coupled model dt < pi / (5 omega_max) = " +
@@ -143,7 +153,7 @@ class AxialTorsional {
       s.rop = spec_.feed_rate;
       s.depth = 2.0 * M_PI * s.rop / omega;
     } else {
-      s.depth = b.steady_depth(spec_.top_force);
+      s.depth = spec_.steady_depth(omega);
       s.rop = omega * s.depth / (2.0 * M_PI);
     }
     s.wob = b.steady_wob(s.depth);
@@ -174,14 +184,35 @@ class AxialTorsional {
     if (g > 0.0) eta_dot -= ax_.bit * (spec_.disturbance * s.rop / g);
   }
 
+  /// The top drives the coupled model runs: the ideal one and a controlled one whose steady speed is
+  /// its command (integral action: the steady drilling it starts in is that at the command).
+  static void require_drive(const TopDrive& td) {
+    require(!td.has_inertia() || td.has_controller(), "top_drive.type", TopDrive::kind_name(td.kind),
+            "is not implemented with axial.type = rgd (use ideal or controlled)");
+    if (td.has_controller() && td.controller.tuned())
+      require(!td.droops(), "top_drive.controller.ki_nm_rad", td.controller.ki,
+              "must be positive with axial.type = rgd: the coupled model starts in steady drilling at the commanded "
+              "speed, which a drive without integral action does not hold (it droops by T / kp)");
+  }
+
   /// Integrate from the torsional state `start` (or steady drilling, disturbed), the axial state at
-  /// steady drilling (disturbed) and the rock surface of steady drilling, at the top speed of `in`
-  /// (an ideal top drive). obs(const StepState&, const AxialStep&) at every step including t = 0.
+  /// steady drilling (disturbed) and the rock surface of steady drilling, with the top drive of `in`:
+  /// the ideal drive at the top speed of `in`, or a controlled one (drives/controlled.hpp,
+  /// controller.hpp: J Omega' = u - T_top with u its controller's torque) commanded at it, the top's
+  /// speed then a state and the string's coordinates in the frame turning with it (Eq. 2.9, its
+  /// acceleration Omega' the frame's load, as Integrator::run_euler). obs(const StepState&, const
+  /// AxialStep&) at every step including t = 0.
   template <class Observer>
   CoupledState run(const Inputs& in, Observer&& obs, const ModelState* start = nullptr) const {
     in.top_speed.validate("operation.top_speed_rad_s");
-    require(!in.top_drive.has_inertia(), "top_drive.type", TopDrive::kind_name(in.top_drive.kind),
-            "axial.type = rgd is implemented with an ideal top drive only");
+    require_drive(in.top_drive);
+    return TopDrive::visit(in.top_drive.kind,
+                           [&](auto drive) { return run_drive<decltype(drive)>(in, obs, start); });
+  }
+
+ private:
+  template <class Drive, class Observer>
+  CoupledState run_drive(const Inputs& in, Observer& obs, const ModelState* start) const {
     const double dt = opt_.dt;
     const long n = opt_.steps();
     const double om0 = in.top_speed.at(0.0);
@@ -202,9 +233,18 @@ class AxialTorsional {
     double theta_top = 0.0;
     BitProfile profile(b.blades, 0.0, bit_.dot(z), ax_.bit.dot(eta), st.depth, om0);
     Eigen::VectorXd ft(z.size()), fa(eta.size());
+    // the drive's update of the top speed: the ideal drive reads the command (its speed, next speed and
+    // rate); a controlled drive's loop starts in equilibrium with the string's top torque unless the
+    // state gives its integral
+    double om_state = std::isfinite(s0.top_speed) ? s0.top_speed : om0;
+    typename Drive::template Run<TopDrive> drive(in.top_drive, in.top_speed, dt, s0,
+                                                 [&] { return top_torque_.dot(z); });
     for (long i = 0;; ++i) {
       const double t = i * dt;
-      const double om = in.top_speed.at(t), om_next = in.top_speed.at(t + dt), dom = in.top_speed.rate(t);
+      const double om = drive.speed(t, om_state);
+      const double T_top = top_torque_.dot(z);           // the string's elastic torque at the top
+      const double om_next = drive.next(t, om, T_top);  // the top's speed at the next step
+      const double dom = drive.accel(t, om, om_next);   // and its acceleration over the step
       const double Ob = om + bit_.dot(p), Phi = theta_top + bit_.dot(z);
       const double U = v_feed * t + ax_.bit.dot(eta), V = v_feed + ax_.bit.dot(r);
       const double d = profile.depth_of_cut(Phi, U);
@@ -241,8 +281,7 @@ class AxialTorsional {
       if (!std::isfinite(Ob) || !std::isfinite(T) || !std::isfinite(W) || !std::isfinite(V))
         throw std::runtime_error(Integrator::divergence(t));
       const double a_bit = alpha_t - gt * T;
-      obs(static_cast<const StepState&>(
-              StepState{i, t, Ob, a_bit, Phi, T, top_torque_.dot(z), om, NAN, W}),
+      obs(static_cast<const StepState&>(StepState{i, t, Ob, a_bit, Phi, T, T_top, om, drive.torque(), W}),
           static_cast<const AxialStep&>(AxialStep{t, W, V, U, d, profile.delay(t, Phi), contact}));
       if (i == n) break;
       p += dt * (ft - bit_ * T);  // Eq. (A.5)
@@ -250,13 +289,15 @@ class AxialTorsional {
       r += dt * (fa - ax_.bit * W);
       eta += dt * r;
       theta_top += 0.5 * dt * (om + om_next);
+      om_state = om_next;
       profile.record(t + dt, theta_top + bit_.dot(z), v_feed * (t + dt) + ax_.bit.dot(eta));
     }
     CoupledState out{{V_ * z, V_ * p}, eta, r};
+    if (Drive::has_inertia) out.torsion.top_speed = om_state;
+    drive.finish(out.torsion);
     return out;
   }
 
- private:
   double top_force() const { return spec_.top == AxialTop::hook_load ? spec_.top_force : 0.0; }
 
   /// The last accelerations of Eq. (A.1) (Newton's start: the parabola through them, as run_euler's)

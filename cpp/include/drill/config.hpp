@@ -33,7 +33,8 @@
 //          | {"type": "jack", "gain_n_rad": g, "relaxation_s": tau}
 //                                                  (the WOB as a state, axial.hpp:
 //                                                   W' = g (Omega_f - v) - (W - W_s) / tau),
-//          | {"type": "rgd", "top": "hook_load" | "feed", "rop_m_s" (feed), "modes", "damping_ratio",
+//          | {"type": "rgd", "top": "hook_load" | "feed", "rop_m_s" (feed), "modes",
+//             "damping": "modal" | "distributed", "damping_ratio" (modal), "damping_rate_per_s" (distributed),
 //             "bit_mass_kg", "disturbance", "torque": "rgd" | "law",
 //             "bit": {"radius_m", "specific_energy_pa", "contact_strength_pa", "zeta", "wear_flat_m",
 //                     "gamma", "mu", "blades"}}
@@ -146,8 +147,15 @@ struct Config {
       const Controller& ctl = top_drive.controller;
       require(!ctl.sampled() || sim.dt <= ctl.sample_time * (1.0 + 1e-12), "simulation.dt_s", sim.dt,
               "is larger than top_drive.controller.sample_time_s = " + show(ctl.sample_time) + " s");
-      // the drive must carry the steady torque of the operating point (law, c_v Omega, T_sf)
-      const double steady = law.torque(top_speed, 0.0, wob) + bit_viscous * top_speed + string_friction;
+      // the drive must carry the steady torque of the operating point (law, c_v Omega, T_sf; with
+      // axial.type = rgd the coupled model's: RGD's T0 at its steady depth of cut, or the law's at W0)
+      double steady = law.torque(top_speed, 0.0, wob) + bit_viscous * top_speed + string_friction;
+      if (axial.coupled()) {
+        const AxialTorsionalSpec& x = axial.rgd;
+        x.validate();  // its feed rate or top force first
+        const double d0 = x.steady_depth(top_speed);
+        steady = x.torque == AxialTorque::law ? law.torque(top_speed, 0.0, x.bit.steady_wob(d0)) : x.bit.steady_torque(d0);
+      }
       require(ctl.torque_limit > steady, "top_drive.controller.torque_limit_nm", ctl.torque_limit,
               "is below the steady torque " + show(steady) + " N m the drive carries at operation.top_speed_rad_s = " +
                   show(top_speed) + " rad/s, wob_n = " + show(wob) + " N");
@@ -158,8 +166,8 @@ struct Config {
     require(!axial.coupled() || sim.scheme == Scheme::modified_euler, "axial.type", Axial::kind_name(axial.kind),
             "is implemented for simulation.scheme = modified_euler only");
     if (axial.coupled()) {
-      require(!top_drive.has_inertia(), "top_drive.type", TopDrive::kind_name(top_drive.kind),
-              "is not implemented with axial.type = rgd (use ideal)");
+      require(!top_drive.has_inertia() || top_drive.has_controller(), "top_drive.type",
+              TopDrive::kind_name(top_drive.kind), "is not implemented with axial.type = rgd (use ideal or controlled)");
       const int free_axial = string.n_elements() + (axial.rgd.top == AxialTop::hook_load ? 1 : 0);
       require(axial.rgd.modes <= free_axial, "axial.modes", axial.rgd.modes,
               "must be at most the number of free axial DOFs (" + show(free_axial) + ")");
@@ -433,11 +441,25 @@ inline Tables make_tables() {
             [](auto& a) -> auto& { return a.rgd.feed_rate; }},
            {integer("modes", "retained axial modes, at most the free axial DOFs").at_least(1).def(ad.modes),
             [](auto& a) -> auto& { return a.rgd.modes; }},
-           {number("damping_ratio", "modal damping ratio of the axial modes")
+           {text("damping", "damping of the axial modes: modal (damping_ratio on every mode) or distributed "
+                            "(D = 2 k M, the ratio damping_rate_per_s / omega_j on mode j, as the distributed "
+                            "damping of Aarsnes and van de Wouw 2019; axial_string.hpp)",
+                 names_of(axial_damping_names))
+                .def(to_string(ad.damping)),
+            [](const A& a) { return to_string(a.rgd.damping); },
+            [](A& a, const std::string& v, const std::string& path) { a.rgd.damping = parse_axial_damping(v, path); }},
+           // written only with damping = modal (a distributed string's JSON has no ratio: it is refused there)
+           {number("damping_ratio", "modal damping ratio of every axial mode (damping = modal; refused with "
+                                    "distributed)")
                 .non_negative()
                 .at_most(1.0)
                 .def(ad.damping_ratio),
-            [](auto& a) -> auto& { return a.rgd.damping_ratio; }},
+            [](const A& a) { return a.rgd.damping == AxialDamping::modal ? a.rgd.damping_ratio : NAN; },
+            [](A& a, const double& v) { a.rgd.damping_ratio = v; }},
+           {number("damping_rate_per_s", "k: the decay rate of every axial mode with damping = distributed (required "
+                                         "there, refused with modal) [1/s]")
+                .non_negative(),
+            [](auto& a) -> auto& { return a.rgd.damping_rate; }},
            {number("bit_mass_kg", "axial mass lumped at the bit [kg]").non_negative().def(ad.bit_mass),
             [](auto& a) -> auto& { return a.rgd.bit_mass; }},
            {number("disturbance", "start: the bit's axial speed is (1 - disturbance) times the steady rate of "
@@ -664,6 +686,10 @@ inline Config parse_config(const json& j) {
       if (x.top != AxialTop::feed && a.contains("rop_m_s"))
         throw std::invalid_argument("axial.rop_m_s = " + a.at("rop_m_s").dump() +
                                     ": only with axial.top = feed (hook_load sets the WOB, operation.wob_n)");
+      if (x.damping == AxialDamping::distributed && a.contains("damping_ratio"))
+        throw std::invalid_argument("axial.damping_ratio = " + a.at("damping_ratio").dump() +
+                                    ": not used with axial.damping = distributed (the ratio on mode j is "
+                                    "damping_rate_per_s / omega_j): remove it, or set axial.damping = \"modal\"");
       if (!a.contains("bit")) throw std::invalid_argument("axial.bit: missing (required object with axial.type = rgd)");
       t.bit.read(a.at("bit"), "axial.bit", x.bit);
     }

@@ -15,8 +15,8 @@
 // An absent array is empty (a required one is then refused by the validator); absent rows are refused
 // with their shape. Bounds are checked by the structs' validate(), which also checks configurations
 // built in code, not by the reader (tests/cpp/test_config.cpp checks that the two agree).
-// Writing: every key is written, except a number without a default that is not finite (NaN or
-// infinite: the member's way of saying "absent").
+// Writing: every key is written, except a number that is not finite (NaN or infinite: the member's,
+// or its getter's, way of saying "absent"; JSON has no such number).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -383,8 +383,7 @@ struct Table {
   static void write_key(const Key<T>& k, const T& t, json& j) {
     if (!k.write) return;
     json v = k.write(t);
-    const bool absent = k.field.type == schema::Field::Type::number && k.field.dflt.is_null() &&
-                        !std::isfinite(v.get<double>());
+    const bool absent = k.field.type == schema::Field::Type::number && !std::isfinite(v.get<double>());
     if (!absent) j[k.field.key] = std::move(v);
   }
 };

@@ -65,6 +65,7 @@ class Simulation {
     // a controlled top drive is tuned from the top section's characteristic impedance and the
     // first natural frequency of the reduced model (string clamped at the top): controller.hpp
     if (cfg_.top_drive.has_controller()) cfg_.top_drive.tune_controller(top_impedance(), rom_.omega(0));
+    if (coupled_) AxialTorsional::require_drive(cfg_.top_drive);  // its tuned gains: integral action
   }
 
   /// The characteristic torsional impedance of the top section, Z = J_p sqrt(G rho) [N m s/rad].

@@ -50,7 +50,9 @@ def _add_control(sub) -> argparse.ArgumentParser:
     s.add_argument("--factor-range", default="0.1,10",
                    help="LOW,HIGH: factors of the nominal tuning searched for every gain (log scale; default 0.1,10)")
     s.add_argument("--bootstrap", type=integer("bootstrap"), default=400, help="bootstrap resamples")
-    s.add_argument("--warmup", type=float, default=100.0, help="deterministic warm start of every run [s]")
+    s.add_argument("--warmup", type=float,
+                   help="deterministic warm start of every run [s] (default 100; 0 with axial.type = rgd, whose "
+                        "runs start in steady drilling)")
     s.add_argument("--duration", type=float, default=60.0, help="run with eta after the warm start [s]")
     s.add_argument("--transient", type=float, default=20.0, help="discarded before SS [s]")
     s.add_argument("--eta-std", type=float,
@@ -108,6 +110,10 @@ def cmd_control(a: argparse.Namespace) -> int:
     validate.seed(a.seed, "--seed")
     if a.seed == 2**64 - 1:
         raise ValueError(f"--seed = {a.seed}: must be below 2^64 - 1 (the comparison uses seed + 1)")
+    ax = Configuration.of(cfg).axial
+    if ax.type == "rgd" and ax.top == "feed":
+        raise ValueError("axial.top = 'feed': drillpy control's window is top speeds x WOBs, and with a constant "
+                         "feed the WOB is the bit's response, not an input (use axial.top = hook_load)")
     op = Configuration.of(cfg).operation
     speeds = _grid(a.speeds, op.top_speed_rad_s * np.linspace(0.5, 1.25, 6), "--speeds", "speed")
     wobs = (np.array([a.wob]) if a.wob is not None
@@ -117,7 +123,9 @@ def cmd_control(a: argparse.Namespace) -> int:
     if a.eta_std is not None:
         validate.positive("--eta-std", a.eta_std)
         psd = scaled_to_std(THESIS_PSD, a.eta_std)
-    window = Window(speeds, wobs, a.samples, a.seed, warmup=a.warmup, duration=a.duration, transient=a.transient,
+    from drillpy.uncertainty.montecarlo import default_warmup
+    warmup = default_warmup(cfg) if a.warmup is None else a.warmup
+    window = Window(speeds, wobs, a.samples, a.seed, warmup=warmup, duration=a.duration, transient=a.transient,
                     psd=psd)
 
     def progress(text: str) -> None:
