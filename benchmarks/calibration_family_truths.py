@@ -60,8 +60,21 @@ def draw_truth(family: str, rng: np.random.Generator, spec) -> dict:
     return {"law": law, "c_m": float(rng.uniform(0.16, 0.30)), "omega_c": float(rng.uniform(15.5, 20.5))}
 
 
+def rig_model_truth(family: str, rng: np.random.Generator, spec) -> dict:
+    """One truth of drillpy's own rig model (``--simulator rig_model``): every calibrated parameter of
+    ``family`` drawn from its prior."""
+    return {"values": {p.name: float(p.from_unit(rng.random())) for p in spec.families[family]}}
+
+
 def truth_record(family: str, truth: dict, base: dict, duration: float, seed: int):
-    """(cleaned drillpy Record, stalled share) of the whole-rig truth of ``family`` at ``truth``."""
+    """(cleaned drillpy Record, stalled share) of the truth of ``family`` at ``truth``: the whole-rig
+    simulator's, or drillpy's rig model's (``truth['values']``: stepped at 5e-5 s, the calibration at
+    2.5e-4 s, with the platform, the 10 Hz filter and sensor noise, tests/python/test_calibration.py)."""
+    if "values" in truth:
+        sys.path.insert(0, str(REPO / "tests" / "python"))
+        from test_calibration import _truth_record
+        rec = _truth_record(seed=seed, duration=duration, family=family, truth=truth["values"])
+        return rec, float(np.mean(rec.bit_speed < 0.5))
     import whole_rig
 
     from drillpy.calibration.families import family_law
@@ -84,15 +97,16 @@ def _run(rec, population, simulations, seed, threads, discrepancy):
     cfg = load_config(preset="thesis-rig")
     cfg["calibration"] = {"families": list(FOUR)}
     post = calibrate_record(rec, config=cfg, population=population, max_simulations=simulations, predictive_draws=1,
-                            seed=seed, threads=threads, discrepancy=discrepancy)
+                            max_generations=40, seed=seed, threads=threads, discrepancy=discrepancy)
     return {"p": post.model_probability, "se": post.model_probability_se, "choice": post.model_choice["family"],
             "reason": post.model_choice["reason"], "ess": post.model_choice["ess"], "eps": post.run["eps"][-1],
-            "sims": post.run["abc_simulations"]}
+            "sims": post.run["abc_simulations"], "stopped": post.run["stopped"]}
 
 
 def _fmt(r: dict) -> str:
     return (", ".join(f"{SHORT[f]} {r['p'][f]:.2f}+-{r['se'][f]:.2f}" for f in FOUR)
-            + f" -> {SHORT[r['choice']]} (ESS {r['ess']:.0f}, eps {r['eps']:.3g}, {r['sims']} sims)")
+            + f" -> {SHORT[r['choice']]} (ESS {r['ess']:.0f}, eps {r['eps']:.3g}, {r['sims']} sims, stopped: "
+            f"{r['stopped']})")
 
 
 def confusion(rows: list, key: str, title: str) -> str:
@@ -148,6 +162,9 @@ def main(argv=None) -> int:
     ap.add_argument("--large-population", type=int, default=200)
     ap.add_argument("--large-simulations", type=int, default=5000)
     ap.add_argument("--no-large", action="store_true", help="skip the larger-budget run")
+    ap.add_argument("--simulator", choices=("whole_rig", "rig_model"), default="whole_rig",
+                    help="the truths' simulator: the independent whole rig (default) or drillpy's own rig model at a "
+                         "finer step (the declared model: no structural misfit)")
     ap.add_argument("--seed", type=int, default=35)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--discrepancy", type=float, default=None, help="the model discrepancy's factor (default drillpy's)")
@@ -162,7 +179,7 @@ def main(argv=None) -> int:
         for j in range(a.per_family):
             rng = np.random.default_rng([a.seed, FOUR.index(fam), j])
             for redraw in range(20):
-                truth = draw_truth(fam, rng, spec)
+                truth = (draw_truth if a.simulator == "whole_rig" else rig_model_truth)(fam, rng, spec)
                 rec, stalled = truth_record(fam, truth, base, a.duration, seed=1000 + 10 * FOUR.index(fam) + j)
                 if stalled <= 0.5:
                     break
@@ -173,8 +190,12 @@ def main(argv=None) -> int:
                 row["large"] = _run(rec, a.large_population, a.large_simulations, cseed + 50000, a.threads,
                                     a.discrepancy)
             rows.append(row)
-            law = ", ".join(f"{k} {v:.3g}" for k, v in truth["law"].items())
-            print(f"truth {SHORT[fam]} #{j + 1} ({law}; c_m {truth['c_m']:.3f}, Omega_c {truth['omega_c']:.2f}; "
+            if "values" in truth:
+                law = ", ".join(f"{k} {v:.3g}" for k, v in truth["values"].items())
+            else:
+                law = (", ".join(f"{k} {v:.3g}" for k, v in truth["law"].items())
+                       + f"; c_m {truth['c_m']:.3f}, Omega_c {truth['omega_c']:.2f}")
+            print(f"truth {SHORT[fam]} #{j + 1} ({law}; "
                   f"redrawn {redraw}x, bit below 0.5 rad/s {stalled:.2f}) [{time.perf_counter() - start:.0f} s]",
                   flush=True)
             print("  modest: " + _fmt(row["modest"]), flush=True)
