@@ -91,6 +91,48 @@ def truth_record(family: str, truth: dict, base: dict, duration: float, seed: in
     return rec, stalled
 
 
+def predictive_distance(post, rec, draws: int, base: dict) -> dict:
+    """Per family, the smallest distance (no discrepancy) to the record's statistics among ``draws``
+    draws of its posterior particles (systematic resampling by weight), each simulated once: the
+    family's best fit found (inf for a family without particles)."""
+    from drillpy.calibration.posterior import RigSimulator
+    from drillpy.calibration.priors import prior_spec
+    from drillpy.records import rigsim
+    sim = RigSimulator(rec, rigsim.stick_threshold(rec), prior_spec({"families": list(FOUR)}), base, threads=1)
+    obs, scale = np.array(list(post.observed.values())), np.array(list(post.scale.values()))
+    out = {}
+    for f in FOUR:
+        part = post.particles[f]
+        w = np.asarray(part["weight"], float)
+        if w.size == 0:
+            out[f] = math.inf
+            continue
+        cw = np.cumsum(w / w.sum())
+        idx = np.unique(np.minimum(np.searchsorted(cw, (0.5 + np.arange(draws)) / draws), w.size - 1))
+        d = [float(np.sqrt(np.nanmean(((sim.one(f, {k: part[k][i] for k in part if k != "weight"}) - obs) / scale) ** 2)))
+             for i in idx]
+        out[f] = min((x for x in d if math.isfinite(x)), default=math.inf)
+    return out
+
+
+def separation(fam: str, best: dict, n_stats: int, factor: float) -> tuple:
+    """(log Bayes factor, verdict) of the truth's family over the best other family from their best fits'
+    distances: a Gaussian synthetic likelihood of the statistics with each statistic's variance (1 +
+    F^2) scale^2 (its sampling noise and the model discrepancy), log LR = K (d_o^2 - d_t^2) /
+    (2 (1 + F^2)); ``can tell`` above ln 3 (a Bayes factor of 3, the model choice's threshold),
+    ``favours another`` below -ln 3, else ``cannot tell``."""
+    d_t = best[fam]
+    d_o = min(best[g] for g in FOUR if g != fam)
+    if not math.isfinite(d_t) and not math.isfinite(d_o):
+        return math.nan, "cannot tell"
+    if not math.isfinite(d_o) or not math.isfinite(d_t):
+        llr = math.inf if math.isfinite(d_t) else -math.inf
+    else:
+        llr = n_stats * (d_o ** 2 - d_t ** 2) / (2.0 * (1.0 + factor ** 2))
+    verdict = "can tell" if llr > math.log(3) else ("favours another" if llr < -math.log(3) else "cannot tell")
+    return llr, verdict
+
+
 def _run(rec, population, simulations, seed, threads, discrepancy):
     from drillpy import load_config
     from drillpy.calibration.posterior import calibrate_record
@@ -98,7 +140,8 @@ def _run(rec, population, simulations, seed, threads, discrepancy):
     cfg["calibration"] = {"families": list(FOUR)}
     post = calibrate_record(rec, config=cfg, population=population, max_simulations=simulations, predictive_draws=1,
                             max_generations=40, seed=seed, threads=threads, discrepancy=discrepancy)
-    return {"p": post.model_probability, "se": post.model_probability_se, "choice": post.model_choice["family"],
+    return {"post": post, "p": post.model_probability, "se": post.model_probability_se,
+            "choice": post.model_choice["family"],
             "reason": post.model_choice["reason"], "ess": post.model_choice["ess"], "eps": post.run["eps"][-1],
             "sims": post.run["abc_simulations"], "stopped": post.run["stopped"]}
 
@@ -162,6 +205,7 @@ def main(argv=None) -> int:
     ap.add_argument("--large-population", type=int, default=200)
     ap.add_argument("--large-simulations", type=int, default=5000)
     ap.add_argument("--no-large", action="store_true", help="skip the larger-budget run")
+    ap.add_argument("--draws", type=int, default=10, help="posterior draws per family for its best fit")
     ap.add_argument("--simulator", choices=("whole_rig", "rig_model"), default="whole_rig",
                     help="the truths' simulator: the independent whole rig (default) or drillpy's own rig model at a "
                          "finer step (the declared model: no structural misfit)")
@@ -189,6 +233,10 @@ def main(argv=None) -> int:
             if not a.no_large:
                 row["large"] = _run(rec, a.large_population, a.large_simulations, cseed + 50000, a.threads,
                                     a.discrepancy)
+                post = row["large"]["post"]
+                best = predictive_distance(post, rec, a.draws, base)
+                factor = post.run["discrepancy"]["factor"]
+                row["best"], (row["llr"], row["separable"]) = best, separation(fam, best, len(post.observed), factor)
             rows.append(row)
             if "values" in truth:
                 law = ", ".join(f"{k} {v:.3g}" for k, v in truth["values"].items())
@@ -201,18 +249,23 @@ def main(argv=None) -> int:
             print("  modest: " + _fmt(row["modest"]), flush=True)
             if "large" in row:
                 print("  larger: " + _fmt(row["large"]), flush=True)
+                print("  best fit of each family (larger run's posterior, {} draws): ".format(a.draws)
+                      + ", ".join(f"{SHORT[g]} {row['best'][g]:.2f}" for g in FOUR)
+                      + f"; log LR truth's family over the best other {row['llr']:.2f}: {row['separable']}", flush=True)
     print()
     if a.no_large:
         print(confusion(rows, "modest", f"Modest budget ({a.population} particles, {a.simulations} simulations)"))
     else:
-        for label, sel in (("distinguishable (the larger run names a family)", [r for r in rows if r["large"]["choice"]]),
-                           ("not distinguishable (the larger run cannot tell)",
-                            [r for r in rows if not r["large"]["choice"]])):
-            print(confusion(sel, "modest", f"Modest budget ({a.population} particles, {a.simulations} simulations), "
-                                           f"{label}: {len(sel)} truths"))
-            print()
-        print(confusion(rows, "large", f"Larger budget ({a.large_population} particles, {a.large_simulations} "
-                                       "simulations), all truths"))
+        for label, sel in (("the best fits can tell the truth's family (log LR > ln 3)",
+                            [r for r in rows if r["separable"] == "can tell"]),
+                           ("the best fits cannot tell (|log LR| <= ln 3)",
+                            [r for r in rows if r["separable"] == "cannot tell"]),
+                           ("another family's best fit is better (log LR < -ln 3)",
+                            [r for r in rows if r["separable"] == "favours another"])):
+            for key, budget in (("modest", f"{a.population} particles, {a.simulations} simulations"),
+                                ("large", f"{a.large_population} particles, {a.large_simulations} simulations")):
+                print(confusion(sel, key, f"{budget}; {label}: {len(sel)} truths"))
+                print()
     print()
     print("Mean model probability +- its Monte Carlo error [min, max over the truths], modest budget:")
     print(mean_probabilities(rows, "modest"))
