@@ -112,6 +112,10 @@ def main(argv=None) -> int:
     print(f"model choice: {c['family'] or 'cannot tell'} ({c['reason']}; Bayes factor "
           f"{'inf' if bf is None else f'{bf:.3g}'}, ESS {c['ess']:.0f}; 95 % bounds of models without particles "
           f"{ {k: round(v, 3) for k, v in c['upper95'].items()} })")
+    # the model's WOB input: the record's slow WOB, which carries the slow part of the truth's jack response
+    trend, after = rigsim.wob_trend(rec, 557.1), rec.time_s >= rec.time_s[0] + SKIP_S
+    print(f"the model's WOB input (the record's WOB below {rigsim.WOB_TREND_HZ:g} Hz): sd {trend[after].std():.1f} N after "
+          f"the start-up, where the truth's own input had {(25.0 * np.sin(0.2 * np.pi * rec.time_s[after])).std():.1f} N")
     # the two models at the truth's parameters, in the distance's units (each statistic's z)
     for m, vals in enumerate((JACK_TRUTH, {**JACK_TRUTH, "jack_gain_n_rad": 0.0})):
         z = (sim.one("polynomial", vals) - observed) / scale

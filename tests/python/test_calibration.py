@@ -365,6 +365,9 @@ def test_the_model_choice_waits_for_the_probability_to_settle_as_eps_falls():
     assert c["family"] is None and "P(a) still moved from 0.950 to 0.800 over the last 3 generations" in c["reason"]
     c = abcsmc.model_choice(pop, ["a", "b"], hist([0.80, 0.80]))
     assert c["family"] is None and "2 generations after the prior's" in c["reason"]
+    # a model alone in its populations (P 1 +- 0) has settled, whatever the last bits of its sums
+    c = abcsmc.model_choice(pop, ["a", "b"], hist([1.0, 1.0 - 2e-16, 1.0, 1.0 - 1e-16], se=0.0))
+    assert "still moved" not in c["reason"], c["reason"]
 
 
 #: A Tucker-Wang truth (Eq. 3.1) at the rig's scale: the rig of TRUTH, c0 1.3 N m, the hump c0 at

@@ -204,6 +204,9 @@ MIN_ESS = 30.0
 #: with eps is not the answer yet (docs/calibration.md: an Eq. 5.1 record whose P(Tucker-Wang) fell
 #: from 0.93 to 0.81 over the last four generations).
 SETTLE_GENERATIONS = 3
+#: A change of a probability :func:`model_choice` does not count as a move (the sums of weights round:
+#: a model alone in three populations has P 1 +- 0 in each, to the last bits).
+SETTLE_ROUNDING = 1e-9
 
 
 def model_choice(pop: Population, names: list, history: list | None = None, resolve_se: float = RESOLVE_SE,
@@ -282,7 +285,7 @@ def model_choice(pop: Population, names: list, history: list | None = None, reso
             hi, lo = int(np.argmax(ps)), int(np.argmin(ps))
             se = math.hypot(last[hi]["model_probability_se"][top], last[lo]["model_probability_se"][top])
             out["drift"] = [float(ps[0]), float(ps[-1])]
-            if ps[hi] - ps[lo] > resolve_se * se:
+            if ps[hi] - ps[lo] > resolve_se * se + SETTLE_ROUNDING:  # P = 1 in each: a rounding is no move
                 failed.append(f"P({names[top]}) still moved from {ps[0]:.3f} to {ps[-1]:.3f} over the last {settle} "
                               "generations (more than its Monte Carlo error)")
     if bf < min_bayes_factor:
