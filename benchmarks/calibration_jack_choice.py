@@ -107,7 +107,7 @@ def main(argv=None) -> int:
     p, se = res.posterior.model_probabilities(2)
     for name, pp, ss in zip(MODELS, p, se):
         print(f"P({name}) = {pp:.3f} +- {ss:.3f}")
-    c = abcsmc.model_choice(res.posterior, MODELS, res.history)
+    c = abcsmc.model_choice(res.posterior, MODELS, res.history, max_eps=abcsmc.choice_tolerance(a.discrepancy))
     bf = c["bayes_factor"]
     print(f"model choice: {c['family'] or 'cannot tell'} ({c['reason']}; Bayes factor "
           f"{'inf' if bf is None else f'{bf:.3g}'}, ESS {c['ess']:.0f}; 95 % bounds of models without particles "

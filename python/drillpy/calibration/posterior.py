@@ -409,7 +409,8 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
                 "base_law": base_law}
     return Posterior(sim.families, dict(zip(sim.families, map(float, p))), dict(zip(sim.families, map(float, se))),
                      parameters, particles, dict(zip(names, map(float, observed))), dict(zip(names, map(float, scale))),
-                     predictive, run, spec.summary(), rec_info, abcsmc.model_choice(post, sim.families, res.history))
+                     predictive, run, spec.summary(), rec_info, abcsmc.model_choice(post, sim.families, res.history,
+                                                                          max_eps=abcsmc.choice_tolerance(factor)))
 
 
 #: Sampling-noise replicates per simulated predictive draw (:func:`predictive_intervals`).
