@@ -198,6 +198,8 @@ def main(argv=None) -> int:
     """
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--per-family", type=int, default=3)
+    ap.add_argument("--first", type=int, default=0, help="skip the first N truths of each family (truth j has its own "
+                                                         "seeds: the others are those of a run without --first)")
     ap.add_argument("--families", default=",".join(FOUR), help="truth families (comma-separated)")
     ap.add_argument("--duration", type=float, default=10.0, help="record length [s]")
     ap.add_argument("--population", type=int, default=100)
@@ -220,7 +222,7 @@ def main(argv=None) -> int:
     rows = []
     start = time.perf_counter()
     for fi, fam in enumerate(a.families.split(",")):
-        for j in range(a.per_family):
+        for j in range(a.first, a.first + a.per_family):
             rng = np.random.default_rng([a.seed, FOUR.index(fam), j])
             for redraw in range(20):
                 truth = (draw_truth if a.simulator == "whole_rig" else rig_model_truth)(fam, rng, spec)
