@@ -78,3 +78,20 @@ def test_the_chosen_statistics_go_into_the_posterior_and_its_prediction():
     old = {**s, "priors": {k: v for k, v in s["priors"].items() if k != "statistics"}}
     assert set(predict_posterior(old, rec, draws=4, seed=3, threads=1)["statistics"]) <= set(NAMES)
     assert set(ALL_NAMES) == set(WITH)
+
+
+def test_posterior_map_without_an_output_folder_prints_the_map(tmp_path):
+    """``drillpy posterior-map POSTERIOR --map ... --json`` without ``--out`` (the fuzzer's case with
+    ``--chunk 0``: it crashed in the output folder's guard, given None): exit 0 and the map's JSON;
+    with ``--chunk 0`` one error naming it."""
+    import json
+
+    from test_fuzz import _fixtures, run_cli
+    _fixtures(tmp_path)
+    argv = ["posterior-map", str(tmp_path / "posterior.json"), "--map", "8:26:2,560:560:1", "--samples", "2", "--json"]
+    rc, out, err = run_cli(argv)
+    assert rc == 0, err
+    m = json.loads(out.strip().splitlines()[-1])
+    assert len(m["p_unstable"]) == 1 and len(m["p_unstable"][0]) == 2 and all(0 <= p <= 1 for p in m["p_unstable"][0])
+    rc, out, err = run_cli([*argv, "--chunk", "0"])
+    assert rc == 2 and "chunk" in err, err
