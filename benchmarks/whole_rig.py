@@ -47,6 +47,15 @@ the rock platform's rotation phi_p. M q'' + C q' + K q = B u + G^T lambda, u = [
   stall, holds more). A slip ending with v crossing 0 becomes a stick (momentum-conserving merge of bit
   and platform speeds) if the reaction it needs is within mu_static W r_b; a stick breaks when
   |T_c| > T_s, in the direction of T_c. W = 0 (lost contact): T_c = 0, no stick.
+* **A law of the thesis instead** (``law``, default None: the Stribeck law above): a dict with
+  ``type`` one of ``polynomial`` (Eq. 5.1: a0..a7, gain, ref_speed), ``polynomial_hysteretic`` (Eq. 5.3:
+  the same with a0 = 0, beta1, beta2), ``tucker_wang`` (Eq. 3.1: c0, alpha0..alpha2) or ``hysteretic``
+  (Eqs. 3.2-3.3: b0..b5, beta1, beta2), its coefficients in the law's ``speed_unit`` (``rpm`` or
+  ``rad_s``, accelerations in speed_unit/s) and torques at the WOB ``wob_ref_n``:
+  T_c = (W / wob_ref_n) T_law(v, a) (1 + eta), a the bit's relative acceleration over the last step.
+  Written here from the thesis's equations (:func:`law_torque`), not from drillpy. Eq. (5.1) with
+  a0 > 0 sticks (set-valued, as above) while |T_c| <= gain a0 W / wob_ref_n, without ageing; the
+  regularized laws never enter the stuck mode: their steep rise from rest holds the bit.
 * **Torque fluctuation** (``eta``): eta(t) an Ornstein-Uhlenbeck process (sd ``eta_sd``, correlation
   time ``eta_tau``), updated exactly every step.
 * **Axial side** (``axial``; else W = ``wob0`` constant). Quasi-static axial compliance k_ax between
@@ -155,7 +164,7 @@ DEFAULTS = {
     # bit-rock contact (exponential Stribeck, set-valued stick)
     "r_b": 6e-3, "mu_static": 0.95, "mu_0": 0.87, "mu_inf": 0.3, "v_s": 11.0, "delta": 1.5,
     "mu_age": 0.08, "tau_age": 0.05,
-    "eta_sd": 0.03, "eta_tau": 0.01,
+    "eta_sd": 0.03, "eta_tau": 0.01, "law": None,
     # axial side
     "wob0": 560.0, "k_ax": 9e6, "V_0": 1.11e-3, "W_js": 690.0, "jack_voltage": 1.0,
     "jack_steps": [[27.6, 1.12]], "W_f": 0.0, "sigma": 4.56e6,
@@ -256,6 +265,47 @@ class Rig:
         return {"phi": np.ascontiguousarray(phi_aug), "lam_x": lam_x, "lam_u": lam_u, "proj": proj}
 
 
+def _poly(a: list, u: float, ref: float) -> float:
+    """The piecewise polynomial of Eq. (5.1) at the speed u >= 0 (breakpoints 1 % and 5 % of ref)."""
+    if u <= 0.01 * ref:
+        return a[0] + a[1] * u
+    if u <= 0.05 * ref:
+        return a[2] + a[3] * u
+    return a[4] + u * (a[5] + u * (a[6] + u * a[7]))
+
+
+def law_torque(v: float, acc: float, law: dict) -> float:
+    """The contact torque of a thesis law (``law``, module docstring) at the reference WOB, for the
+    bit's relative speed v [rad/s] and acceleration acc [rad/s^2]; odd in v (friction opposes the
+    motion); at v = 0 the right limit."""
+    k = 30.0 / math.pi if law.get("speed_unit", "rad_s") in ("rpm", "RPM") else 1.0
+    u, a_u = abs(v) * k, acc * k
+    sg = -1.0 if v < 0.0 else 1.0
+    typ = law["type"]
+    if typ in ("polynomial", "polynomial_hysteretic"):
+        a = [float(law[f"a{i}"]) for i in range(8)]
+        t = law["gain"] * _poly(a, u, law["ref_speed"])
+        if typ == "polynomial_hysteretic":
+            t *= 1.0 + law["beta1"] * sg * math.tanh(law["beta2"] * a_u)
+        return sg * t
+    if typ == "tucker_wang":
+        return sg * law["c0"] * (math.tanh(law["alpha0"] * u) + law["alpha1"] * u / (1.0 + law["alpha2"] * u * u))
+    if typ == "hysteretic":
+        b0, b1, b2, b3, b4, b5 = (float(law[f"b{i}"]) for i in range(6))
+        hump = b2 * u ** b4 / (1.0 + b3 * u ** b5) if u > 0.0 else 0.0
+        h = 1.0 + law["beta1"] * sg * math.tanh(law["beta2"] * a_u)
+        return sg * b0 * (math.tanh(b1 * u) + hump * h)
+    raise ValueError(f"law.type = {typ!r}: polynomial, polynomial_hysteretic, tucker_wang or hysteretic")
+
+
+def law_static(law: dict) -> float:
+    """The break-away torque of a thesis law at its reference WOB: gain a0 for Eq. (5.1) with a0 > 0,
+    else 0 (a regularized law never sticks)."""
+    if law["type"] == "polynomial" and float(law["a0"]) > 0.0:
+        return float(law["gain"]) * float(law["a0"])
+    return 0.0
+
+
 def mu_kinetic(v: float, p: dict) -> float:
     """The kinetic coefficient mu(|v|) of the Stribeck law (v in rad/s)."""
     return p["mu_inf"] + (p["mu_0"] - p["mu_inf"]) * math.exp(-(abs(v) / p["v_s"]) ** p["delta"])
@@ -344,6 +394,13 @@ def simulate(params: dict | None = None, elements=None, duration: float = 40.0, 
     mu_s, mu_0, mu_inf, v_s, delta = p["mu_static"], p["mu_0"], p["mu_inf"], p["v_s"], p["delta"]
     T_hold = p["T_hold"]
     mu_age, tau_age, t_stick = p["mu_age"], p["tau_age"], 0.0
+    law = p["law"]
+    if law is not None:  # a thesis law: its torques scale with W / wob_ref_n (mu r_b W <- T_law W / W_ref)
+        law_torque(1.0, 0.0, law)  # refuses an unknown type before the run
+        w_ref = float(law["wob_ref_n"])
+        mu_s = law_static(law) / (w_ref * r_b)
+        mu_age = 0.0
+    acc_prev = 0.0
     operator = "operator" in el
     stall_speed, relief_wait, relief_speed = p["stall_speed"], p["relief_wait"], p["relief_speed"]
     relief_end = 0.5 * p["omega_c"]
@@ -397,6 +454,12 @@ def simulate(params: dict | None = None, elements=None, duration: float = 40.0, 
             T_m = 0.0
         if stuck:
             T_c = 0.0
+        elif law is not None:
+            v = omN - omp
+            if v == 0.0 and mu_s > 0.0:
+                T_c = slip_dir * mu_s * W * r_b * (1.0 + eta)
+            else:
+                T_c = W / w_ref * law_torque(v, acc_prev, law) * (1.0 + eta)
         else:
             v = omN - omp
             if v > 0.0:
@@ -411,6 +474,8 @@ def simulate(params: dict | None = None, elements=None, duration: float = 40.0, 
         np.dot(phi, xa, out=tmp)
         xa[:2 * n] = tmp
         t += dt
+        if law is not None:
+            acc_prev = (xa[iN] - xa[ip_] - v_before) / dt
         # ---- mode changes
         changed = False
         if stuck:

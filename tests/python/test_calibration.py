@@ -365,6 +365,25 @@ def test_the_model_choice_waits_for_the_probability_to_settle_as_eps_falls():
     assert c["family"] is None and "P(a) still moved from 0.950 to 0.800 over the last 3 generations" in c["reason"]
     c = abcsmc.model_choice(pop, ["a", "b"], hist([0.80, 0.80]))
     assert c["family"] is None and "2 generations after the prior's" in c["reason"]
+    # a model alone in its populations (P 1 +- 0) has settled, whatever the last bits of its sums
+    c = abcsmc.model_choice(pop, ["a", "b"], hist([1.0, 1.0 - 2e-16, 1.0, 1.0 - 1e-16], se=0.0))
+    assert "still moved" not in c["reason"], c["reason"]
+
+
+def test_the_model_choice_names_no_model_at_a_tolerance_above_twice_a_right_models_distance():
+    """80 of 100 particles in model a is a choice at eps 1 and none at eps 9.98 (the wrong family named on
+    a whole-rig Eq. 5.1 truth, docs/calibration.md) under the default discrepancy: 2 sqrt(2 + 3^2) =
+    6.63 is the largest tolerance at which a model is named; without a discrepancy 2 sqrt(2) = 2.83
+    (the model without the jack was named at eps 3.09)."""
+    assert math.isclose(abcsmc.choice_tolerance(3.0), 2 * math.sqrt(11)) and math.isclose(abcsmc.choice_tolerance(0), 2 * math.sqrt(2))
+    pop = _population([0] * 80 + [1] * 20, np.ones(100), [50, 50], 100.0)
+    assert abcsmc.model_choice(pop, ["a", "b"], max_eps=abcsmc.choice_tolerance(3.0))["family"] == "a"
+    pop.eps = 9.98
+    c = abcsmc.model_choice(pop, ["a", "b"], max_eps=abcsmc.choice_tolerance(3.0))
+    assert c["family"] is None and "eps 9.98 above 6.63" in c["reason"] and c["max_eps"] == abcsmc.choice_tolerance(3.0)
+    pop.eps = 3.09
+    assert abcsmc.model_choice(pop, ["a", "b"], max_eps=abcsmc.choice_tolerance(0.0))["family"] is None
+    assert abcsmc.model_choice(pop, ["a", "b"])["family"] == "a"  # no limit given: the other tests alone
 
 
 #: A Tucker-Wang truth (Eq. 3.1) at the rig's scale: the rig of TRUTH, c0 1.3 N m, the hump c0 at

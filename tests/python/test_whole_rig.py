@@ -141,3 +141,45 @@ def test_step_size_is_converged():
     assert a["omN"].mean() == pytest.approx(b["omN"].mean(), rel=0.02)
     assert a["T_c"].mean() == pytest.approx(b["T_c"].mean(), rel=0.02)
     assert abs(a["stuck"].mean() - b["stuck"].mean()) < 0.01
+
+
+#: Thesis laws in rad/s at a reference WOB of 557.1 N (``law`` option): Tucker-Wang Eq. (3.1) peaking
+#: near 0.5 rad/s, and Eq. (5.1) with a static torque of 3 N m above its slip branch (its a2 = 1.976 / 1.36 N m).
+TW_LAW = {"type": "tucker_wang", "speed_unit": "rad_s", "wob_ref_n": 557.1, "c0": 1.3, "alpha0": 10.0,
+          "alpha1": 4.0, "alpha2": 4.0}
+POLY_LAW = {"type": "polynomial", "speed_unit": "rpm", "wob_ref_n": 557.1, "gain": 1.36, "ref_speed": 90.36,
+            "a0": 3.0 / 1.36, "a1": (1.976 - 3.0 / 1.36) / 0.9036, "a2": 1.976, "a3": 0.0, "a4": 1.983,
+            "a5": -0.001315, "a6": -4.823e-05, "a7": 1.047e-07}
+
+
+def test_a_thesis_law_is_its_equation_odd_in_the_speed():
+    # Eq. (3.1): c0 [tanh(a0 v) + a1 v / (1 + a2 v^2)], its hump's peak c0 h = c0 a1 / (2 sqrt(a2)) at 1 / sqrt(a2)
+    v = 0.5
+    assert rig.law_torque(v, 0.0, TW_LAW) == pytest.approx(1.3 * (math.tanh(5.0) + 1.0), rel=1e-12)
+    assert rig.law_torque(-v, 0.0, TW_LAW) == pytest.approx(-rig.law_torque(v, 0.0, TW_LAW), rel=1e-12)
+    # Eq. (5.1): the static torque gain a0 at rest, the cubic branch above 5 % of the reference speed
+    assert rig.law_static(POLY_LAW) == pytest.approx(3.0)
+    assert rig.law_static(TW_LAW) == 0.0
+    u = 20.0 * 30.0 / math.pi
+    assert rig.law_torque(20.0, 0.0, POLY_LAW) == pytest.approx(
+        1.36 * (1.983 - 0.001315 * u - 4.823e-05 * u ** 2 + 1.047e-07 * u ** 3), rel=1e-12)
+    # Eq. (3.3)'s hysteresis: an accelerating bit carries more torque than a decelerating one
+    hy = {"type": "hysteretic", "speed_unit": "rad_s", "wob_ref_n": 557.1, "b0": 0.9, "b1": 10.0, "b2": 5.0,
+          "b3": 4.0, "b4": 0.78, "b5": 1.1, "beta1": 0.1, "beta2": 1.0}
+    assert rig.law_torque(2.0, 50.0, hy) > rig.law_torque(2.0, 0.0, hy) > rig.law_torque(2.0, -50.0, hy)
+    with pytest.raises(ValueError, match="law.type = 'coulomb'"):
+        rig.simulate({"law": {"type": "coulomb"}}, QUIET, duration=0.1, seed=1)
+
+
+def test_a_law_with_a_static_torque_sticks_and_a_regularized_one_never_enters_the_stuck_mode():
+    el = QUIET - {"jack_switch", "rock"}
+    stuck = rig.simulate({"law": POLY_LAW, "jack_steps": [], "c_m": 0.22, "omega_c": 15.0}, el, duration=4.0,
+                         seed=2)["clean"]
+    smooth = rig.simulate({"law": TW_LAW, "jack_steps": []}, el, duration=4.0, seed=2)["clean"]
+    assert stuck["stuck"].mean() > 0.02
+    assert not smooth["stuck"].any()
+    # slipping, the contact torque is the law at the WOB over its reference (to the torque fluctuation's 3 %)
+    slip = ~smooth["stuck"] & (smooth["omN"] - smooth["omp"] > 1.0)
+    law = np.array([rig.law_torque(v, 0.0, TW_LAW) for v in (smooth["omN"] - smooth["omp"])[slip]])
+    ratio = smooth["T_c"][slip] / (smooth["W"][slip] / 557.1 * law)
+    assert abs(np.median(ratio) - 1.0) < 0.02

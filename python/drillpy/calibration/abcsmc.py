@@ -204,11 +204,35 @@ MIN_ESS = 30.0
 #: with eps is not the answer yet (docs/calibration.md: an Eq. 5.1 record whose P(Tucker-Wang) fell
 #: from 0.93 to 0.81 over the last four generations).
 SETTLE_GENERATIONS = 3
+#: A change of a probability :func:`model_choice` does not count as a move (the sums of weights round:
+#: a model alone in three populations has P 1 +- 0 in each, to the last bits).
+SETTLE_ROUNDING = 1e-9
+
+
+def choice_tolerance(factor: float) -> float:
+    """The largest tolerance at which :func:`model_choice` names a model, with a model discrepancy of
+    ``factor`` (0: none): twice the distance a right model's run lies at from the record, sqrt(2 +
+    factor^2) (each statistic differs by the record's and the run's sampling noise, one unit each in
+    the distance's units, and by the discrepancy's draw, ``factor`` units). Above it every accepted run
+    is still farther from the record than a right model's runs are, and the model probabilities are
+    those of the priors' predictive mass near the record (docs/calibration.md, "Model choice over
+    many truths": a wrong family named at eps 9.98, the model without the jack at 3.09 and 3.68).
+
+    Parameters
+    ----------
+    factor : float
+        The model discrepancy's factor.
+
+    Returns
+    -------
+    float
+    """
+    return 2.0 * math.sqrt(2.0 + float(factor) ** 2)
 
 
 def model_choice(pop: Population, names: list, history: list | None = None, resolve_se: float = RESOLVE_SE,
                  min_bayes_factor: float = MIN_BAYES_FACTOR, min_ess: float = MIN_ESS,
-                 settle: int = SETTLE_GENERATIONS) -> dict:
+                 settle: int = SETTLE_GENERATIONS, max_eps: float | None = None) -> dict:
     """Which model the population supports, or that it cannot tell (equal prior probabilities).
 
     The most probable model is the choice when its probability leads every other model's by more than
@@ -218,7 +242,8 @@ def model_choice(pop: Population, names: list, history: list | None = None, reso
     ``min_bayes_factor``, on a population of at least ``min_ess`` effective particles, and when
     (given the run's ``history``) its probability over the last ``settle`` generations after the
     prior's has moved by no more than ``resolve_se`` standard errors of the difference between its
-    highest and lowest values (sqrt(se_a^2 + se_b^2)); otherwise the result cannot
+    highest and lowest values (sqrt(se_a^2 + se_b^2)), and (given ``max_eps``) when the final
+    tolerance is at most ``max_eps`` (:func:`choice_tolerance`); otherwise the result cannot
     tell (``family`` None) and ``reason`` says which test failed: the Monte Carlo error (more
     particles or simulations could tell) or the evidence (the record does not tell, at this
     tolerance).
@@ -240,6 +265,8 @@ def model_choice(pop: Population, names: list, history: list | None = None, reso
         Smallest effective sample size at which the standard errors are trusted (:data:`MIN_ESS`).
     settle : int
         Generations over which the probability must have settled (:data:`SETTLE_GENERATIONS`).
+    max_eps : float, optional
+        The largest final tolerance at which a model is named (:func:`choice_tolerance`; None: any).
 
     Returns
     -------
@@ -255,7 +282,7 @@ def model_choice(pop: Population, names: list, history: list | None = None, reso
     top = int(np.argmax(p))
     upper = {m: pop.upper95(m) for m in range(M)}
     out = {"most_probable": names[top], "resolve_se": resolve_se, "min_bayes_factor": min_bayes_factor,
-           "min_ess": min_ess, "ess": pop.ess(), "drift": None, "upper95": {names[m]: u for m, u in upper.items() if u is not None}}
+           "min_ess": min_ess, "max_eps": max_eps, "ess": pop.ess(), "drift": None, "upper95": {names[m]: u for m, u in upper.items() if u is not None}}
     if M < 2:
         return {**out, "family": names[top], "runner_up": None, "lead": 1.0, "lead_se": 0.0, "bayes_factor": None,
                 "resolved": True, "reason": "one model"}
@@ -282,9 +309,12 @@ def model_choice(pop: Population, names: list, history: list | None = None, reso
             hi, lo = int(np.argmax(ps)), int(np.argmin(ps))
             se = math.hypot(last[hi]["model_probability_se"][top], last[lo]["model_probability_se"][top])
             out["drift"] = [float(ps[0]), float(ps[-1])]
-            if ps[hi] - ps[lo] > resolve_se * se:
+            if ps[hi] - ps[lo] > resolve_se * se + SETTLE_ROUNDING:  # P = 1 in each: a rounding is no move
                 failed.append(f"P({names[top]}) still moved from {ps[0]:.3f} to {ps[-1]:.3f} over the last {settle} "
                               "generations (more than its Monte Carlo error)")
+    if max_eps is not None and pop.eps > max_eps:
+        failed.append(f"eps {pop.eps:.3g} above {max_eps:.3g}: every accepted run is still farther from the record than a "
+                      "right model's runs are (the probabilities are the priors' mass near the record)")
     if bf < min_bayes_factor:
         failed.append(f"Bayes factor {bf:.3g} over {names[second]} below {min_bayes_factor:g}")
     reason = "cannot tell: " + "; ".join(failed) if failed else "chosen"

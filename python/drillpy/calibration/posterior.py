@@ -34,7 +34,7 @@ from drillpy.calibration import abcsmc
 from drillpy.calibration.families import FAMILIES, check_base, family_law
 from drillpy.calibration.priors import PriorSpec, discrepancy_factor, prior_spec, split_config
 from drillpy.calibration.sampler import Sampler, check_backend
-from drillpy.calibration.summaries import BOUNDS, NAMES, UNITS, noise_scale, statistics, summaries
+from drillpy.calibration.summaries import ALL_NAMES, ALL_UNITS, BOUNDS, NAMES, noise_scale, statistics, summaries
 from drillpy.model.configuration import Configuration
 from drillpy.model.simulation import simulate
 from drillpy.records import rigsim
@@ -108,6 +108,7 @@ class RigSimulator:
         self.record, self.thr, self.spec, self.base_law = record, stick_threshold, spec, base_law
         self.dt_s = float(dt_s)
         self.families = list(spec.families)
+        self.names = tuple(spec.statistics)
         self.sampler = sampler if sampler is not None else Sampler(threads)
         self.threads = self.sampler.threads
         self.runs = 0
@@ -150,7 +151,7 @@ class RigSimulator:
         Returns
         -------
         ndarray
-            The statistics :data:`drillpy.calibration.summaries.NAMES`.
+            The statistics of the prior's ``statistics`` (default :data:`drillpy.calibration.summaries.NAMES`).
         """
         rec = self.record if record is None else record
         key = id(rec)
@@ -170,9 +171,9 @@ class RigSimulator:
             tq = platform_response(res.torque_on_bit[:n], fs, rigsim.PLATFORM_HZ, model.platform_damping)
             vb, vt, tq, w = (rig_lowpass(x, fs) for x in (res.bit_speed[:n], res.top_speed[:n], tq, res.wob[:n]))
             k = int(np.searchsorted(res.t[:n], SKIP_S))
-            return statistics(vb[k:], tq[k:], vt[k:], w[k:], 1.0 / fs, thr)
+            return statistics(vb[k:], tq[k:], vt[k:], w[k:], 1.0 / fs, thr, self.names)
         except (ValueError, RuntimeError):
-            return np.full(len(NAMES), np.nan)
+            return np.full(len(self.names), np.nan)
 
     def __call__(self, m: int, Z: np.ndarray) -> np.ndarray:
         fam = self.families[m]
@@ -228,8 +229,12 @@ class Posterior:
                 "equations": {f: FAMILIES[f].equation for f in self.families},
                 "model_probability": self.model_probability, "model_probability_se": self.model_probability_se,
                 "model_choice": self.model_choice, "parameters": self.parameters, "predictive": self.predictive,
-                "observed": self.observed, "scale": self.scale, "units": dict(zip(NAMES, UNITS)), "run": self.run, "priors": self.spec,
+                "observed": self.observed, "scale": self.scale, "units": {n: _unit(n) for n in self.observed}, "run": self.run, "priors": self.spec,
                 "particles": self.particles}
+
+
+def _unit(name: str) -> str:
+    return ALL_UNITS[ALL_NAMES.index(name)]
 
 
 def _wquantile(x, w, q):
@@ -349,11 +354,12 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
     check_base(base_law)  # the law's type, checked before any run
     rec = load_window(record, t0, t1)
     thr = rigsim.stick_threshold(rec)
-    observed = summaries(rec, thr, SKIP_S)
-    scale = noise_scale(rec, thr, skip_s=SKIP_S)
+    names = spec.statistics
+    observed = summaries(rec, thr, SKIP_S, names)
+    scale = noise_scale(rec, thr, skip_s=SKIP_S, names=names)
     ok = np.isfinite(observed)
     if not ok.all():
-        missing = [n for n, o in zip(NAMES, ok) if not o]
+        missing = [n for n, o in zip(names, ok) if not o]
         raise ValueError(f"record: statistics {', '.join(missing)} cannot be measured on the window")
     disc = factor * scale  # the discrepancy's standard deviation of each statistic, in its unit
     target = load_window(record, *heldout) if heldout is not None else rec
@@ -394,7 +400,7 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
            "simulations_per_s": res.simulations / wall if wall > 0 else None, "cpu_s": cpu, "seed": seed,
            "threads": backend.get("threads"), "backend": backend, "dt_s": sim.dt_s, "method": "ABC-SMC with model choice (drillpy.calibration.abcsmc)",
            "heldout_s": list(heldout) if heldout is not None else None,
-           "discrepancy": {"factor": factor, "sd": dict(zip(NAMES, map(float, disc))),
+           "discrepancy": {"factor": factor, "sd": dict(zip(names, map(float, disc))),
                            "eps_floor": abcsmc.discrepancy_floor(disc, scale),
                            "method": "noisy ABC under model error (Wilkinson 2013): N(0, sd^2) on each simulated "
                                      "statistic, sd = factor x its window-to-window spread on the record"}}
@@ -402,8 +408,9 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
                 "window_s": [float(rec.time_s[0]), float(rec.time_s[-1])], "stick_threshold_rad_s": thr,
                 "base_law": base_law}
     return Posterior(sim.families, dict(zip(sim.families, map(float, p))), dict(zip(sim.families, map(float, se))),
-                     parameters, particles, dict(zip(NAMES, map(float, observed))), dict(zip(NAMES, map(float, scale))),
-                     predictive, run, spec.summary(), rec_info, abcsmc.model_choice(post, sim.families, res.history))
+                     parameters, particles, dict(zip(names, map(float, observed))), dict(zip(names, map(float, scale))),
+                     predictive, run, spec.summary(), rec_info, abcsmc.model_choice(post, sim.families, res.history,
+                                                                          max_eps=abcsmc.choice_tolerance(factor)))
 
 
 #: Sampling-noise replicates per simulated predictive draw (:func:`predictive_intervals`).
@@ -411,7 +418,7 @@ NOISE_REPLICATES = 50
 
 
 def predictive_intervals(stats: np.ndarray, weight: np.ndarray, noise: np.ndarray, rng: np.random.Generator,
-                         replicates: int = NOISE_REPLICATES) -> list:
+                         replicates: int = NOISE_REPLICATES, names=NAMES) -> list:
     """Posterior predictive (5 %, 50 %, 95 %) of each statistic: the empirical weighted quantiles of
     the simulated statistics plus their sampling noise.
 
@@ -433,6 +440,8 @@ def predictive_intervals(stats: np.ndarray, weight: np.ndarray, noise: np.ndarra
         The noise's generator.
     replicates : int
         Noise draws per simulated draw.
+    names : sequence of str
+        The statistics of the columns (default :data:`~drillpy.calibration.summaries.NAMES`).
 
     Returns
     -------
@@ -442,7 +451,7 @@ def predictive_intervals(stats: np.ndarray, weight: np.ndarray, noise: np.ndarra
     stats, weight = np.atleast_2d(np.asarray(stats, float)), np.asarray(weight, float)
     eps = rng.standard_normal((replicates,) + stats.shape)
     out = []
-    for k, name in enumerate(NAMES):
+    for k, name in enumerate(names):
         ok = np.isfinite(stats[:, k]) & (weight > 0)
         if ok.sum() < 2:
             out.append(None)
@@ -471,16 +480,16 @@ def _predictive(sim: RigSimulator, jobs: list, weight: np.ndarray, target: Recor
     noise = scale * math.sqrt(max(calibration_s - SKIP_S, 1e-9) / max(len_t, 1e-9))
     if discrepancy is not None:
         noise = np.hypot(noise, discrepancy)
-    q = predictive_intervals(pred, count.astype(float), noise, rng)
-    measured = summaries(target, rigsim.stick_threshold(target), SKIP_S)
+    q = predictive_intervals(pred, count.astype(float), noise, rng, names=sim.names)
+    measured = summaries(target, rigsim.stick_threshold(target), SKIP_S, sim.names)
     out = {}
-    for k, name in enumerate(NAMES):
+    for k, name in enumerate(sim.names):
         if q[k] is None:
             continue
         lo, med, hi = q[k]
         mk = float(measured[k])
         out[name] = {"interval90": [lo, hi], "median": med, "measured": mk,
-                     "contained": bool(lo <= mk <= hi) if math.isfinite(mk) else None, "unit": UNITS[k]}
+                     "contained": bool(lo <= mk <= hi) if math.isfinite(mk) else None, "unit": _unit(name)}
     return out
 
 
@@ -535,8 +544,9 @@ def predict_posterior(posterior, record, *, t0: float | None = None, t1: float |
                            dt_s=float(s["run"].get("dt_s", 1e-4)),  # a posterior written before dt_s ran at 1e-4 s
                            sampler=sampler)
         disc = s["run"].get("discrepancy", {}).get("sd")  # none in a posterior written before the discrepancy
-        out = _predictive(sim, jobs, weight, target, np.array([s["scale"][n] for n in NAMES]),
-                          float(win[1] - win[0]), draws, seed, None if disc is None else np.array([disc[n] for n in NAMES]))
+        names = spec.statistics
+        out = _predictive(sim, jobs, weight, target, np.array([s["scale"][n] for n in names]),
+                          float(win[1] - win[0]), draws, seed, None if disc is None else np.array([disc[n] for n in names]))
     return {"statistics": out, "window_s": [float(target.time_s[0]), float(target.time_s[-1])], "draws": int(draws),
             "model_probability": s["model_probability"]}
 
@@ -581,7 +591,8 @@ def posterior_particles(s: dict) -> tuple:
     from drillpy.calibration.priors import Prior
     fams = s["families"]
     spec = PriorSpec({f: tuple(Prior(n, *p["range"], p["unit"], p["scale"], p.get("source", ""))
-                               for n, p in s["priors"]["families"][f].items()) for f in fams}, s["priors"]["fixed"])
+                               for n, p in s["priors"]["families"][f].items()) for f in fams}, s["priors"]["fixed"],
+                     tuple(s["priors"].get("statistics", NAMES)))  # a posterior written before the option: NAMES
     jobs, weight = [], []
     for f in fams:
         part = s["particles"][f]

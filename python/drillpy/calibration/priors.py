@@ -9,12 +9,14 @@ replaces any of them, fixes the parameters not calibrated, and names the law fam
         "priors": {"damping_ratio": {"range": [0.005, 0.1], "scale": "uniform"}, ...},
         "fixed": {"jack_relaxation_s": 0.2, ...},
         "families": ["polynomial_hysteretic", "polynomial", "tucker_wang", "hysteretic"],
-        "discrepancy": 2.0
+        "discrepancy": 2.0,
+        "statistics": ["ss", "stick_fraction", ..., "wob_above_trend_std"]
     }
 
 The families (default Eqs. 5.3 and 5.1) and their law parameters' ranges are those of
 :mod:`drillpy.calibration.families`. ``discrepancy`` is the model discrepancy's factor
-(:func:`discrepancy_factor`). The section is read here and removed before the engine
+(:func:`discrepancy_factor`). ``statistics`` names the summary statistics of the distance among
+:data:`drillpy.calibration.summaries.ALL_NAMES` (default :data:`~drillpy.calibration.summaries.NAMES`). The section is read here and removed before the engine
 validates the rest of the configuration.
 """
 from __future__ import annotations
@@ -26,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from drillpy.calibration.families import DEFAULT_FAMILIES, FAMILIES, FRACTION, LAW_PARAMETERS, POSITIVE
+from drillpy.calibration.summaries import ALL_NAMES, NAMES
 from drillpy.records.rigsim import RIG_PARAMETERS
 
 #: The calibrated parameters by default: (low, high, unit, scale, the source of the range).
@@ -156,14 +159,17 @@ class PriorSpec:
         Family name (:data:`FAMILIES`) -> tuple of :class:`Prior` (the rig's, then the law's).
     fixed : dict
         Rig parameter -> held value (:data:`FIXED`).
+    statistics : tuple of str
+        The summary statistics of the distance (:data:`drillpy.calibration.summaries.ALL_NAMES`).
     """
     families: dict
     fixed: dict
+    statistics: tuple = NAMES
 
     def summary(self) -> dict:
         """JSON-ready description."""
         return {"families": {f: {p.name: p.summary() for p in ps} for f, ps in self.families.items()},
-                "fixed": dict(self.fixed)}
+                "fixed": dict(self.fixed), "statistics": list(self.statistics)}
 
 
 def split_config(cfg: dict) -> tuple:
@@ -206,10 +212,16 @@ def prior_spec(section: dict | None = None) -> PriorSpec:
         Naming the field and the value of an unknown key, parameter or family, or a bad range.
     """
     sec = dict(section or {})
-    unknown = set(sec) - {"priors", "fixed", "families", "discrepancy"}
+    unknown = set(sec) - {"priors", "fixed", "families", "discrepancy", "statistics"}
     if unknown:
         k = sorted(unknown)[0]
-        raise ValueError(f"calibration.{k} = {sec[k]!r}: unknown key (use priors, fixed, families, discrepancy)")
+        raise ValueError(f"calibration.{k} = {sec[k]!r}: unknown key (use priors, fixed, families, discrepancy, "
+                         "statistics)")
+    stats = sec.get("statistics", list(NAMES))
+    if not isinstance(stats, (list, tuple)) or not stats or len(set(stats)) != len(stats) \
+            or any(n not in ALL_NAMES for n in stats):
+        raise ValueError(f"calibration.statistics = {stats!r}: a non-empty list of distinct statistics of "
+                         f"{', '.join(ALL_NAMES)}")
     if "discrepancy" in sec:
         discrepancy_factor(sec["discrepancy"], "calibration.discrepancy")
     fams = sec.get("families", list(DEFAULT_FAMILIES))
@@ -247,7 +259,8 @@ def prior_spec(section: dict | None = None) -> PriorSpec:
             raise ValueError(f"calibration.fixed.{k} = {v!r}: must be a number in its physical range "
                              f"[{lo:g}, {hi:g}] {RIG_PARAMETERS[k][2]}")
         fixed[k] = float(v)
-    return PriorSpec({f: tuple(priors[p] for p in RIG_CALIBRATED + FAMILY_PARAMETERS[f]) for f in fams}, fixed)
+    return PriorSpec({f: tuple(priors[p] for p in RIG_CALIBRATED + FAMILY_PARAMETERS[f]) for f in fams}, fixed,
+                     tuple(stats))
 
 
 #: The model discrepancy's factor by default (:func:`discrepancy_factor`; docs/calibration.md,

@@ -458,14 +458,16 @@ def removed_on_failure(out):
 
     Parameters
     ----------
-    out : str or Path
-        The output folder.
+    out : str or Path or None
+        The output folder (None: none, the guard does nothing).
 
     Returns
     -------
     contextlib.AbstractContextManager
         The guard.
     """
+    if out is None:  # nothing written (posterior-map without --out): nothing to remove
+        return contextlib.nullcontext()
     p, first_new = Path(os.path.abspath(out)), None
     while not p.exists() and p != p.parent:
         first_new, p = p, p.parent
