@@ -14,10 +14,9 @@ own step 1e-4 s). For each, two measurements:
   baseline's E, every first-round candidate's validation gain, and its steps (the decisions).
 
 The first says how far the predictions are from converged at each step; the second whether the
-loop's answer follows them or depends on where its least squares stop. ``--scheme`` integrates the
-first with that scheme (its baseline is always calibrated with the modified Euler at 1e-4 s); the
-whole loop integrates with the modified Euler whatever the configuration says (its motor candidate
-needs it: ``loop/run.py``'s analysis stage). The machine is shared: read
+loop's answer follows them or depends on where its least squares stop. ``--scheme`` integrates both
+with that scheme (``LoopOptions.scheme``; the first's baseline is always calibrated with the modified
+Euler at 1e-4 s). The machine is shared: read
 the ratios.
 """
 from __future__ import annotations
@@ -75,15 +74,15 @@ def fixed_model(path, rate, effects, scheme, steps) -> list:
     return rows
 
 
-def whole_loop(path, rate, effects, steps) -> list:
+def whole_loop(path, rate, effects, steps, scheme) -> list:
     import drillpy
     from drillpy.loop import LoopOptions, run_loop
     kw = {} if effects is None else {"effects": effects}
     rows = []
     for dt in steps:
         t0 = time.perf_counter()
-        res = run_loop(path, drillpy.load_config(preset="thesis-rig"), LoopOptions(rate_hz=rate, dt_s=dt, **kw),
-                       log=lambda *x: None)
+        res = run_loop(path, drillpy.load_config(preset="thesis-rig"),
+                       LoopOptions(rate_hz=rate, dt_s=dt, scheme=scheme, **kw), log=lambda *x: None)
         wall = time.perf_counter() - t0
         taken = [f"{'+' if s.action == 'add' else '-' if s.action == 'remove' else '~'}{s.effect} "
                  f"({s.error_before:.4f}->{s.error_after:.4f})" for s in res.steps] or ["none"]
@@ -100,7 +99,7 @@ def main() -> int:
                     help="engine steps of the whole loop [s], comma-separated (the ratios are to 1e-4 s when run)")
     ap.add_argument("--only", choices=("sample175", "stribeck"))
     ap.add_argument("--scheme", default="modified_euler", choices=("modified_euler", "exact_modal"),
-                    help="the engine's scheme for the fixed model's rows")
+                    help="the engine's scheme of the fixed model's rows and of the whole loop")
     ap.add_argument("--fixed-steps", default=",".join(f"{x:g}" for x in FIXED_STEPS),
                     help="steps at which the fixed baseline is evaluated [s], comma-separated")
     a = ap.parse_args()
@@ -116,7 +115,7 @@ def main() -> int:
             for dt, e1, e2 in fixed:
                 print(f"| {dt:g} | {e1:.4f} | {e2:.4f} |")
             print(flush=True)
-            rows = whole_loop(path, rate, effects, steps)
+            rows = whole_loop(path, rate, effects, steps, a.scheme)
             names = sorted({n for r in rows for n in r[4]})
             print("\nThe whole loop at each step:\n")
             ref = next((r[1] for r in rows if abs(r[0] - 1e-4) < 1e-12), rows[0][1])
@@ -127,7 +126,8 @@ def main() -> int:
                 print(f"| {dt:g} | {wall:.1f} | {ref / wall:.2f} | {res.baseline.E_train:.4f} / "
                       f"{res.baseline.E_test:.4f} | {res.final.E_test:.4f} | {', '.join(taken)} | "
                       + " | ".join(f"{100 * gains.get(n, float('nan')):+.1f}" for n in names) + " |")
-            print(f"\nthe same steps at every engine step: {len({tuple(r[3]) for r in rows}) == 1}", flush=True)
+            decisions = {tuple((s.action, s.effect) for s in r[2].steps) for r in rows}
+            print(f"\nthe same steps (actions and effects) at every engine step: {len(decisions) == 1}", flush=True)
     return 0
 
 
