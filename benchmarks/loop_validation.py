@@ -28,6 +28,7 @@ and a step that raises E fails the case (issue 29).
     PYTHONPATH=python python3 benchmarks/loop_validation.py --only half,two --markdown --no-header  # part
     PYTHONPATH=python python3 benchmarks/loop_validation.py --only single --truth-model   # the floor of E
     PYTHONPATH=python python3 benchmarks/loop_validation.py --seed 18 --declared-gj truth  # GJ known exactly
+    PYTHONPATH=python python3 benchmarks/loop_validation.py --only fast --scheme exact_modal  # the exact scheme
 
 ``--truth-model`` runs no loop: it scores the case's truth itself through the loop's predictor (its
 law, damping, effects and stiffness, reduced to the declared model's one mode at the loop's engine
@@ -51,6 +52,8 @@ ORIGINAL_SIX = ("bit_hysteresis", "wob_coupling", "top_drive_dynamics", "sensor_
                 "viscous_damping")
 #: Record length [s], rate [Hz] and engine step of the loop [s].
 DURATION_S, RATE_HZ, LOOP_DT_S = 40.0, 500.0, 2e-4
+#: The loop's scheme (``LoopOptions.scheme``; ``--scheme``)
+SCHEME = {"scheme": "modified_euler"}
 
 
 @dataclass
@@ -111,7 +114,7 @@ def run_case(case: Case, truth_gj: bool = False) -> dict:
     """Generate the record of a case, run the loop, summarize (cached: a case runs once).
     ``truth_gj``: declare the truth's GJ (its draw inside the geometry's tolerance) instead of the
     nominal one."""
-    key = (case.kind, repr(case.effects), case.seed, case.noise, case.search, truth_gj)
+    key = (case.kind, repr(case.effects), case.seed, case.noise, case.search, truth_gj, SCHEME["scheme"])
     if key not in _DONE:
         _DONE[key] = _run(case, truth_gj)
     return _DONE[key]
@@ -119,7 +122,8 @@ def run_case(case: Case, truth_gj: bool = False) -> dict:
 
 def _run(case: Case, truth_gj: bool) -> dict:
     rec = synthetic_record(case.effects, duration_s=DURATION_S, seed=case.seed, fs_hz=RATE_HZ, noise=case.noise)
-    opt = LoopOptions(rate_hz=RATE_HZ, dt_s=LOOP_DT_S, **({"effects": case.search} if case.search else {}))
+    opt = LoopOptions(rate_hz=RATE_HZ, dt_s=LOOP_DT_S, scheme=SCHEME["scheme"],
+                      **({"effects": case.search} if case.search else {}))
     declared = declared_config()
     if truth_gj:
         STRING_STIFFNESS.configure(declared, {"gj_factor": truth_config(case.seed)[1]["gj_factor"]}, None)
@@ -218,7 +222,10 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, action="append", help="run only the cases of this seed (repeatable)")
     ap.add_argument("--declared-gj", choices=("nominal", "truth"), default="nominal",
                     help="declare the nominal GJ (default) or the truth's own (its draw inside the tolerance)")
+    ap.add_argument("--scheme", choices=("modified_euler", "exact_modal"), default="modified_euler",
+                    help="the loop's scheme (at the table's step, 2e-4 s)")
     a = ap.parse_args(argv)
+    SCHEME["scheme"] = a.scheme
     kinds = None if a.only is None else set(a.only.split(","))
     cases = [c for c in CASES if (kinds is None or c.kind in kinds or ("fast" in kinds and c.fast))
              and (a.seed is None or c.seed in a.seed)]
