@@ -569,7 +569,7 @@ class Integrator {
     double wob_state = std::isfinite(s0.wob) ? s0.wob : in.wob.at(0.0), wob_next = wob_state;  // the jack's
     typename Drive::template Run<TopDrive> drive(in.top_drive, in.top_speed, dt, s0,
                                                  [&] { return top_torque_.dot(z); });
-    auto top = [&](long i, double t0, double t1, double& om0, double& om1, double& dom) {
+    auto top = [&](double t0, double t1, double& om0, double& om1, double& dom) {
       if constexpr (stepped) {
         om0 = drive.speed(t0, om_state);
         om1 = drive.next(t0, om0, top_torque_.dot(z));
@@ -580,7 +580,6 @@ class Integrator {
         om1 = in.top_speed.at(t1);
         dom = (om1 - om0) / dt;  // the top's acceleration averaged over the step
       }
-      (void)i;
     };
     auto wob_at = [&](double t1, double v0) {
       if (!axial) return in.wob.at(t1);
@@ -687,7 +686,7 @@ class Integrator {
   /// returns and the lane is dropped: its state set to zero, emit no longer called for it).
   /// free(dom, T0, zs, ps, w) and close(zs, ps, T1, dT0) are exact_modal_free and exact_modal_close on these
   /// lanes. One lane (N = 1, run_exact): top0 and wob0 its top speed and WOB at t = 0 (NaN: the
-  /// inputs'), top(i, t0, t1, om0, om1, dom) its step's top speeds and top acceleration, wob_at(t1, v0)
+  /// inputs'), top(t0, t1, om0, om1, dom) its step's top speeds and top acceleration, wob_at(t1, v0)
   /// its WOB at the step's end from the bit speed v0 at its start.
   template <class Top, class Wob, class Free, class Close, class Emit, class Fail>
   void run_exact_lanes(const Inputs* const* in, std::size_t N, const double* coef, const double* c,
@@ -724,7 +723,7 @@ class Integrator {
     }
     for (long i = 0; i < n; ++i) {
       const double t0 = i * dt, t1 = (i + 1) * dt;
-      for (std::size_t l = 0; l < N; ++l) top(i, t0, t1, om0[l], om1[l], dom[l]);
+      for (std::size_t l = 0; l < N; ++l) top(t0, t1, om0[l], om1[l], dom[l]);
       free(dom.data(), T0.data(), zs.data(), ps.data(), w.data());
       for (std::size_t l = 0; l < N; ++l) {
         const Inputs& r = *in[l];
