@@ -1,7 +1,7 @@
 """``drillpy mc`` as a user runs it, on 1 thread against 2 (issue 33: the 2-thread speed-up of a run of
 about 5 s, the process's start and imports included), measured in one run.
 
-    PYTHONPATH=python python3 benchmarks/bench_mc_threads.py [--samples 40] [--repeats 5]
+    PYTHONPATH=python python3 benchmarks/bench_mc_threads.py [--samples 240] [--repeats 5]
 
 Runs ``python -m drillpy mc --preset thesis-field --samples N --speeds 10:24:8 --duration 100
 --no-figures --no-progress --out DIR`` with ``--threads 1`` and ``--threads 2`` alternately,
@@ -46,7 +46,7 @@ def severities(out: str):
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--samples", type=int, default=40)
+    ap.add_argument("--samples", type=int, default=240)
     ap.add_argument("--repeats", type=int, default=5)
     a = ap.parse_args()
     walls: dict = {1: [], 2: []}
