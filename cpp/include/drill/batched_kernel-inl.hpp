@@ -284,15 +284,16 @@ HWY_INLINE void ExactStepsT(const ExactStepArgs& a) {
     }
     V fric = zero, T0e = T0;
     if (any_sticky || any_friction) {
-      const V T_req = (w + om1) / c, sf = Sign(d, T_req), v1 = om1 + x;
+      // a landing bit comes to rest under the torque that stops it over the step, held constant too
+      const V v1 = om1 + x;
       const M lands = hn::Or(v0 * v1 <= zero, hn::Abs(v1) <= hn::Set(d, 1e-12) * (one + hn::Abs(om1)));
-      const M holds = hn::Or(hn::Abs(T_req) <= cap, sf == Sign(d, v0));
+      const M holds = hn::Or(hn::Abs(T_hold) <= cap, Sign(d, T_hold) == Sign(d, v0));
       const M stuck = hn::AndNot(hold, hn::AndNot(at_rest, hn::And(sticky, hn::And(lands, holds))));
+      hold = hn::Or(hold, stuck);
       fric = hn::IfThenElse(friction, Tsf * Sign(d, v1), zero);
-      fric = hn::IfThenElse(stuck, hn::IfThenElse(friction, StringShare(d, T_req, Ts, Tsf), zero), fric);
       fric = hn::IfThenElse(hold, hn::IfThenElse(friction, StringShare(d, T_hold, Ts, Tsf), zero), fric);
-      x = hn::IfThenElse(hn::Or(stuck, hold), hn::Neg(om1), x);
-      T = hn::IfThenElse(stuck, T_req, hn::IfThenElse(hold, T_hold, T));
+      x = hn::IfThenElse(hold, hn::Neg(om1), x);
+      T = hn::IfThenElse(hold, T_hold, T);
       T0e = hn::IfThenElse(hold, T, T0);  // held over the step
     }
     const V v1 = om1 + x;

@@ -25,7 +25,12 @@
 // it there at the step's end is within the static capacity. Over a step that starts and ends at
 // rest the torque is held constant (T_i = T_i+1 = the holding torque): interpolated linearly, the
 // holding torque of one step would depend on the last one's with a factor near -1, a torque that
-// alternates from step to step and lets the bit break away and stick again every other step.
+// alternates from step to step and lets the bit break away and stick again every other step. So is
+// the torque of a step in which a moving bit comes to rest (the one that stops it at the step's end,
+// held: the friction jumps within the step from the sliding torque to the holding one, as the
+// modified Euler's stick_euler takes it); interpolated from the sliding T_i, the end torque needed
+// where the string pulls the landing bit backwards lay beyond the capacity and the bit broke away
+// backwards for a step (1-step stick and slip phases at each stop with a static torque: issue 33).
 //
 // The propagation below (exact_modal_free, exact_modal_close) is the scalar path's (Integrator::
 // run_exact_lanes, one lane). The batched path (batched_integrator.hpp, ExactSteps in

@@ -621,8 +621,14 @@ class Integrator {
   /// run_bdf2: a bit at rest stays at rest while the torque that holds it there over the step,
   /// held constant (T_i = T_i+1 = (w + c0 T0 + Omega_i+1) / (c + c0)), is within the static capacity
   /// (the law's static torque times 1 + eta, plus the string friction); `hold` is then true. A moving
-  /// bit that would reverse (or land at rest) comes to rest when the capacity can hold the end torque
-  /// T_req = (w + Omega_i+1) / c. `guess` starts the Newton iteration.
+  /// bit that would reverse (or land at rest) comes to rest when the capacity can hold the torque that
+  /// stops it over the step, held constant as well (the same T_hold; or the friction opposes the
+  /// motion), and `hold` is true too: the bit stops within the step and its friction jumps there from
+  /// the sliding torque to the holding one, which a torque interpolated from the sliding T_i cannot
+  /// follow (it needed an end torque beyond the capacity, of the wrong sign, where the string pulled
+  /// the landing bit backwards, and broke the bit away backwards for a step: issue 33). As the
+  /// modified Euler's stick_euler holds the torque over the landing step. `guess` starts the Newton
+  /// iteration.
   void exact_bit(double w, double c, double c0, double T0, double om0, double om1, double v0, double wob,
                  double eta, double cv, double Tsf, double t1, double guess, double& x, double& T, double& fric,
                  bool& hold) const {
@@ -638,16 +644,16 @@ class Integrator {
       if (Tsf > 0.0) fric = string_share(T_hold, Ts, Tsf);
       return;
     }
-    const double T_req = (w + om1) / c, sf = sign(T_req);
     x = exact_newton(w, c, om1, v0, wob, eta, cv, Tsf, guess, t1, T);
     const double v1 = om1 + x, sv = sign(v0);
     const bool lands = v0 * v1 <= 0.0 || std::fabs(v1) <= bit_rest_tolerance(om1);
-    const bool stuck = cap > 0.0 && !at_rest && lands && (std::fabs(T_req) <= cap || sf == sv);
+    const bool stuck = cap > 0.0 && !at_rest && lands && (std::fabs(T_hold) <= cap || sign(T_hold) == sv);
     if (Tsf > 0.0) fric = Tsf * sign(v1);
     if (stuck) {
       x = -om1;
-      T = T_req;
-      fric = Tsf > 0.0 ? string_share(T_req, Ts, Tsf) : 0.0;
+      T = T_hold;
+      hold = true;
+      fric = Tsf > 0.0 ? string_share(T_hold, Ts, Tsf) : 0.0;
     }
   }
 
