@@ -286,7 +286,7 @@ HWY_INLINE void ExactStepsT(const ExactStepArgs& a) {
     if (any_sticky || any_friction) {
       // a landing bit comes to rest under the torque that stops it over the step, held constant too
       const V v1 = om1 + x;
-      const M lands = hn::Or(v0 * v1 <= zero, hn::Abs(v1) <= hn::Set(d, 1e-12) * (one + hn::Abs(om1)));
+      const M lands = hn::Or(v0 * v1 <= zero, hn::Abs(v1) <= hn::Set(d, 1e-9) * (one + hn::Abs(om1)));  // Integrator::landing_tolerance
       const M holds = hn::Or(hn::Abs(T_hold) <= cap, Sign(d, T_hold) == Sign(d, v0));
       const M stuck = hn::AndNot(hold, hn::AndNot(at_rest, hn::And(sticky, hn::And(lands, holds))));
       hold = hn::Or(hold, stuck);

@@ -646,7 +646,7 @@ class Integrator {
     }
     x = exact_newton(w, c, om1, v0, wob, eta, cv, Tsf, guess, t1, T);
     const double v1 = om1 + x, sv = sign(v0);
-    const bool lands = v0 * v1 <= 0.0 || std::fabs(v1) <= bit_rest_tolerance(om1);
+    const bool lands = v0 * v1 <= 0.0 || std::fabs(v1) <= landing_tolerance(om1);
     const bool stuck = cap > 0.0 && !at_rest && lands && (std::fabs(T_hold) <= cap || sign(T_hold) == sv);
     if (Tsf > 0.0) fric = Tsf * sign(v1);
     if (stuck) {
@@ -656,6 +656,12 @@ class Integrator {
       fric = Tsf > 0.0 ? string_share(T_hold, Ts, Tsf) : 0.0;
     }
   }
+
+  /// The bit speed at a step's end below which a moving bit of exact_bit has come to rest: the
+  /// solution of the bit's equation at the law's jump at v = 0 is known only to the solvers'
+  /// tolerance, 1e-12 (1 + |Omega| + |w|), and one found at 1.05e-11 rad/s (Omega 9 rad/s) with the
+  /// law's static torque, counted as moving, broke the bit away backwards on the next step (issue 33).
+  static double landing_tolerance(double om) { return 1e-9 * (1.0 + std::fabs(om)); }
 
   /// x + c T(Omega_i+1 + x, (Omega_i+1 + x - v0) / dt) = w for x (exact_bit), T receiving the torque:
   /// Newton from `guess`, stopping on a step below the tolerance with the torque linearized to it
