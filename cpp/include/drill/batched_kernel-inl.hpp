@@ -299,7 +299,8 @@ HWY_INLINE void ExactStepsT(const ExactStepArgs& a) {
     const V v1 = om1 + x;
     hn::StoreU(v1, d, a.v + r * N);
     hn::StoreU((v1 - v0) / dt, d, a.a + r * N);  // Eq. (A.1)
-    hn::StoreU(hn::IfThenElse(fric != zero, T - fric, T), d, a.T + r * N);
+    const V Tm = hn::Set(d, 0.5) * (T0e + T);  // the step's mean torque (exact_modal.hpp): T where held
+    hn::StoreU(hn::IfThenElse(fric != zero, Tm - fric, Tm), d, a.T + r * N);
     const M moving = dom != zero;
     const V wn = hn::AllFalse(d, moving) ? ExactUpdate<PerLane, false>(d, a.modes, a.coef, a.z, a.p, dom, moving, T0e, T)
                                          : ExactUpdate<PerLane, true>(d, a.modes, a.coef, a.z, a.p, dom, moving, T0e, T);

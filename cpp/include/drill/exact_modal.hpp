@@ -31,6 +31,11 @@
 // modified Euler's stick_euler takes it); interpolated from the sliding T_i, the end torque needed
 // where the string pulls the landing bit backwards lay beyond the capacity and the bit broke away
 // backwards for a step (1-step stick and slip phases at each stop with a static torque: issue 33).
+// The torque reported for a step is its mean over the step, (T_i + T_i+1) / 2, or the held torque:
+// reported as the end torque of a sliding step and the mean of a held one, the torque at the sample
+// where a bit lands jumped by half the last sliding step's rise when the landing crossed the sample
+// (1.06 N m under a 0.1 % change of the damping on a validation case of the loop, which stopped its
+// least squares short); the modified Euler's torque is likewise one value per step.
 //
 // The propagation below (exact_modal_free, exact_modal_close) is the scalar path's (Integrator::
 // run_exact_lanes, one lane). The batched path (batched_integrator.hpp, ExactSteps in

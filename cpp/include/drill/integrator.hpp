@@ -711,6 +711,7 @@ class Integrator {
     std::vector<double> zs(mN), ps(mN), w(N), v(N), T0(N), T1(N), om0(N), om1(N), dom(N), x(N), T(N), fr(N);
     std::vector<double> x1(N), x2(N);  // the relative bit speeds of the last two steps (Newton's start)
     std::vector<double> dT0(N);        // T_i+1 - T_i where the torque is held over the step (exact_bit)
+    std::vector<char> held(N, 0);      // whether it is
     std::vector<char> live(N, 1);
     auto drop = [&](std::size_t l, double t) {
       fail(l, t);
@@ -740,6 +741,7 @@ class Integrator {
       for (std::size_t l = 0; l < N; ++l) {
         const Inputs& r = *in[l];
         T1[l] = dT0[l] = 0.0;
+        held[l] = 0;
         if (!live[l]) continue;
         bool hold = false;
         try {
@@ -751,6 +753,7 @@ class Integrator {
         }
         if (!std::isfinite(x[l]) || !std::isfinite(T[l])) continue;
         T1[l] = T[l];
+        held[l] = hold;
         if (hold) dT0[l] = T[l] - T0[l];
       }
       close(zs.data(), ps.data(), T1.data(), dT0.data());
@@ -761,7 +764,9 @@ class Integrator {
           continue;
         }
         const double v1 = om1[l] + x[l], a = (v1 - v[l]) / dt;
-        emit(l, i + 1, t1, v1, a, fr[l] != 0.0 ? T[l] - fr[l] : T[l], om1[l]);
+        // the step's mean torque (exact_modal.hpp): T_i+1 where it is held over the step
+        const double Tm = held[l] ? T[l] : 0.5 * (T0[l] + T[l]);
+        emit(l, i + 1, t1, v1, a, fr[l] != 0.0 ? Tm - fr[l] : Tm, om1[l]);
         x2[l] = x1[l];
         x1[l] = x[l];
         v[l] = v1;
