@@ -1,6 +1,6 @@
 """The rig modelled whole on sample 175: calibrated on one half, predicting the other (issue 28's targets).
 
-    PYTHONPATH=python python3 benchmarks/rig_whole.py [--record FILE.mat] [--split 20]
+    PYTHONPATH=python python3 benchmarks/rig_whole.py [--record FILE.mat] [--split 20] [--keep DIR] [--rig-fix NAME=VALUE]
 
 Runs ``drillpy analyze --calibrate 0:SPLIT`` and ``--calibrate SPLIT:END`` (the rig modelled whole,
 ``rig_calibration.calibrate_rig``: motor, jack, platform, bar and disk, its inputs the motor command and the
@@ -33,9 +33,10 @@ KEYS = ("ss", "stick_fraction", "cycle_frequency_hz", "median_period_s", "torque
         "top_speed_std", "wob_std", "mean_top_speed")
 
 
-def analyze(record: str, t0: float, t1: float, out: Path) -> dict:
-    """``drillpy analyze --calibrate T0:T1`` into ``out``; its summary.json."""
+def analyze(record: str, t0: float, t1: float, out: Path, fix=()) -> dict:
+    """``drillpy analyze --calibrate T0:T1`` into ``out`` (``fix``: its ``--rig-fix`` options); its summary.json."""
     cmd = [sys.executable, "-m", "drillpy", "analyze", record, "--calibrate", f"{t0:g}:{t1:g}", "--out", str(out)]
+    cmd += [x for f in fix for x in ("--rig-fix", f)]
     import os
     # the in-tree build when there is one, else the installed drillpy
     env = {"PYTHONPATH": str(REPO / "python")} if any((REPO / "python" / "drillpy").glob("_core*")) else {}
@@ -52,10 +53,16 @@ def main() -> None:
     ap.add_argument("--record", default=str(SAMPLE175))
     ap.add_argument("--split", type=float, default=20.0)
     ap.add_argument("--end", type=float, default=40.0)
+    ap.add_argument("--rig-fix", action="append", default=[], metavar="NAME=VALUE",
+                    help="passed to drillpy analyze: hold a rig parameter instead of calibrating it")
+    ap.add_argument("--keep", default=None, help="write the two analyses into DIR/calT0 (kept) instead of a temporary directory")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
+        if a.keep:
+            tmp = a.keep
+            Path(tmp).mkdir(parents=True, exist_ok=True)
         for (c0, c1) in ((0.0, a.split), (a.split, a.end)):
-            S = analyze(a.record, c0, c1, Path(tmp) / f"cal{c0:g}")
+            S = analyze(a.record, c0, c1, Path(tmp) / f"cal{c0:g}", a.rig_fix)
             rg = S["rig"]
             cal = rg["calibration_metrics"]
             print(f"\n== calibrated on {c0:g}-{c1:g} s (mismatch {rg['calibration']['mismatch']:.3f}) ==")

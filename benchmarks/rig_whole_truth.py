@@ -1,6 +1,6 @@
 """The rig modelled whole on the independent whole-rig truth (benchmarks/whole_rig.py), not on its own model.
 
-    PYTHONPATH=python python3 benchmarks/rig_whole_truth.py [--seed 5] [--duration 24]
+    PYTHONPATH=python python3 benchmarks/rig_whole_truth.py [--seed 5] [--duration 24] [--rig-fix NAME=VALUE|free]
 
 Writes a record of the whole-rig truth (no jack steps, so no stall), calibrates ``rig_calibration.calibrate_rig``
 (default budget) on its first half with the law identified there, predicts the second half, and prints
@@ -24,6 +24,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seed", type=int, default=5)
     ap.add_argument("--duration", type=float, default=24.0)
+    ap.add_argument("--rig-fix", action="append", default=[], metavar="NAME=VALUE",
+                    help="hold a rig parameter at VALUE (or NAME=free: calibrate one held by default)")
     a = ap.parse_args()
     import whole_rig
     from drillpy.records import identification as ident
@@ -44,12 +46,23 @@ def main() -> None:
     d = ident.FitData.from_arrays(cal.bit_speed, sig.derivative(cal.bit_speed, cal.dt), cal.torque_on_bit,
                                   cyc.branch_labels(len(cal)), cyc.cycle_id(len(cal)), wob=cal.wob, every=10,
                                   cycles=cyc)
-    c = rig_calibration.calibrate_rig(cal, ident.fit_law("polynomial", d).law, thr)
+    fixed = dict(rig_calibration.DEFAULT_FIXED)
+    for it in a.rig_fix:
+        name, _, val = it.partition("=")
+        if val == "free":
+            fixed.pop(name, None)
+        else:
+            fixed[name] = float(val)
+    law = ident.fit_law("polynomial", d).law
+    c = rig_calibration.calibrate_rig(cal, law, thr, fixed=fixed)
     pred = rig_comparison.compare(hold, rigsim.simulate_model(c.model, hold), thr)
     print(f"calibrated on 0-{h:g} s: mismatch {c.comparison.mismatch:.3f}; predicting {h:g}-{a.duration:g} s:")
     for k in rigsim.MATCHED_RIG + ("cycle_frequency_hz",):
         m, s = pred.measured[k], pred.simulated[k]
         print(f"  {k:22s} {m:9.3f} {s:9.3f} {100 * rig_comparison.relative_error(s, m):+7.1f} %")
+    print(f"identified static torque 1.36 a0 = {1.36 * law['a0']:.3f} N m at the reference WOB "
+          f"{law['wob_ref_n']:.1f} N (the truth's: mu_static r_b W_ref = "
+          f"{whole_rig.DEFAULTS['mu_static'] * whole_rig.DEFAULTS['r_b'] * law['wob_ref_n']:.3f} N m before ageing)")
     print("parameters (truth: c_m 0.22 N m s/rad, J_m 0.013 kg m^2, damping 0.02, platform damping 0.05):")
     for k, v in c.model.parameters().items():
         print(f"  {k:26s} {v['value']:.4g}" + (f"  FLAG: {v['flag']}" if v["flag"] else ""))

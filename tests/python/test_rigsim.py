@@ -213,6 +213,10 @@ def test_whole_rig_calibration_on_an_independent_truth_stays_physical_and_predic
     law = _identified_law(cal, thr)
     c = rig_calibration.calibrate_rig(cal, law, thr)
     assert c.comparison.mismatch < 0.2
+    # by default the law's static torque is the identified one: the factor is held at 1, named and not flagged
+    st = c.model.parameters()["static_torque_factor"]
+    assert st["value"] == 1.0 and st["fixed"] and st["flag"] is None and st["ci95"] is None
+    assert c.model.engine_law == law
     for k, p in c.model.parameters().items():
         assert p["range"][0] <= p["value"] <= p["range"][1], k
     assert c.model.damping_ratio <= 0.1
@@ -280,3 +284,65 @@ def test_coupling_on_and_off_by_copy_and_in_place():
     assert k == pytest.approx(40.0) and off.to_dict() == base
     assert rigsim.remove_coupling(in_place) == pytest.approx(40.0) and in_place == base
     assert rigsim.without_coupling(base)[1] is None and rigsim.remove_coupling(base) is None
+
+
+def _sticking_law():
+    # Eq. (5.1) as identification ties it: static torque 1.36 a0 at rest, linear to the cubic's value a2 at 1 %
+    # of the reference speed, flat to 5 %, the cubic above
+    ref, a0, a4, a5 = 90.0, 2.1, 1.95, -3e-3
+    t5 = a4 + 0.05 * ref * a5
+    return {"type": "polynomial", "speed_unit": "rpm", "wob_ref_n": 500.0, "a0": a0, "a1": (t5 - a0) / (0.01 * ref),
+            "a2": t5, "a3": 0.0, "a4": a4, "a5": a5, "a6": 0.0, "a7": 0.0, "ref_speed": ref, "gain": 1.36}
+
+
+def test_static_torque_factor_raises_the_break_away_torque_and_leaves_the_slip_branch():
+    from drillpy.records import identification as ident
+    law = _sticking_law()
+    up = rigsim.with_static_torque_factor(law, 1.1)
+    assert law["a0"] == 2.1  # not modified in place
+    v = np.array([0.0, 0.01 * 90.0, 0.03 * 90.0, 0.5 * 90.0, 90.0, 150.0]) / RPM  # rad/s
+    t0 = ident.law_eval(law, v, np.zeros(v.size), np.full(v.size, 500.0))[0]
+    t1 = ident.law_eval(up, v, np.zeros(v.size), np.full(v.size, 500.0))[0]
+    assert t1[0] == pytest.approx(1.1 * t0[0]) == pytest.approx(1.1 * 1.36 * 2.1)  # the static torque, x 1.1
+    np.testing.assert_allclose(t1[1:], t0[1:], rtol=1e-12)  # from 1 % of the reference speed up: the same law
+    # a regularized law (a0 = 0) has no static torque to correct, nor does another family
+    assert rigsim.with_static_torque_factor({**law, "a0": 0.0}, 1.1) == {**law, "a0": 0.0}
+    tw = {"type": "tucker_wang", "c0": 1.0}
+    assert rigsim.with_static_torque_factor(tw, 1.1) == tw
+
+
+def test_rig_model_runs_the_corrected_static_torque_and_keeps_the_identified_law(window):
+    rec, thr = window
+    law = _sticking_law()
+    kw = dict(command_rad_s=19.0, jack_gain_n_rad=150.0, jack_relaxation_s=0.15, platform_damping=0.6,
+              gj_factor=1.0, bit_inertia_factor=1.05, coupling_stiffness_nm_rad=30.0)
+    m = rigsim.RigModel(law, 0.05, "rig", 0.2, 0.02, static_torque_factor=1.1, **kw)
+    assert m.law == law and m.config(19.0)["law"]["a0"] == pytest.approx(1.1 * 2.1)
+    back = rigsim.RigModel.from_dict(json.loads(json.dumps(jsonable(m.to_dict()))))
+    assert back.static_torque_factor == 1.1 and back.law["a0"] == pytest.approx(2.1)  # not scaled twice
+    assert back.config(19.0)["law"]["a0"] == pytest.approx(1.1 * 2.1)
+    assert rigsim.simulate_model(m, rec).provenance["config"]["law"]["a0"] == pytest.approx(1.1 * 2.1)
+    # on a model that sticks, the break-away torques the platform's load cell reads rise with the factor;
+    # through the 10 Hz filter they rise by less: the filter flattens the sharp peak
+    from drillpy.records import identification as ident
+    from drillpy.records import signals as sig
+    lw = _identified_law(rec, thr)
+    brk = {}
+    for f in (1.0, 1.1):
+        mf = rigsim.RigModel(lw, 0.05, "rig", 0.2, 0.02, static_torque_factor=f, **kw)
+        for filt in (False, True):
+            s = rigsim.simulate_model(mf, rec, filtered=filt)
+            k = s.time_s >= s.time_s[0] + 2.0
+            c = sig.segment_cycles(s.bit_speed[k], s.dt, thr)
+            b = ident.breakaway_torques(c, s.torque_on_bit[k], s.wob[k], lw["wob_ref_n"])
+            assert b.size > 10  # it sticks and slips
+            brk[f, filt] = float(np.mean(b))
+    assert 1.05 < brk[1.1, False] / brk[1.0, False] < 1.15
+    assert brk[1.1, True] / brk[1.0, True] < brk[1.1, False] / brk[1.0, False]
+    assert brk[1.0, True] < 1.36 * lw["a0"] and brk[1.0, False] < 1.36 * lw["a0"]  # below the static torque
+    with pytest.raises(ValueError, match="static_torque_factor"):
+        rigsim.RigModel(law, 0.05, "constant", static_torque_factor=1.1)
+    with pytest.raises(ValueError, match="outside its range"):
+        rig_calibration.calibrate_rig(rec, law, thr, fixed={"static_torque_factor": 1.5})
+    with pytest.raises(ValueError, match="not a rig parameter"):
+        rig_calibration.calibrate_rig(rec, law, thr, fixed={"static_torque": 1.1})

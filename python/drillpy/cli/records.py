@@ -34,6 +34,10 @@ def _add_analyze(sub) -> argparse.ArgumentParser:
     s.add_argument("--no-sim", action="store_true", help="skip the rig simulations (one record)")
     s.add_argument("--calibrate", metavar="T0:T1", help="fit and calibrate on this part [s] only and predict the rest "
                                                         "of the record (one record)")
+    s.add_argument("--rig-fix", metavar="NAME=VALUE", action="append", default=[],
+                   help="hold a parameter of the rig modelled whole at VALUE instead of calibrating it (repeatable; "
+                        "names: drillpy.records.rigsim.RIG_PARAMETERS, e.g. static_torque_factor=1.09; NAME=free "
+                        "calibrates a parameter held by default: static_torque_factor)")
     g = s.add_argument_group("acceptance criterion across samples (thesis section 5.3.3)")
     g.add_argument("--max-var-mse-regularized", type=float, default=47.93,
                    help="largest acceptable Var[MSE] (Eq. 5.2) of the regularized law Eq. (3.1)")
@@ -115,7 +119,8 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
         t0, t1 = items[0][2] or (a.t0, a.t1)
         cal = None if a.calibrate is None else parse_window(a.calibrate, "--calibrate")
         opt = AnalysisOptions(t0=t0, t1=t1, cycle_at_s=a.cycle_at, folds=5 if a.folds is None else a.folds,
-                              psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim, calibrate=cal)
+                              psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim, calibrate=cal,
+                              rig_fixed=_rig_fixed(a.rig_fix))
         s = analyze_record(items[0][1], a.out, opt, log=log, figure_units=a.figure_units)
         if a.json:
             keys = ("warnings", "cleaning", "cycles", "severity", "torque_statistics", "psd", "identification", "rig")
@@ -501,3 +506,25 @@ def _map_grids(text: str, name: str = "--map") -> tuple:
 #: subcommand -> function registering it (``drillpy.cli.build_parser`` orders them)
 SUBCOMMANDS = {"analyze": _add_analyze, "predict": _add_predict, "loop": _add_loop, "calibrate": _add_calibrate,
                "posterior-map": _add_posterior_map}
+
+
+def _rig_fixed(items) -> dict | None:
+    """``--rig-fix NAME=VALUE`` options over the calibration's defaults (``rig_calibration.DEFAULT_FIXED``;
+    ``NAME=free`` calibrates a parameter held by default); None without options (the defaults)."""
+    if not items:
+        return None
+    from drillpy.records.rig_calibration import DEFAULT_FIXED
+    out = dict(DEFAULT_FIXED)
+    for it in items:
+        name, sep, val = str(it).partition("=")
+        name = name.strip()
+        if sep and val.strip() == "free":
+            out.pop(name, None)
+            continue
+        try:
+            out[name] = float(val)
+        except ValueError:
+            sep = ""
+        if not sep:
+            raise SystemExit(f"drillpy: --rig-fix {it!r}: give NAME=VALUE or NAME=free, e.g. static_torque_factor=1.09")
+    return out

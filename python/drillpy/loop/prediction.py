@@ -191,7 +191,7 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
         effects["top_drive_dynamics"] = {"variant": "measured"}
     if model.drive == "rig" and model.jack_gain_n_rad is not None:
         effects["axial_jack"] = {"gain_n_rad": model.jack_gain_n_rad, "relaxation_s": model.jack_relaxation_s}
-    lm = loop.LoopModel(cfg, dict(model.law), op["top_speed_rad_s"], wob, effects)
+    lm = loop.LoopModel(cfg, dict(getattr(model, "engine_law", model.law)), op["top_speed_rad_s"], wob, effects)
     ev = loop.evaluate(lm, data, threads)
     return float(math.sqrt(np.mean(ev.e_h)))
 

@@ -69,6 +69,9 @@ class AnalysisOptions:
     realizations : int
         Realizations of the rig model's torque fluctuation (Eq. 4.1) behind the held-out pieces'
         predictive intervals (:func:`drillpy.records.rig_fluctuation.predictive`).
+    rig_fixed : dict, optional
+        Parameters of the rig modelled whole held at a value instead of calibrated
+        (``fixed`` of :func:`drillpy.records.rig_calibration.calibrate_rig`; None: its defaults).
     """
     t0: float | None = None
     t1: float | None = None
@@ -84,6 +87,7 @@ class AnalysisOptions:
     calibrate: tuple | None = None
     min_holdout_s: float = 2.0
     realizations: int = 20
+    rig_fixed: dict | None = None
 
 
 def _stats(x) -> dict:
@@ -394,7 +398,8 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
     sims, model = {}, None
     if opt.simulate and rec.top_speed is not None and rigsim.reliable_top_speed(rec).sum() >= 10:
         held = _held_out(full, rec, opt.min_holdout_s) if opt.calibrate is not None else []
-        S["rig"], sims, model = _rig_section(rec, thr, side, fits_by, opt.preset, log, held, horizon_error)
+        S["rig"], sims, model = _rig_section(rec, thr, side, fits_by, opt.preset, log, held, horizon_error,
+                                             opt.rig_fixed)
         model.torque_fluctuation = _torque_fluctuation(S, psd, sims, opt, log)
         S["rig"]["torque_fluctuation"] = model.torque_fluctuation
         for row, piece in zip(S["rig"]["held_out"], held):
@@ -494,7 +499,8 @@ def _torque_fluctuation(S: dict, psd: process.PsdFit, sims: dict, opt: AnalysisO
     return out
 
 
-def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log, held: list, horizon_error) -> tuple:
+def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log, held: list, horizon_error,
+                 fixed: dict | None = None) -> tuple:
     """The rig model: the rig modelled whole and self-contained (:func:`drillpy.records.rig_calibration.calibrate_rig`:
     motor, jack, platform, with the identified sticking law) as the predictive answer, the simpler
     drives (constant, motor, and the measured top speed as a diagnosis) calibrated beside it
@@ -539,15 +545,17 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log,
         extra = (f", c_m {m.motor_slope_nms_rad:.3g}, J_m {m.motor_inertia_kg_m2:.3g}" if drive == "motor" else "")
         note = " (diagnosis: fed the measured top speed, which carries the cycle)" if drive == "measured" else ""
         case(f"{law_c.name}, {drive} drive, zeta {m.damping_ratio:.3g}{extra}{note}", m)
-    cal = rig_calibration.calibrate_rig(rec, law_w.law, thr, preset=preset, log=log)
+    cal = rig_calibration.calibrate_rig(rec, law_w.law, thr, preset=preset, log=log, fixed=fixed)
     model = cal.model
     case(f"{law_w.name}, the rig modelled whole (motor, jack, platform), zeta {model.damping_ratio:.3g} "
          "(calibrated model)", model)
     out["simple_drives"] = simple.summary()["per_drive"]
     out["calibration"] = {"mismatch": cal.comparison.mismatch, "matched": list(rigsim.MATCHED_RIG),
+                          "fixed": cal.per_drive["rig"]["fixed"],
                           "per_drive": cal.per_drive}
     out["parameters"] = model.parameters()
-    out["recommended"] = {"law": model.law, "law_name": law_w.name, "damping_ratio": model.damping_ratio,
+    out["recommended"] = {"law": model.engine_law, "law_name": law_w.name, "damping_ratio": model.damping_ratio,
+                          "static_torque_factor": model.static_torque_factor,
                           "drive": model.drive, "predictive": True, "mismatch": cal.comparison.mismatch,
                           "rule": "the rig modelled whole (rig_calibration.calibrate_rig): every parameter inside its physical "
                                   "range, inputs the motor command and the jack's slow WOB trend only"}

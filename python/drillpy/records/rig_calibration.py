@@ -329,9 +329,18 @@ def _metric_noise(record: Record, stick_threshold: float, keys: tuple, blocks: i
     return np.maximum(np.nan_to_num(sd / mag, nan=0.05), 0.01)
 
 
+#: Rig parameters held by default (:func:`calibrate_rig`): the static-torque factor at 1, the law's static
+#: torque as identified. Calibrated, on sample 175 it is not determined by the metrics (its interval
+#: spans the range), the calibration ends at a higher mismatch and the cycle stays as marginal as at 1;
+#: on the independent whole-rig truth the search ends in a model that loses its cycle on the held-out
+#: half (docs/records.md, section 4, "The static torque").
+DEFAULT_FIXED = {"static_torque_factor": 1.0}
+
+
 @fitted_values()
 def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: str = "thesis-rig", screen: int = 64,
-                  starts: int = 4, evaluations: int = 200, seed: int = 175, log=None, threads: int = 0) -> Calibration:
+                  starts: int = 4, evaluations: int = 200, seed: int = 175, log=None, threads: int = 0,
+                  fixed: dict | None = None) -> Calibration:
     """Calibrate the rig modelled whole (the ``rig`` drive) on a cleaned calibration part.
 
     The parameters of :data:`RIG_PARAMETERS`, each inside its physical range (a logistic map of
@@ -373,6 +382,10 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
         Called with one progress line (str) per start.
     threads : int
         Starts run at once (0: one per core).
+    fixed : dict, optional
+        Parameters of :data:`RIG_PARAMETERS` held at a value inside their range instead of searched
+        (no interval; the others are searched exactly as without them); default
+        :data:`DEFAULT_FIXED` (the static torque as identified). ``{}`` calibrates every parameter.
 
     Returns
     -------
@@ -380,13 +393,20 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
         ``per_drive["rig"]`` holds the parameters, their intervals, the mismatch and the
         evaluations.
     """
-    names = list(RIG_PARAMETERS)
+    fixed = {k: float(v) for k, v in (DEFAULT_FIXED if fixed is None else fixed).items()}
+    for k, v in fixed.items():
+        if k not in RIG_PARAMETERS:
+            raise ValueError(f"fixed: {k!r} is not a rig parameter (use {', '.join(RIG_PARAMETERS)})")
+        if not RIG_PARAMETERS[k][0] <= v <= RIG_PARAMETERS[k][1]:
+            raise ValueError(f"fixed: {k} = {v!r}: outside its range [{RIG_PARAMETERS[k][0]:g}, "
+                             f"{RIG_PARAMETERS[k][1]:g}] {RIG_PARAMETERS[k][2]}")
+    names = [k for k in RIG_PARAMETERS if k not in fixed]
     lo = np.array([RIG_PARAMETERS[k][0] for k in names])
     hi = np.array([RIG_PARAMETERS[k][1] for k in names])
     op = operating_point(record)
 
     def params(x):
-        return dict(zip(names, lo + (hi - lo) / (1.0 + np.exp(-np.clip(x, -30, 30)))))
+        return {**dict(zip(names, lo + (hi - lo) / (1.0 + np.exp(-np.clip(x, -30, 30))))), **fixed}
 
     def internal(p):
         u = np.clip((np.array([p[k] for k in names]) - lo) / (hi - lo), 1e-6, 1 - 1e-6)
@@ -397,7 +417,8 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
                         preset=preset, command_rad_s=p["command_rad_s"], jack_gain_n_rad=p["jack_gain_n_rad"],
                         jack_relaxation_s=p["jack_relaxation_s"], platform_damping=p["platform_damping"],
                         gj_factor=p["gj_factor"], bit_inertia_factor=p["bit_inertia_factor"],
-                        coupling_stiffness_nm_rad=p["coupling_stiffness_nm_rad"])
+                        coupling_stiffness_nm_rad=p["coupling_stiffness_nm_rad"],
+                        static_torque_factor=p["static_torque_factor"])
 
     side = measured_side(record, stick_threshold, float(record.time_s[0]), "rig")
 
@@ -414,7 +435,8 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     first = {"damping_ratio": 0.04, "motor_slope_nms_rad": float(np.clip(cm0, lo[1], hi[1])),
              "motor_inertia_kg_m2": 0.015, "command_rad_s": float(np.clip(om0, lo[3], hi[3])),
              "jack_gain_n_rad": 150.0, "jack_relaxation_s": 0.2, "platform_damping": 0.7, "gj_factor": 1.05,
-             "bit_inertia_factor": 1.05, "coupling_stiffness_nm_rad": 30.0}
+             "bit_inertia_factor": 1.05, "coupling_stiffness_nm_rad": 30.0, "static_torque_factor": 1.08}
+    first = {k: v for k, v in first.items() if k in names}
     rng = np.random.default_rng(seed)
     scatter = [internal(first)] + [internal(first) + rng.normal(0.0, 0.7, len(names)) for _ in range(screen - 1)]
     workers = threads if threads > 0 else (os.cpu_count() or 1)
@@ -475,6 +497,7 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     model.intervals = intervals
     per = {"rig": {**{k: float(v) for k, v in p.items()},
                    "mismatch": cmp.mismatch, "evaluations": int(sum(r.nfev for r in results) + polish.nfev),
+                   "fixed": dict(fixed),
                    "intervals": intervals, "metric_noise": dict(zip(MATCHED_RIG, map(float, sigma)))}}
     model.calibration = {"window_s": [float(record.time_s[0]), float(record.time_s[-1])], "operating_point": op,
                          "command_rad_s": p["command_rad_s"], "mismatch": cmp.mismatch,
