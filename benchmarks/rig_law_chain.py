@@ -13,9 +13,12 @@ bit speeds and its slope between 2 and 12 rad/s (the falling branch in slip):
    and the pure delay of the torque that fits best;
 2. on the record: the same identification as measured and with the speed and the WOB through the
    platform at several damping ratios (the fit's RMSE says which the record prefers), and the pure
-   delay of the torque (and WOB) that fits best.
+   delay of the torque (and WOB) that fits best;
+3. a harder cycle: the preset rig under a constant top speed of 8.5 rad/s, damping ratio 0.05, a law
+   falling linearly by 0.06 N m per rad/s (static torque 3.1 N m, 2.6 N m at rest in slip), sticking
+   about a third of the time; its torque through the platform (damping 0.75) and the filter, as 1.
 
-About 15 s.
+About 20 s.
 """
 from __future__ import annotations
 
@@ -122,6 +125,30 @@ def main() -> None:
                                   rec.dt, thr, valid=ok)[1], L))
         print(f"  the torque's pure delay that fits best{' (the WOB delayed alike)' if both else ''}: {min(rows)[1]} ms "
               f"(RMSE " + ", ".join(f"{L} ms {e:.4f}" for e, L in rows) + ")")
+
+    # 3. a cycle that sticks a third of the time
+    from drillpy.model.simulation import simulate
+    a5 = -0.06 / 1.36 / (60 / (2 * np.pi))
+    law = {"type": "polynomial", "speed_unit": "rpm", "wob_ref_n": 500.0, "a0": 3.1 / 1.36, "a1": 0.0,
+           "a2": 2.6 / 1.36, "a3": 0.0, "a4": 2.6 / 1.36, "a5": a5, "a6": 0.0, "a7": 0.0, "ref_speed": 90.0,
+           "gain": 1.36}
+    cfg = rigsim.rig_config(law, 0.05, duration_s=14.0, top_speed=8.5)
+    cfg["simulation"]["dt_s"], cfg["simulation"]["output_stride"] = 5e-5, 20
+    r = simulate(cfg)
+    dt = float(r.t[1] - r.t[0])
+    W = np.full(r.t.size, 500.0)
+    th = 0.05 * 8.5
+    vf = sig.rig_lowpass(r.bit_speed, 1 / dt)
+    Tf = sig.rig_lowpass(sig.platform_response(r.torque_on_bit, 1 / dt, rigsim.PLATFORM_HZ, 0.75), 1 / dt)
+    header(f"3. a cycle that sticks a third of the time (stick fraction {np.mean(vf[r.t >= 2] <= th):.2f}, known law):")
+    line("the law (the truth)", law, 500.0)
+    for label, v, tq, pl in (("identified from the contact torque, raw speed", r.bit_speed, r.torque_on_bit, None),
+                             ("after the 10 Hz filter only", vf, sig.rig_lowpass(r.torque_on_bit, 1 / dt), None),
+                             ("after the chain, as measured", vf, Tf, None),
+                             ("after the chain, speed and WOB through P(0.75)", vf, Tf,
+                              (1 / dt, rigsim.PLATFORM_HZ, 0.75))):
+        law_i, rm, wr = identify(v, tq, W, dt, th, pl, start=2.0)
+        line(label, law_i, wr, rm)
 
 
 if __name__ == "__main__":

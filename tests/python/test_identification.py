@@ -173,7 +173,8 @@ def test_law_slope_through_the_platform_is_recovered_when_speed_and_wob_pass_the
     the WOB brought through the same platform (``FitData.from_arrays(platform=...)``, ``drillpy analyze
     --law-platform``) it is within 3 % of the truth. (Not a universal correction: where the cycle sticks a
     third of the time the 10 Hz filter's smoothing of the stick-slip transitions dominates and the
-    corrected branch comes out 20-35 % too steep, docs/records.md section 1.)"""
+    corrected branch comes out 15 % too steep and misshapen, ``benchmarks/rig_law_chain.py``,
+    docs/records.md section 1.)"""
     from drillpy.records import rigsim
     rec = sample175_cleaned()[0].select(0.0, 20.0)
     law = {"type": "polynomial", "speed_unit": "rpm", "wob_ref_n": 563.0, "a0": 2.09, "a1": -0.1789, "a2": 1.9297,
