@@ -1,7 +1,7 @@
 """How far the calibrated rig model sits from the edge of its stick-slip cycle: one parameter moved at a time.
 
     PYTHONPATH=python python3 benchmarks/rig_sensitivity.py MODEL.json [--record FILE.mat] [--t0 0 --t1 20]
-        [--set NAME=VALUE ...] [--only NAME,...]
+        [--set NAME=VALUE ...] [--only NAME,...] [--law-slope K]
 
 MODEL.json is ``drillpy analyze --calibrate T0:T1``'s model (the rig modelled whole). Each row runs the
 model over the record's window with one parameter moved (the others at their calibrated values) and
@@ -10,7 +10,10 @@ A cycle that vanishes (SS below 0.5, no stick phase) when a parameter moves by a
 value marks a model whose stick-slip is marginal where the record's is robust. About 10 s.
 
 ``--set NAME=VALUE`` moves a parameter of the model first (e.g. ``static_torque_factor=1.2``: is the cycle
-more robust with a higher static torque?); ``--only`` limits the rows to some parameters.
+more robust with a higher static torque?); ``--only`` limits the rows to some parameters. ``--law-slope K``
+scales the polynomial law's falling branch in slip by K about its reference speed (the cubic a4..a7 of
+Eq. 5.1, the tied a1, a2 following; static torque unchanged) before the rows: how much more velocity
+weakening would the cycle need to survive the inertia moves?
 """
 from __future__ import annotations
 
@@ -30,6 +33,23 @@ KEYS = ("ss", "stick_fraction", "cycle_frequency_hz", "median_period_s", "bit_sp
 MOVES = (0.8, 0.95, 1.05, 1.25)
 
 
+def steeper(law: dict, k: float) -> dict:
+    """The polynomial ``law`` with its slip branch f(u) = a4 + a5 u + a6 u^2 + a7 u^3 (u in the law's speed
+    unit) replaced by f(u_ref) + k (f(u) - f(u_ref)), u_ref its reference speed, the tied pieces a1, a2
+    (``identification._poly``: linear from the static torque at rest to the cubic at 5 % of u_ref, reached
+    at 1 %) recomputed."""
+    out, ref = dict(law), law["ref_speed"]
+
+    def f(u, c):
+        return c["a4"] + u * (c["a5"] + u * (c["a6"] + u * c["a7"]))
+    out["a4"] = f(ref, law) * (1 - k) + k * law["a4"]
+    for c in ("a5", "a6", "a7"):
+        out[c] = k * law[c]
+    t5 = f(0.05 * ref, out)
+    out["a2"], out["a1"] = t5, (t5 - law["a0"]) / (0.01 * ref)
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("model")
@@ -38,6 +58,8 @@ def main() -> None:
     ap.add_argument("--t1", type=float, default=20.0)
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="set a parameter of the model before moving the others (repeatable)")
+    ap.add_argument("--law-slope", type=float, default=None, metavar="K",
+                    help="scale the law's falling branch in slip by K about its reference speed first")
     ap.add_argument("--only", default=None, help="comma-separated parameters to move (default: all)")
     a = ap.parse_args()
     m0 = load_model(a.model)
@@ -46,6 +68,8 @@ def main() -> None:
         if name not in rigsim.RIG_PARAMETERS:
             raise SystemExit(f"--set {it!r}: {name!r} is not a rig parameter ({', '.join(rigsim.RIG_PARAMETERS)})")
         m0 = dataclasses.replace(m0, **{name: float(val)})
+    if a.law_slope is not None:
+        m0 = dataclasses.replace(m0, law=steeper(m0.law, a.law_slope))
     only = None if a.only is None else set(a.only.split(","))
     rec, _ = clean(read_record(a.record).select(a.t0, a.t1))
     thr = rigsim.stick_threshold(rec)

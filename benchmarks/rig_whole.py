@@ -1,6 +1,7 @@
 """The rig modelled whole on sample 175: calibrated on one half, predicting the other (issue 28's targets).
 
     PYTHONPATH=python python3 benchmarks/rig_whole.py [--record FILE.mat] [--split 20] [--keep DIR] [--rig-fix NAME=VALUE]
+        [--law-platform ZETA]
 
 Runs ``drillpy analyze --calibrate 0:SPLIT`` and ``--calibrate SPLIT:END`` (the rig modelled whole,
 ``rig_calibration.calibrate_rig``: motor, jack, platform, bar and disk, its inputs the motor command and the
@@ -33,15 +34,27 @@ KEYS = ("ss", "stick_fraction", "cycle_frequency_hz", "median_period_s", "torque
         "top_speed_std", "wob_std", "mean_top_speed")
 
 
-def analyze(record: str, t0: float, t1: float, out: Path, fix=()) -> dict:
-    """``drillpy analyze --calibrate T0:T1`` into ``out`` (``fix``: its ``--rig-fix`` options); its summary.json."""
+def analyze(record: str, t0: float, t1: float, out: Path, fix=(), extra=()) -> dict:
+    """``drillpy analyze --calibrate T0:T1`` into ``out`` (``fix``: its ``--rig-fix`` options, ``extra``: more
+    options); its summary.json."""
     cmd = [sys.executable, "-m", "drillpy", "analyze", record, "--calibrate", f"{t0:g}:{t1:g}", "--out", str(out)]
-    cmd += [x for f in fix for x in ("--rig-fix", f)]
+    cmd += [x for f in fix for x in ("--rig-fix", f)] + list(extra)
     import os
     # the in-tree build when there is one, else the installed drillpy
     env = {"PYTHONPATH": str(REPO / "python")} if any((REPO / "python" / "drillpy").glob("_core*")) else {}
     subprocess.run(cmd, check=True, env={**os.environ, **env}, stdout=subprocess.DEVNULL)
     return json.loads((out / "summary.json").read_text())
+
+
+#: Bit speeds [rad/s] at which the identified law is printed (its falling branch in slip).
+LAW_SPEEDS = (1.0, 2.0, 4.0, 8.0, 12.0, 18.0)
+
+
+def law_torques(law: dict) -> list:
+    """The law's torque [N m] at :data:`LAW_SPEEDS` and its reference WOB (the engine's evaluation)."""
+    sys.path.insert(0, str(REPO / "python"))
+    from drillpy.records.identification import law_eval
+    return list(law_eval(law, list(LAW_SPEEDS), 0.0, law["wob_ref_n"])[0])
 
 
 def rel(a: float, b: float) -> str:
@@ -55,6 +68,8 @@ def main() -> None:
     ap.add_argument("--end", type=float, default=40.0)
     ap.add_argument("--rig-fix", action="append", default=[], metavar="NAME=VALUE",
                     help="passed to drillpy analyze: hold a rig parameter instead of calibrating it")
+    ap.add_argument("--law-platform", type=float, default=None, metavar="ZETA",
+                    help="passed to drillpy analyze: identify the law with the speed and the WOB through the platform")
     ap.add_argument("--keep", default=None, help="write the two analyses into DIR/calT0 (kept) instead of a temporary directory")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
@@ -62,10 +77,15 @@ def main() -> None:
             tmp = a.keep
             Path(tmp).mkdir(parents=True, exist_ok=True)
         for (c0, c1) in ((0.0, a.split), (a.split, a.end)):
-            S = analyze(a.record, c0, c1, Path(tmp) / f"cal{c0:g}", a.rig_fix)
+            extra = [] if a.law_platform is None else ["--law-platform", f"{a.law_platform:g}"]
+            S = analyze(a.record, c0, c1, Path(tmp) / f"cal{c0:g}", a.rig_fix, extra)
             rg = S["rig"]
             cal = rg["calibration_metrics"]
             print(f"\n== calibrated on {c0:g}-{c1:g} s (mismatch {rg['calibration']['mismatch']:.3f}) ==")
+            law = rg["recommended"]["law"]
+            print(f"  law {rg['recommended']['law_name']} at its reference WOB {law['wob_ref_n']:.1f} N, T [N m] at "
+                  + ", ".join(f"{v:g}" for v in LAW_SPEEDS) + " rad/s: "
+                  + " ".join(f"{x:.3f}" for x in law_torques(law)))
             for h in rg["held_out"]:
                 if "skipped" in h:
                     print(f"  {h['window_s']}: not predicted: {h['skipped']}")

@@ -1,6 +1,7 @@
 """The rig modelled whole on the independent whole-rig truth (benchmarks/whole_rig.py), not on its own model.
 
     PYTHONPATH=python python3 benchmarks/rig_whole_truth.py [--seed 5] [--duration 24] [--rig-fix NAME=VALUE|free]
+        [--law-platform ZETA]
 
 Writes a record of the whole-rig truth (no jack steps, so no stall), calibrates ``rig_calibration.calibrate_rig``
 (default budget) on its first half with the law identified there, predicts the second half, and prints
@@ -26,7 +27,10 @@ def main() -> None:
     ap.add_argument("--duration", type=float, default=24.0)
     ap.add_argument("--rig-fix", action="append", default=[], metavar="NAME=VALUE",
                     help="hold a rig parameter at VALUE (or NAME=free: calibrate one held by default)")
+    ap.add_argument("--law-platform", type=float, default=None, metavar="ZETA",
+                    help="identify the law with the speed and the WOB through the 20 Hz platform of this damping")
     a = ap.parse_args()
+    import numpy as np
     import whole_rig
     from drillpy.records import identification as ident
     from drillpy.records import rigsim
@@ -45,7 +49,7 @@ def main() -> None:
     cyc = sig.segment_cycles(cal.bit_speed, cal.dt, thr, valid=cal.valid())
     d = ident.FitData.from_arrays(cal.bit_speed, sig.derivative(cal.bit_speed, cal.dt), cal.torque_on_bit,
                                   cyc.branch_labels(len(cal)), cyc.cycle_id(len(cal)), wob=cal.wob, every=10,
-                                  cycles=cyc)
+                                  cycles=cyc, platform=None if a.law_platform is None else (1 / cal.dt, 20.0, a.law_platform))
     fixed = dict(rig_calibration.DEFAULT_FIXED)
     for it in a.rig_fix:
         name, _, val = it.partition("=")
@@ -54,6 +58,13 @@ def main() -> None:
         else:
             fixed[name] = float(val)
     law = ident.fit_law("polynomial", d).law
+    speeds = np.array([1.0, 2.0, 4.0, 8.0, 12.0, 18.0])
+    p = whole_rig.DEFAULTS
+    truth = [law["wob_ref_n"] * p["r_b"] * whole_rig.mu_kinetic(v, p) for v in speeds]
+    print("law at the reference WOB %.1f N, T [N m] at %s rad/s: identified %s, the truth's kinetic %s" % (
+        law["wob_ref_n"], " ".join(f"{v:g}" for v in speeds),
+        " ".join(f"{x:.3f}" for x in ident.law_eval(law, speeds, 0.0, law["wob_ref_n"])[0]),
+        " ".join(f"{x:.3f}" for x in truth)))
     c = rig_calibration.calibrate_rig(cal, law, thr, fixed=fixed)
     pred = rig_comparison.compare(hold, rigsim.simulate_model(c.model, hold), thr)
     print(f"calibrated on 0-{h:g} s: mismatch {c.comparison.mismatch:.3f}; predicting {h:g}-{a.duration:g} s:")

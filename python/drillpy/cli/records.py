@@ -38,6 +38,9 @@ def _add_analyze(sub) -> argparse.ArgumentParser:
                    help="hold a parameter of the rig modelled whole at VALUE instead of calibrating it (repeatable; "
                         "names: drillpy.records.rigsim.RIG_PARAMETERS, e.g. static_torque_factor=1.09; NAME=free "
                         "calibrates a parameter held by default: static_torque_factor)")
+    s.add_argument("--law-platform", type=float, metavar="ZETA",
+                   help="identify the laws with the bit speed and the WOB brought through the torque-on-bit platform "
+                        "(20 Hz, damping ratio ZETA) the measured torque went through (one record; default: as measured)")
     g = s.add_argument_group("acceptance criterion across samples (thesis section 5.3.3)")
     g.add_argument("--max-var-mse-regularized", type=float, default=47.93,
                    help="largest acceptable Var[MSE] (Eq. 5.2) of the regularized law Eq. (3.1)")
@@ -120,7 +123,7 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
         cal = None if a.calibrate is None else parse_window(a.calibrate, "--calibrate")
         opt = AnalysisOptions(t0=t0, t1=t1, cycle_at_s=a.cycle_at, folds=5 if a.folds is None else a.folds,
                               psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim, calibrate=cal,
-                              rig_fixed=_rig_fixed(a.rig_fix))
+                              rig_fixed=_rig_fixed(a.rig_fix), law_platform_damping=a.law_platform)
         s = analyze_record(items[0][1], a.out, opt, log=log, figure_units=a.figure_units)
         if a.json:
             keys = ("warnings", "cleaning", "cycles", "severity", "torque_statistics", "psd", "identification", "rig")
@@ -148,6 +151,8 @@ def _check_analyze_options(a: argparse.Namespace) -> None:
     if a.folds is not None:
         validate.integer("--folds", a.folds, 0)
     validate.positive("--psd-fmax", a.psd_fmax, "Hz")
+    if a.law_platform is not None:
+        validate.positive("--law-platform", a.law_platform)
     for name in ("max_var_mse_regularized", "max_var_mse_non_regularized", "cv_reference", "concrete_variation"):
         validate.non_negative("--" + name.replace("_", "-"), getattr(a, name))
 

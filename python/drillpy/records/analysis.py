@@ -72,6 +72,11 @@ class AnalysisOptions:
     rig_fixed : dict, optional
         Parameters of the rig modelled whole held at a value instead of calibrated
         (``fixed`` of :func:`drillpy.records.rig_calibration.calibrate_rig`; None: its defaults).
+    law_platform_damping : float, optional
+        Identify the laws with the bit speed, its acceleration and the WOB brought through the
+        torque-on-bit platform (:data:`drillpy.records.rigsim.PLATFORM_HZ`, this damping ratio) that
+        the measured torque went through (:func:`drillpy.records.identification.through_platform`);
+        None (default): against the speed and the WOB as measured (docs/records.md section 1).
     """
     t0: float | None = None
     t1: float | None = None
@@ -88,6 +93,7 @@ class AnalysisOptions:
     min_holdout_s: float = 2.0
     realizations: int = 20
     rig_fixed: dict | None = None
+    law_platform_damping: float | None = None
 
 
 def _stats(x) -> dict:
@@ -374,10 +380,19 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
     if rec.wob is not None and rec.valid("wob")[ok].all():
         variants["measured_wob"] = True
     S["identification"] = {"fit_every": every, "note": ident.METHOD_NOTE}
+    chain = None
+    if opt.law_platform_damping is not None:
+        chain = (rec.sample_rate_hz, rigsim.PLATFORM_HZ, float(opt.law_platform_damping))
+        S["identification"]["law_chain"] = {
+            "platform_hz": chain[1], "platform_damping": chain[2],
+            "rule": "the bit speed, its acceleration and the WOB brought through the torque-on-bit platform the "
+                    "measured torque went through, so that the law is fitted on both sides after the same chain"}
+        log(f"identification: speed and WOB brought through the torque's platform ({chain[1]:g} Hz, damping "
+            f"{chain[2]:g}) before the fits")
     fits_by = {}
     for key, use_wob in variants.items():
         data = ident.FitData.from_arrays(v, acc, tq, lab, cid, wob=rec.wob, use_wob=use_wob, every=every,
-                                         cycles=cyc)
+                                         cycles=cyc, platform=chain)
         fits = ident.fit_laws(data, opt.laws, mc=mc, folds=opt.folds, stick_threshold=thr)
         cmp = ident.compare_laws(fits)
         fits_by[key] = fits

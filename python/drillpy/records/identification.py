@@ -53,7 +53,7 @@ from scipy import optimize, stats
 
 from drillpy import _core
 from drillpy.records.io import RPM
-from drillpy.records.signals import MeanCycle, var_mse
+from drillpy.records.signals import MeanCycle, platform_response, var_mse
 
 METHOD_NOTE = (
     "Least squares through the engine's law evaluation on the slip samples of valid cycles. alpha0 (3.1) "
@@ -167,7 +167,8 @@ class FitData:
 
     @classmethod
     def from_arrays(cls, speed, accel, torque, labels, cycle_id, wob=None, use_wob: bool = False,
-                    wob_ref: float | None = None, every: int = 1, cycles=None) -> "FitData":
+                    wob_ref: float | None = None, every: int = 1, cycles=None,
+                    platform: tuple | None = None) -> "FitData":
         """Slip samples (``labels != 0``) of valid cycles (``cycle_id >= 0``), every ``every``-th.
 
         Parameters
@@ -199,6 +200,12 @@ class FitData:
         cycles : Cycles, optional
             The :class:`drillpy.records.signals.Cycles` the labels came from; their stick phases
             give the break-away torques (static torque of Eq. 5.1), kept when there are at least 2.
+        platform : (float, float, float), optional
+            ``(fs_hz, natural_hz, damping)``: bring the speed, the acceleration and the WOB through
+            the torque-on-bit platform (:func:`through_platform`) before they are compared with the
+            torque, which passed through it on its way to the load cell (the law is then fitted on
+            the two sides after the same chain; the break-away torques are unchanged). None
+            (default): the speed and the WOB as measured.
 
         Returns
         -------
@@ -213,6 +220,14 @@ class FitData:
         if int(every) != every or every < 1:
             raise ValueError(f"every = {every!r}: must be a positive integer")
         m = (np.asarray(labels) != 0) & (np.asarray(cycle_id) >= 0)
+        wob_raw = wob
+        if platform is not None:
+            # the platform's overshoot takes the filtered speed below zero where a slip ends in a stick: the
+            # bit does not turn backwards there, and the law (odd in the speed) would flip its sign
+            sp = through_platform(speed, *platform)
+            speed = np.where(np.asarray(speed, float) >= 0, np.maximum(sp, 0.0), sp)
+            accel = through_platform(accel, *platform)
+            wob = None if wob is None else through_platform(wob, *platform)
         sub = np.zeros(m.size, bool)
         sub[::int(every)] = True
         m &= sub
@@ -225,10 +240,49 @@ class FitData:
         w = w_all if (use_wob and w_all is not None) else np.full(v.size, ref)
         brk = None
         if cycles is not None:
-            brk = breakaway_torques(cycles, torque, wob if use_wob else None, ref)
+            brk = breakaway_torques(cycles, torque, wob_raw if use_wob else None, ref)
             brk = brk if brk.size >= 2 else None
         return cls(v, np.asarray(accel, float)[m], np.asarray(torque, float)[m], w,
                    np.asarray(cycle_id)[m], ref, float(np.mean(v)), brk)
+
+
+def through_platform(x, fs_hz: float, natural_hz: float, damping: float) -> np.ndarray:
+    """A measured channel brought through the torque-on-bit platform the torque went through.
+
+    The rig's torque reaches the acquisition through the platform's second-order mode and then the
+    10 Hz filter; the encoders and the WOB through the filter only
+    (:func:`drillpy.records.signals.platform_response`, the rig model's record chain). Fitting the
+    measured torque against the measured speed then compares a torque delayed (about
+    2 zeta / w_n, 12 ms at 20 Hz and zeta 0.75) and smoothed by the platform with a speed that was
+    not, which flattens the law's falling branch. Passing the speed (and the WOB, which scales the
+    law) through the same platform puts both sides of the fit behind the same chain; for a law
+    linear in the speed over the slip range the two orders of law and filter agree.
+    :meth:`FitData.from_arrays` holds the filtered speed at zero or above where the measured one is
+    (the platform's overshoot at the end of a slip is no backward rotation).
+
+    Non-finite samples (excluded stretches) are bridged linearly before filtering so that they do
+    not ring the filter; they stay excluded from the fit by their labels.
+
+    Parameters
+    ----------
+    x : array_like
+        A uniformly sampled channel (any unit).
+    fs_hz, natural_hz, damping : float
+        Sampling rate [Hz], the platform's natural frequency [Hz] and damping ratio [-].
+
+    Returns
+    -------
+    ndarray
+        The channel as the platform's load cell would read it, same length.
+    """
+    x = np.asarray(x, float)
+    ok = np.isfinite(x)
+    if not ok.any():
+        return x.copy()
+    if not ok.all():
+        i = np.arange(x.size)
+        x = np.interp(i, i[ok], x[ok])
+    return platform_response(x, fs_hz, natural_hz, damping)
 
 
 def breakaway_torques(cycles, torque, wob=None, wob_ref: float = 1.0, *, min_stick_s: float = 0.01,

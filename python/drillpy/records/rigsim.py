@@ -428,6 +428,9 @@ class RigModel:
         The stochastic torque of Eq. (4.1) identified on the calibration window
         (:func:`drillpy.records.rig_fluctuation.identify`); None: none. A simulation is deterministic
         unless it is given a realization (``eta`` of :func:`simulate_model`).
+    static_torque_factor : float
+        Factor on the law's static torque 1.36 a0 (``rig`` drive; 1 for the others, and by default:
+        :data:`RIG_PARAMETERS`, :attr:`engine_law`).
     """
     law: dict
     damping_ratio: float
