@@ -32,7 +32,7 @@ from drillpy.records import identification as ident
 from drillpy.records import rigsim
 from drillpy.records import signals as sig
 from drillpy.records.cleaning import clean
-from drillpy.records.io import Record, read_record
+from drillpy.records.io import read_record
 
 SAMPLE175 = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
 SPEEDS = np.array([1.0, 2.0, 4.0, 8.0, 12.0, 18.0])

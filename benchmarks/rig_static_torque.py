@@ -55,7 +55,10 @@ def main() -> None:
     res = rigsim._run(m0, rec, m0.command_rad_s, op["wob_n"])
     fs = 1.0 / float(np.median(np.diff(res.t)))
     keep = res.t >= 2.0
-    lp = (lambda x: sig.rig_lowpass(x, fs)[keep])
+
+    def lp(x):
+        return sig.rig_lowpass(x, fs)[keep]
+
     read = sig.platform_response(res.torque_on_bit, fs, rigsim.PLATFORM_HZ, m0.platform_damping)
     raw = sig.segment_cycles(res.bit_speed[keep], 1 / fs, thr)
     fil = sig.segment_cycles(lp(res.bit_speed), 1 / fs, thr)
