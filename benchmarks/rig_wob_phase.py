@@ -1,0 +1,70 @@
+"""The WOB's response to the stick-slip cycle, record against rig model (issue 28): at the cycle
+frequency, the phase and the gain of the WOB relative to the bit speed, and the mean of
+(W - mean W) x (v - mean v), on a record window and on the calibrated rig model's simulation of it.
+
+    PYTHONPATH=python python3 benchmarks/rig_wob_phase.py DIR/model.json [--t0 0 --t1 20]
+
+DIR from ``drillpy analyze ../shared/data/testrig/sample175_0-40s.mat --calibrate 0:20 --out DIR``.
+The law scales with the WOB (section 3.3), so a WOB that is low while the bit slips fast lowers the
+torque in slip: a velocity weakening of its own, which feeds the cycle. Whether the model's jack
+(docs/records.md, section 3) gives the record's phase and gain says whether that feed is modelled.
+Both channels of each side pass the same chain (the record's: the rig's 10 Hz filter; the model's:
+none), so their relative phase is comparable. The first 2 s are left out (the model's start).
+"""
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+from scipy import signal as sps
+
+from drillpy.loop.prediction import load_model
+from drillpy.records import rigsim
+from drillpy.records.cleaning import clean
+from drillpy.records.io import read_record
+
+SAMPLE175 = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
+
+
+def response(t: np.ndarray, v: np.ndarray, w: np.ndarray) -> dict:
+    """Cycle frequency [Hz] (the bit speed's Welch peak within 1-6 Hz, 8 s segments), the WOB's phase
+    relative to the bit speed there [deg] (positive: the WOB leads), its gain [N s/rad], their
+    coherence and the mean of the two channels' product about their means [N rad/s]."""
+    fs = 1.0 / float(np.median(np.diff(t)))
+    keep = t >= t[0] + 2.0
+    v, w = v[keep] - v[keep].mean(), w[keep] - w[keep].mean()
+    n = int(8 * fs)
+    f, pvv = sps.welch(v, fs, nperseg=n)
+    _, pww = sps.welch(w, fs, nperseg=n)
+    _, pvw = sps.csd(v, w, fs, nperseg=n)
+    band = np.flatnonzero((f > 1.0) & (f < 6.0))
+    k = band[np.argmax(pvv[band])]
+    return {"f0": float(f[k]), "phase": float(np.degrees(np.angle(np.conj(pvw[k])))),
+            "gain": float(np.sqrt(pww[k] / pvv[k])), "coherence": float(abs(pvw[k]) ** 2 / (pvv[k] * pww[k])),
+            "product": float(np.mean(w * v))}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("model")
+    ap.add_argument("--record", default=str(SAMPLE175))
+    ap.add_argument("--t0", type=float, default=0.0)
+    ap.add_argument("--t1", type=float, default=20.0)
+    a = ap.parse_args()
+    m = load_model(a.model)
+    rec, _ = clean(read_record(a.record).select(a.t0, a.t1))
+    ok = rec.valid("bit_speed") & rec.valid("wob")
+    t = rec.time_s
+    v = np.interp(t, t[ok], rec.bit_speed[ok])  # excluded samples interpolated over, for the spectra
+    w = np.interp(t, t[ok], rec.wob[ok])
+    res = rigsim._run(m, rec, m.command_rad_s, rigsim.operating_point(rec)["wob_n"])
+    print(f"{a.t0:g}-{a.t1:g} s; jack gain {m.jack_gain_n_rad:.1f} N/rad, relaxation {m.jack_relaxation_s:.3f} s")
+    for label, r in (("record", response(t, v, w)), ("model", response(res.t, res.bit_speed, res.wob))):
+        print(f"{label:>6}: cycle {r['f0']:.3f} Hz; WOB against bit speed: phase {r['phase']:+.0f} deg, gain "
+              f"{r['gain']:.1f} N s/rad, coherence {r['coherence']:.2f}; mean (W - W_mean)(v - v_mean) "
+              f"{r['product']:+.1f} N rad/s")
+
+
+if __name__ == "__main__":
+    main()
