@@ -246,7 +246,13 @@ def test_analyze_options_are_checked_before_work(tmp_path, capsys):
     for args, needle in ((["--folds", "-2"], "--folds = -2: must be an integer >= 0"),
                          (["--psd-fmax", "0"], "--psd-fmax = 0.0: must be a positive number [Hz]"),
                          (["--calibrate", "1:0"], "--calibrate = '1:0': needs finite T0 < T1 [s]"),
-                         (["--calibrate", "0:x"], "--calibrate = '0:x': use T0:T1 [s]")):
+                         (["--calibrate", "0:x"], "--calibrate = '0:x': use T0:T1 [s]"),
+                         (["--rig-fix", "bogus=1"], "--rig-fix = 'bogus=1': 'bogus' is not a parameter of the rig model"),
+                         (["--rig-fix", "static_torque_factor=5"],
+                          "--rig-fix = 'static_torque_factor=5': static_torque_factor must be a number within its "
+                          "physical range [1, 1.2]"),
+                         (["--rig-fix", "gj_factor=nan"], "gj_factor must be a number within its physical range"),
+                         (["--rig-fix", "gj_factor"], "--rig-fix = 'gj_factor': give NAME=VALUE or NAME=free")):
         assert main(["analyze", str(p), "--out", str(tmp_path / "out"), "--no-progress", *args]) == 2
         assert needle in _one_error_line(capsys)
         assert not (tmp_path / "out").exists()

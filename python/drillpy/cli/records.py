@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 from pathlib import Path
 
 from drillpy import validate
@@ -515,21 +516,32 @@ SUBCOMMANDS = {"analyze": _add_analyze, "predict": _add_predict, "loop": _add_lo
 
 def _rig_fixed(items) -> dict | None:
     """``--rig-fix NAME=VALUE`` options over the calibration's defaults (``rig_calibration.DEFAULT_FIXED``;
-    ``NAME=free`` calibrates a parameter held by default); None without options (the defaults)."""
+    ``NAME=free`` calibrates a parameter held by default); None without options (the defaults). Every
+    option is checked before the analysis starts: the name among the rig's parameters, the value
+    inside its physical range (``rigsim.RIG_PARAMETERS``)."""
     if not items:
         return None
     from drillpy.records.rig_calibration import DEFAULT_FIXED
+    from drillpy.records.rigsim import RIG_PARAMETERS
     out = dict(DEFAULT_FIXED)
     for it in items:
         name, sep, val = str(it).partition("=")
-        name = name.strip()
-        if sep and val.strip() == "free":
+        name, val = name.strip(), val.strip()
+        if not sep or not val:
+            raise ValueError(f"--rig-fix = {it!r}: give NAME=VALUE or NAME=free, e.g. static_torque_factor=1.09")
+        if name not in RIG_PARAMETERS:
+            raise ValueError(f"--rig-fix = {it!r}: {name!r} is not a parameter of the rig model "
+                             f"(one of {', '.join(RIG_PARAMETERS)})")
+        if val == "free":
             out.pop(name, None)
             continue
+        lo, hi, unit = RIG_PARAMETERS[name][:3]
         try:
-            out[name] = float(val)
+            x = float(val)
         except ValueError:
-            sep = ""
-        if not sep:
-            raise SystemExit(f"drillpy: --rig-fix {it!r}: give NAME=VALUE or NAME=free, e.g. static_torque_factor=1.09")
+            x = math.nan
+        if not lo <= x <= hi:
+            raise ValueError(f"--rig-fix = {it!r}: {name} must be a number within its physical range "
+                             f"[{lo:g}, {hi:g}]{'' if unit == '-' else ' ' + unit}")
+        out[name] = x
     return out
