@@ -1,6 +1,7 @@
 """Is a coarser time step good enough for the calibration's rig simulations (issue 35)?
 
     PYTHONPATH=python python3 benchmarks/calibration_timestep.py [--draws 300] [--steps 1e-4,2e-4,2.5e-4,5e-4]
+    PYTHONPATH=python python3 benchmarks/calibration_timestep.py --steps 2.5e-4,5e-4@exact_modal,1e-3@exact_modal
     PYTHONPATH=python python3 benchmarks/calibration_timestep.py --profile 40
 
 ``--profile N`` instead runs N prior draws at the calibration's step under ``cProfile`` and prints
@@ -19,7 +20,9 @@ the record's own statistics (the draws the ABC can accept: its first tolerance o
 about 23). A step is good enough when its distances are as small as those of the step it replaces
 (both are measured against the same reference). The prior's tail holds runs that stall for good
 (the motor at its 8 N m limit: stick fraction 1, far from the record) and runs at the edge of a
-stall, where any change of step can tip the run.
+stall, where any change of step can tip the run. A step written ``DT@exact_modal`` runs the exact
+modal scheme (docs/numerics.md) at DT instead of the modified Euler; the reference is always the
+modified Euler at ``--reference``.
 """
 from __future__ import annotations
 
@@ -60,8 +63,13 @@ def main() -> int:
     base = load_config(preset="thesis-rig")["law"]
     if a.profile:
         return _profile(RigSimulator(rec, thr, spec, base, threads=1), a.profile, a.seed)
-    steps = [a.reference] + [float(s) for s in a.steps.split(",")]
-    sims = {dt: RigSimulator(rec, thr, spec, base, threads=1, dt_s=dt) for dt in steps}
+    steps = [a.reference] + [s.strip() for s in a.steps.split(",")]
+
+    def simulator(step):
+        dt, _, scheme = str(step).partition("@")
+        return RigSimulator(rec, thr, spec, base, threads=1, dt_s=float(dt), scheme=scheme or "modified_euler")
+
+    sims = {dt: simulator(dt) for dt in steps}
     rng = np.random.default_rng(a.seed)
     fams = list(spec.families)
     dist = {dt: [] for dt in steps[1:]}
@@ -98,7 +106,7 @@ def main() -> int:
             if ok.size == 0:
                 continue
             tail = f"{NAMES[k]} ({worst[dt][k]:.2f})" if label == "near" else ""
-            print(f"| {dt:g} | {1e3 * cost[dt] / a.draws:.1f} | {label} ({ok.size}) | {np.median(ok):.3f} | "
+            print(f"| {dt} | {1e3 * cost[dt] / a.draws:.1f} | {label} ({ok.size}) | {np.median(ok):.3f} | "
                   f"{np.percentile(ok, 90):.2f} | {ok.max():.2f} | {np.mean(ok <= 0.1):.2f} | {np.mean(ok <= 1.0):.2f} | "
                   f"{int((sel & ~np.isfinite(d)).sum())} | {tail} |")
     return 0

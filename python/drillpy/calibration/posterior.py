@@ -97,16 +97,20 @@ class RigSimulator:
         The engine's time step [s] (:data:`SIM_DT_S`); the output stays on the record's grid.
     sampler : Sampler, optional
         Where the batches run (:mod:`drillpy.calibration.sampler`; default ``threads`` threads here).
+    scheme : str
+        The engine's time integration (``simulation.scheme``: ``"modified_euler"``, the thesis's,
+        by default; ``"exact_modal"``, docs/numerics.md, for a coarser step).
     """
 
     def __init__(self, record: Record, stick_threshold: float, spec: PriorSpec, base_law: dict, threads: int = 0,
-                 dt_s: float = SIM_DT_S, sampler: Sampler | None = None):
+                 dt_s: float = SIM_DT_S, sampler: Sampler | None = None, scheme: str = "modified_euler"):
         ratio = record.dt / dt_s if isinstance(dt_s, (int, float)) and math.isfinite(dt_s) and dt_s > 0 else 0.0
         if ratio < 1 - 1e-6 or abs(ratio - round(ratio)) > 1e-6 * ratio:
             raise ValueError(f"dt_s = {dt_s!r}: a time step that divides the record's sampling interval "
                              f"{record.dt:g} s (the statistics are taken on its grid)")
         self.record, self.thr, self.spec, self.base_law = record, stick_threshold, spec, base_law
         self.dt_s = float(dt_s)
+        self.scheme = str(scheme)
         self.families = list(spec.families)
         self.names = tuple(spec.statistics)
         self.sampler = sampler if sampler is not None else Sampler(threads)
@@ -164,7 +168,8 @@ class RigSimulator:
         try:
             model = rig_model(self.base_law, family, values, self.spec.fixed)
             cfg = Configuration.of(model.config(model.command_rad_s, wob, duration_s=duration)).replace(
-                {"simulation.dt_s": self.dt_s, "simulation.output_stride": max(1, int(round(rec_dt / self.dt_s)))})
+                {"simulation.dt_s": self.dt_s, "simulation.output_stride": max(1, int(round(rec_dt / self.dt_s))),
+                 "simulation.scheme": self.scheme})
             res = simulate(cfg.engine(), model.command_rad_s, wob_series=trend, series_dt=rec_dt)
             n = min(res.t.size, len(rec))
             fs = 1.0 / float(np.median(np.diff(res.t)))
