@@ -217,3 +217,35 @@ def test_a_law_level_effect_is_fitted_through_its_hooks_not_its_name(monkeypatch
     assert b.effects[twin.name]["gain"] == a.effects["wob_coupling"]["gain"]
     assert b.law == a.law and b.n_law == a.n_law
     assert a.effects["wob_coupling"]["gain"] == pytest.approx(0.5, abs=0.1)
+
+
+def test_a_stalled_least_squares_run_stops_without_a_restart(monkeypatch):
+    """The stall rule (``fitting.STALL_WINDOW``, ``STALL_GAIN``): a run whose cost falls by less than
+    STALL_GAIN of itself over STALL_WINDOW iterations stops there (status -2) and is not restarted;
+    a run that keeps falling faster is never stopped by it. On a synthetic record, with the rule
+    made to fire at once (window 1, any gain: the first iteration that does not halve the cost), the
+    calibration's least squares stop within a few iterations with status -2, are not restarted, and
+    return a point no worse than the start."""
+    check = F._stall_check()
+    for k in range(200):  # halving every 10 iterations: never a stall
+        check(type("R", (), {"cost": 0.5 ** (k / 10)})())
+    crawl = F._stall_check()
+    with pytest.raises(StopIteration):
+        for k in range(F.STALL_WINDOW + 1):  # 1e-6 of the cost per iteration: a stall after the window
+            crawl(type("R", (), {"cost": 1.0 - 1e-6 * k})())
+    assert k == F.STALL_WINDOW
+
+    model, data, opt = _calibrated({}, 18, 0.0, duration_s=8.0)
+    model.cfg["damping"]["ratios"] = [3.0 * z for z in model.damping_ratios]  # away from the optimum
+    least_squares, calls = F.optimize.least_squares, []
+
+    def recorded(fun, x0, **kw):
+        calls.append(least_squares(fun, x0, **kw))
+        return calls[-1]
+
+    monkeypatch.setattr(F.optimize, "least_squares", recorded)
+    monkeypatch.setattr(F, "STALL_WINDOW", 1)
+    monkeypatch.setattr(F, "STALL_GAIN", 1.0)
+    fitted, _ = F.fit_dynamic(model, data, [F.DAMPING], opt)
+    assert len(calls) == 1 and calls[0].status == -2 and calls[0].njev <= 10
+    assert F.e_train(fitted, data, 0) <= F.e_train(model, data, 0)
