@@ -81,3 +81,28 @@ TEST(BitProfile, ABounceLeavesTheRockUncut) {
   EXPECT_NEAR(p.depth_of_cut(2.0 * M_PI, 0.0), 0.0, 1e-9);
   EXPECT_LT(p.depth_of_cut(2.0 * M_PI, -0.001), 0.0);  // a bit above the surface: off the rock
 }
+
+TEST(BitProfile, TheLookupKeptByRecordIsTheInterpolation) {
+  // record() keeps its lookup one sector back for the next step's at() (one bisection a step): on a
+  // bit that turns forwards, stops, turns back, bounces and once jumps more than a sector in a step,
+  // at() there is interpolate() to the bit, and cut() is depth_of_cut() and delay()
+  const int N = 3;
+  const double om = 5.0, dt = 1e-3;
+  BitProfile p(N, 0.0, 0.0, 0.0, 0.004, om);
+  double phi = 0.0;
+  for (int i = 1; i <= 6000; ++i) {
+    const double t = i * dt;
+    if (i == 3000) phi += 1.5 * p.sector();  // beyond the reach by more than a sector
+    else phi += dt * om * std::sin(0.003 * i) * (i % 700 < 100 ? 0.0 : 1.0);  // stuck, forwards and back
+    const double u = 0.001 * t + (i % 1100 < 60 ? -0.003 : 0.0);             // lifted off now and then
+    p.record(t, phi, u);
+    const double q = phi - p.sector();
+    const BitProfile::At a = p.at(q), b = p.interpolate(q);
+    ASSERT_EQ(a.t, b.t) << "step " << i;
+    ASSERT_EQ(a.surface, b.surface) << "step " << i;
+    const BitProfile::Cut c = p.cut(t, phi, u + 1e-4);
+    ASSERT_EQ(c.depth, p.depth_of_cut(phi, u + 1e-4)) << "step " << i;
+    ASSERT_EQ(c.delay, p.delay(t, phi)) << "step " << i;
+    ASSERT_EQ(c.depth, N * (u + 1e-4 - b.surface)) << "step " << i;
+  }
+}

@@ -19,6 +19,9 @@
 // t_N is O(dt^2) (tests/cpp/test_bit_profile.cpp: t_N = 2 pi / (N Omega) to 1e-12 relative at
 // constant speed, and the second-order convergence on a non-uniform rotation). The buffer keeps two
 // sectors of samples (older ones are dropped; memory is bounded by the steps of two sectors).
+// A step looks up one angle: record() finds the surface one sector behind the angle it is given,
+// which is the next step's Phi - 2 pi / N, and keeps that lookup for at() (the same numbers, one
+// bisection a step instead of three: issue 34).
 #pragma once
 
 #include <algorithm>
@@ -57,7 +60,9 @@ class BitProfile {
   struct At {
     double t, surface;
   };
-  At at(double phi) const {
+  At at(double phi) const { return phi == last_phi_ ? last_ : interpolate(phi); }
+  /// at() without the kept lookup of record() (the same numbers).
+  At interpolate(double phi) const {
     const std::size_t n = phi_.size();
     if (phi <= phi_[head_]) return {t_[head_], s_[head_]};
     if (phi >= phi_[n - 1]) return {t_[n - 1], s_[n - 1]};
@@ -73,12 +78,25 @@ class BitProfile {
   double depth_of_cut(double phi, double u) const { return blades_ * (u - at(phi - sector_).surface); }
   /// The delay t_N: t - t_N is when the bit was last at phi - 2 pi / N [s].
   double delay(double t, double phi) const { return t - at(phi - sector_).t; }
+  /// depth_of_cut(phi, u) and delay(t, phi) from one lookup.
+  struct Cut {
+    double depth, delay;
+  };
+  Cut cut(double t, double phi, double u) const {
+    const At a = at(phi - sector_);
+    return {blades_ * (u - a.surface), t - a.t};
+  }
 
   /// Record the bit at time t, angle phi and axial position u (after a step): a sample when it
   /// turned past its reach, the surface it leaves there max(u, S(phi - 2 pi / N)).
   void record(double t, double phi, double u) {
+    // the lookup one sector back, kept for at(): a sample pushed ahead of it leaves its two
+    // neighbours (and the dropped samples lie more than a sector behind it), unless the lookup
+    // read the last sample (phi - 2 pi / N at or beyond the reach: push() forgets it then)
+    last_phi_ = phi - sector_;
+    last_ = interpolate(last_phi_);
     if (!(phi > phi_.back())) return;
-    const double s = std::max(u, at(phi - sector_).surface);
+    const double s = std::max(u, last_.surface);
     push(t, phi, s);
     // drop what lies more than two sectors behind (keeping one sample before that angle)
     const double keep = phi - 2.0 * sector_;
@@ -90,6 +108,7 @@ class BitProfile {
 
  private:
   void push(double t, double phi, double s) {
+    if (!phi_.empty() && !(last_phi_ < phi_.back())) last_phi_ = NAN;  // at() interpolates anew
     t_.push_back(t);
     phi_.push_back(phi);
     s_.push_back(s);
@@ -106,6 +125,8 @@ class BitProfile {
   double sector_ = 2.0 * M_PI;
   std::size_t head_ = 0;
   std::vector<double> t_, phi_, s_;
+  double last_phi_ = NAN;  ///< the angle of record()'s lookup (NaN: none kept)
+  At last_{};              ///< at(last_phi_)
 };
 
 }  // namespace drill
