@@ -21,7 +21,8 @@
 // sectors of samples (older ones are dropped; memory is bounded by the steps of two sectors).
 // A step looks up one angle: record() finds the surface one sector behind the angle it is given,
 // which is the next step's Phi - 2 pi / N, and keeps that lookup for at() (the same numbers, one
-// bisection a step instead of three: issue 34).
+// lookup a step instead of three), and the lookup starts from the last one's samples, about one
+// sample back (a bisection over the two sectors only when the bit has moved far: issue 34).
 #pragma once
 
 #include <algorithm>
@@ -63,14 +64,8 @@ class BitProfile {
   At at(double phi) const { return phi == last_phi_ ? last_ : interpolate(phi); }
   /// at() without the kept lookup of record() (the same numbers).
   At interpolate(double phi) const {
-    const std::size_t n = phi_.size();
-    if (phi <= phi_[head_]) return {t_[head_], s_[head_]};
-    if (phi >= phi_[n - 1]) return {t_[n - 1], s_[n - 1]};
-    // first sample above phi: in (head_, n - 1]
-    const auto it = std::upper_bound(phi_.begin() + static_cast<std::ptrdiff_t>(head_), phi_.end(), phi);
-    const std::size_t k = static_cast<std::size_t>(it - phi_.begin());
-    const double w = (phi - phi_[k - 1]) / (phi_[k] - phi_[k - 1]);
-    return {t_[k - 1] + w * (t_[k] - t_[k - 1]), s_[k - 1] + w * (s_[k] - s_[k - 1])};
+    std::size_t k = hint_;
+    return interpolate(phi, k);
   }
 
   /// The depth of cut per revolution d = N [U - S(Phi - 2 pi / N)] [m] of a bit at angle phi and
@@ -94,7 +89,7 @@ class BitProfile {
     // neighbours (and the dropped samples lie more than a sector behind it), unless the lookup
     // read the last sample (phi - 2 pi / N at or beyond the reach: push() forgets it then)
     last_phi_ = phi - sector_;
-    last_ = interpolate(last_phi_);
+    last_ = interpolate(last_phi_, hint_);
     if (!(phi > phi_.back())) return;
     const double s = std::max(u, last_.surface);
     push(t, phi, s);
@@ -107,6 +102,31 @@ class BitProfile {
   std::size_t size() const { return phi_.size() - head_; }
 
  private:
+  /// interpolate(phi), k on entry a guess of the first sample above phi and on return that sample
+  /// (when phi lies inside the samples).
+  At interpolate(double phi, std::size_t& k) const {
+    const std::size_t n = phi_.size();
+    if (phi <= phi_[head_]) return {t_[head_], s_[head_]};
+    if (phi >= phi_[n - 1]) return {t_[n - 1], s_[n - 1]};
+    // the first sample above phi, in (head_, n - 1] (the angles increase, so it is the k with
+    // phi_[k - 1] <= phi < phi_[k]): within a few samples of the guess, the last lookup's (a step
+    // moves the lookup by the step's turn, about one sample of the history a sector back unless the
+    // bit turns much faster than it did then), else by bisection
+    k = std::min(std::max(k, head_ + 1), n - 1);
+    for (int walk = 0;; ++walk) {
+      if (walk == 4) {
+        const auto it = std::upper_bound(phi_.begin() + static_cast<std::ptrdiff_t>(head_), phi_.end(), phi);
+        k = static_cast<std::size_t>(it - phi_.begin());
+        break;
+      }
+      if (phi_[k] <= phi) ++k;           // k < n - 1 here, as phi < phi_[n - 1]
+      else if (phi_[k - 1] > phi) --k;   // k - 1 > head_ here, as phi_[head_] < phi
+      else break;
+    }
+    const double w = (phi - phi_[k - 1]) / (phi_[k] - phi_[k - 1]);
+    return {t_[k - 1] + w * (t_[k] - t_[k - 1]), s_[k - 1] + w * (s_[k] - s_[k - 1])};
+  }
+
   void push(double t, double phi, double s) {
     if (!phi_.empty() && !(last_phi_ < phi_.back())) last_phi_ = NAN;  // at() interpolates anew
     t_.push_back(t);
@@ -118,12 +138,14 @@ class BitProfile {
     t_.erase(t_.begin(), t_.begin() + h);
     phi_.erase(phi_.begin(), phi_.begin() + h);
     s_.erase(s_.begin(), s_.begin() + h);
+    hint_ = hint_ > head_ ? hint_ - head_ : 0;
     head_ = 0;
   }
 
   int blades_ = 1;
   double sector_ = 2.0 * M_PI;
   std::size_t head_ = 0;
+  std::size_t hint_ = 0;  ///< the sample above record()'s last lookup (interpolate's first guess)
   std::vector<double> t_, phi_, s_;
   double last_phi_ = NAN;  ///< the angle of record()'s lookup (NaN: none kept)
   At last_{};              ///< at(last_phi_)
