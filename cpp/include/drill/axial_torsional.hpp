@@ -59,6 +59,17 @@
 #include "drill/rgd_bit.hpp"
 #include "drill/signal.hpp"
 
+// The coupled step inlines everything it calls (GCC and Clang): the dot products of Eigen, the
+// thesis law's at_speed and solve_euler_accel (whose speed derivatives, unused by the Euler step,
+// then go), the bit profile's lookup. GCC kept the dot products out of line in this large loop, a
+// call each; inlining them changes no result (no floating-point contraction: CMakeLists.txt).
+// Issue 34: 10-12 % of the coupled step (docs/axial.md, "Cost of a step").
+#if defined(__GNUC__)
+#define DRILL_AXIAL_FLATTEN __attribute__((flatten))
+#else
+#define DRILL_AXIAL_FLATTEN
+#endif
+
 namespace drill {
 
 /// What the coupled model reports at every step besides StepState (SI, absolute frame).
@@ -212,7 +223,7 @@ class AxialTorsional {
 
  private:
   template <class Drive, class Observer>
-  CoupledState run_drive(const Inputs& in, Observer& obs, const ModelState* start) const {
+  DRILL_AXIAL_FLATTEN CoupledState run_drive(const Inputs& in, Observer& obs, const ModelState* start) const {
     const double dt = opt_.dt;
     const long n = opt_.steps();
     const double om0 = in.top_speed.at(0.0);
@@ -350,3 +361,5 @@ class AxialTorsional {
 };
 
 }  // namespace drill
+
+#undef DRILL_AXIAL_FLATTEN
