@@ -61,9 +61,9 @@
 
 // The coupled step inlines everything it calls (GCC and Clang): the dot products of Eigen, the
 // thesis law's at_speed and solve_euler_accel (whose speed derivatives, unused by the Euler step,
-// then go), the bit profile's lookup. GCC kept the dot products out of line in this large loop, a
-// call each; inlining them changes no result (no floating-point contraction: CMakeLists.txt).
-// Issue 34: 10-12 % of the coupled step (docs/axial.md, "Cost of a step").
+// the compiler can then drop), the bit profile's lookup. GCC kept the dot products out of line in
+// this large loop, a call each; inlining them changes no result (no floating-point contraction:
+// CMakeLists.txt). Issue 34: 10-12 % of the coupled step (docs/axial.md, "Cost of a step").
 #if defined(__GNUC__)
 #define DRILL_AXIAL_FLATTEN __attribute__((flatten))
 #else
