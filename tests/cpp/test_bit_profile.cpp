@@ -3,7 +3,9 @@
 // leaving the rock uncut.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "drill/bit_profile.hpp"
 
@@ -80,4 +82,55 @@ TEST(BitProfile, ABounceLeavesTheRockUncut) {
   // it stays uncut, and the blade back at u = 0 cuts nothing (not the 2 mm of a surface that followed the bit)
   EXPECT_NEAR(p.depth_of_cut(2.0 * M_PI, 0.0), 0.0, 1e-9);
   EXPECT_LT(p.depth_of_cut(2.0 * M_PI, -0.001), 0.0);  // a bit above the surface: off the rock
+}
+
+TEST(BitProfile, TheLookupKeptByRecordIsTheInterpolation) {
+  // record() keeps its lookup one sector back for the next step's at() and starts the next lookup
+  // from its samples: on a bit that turns forwards, stops, turns back (less than a sector), bounces
+  // and once jumps more than a sector in a step, at() and interpolate() there are the interpolation
+  // over every sample (the test's own copy, bisected), to the bit, and cut() is depth_of_cut() and
+  // delay(); the run is long enough for the buffer to drop and compact its old samples
+  const int N = 3;
+  const double om = 5.0, dt = 1e-3, d0 = 0.004;
+  BitProfile p(N, 0.0, 0.0, 0.0, d0, om);
+  std::vector<double> ts, ps, ss;  // every sample, as the constructor and record() push them
+  for (int k = -8; k <= 0; ++k) {
+    const double f = static_cast<double>(k) / 8;
+    ts.push_back(f * p.sector() / om);
+    ps.push_back(f * p.sector());
+    ss.push_back(f * d0 / N);
+  }
+  auto ref = [&](double q) -> BitProfile::At {
+    if (q <= ps.front()) return {ts.front(), ss.front()};
+    if (q >= ps.back()) return {ts.back(), ss.back()};
+    const std::size_t k = static_cast<std::size_t>(std::upper_bound(ps.begin(), ps.end(), q) - ps.begin());
+    const double w = (q - ps[k - 1]) / (ps[k] - ps[k - 1]);
+    return {ts[k - 1] + w * (ts[k] - ts[k - 1]), ss[k - 1] + w * (ss[k] - ss[k - 1])};
+  };
+  double phi = 0.0;
+  for (int i = 1; i <= 30000; ++i) {
+    const double t = i * dt;
+    if (i == 3000) phi += 1.5 * p.sector();  // beyond the reach by more than a sector
+    else phi += dt * om * (std::sin(0.003 * i) + 0.5) * (i % 700 < 100 ? 0.0 : 1.0);  // stuck, forwards, back
+    const double u = 0.001 * t + (i % 1100 < 60 ? -0.003 : 0.0);                      // lifted off now and then
+    if (phi > ps.back()) {
+      ts.push_back(t);
+      ss.push_back(std::max(u, ref(phi - p.sector()).surface));
+      ps.push_back(phi);
+    }
+    p.record(t, phi, u);
+    const double q = phi - p.sector();
+    const BitProfile::At r = ref(q), a = p.at(q), b = p.interpolate(q);
+    ASSERT_EQ(a.t, r.t) << "step " << i;
+    ASSERT_EQ(a.surface, r.surface) << "step " << i;
+    ASSERT_EQ(b.t, r.t) << "step " << i;
+    ASSERT_EQ(b.surface, r.surface) << "step " << i;
+    const BitProfile::Cut c = p.cut(t, phi, u + 1e-4);
+    ASSERT_EQ(c.depth, p.depth_of_cut(phi, u + 1e-4)) << "step " << i;
+    ASSERT_EQ(c.delay, p.delay(t, phi)) << "step " << i;
+    ASSERT_EQ(c.depth, N * (u + 1e-4 - r.surface)) << "step " << i;
+    ASSERT_EQ(c.delay, t - r.t) << "step " << i;
+  }
+  EXPECT_GT(ps.size(), 3u * 4096);  // the buffer has dropped and compacted samples
+  EXPECT_LT(p.size(), ps.size() / 4);
 }

@@ -59,6 +59,17 @@
 #include "drill/rgd_bit.hpp"
 #include "drill/signal.hpp"
 
+// The coupled step inlines everything it calls (GCC and Clang): the dot products of Eigen, the
+// thesis law's at_speed and solve_euler_accel (whose speed derivatives, unused by the Euler step,
+// the compiler can then drop), the bit profile's lookup. GCC kept the dot products out of line in
+// this large loop, a call each; inlining them changes no result (no floating-point contraction:
+// CMakeLists.txt). Issue 34: 10-12 % of the coupled step (docs/axial.md, "Cost of a step").
+#if defined(__GNUC__)
+#define DRILL_AXIAL_FLATTEN __attribute__((flatten))
+#else
+#define DRILL_AXIAL_FLATTEN
+#endif
+
 namespace drill {
 
 /// What the coupled model reports at every step besides StepState (SI, absolute frame).
@@ -212,7 +223,7 @@ class AxialTorsional {
 
  private:
   template <class Drive, class Observer>
-  CoupledState run_drive(const Inputs& in, Observer& obs, const ModelState* start) const {
+  DRILL_AXIAL_FLATTEN CoupledState run_drive(const Inputs& in, Observer& obs, const ModelState* start) const {
     const double dt = opt_.dt;
     const long n = opt_.steps();
     const double om0 = in.top_speed.at(0.0);
@@ -231,7 +242,10 @@ class AxialTorsional {
     const bool by_law = spec_.torque == AxialTorque::law;
     LawHistory hist;  // Eq. (A.1)'s accelerations of the last steps (by_law)
     double theta_top = 0.0;
-    BitProfile profile(b.blades, 0.0, bit_.dot(z), ax_.bit.dot(eta), st.depth, om0);
+    // the bit's twist b . z and axial displacement c . e, computed once a step: at its end for the
+    // bit profile's record, which are the next step's (the same numbers)
+    double bz = bit_.dot(z), ce = ax_.bit.dot(eta);
+    BitProfile profile(b.blades, 0.0, bz, ce, st.depth, om0);
     Eigen::VectorXd ft(z.size()), fa(eta.size());
     // the drive's update of the top speed: the ideal drive reads the command (its speed, next speed and
     // rate); a controlled drive's loop starts in equilibrium with the string's top torque unless the
@@ -245,9 +259,10 @@ class AxialTorsional {
       const double T_top = top_torque_.dot(z);           // the string's elastic torque at the top
       const double om_next = drive.next(t, om, T_top);  // the top's speed at the next step
       const double dom = drive.accel(t, om, om_next);   // and its acceleration over the step
-      const double Ob = om + bit_.dot(p), Phi = theta_top + bit_.dot(z);
-      const double U = v_feed * t + ax_.bit.dot(eta), V = v_feed + ax_.bit.dot(r);
-      const double d = profile.depth_of_cut(Phi, U);
+      const double Ob = om + bit_.dot(p), Phi = theta_top + bz;
+      const double U = v_feed * t + ce, V = v_feed + ax_.bit.dot(r);
+      const BitProfile::Cut cut = profile.cut(t, Phi, U);  // the depth of cut and the delay t_N
+      const double d = cut.depth;
       if (diag_damping_) ft = -d_.cwiseProduct(p) - w2_.cwiseProduct(z);
       else ft.noalias() = -D_ * p - w2_.cwiseProduct(z);
       if (dom != 0.0) ft -= top_load_ * dom;
@@ -282,7 +297,7 @@ class AxialTorsional {
         throw std::runtime_error(Integrator::divergence(t));
       const double a_bit = alpha_t - gt * T;
       obs(static_cast<const StepState&>(StepState{i, t, Ob, a_bit, Phi, T, T_top, om, drive.torque(), W}),
-          static_cast<const AxialStep&>(AxialStep{t, W, V, U, d, profile.delay(t, Phi), contact}));
+          static_cast<const AxialStep&>(AxialStep{t, W, V, U, d, cut.delay, contact}));
       if (i == n) break;
       p += dt * (ft - bit_ * T);  // Eq. (A.5)
       z += dt * p;                // Eq. (A.6)
@@ -290,7 +305,9 @@ class AxialTorsional {
       eta += dt * r;
       theta_top += 0.5 * dt * (om + om_next);
       om_state = om_next;
-      profile.record(t + dt, theta_top + bit_.dot(z), v_feed * (t + dt) + ax_.bit.dot(eta));
+      bz = bit_.dot(z);
+      ce = ax_.bit.dot(eta);
+      profile.record(t + dt, theta_top + bz, v_feed * (t + dt) + ce);
     }
     CoupledState out{{V_ * z, V_ * p}, eta, r};
     if (Drive::has_inertia) out.torsion.top_speed = om_state;
@@ -344,3 +361,5 @@ class AxialTorsional {
 };
 
 }  // namespace drill
+
+#undef DRILL_AXIAL_FLATTEN
