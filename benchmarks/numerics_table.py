@@ -8,8 +8,9 @@ output to ``DIR/NAME.txt`` and prints, per benchmark, the machine's load average
 and the wall time; the figures of the table are read from those files. The first lines name the
 machine: the processor (``/proc/cpuinfo``), the cores, the engine's SIMD width (runs per batch) and
 the Python and drillpy in use. ``--base-tree`` (a source tree with its own built extension, see
-``bench_loop.py``) adds the loop's ``base`` configuration. The whole set takes about 45 minutes on
-a 2-core machine; the machine is shared, so each ratio is measured within one benchmark's run.
+``bench_loop.py``) adds the loop's ``base`` configuration. The whole set took 28 minutes on a 2-core
+AMD EPYC at load 0.6-4.5 (the per-benchmark wall times it printed: 3, 1269, 103, 5, 96, 102 and 99 s),
+most of it the Fig. 4.9 study; the machine is shared, so each ratio is measured within one benchmark's run.
 """
 from __future__ import annotations
 

@@ -58,9 +58,9 @@ def main() -> None:
     t = rec.time_s
     v = np.interp(t, t[ok], rec.bit_speed[ok])  # excluded samples interpolated over, for the spectra
     w = np.interp(t, t[ok], rec.wob[ok])
-    res = rigsim._run(m, rec, m.command_rad_s, rigsim.operating_point(rec)["wob_n"])
+    sim = rigsim.simulate_model(m, rec, filtered=False)  # the rig drive at its command, the record's WOB trend
     print(f"{a.t0:g}-{a.t1:g} s; jack gain {m.jack_gain_n_rad:.1f} N/rad, relaxation {m.jack_relaxation_s:.3f} s")
-    for label, r in (("record", response(t, v, w)), ("model", response(res.t, res.bit_speed, res.wob))):
+    for label, r in (("record", response(t, v, w)), ("model", response(sim.time_s, sim.bit_speed, sim.wob))):
         print(f"{label:>6}: cycle {r['f0']:.3f} Hz; WOB against bit speed: phase {r['phase']:+.0f} deg, gain "
               f"{r['gain']:.1f} N s/rad, coherence {r['coherence']:.2f}; mean (W - W_mean)(v - v_mean) "
               f"{r['product']:+.1f} N rad/s")
