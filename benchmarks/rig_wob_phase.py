@@ -10,6 +10,11 @@ torque in slip: a velocity weakening of its own, which feeds the cycle. Whether 
 (docs/records.md, section 3) gives the record's phase and gain says whether that feed is modelled.
 Both channels of each side pass the same chain (the record's: the rig's 10 Hz filter; the model's:
 none), so their relative phase is comparable. The first 2 s are left out (the model's start).
+
+It also prints how strongly the record's slip torque follows the WOB: the slip samples (bit speed
+above the stick threshold and 1 rad/s, every 5th) fitted with T = (W / W_mean)^p (c0 + c1 v + c2 v^2)
+at p = 0 (no WOB scaling), p = 1 (the law's scaling, Eq. 5.1 as ``drillpy analyze`` applies it) and p
+free: an exponent above 1 would steepen the falling branch in slip, where the WOB is low.
 """
 from __future__ import annotations
 
@@ -18,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 from scipy import signal as sps
+from scipy.optimize import least_squares
 
 from drillpy.loop.prediction import load_model
 from drillpy.records import rigsim
@@ -45,6 +51,22 @@ def response(t: np.ndarray, v: np.ndarray, w: np.ndarray) -> dict:
             "product": float(np.mean(w * v))}
 
 
+def wob_exponent(rec) -> list:
+    """[(p, RMSE [N m], slope dT/dv at 10 rad/s [N m s/rad])] of the slip torque fitted with
+    T = (W / W_mean)^p (c0 + c1 v + c2 v^2) at p = 0, 1 and p free (in that order)."""
+    ok = rec.valid("bit_speed") & rec.valid("torque_on_bit") & rec.valid("wob")
+    m = ok & (rec.bit_speed > max(rigsim.stick_threshold(rec), 1.0))
+    v, tq, w = rec.bit_speed[m][::5], rec.torque_on_bit[m][::5], rec.wob[m][::5]
+    w = w / w.mean()
+    rows = []
+    for p in (0.0, 1.0, None):
+        def res(x, p=p):
+            return (w ** (x[3] if p is None else p)) * (x[0] + x[1] * v + x[2] * v * v) - tq
+        x = least_squares(res, [2.0, -0.05, 0.0] + ([1.0] if p is None else [])).x
+        rows.append((float(x[3]) if p is None else p, float(np.sqrt(np.mean(res(x) ** 2))), float(x[1] + 20.0 * x[2])))
+    return rows
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("model")
@@ -64,6 +86,9 @@ def main() -> None:
         print(f"{label:>6}: cycle {r['f0']:.3f} Hz; WOB against bit speed: phase {r['phase']:+.0f} deg, gain "
               f"{r['gain']:.1f} N s/rad, coherence {r['coherence']:.2f}; mean (W - W_mean)(v - v_mean) "
               f"{r['product']:+.1f} N rad/s")
+    print("record's slip torque against the WOB, T = (W / W_mean)^p (c0 + c1 v + c2 v^2):")
+    for p, rmse, slope in wob_exponent(rec):
+        print(f"  p {p:.3f}: RMSE {rmse:.4f} N m, slope at 10 rad/s {slope:+.4f} N m s/rad")
 
 
 if __name__ == "__main__":
