@@ -346,3 +346,20 @@ def test_rig_model_runs_the_corrected_static_torque_and_keeps_the_identified_law
         rig_calibration.calibrate_rig(rec, law, thr, fixed={"static_torque_factor": 1.5})
     with pytest.raises(ValueError, match="not a rig parameter"):
         rig_calibration.calibrate_rig(rec, law, thr, fixed={"static_torque": 1.1})
+
+
+def test_predict_reports_the_artifacts_it_excluded_and_repaired(window):
+    # drillpy predict on a window with a WOB dropout and a bit-speed spike: no refusal, and the summary
+    # (--json and the text line) names each channel's excluded and repaired samples instead of dropping them silently
+    from drillpy.loop.prediction import predict_record
+    rec, _ = window
+    raw = rec.take(np.arange(len(rec)))
+    raw.wob[2000:2300] = np.nan
+    raw.bit_speed[5000:5002] = -50.0
+    model = rigsim.RigModel(load_config(preset="thesis-rig")["law"], 0.1, "constant")
+    s = predict_record(model, raw, realizations=0).summary()
+    art = s["record"]["artifacts"]
+    assert art["wob"]["excluded_samples"] >= 300 and art["wob"]["kinds"].get("nonfinite") == 1
+    assert art["bit_speed"]["repaired_samples"] >= 2 and art["bit_speed"]["kinds"].get("spike") == 1
+    assert "torque_on_bit" not in art
+    assert np.isfinite(s["short_horizon_error"]) and np.isfinite(s["long_run"]["ss"]["predicted"])

@@ -243,11 +243,16 @@ def cmd_predict(a: argparse.Namespace) -> int:
         write_prediction(pred, a.out, a.figure_units)
     s = pred.summary()
     if a.json:
-        print_json({k: s[k] for k in ("short_horizon_error", "long_run", "predictive_intervals")
+        print_json({k: s[k] for k in ("short_horizon_error", "long_run", "predictive_intervals", "record")
                     if s[k] is not None})  # the intervals: a rig model with Eq. (4.1)'s fluctuation
     else:
         lr = s["long_run"]
         print(f"{describe(model)} at the record's operating point; short-horizon error E = {s['short_horizon_error']:.3f}")
+        art = s["record"]["artifacts"]
+        print("  record's artifacts: " + ("none flagged" if not art else "; ".join(
+            f"{ch} {a['excluded_samples']} sample(s) excluded, {a['repaired_samples']} repaired"
+            + (f" ({', '.join(f'{k} x{n}' for k, n in a['kinds'].items())})" if a["kinds"] else "")
+            for ch, a in art.items())))
         for k in ("ss", "stick_fraction", "cycle_frequency_hz"):
             print(f"  {k}: measured {lr[k]['measured']:.3f}, predicted {lr[k]['predicted']:.3f} "
                   f"({100 * lr[k]['relative_error']:+.1f} %)")

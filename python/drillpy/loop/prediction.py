@@ -31,7 +31,7 @@ from drillpy.model.config import read_json
 from drillpy.loop.effects import stripped
 from drillpy.loop.longrun import simulate_record
 from drillpy.loop.run import analysis_config
-from drillpy.records.io import Record, read_record
+from drillpy.records.io import Flag, Record, read_record
 
 
 @dataclass
@@ -92,9 +92,37 @@ class Prediction:
             "model": describe(self.model), "command_rad_s": self.simulated.provenance.get("command_rad_s"),
             "operating_point": self.simulated.provenance.get("operating_point"),
             "record": {"source": str(self.measured.provenance.get("source")),
-                       "window_s": [float(self.measured.time_s[0]), float(self.measured.time_s[-1])]},
+                       "window_s": [float(self.measured.time_s[0]), float(self.measured.time_s[-1])],
+                       "artifacts": artifacts(self.measured)},
             "stick_threshold_rad_s": self.stick_threshold,
             "predictive_intervals": self.intervals})
+
+
+def artifacts(record: Record) -> dict:
+    """What the cleaning flagged in each channel of a cleaned record: the samples excluded from the
+    comparison (unreliable or non-finite), the samples repaired (interpolated spikes and gaps, an
+    artifact stretch of the top speed replaced by the bit speed) and the kinds of artifact found
+    (:func:`drillpy.records.cleaning.clean`'s report, ``provenance["cleaning"]["by_channel"]``).
+
+    Parameters
+    ----------
+    record : Record
+        A record as :func:`drillpy.records.cleaning.clean` returns it.
+
+    Returns
+    -------
+    dict
+        ``{channel: {"excluded_samples", "repaired_samples", "kinds"}}`` for every channel with a
+        flagged sample (empty: nothing flagged).
+    """
+    kinds = record.provenance.get("cleaning", {}).get("by_channel", {})
+    out = {}
+    for name in record.channels:
+        excluded = int((~record.valid(name)).sum())
+        repaired = int(record.flagged(name, Flag.REPAIRED).sum())
+        if excluded or repaired or kinds.get(name):
+            out[name] = {"excluded_samples": excluded, "repaired_samples": repaired, "kinds": dict(kinds.get(name, {}))}
+    return out
 
 
 def describe(model) -> str:
