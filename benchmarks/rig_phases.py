@@ -31,13 +31,13 @@ import argparse
 from pathlib import Path
 
 import numpy as np
-from scipy import signal as sps
 from scipy.optimize import least_squares
 
 from drillpy.loop.prediction import load_model
 from drillpy.records import rigsim
 from drillpy.records.cleaning import clean
 from drillpy.records.io import read_record
+from drillpy.records.signals import cycle_response
 
 SAMPLE175 = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
 #: The bar's torsional stiffness G J / L of Table 5.1 [N m/rad] (times the model's gj_factor).
@@ -45,21 +45,11 @@ BAR_STIFFNESS = 3.08
 
 
 def response(t: np.ndarray, v: np.ndarray, y: np.ndarray) -> dict:
-    """The cycle frequency [Hz] (the bit speed's Welch peak within 1-6 Hz, 8 s segments), the phase of
-    ``y`` relative to the bit speed ``v`` there [deg] (positive: ``y`` leads), its gain (the ratio of
-    amplitudes), their coherence and the mean of the two channels' product about their means."""
-    fs = 1.0 / float(np.median(np.diff(t)))
+    """:func:`drillpy.records.signals.cycle_response` of ``y`` to the bit speed ``v`` after the first 2 s,
+    with the mean of the two channels' product about their means (``product``)."""
     keep = t >= t[0] + 2.0
     v, y = v[keep] - v[keep].mean(), y[keep] - y[keep].mean()
-    n = int(8 * fs)
-    f, pvv = sps.welch(v, fs, nperseg=n)
-    _, pyy = sps.welch(y, fs, nperseg=n)
-    _, pvy = sps.csd(v, y, fs, nperseg=n)  # conj(V) Y: the phase of y relative to v
-    band = np.flatnonzero((f > 1.0) & (f < 6.0))
-    k = band[np.argmax(pvv[band])]
-    return {"f0": float(f[k]), "phase": float(np.degrees(np.angle(pvy[k]))),
-            "gain": float(np.sqrt(pyy[k] / pvv[k])), "coherence": float(abs(pvy[k]) ** 2 / (pvv[k] * pyy[k])),
-            "product": float(np.mean(v * y))}
+    return {**cycle_response(v, y, 1.0 / float(np.median(np.diff(t)))), "product": float(np.mean(v * y))}
 
 
 def wob_exponent(rec) -> list:
@@ -97,14 +87,14 @@ def main() -> None:
     print(f"{a.t0:g}-{a.t1:g} s; jack gain {m.jack_gain_n_rad:.1f} N/rad, relaxation {m.jack_relaxation_s:.3f} s")
     for label, r in (("record", response(t, channel("bit_speed", okw), channel("wob", okw))),
                      ("model", response(sim.time_s, sim.bit_speed, sim.wob))):
-        print(f"{label:>6}: cycle {r['f0']:.3f} Hz; WOB against bit speed: phase {r['phase']:+.0f} deg, gain "
+        print(f"{label:>6}: cycle {r['frequency_hz']:.3f} Hz; WOB against bit speed: phase {r['phase_deg']:+.0f} deg, gain "
               f"{r['gain']:.1f} N s/rad, coherence {r['coherence']:.2f}; mean (W - W_mean)(v - v_mean) "
               f"{r['product']:+.1f} N rad/s")
     for label, r in (("record", response(t, channel("bit_speed", okt), channel("top_speed", okt))),
                      ("model", response(sim.time_s, sim.bit_speed, sim.top_speed))):
-        print(f"{label:>6}: cycle {r['f0']:.3f} Hz; top speed against bit speed: phase {r['phase']:+.0f} deg, gain "
+        print(f"{label:>6}: cycle {r['frequency_hz']:.3f} Hz; top speed against bit speed: phase {r['phase_deg']:+.0f} deg, gain "
               f"{r['gain']:.2f}, coherence {r['coherence']:.2f}")
-    w = 2.0 * np.pi * r["f0"]
+    w = 2.0 * np.pi * r["frequency_hz"]
     h = 1.0 / (1.0 + 1j * w * m.motor_slope_nms_rad / (BAR_STIFFNESS * m.gj_factor))
     print(f"  a droop of the model's c_m {m.motor_slope_nms_rad:.3f} N m s/rad without inertia, at the top of its bar: "
           f"phase {np.degrees(np.angle(h)):+.0f} deg, gain {abs(h):.2f}")

@@ -363,3 +363,15 @@ def test_predict_reports_the_artifacts_it_excluded_and_repaired(window):
     assert art["bit_speed"]["repaired_samples"] >= 2 and art["bit_speed"]["kinds"].get("spike") == 1
     assert "torque_on_bit" not in art
     assert np.isfinite(s["short_horizon_error"]) and np.isfinite(s["long_run"]["ss"]["predicted"])
+
+
+def test_rig_calibration_takes_the_drives_phase_as_a_metric_and_refuses_an_unknown_one(window):
+    # calibrate_rig(keys=): the default metrics plus rig_calibration.EXTRA_KEYS; a name outside them is one
+    # error naming the option, before any simulation
+    rec, thr = window
+    law = load_config(preset="thesis-rig")["law"]
+    with pytest.raises(ValueError, match="keys: 'top_phase' is not a rig metric"):
+        rig_calibration.calibrate_rig(rec, law, thr, keys=rigsim.MATCHED_RIG + ("top_phase",))
+    assert "top_in_phase" in rig_calibration.EXTRA_KEYS
+    side = rig_comparison.measured_side(rec, thr, float(rec.time_s[0]), "rig")
+    assert 0.3 < side.metrics["top_in_phase"] < 0.6

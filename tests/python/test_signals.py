@@ -146,3 +146,30 @@ def test_a_record_of_sensor_noise_has_no_cycle_frequency():
     assert np.isnan(sig.dominant_frequency(lagged, fs))
     cycle = noise + 0.1 * np.sin(2 * np.pi * 2.6 * t)  # a weak oscillation above the same noise
     assert sig.dominant_frequency(cycle, fs) == pytest.approx(2.625, abs=0.13)
+
+
+def test_cycle_response_reads_phase_and_gain_at_the_cycle_frequency():
+    # y lags x by 40 degrees at x's 2.75 Hz peak with half its amplitude; a harmonic and noise around it
+    fs = 1000.0
+    t = np.arange(0.0, 20.0, 1.0 / fs)
+    w = 2.0 * np.pi * 2.75
+    rng = np.random.default_rng(3)
+    x = np.sin(w * t) + 0.3 * np.sin(2 * w * t) + 0.05 * rng.standard_normal(t.size)
+    y = 0.5 * np.sin(w * t - np.radians(40.0)) + 0.05 * rng.standard_normal(t.size)
+    r = sig.cycle_response(x, y, fs)
+    assert r["frequency_hz"] == pytest.approx(2.75, abs=0.125)
+    assert r["phase_deg"] == pytest.approx(-40.0, abs=2.0)
+    assert r["gain"] == pytest.approx(0.5, rel=0.03) and r["coherence"] > 0.95
+    assert r["in_phase"] == pytest.approx(0.5 * np.cos(np.radians(40.0)), rel=0.04)
+    assert np.isnan(sig.cycle_response(x, np.zeros_like(x), fs)["in_phase"])
+
+
+def test_the_records_top_speed_gives_way_nearly_in_phase_with_the_bit():
+    # sample 175: the top encoder's speed in the cycle is 0.42-0.47 of the bit speed's in phase with it
+    # (docs/records.md, section 4); an inertia-dominated drive would give a part near zero or negative
+    from drillpy.records import rig_comparison
+    rec, rep = sample175_cleaned()
+    for a in (0.0, 20.0):
+        w = rec.select(a, a + 10.0)
+        m = rig_comparison.record_metrics(w, rep.stick_threshold_rad_s, float(w.time_s[0]), np.zeros(len(w), bool))
+        assert 0.3 < m["top_in_phase"] < 0.6

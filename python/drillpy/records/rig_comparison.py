@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from drillpy.records.io import Record
-from drillpy.records.signals import (MeanCycle, derivative, mean_cycle, segment_cycles,
+from drillpy.records.signals import (MeanCycle, cycle_response, derivative, mean_cycle, segment_cycles,
                                      stick_slip_metrics)
 from drillpy.records.rigsim import MATCHED, MATCHED_RIG, STALL_MIN_S, reliable_top_speed
 
@@ -220,7 +220,20 @@ def record_metrics(rec: Record, stick_threshold: float, t0: float, skip: np.ndar
         m["ss"] = float((np.max(v) - np.min(v)) / (2.0 * abs(m["mean_top_speed"])))
     else:
         m["top_speed_std"] = float("nan")
+    m["top_in_phase"] = _top_in_phase(rec, ok & rec.valid("bit_speed"))
     return m
+
+
+def _top_in_phase(rec: Record, ok: np.ndarray) -> float:
+    """The part of the top speed in phase with the bit speed at the cycle frequency, per unit of bit speed
+    (:func:`cycle_response`) over the span of the samples ``ok`` (the others interpolated over); NaN with
+    fewer than 4 s of them."""
+    idx = np.flatnonzero(ok)
+    if idx.size < 4.0 / rec.dt:
+        return float("nan")
+    span = np.arange(idx[0], idx[-1] + 1)
+    v, om = (np.interp(span, idx, x[idx]) for x in (rec.bit_speed, rec.top_speed))
+    return float(cycle_response(v, om, 1.0 / rec.dt)["in_phase"])
 
 
 def measured_side(measured: Record, stick_threshold: float, start_s: float, drive: str,

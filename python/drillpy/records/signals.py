@@ -489,6 +489,49 @@ def dominant_frequency(x, fs_hz: float, fmin_hz: float = 0.5, segment_s: float =
     return fk if pk >= prominence * float(np.median(around)) else float("nan")
 
 
+def cycle_response(x, y, fs_hz: float, band_hz: tuple = (1.0, 6.0), segment_s: float = 8.0) -> dict:
+    """Response of ``y`` to ``x`` at the cycle frequency: the highest Welch peak of ``x`` inside
+    ``band_hz``, and there the phase of ``y`` relative to ``x`` (from their cross-spectrum), the ratio
+    of their amplitudes and their coherence.
+
+    On the rig, ``x`` the bit speed and ``y`` the top speed (two encoders through one filter) say how
+    the drive gives way in the cycle: a droop c at the top of a bar of stiffness k gives y = x / (1 + i
+    w c / k), an inertia behind it up to a quarter period more lag (docs/records.md, section 4).
+
+    Parameters
+    ----------
+    x, y : array_like
+        Uniformly sampled, finite signals of one length (their means are removed).
+    fs_hz : float
+        Sampling rate [Hz].
+    band_hz : tuple
+        Where the peak of ``x`` is searched [Hz].
+    segment_s : float
+        Welch segment length [s] (shortened to the signals).
+
+    Returns
+    -------
+    dict
+        ``frequency_hz``, ``phase_deg`` (positive: ``y`` leads), ``gain``, ``coherence`` and
+        ``in_phase`` = gain cos(phase), the part of ``y`` in phase with ``x`` per unit of ``x``; NaN
+        for a ``y`` without variation.
+    """
+    x = np.asarray(x, float) - np.mean(x)
+    y = np.asarray(y, float) - np.mean(y)
+    n = min(x.size, int(segment_s * fs_hz))
+    f, pxx = sps.welch(x, fs_hz, nperseg=n)
+    _, pyy = sps.welch(y, fs_hz, nperseg=n)
+    _, pxy = sps.csd(x, y, fs_hz, nperseg=n)  # conj(X) Y: the phase of y relative to x
+    band = np.flatnonzero((f >= band_hz[0]) & (f <= band_hz[1]))
+    k = band[np.argmax(pxx[band])]
+    if not (pxx[k] > 0 and pyy[k] > 0):
+        nan = float("nan")
+        return {"frequency_hz": float(f[k]), "phase_deg": nan, "gain": nan, "coherence": nan, "in_phase": nan}
+    gain, phase = float(np.sqrt(pyy[k] / pxx[k])), float(np.angle(pxy[k]))
+    return {"frequency_hz": float(f[k]), "phase_deg": float(np.degrees(phase)), "gain": gain,
+            "coherence": float(abs(pxy[k]) ** 2 / (pxx[k] * pyy[k])), "in_phase": gain * float(np.cos(phase))}
+
+
 def stick_slip_metrics(t, bit_speed, top_speed, torque, stick_threshold: float, valid=None) -> dict:
     """Summary of a stick-slip history: the numbers the measured and simulated rig are compared on.
 
