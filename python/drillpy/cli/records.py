@@ -262,6 +262,10 @@ def cmd_predict(a: argparse.Namespace) -> int:
         for k, unit in (("top_speed_std_rad_s", "rad/s"), ("wob_std_n", "N")):
             print(f"  {k}: measured {lr[k]['measured']:.3g}, predicted {lr[k]['predicted']:.3g} "
                   f"({100 * lr[k]['relative_error']:+.1f} %)" if lr[k]["measured"] is not None else f"  {k}: no data")
+        ph = lr["top_in_phase"]
+        if ph["measured"] is not None and ph["predicted"] is not None:
+            print(f"  top speed's part in phase with the bit speed in the cycle: measured {ph['measured']:.2f}, "
+                  f"predicted {ph['predicted']:.2f}")
         st = lr["stalls"]
         print(f"  stalls (stick phases of at least {STALL_MIN_S:g} s, left out of the metrics above): measured "
               + ", ".join([str(st["measured"]["count"])] + [f"{d:.2f} s" for d in st["measured"]["durations_s"]])

@@ -85,7 +85,7 @@ class Prediction:
                                                "predicted": [s["torque_p5"], s["torque_p95"]]},
                          "mean_top_speed_rad_s": pair("mean_top_speed"),
                          "top_speed_std_rad_s": pair("top_speed_std"), "wob_std_n": pair("wob_std"),
-                         "median_period_s": pair("median_period_s"),
+                         "median_period_s": pair("median_period_s"), "top_in_phase": pair("top_in_phase"),
                          "stalls": {"measured": m["stalls"], "predicted": s["stalls"]},
                          "mismatch": self.comparison.mismatch},
             "predictive": self.model.predictive,
