@@ -162,6 +162,7 @@ def test_cycle_response_reads_phase_and_gain_at_the_cycle_frequency():
     assert r["gain"] == pytest.approx(0.5, rel=0.03) and r["coherence"] > 0.95
     assert r["in_phase"] == pytest.approx(0.5 * np.cos(np.radians(40.0)), rel=0.04)
     assert np.isnan(sig.cycle_response(x, np.zeros_like(x), fs)["in_phase"])
+    assert np.isnan(sig.cycle_response(x[::800], y[::800], 1.25)["frequency_hz"])  # 1-6 Hz above its Nyquist
 
 
 def test_the_records_top_speed_gives_way_nearly_in_phase_with_the_bit():

@@ -514,7 +514,7 @@ def cycle_response(x, y, fs_hz: float, band_hz: tuple = (1.0, 6.0), segment_s: f
     dict
         ``frequency_hz``, ``phase_deg`` (positive: ``y`` leads), ``gain``, ``coherence`` and
         ``in_phase`` = gain cos(phase), the part of ``y`` in phase with ``x`` per unit of ``x``; NaN
-        for a ``y`` without variation.
+        for a ``y`` without variation, and all NaN when no frequency of the spectra lies in ``band_hz``.
     """
     x = np.asarray(x, float) - np.mean(x)
     y = np.asarray(y, float) - np.mean(y)
@@ -523,9 +523,11 @@ def cycle_response(x, y, fs_hz: float, band_hz: tuple = (1.0, 6.0), segment_s: f
     _, pyy = sps.welch(y, fs_hz, nperseg=n)
     _, pxy = sps.csd(x, y, fs_hz, nperseg=n)  # conj(X) Y: the phase of y relative to x
     band = np.flatnonzero((f >= band_hz[0]) & (f <= band_hz[1]))
+    nan = float("nan")
+    if band.size == 0:  # the band lies above the Nyquist frequency or between two bins
+        return {"frequency_hz": nan, "phase_deg": nan, "gain": nan, "coherence": nan, "in_phase": nan}
     k = band[np.argmax(pxx[band])]
     if not (pxx[k] > 0 and pyy[k] > 0):
-        nan = float("nan")
         return {"frequency_hz": float(f[k]), "phase_deg": nan, "gain": nan, "coherence": nan, "in_phase": nan}
     gain, phase = float(np.sqrt(pyy[k] / pxx[k])), float(np.angle(pxy[k]))
     return {"frequency_hz": float(f[k]), "phase_deg": float(np.degrees(phase)), "gain": gain,
