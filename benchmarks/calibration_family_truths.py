@@ -1,6 +1,7 @@
 """Does the model choice pick the truth's law family over many truths (issue 35, item 4)?
 
-    nice -n 10 env PYTHONPATH=python python3 benchmarks/calibration_family_truths.py --per-family 3 --threads 1
+    nice -n 10 env PYTHONPATH=python python3 benchmarks/calibration_family_truths.py --per-family 3 --threads 1 \
+        [--family-share 0.1]
 
 Truths: the independent whole-rig simulator (``benchmarks/whole_rig.py``: ten lumped Kelvin-Voigt
 segments, a one-way motor hold, an RGD-like cut under a drooping jack, a one-way load cell, quantized
@@ -15,7 +16,8 @@ bit below 0.5 rad/s over more than half of it) is drawn again (counted): a stall
 cycle and the calibration is for a rig that drills.
 
 Each record (``--duration`` s) is calibrated twice with the four families
-(:func:`drillpy.calibration.posterior.calibrate_record`, the default model discrepancy):
+(:func:`drillpy.calibration.posterior.calibrate_record`, the default model discrepancy, the share
+``--family-share`` of the model proposals spread evenly over the families):
 
 * at a **modest budget** (``--population``, ``--simulations``): the run under test;
 * at a **larger budget** (``--large-population``, ``--large-simulations``, another seed): the
@@ -133,21 +135,22 @@ def separation(fam: str, best: dict, n_stats: int, factor: float) -> tuple:
     return llr, verdict
 
 
-def _run(rec, population, simulations, seed, threads, discrepancy):
+def _run(rec, population, simulations, seed, threads, discrepancy, share):
     from drillpy import load_config
     from drillpy.calibration.posterior import calibrate_record
     cfg = load_config(preset="thesis-rig")
-    cfg["calibration"] = {"families": list(FOUR)}
+    cfg["calibration"] = {"families": list(FOUR)} if share is None else {"families": list(FOUR), "family_share": share}
     post = calibrate_record(rec, config=cfg, population=population, max_simulations=simulations, predictive_draws=1,
                             max_generations=40, seed=seed, threads=threads, discrepancy=discrepancy)
     return {"post": post, "p": post.model_probability, "se": post.model_probability_se,
             "choice": post.model_choice["family"],
             "reason": post.model_choice["reason"], "ess": post.model_choice["ess"], "eps": post.run["eps"][-1],
+            "model_ess": dict(zip(FOUR, post.run["history"][-1]["model_ess"])),
             "sims": post.run["abc_simulations"], "stopped": post.run["stopped"]}
 
 
 def _fmt(r: dict) -> str:
-    return (", ".join(f"{SHORT[f]} {r['p'][f]:.2f}+-{r['se'][f]:.2f}" for f in FOUR)
+    return (", ".join(f"{SHORT[f]} {r['p'][f]:.2f}+-{r['se'][f]:.2f} (ESS {r['model_ess'][f]:.1f})" for f in FOUR)
             + f" -> {SHORT[r['choice']]} (ESS {r['ess']:.0f}, eps {r['eps']:.3g}, {r['sims']} sims, stopped: "
             f"{r['stopped']})")
 
@@ -214,6 +217,8 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=35)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--discrepancy", type=float, default=None, help="the model discrepancy's factor (default drillpy's)")
+    ap.add_argument("--family-share", type=float, default=None,
+                    help="calibration.family_share (default drillpy's: drillpy.calibration.priors.DEFAULT_FAMILY_SHARE)")
     a = ap.parse_args(argv)
     from drillpy import load_config
     from drillpy.calibration.priors import prior_spec
@@ -231,10 +236,11 @@ def main(argv=None) -> int:
                     break
             cseed = a.seed + 100 * FOUR.index(fam) + j
             row = {"family": fam, "truth": truth, "redraws": redraw, "stalled": stalled,
-                   "modest": _run(rec, a.population, a.simulations, cseed, a.threads, a.discrepancy)}
+                   "modest": _run(rec, a.population, a.simulations, cseed, a.threads, a.discrepancy,
+                                      a.family_share)}
             if not a.no_large:
                 row["large"] = _run(rec, a.large_population, a.large_simulations, cseed + 50000, a.threads,
-                                    a.discrepancy)
+                                    a.discrepancy, a.family_share)
                 post = row["large"]["post"]
                 best = predictive_distance(post, rec, a.draws, base)
                 factor = post.run["discrepancy"]["factor"]

@@ -176,6 +176,7 @@ def test_calibrate_command_writes_the_posterior_and_predict_applies_it(tmp_path)
                 "--seed", "2", "--map", "10:20:2,500:600:2", "--map-samples", "2")
     assert r.returncode == 0, r.stderr
     assert "P(polynomial, Eq. 5.1" in r.stdout and "posterior predictive 90 % intervals" in r.stdout
+    assert "ESS of its particles" in r.stdout
     assert "posterior stability map, 2 samples" in r.stdout and (out / "map.zarr").is_dir()
     assert (out / "map.png").is_file()  # P(SS > 0.5 or a stall) and P(stall) over the grid
     s = json.loads((out / "posterior.json").read_text())

@@ -11,8 +11,10 @@ statistics lie within a shrinking tolerance eps_t of the observed ones.
 * Generation 0 draws N particles from the prior, all kept. Generation t >= 1 sets eps_t to the
   weighted median of the previous population's distances and proposes particles in **batches**
   (the simulator runs a whole batch at once) until N have distance <= eps_t: the model from
-  q(m) = (1 - delta) P_{t-1}(m) + delta / M (a model is always proposed, though it may end a
-  generation without particles), then with probability rho a fresh prior draw (always, for a model with fewer than 2 particles), else a particle of that model
+  q(m) = (1 - s) P_{t-1}(m) + s / M, s the ``family_share`` spread evenly over the models (every model
+  is proposed at least s / M of the time, so a model the population is losing keeps proposals,
+  though it may end a generation without particles), then with probability rho a fresh prior draw
+  (always, for a model with fewer than 2 particles), else a particle of that model
   drawn by weight and moved by a Gaussian kernel of twice the model's weighted covariance
   (Beaumont's choice) plus (:data:`KERNEL_FLOOR`)^2 I, or of :data:`KERNEL_FEW` on every axis when the
   model has fewer effective particles than its dimension + 2 (no covariance can be estimated). A proposal outside the unit cube has prior density 0: it counts as
@@ -20,7 +22,8 @@ statistics lie within a shrinking tolerance eps_t of the observed ones.
   with q(m, z) = q(m) (rho + (1 - rho) sum_j W_j N(z; z_j, Sigma_m)): the importance weights of an
   exact accept-reject step, so model probabilities stay unbiased for the ABC posterior at eps_t.
 * Model probabilities P(m) = sum of the weights of model m's particles; their Monte Carlo standard
-  error is the self-normalized importance sampling one, sqrt(sum_i wn_i^2 (1[m_i = m] - P(m))^2);
+  error is the self-normalized importance sampling one, sqrt(sum_i wn_i^2 (1[m_i = m] - P(m))^2), and
+  each model's effective sample size is that of its particles' weights (:meth:`Population.model_ess`);
   a model without particles has a rule-of-three upper bound instead (:meth:`Population.upper95`),
   and :func:`model_choice` names the model the population supports or says that it cannot tell.
 * Batches are sized to the particles still needed at the acceptance rate expected (the previous
@@ -150,6 +153,26 @@ class Population:
         d = (self.model == a).astype(float) - (self.model == b)
         return math.sqrt(float(np.sum(w ** 2 * (d - np.sum(w * d)) ** 2)))
 
+    def model_ess(self, n_models: int) -> np.ndarray:
+        """Effective sample size of each model's particles, (sum w)^2 / sum w^2 over them (0 for a
+        model without particles).
+
+        Parameters
+        ----------
+        n_models : int
+            Number of models.
+
+        Returns
+        -------
+        ndarray
+        """
+        out = np.zeros(n_models)
+        for m in range(n_models):
+            w = self.weight[self.model == m]
+            if w.size:
+                out[m] = float(w.sum() ** 2 / np.sum(w ** 2))
+        return out
+
     def ess(self) -> float:
         """Effective sample size of the weights."""
         w = self.weight / self.weight.sum()
@@ -170,7 +193,8 @@ class ABCResult:
         Why it stopped.
     history : list of dict
         Per generation: eps, simulations, proposals, acceptance (of its simulations), hit rate (of
-        its proposals), ESS, model probabilities and their standard errors.
+        its proposals), ESS, model probabilities and their standard errors, each model's ESS and
+        proposals.
     """
     populations: list
     n_models: int
@@ -383,7 +407,7 @@ def _kernel_density(z, centers, weights, chol_inv, log_norm):
 
 def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, population: int = 200,
         max_simulations: int = 20000, max_generations: int = 20, min_acceptance: float = 0.02, seed: int = 0,
-        rho: float = 0.0, delta: float = 0.1, quantile: float = 0.5, discrepancy=None, log=None) -> ABCResult:
+        rho: float = 0.0, family_share: float = 0.1, quantile: float = 0.5, discrepancy=None, log=None) -> ABCResult:
     """Run ABC-SMC with model choice.
 
     Parameters
@@ -411,8 +435,11 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
         Share of fresh prior draws among the proposals (a defensive mixture; 0 by default: an accepted
         prior draw far from the kernel's mass takes a weight that swamps the population's). A model
         with fewer than 2 particles is always proposed from its prior.
-    delta : float
-        Share of the model proposal spread uniformly over the models.
+    family_share : float
+        Share of the model proposals spread evenly over the models, in (0, 1]: model m is proposed with
+        q(m) = (1 - s) P_{t-1}(m) + s / M, so at least s / M of the time (1: every model equally
+        often, whatever its probability). A model with fewer than 2 particles is proposed from its
+        prior, else by the kernel around its particles.
     quantile : float
         eps_t is this weighted quantile of the previous population's distances.
     discrepancy : array_like, optional
@@ -435,6 +462,9 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
         raise ValueError(f"population = {population!r}: at least 4 particles")
     if int(max_simulations) < population:
         raise ValueError(f"max_simulations = {max_simulations!r}: at least the population ({population})")
+    if isinstance(family_share, bool) or not (isinstance(family_share, (int, float)) and 0 < family_share <= 1):
+        raise ValueError(f"family_share = {family_share!r}: a share in (0, 1] of the model proposals spread evenly "
+                         "over the models")
     if not 0 < quantile < 1:
         raise ValueError(f"quantile = {quantile!r}: between 0 and 1")
     N, M = int(population), len(dims)
@@ -477,12 +507,13 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
         line = {"generation": t, "eps": pop.eps, "simulations": pop.simulations, "proposals": pop.proposals,
                 "acceptance": hits / pop.simulations if t else 1.0,
                 "hit_rate": hits / pop.proposals if t else 1.0, "ess": pop.ess(),
-                "model_probabilities": p.tolist(), "model_probability_se": se.tolist()}
+                "model_probabilities": p.tolist(), "model_probability_se": se.tolist(),
+                "model_ess": pop.model_ess(M).tolist(), "model_proposals": pop.model_proposals.tolist()}
         history.append(line)
         if log:
             log(f"generation {t}: eps {pop.eps:.3g}, {pop.simulations} simulations (acceptance "
                 f"{line['acceptance']:.2f}), ESS {pop.ess():.0f}, P(model) "
-                + ", ".join(f"{a:.3f}+-{b:.3f}" for a, b in zip(p, se)))
+                + ", ".join(f"{a:.3f}+-{b:.3f} (ESS {e:.0f})" for a, b, e in zip(p, se, line["model_ess"])))
 
     note(pops[0], 0)
     for t in range(1, int(max_generations) + 1):
@@ -495,7 +526,7 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
         cw = np.cumsum(prev.weight[order]) / prev.weight.sum()
         eps = max(float(prev.distance[order][min(np.searchsorted(cw, quantile), N - 1)]), floor)
         p_prev, _ = prev.model_probabilities(M)
-        qm = (1 - delta) * p_prev + delta / M
+        qm = (1 - family_share) * p_prev + family_share / M
         kern = []
         for m in range(M):
             sel = prev.model == m

@@ -32,7 +32,7 @@ import numpy as np
 
 from drillpy.calibration import abcsmc
 from drillpy.calibration.families import FAMILIES, check_base, family_law
-from drillpy.calibration.priors import PriorSpec, discrepancy_factor, prior_spec, split_config
+from drillpy.calibration.priors import PriorSpec, discrepancy_factor, family_share, prior_spec, split_config
 from drillpy.calibration.sampler import Sampler, check_backend
 from drillpy.calibration.summaries import ALL_NAMES, ALL_UNITS, BOUNDS, NAMES, noise_scale, statistics, summaries
 from drillpy.model.configuration import Configuration
@@ -355,6 +355,7 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
     spec = prior_spec(section)
     factor = discrepancy_factor(section.get("discrepancy") if discrepancy is None else discrepancy,
                                 "calibration.discrepancy" if discrepancy is None else "discrepancy")
+    share = family_share(section.get("family_share"))
     base_law = cfg.law.to_dict()
     check_base(base_law)  # the law's type, checked before any run
     rec = load_window(record, t0, t1)
@@ -373,7 +374,8 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
         dims = [len(spec.families[f]) for f in sim.families]
         start, cpu = time.perf_counter(), time.process_time()
         res = abcsmc.run(sim, dims, observed, scale, population=population, max_simulations=max_simulations,
-                         max_generations=max_generations, seed=seed, discrepancy=disc, log=log)
+                         max_generations=max_generations, seed=seed, discrepancy=disc,
+                         family_share=share, log=log)
         wall, cpu = time.perf_counter() - start, time.process_time() - cpu
         post = res.posterior
         # posterior predictive on the held-out window
@@ -405,6 +407,7 @@ def calibrate_record(record, *, preset: str | None = None, config_path: str | No
            "simulations_per_s": res.simulations / wall if wall > 0 else None, "cpu_s": cpu, "seed": seed,
            "threads": backend.get("threads"), "backend": backend, "dt_s": sim.dt_s, "method": "ABC-SMC with model choice (drillpy.calibration.abcsmc)",
            "heldout_s": list(heldout) if heldout is not None else None,
+           "family_share": share,
            "discrepancy": {"factor": factor, "sd": dict(zip(names, map(float, disc))),
                            "eps_floor": abcsmc.discrepancy_floor(disc, scale),
                            "method": "noisy ABC under model error (Wilkinson 2013): N(0, sd^2) on each simulated "

@@ -10,12 +10,14 @@ replaces any of them, fixes the parameters not calibrated, and names the law fam
         "fixed": {"jack_relaxation_s": 0.2, ...},
         "families": ["polynomial_hysteretic", "polynomial", "tucker_wang", "hysteretic"],
         "discrepancy": 2.0,
+        "family_share": 0.5,
         "statistics": ["ss", "stick_fraction", ..., "wob_above_trend_std"]
     }
 
 The families (default Eqs. 5.3 and 5.1) and their law parameters' ranges are those of
 :mod:`drillpy.calibration.families`. ``discrepancy`` is the model discrepancy's factor
-(:func:`discrepancy_factor`). ``statistics`` names the summary statistics of the distance among
+(:func:`discrepancy_factor`). ``family_share`` is the share of the sampler's model proposals spread
+evenly over the families (:func:`family_share`). ``statistics`` names the summary statistics of the distance among
 :data:`drillpy.calibration.summaries.ALL_NAMES` (default :data:`~drillpy.calibration.summaries.NAMES`). The section is read here and removed before the engine
 validates the rest of the configuration.
 """
@@ -212,11 +214,11 @@ def prior_spec(section: dict | None = None) -> PriorSpec:
         Naming the field and the value of an unknown key, parameter or family, or a bad range.
     """
     sec = dict(section or {})
-    unknown = set(sec) - {"priors", "fixed", "families", "discrepancy", "statistics"}
+    unknown = set(sec) - {"priors", "fixed", "families", "discrepancy", "family_share", "statistics"}
     if unknown:
         k = sorted(unknown)[0]
         raise ValueError(f"calibration.{k} = {sec[k]!r}: unknown key (use priors, fixed, families, discrepancy, "
-                         "statistics)")
+                         "family_share, statistics)")
     stats = sec.get("statistics", list(NAMES))
     if not isinstance(stats, (list, tuple)) or not stats or len(set(stats)) != len(stats) \
             or any(n not in ALL_NAMES for n in stats):
@@ -224,6 +226,7 @@ def prior_spec(section: dict | None = None) -> PriorSpec:
                          f"{', '.join(ALL_NAMES)}")
     if "discrepancy" in sec:
         discrepancy_factor(sec["discrepancy"], "calibration.discrepancy")
+    family_share(sec.get("family_share"))
     fams = sec.get("families", list(DEFAULT_FAMILIES))
     if not isinstance(fams, (list, tuple)) or not fams:
         raise ValueError(f"calibration.families = {fams!r}: a non-empty list of {', '.join(FAMILIES)}")
@@ -300,3 +303,37 @@ def discrepancy_factor(value, field: str = "calibration.discrepancy") -> float:
                          "spread on the record")
     return float(value)
 
+
+
+#: The share of the model proposals spread evenly over the families by default (:func:`family_share`:
+#: 10 %, the sampler's proposal before the option; docs/calibration.md, "Keeping every family explored").
+DEFAULT_FAMILY_SHARE = 0.1
+
+
+def family_share(value) -> float:
+    """The share s of the ABC-SMC's model proposals spread evenly over the M families
+    (:func:`drillpy.calibration.abcsmc.run`): family m is proposed with probability (1 - s) P(m) + s / M,
+    so every family keeps at least s / M of every generation's proposals; 1 proposes every family
+    equally often.
+
+    Parameters
+    ----------
+    value : float or None
+        The share, in (0, 1] (None: :data:`DEFAULT_FAMILY_SHARE`).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        ``calibration.family_share = <value>: a number in (0, 1] ...``.
+    """
+    if value is None:
+        return DEFAULT_FAMILY_SHARE
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
+            or not (math.isfinite(value) and 0 < value <= 1):
+        raise ValueError(f"calibration.family_share = {value!r}: a number in (0, 1], the share of the model "
+                         "proposals spread evenly over the families (0.1 by default; 1: every family equally often)")
+    return float(value)

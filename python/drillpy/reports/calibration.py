@@ -138,10 +138,12 @@ def summary_lines(s: dict) -> list:
     if disc.get("factor"):
         lines.append(f"model discrepancy: {disc['factor']:g} x each statistic's window-to-window spread (noisy ABC); "
                      f"eps held at {disc['eps_floor']:.3g} and above")
-    for fam in s["families"]:
+    ess = (run.get("history") or [{}])[-1].get("model_ess")  # none in a posterior written before it
+    for i, fam in enumerate(s["families"]):
         up = (s.get("model_choice") or {}).get("upper95", {}).get(fam)
         lines.append(f"P({fam}, Eq. {s['equations'][fam]}) = {s['model_probability'][fam]:.3f} "
-                     f"+- {s['model_probability_se'][fam]:.3f} (Monte Carlo s.e.)"
+                     f"+- {s['model_probability_se'][fam]:.3f} (Monte Carlo s.e."
+                     + ("" if ess is None else f"; ESS of its particles {ess[i]:.1f}") + ")"
                      + ("" if up is None else f"; no particle left: below {up:.3f} at 95 %"))
         lines += [f"  {name}: {p['median']:.4g} [{p['ci90'][0]:.4g}, {p['ci90'][1]:.4g}] {p['unit']} "
                   f"(90 %; prior [{p['prior'][0]:g}, {p['prior'][1]:g}], width {p['width_ratio']:.2f} of it)"
