@@ -31,6 +31,42 @@
 // the retained torsional frequencies and of the axial ones stiffened by the cutting law's stiffness at
 // the bit, sqrt(k_max^2 + N a zeta eps g_a) (the depth of cut is explicit).
 //
+// Scheme exact_modal (simulation.scheme; issue 34): the torsional engine's exact modal step
+// (exact_modal.hpp) on both sets of coordinates. Each torsional mode and each axial mode (the rigid
+// mode of hook_load included) is propagated exactly over the step by its 2x2 propagator with the exact
+// response to a force varying linearly over the step: the top's acceleration (Omega_i+1 - Omega_i) / dt
+// and T from T_i to T_i+1 on the torsional modes, F_top (constant) and W from W_i to W_i+1 on the
+// axial ones. No bound of Eq. (A.7) (the modes' own frequencies need none). At the step's end the
+// bit's velocities are linear in the end forces, Omega_i+1 = Omega_1 + w - c_t T_i+1 and V_i+1 = V_f -
+// c_a W_i+1 (w, V_f the free end velocities holding the start forces' share, c = sum_j bit_j G1p_j),
+// and the set-valued laws are solved there as in the modified Euler step above with (Oa, dt g_t) ->
+// (Omega_1 + w, c_t) and (Va, dt g_a) -> (V_f, c_a): exact_axial (cutting while turning, the wear
+// flats' [0, W_f] at axial rest, lift-off) and exact_rgd_torque (T in [-T_f, T_c + T_f] at rest), or
+// with axial.torque = law the torsional engine's exact_bit (Eqs. 3.1-3.3, 5.1, 5.3 at the end speed
+// and the step's own acceleration (v_i+1 - v_i) / dt, Eq. A.1; Newton; its stick condition with the
+// law's static torque at the current W). A bit at rest at the step's end (torsionally or axially)
+// takes the force that holds it there held over the step, as the torsional engine does
+// (exact_modal.hpp: interpolated, the holding force of one step would depend on the last one's with a
+// factor near -1 and alternate); a stuck bit's speed is exactly zero. The torsional switch (cutting
+// while turning) is the bit speed at the step's start, as in the modified Euler step.
+// The depth of cut: the rock surface S(Phi - 2 pi / N) is looked up on the history buffer at the angle
+// the bit reaches at the step's end with T_i+1 = T_i (explicit in the angle: the surface moves with
+// the angle by the advance of one sector back, d S / d Phi = V (t - t_N) / Omega (t - t_N)); in the
+// bit's axial position it is implicit, d = d_p - N z_a (W_i+1 - W_i) with d_p the depth at the
+// position reached with W_i+1 = W_i and z_a the position's compliance to the end WOB (za1 linear,
+// za0 + za1 held), solved by fixed-point iteration with the axial inclusion. Explicit in U the cutting
+// law's stiffness k_c = N a zeta eps on the bit (mass 1 / g_a) would be a spring stepped explicitly
+// on top of the exact modes (stable on one mass to k_c g_a dt^2 < 2.4, with a numerical damping of
+// 0.08 % a step already at k_c g_a dt^2 = 0.1, where the symplectic modified Euler has none, and this
+// spring's delayed force is what drives RGD's instability); implicit in U it is trapezoidal (no
+// numerical damping on one mass). The iteration contracts by N a zeta eps z_a <= k_c g_a dt^2 / 2 (a
+// mode's displacement under a unit force held over the step is at most bit_j^2 dt^2 / 2), so the step
+// bound of the scheme is
+//   dt < 1 / sqrt(N a zeta eps g_a)        (the iteration's contraction below 1 / 2),
+// 28.6 ms on the rgd-field string (its modified Euler bound: 6.1 ms); a larger simulation.dt_s is
+// refused naming it. Reported per step: the end state and the step's mean forces ((T_i + T_i+1) / 2,
+// the held one where held; the same for W), as the torsional engine reports its torque.
+//
 // The thesis's laws on the axial state (spec.torque = AxialTorque::law, axial.torque = "law"): the
 // axial inclusion is RGD's as above (W its cutting and wear-flat force, its switches and bit bounce),
 // and the torque on the bit is the configuration's law (F. F. Real 2018: Eq. 3.1 Tucker-Wang, Eqs.
@@ -228,8 +264,8 @@ class AxialTorsional {
     });
   }
 
-  /// The exact modal scheme's bound from the explicit depth of cut (the header's comment):
-  /// dt sqrt(N a zeta eps g_a) < sqrt(12 / 5) [s] (infinite without a cutting stiffness at the bit).
+  /// The exact modal scheme's bound from the cutting law's stiffness at the bit (the header's comment):
+  /// dt < 1 / sqrt(N a zeta eps g_a) [s] (infinite without a cutting stiffness at the bit).
   double exact_bound() const {
     const double kg = spec_.bit.blades * spec_.bit.cutting_wob_per_depth() * ax_.bit.squaredNorm();
     return kg > 0.0 ? 1.0 / std::sqrt(kg) : INFINITY;
@@ -492,10 +528,10 @@ class AxialTorsional {
             "needs a torsional damping that is diagonal in the modal basis (modal or Rayleigh damping)");
     const double bound = exact_bound();
     require(opt_.dt < bound, "simulation.dt_s", opt_.dt,
-            "exceeds the exact-modal bound of the coupled model dt < sqrt(12 / 5) / sqrt(N a zeta eps g_a) = " +
-                show(bound) + " s (the depth of cut is explicit: the cutting law's stiffness N a zeta eps = " +
-                show(spec_.bit.blades * spec_.bit.cutting_wob_per_depth()) + " N/m on the bit's axial modal gain g_a = " +
-                show(ax_.bit.squaredNorm()) + " 1/kg; a smaller dt)");
+            "exceeds the exact-modal bound of the coupled model dt < 1 / sqrt(N a zeta eps g_a) = " + show(bound) +
+                " s (the cutting law's stiffness N a zeta eps = " + show(spec_.bit.blades * spec_.bit.cutting_wob_per_depth()) +
+                " N/m on the bit's axial modal gain g_a = " + show(ax_.bit.squaredNorm()) +
+                " 1/kg, the depth of cut's iteration in the bit's axial position: a smaller dt)");
     et_ = ExactModal::build(w2_, d_, bit_, top_load_, opt_.dt);
     ea_ = ExactModal::build(ax_.omega.cwiseAbs2(), ax_.damping, ax_.bit, -ax_.top_row, opt_.dt);
     zt1_ = za0_ = za1_ = 0.0;
