@@ -73,14 +73,15 @@ TEST(AxialExact, SteadyDrillingIsAnEquilibrium) {
 }
 
 // RGD's torque, 8 rad/s and 150 kN (a periodic regime: the preset's 4 rad/s is chaotic, its 60-s
-// metrics move by 10-20 % with the step of either scheme). Measured (docs/axial.md): at 5 ms the exact
-// scheme is within 0.3 % (SS), 0.2 % (mean ROP), 1.8 % (ROP std) and 0.6 % (WOB std) of the modified
-// Euler at 0.05 ms.
+// metrics move by 10-20 % with the step of either scheme). Measured (docs/axial.md): the exact scheme's
+// SS is 1.4 % off at 0.5 ms, 2.8 % at 2 ms and 0.3 % at 5 ms (first order below 0.5 ms: 0.7 % at
+// 0.25 ms, 0.3 % at 0.1 ms), its mean ROP within 0.2 %, ROP std 1.8 % and WOB std 0.6 % at 5 ms, against
+// the modified Euler at 0.05 ms: the tolerances are these with a margin.
 TEST(AxialExact, AgreesWithAFineModifiedEulerOnTheRgdField) {
   const Metrics ref = metrics(rgd(Scheme::modified_euler, 5e-5));
   for (double dt : {2e-3, 5e-3}) {
     const Metrics m = metrics(rgd(Scheme::exact_modal, dt));
-    EXPECT_LT(rel(m.ss, ref.ss), 0.02) << dt << ": SS " << m.ss << " against " << ref.ss;
+    EXPECT_LT(rel(m.ss, ref.ss), 0.04) << dt << ": SS " << m.ss << " against " << ref.ss;
     EXPECT_LT(rel(m.rop, ref.rop), 0.01) << dt << ": mean ROP " << m.rop << " against " << ref.rop;
     EXPECT_LT(rel(m.rop_std, ref.rop_std), 0.03) << dt << ": ROP std " << m.rop_std << " against " << ref.rop_std;
     EXPECT_LT(rel(m.wob_std, ref.wob_std), 0.02) << dt << ": WOB std " << m.wob_std << " against " << ref.wob_std;
