@@ -61,6 +61,10 @@ def error(s: dict, ref: dict) -> float:
     return max(abs(s[k] / ref[k] - 1.0) for k in KEYS)
 
 
+def _cell(best: tuple[float, float] | None) -> str:
+    return "none" if best is None else f"{best[0] * 1e3:g}, {best[1] * 1e3:.2f} ms/s"
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--duration", type=float, default=60.0)
@@ -72,8 +76,8 @@ def main() -> None:
         ref, ref_wall = run(case, "modified_euler", 5e-5, a.duration, 1)
         print(f"\ncase {case} ({'RGD torque' if case == 'rgd' else 'thesis law on the axial WOB'}); "
               f"reference modified_euler 0.05 ms ({ref_wall * 1e3:.1f} ms per simulated s)")
-        print(f"| scheme | dt [ms] | SS | stick | mean ROP [mm/s] | ROP std [mm/s] | WOB std [kN] | bounce "
-              f"| max rel. error | wall [ms / simulated s] |")
+        print("| scheme | dt [ms] | SS | stick | mean ROP [mm/s] | ROP std [mm/s] | WOB std [kN] | bounce "
+              "| max rel. error | wall [ms / simulated s] |")
         print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
         print(f"| reference | 0.05 | {ref['severity']:.4f} | {ref['stick_fraction']:.4f} | "
               f"{ref['mean_rop_m_s'] * 1e3:.3f} | {ref['rop_std_m_s'] * 1e3:.3f} | {ref['wob_std_n'] / 1e3:.3f} | "
@@ -100,9 +104,8 @@ def main() -> None:
                     ok = (dt, wall)
                 best[scheme] = ok
             me, ex = best["modified_euler"], best["exact_modal"]
-            fmt = lambda b: "none" if b is None else f"{b[0] * 1e3:g}, {b[1] * 1e3:.2f} ms/s"
             ratio = (f"{ex[0] / me[0]:.2f} | {me[1] / ex[1]:.2f}" if me and ex else "- | -")
-            print(f"| {tol:g} | {fmt(me)} | {fmt(ex)} | {ratio} |")
+            print(f"| {tol:g} | {_cell(me)} | {_cell(ex)} | {ratio} |")
     print("\nuptime:", subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip())
 
 

@@ -409,7 +409,8 @@ class AxialTorsional {
       exact_modal_free(ma, 1, ea_.k.data(), ax_.bit.data(), eta.data(), r.data(), &F_top, &W0, es.data(), rs.data(),
                        &wa);
       const double theta1 = theta_top + 0.5 * dt * (om + om1);
-      // the depth of cut, explicit: at the step's end predicted with the end forces equal to the start ones
+      // the rock surface at the angle the bit reaches with T_i+1 = T_i (explicit in the angle), and d_p, the
+      // depth of cut at the axial position it reaches with W_i+1 = W_i
       const double Phi_p = theta1 + bit_.dot(zs) - zt1_ * T0, U_p = v_feed * t1 + ax_.bit.dot(es) - za1_ * W0;
       const BitProfile::Cut cut = profile.cut(t1, Phi_p, U_p);
       const bool turning = Ob > bit_rest_tolerance(om);
