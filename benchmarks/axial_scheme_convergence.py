@@ -2,7 +2,7 @@
 and exact_modal, drill/axial_torsional.hpp) against a fine-step modified Euler reference, and their
 cost at matched accuracy.
 
-    PYTHONPATH=python python3 benchmarks/axial_scheme_convergence.py [--duration 60] [--repeats 3]
+    PYTHONPATH=python python3 benchmarks/axial_scheme_convergence.py [--duration 60] [--repeats 3] [--timed 600]
 
 Two cases on the ``rgd-field`` string at 8 rad/s and 150 kN (a periodic regime; the preset's 4 rad/s
 is chaotic and its 60-s metrics move by 10-20 % with the step of either scheme): RGD's torque, and
@@ -10,8 +10,9 @@ the thesis's hysteretic law (Eqs. 3.2-3.3, thesis-field's, W_ref 245 kN) on the 
 (``axial.torque = "law"``). The reference is the modified Euler at 0.05 ms. For each scheme and step
 it prints the physical metrics over the second half of the run (SS, stick fraction, mean ROP, ROP
 and WOB standard deviations, bounce fraction), the largest relative error of SS, mean ROP, ROP std
-and WOB std against the reference, and the median wall time per simulated second over ``--repeats``
-runs (one thread, no series recorded). Then, per tolerance, the largest step of each scheme whose
+and WOB std against the reference, and the wall time per simulated second of stepping (the median
+over ``--repeats`` runs of ``--timed`` simulated seconds less that of runs of 10 steps, which build
+the model; one thread, no series recorded). Then, per tolerance, the largest step of each scheme whose
 error and that of every smaller step is within it, and the ratio of their steps and wall times. The
 machine is shared: the script prints ``uptime`` before and after.
 """
@@ -44,17 +45,26 @@ def config(case: str, scheme: str, dt: float, duration: float) -> dict:
     return c
 
 
-def run(case: str, scheme: str, dt: float, duration: float, repeats: int) -> tuple[dict, float]:
-    """The summary and the median wall time per simulated second [s/s]."""
+def run(case: str, scheme: str, dt: float, duration: float, repeats: int, timed: float) -> tuple[dict, float]:
+    """The summary of a run of `duration` and the wall time per simulated second of stepping [s/s]: the
+    median over `repeats` runs of `timed` seconds less the median of as many runs of 10 steps (the
+    model's construction, the same in both)."""
     import drillpy
     from drillpy.model.simulation import simulate
     cfg = drillpy.load_config(config=config(case, scheme, dt, duration))
-    walls, s = [], None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        s = simulate(cfg, record=False).summary()
-        walls.append(time.perf_counter() - t0)
-    return s, statistics.median(walls) / duration
+    long = drillpy.load_config(config=config(case, scheme, dt, timed))
+    short = drillpy.load_config(config=config(case, scheme, dt, 10 * dt))
+
+    def wall(c) -> float:
+        walls = []
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            simulate(c, record=False)
+            walls.append(time.perf_counter() - t0)
+        return statistics.median(walls)
+
+    s = simulate(cfg, record=False).summary()
+    return s, max(0.0, wall(long) - wall(short)) / (timed - 10 * dt)
 
 
 def error(s: dict, ref: dict) -> float:
@@ -69,11 +79,12 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--duration", type=float, default=60.0)
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--timed", type=float, default=600.0, help="simulated seconds of the timed runs")
     a = ap.parse_args()
     print("uptime:", subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip())
     print(f"rgd-field string, {SPEED:g} rad/s, 150 kN, {a.duration:g} s (second half measured), one thread")
     for case in ("rgd", "law"):
-        ref, ref_wall = run(case, "modified_euler", 5e-5, a.duration, 1)
+        ref, ref_wall = run(case, "modified_euler", 5e-5, a.duration, 1, a.duration)
         print(f"\ncase {case} ({'RGD torque' if case == 'rgd' else 'thesis law on the axial WOB'}); "
               f"reference modified_euler 0.05 ms ({ref_wall * 1e3:.1f} ms per simulated s)")
         print("| scheme | dt [ms] | SS | stick | mean ROP [mm/s] | ROP std [mm/s] | WOB std [kN] | bounce "
@@ -86,7 +97,7 @@ def main() -> None:
         for scheme, steps in STEPS.items():
             rows[scheme] = []
             for dt in steps:
-                s, wall = run(case, scheme, dt, a.duration, a.repeats)
+                s, wall = run(case, scheme, dt, a.duration, a.repeats, a.timed)
                 e = error(s, ref)
                 rows[scheme].append((dt, e, wall))
                 print(f"| {scheme} | {dt * 1e3:g} | {s['severity']:.4f} | {s['stick_fraction']:.4f} | "
