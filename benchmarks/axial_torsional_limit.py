@@ -95,7 +95,8 @@ def main() -> None:
     ap.add_argument("--dt", type=float, default=None, help="simulation.dt_s of both runs (default: the preset's)")
     a = ap.parse_args()
     print(f"rgd-field string, feed top {FEED * 3600:g} m/h, {OMEGA:g} rad/s, {a.duration:g} s; "
-          f"eps scaled by s; torsional engine: T = T0 sign(Omega); scheme {a.scheme or 'preset'}, dt {a.dt or 'preset'}")
+          f"eps scaled by s; torsional engine: T = T0 sign(Omega); "
+          f"scheme {a.scheme or 'preset'}, dt {a.dt or 'preset'}")
     print(f"{'s':>8} {'Tc/T0':>10} {'max|dOmega|/Omega':>18} {'/(Tc/T0)':>9} {'max|dT|/T0':>11} "
           f"{'/(Tc/T0)':>9} {'max|d/d0-1|':>11} {'SS coupled':>10} {'SS torsional':>12}")
     for s in (1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-6, 1e-9, 1e-12):

@@ -442,7 +442,8 @@ class AxialTorsional {
       } else {
         x = w;  // off the rock: T = 0
       }
-      if (!std::isfinite(x) || !std::isfinite(T) || !std::isfinite(W)) throw std::runtime_error(Integrator::divergence(t1));
+      if (!std::isfinite(x) || !std::isfinite(T) || !std::isfinite(W))
+        throw std::runtime_error(Integrator::divergence(t1));
       const double dT0 = held_t ? T - T0 : 0.0, dW0 = held_a ? W - W0 : 0.0;
       exact_modal_close(mt, 1, et_.k.data(), zs.data(), ps.data(), &T, &dT0, z.data(), p.data());
       exact_modal_close(ma, 1, ea_.k.data(), es.data(), rs.data(), &W, &dW0, eta.data(), r.data());
@@ -454,8 +455,9 @@ class AxialTorsional {
       profile.record(t1, theta_top + bz, v_feed * t1 + ce);
       // the step's mean forces (exact_modal.hpp): the end ones where they are held over the step
       const double Tm = held_t ? T : 0.5 * (T0 + T), Wm = held_a ? W : 0.5 * (W0 + W);
+      const double a_bit = (v1 - Ob) / dt;
       obs(static_cast<const StepState&>(
-              StepState{i + 1, t1, v1, (v1 - Ob) / dt, theta_top + bz, Tm, top_torque_.dot(z), om1, drive.torque(), Wm}),
+              StepState{i + 1, t1, v1, a_bit, theta_top + bz, Tm, top_torque_.dot(z), om1, drive.torque(), Wm}),
           static_cast<const AxialStep&>(AxialStep{t1, Wm, V1, v_feed * t1 + ce, d, cut.delay, contact}));
       x2 = x1;
       x1 = x;
@@ -530,7 +532,8 @@ class AxialTorsional {
     const double bound = exact_bound();
     require(opt_.dt < bound, "simulation.dt_s", opt_.dt,
             "exceeds the exact-modal bound of the coupled model dt < 1 / sqrt(N a zeta eps g_a) = " + show(bound) +
-                " s (the cutting law's stiffness N a zeta eps = " + show(spec_.bit.blades * spec_.bit.cutting_wob_per_depth()) +
+                " s (the cutting law's stiffness N a zeta eps = " +
+                show(spec_.bit.blades * spec_.bit.cutting_wob_per_depth()) +
                 " N/m on the bit's axial modal gain g_a = " + show(ax_.bit.squaredNorm()) +
                 " 1/kg, the depth of cut's iteration in the bit's axial position: a smaller dt)");
     et_ = ExactModal::build(w2_, d_, bit_, top_load_, opt_.dt);
