@@ -72,11 +72,11 @@ TEST(AxialExact, SteadyDrillingIsAnEquilibrium) {
   }
 }
 
-// RGD's torque, 8 rad/s and 150 kN (the modified Euler's metrics converge there; the preset's 4 rad/s
-// is chaotic, its 60-s metrics move by 10-20 % with the step of either scheme). Measured (docs/axial.md): the exact scheme's
-// SS is 1.4 % off at 0.5 ms, 2.8 % at 2 ms and 0.3 % at 5 ms (first order below 0.5 ms: 0.7 % at
-// 0.25 ms, 0.3 % at 0.1 ms), its mean ROP within 0.2 %, ROP std 1.8 % and WOB std 0.6 % at 5 ms, against
-// the modified Euler at 0.05 ms: the tolerances are these with a margin.
+// RGD's torque, 8 rad/s and 150 kN (the modified Euler's metrics converge there; the preset's 4 rad/s is
+// chaotic, its 60-s metrics move by 10-20 % with the step of either scheme). Measured (docs/axial.md): the
+// exact scheme's SS is 1.4 % off at 0.5 ms, 2.8 % at 2 ms and 0.3 % at 5 ms (first order below 0.5 ms:
+// 0.7 % at 0.25 ms, 0.3 % at 0.1 ms), its mean ROP within 0.2 %, ROP std 1.8 % and WOB std 0.6 % at 5 ms,
+// against the modified Euler at 0.05 ms: the tolerances are these with a margin.
 TEST(AxialExact, AgreesWithAFineModifiedEulerOnTheRgdField) {
   const Metrics ref = metrics(rgd(Scheme::modified_euler, 5e-5));
   for (double dt : {2e-3, 5e-3}) {
