@@ -9,13 +9,13 @@ Two cases on the ``rgd-field`` string at 8 rad/s and 150 kN (where the modified 
 converge; the preset's 4 rad/s is chaotic and its 60-s metrics move by 10-20 % with the step of
 either scheme): RGD's torque, and the thesis's hysteretic law (Eqs. 3.2-3.3, thesis-field's, W_ref
 245 kN) on the axial WOB (``axial.torque = "law"``). The reference is the modified Euler at 0.05 ms.
-For each scheme and step it prints the physical metrics over the second half of the run (SS, stick fraction, mean ROP, ROP
-and WOB standard deviations, bounce fraction), the largest relative error of SS, mean ROP, ROP std
-and WOB std against the reference, and the wall time per simulated second of stepping (the median
-over ``--repeats`` runs of ``--timed`` simulated seconds less that of runs of 10 steps, which build
-the model; one thread, no series recorded). Then, per tolerance, the largest step of each scheme whose
-error and that of every smaller step is within it, and the ratio of their steps and wall times. The
-machine is shared: the script prints ``uptime`` before and after.
+For each scheme and step it prints the physical metrics over the second half of the run (SS, stick
+fraction, mean ROP, ROP and WOB standard deviations, bounce fraction), the largest relative error of
+SS, mean ROP, ROP std and WOB std against the reference, and the wall time per simulated second of
+stepping (the median over ``--repeats`` runs of ``--timed`` simulated seconds less that of runs of
+10 steps, which build the model; one thread, no series recorded). Then, per tolerance, the largest
+step of each scheme whose error and that of every smaller step is within it, and the ratio of their
+steps and wall times. The machine is shared: the script prints ``uptime`` before and after.
 """
 from __future__ import annotations
 
