@@ -1,7 +1,7 @@
 """The coupled model (axial.type = rgd) against the torsional engine in the limit where the RGD bit's
 torque is a constant: the cutting torque share T_c / T0 taken to zero.
 
-    PYTHONPATH=python python3 benchmarks/axial_torsional_limit.py [--duration 10]
+    PYTHONPATH=python python3 benchmarks/axial_torsional_limit.py [--duration 10] [--scheme exact_modal --dt 0.005]
 
 Why not the infinite axial stiffness: (1) the configuration cannot stiffen the axial string alone,
 since a section's G = E / (2 (1 + nu)) with nu in (-1, 0.5) ties E to G (at most E = 3 G: 231 GPa
@@ -14,7 +14,9 @@ T_f: this script scales the intrinsic specific energy eps by s (the rgd-field bi
 30 m/h, 4 rad/s, 10 axial modes) and runs the torsional engine on the same string with the
 constant-torque law that is its limit, the polynomial law (Eq. 5.1) with a0 = a2 = a4 = T0 and the
 other coefficients zero: T = T0 sign(Omega), stuck while |T| <= T0, T0 the coupled model's steady
-torque T_c + T_f. Both start from steady drilling with the bit 1 % slower.
+torque T_c + T_f. Both start from steady drilling with the bit 1 % slower, on the same scheme and step
+(the preset's modified Euler at 0.5 ms by default; ``--scheme exact_modal``: the coupled exact modal
+step against the torsional engine's, exact_modal.hpp).
 
 Prints, per s: T_c / T0, the largest difference of the bit speed (over Omega) and of the torque on
 bit (over T0) between the two runs, both over T_c / T0 (constant: first order in the cutting share),
@@ -33,7 +35,15 @@ REPO = Path(__file__).resolve().parents[1]
 OMEGA, FEED = 4.0, 30 / 3600
 
 
-def coupled_config(scale: float, duration: float, zeta: float | None = None) -> dict:
+def _scheme(c: dict, scheme: str | None, dt: float | None) -> None:
+    if scheme is not None:
+        c["simulation"]["scheme"] = scheme
+    if dt is not None:
+        c["simulation"]["dt_s"] = dt
+
+
+def coupled_config(scale: float, duration: float, zeta: float | None = None, scheme: str | None = None,
+                   dt: float | None = None) -> dict:
     import drillpy
     c = drillpy.load_config(preset="rgd-field")
     c["axial"].update(top="feed", rop_m_s=FEED)
@@ -43,10 +53,11 @@ def coupled_config(scale: float, duration: float, zeta: float | None = None) -> 
     c["operation"].pop("wob_n")
     c["operation"]["top_speed_rad_s"] = OMEGA
     c["simulation"].update(duration_s=duration, transient_s=duration / 2, output_stride=1)
+    _scheme(c, scheme, dt)
     return c
 
 
-def constant_torque_config(torque: float, duration: float) -> dict:
+def constant_torque_config(torque: float, duration: float, scheme: str | None = None, dt: float | None = None) -> dict:
     """The same string, the torsional engine, T = torque sign(Omega) (stuck while |T| <= torque)."""
     import drillpy
     c = drillpy.load_config(preset="rgd-field")
@@ -55,18 +66,20 @@ def constant_torque_config(torque: float, duration: float) -> dict:
                     a7=0.0, ref_speed=1.0, gain=1.0, wob_ref_n=1e5, speed_unit="rad_s")
     c["operation"].update(wob_n=1e5, top_speed_rad_s=OMEGA)
     c["simulation"].update(duration_s=duration, transient_s=duration / 2, output_stride=1)
+    _scheme(c, scheme, dt)
     return c
 
 
-def compare(scale: float, duration: float = 10.0, zeta: float | None = None) -> dict:
+def compare(scale: float, duration: float = 10.0, zeta: float | None = None, scheme: str | None = None,
+            dt: float | None = None) -> dict:
     import drillpy
     from drillpy.model.simulation import simulate
-    rc = simulate(drillpy.load_config(config=coupled_config(scale, duration, zeta)))
+    rc = simulate(drillpy.load_config(config=coupled_config(scale, duration, zeta, scheme, dt)))
     sc = rc.summary()
     T0 = sc["steady_torque_nm"]
     b = drillpy.load_config(preset="rgd-field")["axial"]["bit"]
     Tf = b["gamma"] * b["mu"] * b["radius_m"] ** 2 * b["wear_flat_m"] * b["contact_strength_pa"] / 2
-    rt = simulate(drillpy.load_config(config=constant_torque_config(T0, duration)))
+    rt = simulate(drillpy.load_config(config=constant_torque_config(T0, duration, scheme, dt)))
     d = rc.axial.depth_of_cut
     return dict(scale=scale, T0=T0, Tc=T0 - Tf, share=(T0 - Tf) / T0,
                 d_dev=float(np.max(np.abs(d / sc["steady_depth_of_cut_m"] - 1.0))),
@@ -78,13 +91,16 @@ def compare(scale: float, duration: float = 10.0, zeta: float | None = None) -> 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--duration", type=float, default=10.0)
+    ap.add_argument("--scheme", default=None, help="simulation.scheme of both runs (default: the preset's)")
+    ap.add_argument("--dt", type=float, default=None, help="simulation.dt_s of both runs (default: the preset's)")
     a = ap.parse_args()
     print(f"rgd-field string, feed top {FEED * 3600:g} m/h, {OMEGA:g} rad/s, {a.duration:g} s; "
-          "eps scaled by s; torsional engine: T = T0 sign(Omega)")
+          f"eps scaled by s; torsional engine: T = T0 sign(Omega); "
+          f"scheme {a.scheme or 'preset'}, dt {a.dt or 'preset'}")
     print(f"{'s':>8} {'Tc/T0':>10} {'max|dOmega|/Omega':>18} {'/(Tc/T0)':>9} {'max|dT|/T0':>11} "
           f"{'/(Tc/T0)':>9} {'max|d/d0-1|':>11} {'SS coupled':>10} {'SS torsional':>12}")
     for s in (1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-6, 1e-9, 1e-12):
-        r = compare(s, a.duration)
+        r = compare(s, a.duration, scheme=a.scheme, dt=a.dt)
         print(f"{s:>8.0e} {r['share']:>10.3e} {r['dspeed']:>18.3e} {r['dspeed'] / r['share']:>9.4f} "
               f"{r['dtorque']:>11.3e} {r['dtorque'] / r['share']:>9.4f} {r['d_dev']:>11.4f} "
               f"{r['ss_coupled']:>10.4f} {r['ss_torsional']:>12.4f}")

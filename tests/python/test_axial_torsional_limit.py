@@ -58,3 +58,25 @@ def test_the_octave_comparison_skips_without_the_matlab_folder(tmp_path):
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr
     assert r.stdout.startswith("skipped: ")
+
+
+@pytest.fixture(scope="module")
+def exact_runs():
+    return {s: compare(s, duration=10.0, scheme="exact_modal", dt=5e-3) for s in (1e-3, 1e-4)}
+
+
+def test_the_exact_modal_step_reproduces_the_torsional_exact_modal_engine(exact_runs):
+    """simulation.scheme = exact_modal at 5 ms on both: the coupled exact step (axial_torsional.hpp)
+    against the torsional engine's (exact_modal.hpp) with T = T0 sign(Omega). As on the modified Euler,
+    the torque differs by the cutting torque's own swing and both differences scale with the cutting
+    share (first order in it), so the two steps are the same scheme in the constant-torque limit."""
+    a, b = exact_runs[1e-3], exact_runs[1e-4]
+    for r in (a, b):
+        assert r["dtorque"] <= r["share"] * r["d_dev"] * (1.0 + 1e-3)
+        assert r["dtorque"] >= 0.9 * r["share"] * r["d_dev"]
+        assert 0.005 < r["d_dev"] < 0.02
+        assert r["dspeed"] <= 0.05 * r["share"]
+        assert r["ss_coupled"] == pytest.approx(r["ss_torsional"], abs=2.0 * r["share"])
+    share_ratio = a["share"] / b["share"]
+    assert a["dspeed"] / b["dspeed"] == pytest.approx(share_ratio, rel=0.05)
+    assert a["dtorque"] / b["dtorque"] == pytest.approx(share_ratio, rel=0.05)

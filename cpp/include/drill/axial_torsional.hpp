@@ -31,6 +31,42 @@
 // the retained torsional frequencies and of the axial ones stiffened by the cutting law's stiffness at
 // the bit, sqrt(k_max^2 + N a zeta eps g_a) (the depth of cut is explicit).
 //
+// Scheme exact_modal (simulation.scheme; issue 34): the torsional engine's exact modal step
+// (exact_modal.hpp) on both sets of coordinates. Each torsional mode and each axial mode (the rigid
+// mode of hook_load included) is propagated exactly over the step by its 2x2 propagator with the exact
+// response to a force varying linearly over the step: the top's acceleration (Omega_i+1 - Omega_i) / dt
+// and T from T_i to T_i+1 on the torsional modes, F_top (constant) and W from W_i to W_i+1 on the
+// axial ones. No bound of Eq. (A.7) (the modes' own frequencies need none). At the step's end the
+// bit's velocities are linear in the end forces, Omega_i+1 = Omega_1 + w - c_t T_i+1 and V_i+1 = V_f -
+// c_a W_i+1 (w, V_f the free end velocities holding the start forces' share, c = sum_j bit_j G1p_j),
+// and the set-valued laws are solved there as in the modified Euler step above with (Oa, dt g_t) ->
+// (Omega_1 + w, c_t) and (Va, dt g_a) -> (V_f, c_a): exact_axial (cutting while turning, the wear
+// flats' [0, W_f] at axial rest, lift-off) and exact_rgd_torque (T in [-T_f, T_c + T_f] at rest), or
+// with axial.torque = law the torsional engine's exact_bit (Eqs. 3.1-3.3, 5.1, 5.3 at the end speed
+// and the step's own acceleration (v_i+1 - v_i) / dt, Eq. A.1; Newton; its stick condition with the
+// law's static torque at the current W). A bit at rest at the step's end (torsionally or axially)
+// takes the force that holds it there held over the step, as the torsional engine does
+// (exact_modal.hpp: interpolated, the holding force of one step would depend on the last one's with a
+// factor near -1 and alternate); a stuck bit's speed is exactly zero. The torsional switch (cutting
+// while turning) is the bit speed at the step's start, as in the modified Euler step.
+// The depth of cut: the rock surface S(Phi - 2 pi / N) is looked up on the history buffer at the angle
+// the bit reaches at the step's end with T_i+1 = T_i (explicit in the angle: the surface moves with
+// the angle by the advance of one sector back, d S / d Phi = V (t - t_N) / Omega (t - t_N)); in the
+// bit's axial position it is implicit, d = d_p - N z_a (W_i+1 - W_i) with d_p the depth at the
+// position reached with W_i+1 = W_i and z_a the position's compliance to the end WOB (za1 linear,
+// za0 + za1 held), solved by fixed-point iteration with the axial inclusion. Explicit in U the cutting
+// law's stiffness k_c = N a zeta eps on the bit (mass 1 / g_a) would be a spring stepped explicitly
+// on top of the exact modes (stable on one mass to k_c g_a dt^2 < 2.4, with a numerical damping of
+// 0.08 % a step already at k_c g_a dt^2 = 0.1, where the symplectic modified Euler has none, and this
+// spring's delayed force is what drives RGD's instability); implicit in U it is trapezoidal (no
+// numerical damping on one mass). The iteration contracts by N a zeta eps z_a <= k_c g_a dt^2 / 2 (a
+// mode's displacement under a unit force held over the step is at most bit_j^2 dt^2 / 2), so the step
+// bound of the scheme is
+//   dt < 1 / sqrt(N a zeta eps g_a)        (the iteration's contraction below 1 / 2),
+// 28.6 ms on the rgd-field string (its modified Euler bound: 6.1 ms); a larger simulation.dt_s is
+// refused naming it. Reported per step: the end state and the step's mean forces ((T_i + T_i+1) / 2,
+// the held one where held; the same for W), as the torsional engine reports its torque.
+//
 // The thesis's laws on the axial state (spec.torque = AxialTorque::law, axial.torque = "law"): the
 // axial inclusion is RGD's as above (W its cutting and wear-flat force, its switches and bit bounce),
 // and the torque on the bit is the configuration's law (F. F. Real 2018: Eq. 3.1 Tucker-Wang, Eqs.
@@ -46,6 +82,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "drill/axial.hpp"
@@ -98,8 +135,8 @@ class AxialTorsional {
       : spec_(spec), opt_(opt), law_(law) {
     spec_.validate();
     opt_.validate();
-    require(opt_.scheme == Scheme::modified_euler, "simulation.scheme", to_string(opt_.scheme),
-            "axial.type = rgd is implemented for simulation.scheme = modified_euler only");
+    require(opt_.scheme != Scheme::bdf2, "simulation.scheme", to_string(opt_.scheme),
+            "axial.type = rgd is implemented for simulation.scheme = modified_euler and exact_modal only");
     if (spec_.torque == AxialTorque::law) {
       law_.validate();
       require(opt_.acceleration == Acceleration::implicit, "axial.torque", to_string(spec_.torque),
@@ -122,6 +159,10 @@ class AxialTorsional {
     top_load_ = V_.transpose() * torsion.top_load;
     init_vel_ = V_.transpose() * torsion.M * torsion.init_velocity;
     ax_ = build_axial_rom(string, spec_.top, spec_.modes, spec_.modal_damping(), spec_.bit_mass);
+    if (opt_.scheme == Scheme::exact_modal) {
+      prepare_exact(torsion);
+      return;
+    }
     // distributed axial damping (D = 2 k M, axial_string.hpp): the modified-Euler step of a mode with
     // damping c and frequency w is stable iff c dt < 2 and w^2 dt^2 + 2 c dt < 4 (Jury's conditions on
     // its 2x2 step matrix, trace 2 - c dt - w^2 dt^2, determinant 1 - c dt); with Eq. (A.7)'s w dt < pi / 5
@@ -217,8 +258,17 @@ class AxialTorsional {
   CoupledState run(const Inputs& in, Observer&& obs, const ModelState* start = nullptr) const {
     in.top_speed.validate("operation.top_speed_rad_s");
     require_drive(in.top_drive);
-    return TopDrive::visit(in.top_drive.kind,
-                           [&](auto drive) { return run_drive<decltype(drive)>(in, obs, start); });
+    return TopDrive::visit(in.top_drive.kind, [&](auto drive) {
+      if (opt_.scheme == Scheme::exact_modal) return run_exact<decltype(drive)>(in, obs, start);
+      return run_drive<decltype(drive)>(in, obs, start);
+    });
+  }
+
+  /// The exact modal scheme's bound from the cutting law's stiffness at the bit (the header's comment):
+  /// dt < 1 / sqrt(N a zeta eps g_a) [s] (infinite without a cutting stiffness at the bit).
+  double exact_bound() const {
+    const double kg = spec_.bit.blades * spec_.bit.cutting_wob_per_depth() * ax_.bit.squaredNorm();
+    return kg > 0.0 ? 1.0 / std::sqrt(kg) : INFINITY;
   }
 
  private:
@@ -315,7 +365,187 @@ class AxialTorsional {
     return out;
   }
 
+  /// The exact modal scheme (the header's comment) with the top drive `Drive`: run_drive's start,
+  /// observer and top drive, each mode of both sets propagated by exact_modal_free/close.
+  template <class Drive, class Observer>
+  DRILL_AXIAL_FLATTEN CoupledState run_exact(const Inputs& in, Observer& obs, const ModelState* start) const {
+    const double dt = opt_.dt;
+    const long n = opt_.steps();
+    const double om0 = in.top_speed.at(0.0);
+    require_positive(om0, "operation.top_speed_rad_s");
+    const ModelState s0 = start ? *start : steady_torsion(om0);
+    require(s0.q.size() == V_.rows() && s0.qdot.size() == V_.rows(), "initial_state", s0.q.size(),
+            "has the wrong size (the model has " + show(V_.rows()) + " coordinates)");
+    Eigen::VectorXd z = Vinv_ * s0.q, p = Vinv_ * s0.qdot, eta, r;
+    steady_axial(om0, eta, r);
+    const Steady st = steady(om0);
+    const RgdBit& b = spec_.bit;
+    const double v_feed = spec_.top == AxialTop::feed ? spec_.feed_rate : 0.0, F_top = top_force();
+    const double cw = b.cutting_wob_per_depth(), ct = b.cutting_torque_per_depth(), Wf_max = b.contact_wob(),
+                 ctw = b.contact_torque_per_wob();
+    const int mt = et_.modes, ma = ea_.modes;
+    Eigen::VectorXd zs(mt), ps(mt), es(ma), rs(ma);
+    double theta_top = 0.0, om_state = std::isfinite(s0.top_speed) ? s0.top_speed : om0;
+    double bz = bit_.dot(z), ce = ax_.bit.dot(eta);
+    BitProfile profile(b.blades, 0.0, bz, ce, st.depth, om0);
+    typename Drive::template Run<TopDrive> drive(in.top_drive, in.top_speed, dt, s0,
+                                                 [&] { return top_torque_.dot(z); });
+    // the state at t = 0 and the forces the first step starts from: steady drilling's
+    double om = drive.speed(0.0, om_state), Ob = om + bit_.dot(p), V = v_feed + ax_.bit.dot(r);
+    double W0 = st.wob, T0 = std::max(0.0, 1.0 + in.eta.at(0.0)) * st.torque;
+    double x1 = Ob - om, x2 = x1;  // the relative bit speeds of the last two steps (Newton's start, law)
+    {
+      const BitProfile::Cut cut = profile.cut(0.0, bz, ce);
+      obs(static_cast<const StepState&>(StepState{0, 0.0, Ob, 0.0, bz, T0, top_torque_.dot(z), om, drive.torque(), W0}),
+          static_cast<const AxialStep&>(AxialStep{0.0, W0, V, ce, cut.depth, cut.delay, cut.depth > 0.0}));
+    }
+    for (long i = 0; i < n; ++i) {
+      const double t = i * dt, t1 = t + dt;
+      om = drive.speed(t, om_state);
+      const double om1 = drive.next(t, om, top_torque_.dot(z));
+      const double dom = (om1 - om) / dt;  // the top's acceleration averaged over the step
+      double w = 0.0, wa = 0.0;
+      exact_modal_free(mt, 1, et_.k.data(), bit_.data(), z.data(), p.data(), &dom, &T0, zs.data(), ps.data(), &w);
+      exact_modal_free(ma, 1, ea_.k.data(), ax_.bit.data(), eta.data(), r.data(), &F_top, &W0, es.data(), rs.data(),
+                       &wa);
+      const double theta1 = theta_top + 0.5 * dt * (om + om1);
+      // the rock surface at the angle the bit reaches with T_i+1 = T_i (explicit in the angle), and d_p, the
+      // depth of cut at the axial position it reaches with W_i+1 = W_i
+      const double Phi_p = theta1 + bit_.dot(zs) - zt1_ * T0, U_p = v_feed * t1 + ax_.bit.dot(es) - za1_ * W0;
+      const BitProfile::Cut cut = profile.cut(t1, Phi_p, U_p);
+      const bool turning = Ob > bit_rest_tolerance(om);
+      const double fl = std::max(0.0, 1.0 + in.eta.at(t1));
+      // the axial inclusion with the depth of cut implicit in the bit's axial position: d = d_p - N z_a
+      // (W - W_i), z_a = za1 (W linear over the step) or za0 + za1 (held), by fixed-point iteration
+      // (contraction N a zeta eps z_a <= N a zeta eps g_a dt^2 / 2 < 1 / 2 under the step bound)
+      double d = cut.depth, W = 0.0, Wf = 0.0, T = 0.0, x = 0.0;
+      bool contact = false, held_a = false, rest_a = false, held_t = false;
+      for (int k = 0;; ++k) {
+        contact = d > 0.0;
+        W = Wf = 0.0;
+        held_a = rest_a = false;
+        if (contact) {
+          const double Wc = cw * d;
+          exact_axial(v_feed + wa, W0, turning ? Wc : 0.0, Wc + Wf_max, W, held_a, rest_a);
+          Wf = std::min(W - (turning ? Wc : 0.0), Wf_max);
+        }
+        const double dn = cut.depth - b.blades * (held_a ? za0_ + za1_ : za1_) * (W - W0);
+        if (std::fabs(dn - d) <= 1e-14 * std::fabs(cut.depth) || k == 40) break;
+        d = dn;
+      }
+      if (law_step_) {  // the thesis law on the axial W (Eqs. 3.1-3.3, 5.1, 5.3 at the step's end)
+        double fric = 0.0;
+        law_step_->exact_bit(w, et_.c, et_.c0, T0, om, om1, Ob, W, fl - 1.0, 0.0, 0.0, t1, 2.0 * x1 - x2, x, T,
+                             fric, held_t);
+      } else if (contact) {
+        exact_rgd_torque(w, T0, om, om1, Ob, fl * (ct * d + ctw * Wf), fl * ctw * Wf, x, T, held_t);
+      } else {
+        x = w;  // off the rock: T = 0
+      }
+      if (!std::isfinite(x) || !std::isfinite(T) || !std::isfinite(W))
+        throw std::runtime_error(Integrator::divergence(t1));
+      const double dT0 = held_t ? T - T0 : 0.0, dW0 = held_a ? W - W0 : 0.0;
+      exact_modal_close(mt, 1, et_.k.data(), zs.data(), ps.data(), &T, &dT0, z.data(), p.data());
+      exact_modal_close(ma, 1, ea_.k.data(), es.data(), rs.data(), &W, &dW0, eta.data(), r.data());
+      theta_top = theta1;
+      om_state = om1;
+      bz = bit_.dot(z);
+      ce = ax_.bit.dot(eta);
+      const double v1 = om1 + x, V1 = rest_a ? 0.0 : v_feed + ax_.bit.dot(r);
+      profile.record(t1, theta_top + bz, v_feed * t1 + ce);
+      // the step's mean forces (exact_modal.hpp): the end ones where they are held over the step
+      const double Tm = held_t ? T : 0.5 * (T0 + T), Wm = held_a ? W : 0.5 * (W0 + W);
+      const double a_bit = (v1 - Ob) / dt;
+      obs(static_cast<const StepState&>(
+              StepState{i + 1, t1, v1, a_bit, theta_top + bz, Tm, top_torque_.dot(z), om1, drive.torque(), Wm}),
+          static_cast<const AxialStep&>(AxialStep{t1, Wm, V1, v_feed * t1 + ce, d, cut.delay, contact}));
+      x2 = x1;
+      x1 = x;
+      Ob = v1;
+      V = V1;
+      T0 = T;
+      W0 = W;
+    }
+    CoupledState out{{V_ * z, V_ * p}, eta, r};
+    if (Drive::has_inertia) out.torsion.top_speed = om_state;
+    drive.finish(out.torsion);
+    return out;
+  }
+
+  /// The axial inclusion at the end of an exact step: W in [W_lo, W_hi], set-valued at V_i+1 = 0, with
+  /// V_i+1 = Vf - c W (Vf the free axial speed holding the start WOB's share -c0 W_i). Sliding (the bit
+  /// moving up with W_lo or down with W_hi) the WOB varies linearly over the step; at rest at the
+  /// step's end it is the WOB that holds it there, held over the step, W = (Vf + c0 W_i) / (c + c0),
+  /// clamped to [W_lo, W_hi] (interpolated, the holding WOB of one step would depend on the last one's
+  /// with a factor near -1 and alternate: the torsional engine's stick, exact_modal.hpp).
+  /// `rest`: the holding WOB lies within the bounds, so the bit's axial speed at the step's end is zero.
+  void exact_axial(double Vf, double W_start, double W_lo, double W_hi, double& W, bool& held, bool& rest) const {
+    const double c = ea_.c, c0 = ea_.c0, Va = Vf - c * W_lo;
+    held = rest = false;
+    if (Va <= 0.0) W = W_lo;
+    else if (Va - c * (W_hi - W_lo) >= 0.0) W = W_hi;
+    else {
+      const double W_hold = (Vf + c0 * W_start) / (c + c0);
+      W = std::min(std::max(W_hold, W_lo), W_hi);
+      held = true;
+      rest = W == W_hold;
+    }
+  }
+
+  /// RGD's torsional inclusion at the end of an exact step: T in [-T_bwd, T_fwd], set-valued at
+  /// Omega_i+1 = 0, with Omega_i+1 = Omega1 + x, x = w - c T_i+1 (w holding -c0 T_i); Integrator::
+  /// exact_bit's stick condition with RGD's bounds for the law's static torque: a bit at rest (v0 within
+  /// bit_rest_tolerance) stays at rest while the torque that holds it there over the step, held,
+  /// T_hold = (w + c0 T_i + Omega1) / (c + c0), is within the bounds, and breaks away with the bound
+  /// T_hold exceeds otherwise; a sliding bit takes its bound (T linear over the step) and comes to rest
+  /// with T_hold held when it would reverse or land (landing_tolerance) and T_hold is within the bounds
+  /// or pushes it on in its own direction.
+  void exact_rgd_torque(double w, double T_start, double om0, double om1, double v0, double T_fwd, double T_bwd,
+                        double& x, double& T, bool& held) const {
+    const double c = et_.c, c0 = et_.c0, T_hold = (w + c0 * T_start + om1) / (c + c0);
+    const bool inside = T_hold <= T_fwd && T_hold >= -T_bwd;
+    const bool at_rest = std::fabs(v0) <= bit_rest_tolerance(om0);
+    held = at_rest && inside;
+    if (!held) {
+      const double dir = at_rest ? (T_hold > 0.0 ? 1.0 : -1.0) : (v0 > 0.0 ? 1.0 : -1.0);
+      T = dir > 0.0 ? T_fwd : -T_bwd;
+      x = w - c * T;
+      const double v1 = om1 + x;
+      const bool lands = !at_rest && (v0 * v1 <= 0.0 || std::fabs(v1) <= Integrator::landing_tolerance(om1));
+      held = lands && (inside || (T_hold > 0.0 ? 1.0 : -1.0) == dir);
+    }
+    if (held) {
+      T = T_hold;
+      x = -om1;
+    }
+  }
+
   double top_force() const { return spec_.top == AxialTop::hook_load ? spec_.top_force : 0.0; }
+
+  /// The exact modal scheme's coefficients (exact_modal.hpp) of the torsional modes and of the axial
+  /// ones (their top force F_top constant over the step: the "top acceleration" of ExactModal with
+  /// the load -top_row), its step bound, and with spec.torque = law the torsional engine whose
+  /// exact_bit solves the law at the step's end.
+  void prepare_exact(const ReducedModel& torsion) {
+    require(diag_damping_, "simulation.scheme", to_string(opt_.scheme),
+            "needs a torsional damping that is diagonal in the modal basis (modal or Rayleigh damping)");
+    const double bound = exact_bound();
+    require(opt_.dt < bound, "simulation.dt_s", opt_.dt,
+            "exceeds the exact-modal bound of the coupled model dt < 1 / sqrt(N a zeta eps g_a) = " + show(bound) +
+                " s (the cutting law's stiffness N a zeta eps = " +
+                show(spec_.bit.blades * spec_.bit.cutting_wob_per_depth()) +
+                " N/m on the bit's axial modal gain g_a = " + show(ax_.bit.squaredNorm()) +
+                " 1/kg, the depth of cut's iteration in the bit's axial position: a smaller dt)");
+    et_ = ExactModal::build(w2_, d_, bit_, top_load_, opt_.dt);
+    ea_ = ExactModal::build(ax_.omega.cwiseAbs2(), ax_.damping, ax_.bit, -ax_.top_row, opt_.dt);
+    zt1_ = za0_ = za1_ = 0.0;
+    for (int j = 0; j < et_.modes; ++j) zt1_ += bit_(j) * et_.at(j, ExactModal::hz1);
+    for (int j = 0; j < ea_.modes; ++j) {
+      za0_ += ax_.bit(j) * ea_.at(j, ExactModal::hz0);
+      za1_ += ax_.bit(j) * ea_.at(j, ExactModal::hz1);
+    }
+    if (spec_.torque == AxialTorque::law) law_step_.emplace(torsion, law_, opt_);
+  }
 
   /// The last accelerations of Eq. (A.1) (Newton's start: the parabola through them, as run_euler's)
   /// and whether the last step needed Newton.
@@ -352,6 +582,11 @@ class AxialTorsional {
 
   AxialTorsionalSpec spec_;
   SimOptions opt_;
+  ExactModal et_, ea_;        ///< exact_modal: the torsional and the axial modes' step
+  double zt1_ = 0.0;          ///< exact_modal: d(b . z_i+1) / d(-T_i+1), the bit's twist per end torque
+  double za0_ = 0.0, za1_ = 0.0;  ///< exact_modal: d(c . e_i+1) / d(-W_i), d(c . e_i+1) / d(-W_i+1): the bit's axial
+                                 ///< displacement per start and end WOB
+  std::optional<Integrator> law_step_;  ///< exact_modal with spec.torque = law: Integrator::exact_bit
   BitRockLaw law_;  ///< the thesis law of spec_.torque = law
   AxialROM ax_;
   Eigen::MatrixXd V_, Vinv_, D_;

@@ -161,10 +161,8 @@ struct Config {
                   show(top_speed) + " rad/s, wob_n = " + show(wob) + " N");
     }
     axial.validate();
-    require(!axial.active() || sim.scheme != Scheme::bdf2, "axial.type", Axial::kind_name(axial.kind),
-            "is implemented for simulation.scheme = modified_euler and exact_modal only");
-    require(!axial.coupled() || sim.scheme == Scheme::modified_euler, "axial.type", Axial::kind_name(axial.kind),
-            "is implemented for simulation.scheme = modified_euler only");
+    require((!axial.active() && !axial.coupled()) || sim.scheme != Scheme::bdf2, "axial.type",
+            Axial::kind_name(axial.kind), "is implemented for simulation.scheme = modified_euler and exact_modal only");
     if (axial.coupled()) {
       require(!top_drive.has_inertia() || top_drive.has_controller(), "top_drive.type",
               TopDrive::kind_name(top_drive.kind), "is not implemented with axial.type = rgd (use ideal or controlled)");

@@ -160,6 +160,7 @@ struct ModelState {
 
 class Integrator {
   friend class BatchedIntegrator;  // batched_integrator.hpp: the same scheme on runs in SIMD lockstep
+  friend class AxialTorsional;     // axial_torsional.hpp: exact_bit at the end of its exact modal step
 
  public:
   Integrator(const ReducedModel& model, const BitRockLaw& law, const SimOptions& opt)
