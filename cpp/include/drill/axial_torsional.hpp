@@ -84,6 +84,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "drill/axial.hpp"
 #include "drill/axial_string.hpp"
@@ -272,18 +273,35 @@ class AxialTorsional {
   }
 
  private:
-  template <class Drive, class Observer>
-  DRILL_AXIAL_FLATTEN CoupledState run_drive(const Inputs& in, Observer& obs, const ModelState* start) const {
-    const double dt = opt_.dt;
-    const long n = opt_.steps();
+  /// What run_drive and run_exact start from: the top speed's first value, the torsional state (the
+  /// given one or steady drilling's) in modal coordinates z, p, the axial ones eta, r, and steady drilling.
+  struct RunStart {
+    double om0;
+    ModelState s0;
+    Eigen::VectorXd z, p, eta, r;
+    Steady st;
+  };
+  RunStart run_start(const Inputs& in, const ModelState* start) const {
     const double om0 = in.top_speed.at(0.0);
     require_positive(om0, "operation.top_speed_rad_s");
-    const ModelState s0 = start ? *start : steady_torsion(om0);
+    ModelState s0 = start ? *start : steady_torsion(om0);
     require(s0.q.size() == V_.rows() && s0.qdot.size() == V_.rows(), "initial_state", s0.q.size(),
             "has the wrong size (the model has " + show(V_.rows()) + " coordinates)");
     Eigen::VectorXd z = Vinv_ * s0.q, p = Vinv_ * s0.qdot, eta, r;
     steady_axial(om0, eta, r);
     const Steady st = steady(om0);
+    return {om0, std::move(s0), std::move(z), std::move(p), std::move(eta), std::move(r), st};
+  }
+
+  template <class Drive, class Observer>
+  DRILL_AXIAL_FLATTEN CoupledState run_drive(const Inputs& in, Observer& obs, const ModelState* start) const {
+    const double dt = opt_.dt;
+    const long n = opt_.steps();
+    RunStart run0 = run_start(in, start);
+    const double om0 = run0.om0;
+    const ModelState& s0 = run0.s0;
+    Eigen::VectorXd &z = run0.z, &p = run0.p, &eta = run0.eta, &r = run0.r;
+    const Steady& st = run0.st;
     const RgdBit& b = spec_.bit;
     const double v_feed = spec_.top == AxialTop::feed ? spec_.feed_rate : 0.0, F_top = top_force();
     const double cw = b.cutting_wob_per_depth(), ct = b.cutting_torque_per_depth(), Wf_max = b.contact_wob(),
@@ -371,14 +389,11 @@ class AxialTorsional {
   DRILL_AXIAL_FLATTEN CoupledState run_exact(const Inputs& in, Observer& obs, const ModelState* start) const {
     const double dt = opt_.dt;
     const long n = opt_.steps();
-    const double om0 = in.top_speed.at(0.0);
-    require_positive(om0, "operation.top_speed_rad_s");
-    const ModelState s0 = start ? *start : steady_torsion(om0);
-    require(s0.q.size() == V_.rows() && s0.qdot.size() == V_.rows(), "initial_state", s0.q.size(),
-            "has the wrong size (the model has " + show(V_.rows()) + " coordinates)");
-    Eigen::VectorXd z = Vinv_ * s0.q, p = Vinv_ * s0.qdot, eta, r;
-    steady_axial(om0, eta, r);
-    const Steady st = steady(om0);
+    RunStart run0 = run_start(in, start);
+    const double om0 = run0.om0;
+    const ModelState& s0 = run0.s0;
+    Eigen::VectorXd &z = run0.z, &p = run0.p, &eta = run0.eta, &r = run0.r;
+    const Steady& st = run0.st;
     const RgdBit& b = spec_.bit;
     const double v_feed = spec_.top == AxialTop::feed ? spec_.feed_rate : 0.0, F_top = top_force();
     const double cw = b.cutting_wob_per_depth(), ct = b.cutting_torque_per_depth(), Wf_max = b.contact_wob(),
