@@ -177,7 +177,7 @@ def truth_model_errors(case: Case) -> dict:
     from drillpy.loop.model import LoopModel, evaluate
     from drillpy.loop.run import analysis_config
     rec = synthetic_record(case.effects, duration_s=DURATION_S, seed=case.seed, fs_hz=RATE_HZ, noise=case.noise)
-    data = prepare(rec, normalize(declared_config()), LoopOptions(rate_hz=RATE_HZ, dt_s=LOOP_DT_S))
+    data = prepare(rec, normalize(declared_config()), LoopOptions(rate_hz=RATE_HZ, dt_s=LOOP_DT_S, scheme=SCHEME["scheme"]))
     info = rec.provenance["synthetic"]
     out = {}
     for key, gj in (("truth", 1.0), ("declared_gj", info["truth"]["gj_factor"])):
@@ -186,6 +186,7 @@ def truth_model_errors(case: Case) -> dict:
         c["damping"]["ratios"] = c["damping"]["ratios"][:1]
         for sec in c["string"]["sections"]:
             sec["youngs_modulus_pa"] /= gj
+        c["simulation"]["scheme"] = SCHEME["scheme"]
         c = analysis_config(normalize(c), data.dt, LOOP_DT_S)
         base = stripped(c)
         m = LoopModel(base, dict(base["law"]), float(c["operation"]["top_speed_rad_s"]), float(c["operation"]["wob_n"]),

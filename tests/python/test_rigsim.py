@@ -375,3 +375,17 @@ def test_rig_calibration_takes_the_drives_phase_as_a_metric_and_refuses_an_unkno
     assert "top_in_phase" in rig_calibration.EXTRA_KEYS
     side = rig_comparison.measured_side(rec, thr, float(rec.time_s[0]), "rig")
     assert 0.3 < side.metrics["top_in_phase"] < 0.6
+
+
+def test_the_drives_phase_is_measured_only_where_it_is_matched_or_shown(window):
+    # compare(phase=False) leaves the simulation's spectral top_in_phase out (the loop's long runs do not
+    # use it), unless the mismatch's keys hold it; the measured side always carries it
+    rec, thr = window
+    sim = rec  # the record as its own simulation: a top speed that swings with the cycle
+    full = rig_comparison.compare(rec, sim, thr)
+    lean = rig_comparison.compare(rec, sim, thr, phase=False)
+    keyed = rig_comparison.compare(rec, sim, thr, phase=False, keys=rigsim.MATCHED + ("top_in_phase",))
+    assert "top_in_phase" in full.simulated and "top_in_phase" not in lean.simulated
+    assert 0.3 < keyed.simulated["top_in_phase"] == full.simulated["top_in_phase"] < 0.6
+    assert "top_in_phase" in lean.measured
+    assert lean.mismatch == full.mismatch

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 from scipy import signal as sps
 
-from drillpy.records import signals
+from drillpy.records import rig_comparison, signals
 from drillpy.records.cleaning import CleaningOptions, clean
 from drillpy.records.io import Record, read_record
 from drillpy.records.rig_comparison import metric_scale, stalls
@@ -156,6 +156,28 @@ class LoopData:
     wob_measured: np.ndarray | None = None
     stalls: tuple = ()
     set_apart: dict = dataclasses.field(default_factory=dict)
+    _sides: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
+
+    def measured_side(self, start_s: float, drive: str):
+        """The long-run comparison's measured side of :attr:`record` for simulations from ``start_s``
+        with this drive (:func:`drillpy.records.rig_comparison.measured_side`, no start-up
+        discarded), computed once per (start, drive).
+
+        Parameters
+        ----------
+        start_s : float
+            The simulation's first time [s].
+        drive : str
+            The simulation's drive (its provenance's ``drive``).
+
+        Returns
+        -------
+        drillpy.records.rig_comparison.MeasuredSide
+        """
+        key = (float(start_s), drive)
+        if key not in self._sides:
+            self._sides[key] = rig_comparison.measured_side(self.record, self.stick_threshold, *key, 0.0)
+        return self._sides[key]
 
     @property
     def horizon_samples(self) -> np.ndarray:

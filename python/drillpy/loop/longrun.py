@@ -156,7 +156,8 @@ def long_run(model: LoopModel, data: LoopData) -> dict:
         sim = simulate_record(model, data)
     except (ValueError, RuntimeError) as err:
         return {"error": str(err)}
-    cmp = rig_comparison.compare(data.record, sim, data.stick_threshold, t_start=0.0)
+    side = data.measured_side(float(sim.time_s[0]), sim.provenance.get("drive", "constant"))
+    cmp = rig_comparison.compare(data.record, sim, data.stick_threshold, t_start=0.0, side=side, phase=False)
 
     def pick(m):
         return {k: (float(m[k]) if m.get(k) is not None and math.isfinite(m[k]) else None) for k in METRICS}

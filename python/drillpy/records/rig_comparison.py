@@ -176,7 +176,7 @@ def metric_scale(bit_speed, torque, usable, dt: float, stick_threshold: float) -
     return sv, sT
 
 
-def record_metrics(rec: Record, stick_threshold: float, t0: float, skip: np.ndarray) -> dict:
+def record_metrics(rec: Record, stick_threshold: float, t0: float, skip: np.ndarray, phase: bool = True) -> dict:
     """The metrics one side of :func:`compare` is measured by, from ``t0`` on, stalls and the
     ``skip`` mask left out of the regular ones.
 
@@ -190,6 +190,9 @@ def record_metrics(rec: Record, stick_threshold: float, t0: float, skip: np.ndar
         Start of the compared span [s].
     skip : numpy.ndarray
         Boolean per sample: samples left out (e.g. the measured top speed's artifact stretches).
+    phase : bool
+        Also the drive's phase in the cycle, ``top_in_phase`` (a spectral estimate: False where it is
+        neither matched nor shown, e.g. the loop's long runs).
 
     Returns
     -------
@@ -220,7 +223,8 @@ def record_metrics(rec: Record, stick_threshold: float, t0: float, skip: np.ndar
         m["ss"] = float((np.max(v) - np.min(v)) / (2.0 * abs(m["mean_top_speed"])))
     else:
         m["top_speed_std"] = float("nan")
-    m["top_in_phase"] = _top_in_phase(rec, ok & rec.valid("bit_speed"))
+    if phase:
+        m["top_in_phase"] = _top_in_phase(rec, ok & rec.valid("bit_speed"))
     return m
 
 
@@ -267,7 +271,7 @@ def measured_side(measured: Record, stick_threshold: float, start_s: float, driv
 
 
 def compare(measured: Record, simulated: Record, stick_threshold: float, t_start: float = 2.0, *,
-            side: MeasuredSide | None = None, keys: tuple | None = None) -> RigComparison:
+            side: MeasuredSide | None = None, keys: tuple | None = None, phase: bool = True) -> RigComparison:
     """Compare a simulated record with the measured one after ``t_start`` seconds of simulation
     (the start-up of the simulation is discarded from both). ``top_speed_std`` is over the
     reliable top-speed samples of the measurement (:func:`reliable_top_speed`). When the
@@ -292,6 +296,8 @@ def compare(measured: Record, simulated: Record, stick_threshold: float, t_start
     keys : tuple of str, optional
         The metrics of the mismatch; default :data:`MATCHED_RIG` for the rig drive (it predicts the
         WOB's oscillation and the mean top speed), :data:`MATCHED` for the others.
+    phase : bool
+        Measure the simulation's ``top_in_phase`` too (always when ``keys`` holds it).
 
     Returns
     -------
@@ -302,9 +308,10 @@ def compare(measured: Record, simulated: Record, stick_threshold: float, t_start
     if side is None:
         side = measured_side(measured, stick_threshold, float(simulated.time_s[0]),
                              simulated.provenance.get("drive", "constant"), t_start)
-    m, s = side.metrics, record_metrics(simulated, stick_threshold, side.t0, side.skip)
     if keys is None:
         keys = MATCHED_RIG if simulated.provenance.get("drive") == "rig" else MATCHED
+    m = side.metrics
+    s = record_metrics(simulated, stick_threshold, side.t0, side.skip, phase or "top_in_phase" in keys)
     rel = [relative_error(s[k], m[k]) for k in keys]
     mis = float(np.sqrt(np.mean(np.square(rel))))
     mm = side.cycle
