@@ -512,9 +512,11 @@ def cycle_response(x, y, fs_hz: float, band_hz: tuple = (1.0, 6.0), segment_s: f
     Returns
     -------
     dict
-        ``frequency_hz``, ``phase_deg`` (positive: ``y`` leads), ``gain``, ``coherence`` and
-        ``in_phase`` = gain cos(phase), the part of ``y`` in phase with ``x`` per unit of ``x``; NaN
-        for a ``y`` without variation, and all NaN when no frequency of the spectra lies in ``band_hz``.
+        ``frequency_hz``, ``phase_deg`` (positive: ``y`` leads), ``gain``, ``coherence``,
+        ``in_phase`` = gain cos(phase), the part of ``y`` in phase with ``x`` per unit of ``x``, and
+        ``response``, the complex ratio Y / X there (cross-spectrum over the spectrum of ``x``: the
+        part of ``y`` coherent with ``x``); NaN for a ``y`` without variation, and all NaN when no
+        frequency of the spectra lies in ``band_hz``.
     """
     x = np.asarray(x, float) - np.mean(x)
     y = np.asarray(y, float) - np.mean(y)
@@ -525,13 +527,16 @@ def cycle_response(x, y, fs_hz: float, band_hz: tuple = (1.0, 6.0), segment_s: f
     band = np.flatnonzero((f >= band_hz[0]) & (f <= band_hz[1]))
     nan = float("nan")
     if band.size == 0:  # the band lies above the Nyquist frequency or between two bins
-        return {"frequency_hz": nan, "phase_deg": nan, "gain": nan, "coherence": nan, "in_phase": nan}
+        return {"frequency_hz": nan, "phase_deg": nan, "gain": nan, "coherence": nan, "in_phase": nan,
+                "response": complex(nan, nan)}
     k = band[np.argmax(pxx[band])]
     if not (pxx[k] > 0 and pyy[k] > 0):
-        return {"frequency_hz": float(f[k]), "phase_deg": nan, "gain": nan, "coherence": nan, "in_phase": nan}
+        return {"frequency_hz": float(f[k]), "phase_deg": nan, "gain": nan, "coherence": nan, "in_phase": nan,
+                "response": complex(nan, nan)}
     gain, phase = float(np.sqrt(pyy[k] / pxx[k])), float(np.angle(pxy[k]))
     return {"frequency_hz": float(f[k]), "phase_deg": float(np.degrees(phase)), "gain": gain,
-            "coherence": float(abs(pxy[k]) ** 2 / (pxx[k] * pyy[k])), "in_phase": gain * float(np.cos(phase))}
+            "coherence": float(abs(pxy[k]) ** 2 / (pxx[k] * pyy[k])), "in_phase": gain * float(np.cos(phase)),
+            "response": complex(pxy[k] / pxx[k])}
 
 
 def stick_slip_metrics(t, bit_speed, top_speed, torque, stick_threshold: float, valid=None) -> dict:

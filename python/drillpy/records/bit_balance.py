@@ -1,0 +1,231 @@
+"""The bit's equation of motion measured on a rig record, at the stick-slip cycle's frequency.
+
+The one-mode string of the rig (thesis sections 2.2 and 5.1: the bar of Table 5.1 as one spring
+k = 1 / sum L_i / (G_i J_p,i), the disk's inertia J at its end; Eq. 2.9 with one mode) gives, for the
+fluctuations at the cycle's angular frequency w (complex amplitudes, the means removed),
+
+    i w J v = (k / (i w) + c) (Omega_top - v) - T                                        (1)
+
+with v the bit speed, Omega_top the top speed, T the torque on bit and c the string's damping. Per unit
+of bit speed, Y = Omega_top / v (two encoders) and G = T / v (the load cell) are measured, so (1) says
+which damping c the record needs:
+
+    c = (i w J + G) / (Y - 1) - k / (i w).                                                (2)
+
+A steel bar's c is small and real (2 zeta sqrt(k J), about 0.01 N m s/rad at zeta 0.03): a large or
+reactive c says the record's channels do not follow (1) as declared, through the string's stiffness
+or inertia or through the channels' timing. The same balance carries the energy of the cycle: the
+contact torque feeds it by -Re(G) |v|^2 / 2 per unit time (the bit's negative damping), the drive
+takes Re(Z) |Y|^2 |v|^2 / 2 and the string Re(c) |Y - 1|^2 |v|^2 / 2, with Z the drive's impedance at
+the top encoder (the torque the drive gives per unit of top-speed drop, T_top = -Z Omega_top):
+
+    Z = (k / (i w) + c) (1 / Y - 1),                                                       (3)
+
+(the string's torque at the top, elastic and damping, per unit of top speed), a droop c_m behind a
+rotor J_m giving Z = c_m + i w J_m. With a stretch of bar of stiffness k_a
+between the drive and the top encoder, 1 / Z_drive = 1 / Z - i w / k_a.
+
+The channels' timing is explicit: ``torque_lag_s`` (the load cell's reading that late after the
+encoders: G is advanced by it) and ``top_lead_s`` (the top encoder's reading that early: Y is delayed
+by it). :func:`timing_fit` estimates both from the whole record by least squares on (1) in the time
+domain. docs/records.md, section 4, "The bit's equation at the cycle's frequency".
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import signal as sps
+
+from drillpy.model.configuration import Configuration
+from drillpy.records.io import Record
+from drillpy.records.signals import cycle_response
+
+
+@dataclass(frozen=True)
+class CycleBalance:
+    """Eqs. (1)-(3) of the module on one record.
+
+    Attributes
+    ----------
+    frequency_hz : float
+        The cycle's frequency (the bit speed's Welch peak in 1-6 Hz) [Hz].
+    top : complex
+        Y, top speed per unit of bit speed, after the timing correction [-].
+    torque : complex
+        G, torque on bit per unit of bit speed, after the timing correction [N m s/rad].
+    string_damping : complex
+        c of Eq. (2) [N m s/rad].
+    drive : complex
+        Z of Eq. (3) at the top encoder [N m s/rad].
+    drive_at_motor : complex
+        Z with the stretch of bar above the encoder taken off (``stiffness_above``; equal to ``drive``
+        without it) [N m s/rad]: its real part is the droop c_m, its imaginary part over w the rotor J_m.
+    feed, drive_loss, string_loss : float
+        The energy terms per unit |v|^2 (-Re G, Re(Z) |Y|^2, Re(c) |Y - 1|^2) [N m s/rad]; the first
+        equals the sum of the other two.
+    coherence : float
+        The smaller coherence of the top speed and the torque with the bit speed at the frequency.
+    """
+    frequency_hz: float
+    top: complex
+    torque: complex
+    string_damping: complex
+    drive: complex
+    drive_at_motor: complex
+    feed: float
+    drive_loss: float
+    string_loss: float
+    coherence: float
+
+    @property
+    def motor_inertia(self) -> float:
+        """Im(Z at the motor) / w: the rotor's inertia the drive shows [kg m^2]."""
+        return self.drive_at_motor.imag / (2.0 * math.pi * self.frequency_hz)
+
+
+def string_of(config) -> tuple:
+    """(k [N m/rad], J [kg m^2]) of a configuration's string as one spring and one inertia: the
+    sections' compliances L / (G J_p) summed (G = E / (2 (1 + nu))), the inertia lumped at the last
+    node plus a third of the string's own (the fixed-free bar's first-mode share).
+
+    Parameters
+    ----------
+    config : dict or Configuration
+        Engine configuration (e.g. ``drillpy.load_config(preset="thesis-rig")``).
+
+    Returns
+    -------
+    tuple
+        (k, J).
+    """
+    c = Configuration.of(config)
+    compliance, inertia = 0.0, 0.0
+    n_nodes = 1
+    for s in c.string.sections:
+        jp = math.pi * (s.outer_radius_m ** 4 - s.inner_radius_m ** 4) / 2.0
+        g = s.youngs_modulus_pa / (2.0 * (1.0 + s.poisson_ratio))
+        compliance += s.length_m / (g * jp)
+        inertia += s.density_kg_m3 * jp * s.length_m
+        n_nodes += s.elements
+    bit = sum(li.inertia_kg_m2 for li in c.string.lumped_inertias if li.node in (-1, n_nodes - 1))
+    return 1.0 / compliance, bit + inertia / 3.0
+
+
+def _channels(record: Record, valid: np.ndarray | None) -> tuple:
+    """Bit speed, top speed and torque on the record's grid, excluded samples interpolated over."""
+    ok = record.valid("bit_speed", "top_speed", "torque_on_bit")
+    if valid is not None:
+        ok = ok & np.asarray(valid, bool)
+    if ok.sum() < 4.0 / record.dt:
+        raise ValueError(f"record: {int(ok.sum())} samples with the bit speed, the top speed and the torque; "
+                         f"the balance needs 4 s of them")
+    t = record.time_s
+    return tuple(np.interp(t, t[ok], x[ok]) for x in (record.bit_speed, record.top_speed, record.torque_on_bit))
+
+
+def cycle_balance(record: Record, stiffness: float, inertia: float, *, torque_lag_s: float = 0.0,
+                  top_lead_s: float = 0.0, stiffness_above: float | None = None,
+                  valid: np.ndarray | None = None) -> CycleBalance:
+    """The bit's equation at the cycle's frequency (module Eqs. 1-3).
+
+    Parameters
+    ----------
+    record : Record
+        A record with bit speed, top speed and torque on bit (the rig's: all three through one filter).
+    stiffness : float
+        k, the string between the two encoders as one spring [N m/rad] (:func:`string_of`).
+    inertia : float
+        J, the bit's inertia [kg m^2].
+    torque_lag_s : float
+        How late the torque channel reads after the encoders [s].
+    top_lead_s : float
+        How early the top encoder reads against the bit encoder [s].
+    stiffness_above : float, optional
+        A stretch of string between the drive and the top encoder [N m/rad] (None: the encoder at the
+        drive).
+    valid : numpy.ndarray, optional
+        Samples to use (default: where the three channels are valid); the others are interpolated over.
+
+    Returns
+    -------
+    CycleBalance
+
+    Raises
+    ------
+    ValueError
+        For a non-positive stiffness or inertia (naming it), or fewer than 4 s of usable samples.
+    """
+    for name, x in (("stiffness", stiffness), ("inertia", inertia)):
+        if not (math.isfinite(x) and x > 0):
+            raise ValueError(f"{name} = {x!r}: must be a positive number")
+    if stiffness_above is not None and not (math.isfinite(stiffness_above) and stiffness_above > 0):
+        raise ValueError(f"stiffness_above = {stiffness_above!r}: must be a positive number (or None)")
+    v, top, tq = _channels(record, valid)
+    fs = 1.0 / record.dt
+    ry, rt = cycle_response(v, top, fs), cycle_response(v, tq, fs)
+    f = ry["frequency_hz"]
+    w = 2.0 * math.pi * f
+    Y = ry["response"] * np.exp(-1j * w * top_lead_s)
+    G = rt["response"] * np.exp(1j * w * torque_lag_s)
+    c = (1j * w * inertia + G) / (Y - 1.0) - stiffness / (1j * w)  # Eq. (2)
+    Z = (stiffness / (1j * w) + c) * (1.0 / Y - 1.0)  # Eq. (3)
+    Zm = Z if stiffness_above is None else 1.0 / (1.0 / Z - 1j * w / stiffness_above)
+    return CycleBalance(f, complex(Y), complex(G), complex(c), complex(Z), complex(Zm), float(-G.real),
+                        float(Z.real * abs(Y) ** 2), float(c.real * abs(Y - 1.0) ** 2),
+                        float(min(ry["coherence"], rt["coherence"])))
+
+
+def timing_fit(record: Record, top_leads_s, torque_lags_s, *, stiffness: float | None = None,
+               inertia: float | None = None, highpass_hz: float = 0.5, valid: np.ndarray | None = None) -> list:
+    """Eq. (1) in the time domain over a grid of channel timings: for each (top lead, torque lag),
+    T(t + lag) = k phi(t) - J a(t) fitted by least squares, with phi the twist integrated from the
+    encoders (the top read ``top lead`` earlier) and a the bit's acceleration (Savitzky-Golay, 31
+    samples, order 3), all three high-passed at ``highpass_hz`` (the twist's drift is the encoders'
+    offset, the torque's slow part the WOB's trend). Every sample of the record (excluded ones
+    interpolated over), the first and last 0.2 s left out. k and J trade against the lag here: the
+    frequency-domain balance (:func:`cycle_balance`) with the string's k and J is the sharper test.
+
+    Parameters
+    ----------
+    record : Record
+        As for :func:`cycle_balance`.
+    top_leads_s, torque_lags_s : sequence of float
+        The grid [s].
+    stiffness, inertia : float, optional
+        k [N m/rad] and J [kg m^2] held (both given: nothing is fitted, R^2 scores the timing alone);
+        default: fitted at every grid point.
+    highpass_hz : float
+        The twist's high-pass (its drift is the encoders' offset) [Hz].
+    valid : numpy.ndarray, optional
+        As for :func:`cycle_balance`.
+
+    Returns
+    -------
+    list of dict
+        One per grid point, best R^2 first: ``top_lead_s``, ``torque_lag_s``, ``r2``, ``stiffness``
+        [N m/rad], ``inertia`` [kg m^2].
+    """
+    v, top, tq = _channels(record, valid)
+    dt = record.dt
+    b, aa = sps.butter(2, highpass_hz * 2.0 * dt, "high")
+    a = sps.filtfilt(b, aa, sps.savgol_filter(v, 31, 3, deriv=1, delta=dt))
+    tq = sps.filtfilt(b, aa, tq)
+    edge = int(round(0.2 / dt))
+    sl = slice(edge, v.size - edge)
+    rows = []
+    for lead in top_leads_s:
+        d = int(round(lead / dt))
+        phi = sps.filtfilt(b, aa, np.cumsum(np.roll(top, d) - v) * dt)
+        for lag in torque_lags_s:
+            y = np.roll(tq, -int(round(lag / dt)))[sl]
+            A = np.column_stack([phi[sl], -a[sl]])
+            if stiffness is None or inertia is None:
+                x, *_ = np.linalg.lstsq(A, y, rcond=None)
+            else:
+                x = np.array([stiffness, inertia], float)
+            r = y - A @ x
+            rows.append({"top_lead_s": float(lead), "torque_lag_s": float(lag), "r2": float(1.0 - r @ r / (y @ y)),
+                         "stiffness": float(x[0]), "inertia": float(x[1])})
+    return sorted(rows, key=lambda r: -r["r2"])

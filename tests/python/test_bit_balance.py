@@ -1,0 +1,83 @@
+"""The bit's equation at the cycle's frequency (drillpy.records.bit_balance): the method recovers a
+known drive from a simulated rig, and on sample 175 it balances only with the channels' timing."""
+import numpy as np
+import pytest
+
+import drillpy
+from drillpy.records import bit_balance, rigsim
+from _testrig import sample175_cleaned
+
+LAW = {"type": "polynomial", "speed_unit": "rpm", "wob_ref_n": 562.9, "a0": 2.0906, "a1": -0.17888, "a2": 1.92968,
+       "a3": 0.0, "a4": 1.94462, "a5": -0.0031835, "a6": -3.0877e-05, "a7": 1.0397e-07, "ref_speed": 89.96, "gain": 1.36}
+
+
+@pytest.fixture(scope="module")
+def halves():
+    rec, _ = sample175_cleaned()
+    return [rec.select(t0, t0 + 20.0) for t0 in (0.0, 20.0)]
+
+
+@pytest.fixture(scope="module")
+def simulated(halves):
+    # the whole-rig model drillpy analyze calibrates on 0-20 s (rounded): its drive is known
+    m = rigsim.RigModel(LAW, 0.0303, "rig", 0.25, 0.0186, command_rad_s=17.27, jack_gain_n_rad=181.8,
+                        jack_relaxation_s=0.0987, platform_damping=0.75, gj_factor=1.0475,
+                        bit_inertia_factor=1.07, coupling_stiffness_nm_rad=41.0)
+    sim = rigsim.simulate_model(m, halves[0])
+    return m, sim
+
+
+def test_string_of_the_rig_is_table_5_1s_bar_and_disk():
+    k, J = bit_balance.string_of(drillpy.load_config(preset="thesis-rig"))
+    assert k == pytest.approx(3.078, abs=0.002)  # G J_p / L of the 1.7 m, 2.5 mm bar at E 220 GPa, nu 0.29
+    assert J == pytest.approx(0.009334, abs=2e-6)  # the disk plus a third of the bar
+
+
+def test_the_drive_of_a_simulated_rig_is_recovered_from_its_encoders(simulated):
+    m, sim = simulated
+    k, J = bit_balance.string_of(m.config(float(np.mean(sim.top_speed))))
+    b = bit_balance.cycle_balance(sim, k, J, valid=sim.time_s >= sim.time_s[0] + 2.0)
+    assert 2.0 < b.frequency_hz < 4.0 and b.coherence > 0.9
+    # c_m; the platform's lag on the torque (about 10 ms) shows as a small reactive string damping that
+    # Eq. (3) carries into Z
+    assert b.drive_at_motor.real == pytest.approx(0.25, rel=0.08)
+    assert b.motor_inertia == pytest.approx(0.0186, rel=0.10)  # J_m
+    assert abs(b.string_damping) < 0.02  # a steel bar's (modal: 0.011 N m s/rad)
+    assert b.feed == pytest.approx(b.drive_loss + b.string_loss, rel=1e-9)  # Eq. (1)'s energy, term by term
+
+
+def test_a_channel_shifted_by_a_known_time_is_found_by_the_timing_fit(simulated):
+    m, sim = simulated
+    k, J = bit_balance.string_of(m.config(float(np.mean(sim.top_speed))))
+    shifted = sim.take(np.arange(len(sim)))
+    n_top, n_tq = int(round(0.04 / sim.dt)), int(round(0.03 / sim.dt))
+    shifted.top_speed[:] = np.roll(sim.top_speed, -n_top)  # the top encoder reads 40 ms early
+    shifted.torque_on_bit[:] = np.roll(sim.torque_on_bit, n_tq)  # the load cell 30 ms late
+    grid = np.arange(-0.02, 0.0801, 0.01)
+    keep = sim.time_s >= sim.time_s[0] + 2.0
+    as_run, as_shifted = (bit_balance.timing_fit(r, grid, grid, stiffness=k, inertia=J, valid=keep)[0]
+                          for r in (sim, shifted))
+    assert as_shifted["top_lead_s"] - as_run["top_lead_s"] == pytest.approx(0.04, abs=1e-9)
+    assert as_shifted["torque_lag_s"] - as_run["torque_lag_s"] == pytest.approx(0.03, abs=1e-9)
+    assert abs(as_run["top_lead_s"]) <= 0.0101  # the model's own channels: none, to a step of the grid
+
+
+def test_sample_175_balances_with_the_tables_string_only_with_the_channels_timing(halves):
+    k, J = bit_balance.string_of(drillpy.load_config(preset="thesis-rig"))
+    for rec in halves:
+        ok = rigsim.reliable_top_speed(rec)
+        raw = bit_balance.cycle_balance(rec, k, J, valid=ok)
+        timed = bit_balance.cycle_balance(rec, k, J, torque_lag_s=0.03, top_lead_s=0.04, valid=ok)
+        assert abs(raw.string_damping) > 0.1  # a reactive residual ten times a steel bar's damping
+        assert abs(timed.string_damping) < 0.02
+        assert 0.25 < timed.drive_at_motor.real < 0.4  # a droop, as the motor's rating (8 N m / 31.4 rad/s) gives
+        assert 0.0 < timed.motor_inertia < 0.01  # a small rotor behind it [kg m^2]
+
+
+def test_bad_string_parameters_name_the_field(halves):
+    with pytest.raises(ValueError, match="stiffness = 0"):
+        bit_balance.cycle_balance(halves[0], 0.0, 0.01)
+    with pytest.raises(ValueError, match="inertia = nan"):
+        bit_balance.cycle_balance(halves[0], 3.0, float("nan"))
+    with pytest.raises(ValueError, match="stiffness_above = -1"):
+        bit_balance.cycle_balance(halves[0], 3.0, 0.01, stiffness_above=-1.0)
