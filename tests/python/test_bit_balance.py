@@ -81,3 +81,19 @@ def test_bad_string_parameters_name_the_field(halves):
         bit_balance.cycle_balance(halves[0], 3.0, float("nan"))
     with pytest.raises(ValueError, match="stiffness_above = -1"):
         bit_balance.cycle_balance(halves[0], 3.0, 0.01, stiffness_above=-1.0)
+    slow = halves[0].take(np.arange(0, len(halves[0]), 1000))  # 1 Hz: no 1-6 Hz cycle to read
+    with pytest.raises(ValueError, match="no cycle in the bit speed between 1 and 6 Hz"):
+        bit_balance.cycle_balance(slow, 3.0, 0.01)
+
+
+def test_the_summary_drillpy_analyze_reports_names_the_timing_that_balances_the_record(halves):
+    s = bit_balance.summary(halves[0], drillpy.load_config(preset="thesis-rig"),
+                            valid=rigsim.reliable_top_speed(halves[0]))
+    assert "does not balance" in s["statement"]
+    assert np.hypot(*s["as_recorded"]["string_damping"]) > 0.1
+    best = s["best"]
+    assert np.hypot(*best["string_damping"]) < 0.01
+    # one frequency fixes about the sum of the two timings: the top encoder 60-80 ms ahead of the torque
+    assert 0.06 <= best["top_lead_s"] + best["torque_lag_s"] <= 0.08
+    assert all(0.05 <= lead + lag <= 0.09 for lead, lag in s["balanced"])
+    assert best["feed"] == pytest.approx(best["drive_loss"] + best["string_loss"], rel=1e-9)

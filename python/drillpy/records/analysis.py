@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from drillpy.text import number_text as _f
+from drillpy.records import bit_balance
 from drillpy.records import identification as ident
 from drillpy.records import plausibility
 from drillpy.uncertainty import process
@@ -408,6 +409,15 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
         S["identification"]["wob_versus_hysteresis"] = _wob_effect(fits_by)
         if "statement" in S["identification"]["wob_versus_hysteresis"]:  # with both laws of a pair identified
             log(f"identification: {S['identification']['wob_versus_hysteresis']['statement']}")
+
+    # ---------------------------------------------------------------- the bit's equation at the cycle
+    if rec.top_speed is not None and rigsim.reliable_top_speed(rec).sum() * rec.dt >= 4.0:
+        try:
+            S["cycle_balance"] = bit_balance.summary(rec, load_config(preset=opt.preset),
+                                                     valid=rigsim.reliable_top_speed(rec))
+            log(f"cycle balance: {S['cycle_balance']['statement']}")
+        except ValueError as e:  # too few samples with the three channels
+            S["cycle_balance"] = {"skipped": str(e)}
 
     # ---------------------------------------------------------------- rig simulation
     sims, model = {}, None

@@ -155,7 +155,8 @@ def cycle_balance(record: Record, stiffness: float, inertia: float, *, torque_la
     Raises
     ------
     ValueError
-        For a non-positive stiffness or inertia (naming it), or fewer than 4 s of usable samples.
+        For a non-positive stiffness or inertia (naming it), fewer than 4 s of usable samples, or no
+        cycle in 1-6 Hz.
     """
     for name, x in (("stiffness", stiffness), ("inertia", inertia)):
         if not (math.isfinite(x) and x > 0):
@@ -166,6 +167,9 @@ def cycle_balance(record: Record, stiffness: float, inertia: float, *, torque_la
     fs = 1.0 / record.dt
     ry, rt = cycle_response(v, top, fs), cycle_response(v, tq, fs)
     f = ry["frequency_hz"]
+    if not (math.isfinite(f) and np.isfinite(ry["response"]) and np.isfinite(rt["response"])):
+        raise ValueError(f"record: no cycle in the bit speed between 1 and 6 Hz at {fs:.4g} Hz sampling (or a constant "
+                         f"top speed or torque): the balance needs the cycle's frequency")
     w = 2.0 * math.pi * f
     Y = ry["response"] * np.exp(-1j * w * top_lead_s)
     G = rt["response"] * np.exp(1j * w * torque_lag_s)
@@ -175,6 +179,33 @@ def cycle_balance(record: Record, stiffness: float, inertia: float, *, torque_la
     return CycleBalance(f, complex(Y), complex(G), complex(c), complex(Z), complex(Zm), float(-G.real),
                         float(Z.real * abs(Y) ** 2), float(c.real * abs(Y - 1.0) ** 2),
                         float(min(ry["coherence"], rt["coherence"])))
+
+
+def timing_scan(record: Record, stiffness: float, inertia: float, top_leads_s, torque_lags_s, *,
+                valid: np.ndarray | None = None) -> list:
+    """:func:`cycle_balance` over a grid of channel timings, the string held: the timings with which
+    the bit's equation balances best, i.e. with the smallest |c| of Eq. (2).
+
+    Parameters
+    ----------
+    record : Record
+        As for :func:`cycle_balance`.
+    stiffness, inertia : float
+        k [N m/rad] and J [kg m^2] (:func:`string_of`).
+    top_leads_s, torque_lags_s : sequence of float
+        The grid [s].
+    valid : numpy.ndarray, optional
+        As for :func:`cycle_balance`.
+
+    Returns
+    -------
+    list of (float, float, CycleBalance)
+        (top lead [s], torque lag [s], balance), the smallest |c| first.
+    """
+    rows = [(float(lead), float(lag), cycle_balance(record, stiffness, inertia, torque_lag_s=lag, top_lead_s=lead,
+                                                    valid=valid))
+            for lead in top_leads_s for lag in torque_lags_s]
+    return sorted(rows, key=lambda r: abs(r[2].string_damping))
 
 
 def timing_fit(record: Record, top_leads_s, torque_lags_s, *, stiffness: float | None = None,
@@ -229,3 +260,64 @@ def timing_fit(record: Record, top_leads_s, torque_lags_s, *, stiffness: float |
             rows.append({"top_lead_s": float(lead), "torque_lag_s": float(lag), "r2": float(1.0 - r @ r / (y @ y)),
                          "stiffness": float(x[0]), "inertia": float(x[1])})
     return sorted(rows, key=lambda r: -r["r2"])
+
+
+#: The timing grid of :func:`summary` [s]: 10 ms steps, the top encoder up to 80 ms early and the torque
+#: up to 80 ms late (and 20 ms the other way).
+TIMING_GRID_S = tuple(np.round(np.arange(-0.02, 0.0801, 0.01), 3))
+#: Above this |c| [N m s/rad] the bit's equation does not balance: ten times a steel bar's damping
+#: (2 zeta sqrt(k J), about 0.01 at zeta 0.03 on the rig).
+UNBALANCED_NMS = 0.05
+
+
+def summary(record: Record, config, valid: np.ndarray | None = None) -> dict:
+    """The balance of the bit's equation at the cycle's frequency with the configuration's string,
+    as recorded and at the channel timing that balances it best (:func:`timing_scan` on
+    :data:`TIMING_GRID_S`), for ``drillpy analyze``'s summary.
+
+    One frequency fixes one combination of the two timings (nearly their sum: the top encoder's lead
+    over the torque); :func:`timing_fit` splits it on the whole band.
+
+    Parameters
+    ----------
+    record : Record
+        With bit speed, top speed and torque on bit.
+    config : dict or Configuration
+        The declared model (its string: :func:`string_of`).
+    valid : numpy.ndarray, optional
+        As for :func:`cycle_balance`.
+
+    Returns
+    -------
+    dict
+        ``stiffness_nm_rad``, ``inertia_kg_m2``, ``frequency_hz``, ``coherence``, ``as_recorded`` and
+        ``best`` (each: ``top_lead_s``, ``torque_lag_s``, ``string_damping`` [re, im], ``motor_slope``,
+        ``motor_inertia``, ``feed``, ``drive_loss``, ``string_loss``), ``balanced`` (the timings within
+        :data:`UNBALANCED_NMS` / 5 of a balance, as [lead, lag] pairs) and ``statement``.
+    """
+    k, J = string_of(config)
+    rows = timing_scan(record, k, J, TIMING_GRID_S, TIMING_GRID_S, valid=valid)
+
+    def entry(lead, lag, b):
+        c = b.string_damping
+        return {"top_lead_s": lead, "torque_lag_s": lag, "string_damping": [c.real, c.imag],
+                "motor_slope": b.drive_at_motor.real, "motor_inertia": b.motor_inertia, "feed": b.feed,
+                "drive_loss": b.drive_loss, "string_loss": b.string_loss}
+    raw = next(r for r in rows if r[0] == 0.0 and r[1] == 0.0)
+    best = rows[0]
+    out = {"stiffness_nm_rad": k, "inertia_kg_m2": J, "frequency_hz": raw[2].frequency_hz,
+           "coherence": raw[2].coherence, "as_recorded": entry(*raw), "best": entry(*best),
+           "balanced": [[r[0], r[1]] for r in rows if abs(r[2].string_damping) <= UNBALANCED_NMS / 5]}
+    c0, c1 = raw[2].string_damping, best[2].string_damping
+    if abs(c0) <= UNBALANCED_NMS:
+        out["statement"] = (f"the bit's equation balances at the cycle's frequency as recorded (string damping "
+                            f"{abs(c0):.3f} N m s/rad needed)")
+    else:
+        out["statement"] = (
+            f"the bit's equation does not balance at the cycle's frequency ({raw[2].frequency_hz:.2f} Hz) as recorded: "
+            f"it needs a string damping of {c0.real:+.3f}{c0.imag:+.3f}i N m s/rad (a steel bar's: about +0.01); "
+            f"with the top encoder {1e3 * best[0]:.0f} ms early and the torque {1e3 * best[1]:.0f} ms late it needs "
+            f"{c1.real:+.4f}{c1.imag:+.4f}i, and the drive is then c_m {best[2].drive_at_motor.real:.3f} N m s/rad with a "
+            f"{best[2].motor_inertia:.4f} kg m^2 rotor; one frequency fixes about the sum of the two timings "
+            f"(drillpy.records.bit_balance)")
+    return out

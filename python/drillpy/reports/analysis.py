@@ -204,6 +204,25 @@ def render_report(S: dict) -> str:
           f"| f0 [Hz] | {fit['f0_hz']:.3f} | {th['f0_hz']} |", f"| A0 | {fit['A0']:.2f} | {th['A0']} |",
           f"| a | {fit['a']:.2f} | {th['a']} |", f"| b | {fit['b']:.2f} | {th['b']} |",
           f"| rms of ln residuals | {fit['rms_log']:.2f} | |", "", "![psd](psd.png)", ""]
+    if "cycle_balance" in S:
+        cb = S["cycle_balance"]
+        L += ["## The bit's equation at the cycle's frequency", ""]
+        if "skipped" in cb:
+            L += [f"Skipped: {cb['skipped']}.", ""]
+        else:
+            L += [f"The declared string as one spring k = {cb['stiffness_nm_rad']:.3f} N m/rad and the bit's inertia J = "
+                  f"{cb['inertia_kg_m2']:.3g} kg m^2; at {cb['frequency_hz']:.2f} Hz (coherence {cb['coherence']:.2f}) "
+                  "the record's top speed and torque per unit of bit speed leave one unknown, the string's damping c "
+                  "(`drillpy.records.bit_balance`; docs/records.md, section 4). " + cb["statement"][0].upper()
+                  + cb["statement"][1:] + ".", "",
+                  "| channels | top encoder early [ms] | torque late [ms] | c needed [N m s/rad] | drive c_m [N m s/rad] | "
+                  "rotor J_m [kg m^2] | feed = drive + string [N m s/rad] |", "|---|---:|---:|---|---:|---:|---|"]
+            for label, e in (("as recorded", cb["as_recorded"]), ("best balance", cb["best"])):
+                c = e["string_damping"]
+                L.append(f"| {label} | {1e3 * e['top_lead_s']:.0f} | {1e3 * e['torque_lag_s']:.0f} | {c[0]:+.4f} {c[1]:+.4f}i | "
+                         f"{e['motor_slope']:.3f} | {e['motor_inertia']:.4f} | {e['feed']:.4f} = {e['drive_loss']:.4f} + "
+                         f"{e['string_loss']:+.4f} |")
+            L.append("")
     if "rig" in S:
         rg = S["rig"]
         L += ["## Test rig in simulation", ""]
