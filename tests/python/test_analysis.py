@@ -66,6 +66,26 @@ def test_analyze_sample175_from_the_command_line(tmp_path, capsys):
     model = json.loads((out / "model.json").read_text())
     assert model["format"] == "drillpy.rig_model" and model["config"]["law"]["a0"] > 0
     assert model["drive"] == "rig" and model["predictive"] and model["config"]["axial"]["type"] == "jack"
+    # the bit's equation at the cycle's frequency balances only with the channels' timing (bit_balance)
+    cb = S["cycle_balance"]
+    assert np.hypot(*cb["as_recorded"]["string_damping"]) > 0.1 > 0.01 > np.hypot(*cb["best"]["string_damping"])
+    # the model identified from the record: its drive from that balance, a steel bar's damping, Eq. (4.1)
+    # at the level whose eta_exp on its own simulation is the record's; nothing fitted to the long-run metrics
+    idf = rig["identified"]
+    ident_model = json.loads((out / "model_identified.json").read_text())
+    assert ident_model == idf["model"] and ident_model["config"]["damping"]["ratios"] == [0.01]
+    how = ident_model["calibration"]["identified"]
+    assert 0.25 < how["drive"]["motor_slope_nms_rad"] < 0.4 and how["drive"]["motor_inertia_kg_m2"] < 0.01
+    assert fl["record_eta_std"] < how["torque_fluctuation_std"]["value"] < 2 * fl["record_eta_std"]
+    parts = [w["part"] for w in idf["windows"]]
+    assert parts == ["calibration", "held out"]
+    for w in idf["windows"]:  # a cycle held by the fluctuation: SS inside its interval on both windows
+        assert w["predictive"]["metrics"]["ss"]["inside"], w["window_s"]
+    assert "## The rig model identified from the record" in report
+    capsys.readouterr()  # drain analyze's output
+    assert main(["predict", str(out / "model_identified.json"), str(sample175_path()), "--t0", "20", "--t1", "40",
+                 "--draws", "2"]) == 0
+    assert "predicted n/a" in capsys.readouterr().out  # the deterministic part has no cycle: n/a, no crash
 
 
 def test_analyze_a_csv_without_top_speed(tmp_path):

@@ -10,6 +10,7 @@ import json
 import math
 from pathlib import Path
 
+from drillpy.text import number_text as _n
 from drillpy import validate
 from drillpy.cli import add_figure_units_arg, integer, print_json, threads_option
 from drillpy.cli import removed_on_failure as _removed_on_failure
@@ -253,15 +254,18 @@ def cmd_predict(a: argparse.Namespace) -> int:
             f"{ch} {a['excluded_samples']} sample(s) excluded, {a['repaired_samples']} repaired"
             + (f" ({', '.join(f'{k} x{n}' for k, n in a['kinds'].items())})" if a["kinds"] else "")
             for ch, a in art.items())))
-        for k in ("ss", "stick_fraction", "cycle_frequency_hz"):
-            print(f"  {k}: measured {lr[k]['measured']:.3f}, predicted {lr[k]['predicted']:.3f} "
-                  f"({100 * lr[k]['relative_error']:+.1f} %)")
+        for k in ("ss", "stick_fraction", "cycle_frequency_hz"):  # n/a: no cycle to measure it on
+            rel = lr[k]["relative_error"]
+            print(f"  {k}: measured {_n(lr[k]['measured'], '.3f')}, predicted {_n(lr[k]['predicted'], '.3f')} "
+                  f"({_n(None if rel is None else 100 * rel, '+.1f')} %)")
         tq = lr["torque_p05_p95_nm"]
-        print(f"  torque p5-p95 [N m]: measured {tq['measured'][0]:.2f}-{tq['measured'][1]:.2f}, predicted "
-              f"{tq['predicted'][0]:.2f}-{tq['predicted'][1]:.2f}")
+        print(f"  torque p5-p95 [N m]: measured {_n(tq['measured'][0], '.2f')}-{_n(tq['measured'][1], '.2f')}, predicted "
+              f"{_n(tq['predicted'][0], '.2f')}-{_n(tq['predicted'][1], '.2f')}")
         for k, unit in (("top_speed_std_rad_s", "rad/s"), ("wob_std_n", "N")):
-            print(f"  {k}: measured {lr[k]['measured']:.3g}, predicted {lr[k]['predicted']:.3g} "
-                  f"({100 * lr[k]['relative_error']:+.1f} %)" if lr[k]["measured"] is not None else f"  {k}: no data")
+            rel = lr[k]["relative_error"]
+            print(f"  {k}: measured {_n(lr[k]['measured'], '.3g')}, predicted {_n(lr[k]['predicted'], '.3g')} "
+                  f"({_n(None if rel is None else 100 * rel, '+.1f')} %)" if lr[k]["measured"] is not None
+                  else f"  {k}: no data")
         ph = lr["top_in_phase"]
         if ph["measured"] is not None and ph["predicted"] is not None:
             print(f"  top speed's part in phase with the bit speed in the cycle: measured {ph['measured']:.2f}, "
@@ -276,7 +280,8 @@ def cmd_predict(a: argparse.Namespace) -> int:
             print(f"  with the torque fluctuation of Eq. (4.1), {iv['realizations']} realizations: {iv['inside']} of "
                   f"{iv['of']} measured metrics inside their {100 * iv['level']:.0f} % predictive intervals")
             for k, v in iv["metrics"].items():
-                print(f"    {k}: [{v['interval'][0]:.4g}, {v['interval'][1]:.4g}], measured {v['measured']:.4g}"
+                print(f"    {k}: [{_n(v['interval'][0], '.4g')}, {_n(v['interval'][1], '.4g')}], measured "
+                      f"{_n(v['measured'], '.4g')}"
                       + ("" if v["inside"] else "  (outside)"))
     return 0
 

@@ -11,6 +11,7 @@ draws it and :func:`drillpy.reports.analysis.write_analysis` writes its files
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -433,6 +434,13 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
                 log(f"rig: held-out {row['window_s'][0]:.1f}-{row['window_s'][1]:.1f} s, with Eq. (4.1): "
                     f"{row['predictive']['inside']} of {row['predictive']['of']} measured metrics inside their "
                     f"{100 * row['predictive']['level']:.0f} % predictive intervals ({opt.realizations} realizations)")
+        if "best" in S.get("cycle_balance", {}):
+            try:
+                identified = identified_rig_model(rec, model, S["cycle_balance"], psd, opt)
+            except (ValueError, RuntimeError) as e:
+                S["rig"]["identified"] = {"skipped": str(e)}
+            else:
+                S["rig"]["identified"] = _identified_section(identified, rec, held, thr, opt, log)
     elif opt.simulate:
         S["rig"] = {"skipped": "the record has no top-speed channel with reliable samples to set the rig's speed"}
 
@@ -521,6 +529,113 @@ def _torque_fluctuation(S: dict, psd: process.PsdFit, sims: dict, opt: AnalysisO
         return None
     out = rig_fluctuation.identify(psd.model.as_dict(), math.sqrt(left), opt.psd_fmax_hz)
     out.update(record_eta_std=rec_std, model_eta_std=model_std)
+    return out
+
+
+#: The identified rig model's modal damping ratio: a steel bar's (docs/records.md, section 4).
+STEEL_DAMPING = 0.01
+
+
+def identified_rig_model(rec: Record, base: rigsim.RigModel, balance: dict, psd: process.PsdFit,
+                         opt: "AnalysisOptions") -> rigsim.RigModel:
+    """The rig modelled whole from what the record shows directly, nothing fitted to its long-run
+    metrics (docs/records.md, section 4, "The level the record shows is the level the cycle needs").
+
+    From ``base`` (the calibrated whole-rig model) it keeps the law, the jack, the platform, the GJ
+    and the disk, and replaces: the drive by the one the bit's equation shows at the cycle's frequency
+    (``balance["best"]`` of :func:`drillpy.records.bit_balance.summary`: c_m and J_m, J_m at least the
+    range's floor, the coupling rigid at the top of its range), the command by the droop line through
+    the record's means (mean top speed + mean torque / c_m), the damping by a steel bar's
+    (:data:`STEEL_DAMPING`), and the torque fluctuation of Eq. (4.1) by the record's Eq. (4.4) shape at
+    the level whose eta_exp (Eq. 4.2), measured on the model's simulation of ``rec`` the record's way
+    (one realization, seed 0), equals the record's: eta_exp sees the fluctuation through the 10 Hz
+    filter and the cycle, so its level is not the input's. Seven bisections in [0.02, 0.6].
+
+    Parameters
+    ----------
+    rec : Record
+        The cleaned calibration part.
+    base : RigModel
+        The calibrated whole-rig model (``drive = "rig"``).
+    balance : dict
+        :func:`drillpy.records.bit_balance.summary` of ``rec``.
+    psd : PsdFit
+        The Eq. (4.4) fit of the record's eta_exp.
+    opt : AnalysisOptions
+        ``psd_fmax_hz`` and ``eta_reference`` are used.
+
+    Returns
+    -------
+    RigModel
+        The model, ``calibration["identified"]`` saying how each part was obtained.
+
+    Raises
+    ------
+    ValueError
+        When the balance gives no positive droop, or the record's eta_exp is not positive.
+    """
+    best = balance["best"]
+    cm = float(best["motor_slope"])
+    if not (math.isfinite(cm) and cm > 0):
+        raise ValueError(f"the bit's equation gives a drive slope c_m = {cm!r} N m s/rad: no droop to build the drive on")
+    lo_j, _, _, _ = rigsim.RIG_PARAMETERS["motor_inertia_kg_m2"]
+    _, hi_k, _, _ = rigsim.RIG_PARAMETERS["coupling_stiffness_nm_rad"]
+    jm = max(float(best["motor_inertia"]), lo_j)
+    ok = rigsim.reliable_top_speed(rec) & rec.valid("torque_on_bit")
+    command = float(np.mean(rec.top_speed[ok]) + np.mean(rec.torque_on_bit[ok]) / cm)
+    m = dataclasses.replace(base, motor_slope_nms_rad=cm, motor_inertia_kg_m2=jm, coupling_stiffness_nm_rad=hi_k,
+                            command_rad_s=command, damping_ratio=STEEL_DAMPING, intervals={})
+    own = AnalysisOptions(simulate=False, folds=0, laws=("polynomial",), psd_fmax_hz=opt.psd_fmax_hz,
+                          eta_reference=opt.eta_reference)
+    target = float(compute_analysis(rec, own, log=lambda *_: None).eta.statistics()["std"])
+    if not target > 0:
+        raise ValueError(f"the record's eta_exp has standard deviation {target!r}: no fluctuation to match")
+    span = float(rec.time_s[-1] - rec.time_s[0]) + 1.0
+
+    def shown(level: float) -> float:  # eta_exp of the model's simulation with the fluctuation at this level
+        tf = rig_fluctuation.identify(psd.model.as_dict(), level, opt.psd_fmax_hz)
+        sim = rigsim.simulate_model(m, rec, eta=rig_fluctuation.realization(tf, rec.dt, span, seed=0))
+        return float(compute_analysis(sim, own, log=lambda *_: None).eta.statistics()["std"])
+    lo, hi = 0.02, 0.6
+    for _ in range(7):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if shown(mid) < target else (lo, mid)
+    level = 0.5 * (lo + hi)
+    m.torque_fluctuation = {**rig_fluctuation.identify(psd.model.as_dict(), level, opt.psd_fmax_hz),
+                            "record_eta_std": target,
+                            "rule": "Eq. (4.1) T = (1 + eta) T_law; eta's PSD the Eq. (4.4) fit to eta_exp (Eq. 4.2) of the "
+                                    "calibration window, band-limited to the fitted band, at the level whose eta_exp on the "
+                                    "model's own simulation is the record's"}
+    m.calibration = {**base.calibration, "command_rad_s": command, "identified": {
+        "drive": {"from": "the bit's equation at the cycle's frequency (drillpy.records.bit_balance.summary)",
+                  "top_lead_s": best["top_lead_s"], "torque_lag_s": best["torque_lag_s"],
+                  "motor_slope_nms_rad": cm, "motor_inertia_kg_m2": jm, "coupling_stiffness_nm_rad": hi_k},
+        "command_rad_s": {"value": command, "from": "the record's droop line through its means"},
+        "damping_ratio": {"value": STEEL_DAMPING, "from": "a steel bar's modal damping"},
+        "torque_fluctuation_std": {"value": level, "from": f"eta_exp of the model's simulation equal to the "
+                                                          f"record's {target:.4f}"},
+        "kept": "the law, the jack, the platform, the GJ and the disk of the calibrated whole-rig model"}}
+    m.calibration.pop("per_drive", None)
+    m.calibration.pop("mismatch", None)
+    return m
+
+
+def _identified_section(m: rigsim.RigModel, rec: Record, held: list, thr: float, opt: "AnalysisOptions", log) -> dict:
+    """The identified model's summary: how it was obtained, and its predictive intervals
+    (:func:`drillpy.records.rig_fluctuation.predictive`) on the calibration part and each held-out piece."""
+    info = m.calibration["identified"]
+    d = info["drive"]
+    log(f"rig, identified from the record: c_m {d['motor_slope_nms_rad']:.3f} N m s/rad, J_m "
+        f"{d['motor_inertia_kg_m2']:.4f} kg m^2 (the bit's equation), command {m.command_rad_s:.2f} rad/s, damping "
+        f"ratio {m.damping_ratio:g}, Eq. (4.1) level {info['torque_fluctuation_std']['value']:.3f}")
+    out = {"model": m.to_dict(), "windows": []}
+    for piece, label in [(rec, "calibration")] + [(p, "held out") for p in held]:
+        pr = rig_fluctuation.predictive(m, piece, thr, opt.realizations)
+        out["windows"].append({"window_s": [float(piece.time_s[0]), float(piece.time_s[-1])], "part": label,
+                               "predictive": pr})
+        log(f"rig, identified: {piece.time_s[0]:.1f}-{piece.time_s[-1]:.1f} s ({label}): {pr['inside']} of "
+            f"{pr['of']} measured metrics inside their {100 * pr['level']:.0f} % predictive intervals "
+            f"({opt.realizations} realizations)")
     return out
 
 

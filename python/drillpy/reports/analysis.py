@@ -47,6 +47,11 @@ def write_analysis(result: RecordAnalysis, out_dir: str | Path, figures=(), log=
     if result.model is not None:
         write_text((out / "model.json"), dumps(result.model.to_dict()))
         log(f"rig model written to {out / 'model.json'} (apply it to any record: drillpy predict)")
+    ident = result.summary.get("rig", {}).get("identified", {})
+    if "model" in ident:
+        write_text((out / "model_identified.json"), dumps(ident["model"]))
+        log(f"rig model identified from the record written to {out / 'model_identified.json'} (drillpy predict "
+            "--draws N gives its predictive intervals)")
     S = {**result.summary, "figures": [Path(f).name for f in figures],
          "shown_cycle_s": [float(x) for x in result.shown_cycle_s]}
     prov = provenance()
@@ -223,6 +228,8 @@ def render_report(S: dict) -> str:
                          f"{e['motor_slope']:.3f} | {e['motor_inertia']:.4f} | {e['feed']:.4f} = {e['drive_loss']:.4f} + "
                          f"{e['string_loss']:+.4f} |")
             L.append("")
+    if "identified" in S.get("rig", {}):
+        L += _identified_lines(S["rig"]["identified"])
     if "rig" in S:
         rg = S["rig"]
         L += ["## Test rig in simulation", ""]
@@ -300,3 +307,28 @@ def render_report(S: dict) -> str:
                 L.append("")
             L += ["![rig time series](rig_time_series.png)", "", "![rig loops](rig_loops.png)", ""]
     return "\n".join(L) + "\n"
+
+
+def _identified_lines(idf: dict) -> list:
+    """report.md's section on the rig model identified from the record (analysis.identified_rig_model)."""
+    L = ["## The rig model identified from the record", ""]
+    if "skipped" in idf:
+        return L + [f"Not built: {idf['skipped']}.", ""]
+    info = idf["model"]["calibration"]["identified"]
+    d = info["drive"]
+    L += ["Nothing in it is fitted to the long-run metrics (docs/records.md, section 4): the drive from the bit's "
+          f"equation at the cycle's frequency (c_m {d['motor_slope_nms_rad']:.3f} N m s/rad, rotor "
+          f"{d['motor_inertia_kg_m2']:.4f} kg m^2, coupling rigid; the channels' timing {1e3 * d['top_lead_s']:.0f} ms "
+          f"top lead, {1e3 * d['torque_lag_s']:.0f} ms torque lag), the command on the record's droop line "
+          f"({info['command_rad_s']['value']:.2f} rad/s), a steel bar's damping ratio "
+          f"({info['damping_ratio']['value']:g}), and Eq. (4.1)'s fluctuation at the level "
+          f"{info['torque_fluctuation_std']['value']:.3f} whose eta_exp on the model's simulation is the record's; "
+          f"{info['kept']}. Written as `model_identified.json`.", "",
+          "| window | part | metric | measured | median | predictive interval | inside |", "|---|---|---|---:|---:|---|---|"]
+    for w in idf["windows"]:
+        pr = w["predictive"]
+        for k, v in pr["metrics"].items():
+            iv = v["interval"]
+            L.append(f"| {w['window_s'][0]:.1f}-{w['window_s'][1]:.1f} s | {w['part']} | {k} | {_f(v['measured'], '.4g')} | "
+                     f"{_f(v['median'], '.4g')} | [{_f(iv[0], '.4g')}, {_f(iv[1], '.4g')}] | {'yes' if v['inside'] else 'no'} |")
+    return L + [""]
