@@ -5,7 +5,7 @@ import pytest
 
 import drillpy
 from drillpy.records import bit_balance, rigsim
-from _testrig import sample175_cleaned
+from _testrig import sample175_cleaned, sample175_raw
 
 LAW = {"type": "polynomial", "speed_unit": "rpm", "wob_ref_n": 562.9, "a0": 2.0906, "a1": -0.17888, "a2": 1.92968,
        "a3": 0.0, "a4": 1.94462, "a5": -0.0031835, "a6": -3.0877e-05, "a7": 1.0397e-07, "ref_speed": 89.96, "gain": 1.36}
@@ -117,3 +117,26 @@ def test_an_independent_whole_rig_truths_drive_is_recovered_and_its_channels_bal
     assert b.motor_inertia == pytest.approx(whole_rig.DEFAULTS["J_m"], rel=0.15)
     lead, lag, _ = bit_balance.timing_scan(rec, k, J, bit_balance.TIMING_GRID_S, bit_balance.TIMING_GRID_S, valid=ok)[0]
     assert abs(lead + lag) <= 0.0101  # the timing that balances it best: none, to a step of the grid
+
+
+def test_the_loop_brings_the_channels_to_the_bit_encoders_time_before_anything_else(halves):
+    from drillpy.loop import LoopOptions
+    from drillpy.loop.data import prepare
+    raw = sample175_raw().select(0.0, 20.0)
+    cfg = drillpy.load_config(preset="thesis-rig")
+    data = prepare(raw, cfg, LoopOptions(channel_timing="auto"))
+    ct = data.channel_timing
+    assert (ct["top_lead_s"], ct["torque_lag_s"]) == (0.04, 0.03) and ct["r2"] > 0.9 > ct["r2_as_recorded"]
+    # the aligned record balances the bit's equation as recorded: the shifted channels are what the loop reads
+    k, J = bit_balance.string_of(cfg)
+    b = bit_balance.cycle_balance(data.record, k, J, valid=rigsim.reliable_top_speed(data.record))
+    assert abs(b.string_damping) < 0.02
+    assert prepare(raw, cfg, LoopOptions()).channel_timing is None  # the default: as recorded
+    shifted = bit_balance.aligned(raw, 0.04, 0.03)
+    n = int(round(0.04 / raw.dt))
+    assert np.isnan(shifted.top_speed[:n]).all() and np.array_equal(shifted.top_speed[n:], raw.top_speed[:-n])
+    for bad, msg in (("later", "channel_timing = 'later'"), ((0.04, 0.5), r"channel_timing\[1\] \(torque lag\)")):
+        with pytest.raises(ValueError, match=msg):
+            LoopOptions(channel_timing=bad).validate()
+    with pytest.raises(ValueError, match="top_lead_s = inf"):
+        bit_balance.aligned(raw, float("inf"), 0.0)

@@ -321,6 +321,10 @@ def _add_loop(sub) -> argparse.ArgumentParser:
     s.add_argument("--wob-input", choices=("auto", "measured", "trend"), default="auto",
                    help="the WOB the law takes: the recorded one where it is an input, its trend below 0.5 Hz where "
                         "the record shows it is a response of the rotation (auto, the default), or forced")
+    s.add_argument("--channel-timing", default="none", metavar="none|auto|LEAD,LAG",
+                   help="bring the channels to the bit encoder's time first: none (as recorded, the default), auto "
+                        "(the timing that balances the bit's equation with the declared string) or the top encoder's "
+                        "lead and the torque's lag in s, e.g. 0.04,0.03")
     s.add_argument("--json", action="store_true", help="print the errors and the effects found as JSON")
     s.add_argument("--no-progress", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_loop)
@@ -350,7 +354,7 @@ def cmd_loop(a: argparse.Namespace) -> int:
                       min_gain=a.min_gain, alpha=a.alpha, min_delta_bic=a.min_delta_bic, max_steps=a.max_steps,
                       effects=effects, threads=a.threads, dt_s=a.dt, scheme=a.scheme, batched=not a.scalar,
                       law_knot=not a.thesis_knot, gj_tolerance=a.gj_tolerance,
-                      wob_input=a.wob_input)
+                      wob_input=a.wob_input, channel_timing=_channel_timing(a.channel_timing))
     from drillpy.progress import log_progress
     with log_progress(((r"  null candidate", "candidates"), (r"  candidate ", "candidates"), (r"  remove ", "backward")),
                       "loop", enabled=not a.no_progress, echo=None if a.json else print, count=True) as log:
@@ -361,6 +365,19 @@ def cmd_loop(a: argparse.Namespace) -> int:
                                        "final_effects", "confusable", "unexplained_fraction", "warnings")} |
                    {"added": [s["effect"] for s in js["steps"] if s["action"] == "add"]})
     return 0
+
+
+def _channel_timing(text: str):
+    """``--channel-timing``: "none", "auto" or "LEAD,LAG" [s] -> LoopOptions.channel_timing."""
+    if text in ("none", "auto"):
+        return text
+    parts = text.split(",")
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        return tuple(float(x) for x in parts)
+    except ValueError:
+        raise ValueError(f"--channel-timing = {text!r}: use none, auto or LEAD,LAG in s (e.g. 0.04,0.03)") from None
 
 
 def _add_calibrate(sub) -> argparse.ArgumentParser:

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 from scipy import signal as sps
 
-from drillpy.records import rig_comparison, signals
+from drillpy.records import bit_balance, rig_comparison, signals
 from drillpy.records.cleaning import CleaningOptions, clean
 from drillpy.records.io import Record, read_record
 from drillpy.records.rig_comparison import metric_scale, stalls
@@ -156,6 +156,7 @@ class LoopData:
     wob_measured: np.ndarray | None = None
     stalls: tuple = ()
     set_apart: dict = dataclasses.field(default_factory=dict)
+    channel_timing: dict | None = None  #: the shifts applied (LoopOptions.channel_timing), None: as recorded
     _sides: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
 
     def measured_side(self, start_s: float, drive: str):
@@ -295,6 +296,15 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions, scale: tup
     for need in ("bit_speed", "torque_on_bit"):
         raw.channel(need)
     rec, rep = clean(raw, CleaningOptions(spike_channels=ENCODER_CHANNELS))
+    timing = None
+    if opt.channel_timing != "none" and rec.top_speed is not None:
+        if opt.channel_timing == "auto":
+            timing = {**bit_balance.identify_timing(rec, cfg, valid=reliable_top_speed(rec)), "from": "auto"}
+        else:
+            timing = {"top_lead_s": float(opt.channel_timing[0]), "torque_lag_s": float(opt.channel_timing[1]),
+                      "from": "given"}
+        raw = bit_balance.aligned(raw, timing["top_lead_s"], timing["torque_lag_s"])
+        rec, rep = clean(raw, CleaningOptions(spike_channels=ENCODER_CHANNELS))
     wresp = wob_response(rec)
     wob_meas = None
     if wresp is not None:
@@ -377,7 +387,7 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions, scale: tup
         raise ValueError(f"record: only {law_train.size} slip samples in the calibration part to fit the law")
     return LoopData(str(rec.provenance.get("source", "record")), t, dt, ch, v_meas, T_meas, ok, has_top, has_wob, thr,
                     t_split, starts, is_test, L, sv, sT, top_meas, top_ok, law_train, law_test, rep.lines(), q, fs, rec,
-                    opt.batched, opt.law_knot, wresp, wob_meas, tuple((a, b - a) for a, b in stuck), apart)
+                    opt.batched, opt.law_knot, wresp, wob_meas, tuple((a, b - a) for a, b in stuck), apart, timing)
 
 
 

@@ -103,6 +103,12 @@ class LoopOptions:
         ``string_stiffness`` margin): the GJ is calibrated within 1 +- it like the damping (a value
         the declared model leaves uncertain); a mismatch beyond it is ``string_stiffness``, found
         with evidence. 0 holds the declared GJ.
+    channel_timing : str or tuple
+        The channels' timing (:func:`drillpy.records.bit_balance.aligned`): ``"none"`` (default: as
+        recorded), ``"auto"`` (the timing that balances the bit's equation with the declared string,
+        :func:`drillpy.records.bit_balance.identify_timing`; a record without top speed is left as
+        recorded) or (top lead, torque lag) [s]. The record's channels are brought to the bit
+        encoder's time before anything else (docs/loop.md, "The channels' timing").
     """
     horizon_s: float = 0.25
     calibration_fraction: float = 0.5
@@ -127,6 +133,7 @@ class LoopOptions:
     law_knot: bool = True
     gj_tolerance: float = GJ_TOLERANCE
     wob_input: str = "auto"
+    channel_timing: str | tuple = "none"
 
     def validate(self) -> None:
         """Check every option (ranges, types, known effect names).
@@ -154,6 +161,16 @@ class LoopOptions:
         validate.number("gj_tolerance", self.gj_tolerance, lo=0.0, hi=0.5, hi_closed=False)
         validate.integer("max_steps", self.max_steps, 0)
         validate.integer("blas_threads", self.blas_threads, 0)
+        if isinstance(self.channel_timing, str):
+            if self.channel_timing not in ("none", "auto"):
+                raise ValueError(f"channel_timing = {self.channel_timing!r}: use 'none', 'auto' or (top lead, torque "
+                                 "lag) in s")
+        elif len(tuple(self.channel_timing)) != 2:
+            raise ValueError(f"channel_timing = {self.channel_timing!r}: use 'none', 'auto' or (top lead, torque lag) "
+                             "in s")
+        else:
+            for name, x in zip(("channel_timing[0] (top lead)", "channel_timing[1] (torque lag)"), self.channel_timing):
+                validate.number(name, x, lo=-0.2, hi=0.2)
         if self.wob_input not in WOB_INPUTS:
             raise ValueError(f"wob_input = {self.wob_input!r}: use one of {', '.join(WOB_INPUTS)}")
         for e in self.effects:

@@ -143,7 +143,7 @@ class LoopResult:
 
     def loop_json(self) -> dict:
         """The content of ``loop.json`` (docs/loop.md): metric, decision data, baseline error and adequacy,
-        declared and removed effects, long runs, steps, final error and effects, unexplained
+        the WOB input and the channels' timing (None: as recorded), declared and removed effects, long runs, steps, final error and effects, unexplained
         fraction, discovered terms, the final model's parameters and the plausibility ``warnings``.
 
         Returns
@@ -152,7 +152,7 @@ class LoopResult:
             JSON-ready apart from NumPy scalars and non-finite numbers (:func:`drillpy.jsonio.dumps` handles them).
         """
         return {"metric": self.metric(), "decision": self.decision(), "baseline_error": self.baseline.E_test,
-                "adequacy": self.adequacy, "wob_input": self.data.wob_response,
+                "adequacy": self.adequacy, "wob_input": self.data.wob_response, "channel_timing": self.data.channel_timing,
                 "declared": self.declared, "removed": self.removed, "baseline_long_run": self.baseline_long_run,
                 "steps": [s.to_json() for s in self.steps],
                 "final_error": self.final.E_test, "final_effects": list(self.final.model.effects),
@@ -561,6 +561,12 @@ def _baseline(cfg: dict, data: LoopData, opt: LoopOptions, notes: list, log) -> 
     long run, adequacy)."""
     log(f"record: {data.source}; {data.t.size} samples at {1 / data.dt:.0f} Hz; calibration t < {data.t_split:.2f} s "
         f"({int((~data.is_test).sum())} horizons), validation ({int(data.is_test.sum())} horizons of {opt.horizon_s:g} s)")
+    if data.channel_timing:
+        ct = data.channel_timing
+        log(f"channels brought to the bit encoder's time: the top speed read {1e3 * ct['top_lead_s']:.0f} ms later, the "
+            f"torque {1e3 * ct['torque_lag_s']:.0f} ms earlier ("
+            + (f"the bit's equation with the declared string: R^2 {ct['r2']:.3f}, {ct['r2_as_recorded']:.3f} as recorded"
+               if ct["from"] == "auto" else "as given") + ")")
     m0, _ = calibrate(cfg, data, opt)
     base_lr = _long(opt, m0, data)
     m0, base_lr, note = hold_damping(m0, base_lr, data, opt, log)

@@ -32,6 +32,7 @@ domain. docs/records.md, section 4, "The bit's equation at the cycle's frequency
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -321,3 +322,79 @@ def summary(record: Record, config, valid: np.ndarray | None = None) -> dict:
             f"{best[2].motor_inertia:.4f} kg m^2 rotor; one frequency fixes about the sum of the two timings "
             f"(drillpy.records.bit_balance)")
     return out
+
+
+#: The largest channel shift :func:`aligned` takes [s] (far beyond any acquisition's skew).
+MAX_SHIFT_S = 0.2
+
+
+def identify_timing(record: Record, config, valid: np.ndarray | None = None) -> dict:
+    """The channels' timing that balances the bit's equation best on the whole band, with the
+    configuration's string held (:func:`timing_fit` with k and J of :func:`string_of` on
+    :data:`TIMING_GRID_S`): on sample 175 the top encoder 40 ms early and the torque 30 ms late in both
+    halves (docs/records.md, section 4).
+
+    Parameters
+    ----------
+    record : Record
+        A cleaned record with bit speed, top speed and torque on bit.
+    config : dict or Configuration
+        The declared model.
+    valid : numpy.ndarray, optional
+        As for :func:`cycle_balance`.
+
+    Returns
+    -------
+    dict
+        ``top_lead_s``, ``torque_lag_s`` [s], ``r2`` (the fit's) and ``r2_as_recorded`` (no shift).
+    """
+    k, J = string_of(config)
+    rows = timing_fit(record, TIMING_GRID_S, TIMING_GRID_S, stiffness=k, inertia=J, valid=valid)
+    raw = next(r for r in rows if r["top_lead_s"] == 0.0 and r["torque_lag_s"] == 0.0)
+    return {"top_lead_s": rows[0]["top_lead_s"], "torque_lag_s": rows[0]["torque_lag_s"], "r2": rows[0]["r2"],
+            "r2_as_recorded": raw["r2"]}
+
+
+def aligned(record: Record, top_lead_s: float, torque_lag_s: float) -> Record:
+    """The record with its channels brought to the bit encoder's time: the top speed read
+    ``top_lead_s`` later (it was that early), the torque ``torque_lag_s`` earlier (it was that late),
+    to the nearest sample. The samples a shift leaves without a reading are NaN, which the cleaning
+    excludes (:func:`drillpy.records.cleaning.clean`); the other channels are untouched.
+
+    Parameters
+    ----------
+    record : Record
+        The raw record (before cleaning).
+    top_lead_s, torque_lag_s : float
+        The shifts [s], each within +-:data:`MAX_SHIFT_S`.
+
+    Returns
+    -------
+    Record
+        A copy.
+
+    Raises
+    ------
+    ValueError
+        For a shift that is not finite or beyond :data:`MAX_SHIFT_S` (naming it), or a shift of a
+        channel the record lacks.
+    """
+    out = {}
+    for name, shift, channel, sign in (("top_lead_s", top_lead_s, "top_speed", 1),
+                                       ("torque_lag_s", torque_lag_s, "torque_on_bit", -1)):
+        if not (math.isfinite(shift) and abs(shift) <= MAX_SHIFT_S):
+            raise ValueError(f"{name} = {shift!r}: must be a finite shift within +-{MAX_SHIFT_S:g} s")
+        n = int(round(shift / record.dt))
+        if n == 0:
+            continue
+        x = getattr(record, channel)
+        if x is None:
+            raise ValueError(f"{name} = {shift!r}: the record has no {channel} channel to shift")
+        y = np.full_like(np.asarray(x, float), np.nan)
+        n *= sign  # > 0: the reading moves later
+        if n > 0:
+            y[n:] = x[:-n]
+        else:
+            y[:n] = x[-n:]
+        out[channel] = y
+    return dataclasses.replace(record, **out)
