@@ -77,6 +77,18 @@
 // stick condition of the non-regularized laws (Eqs. 5.1, 5.3, a0 > 0: a bit at rest holds up to the
 // static torque gain a0 W / W_ref at the current W; stick_euler, both in euler_bit.hpp). Off the rock
 // W = 0, so T = 0. Steady drilling: RGD's W0 and V0, the torque T_law(Omega; W0).
+//
+// Runs in lanes (run_lanes; issue 34: the Monte Carlo and the sweeps of coupled models): n independent
+// runs of one model are stepped together, the modal coordinates of both sets laid out [modes][lanes]
+// and advanced in one pass over the modes for all lanes (euler_lanes.hpp for the modified Euler step,
+// exact_modal_free/close for the exact one, the bit's rows summed mode by mode in euler_lanes.hpp's passes);
+// the bit's part of a step (the top drive, the rock surface's lookup and record with the delay t_N of
+// each run's own history, the axial and torsional inclusions or the thesis law's Newton iteration) is
+// scalar code run lane by lane, since its branches, iterations and history differ from run to run. A
+// lane does the same operations in the same order whatever the number of lanes and the other runs
+// (no floating-point contraction: CMakeLists.txt; a lane's sums never mix lanes), and run() is
+// run_lanes with one lane, so a run has the same bits alone, on the scalar path, and in any lane of
+// any batch (tests/cpp/test_axial_batched.cpp).
 #pragma once
 
 #include <Eigen/Dense>
@@ -359,9 +371,12 @@ class AxialTorsional {
         }
         om_state[l] = std::isfinite(s.s0.top_speed) ? s.s0.top_speed : s.om0;
       }
-      exact_modal_dot(mt, n, m.bit_.data(), z.data(), bz.data());
-      exact_modal_dot(ma, n, m.ax_.bit.data(), eta.data(), ce.data());
-      exact_modal_dot(mt, n, m.top_torque_.data(), z.data(), T_top.data());
+      std::vector<double> unused(n);  // b . p, c . e': the schemes' own passes sum them
+      EulerModes{mt, n, 0.0, m.bit_.data(), m.top_torque_.data(), nullptr, nullptr, nullptr, 0.0, z.data(), p.data(),
+                 nullptr}
+          .pass(false, nullptr, bz.data(), unused.data(), nullptr, T_top.data());
+      EulerModes{ma, n, 0.0, m.ax_.bit.data(), nullptr, nullptr, nullptr, nullptr, 0.0, eta.data(), r.data(), nullptr}
+          .pass(false, nullptr, ce.data(), unused.data(), nullptr, nullptr);
       for (std::size_t l = 0; l < n; ++l) {
         profile.emplace_back(m.spec_.bit.blades, 0.0, bz[l], ce[l], run0[l].st.depth, run0[l].om0);
         // a controlled drive's loop starts in equilibrium with the string's top torque unless the state gives its integral
@@ -416,29 +431,32 @@ class AxialTorsional {
     const double gt = bit_.squaredNorm(), ga = ax_.bit.squaredNorm();
     const bool by_law = spec_.torque == AxialTorque::law;
     // Eq. (A.5)'s modal forces: -D p - w2 z and the top's acceleration (load -top_load) on the torsional
-    // modes, -C e' - k^2 e and the top force (load top_row) on the axial ones
+    // modes, -C e' - k^2 e and the top force (load top_row) on the axial ones; the passes over the modes
+    // (euler_lanes.hpp) also sum the bit's rows: b . z, b . p, b . f and the top's torque, c . e, c . e', c . f
     const Eigen::VectorXd negd = -d_, neg_top_load = -top_load_, negc = -ax_.damping,
                           k2 = ax_.omega.cwiseProduct(ax_.omega);
-    const Eigen::MatrixXd Drow = D_.transpose();  // row-major D for euler_forces (dense damping)
-    const double* dense = diag_damping_ ? nullptr : Drow.data();
-    std::vector<double> ft(mt * n), fa(ma * n), om(n), om_next(n), dom(n), top(n, F_top), bp(n), ar(n), at(n), aa(n),
-        T(n), W(n);
+    const Eigen::MatrixXd Drow = D_.transpose();  // row-major D (dense damping)
+    std::vector<double> ft(mt * n), fa(ma * n), om(n), om_next(n), dom(n), bp(n), ar(n), at(n), aa(n), T(n, 0.0),
+        W(n, 0.0);
+    const EulerModes tor{mt, n, dt, bit_.data(), top_torque_.data(), diag_damping_ ? negd.data() : nullptr,
+                         w2_.data(), nullptr, 0.0, L.z.data(), L.p.data(), ft.data()};
+    const EulerModes axl{ma, n, dt, ax_.bit.data(), nullptr, negc.data(), k2.data(), ax_.top_row.data(), F_top,
+                         L.eta.data(), L.r.data(), fa.data()};
+    auto modes = [&](bool update) {  // Eqs. (A.5)-(A.6) with the step's T and W, then the next step's forces and sums
+      tor.pass(update, T.data(), L.bz.data(), bp.data(), at.data(), L.T_top.data());
+      if (!diag_damping_) tor.dense_forces(Drow.data(), at.data());
+      axl.pass(update, W.data(), L.ce.data(), ar.data(), aa.data(), nullptr);
+    };
+    modes(false);
     std::vector<LawHistory> hist(n);  // Eq. (A.1)'s accelerations of the last steps (by_law)
     for (long i = 0;; ++i) {
       const double t = i * dt;
-      exact_modal_dot(mt, n, bit_.data(), L.p.data(), bp.data());
-      exact_modal_dot(ma, n, ax_.bit.data(), L.r.data(), ar.data());
       for (std::size_t l = 0; l < n; ++l) {
         om[l] = L.drive[l]->speed(t, L.om_state[l]);
         om_next[l] = L.drive[l]->next(t, om[l], L.T_top[l]);  // the top's speed at the next step
         dom[l] = L.drive[l]->accel(t, om[l], om_next[l]);    // and its acceleration over the step
       }
-      euler_forces(mt, n, negd.data(), dense, w2_.data(), neg_top_load.data(), dom.data(), L.z.data(), L.p.data(),
-                   ft.data());
-      euler_forces(ma, n, negc.data(), nullptr, k2.data(), ax_.top_row.data(), top.data(), L.eta.data(), L.r.data(),
-                   fa.data());
-      exact_modal_dot(mt, n, bit_.data(), ft.data(), at.data());
-      exact_modal_dot(ma, n, ax_.bit.data(), fa.data(), aa.data());
+      tor.add_load(neg_top_load.data(), dom.data(), at.data());
       for (std::size_t l = 0; l < n; ++l) {
         T[l] = W[l] = 0.0;
         if (!L.live[l]) continue;
@@ -483,11 +501,7 @@ class AxialTorsional {
                static_cast<const AxialStep&>(AxialStep{t, Wl, V, U, d, cut.delay, contact}));
       }
       if (i == steps) break;
-      euler_update(mt, n, dt, bit_.data(), T.data(), ft.data(), L.z.data(), L.p.data());  // Eqs. (A.5), (A.6)
-      euler_update(ma, n, dt, ax_.bit.data(), W.data(), fa.data(), L.eta.data(), L.r.data());
-      exact_modal_dot(mt, n, bit_.data(), L.z.data(), L.bz.data());
-      exact_modal_dot(ma, n, ax_.bit.data(), L.eta.data(), L.ce.data());
-      exact_modal_dot(mt, n, top_torque_.data(), L.z.data(), L.T_top.data());
+      modes(true);  // Eqs. (A.5), (A.6)
       for (std::size_t l = 0; l < n; ++l) {
         if (!L.live[l]) continue;
         L.theta_top[l] += 0.5 * dt * (om[l] + om_next[l]);
@@ -514,9 +528,20 @@ class AxialTorsional {
     std::vector<double> zs(mt * n), ps(mt * n), es(ma * n), rs(ma * n);
     std::vector<double> om(n), om1(n), dom(n), top(n, F_top), w(n), wa(n), bzs(n), ces(n), ar(n), T0(n), W0(n), T(n),
         W(n), dT0(n), dW0(n), Ob(n), x1(n), x2(n);
+    // the bit's rows summed over the modes (euler_lanes.hpp's passes without an update or forces):
+    // b . z, b . p and the top's torque at the step's end, c . e and c . e', and b . z, c . e of the free part
+    std::vector<double> unused(n);
+    const EulerModes tor{mt, n, dt, bit_.data(), top_torque_.data(), nullptr, nullptr, nullptr, 0.0, L.z.data(),
+                         L.p.data(), nullptr};
+    const EulerModes axl{ma, n, dt, ax_.bit.data(), nullptr, nullptr, nullptr, nullptr, 0.0, L.eta.data(), L.r.data(),
+                         nullptr};
+    const EulerModes tor_free{mt, n, dt, bit_.data(), nullptr, nullptr, nullptr, nullptr, 0.0, zs.data(), ps.data(),
+                              nullptr};
+    const EulerModes axl_free{ma, n, dt, ax_.bit.data(), nullptr, nullptr, nullptr, nullptr, 0.0, es.data(), rs.data(),
+                              nullptr};
     // the state at t = 0 and the forces the first step starts from: steady drilling's
-    exact_modal_dot(ma, n, ax_.bit.data(), L.r.data(), ar.data());
-    exact_modal_dot(mt, n, bit_.data(), L.p.data(), Ob.data());
+    tor.pass(false, nullptr, L.bz.data(), Ob.data(), nullptr, L.T_top.data());
+    axl.pass(false, nullptr, L.ce.data(), ar.data(), nullptr, nullptr);
     for (std::size_t l = 0; l < n; ++l) {
       const Steady& st = L.run0[l].st;
       om[l] = L.drive[l]->speed(0.0, L.om_state[l]);
@@ -543,8 +568,8 @@ class AxialTorsional {
                        ps.data(), w.data());
       exact_modal_free(ma, n, ka.data(), ax_.bit.data(), L.eta.data(), L.r.data(), top.data(), W0.data(), es.data(),
                        rs.data(), wa.data());
-      exact_modal_dot(mt, n, bit_.data(), zs.data(), bzs.data());
-      exact_modal_dot(ma, n, ax_.bit.data(), es.data(), ces.data());
+      tor_free.pass(false, nullptr, bzs.data(), unused.data(), nullptr, nullptr);
+      axl_free.pass(false, nullptr, ces.data(), unused.data(), nullptr, nullptr);
       for (std::size_t l = 0; l < n; ++l) {
         dT0[l] = dW0[l] = T[l] = W[l] = 0.0;
         if (!L.live[l]) continue;
@@ -602,10 +627,8 @@ class AxialTorsional {
       }
       exact_modal_close(mt, n, kt.data(), zs.data(), ps.data(), T.data(), dT0.data(), L.z.data(), L.p.data());
       exact_modal_close(ma, n, ka.data(), es.data(), rs.data(), W.data(), dW0.data(), L.eta.data(), L.r.data());
-      exact_modal_dot(mt, n, bit_.data(), L.z.data(), L.bz.data());
-      exact_modal_dot(ma, n, ax_.bit.data(), L.eta.data(), L.ce.data());
-      exact_modal_dot(mt, n, top_torque_.data(), L.z.data(), L.T_top.data());
-      exact_modal_dot(ma, n, ax_.bit.data(), L.r.data(), ar.data());
+      tor.pass(false, nullptr, L.bz.data(), unused.data(), nullptr, L.T_top.data());
+      axl.pass(false, nullptr, L.ce.data(), ar.data(), nullptr, nullptr);
       for (std::size_t l = 0; l < n; ++l) {
         if (!L.live[l]) continue;
         L.om_state[l] = om1[l];

@@ -1,9 +1,10 @@
 // The modified Euler step of appendix A (Eqs. A.5-A.6) on modal coordinates, for several
 // independent runs at once: the state is [modes][lanes] (row-major: mode j of lane l at j N + l),
-// and every lane does the scalar step's arithmetic in the same order whatever the number of lanes N
-// (the mode sums mode by mode, exact_modal_dot; no floating-point contraction: CMakeLists.txt). So a
-// run has the same bits alone (N = 1) and in any lane of any batch. The loops over the lanes are
-// the inner ones, which the compiler vectorizes without reordering a lane's operations.
+// and every lane does the same arithmetic in the same order whatever the number of lanes N (its sums
+// mode by mode from mode 0, as exact_modal_dot; no floating-point contraction: CMakeLists.txt). So a
+// run has the same bits alone (N = 1) and in any lane of any batch. The lanes go in blocks of four
+// (then one by one), a block's sums held in registers over the pass (a sum kept in memory would wait
+// on its own store at every mode); the operations on a block's lanes are the vectorized ones.
 // Used by the axial-torsional model (axial_torsional.hpp) on its torsional and its axial modes.
 #pragma once
 
@@ -11,40 +12,95 @@
 
 namespace drill {
 
-/// The modal forces of Eq. (A.5) without the bit's: f = -D p - w2 z + load x, mode j of lane l
-/// f_jl = negd_j p_jl - w2_j z_jl (the damping diagonal in the modes, negd = -diag(D)), or with a
-/// dense damping (`dense`, D row-major [modes][modes]) f_jl = -(sum_k D_jk p_kl) - w2_j z_jl, plus
-/// load_j x_l where x_l != 0 (the top's acceleration on the torsional modes, load = -top_load;
-/// the top force on the axial ones, load = top_row).
-inline void euler_forces(int m, std::size_t N, const double* negd, const double* dense, const double* w2,
-                         const double* load, const double* x, const double* z, const double* p, double* f) {
-  for (int j = 0; j < m; ++j) {
-    const std::size_t o = static_cast<std::size_t>(j) * N;
-    if (dense) {
-      for (std::size_t l = 0; l < N; ++l) {
-        double s = 0.0;
-        for (int k = 0; k < m; ++k) s = s + dense[static_cast<std::size_t>(j) * m + k] * p[static_cast<std::size_t>(k) * N + l];
-        f[o + l] = -s - w2[j] * z[o + l];
-      }
-    } else {
-      for (std::size_t l = 0; l < N; ++l) f[o + l] = negd[j] * p[o + l] - w2[j] * z[o + l];
-    }
-    for (std::size_t l = 0; l < N; ++l)
-      if (x[l] != 0.0) f[o + l] = f[o + l] + load[j] * x[l];
-  }
-}
+/// One pass over the modes of N lanes (EulerModes::pass).
+struct EulerModes {
+  int m = 0;                  ///< modes
+  std::size_t N = 1;          ///< lanes
+  double dt = 0.0;
+  const double* bit = nullptr;   ///< the bit's row of the modes [m]
+  const double* top = nullptr;   ///< a second row summed over z (the top's torque), or nullptr [m]
+  const double* negd = nullptr;  ///< -diag(D) [m] (nullptr: dense damping, forces by dense_forces)
+  const double* w2 = nullptr;    ///< omega^2 [m]
+  const double* load = nullptr;  ///< the load row of a constant force `force` on every lane [m]
+  double force = 0.0;            ///< that force (0: none)
+  double *z = nullptr, *p = nullptr, *f = nullptr;  ///< state and forces [m][N]
 
-/// Eqs. (A.5)-(A.6) with the bit's force F_l on the modes' bit row: p = p + dt (f - bit F), then
-/// z = z + dt p with the new velocities.
-inline void euler_update(int m, std::size_t N, double dt, const double* bit, const double* F, const double* f,
-                         double* z, double* p) {
-  for (int j = 0; j < m; ++j) {
-    const std::size_t o = static_cast<std::size_t>(j) * N;
+  /// With `update`, Eqs. (A.5)-(A.6) with the bit's force F_l on the bit row, p = p + dt (f - bit F)
+  /// then z = z + dt p (the new velocities); then the forces of the next step without the bit's,
+  /// f = negd p - w2 z (+ load force), and per lane the sums bz = bit . z, bp = bit . p, bf = bit . f
+  /// and tz = top . z (when `top`).
+  void pass(bool update, const double* F, double* bz, double* bp, double* bf, double* tz) const {
+    std::size_t l = 0;
+    for (; l + 4 <= N; l += 4) block<4>(l, update, F, bz, bp, bf, tz);
+    for (; l < N; ++l) block<1>(l, update, F, bz, bp, bf, tz);
+  }
+
+  /// The forces with a dense damping D (row-major [m][m]): f_j = -(sum_k D_jk p_k) - w2_j z_j
+  /// (+ load_j force), and bf = bit . f.
+  void dense_forces(const double* D, double* bf) const {
     for (std::size_t l = 0; l < N; ++l) {
-      p[o + l] = p[o + l] + dt * (f[o + l] - bit[j] * F[l]);
-      z[o + l] = z[o + l] + dt * p[o + l];
+      double s = 0.0;
+      for (int j = 0; j < m; ++j) {
+        double d = 0.0;
+        for (int k = 0; k < m; ++k) d = d + D[static_cast<std::size_t>(j) * m + k] * p[k * N + l];
+        double fj = -d - w2[j] * z[j * N + l];
+        if (force != 0.0) fj = fj + load[j] * force;
+        f[j * N + l] = fj;
+        s = s + bit[j] * fj;
+      }
+      bf[l] = s;
     }
   }
-}
+
+  /// The load x_l on the lanes where it is not zero (the top's acceleration on the torsional modes,
+  /// row -top_load): f = f + row x, and bf = bit . f anew on those lanes.
+  void add_load(const double* row, const double* x, double* bf) const {
+    for (std::size_t l = 0; l < N; ++l) {
+      if (x[l] == 0.0) continue;
+      double s = 0.0;
+      for (int j = 0; j < m; ++j) {
+        double& fj = f[j * N + l];
+        fj = fj + row[j] * x[l];
+        s = s + bit[j] * fj;
+      }
+      bf[l] = s;
+    }
+  }
+
+ private:
+  template <int B>
+  void block(std::size_t l0, bool update, const double* F, double* bz, double* bp, double* bf, double* tz) const {
+    double sz[B] = {}, sp[B] = {}, sf[B] = {}, st[B] = {}, Fb[B];
+    for (int b = 0; b < B; ++b) Fb[b] = F ? F[l0 + b] : 0.0;
+    for (int j = 0; j < m; ++j) {
+      const std::size_t o = j * N + l0;
+      const double bj = bit[j];
+      for (int b = 0; b < B; ++b) {
+        double pj = p[o + b], zj = z[o + b];
+        if (update) {
+          pj = pj + dt * (f[o + b] - bj * Fb[b]);  // Eq. (A.5)
+          zj = zj + dt * pj;                       // Eq. (A.6)
+          p[o + b] = pj;
+          z[o + b] = zj;
+        }
+        sz[b] = sz[b] + bj * zj;
+        sp[b] = sp[b] + bj * pj;
+        if (top) st[b] = st[b] + top[j] * zj;
+        if (negd) {
+          double fj = negd[j] * pj - w2[j] * zj;
+          if (force != 0.0) fj = fj + load[j] * force;
+          f[o + b] = fj;
+          sf[b] = sf[b] + bj * fj;
+        }
+      }
+    }
+    for (int b = 0; b < B; ++b) {
+      bz[l0 + b] = sz[b];
+      bp[l0 + b] = sp[b];
+      if (negd) bf[l0 + b] = sf[b];
+      if (top) tz[l0 + b] = st[b];
+    }
+  }
+};
 
 }  // namespace drill
