@@ -102,6 +102,7 @@
 
 #include "drill/axial.hpp"
 #include "drill/axial_string.hpp"
+#include "drill/batched_integrator.hpp"
 #include "drill/bit_profile.hpp"
 #include "drill/bitrock.hpp"
 #include "drill/errors.hpp"

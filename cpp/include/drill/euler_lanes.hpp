@@ -2,9 +2,12 @@
 // independent runs at once: the state is [modes][lanes] (row-major: mode j of lane l at j N + l),
 // and every lane does the same arithmetic in the same order whatever the number of lanes N (its sums
 // mode by mode from mode 0, as exact_modal_dot; no floating-point contraction: CMakeLists.txt). So a
-// run has the same bits alone (N = 1) and in any lane of any batch. The lanes go in blocks of four
-// (then one by one), a block's sums held in registers over the pass (a sum kept in memory would wait
-// on its own store at every mode); the operations on a block's lanes are the vectorized ones.
+// run has the same bits alone (N = 1) and in any lane of any batch. The pass over the modes goes
+// through the lanes in vectors of the host's widest double vector (euler_lanes-inl.hpp, compiled per
+// target with batched_kernel-inl.hpp and dispatched by Google Highway in batched_integrator.hpp, which
+// defines EulerModes::pass; AVX-512: 8 lanes), a vector's sums held in
+// registers over the pass (a sum kept in memory would wait on its own store at every mode), the lanes
+// left over one by one with the same operations.
 // Used by the axial-torsional model (axial_torsional.hpp) on its torsional and its axial modes.
 #pragma once
 
@@ -19,7 +22,7 @@ struct EulerModes {
   double dt = 0.0;
   const double* bit = nullptr;   ///< the bit's row of the modes [m]
   const double* top = nullptr;   ///< a second row summed over z (the top's torque), or nullptr [m]
-  const double* negd = nullptr;  ///< -diag(D) [m] (nullptr: dense damping, forces by dense_forces)
+  const double* negd = nullptr;  ///< -diag(D) [m] (nullptr: no forces, the sums alone; dense damping: dense_forces)
   const double* w2 = nullptr;    ///< omega^2 [m]
   const double* load = nullptr;  ///< the load row of a constant force `force` on every lane [m]
   double force = 0.0;            ///< that force (0: none)
@@ -28,12 +31,8 @@ struct EulerModes {
   /// With `update`, Eqs. (A.5)-(A.6) with the bit's force F_l on the bit row, p = p + dt (f - bit F)
   /// then z = z + dt p (the new velocities); then the forces of the next step without the bit's,
   /// f = negd p - w2 z (+ load force), and per lane the sums bz = bit . z, bp = bit . p, bf = bit . f
-  /// and tz = top . z (when `top`).
-  void pass(bool update, const double* F, double* bz, double* bp, double* bf, double* tz) const {
-    std::size_t l = 0;
-    for (; l + 4 <= N; l += 4) block<4>(l, update, F, bz, bp, bf, tz);
-    for (; l < N; ++l) block<1>(l, update, F, bz, bp, bf, tz);
-  }
+  /// and tz = top . z (when `top`), each summed mode by mode from mode 0.
+  void pass(bool update, const double* F, double* bz, double* bp, double* bf, double* tz) const;
 
   /// The forces with a dense damping D (row-major [m][m]): f_j = -(sum_k D_jk p_k) - w2_j z_j
   /// (+ load_j force), and bf = bit . f.
@@ -67,40 +66,14 @@ struct EulerModes {
     }
   }
 
- private:
-  template <int B>
-  void block(std::size_t l0, bool update, const double* F, double* bz, double* bp, double* bf, double* tz) const {
-    double sz[B] = {}, sp[B] = {}, sf[B] = {}, st[B] = {}, Fb[B];
-    for (int b = 0; b < B; ++b) Fb[b] = F ? F[l0 + b] : 0.0;
-    for (int j = 0; j < m; ++j) {
-      const std::size_t o = j * N + l0;
-      const double bj = bit[j];
-      for (int b = 0; b < B; ++b) {
-        double pj = p[o + b], zj = z[o + b];
-        if (update) {
-          pj = pj + dt * (f[o + b] - bj * Fb[b]);  // Eq. (A.5)
-          zj = zj + dt * pj;                       // Eq. (A.6)
-          p[o + b] = pj;
-          z[o + b] = zj;
-        }
-        sz[b] = sz[b] + bj * zj;
-        sp[b] = sp[b] + bj * pj;
-        if (top) st[b] = st[b] + top[j] * zj;
-        if (negd) {
-          double fj = negd[j] * pj - w2[j] * zj;
-          if (force != 0.0) fj = fj + load[j] * force;
-          f[o + b] = fj;
-          sf[b] = sf[b] + bj * fj;
-        }
-      }
-    }
-    for (int b = 0; b < B; ++b) {
-      bz[l0 + b] = sz[b];
-      bp[l0 + b] = sp[b];
-      if (negd) bf[l0 + b] = sf[b];
-      if (top) tz[l0 + b] = st[b];
-    }
-  }
+};
+
+/// The inputs and outputs of one EulerModes::pass (the kernel's second argument).
+struct EulerPassIO {
+  bool update;
+  const double* F;
+  double *bz, *bp, *bf, *tz;
 };
 
 }  // namespace drill
+
