@@ -485,6 +485,11 @@ class MonteCarlo:
     @property
     def eta_variance(self) -> float:
         ...
+    @property
+    def lockstep(self) -> bool:
+        """
+        Whether severity(batched=True) steps the samples in lockstep, one per lane (the torsional model where the batched integrator supports it; the axial-torsional model, axial.type = rgd, always): the same numbers as one by one.
+        """
 class HorizonStart:
     """
     Where one prediction horizon starts (drill/horizons.hpp): the model's state read off the record and the recorded channels that start the sensor filters.

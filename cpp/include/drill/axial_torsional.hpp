@@ -77,21 +77,38 @@
 // stick condition of the non-regularized laws (Eqs. 5.1, 5.3, a0 > 0: a bit at rest holds up to the
 // static torque gain a0 W / W_ref at the current W; stick_euler, both in euler_bit.hpp). Off the rock
 // W = 0, so T = 0. Steady drilling: RGD's W0 and V0, the torque T_law(Omega; W0).
+//
+// Runs in lanes (run_lanes; issue 34: the Monte Carlo and the sweeps of coupled models): n independent
+// runs of one model are stepped together, the modal coordinates of both sets laid out [modes][lanes]
+// and advanced in one pass over the modes for all lanes (euler_lanes.hpp for the modified Euler step,
+// exact_modal_free/close for the exact one, the bit's rows summed mode by mode in euler_lanes.hpp's passes);
+// the bit's part of a step (the top drive, the rock surface's lookup and record with the delay t_N of
+// each run's own history, the axial and torsional inclusions or the thesis law's Newton iteration) is
+// scalar code run lane by lane, since its branches, iterations and history differ from run to run. A
+// lane does the same operations in the same order whatever the number of lanes and the other runs
+// (no floating-point contraction: CMakeLists.txt; a lane's sums never mix lanes), and run() is
+// run_lanes with one lane, so a run has the same bits alone, on the scalar path, and in any lane of
+// any batch (tests/cpp/test_axial_batched.cpp).
 #pragma once
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "drill/axial.hpp"
 #include "drill/axial_string.hpp"
+#include "drill/batched_integrator.hpp"
 #include "drill/bit_profile.hpp"
 #include "drill/bitrock.hpp"
 #include "drill/errors.hpp"
 #include "drill/euler_bit.hpp"
+#include "drill/euler_lanes.hpp"
+#include "drill/exact_modal.hpp"
 #include "drill/integrator.hpp"
 #include "drill/modal.hpp"
 #include "drill/rgd_bit.hpp"
@@ -254,14 +271,41 @@ class AxialTorsional {
   /// controller.hpp: J Omega' = u - T_top with u its controller's torque) commanded at it, the top's
   /// speed then a state and the string's coordinates in the frame turning with it (Eq. 2.9, its
   /// acceleration Omega' the frame's load, as Integrator::run_euler). obs(const StepState&, const
-  /// AxialStep&) at every step including t = 0.
+  /// AxialStep&) at every step including t = 0. One run of run_lanes (the same bits as in a batch).
   template <class Observer>
   CoupledState run(const Inputs& in, Observer&& obs, const ModelState* start = nullptr) const {
-    in.top_speed.validate("operation.top_speed_rad_s");
-    require_drive(in.top_drive);
-    return TopDrive::visit(in.top_drive.kind, [&](auto drive) {
-      if (opt_.scheme == Scheme::exact_modal) return run_exact<decltype(drive)>(in, obs, start);
-      return run_drive<decltype(drive)>(in, obs, start);
+    CoupledState out;
+    run_lanes(&in, &start, 1, &obs, &out);
+    return out;
+  }
+
+  /// n independent runs stepped together (the batched path of the coupled model): run r from
+  /// in[r] and start[r] (nullptr: steady drilling, disturbed) with its observer obs[r], its final
+  /// state in out[r]. The modes of all runs are stepped in one pass, [modes][lanes] (euler_lanes.hpp,
+  /// exact_modal.hpp); the bit's laws, the rock surface's lookup (bit_profile.hpp) and the top drive
+  /// are each run's own, lane by lane. A run's numbers do not depend on n nor on the other runs (each
+  /// lane does run()'s arithmetic in run()'s order: run() is this with n = 1). The runs share the
+  /// top drive's kind. Throws like run() (the first run to diverge, at its time) unless `diverged_at`
+  /// is given: then diverged_at[r] is the time run r diverged at (NaN: it did not), its observer is
+  /// not called from that step on, and the other runs go on.
+  template <class Observer>
+  void run_lanes(const Inputs* in, const ModelState* const* start, std::size_t n, Observer* obs, CoupledState* out,
+                 double* diverged_at = nullptr) const {
+    if (n == 0) return;
+    for (std::size_t r = 0; r < n; ++r) {
+      in[r].top_speed.validate("operation.top_speed_rad_s");
+      in[r].eta.validate("eta");
+      require_drive(in[r].top_drive);
+      require(in[r].top_drive.kind == in[0].top_drive.kind, "top_drive.type", TopDrive::kind_name(in[r].top_drive.kind),
+              "differs from the first run's (" + TopDrive::kind_name(in[0].top_drive.kind) +
+                  "): the runs stepped together share the top drive's kind");
+    }
+    if (diverged_at) std::fill(diverged_at, diverged_at + n, NAN);
+    TopDrive::visit(in[0].top_drive.kind, [&](auto drive) {
+      Lanes<decltype(drive)> L(*this, in, start, n);
+      if (opt_.scheme == Scheme::exact_modal) run_exact(L, in, obs, diverged_at);
+      else run_drive(L, in, obs, diverged_at);
+      L.finish(*this, out);
     });
   }
 
@@ -293,200 +337,325 @@ class AxialTorsional {
     return {om0, std::move(s0), std::move(z), std::move(p), std::move(eta), std::move(r), st};
   }
 
+  /// The n runs of run_lanes: the modal states of both sets [modes][lanes], and per lane its start
+  /// (RunStart), its rock surface, its top drive, the top's angle and speed, the bit's twist b . z, its
+  /// axial displacement c . e and the string's elastic torque at the top (at the step's start), and
+  /// whether it still runs.
+  template <class Drive>
+  struct Lanes {
+    using DriveRun = typename Drive::template Run<TopDrive>;
+    std::size_t n;
+    std::vector<RunStart> run0;
+    std::vector<double> z, p, eta, r;
+    std::vector<BitProfile> profile;
+    std::vector<std::unique_ptr<DriveRun>> drive;
+    std::vector<double> theta_top, om_state, bz, ce, T_top;
+    std::vector<char> live;
+
+    Lanes(const AxialTorsional& m, const Inputs* in, const ModelState* const* start, std::size_t n_)
+        : n(n_), theta_top(n_, 0.0), om_state(n_), bz(n_), ce(n_), T_top(n_), live(n_, 1) {
+      const int mt = static_cast<int>(m.w2_.size()), ma = m.ax_.size();
+      z.resize(mt * n);
+      p.resize(mt * n);
+      eta.resize(ma * n);
+      r.resize(ma * n);
+      for (std::size_t l = 0; l < n; ++l) {
+        run0.push_back(m.run_start(in[l], start[l]));
+        const RunStart& s = run0.back();
+        for (int j = 0; j < mt; ++j) {
+          z[j * n + l] = s.z(j);
+          p[j * n + l] = s.p(j);
+        }
+        for (int j = 0; j < ma; ++j) {
+          eta[j * n + l] = s.eta(j);
+          r[j * n + l] = s.r(j);
+        }
+        om_state[l] = std::isfinite(s.s0.top_speed) ? s.s0.top_speed : s.om0;
+      }
+      std::vector<double> unused(n);  // b . p, c . e': the schemes' own passes sum them
+      EulerModes{mt, n, 0.0, m.bit_.data(), m.top_torque_.data(), nullptr, nullptr, nullptr, 0.0, z.data(), p.data(),
+                 nullptr}
+          .pass(false, nullptr, bz.data(), unused.data(), nullptr, T_top.data());
+      EulerModes{ma, n, 0.0, m.ax_.bit.data(), nullptr, nullptr, nullptr, nullptr, 0.0, eta.data(), r.data(), nullptr}
+          .pass(false, nullptr, ce.data(), unused.data(), nullptr, nullptr);
+      for (std::size_t l = 0; l < n; ++l) {
+        profile.emplace_back(m.spec_.bit.blades, 0.0, bz[l], ce[l], run0[l].st.depth, run0[l].om0);
+        // a controlled drive's loop starts in equilibrium with the string's top torque unless the state gives its integral
+        drive.push_back(std::make_unique<DriveRun>(in[l].top_drive, in[l].top_speed, m.opt_.dt, run0[l].s0,
+                                                   [&] { return T_top[l]; }));
+      }
+    }
+
+    /// Lane l diverged at time t: throws (no `diverged_at`) or records it and stops the lane (its
+    /// state set to zero, so that the lane's arithmetic stays finite).
+    void diverge(std::size_t l, double t, double* diverged_at) {
+      if (!diverged_at) throw std::runtime_error(Integrator::divergence(t));
+      diverged_at[l] = t;
+      live[l] = 0;
+      for (std::vector<double>* v : {&z, &p, &eta, &r}) {
+        const std::size_t m = v->size() / n;
+        for (std::size_t j = 0; j < m; ++j) (*v)[j * n + l] = 0.0;
+      }
+    }
+
+    /// The final states.
+    void finish(const AxialTorsional& m, CoupledState* out) const {
+      const int mt = static_cast<int>(m.w2_.size()), ma = m.ax_.size();
+      for (std::size_t l = 0; l < n; ++l) {
+        Eigen::VectorXd zl(mt), pl(mt), el(ma), rl(ma);
+        for (int j = 0; j < mt; ++j) {
+          zl(j) = z[j * n + l];
+          pl(j) = p[j * n + l];
+        }
+        for (int j = 0; j < ma; ++j) {
+          el(j) = eta[j * n + l];
+          rl(j) = r[j * n + l];
+        }
+        out[l] = CoupledState{{m.V_ * zl, m.V_ * pl}, el, rl};
+        if (Drive::has_inertia) out[l].torsion.top_speed = om_state[l];
+        drive[l]->finish(out[l].torsion);
+      }
+    }
+  };
+
+  /// The modified Euler scheme (the header's comment) on the lanes of L.
   template <class Drive, class Observer>
-  DRILL_AXIAL_FLATTEN CoupledState run_drive(const Inputs& in, Observer& obs, const ModelState* start) const {
+  DRILL_AXIAL_FLATTEN void run_drive(Lanes<Drive>& L, const Inputs* in, Observer* obs, double* diverged_at) const {
     const double dt = opt_.dt;
-    const long n = opt_.steps();
-    RunStart run0 = run_start(in, start);
-    const double om0 = run0.om0;
-    const ModelState& s0 = run0.s0;
-    Eigen::VectorXd &z = run0.z, &p = run0.p, &eta = run0.eta, &r = run0.r;
-    const Steady& st = run0.st;
+    const long steps = opt_.steps();
+    const std::size_t n = L.n;
+    const int mt = static_cast<int>(w2_.size()), ma = ax_.size();
     const RgdBit& b = spec_.bit;
     const double v_feed = spec_.top == AxialTop::feed ? spec_.feed_rate : 0.0, F_top = top_force();
     const double cw = b.cutting_wob_per_depth(), ct = b.cutting_torque_per_depth(), Wf_max = b.contact_wob(),
                  ctw = b.contact_torque_per_wob();
     const double gt = bit_.squaredNorm(), ga = ax_.bit.squaredNorm();
     const bool by_law = spec_.torque == AxialTorque::law;
-    LawHistory hist;  // Eq. (A.1)'s accelerations of the last steps (by_law)
-    double theta_top = 0.0;
-    // the bit's twist b . z and axial displacement c . e, computed once a step: at its end for the
-    // bit profile's record, which are the next step's (the same numbers)
-    double bz = bit_.dot(z), ce = ax_.bit.dot(eta);
-    BitProfile profile(b.blades, 0.0, bz, ce, st.depth, om0);
-    Eigen::VectorXd ft(z.size()), fa(eta.size());
-    // the drive's update of the top speed: the ideal drive reads the command (its speed, next speed and
-    // rate); a controlled drive's loop starts in equilibrium with the string's top torque unless the
-    // state gives its integral
-    double om_state = std::isfinite(s0.top_speed) ? s0.top_speed : om0;
-    typename Drive::template Run<TopDrive> drive(in.top_drive, in.top_speed, dt, s0,
-                                                 [&] { return top_torque_.dot(z); });
+    // Eq. (A.5)'s modal forces: -D p - w2 z and the top's acceleration (load -top_load) on the torsional
+    // modes, -C e' - k^2 e and the top force (load top_row) on the axial ones; the passes over the modes
+    // (euler_lanes.hpp) also sum the bit's rows: b . z, b . p, b . f and the top's torque, c . e, c . e', c . f
+    const Eigen::VectorXd negd = -d_, neg_top_load = -top_load_, negc = -ax_.damping,
+                          k2 = ax_.omega.cwiseProduct(ax_.omega);
+    const Eigen::MatrixXd Drow = D_.transpose();  // row-major D (dense damping)
+    std::vector<double> ft(mt * n), fa(ma * n), om(n), om_next(n), dom(n), bp(n), ar(n), at(n), aa(n), T(n, 0.0),
+        W(n, 0.0);
+    const EulerModes tor{mt, n, dt, bit_.data(), top_torque_.data(), diag_damping_ ? negd.data() : nullptr,
+                         w2_.data(), nullptr, 0.0, L.z.data(), L.p.data(), ft.data()};
+    const EulerModes axl{ma, n, dt, ax_.bit.data(), nullptr, negc.data(), k2.data(), ax_.top_row.data(), F_top,
+                         L.eta.data(), L.r.data(), fa.data()};
+    auto modes = [&](bool update) {  // Eqs. (A.5)-(A.6) with the step's T and W, then the next step's forces and sums
+      tor.pass(update, T.data(), L.bz.data(), bp.data(), at.data(), L.T_top.data());
+      if (!diag_damping_) tor.dense_forces(Drow.data(), at.data());
+      axl.pass(update, W.data(), L.ce.data(), ar.data(), aa.data(), nullptr);
+    };
+    modes(false);
+    std::vector<LawHistory> hist(n);  // Eq. (A.1)'s accelerations of the last steps (by_law)
     for (long i = 0;; ++i) {
       const double t = i * dt;
-      const double om = drive.speed(t, om_state);
-      const double T_top = top_torque_.dot(z);           // the string's elastic torque at the top
-      const double om_next = drive.next(t, om, T_top);  // the top's speed at the next step
-      const double dom = drive.accel(t, om, om_next);   // and its acceleration over the step
-      const double Ob = om + bit_.dot(p), Phi = theta_top + bz;
-      const double U = v_feed * t + ce, V = v_feed + ax_.bit.dot(r);
-      const BitProfile::Cut cut = profile.cut(t, Phi, U);  // the depth of cut and the delay t_N
-      const double d = cut.depth;
-      if (diag_damping_) ft = -d_.cwiseProduct(p) - w2_.cwiseProduct(z);
-      else ft.noalias() = -D_ * p - w2_.cwiseProduct(z);
-      if (dom != 0.0) ft -= top_load_ * dom;
-      fa = -ax_.damping.cwiseProduct(r) - (ax_.omega.array().square() * eta.array()).matrix();
-      if (F_top != 0.0) fa += ax_.top_row * F_top;
-      const double alpha_t = bit_.dot(ft) + dom, alpha_a = ax_.bit.dot(fa);
-      const bool contact = d > 0.0;
-      const bool turning = Ob > bit_rest_tolerance(om);
-      // axial inclusion: W in [W_lo, W_hi] set-valued at V+ = 0 (rgd_bit.hpp's switches)
-      double W = 0.0, Wf = 0.0, T = 0.0;
-      if (contact) {
-        const double Wc = cw * d, W_lo = turning ? Wc : 0.0, W_hi = Wc + Wf_max;
-        const double Va = V + dt * (alpha_a - ga * W_lo);
-        if (Va <= 0.0) W = W_lo;
-        else if (Va - dt * ga * (W_hi - W_lo) >= 0.0) W = W_hi;
-        else W = W_lo + Va / (dt * ga);
-        Wf = std::min(W - W_lo, Wf_max);
-        // torsional inclusion: T in [-T_f, T_c + T_f], set-valued at Omega+ = 0; the bit-rock
-        // torque's fluctuation of Eq. (4.1) scales both, (1 + eta) floored at 0 (a set-valued
-        // contact cannot drive the bit)
-        const double fl = std::max(0.0, 1.0 + in.eta.at(t));
-        if (by_law) {
-          T = law_torque(Ob, om, alpha_t, gt, dt, fl, W, hist);  // the thesis law on the axial W
-        } else {
-          const double T_fwd = fl * (ct * d + ctw * Wf), T_bwd = fl * ctw * Wf;
-          const double Oa = Ob + dt * alpha_t;
-          if (Oa > 0.0) T = Oa - dt * gt * T_fwd >= 0.0 ? T_fwd : Oa / (dt * gt);
-          else T = Oa + dt * gt * T_bwd <= 0.0 ? -T_bwd : Oa / (dt * gt);
-        }
+      for (std::size_t l = 0; l < n; ++l) {
+        om[l] = L.drive[l]->speed(t, L.om_state[l]);
+        om_next[l] = L.drive[l]->next(t, om[l], L.T_top[l]);  // the top's speed at the next step
+        dom[l] = L.drive[l]->accel(t, om[l], om_next[l]);    // and its acceleration over the step
       }
-      if (!std::isfinite(Ob) || !std::isfinite(T) || !std::isfinite(W) || !std::isfinite(V))
-        throw std::runtime_error(Integrator::divergence(t));
-      const double a_bit = alpha_t - gt * T;
-      obs(static_cast<const StepState&>(StepState{i, t, Ob, a_bit, Phi, T, T_top, om, drive.torque(), W}),
-          static_cast<const AxialStep&>(AxialStep{t, W, V, U, d, cut.delay, contact}));
-      if (i == n) break;
-      p += dt * (ft - bit_ * T);  // Eq. (A.5)
-      z += dt * p;                // Eq. (A.6)
-      r += dt * (fa - ax_.bit * W);
-      eta += dt * r;
-      theta_top += 0.5 * dt * (om + om_next);
-      om_state = om_next;
-      bz = bit_.dot(z);
-      ce = ax_.bit.dot(eta);
-      profile.record(t + dt, theta_top + bz, v_feed * (t + dt) + ce);
+      tor.add_load(neg_top_load.data(), dom.data(), at.data());
+      for (std::size_t l = 0; l < n; ++l) {
+        T[l] = W[l] = 0.0;
+        if (!L.live[l]) continue;
+        const double Ob = om[l] + bp[l], Phi = L.theta_top[l] + L.bz[l];
+        const double U = v_feed * t + L.ce[l], V = v_feed + ar[l];
+        const double alpha_t = at[l] + dom[l], alpha_a = aa[l];
+        const BitProfile::Cut cut = L.profile[l].cut(t, Phi, U);  // the depth of cut and the delay t_N
+        const double d = cut.depth;
+        const bool contact = d > 0.0;
+        const bool turning = Ob > bit_rest_tolerance(om[l]);
+        // axial inclusion: W in [W_lo, W_hi] set-valued at V+ = 0 (rgd_bit.hpp's switches)
+        double Wl = 0.0, Wf = 0.0, Tl = 0.0;
+        if (contact) {
+          const double Wc = cw * d, W_lo = turning ? Wc : 0.0, W_hi = Wc + Wf_max;
+          const double Va = V + dt * (alpha_a - ga * W_lo);
+          if (Va <= 0.0) Wl = W_lo;
+          else if (Va - dt * ga * (W_hi - W_lo) >= 0.0) Wl = W_hi;
+          else Wl = W_lo + Va / (dt * ga);
+          Wf = std::min(Wl - W_lo, Wf_max);
+          // torsional inclusion: T in [-T_f, T_c + T_f], set-valued at Omega+ = 0; the bit-rock
+          // torque's fluctuation of Eq. (4.1) scales both, (1 + eta) floored at 0 (a set-valued
+          // contact cannot drive the bit)
+          const double fl = std::max(0.0, 1.0 + in[l].eta.at(t));
+          if (by_law) {
+            Tl = law_torque(Ob, om[l], alpha_t, gt, dt, fl, Wl, hist[l]);  // the thesis law on the axial W
+          } else {
+            const double T_fwd = fl * (ct * d + ctw * Wf), T_bwd = fl * ctw * Wf;
+            const double Oa = Ob + dt * alpha_t;
+            if (Oa > 0.0) Tl = Oa - dt * gt * T_fwd >= 0.0 ? T_fwd : Oa / (dt * gt);
+            else Tl = Oa + dt * gt * T_bwd <= 0.0 ? -T_bwd : Oa / (dt * gt);
+          }
+        }
+        if (!std::isfinite(Ob) || !std::isfinite(Tl) || !std::isfinite(Wl) || !std::isfinite(V)) {
+          L.diverge(l, t, diverged_at);
+          continue;
+        }
+        T[l] = Tl;
+        W[l] = Wl;
+        const double a_bit = alpha_t - gt * Tl;
+        obs[l](static_cast<const StepState&>(
+                   StepState{i, t, Ob, a_bit, Phi, Tl, L.T_top[l], om[l], L.drive[l]->torque(), Wl}),
+               static_cast<const AxialStep&>(AxialStep{t, Wl, V, U, d, cut.delay, contact}));
+      }
+      if (i == steps) break;
+      modes(true);  // Eqs. (A.5), (A.6)
+      for (std::size_t l = 0; l < n; ++l) {
+        if (!L.live[l]) continue;
+        L.theta_top[l] += 0.5 * dt * (om[l] + om_next[l]);
+        L.om_state[l] = om_next[l];
+        L.profile[l].record(t + dt, L.theta_top[l] + L.bz[l], v_feed * (t + dt) + L.ce[l]);
+      }
     }
-    CoupledState out{{V_ * z, V_ * p}, eta, r};
-    if (Drive::has_inertia) out.torsion.top_speed = om_state;
-    drive.finish(out.torsion);
-    return out;
   }
 
-  /// The exact modal scheme (the header's comment) with the top drive `Drive`: run_drive's start,
-  /// observer and top drive, each mode of both sets propagated by exact_modal_free/close.
+  /// The exact modal scheme (the header's comment) on the lanes of L: run_drive's start, observer and
+  /// top drive, each mode of both sets propagated by exact_modal_free/close.
   template <class Drive, class Observer>
-  DRILL_AXIAL_FLATTEN CoupledState run_exact(const Inputs& in, Observer& obs, const ModelState* start) const {
+  DRILL_AXIAL_FLATTEN void run_exact(Lanes<Drive>& L, const Inputs* in, Observer* obs, double* diverged_at) const {
     const double dt = opt_.dt;
-    const long n = opt_.steps();
-    RunStart run0 = run_start(in, start);
-    const double om0 = run0.om0;
-    const ModelState& s0 = run0.s0;
-    Eigen::VectorXd &z = run0.z, &p = run0.p, &eta = run0.eta, &r = run0.r;
-    const Steady& st = run0.st;
+    const long steps = opt_.steps();
+    const std::size_t n = L.n;
     const RgdBit& b = spec_.bit;
     const double v_feed = spec_.top == AxialTop::feed ? spec_.feed_rate : 0.0, F_top = top_force();
     const double cw = b.cutting_wob_per_depth(), ct = b.cutting_torque_per_depth(), Wf_max = b.contact_wob(),
                  ctw = b.contact_torque_per_wob();
     const int mt = et_.modes, ma = ea_.modes;
-    Eigen::VectorXd zs(mt), ps(mt), es(ma), rs(ma);
-    double theta_top = 0.0, om_state = std::isfinite(s0.top_speed) ? s0.top_speed : om0;
-    double bz = bit_.dot(z), ce = ax_.bit.dot(eta);
-    BitProfile profile(b.blades, 0.0, bz, ce, st.depth, om0);
-    typename Drive::template Run<TopDrive> drive(in.top_drive, in.top_speed, dt, s0,
-                                                 [&] { return top_torque_.dot(z); });
+    // the coefficients [mode][kind][lane] of exact_modal_free/close: each lane the model's
+    const std::vector<double> kt = lane_coefficients(et_, n), ka = lane_coefficients(ea_, n);
+    std::vector<double> zs(mt * n), ps(mt * n), es(ma * n), rs(ma * n);
+    std::vector<double> om(n), om1(n), dom(n), top(n, F_top), w(n), wa(n), bzs(n), ces(n), ar(n), T0(n), W0(n), T(n),
+        W(n), dT0(n), dW0(n), Ob(n), x1(n), x2(n);
+    // the bit's rows summed over the modes (euler_lanes.hpp's passes without an update or forces):
+    // b . z, b . p and the top's torque at the step's end, c . e and c . e', and b . z, c . e of the free part
+    std::vector<double> unused(n);
+    const EulerModes tor{mt, n, dt, bit_.data(), top_torque_.data(), nullptr, nullptr, nullptr, 0.0, L.z.data(),
+                         L.p.data(), nullptr};
+    const EulerModes axl{ma, n, dt, ax_.bit.data(), nullptr, nullptr, nullptr, nullptr, 0.0, L.eta.data(), L.r.data(),
+                         nullptr};
+    const EulerModes tor_free{mt, n, dt, bit_.data(), nullptr, nullptr, nullptr, nullptr, 0.0, zs.data(), ps.data(),
+                              nullptr};
+    const EulerModes axl_free{ma, n, dt, ax_.bit.data(), nullptr, nullptr, nullptr, nullptr, 0.0, es.data(), rs.data(),
+                              nullptr};
     // the state at t = 0 and the forces the first step starts from: steady drilling's
-    double om = drive.speed(0.0, om_state), Ob = om + bit_.dot(p), V = v_feed + ax_.bit.dot(r);
-    double W0 = st.wob, T0 = std::max(0.0, 1.0 + in.eta.at(0.0)) * st.torque;
-    double x1 = Ob - om, x2 = x1;  // the relative bit speeds of the last two steps (Newton's start, law)
-    {
-      const BitProfile::Cut cut = profile.cut(0.0, bz, ce);
-      obs(static_cast<const StepState&>(StepState{0, 0.0, Ob, 0.0, bz, T0, top_torque_.dot(z), om, drive.torque(), W0}),
-          static_cast<const AxialStep&>(AxialStep{0.0, W0, V, ce, cut.depth, cut.delay, cut.depth > 0.0}));
+    tor.pass(false, nullptr, L.bz.data(), Ob.data(), nullptr, L.T_top.data());
+    axl.pass(false, nullptr, L.ce.data(), ar.data(), nullptr, nullptr);
+    for (std::size_t l = 0; l < n; ++l) {
+      const Steady& st = L.run0[l].st;
+      om[l] = L.drive[l]->speed(0.0, L.om_state[l]);
+      Ob[l] = om[l] + Ob[l];
+      W0[l] = st.wob;
+      T0[l] = std::max(0.0, 1.0 + in[l].eta.at(0.0)) * st.torque;
+      x1[l] = x2[l] = Ob[l] - om[l];  // the relative bit speeds of the last two steps (Newton's start, law)
+      const BitProfile::Cut cut = L.profile[l].cut(0.0, L.bz[l], L.ce[l]);
+      obs[l](static_cast<const StepState&>(
+                 StepState{0, 0.0, Ob[l], 0.0, L.bz[l], T0[l], L.T_top[l], om[l], L.drive[l]->torque(), W0[l]}),
+             static_cast<const AxialStep&>(
+                 AxialStep{0.0, W0[l], v_feed + ar[l], L.ce[l], cut.depth, cut.delay, cut.depth > 0.0}));
     }
-    for (long i = 0; i < n; ++i) {
+    std::vector<double> V(n), d(n), delay(n);
+    std::vector<char> contact(n), rest_a(n), held_t(n), held_a(n);
+    for (long i = 0; i < steps; ++i) {
       const double t = i * dt, t1 = t + dt;
-      om = drive.speed(t, om_state);
-      const double om1 = drive.next(t, om, top_torque_.dot(z));
-      const double dom = (om1 - om) / dt;  // the top's acceleration averaged over the step
-      double w = 0.0, wa = 0.0;
-      exact_modal_free(mt, 1, et_.k.data(), bit_.data(), z.data(), p.data(), &dom, &T0, zs.data(), ps.data(), &w);
-      exact_modal_free(ma, 1, ea_.k.data(), ax_.bit.data(), eta.data(), r.data(), &F_top, &W0, es.data(), rs.data(),
-                       &wa);
-      const double theta1 = theta_top + 0.5 * dt * (om + om1);
-      // the rock surface at the angle the bit reaches with T_i+1 = T_i (explicit in the angle), and d_p, the
-      // depth of cut at the axial position it reaches with W_i+1 = W_i
-      const double Phi_p = theta1 + bit_.dot(zs) - zt1_ * T0, U_p = v_feed * t1 + ax_.bit.dot(es) - za1_ * W0;
-      const BitProfile::Cut cut = profile.cut(t1, Phi_p, U_p);
-      const bool turning = Ob > bit_rest_tolerance(om);
-      const double fl = std::max(0.0, 1.0 + in.eta.at(t1));
-      // the axial inclusion with the depth of cut implicit in the bit's axial position: d = d_p - N z_a
-      // (W - W_i), z_a = za1 (W linear over the step) or za0 + za1 (held), by fixed-point iteration
-      // (contraction N a zeta eps z_a <= N a zeta eps g_a dt^2 / 2 < 1 / 2 under the step bound)
-      double d = cut.depth, W = 0.0, Wf = 0.0, T = 0.0, x = 0.0;
-      bool contact = false, held_a = false, rest_a = false, held_t = false;
-      for (int k = 0;; ++k) {
-        contact = d > 0.0;
-        W = Wf = 0.0;
-        held_a = rest_a = false;
-        if (contact) {
-          const double Wc = cw * d;
-          exact_axial(v_feed + wa, W0, turning ? Wc : 0.0, Wc + Wf_max, W, held_a, rest_a);
-          Wf = std::min(W - (turning ? Wc : 0.0), Wf_max);
+      for (std::size_t l = 0; l < n; ++l) {
+        om[l] = L.drive[l]->speed(t, L.om_state[l]);
+        om1[l] = L.drive[l]->next(t, om[l], L.T_top[l]);
+        dom[l] = (om1[l] - om[l]) / dt;  // the top's acceleration averaged over the step
+      }
+      exact_modal_free(mt, n, kt.data(), bit_.data(), L.z.data(), L.p.data(), dom.data(), T0.data(), zs.data(),
+                       ps.data(), w.data());
+      exact_modal_free(ma, n, ka.data(), ax_.bit.data(), L.eta.data(), L.r.data(), top.data(), W0.data(), es.data(),
+                       rs.data(), wa.data());
+      tor_free.pass(false, nullptr, bzs.data(), unused.data(), nullptr, nullptr);
+      axl_free.pass(false, nullptr, ces.data(), unused.data(), nullptr, nullptr);
+      for (std::size_t l = 0; l < n; ++l) {
+        dT0[l] = dW0[l] = T[l] = W[l] = 0.0;
+        if (!L.live[l]) continue;
+        const double theta1 = L.theta_top[l] + 0.5 * dt * (om[l] + om1[l]);
+        // the rock surface at the angle the bit reaches with T_i+1 = T_i (explicit in the angle), and d_p,
+        // the depth of cut at the axial position it reaches with W_i+1 = W_i
+        const double Phi_p = theta1 + bzs[l] - zt1_ * T0[l], U_p = v_feed * t1 + ces[l] - za1_ * W0[l];
+        const BitProfile::Cut cut = L.profile[l].cut(t1, Phi_p, U_p);
+        const bool turning = Ob[l] > bit_rest_tolerance(om[l]);
+        const double fl = std::max(0.0, 1.0 + in[l].eta.at(t1));
+        // the axial inclusion with the depth of cut implicit in the bit's axial position: d = d_p - N z_a
+        // (W - W_i), z_a = za1 (W linear over the step) or za0 + za1 (held), by fixed-point iteration
+        // (contraction N a zeta eps z_a <= N a zeta eps g_a dt^2 / 2 < 1 / 2 under the step bound)
+        double dl = cut.depth, Wl = 0.0, Wf = 0.0, Tl = 0.0, x = 0.0;
+        bool cont = false, ha = false, ra = false, ht = false;
+        for (int k = 0;; ++k) {
+          cont = dl > 0.0;
+          Wl = Wf = 0.0;
+          ha = ra = false;
+          if (cont) {
+            const double Wc = cw * dl;
+            exact_axial(v_feed + wa[l], W0[l], turning ? Wc : 0.0, Wc + Wf_max, Wl, ha, ra);
+            Wf = std::min(Wl - (turning ? Wc : 0.0), Wf_max);
+          }
+          const double dn = cut.depth - b.blades * (ha ? za0_ + za1_ : za1_) * (Wl - W0[l]);
+          if (std::fabs(dn - dl) <= 1e-14 * std::fabs(cut.depth) || k == 40) break;
+          dl = dn;
         }
-        const double dn = cut.depth - b.blades * (held_a ? za0_ + za1_ : za1_) * (W - W0);
-        if (std::fabs(dn - d) <= 1e-14 * std::fabs(cut.depth) || k == 40) break;
-        d = dn;
+        if (law_step_) {  // the thesis law on the axial W (Eqs. 3.1-3.3, 5.1, 5.3 at the step's end)
+          double fric = 0.0;
+          law_step_->exact_bit(w[l], et_.c, et_.c0, T0[l], om[l], om1[l], Ob[l], Wl, fl - 1.0, 0.0, 0.0, t1,
+                               2.0 * x1[l] - x2[l], x, Tl, fric, ht);
+        } else if (cont) {
+          exact_rgd_torque(w[l], T0[l], om[l], om1[l], Ob[l], fl * (ct * dl + ctw * Wf), fl * ctw * Wf, x, Tl, ht);
+        } else {
+          x = w[l];  // off the rock: T = 0
+        }
+        if (!std::isfinite(x) || !std::isfinite(Tl) || !std::isfinite(Wl)) {
+          L.diverge(l, t1, diverged_at);
+          continue;
+        }
+        T[l] = Tl;
+        W[l] = Wl;
+        dT0[l] = ht ? Tl - T0[l] : 0.0;
+        dW0[l] = ha ? Wl - W0[l] : 0.0;
+        L.theta_top[l] = theta1;
+        x2[l] = x1[l];
+        x1[l] = x;
+        d[l] = dl;
+        delay[l] = cut.delay;
+        contact[l] = cont;
+        rest_a[l] = ra;
+        held_t[l] = ht;
+        held_a[l] = ha;
       }
-      if (law_step_) {  // the thesis law on the axial W (Eqs. 3.1-3.3, 5.1, 5.3 at the step's end)
-        double fric = 0.0;
-        law_step_->exact_bit(w, et_.c, et_.c0, T0, om, om1, Ob, W, fl - 1.0, 0.0, 0.0, t1, 2.0 * x1 - x2, x, T,
-                             fric, held_t);
-      } else if (contact) {
-        exact_rgd_torque(w, T0, om, om1, Ob, fl * (ct * d + ctw * Wf), fl * ctw * Wf, x, T, held_t);
-      } else {
-        x = w;  // off the rock: T = 0
+      exact_modal_close(mt, n, kt.data(), zs.data(), ps.data(), T.data(), dT0.data(), L.z.data(), L.p.data());
+      exact_modal_close(ma, n, ka.data(), es.data(), rs.data(), W.data(), dW0.data(), L.eta.data(), L.r.data());
+      tor.pass(false, nullptr, L.bz.data(), unused.data(), nullptr, L.T_top.data());
+      axl.pass(false, nullptr, L.ce.data(), ar.data(), nullptr, nullptr);
+      for (std::size_t l = 0; l < n; ++l) {
+        if (!L.live[l]) continue;
+        L.om_state[l] = om1[l];
+        const double v1 = om1[l] + x1[l], V1 = rest_a[l] ? 0.0 : v_feed + ar[l];
+        L.profile[l].record(t1, L.theta_top[l] + L.bz[l], v_feed * t1 + L.ce[l]);
+        // the step's mean forces (exact_modal.hpp): the end ones where they are held over the step
+        const double Tm = held_t[l] ? T[l] : 0.5 * (T0[l] + T[l]), Wm = held_a[l] ? W[l] : 0.5 * (W0[l] + W[l]);
+        const double a_bit = (v1 - Ob[l]) / dt;
+        obs[l](static_cast<const StepState&>(StepState{i + 1, t1, v1, a_bit, L.theta_top[l] + L.bz[l], Tm, L.T_top[l],
+                                                       om1[l], L.drive[l]->torque(), Wm}),
+               static_cast<const AxialStep&>(AxialStep{t1, Wm, V1, v_feed * t1 + L.ce[l], d[l], delay[l], contact[l] != 0}));
+        Ob[l] = v1;
+        T0[l] = T[l];
+        W0[l] = W[l];
       }
-      if (!std::isfinite(x) || !std::isfinite(T) || !std::isfinite(W))
-        throw std::runtime_error(Integrator::divergence(t1));
-      const double dT0 = held_t ? T - T0 : 0.0, dW0 = held_a ? W - W0 : 0.0;
-      exact_modal_close(mt, 1, et_.k.data(), zs.data(), ps.data(), &T, &dT0, z.data(), p.data());
-      exact_modal_close(ma, 1, ea_.k.data(), es.data(), rs.data(), &W, &dW0, eta.data(), r.data());
-      theta_top = theta1;
-      om_state = om1;
-      bz = bit_.dot(z);
-      ce = ax_.bit.dot(eta);
-      const double v1 = om1 + x, V1 = rest_a ? 0.0 : v_feed + ax_.bit.dot(r);
-      profile.record(t1, theta_top + bz, v_feed * t1 + ce);
-      // the step's mean forces (exact_modal.hpp): the end ones where they are held over the step
-      const double Tm = held_t ? T : 0.5 * (T0 + T), Wm = held_a ? W : 0.5 * (W0 + W);
-      const double a_bit = (v1 - Ob) / dt;
-      obs(static_cast<const StepState&>(
-              StepState{i + 1, t1, v1, a_bit, theta_top + bz, Tm, top_torque_.dot(z), om1, drive.torque(), Wm}),
-          static_cast<const AxialStep&>(AxialStep{t1, Wm, V1, v_feed * t1 + ce, d, cut.delay, contact}));
-      x2 = x1;
-      x1 = x;
-      Ob = v1;
-      V = V1;
-      T0 = T;
-      W0 = W;
     }
-    CoupledState out{{V_ * z, V_ * p}, eta, r};
-    if (Drive::has_inertia) out.torsion.top_speed = om_state;
-    drive.finish(out.torsion);
-    return out;
   }
 
+  /// The exact step's coefficients [mode][kind] laid out [mode][kind][lane] for n lanes (each lane the
+  /// model's), as exact_modal_free and exact_modal_close read them.
+  static std::vector<double> lane_coefficients(const ExactModal& e, std::size_t n) {
+    std::vector<double> out(e.k.size() * n);
+    for (std::size_t q = 0; q < e.k.size(); ++q)
+      for (std::size_t l = 0; l < n; ++l) out[q * n + l] = e.k[q];
+    return out;
+  }
   /// The axial inclusion at the end of an exact step: W in [W_lo, W_hi], set-valued at V_i+1 = 0, with
   /// V_i+1 = Vf - c W (Vf the free axial speed holding the start WOB's share -c0 W_i). Sliding (the bit
   /// moving up with W_lo or down with W_hi) the WOB varies linearly over the step; at rest at the

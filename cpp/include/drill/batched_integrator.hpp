@@ -44,6 +44,7 @@
 
 #include "drill/bitrock.hpp"
 #include "drill/errors.hpp"
+#include "drill/euler_lanes.hpp"
 #include "drill/integrator.hpp"
 #include "drill/parallel.hpp"
 
@@ -110,6 +111,12 @@ namespace drill {
 HWY_EXPORT(BatchLanes);
 HWY_EXPORT(BatchSteps);
 HWY_EXPORT(ExactSteps);
+HWY_EXPORT(EulerPass);
+
+/// euler_lanes.hpp's pass over the modes on the host's widest vectors.
+inline void EulerModes::pass(bool update, const double* F, double* bz, double* bp, double* bf, double* tz) const {
+  HWY_DYNAMIC_DISPATCH(EulerPass)(*this, EulerPassIO{update, F, bz, bp, bf, tz});
+}
 
 class BatchedIntegrator {
  public:

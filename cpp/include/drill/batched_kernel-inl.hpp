@@ -17,6 +17,9 @@
 // over the modes per step. It uses FMA (Highway's MulAdd: the same bits on AVX2 and AVX-512); a
 // shortcut taken when every lane allows it (an exp skipped where every tanh is saturated, the top's
 // acceleration term where no lane has one) gives each lane the values it computes otherwise.
+//
+// The coupled model's pass over the modes of its lanes (EulerPass, euler_lanes-inl.hpp) is compiled
+// per target here too, within this file's toggle (one foreach_target.h per translation unit).
 #if defined(DRILL_BATCHED_KERNEL_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef DRILL_BATCHED_KERNEL_INL_H_
 #undef DRILL_BATCHED_KERNEL_INL_H_
@@ -461,5 +464,8 @@ inline void ExactSteps(const ExactStepArgs& a) {
 }  // namespace HWY_NAMESPACE
 }  // namespace drill
 HWY_AFTER_NAMESPACE();
+
+// the coupled model's pass over the modes of its lanes (euler_lanes.hpp) for this target
+#include "drill/euler_lanes-inl.hpp"
 
 #endif  // toggle

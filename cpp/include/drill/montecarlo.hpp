@@ -62,6 +62,14 @@ class MonteCarlo {
 
   double warmup() const { return warmup_; }
 
+  /// Whether severity(batched = true) steps its samples in lockstep: the torsional model where
+  /// BatchedIntegrator supports it, the axial-torsional model (axial.type = rgd) always
+  /// (AxialTorsional::run_lanes).
+  bool lockstep() const {
+    const Config& c = sim_.config();
+    return sim_.coupled() || BatchedIntegrator(sim_.integrator()).supports(sim_.inputs(c.top_speed, c.wob));
+  }
+
   /// The deterministic state at t = warmup for each top speed (nothing when warmup = 0).
   std::vector<ModelState> warm_states(const std::vector<double>& speeds, int threads = 0) const {
     std::vector<ModelState> out;
@@ -92,9 +100,10 @@ class MonteCarlo {
   /// result(r, s) for sample first + r and speeds[s]. An empty matrix if cancelled.
   /// With `mean_bit_speed`, also the mean bit speed of each run's SS window [rad/s] (a bit that
   /// stays stuck has a small SS: SS alone cannot tell it from smooth drilling).
-  /// `batched`: the samples go through BatchedIntegrator in SIMD lockstep (one sample per lane, one
-  /// task per batch and speed) when it supports the configuration (batched_integrator.hpp), else one by
-  /// one through Integrator, the reference (false: always).
+  /// `batched`: the samples go in lockstep (one sample per lane, one task per batch and speed) when
+  /// lockstep(): through BatchedIntegrator (batched_integrator.hpp), or with axial.type = rgd through
+  /// AxialTorsional::run_lanes (the same numbers as one by one); else one by one through Integrator,
+  /// the reference (false: always).
   Eigen::MatrixXd severity(const std::vector<double>& speeds, std::uint64_t first, std::size_t count,
                            const ProgressFn& progress = nullptr, int threads = 0,
                            Eigen::MatrixXd* mean_bit_speed = nullptr, bool batched = true) const {
@@ -104,9 +113,10 @@ class MonteCarlo {
     if (mean_bit_speed) mean_bit_speed->resize(out.rows(), out.cols());
     const Config& c = sim_.config();
     const std::vector<ModelState> warm = warm_states(speeds, threads);
-    const BatchedIntegrator lockstep(sim_.integrator());
-    if (batched && !sim_.coupled() && lockstep.supports(sim_.inputs(speeds[0], c.wob))) {
+    if (batched && lockstep()) {
       // one task per (batch of samples, speed): enough tasks for every thread even with few samples
+      const BatchedIntegrator torsional(sim_.integrator());
+      const AxialTorsional* coupled = sim_.coupled();
       const std::size_t w = BatchedIntegrator::width(), ns = speeds.size(), nb = (count + w - 1) / w;
       ProgressFn runs;
       if (progress) runs = [&](std::size_t tasks, std::size_t) { return progress(std::min(count, tasks / ns * w), count); };
@@ -116,9 +126,18 @@ class MonteCarlo {
             const std::size_t s = task % ns, r0 = task / ns * w, n = std::min(w, count - r0);
             std::vector<Inputs> in(n, sim_.inputs(speeds[s], c.wob));
             for (std::size_t k = 0; k < n; ++k) in[k].eta = eta(first + r0 + k);
-            const std::vector<const ModelState*> s0(n, warm.empty() ? nullptr : &warm[s]);
             std::vector<SeverityObserver> sev(n, SeverityObserver(c.transient));
-            lockstep.run(in.data(), s0.data(), n, sev.data());
+            if (coupled) {  // axial.type = rgd: the runs start in steady drilling (Simulation::run_observed)
+              const ModelState s0 = sim_.coupled_start(*coupled, speeds[s], c.start);
+              const std::vector<const ModelState*> s0p(n, &s0);
+              std::vector<Simulation::TorsionOnly<SeverityObserver&>> obs;
+              for (SeverityObserver& o : sev) obs.push_back({o});
+              std::vector<CoupledState> last(n);
+              coupled->run_lanes(in.data(), s0p.data(), n, obs.data(), last.data());
+            } else {
+              const std::vector<const ModelState*> s0(n, warm.empty() ? nullptr : &warm[s]);
+              torsional.run(in.data(), s0.data(), n, sev.data());
+            }
             for (std::size_t k = 0; k < n; ++k) {
               const Eigen::Index r = static_cast<Eigen::Index>(r0 + k), j = static_cast<Eigen::Index>(s);
               out(r, j) = sev[k].severity();

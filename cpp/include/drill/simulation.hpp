@@ -232,10 +232,11 @@ class Simulation {
   /// speeds.size() + s]. With top = hook_load a WOB of `wobs` is the net force at the top, the WOB of
   /// steady drilling (operation.wob_n), one coupled model per WOB; with top = feed the WOB is the bit's
   /// response, not an input, and `wobs` must be empty. Each run starts as run_coupled starts it, from
-  /// `start` (other than steady: the torsional state only). One run per grid point through the scalar
-  /// reference, in parallel.
+  /// `start` (other than steady: the torsional state only). The speeds of one WOB in batches of
+  /// BatchedIntegrator::width() runs stepped together (AxialTorsional::run_lanes; `batched` false:
+  /// one run per task), the batches in parallel; a run's SS is the same either way.
   std::vector<double> sweep_coupled(const std::vector<double>& speeds, const std::vector<double>& wobs,
-                                    const ProgressFn& progress, int threads, StartMode start) const {
+                                    const ProgressFn& progress, int threads, StartMode start, bool batched) const {
     const AxialTorsionalSpec& base = cfg_.axial.rgd;
     require(wobs.empty() || base.top == AxialTop::hook_load, "sweep.wobs_n", wobs.size(),
             "values given, but with axial.top = feed the WOB is the bit's response, not an input (sweep "
@@ -251,19 +252,40 @@ class Simulation {
       }
     }
     const double w0 = cfg_.wob;
-    std::vector<double> out(speeds.size() * models.size());
+    const std::size_t ns = speeds.size(), width = batched ? BatchedIntegrator::width() : 1,
+                      nb = (ns + width - 1) / width;
+    std::vector<double> out(ns * models.size());
+    ProgressFn tasks;
+    if (progress) tasks = [&](std::size_t done, std::size_t) { return progress(std::min(out.size(), done * width), out.size()); };
     const bool done = parallel_for(
-        out.size(),
-        [&](std::size_t i) {
-          const std::size_t iw = i / speeds.size();
-          const Inputs in = inputs(speeds[i % speeds.size()], wobs.empty() ? w0 : wobs[iw]);
-          const ModelState s0 = coupled_start(models[iw], in.top_speed.value, start);
-          out[i] = run_coupled(models[iw], in, false, &s0, nullptr).severity;
+        nb * models.size(),
+        [&](std::size_t task) {
+          const std::size_t iw = task / nb, s0 = task % nb * width, n = std::min(width, ns - s0);
+          std::vector<Inputs> in;
+          std::vector<ModelState> st;
+          for (std::size_t k = 0; k < n; ++k) {
+            in.push_back(inputs(speeds[s0 + k], wobs.empty() ? w0 : wobs[iw]));
+            st.push_back(coupled_start(models[iw], in.back().top_speed.value, start));
+          }
+          std::vector<const ModelState*> stp;
+          for (const ModelState& x : st) stp.push_back(&x);
+          std::vector<TorsionOnly<SeverityObserver>> sev(n, TorsionOnly<SeverityObserver>{SeverityObserver(cfg_.transient)});
+          std::vector<CoupledState> last(n);
+          models[iw].run_lanes(in.data(), stp.data(), n, sev.data(), last.data());
+          for (std::size_t k = 0; k < n; ++k) out[iw * ns + s0 + k] = sev[k].obs.severity();
         },
-        progress, threads);
+        tasks, threads);
     if (!done) out.clear();
     return out;
   }
+
+  /// A coupled run's observer that sees the torsional StepState only (the Monte Carlo's and the
+  /// sweep's SeverityObserver).
+  template <class Obs>
+  struct TorsionOnly {
+    Obs obs;
+    void operator()(const StepState& s, const AxialStep&) { obs(s); }
+  };
 
   /// A run of the axial-torsional model (axial_torsional.hpp): the torsional metrics as run() and the
   /// axial channels. Starts in steady drilling (disturbed) unless `start` or simulation.start say
@@ -383,7 +405,7 @@ class Simulation {
   /// Every run starts as `start` says (default: simulation.start of the configuration).
   /// `batched`: the runs go through BatchedIntegrator in SIMD lockstep when it supports them (an
   /// ideal top drive, modified Euler: batched_integrator.hpp), else one by one through Integrator,
-  /// the reference (false: always).
+  /// the reference (false: always); with axial.type = rgd, sweep_coupled (the same SS either way).
   std::vector<double> sweep_severity(const std::vector<double>& speeds, const std::vector<double>& wobs,
                                      const ProgressFn& progress = nullptr, int threads = 0,
                                      std::optional<StartMode> start_mode = std::nullopt, bool batched = true) const {
@@ -395,7 +417,7 @@ class Simulation {
       require(speeds[k] > 0.0, "sweep.top_speeds_rad_s[" + std::to_string(k) + "]", speeds[k], "must be positive");
     }
     for (std::size_t k = 0; k < w.size(); ++k) require_non_negative(w[k], "sweep.wobs_n[" + std::to_string(k) + "]");
-    if (coupled_) return sweep_coupled(speeds, wobs.empty() ? std::vector<double>{} : w, progress, threads, start);
+    if (coupled_) return sweep_coupled(speeds, wobs.empty() ? std::vector<double>{} : w, progress, threads, start, batched);
     std::vector<double> out(speeds.size() * w.size());
     const BatchedIntegrator lockstep(integ_);
     if (batched && lockstep.supports(inputs(speeds[0], w[0]))) {

@@ -117,6 +117,10 @@ void init_stochastic(py::module_& m) {
            }),
            py::arg("config"), py::arg("psd"), py::arg("eta_dt"), py::arg("seed"), py::arg("warmup") = 0.0)
       .def_property_readonly("eta_variance", [](const MonteCarlo& mc) { return mc.process().variance(); })
+      .def_property_readonly("lockstep", &MonteCarlo::lockstep,
+                             "Whether severity(batched=True) steps the samples in lockstep, one per lane (the torsional "
+                             "model where the batched integrator supports it; the axial-torsional model, axial.type = "
+                             "rgd, always): the same numbers as one by one.")
       .def(
           "eta",
           [](const MonteCarlo& mc, std::uint64_t sample) {
