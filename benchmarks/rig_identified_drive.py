@@ -3,6 +3,7 @@ record's level (issue 28), against the model ``drillpy analyze`` calibrates, on 
 and the held-out one.
 
     PYTHONPATH=python python3 benchmarks/rig_identified_drive.py DIR/model.json [--t0 0 --t1 20] [--realizations 5]
+        [--levels 0.2,0.25,0.3]
 
 DIR from ``drillpy analyze ../shared/data/testrig/sample175_0-40s.mat --calibrate 0:20 --out DIR``. From
 analyze's model it keeps the law, the jack, the platform, the bar's GJ and the disk; it replaces:
@@ -54,6 +55,8 @@ def main() -> None:
     ap.add_argument("--t0", type=float, default=0.0)
     ap.add_argument("--t1", type=float, default=20.0)
     ap.add_argument("--realizations", type=int, default=5)
+    ap.add_argument("--levels", default="", metavar="S1,S2,...",
+                    help="also print eta_exp on the model's simulation (seed 0) at these levels of Eq. (4.1)")
     a = ap.parse_args()
     m0 = load_model(a.model)
     if not m0.torque_fluctuation:
@@ -75,6 +78,9 @@ def main() -> None:
         sim = rigsim.simulate_model(m, cal, eta=shape * (mid / np.std(shape)))
         lo, hi = (mid, hi) if eta_exp_std(sim) < target else (lo, mid)
     level = 0.5 * (lo + hi)
+    for lv in (float(x) for x in a.levels.split(",") if x.strip()):
+        sim = rigsim.simulate_model(m, cal, eta=shape * (lv / np.std(shape)))
+        print(f"Eq. (4.1) at {lv:g}: eta_exp {eta_exp_std(sim):.3f} on the model's simulation")
     print(f"drive from the bit's equation ({1e3 * bal['top_lead_s']:.0f} ms top lead, {1e3 * bal['torque_lag_s']:.0f} ms "
           f"torque lag): c_m {cm:.3f} N m s/rad, J_m {jm:.4f} kg m^2, command {command:.2f} rad/s; damping ratio "
           f"{STEEL_DAMPING}; Eq. (4.1) level {level:.3f} (eta_exp {target:.3f} on the record)")
