@@ -116,7 +116,8 @@ def evidence_json(res: LoopResult) -> dict:
                        "calibration_horizons": int((~d.is_test).sum()), "validation_horizons": int(d.is_test.sum()),
                        "stalls": [{"start_s": a, "duration_s": n} for a, n in d.stalls],
                        "horizons_set_apart": [{"start_s": float(d.t[s]), "reason": r}
-                                              for s, r in sorted(d.set_apart.items())]},
+                                              for s, r in sorted(d.set_apart.items())],
+                       "channel_timing": d.channel_timing},
             "options": {k: (list(v) if isinstance(v, tuple) else v) for k, v in vars(res.options).items()},
             "engine_dt_s": Configuration.of(res.config).simulation.dt_s,
             "baseline": ev_summary(res.baseline), "final": ev_summary(res.final),
