@@ -140,3 +140,13 @@ def test_the_loop_brings_the_channels_to_the_bit_encoders_time_before_anything_e
             LoopOptions(channel_timing=bad).validate()
     with pytest.raises(ValueError, match="top_lead_s = inf"):
         bit_balance.aligned(raw, float("inf"), 0.0)
+
+
+def test_a_record_with_a_steady_top_speed_and_no_skew_is_left_as_recorded():
+    # the loop's synthetic truths turn the top at a constant speed: its lead changes nothing and stays 0, and
+    # their torque is not late
+    from drillpy.loop.synthetic import declared_config, synthetic_record
+    from drillpy.records.cleaning import clean
+    rec, _ = clean(synthetic_record({"static_friction": {}}, duration_s=20.0, seed=18, fs_hz=500.0))
+    t = bit_balance.identify_timing(rec, declared_config(), valid=rigsim.reliable_top_speed(rec))
+    assert (t["top_lead_s"], t["torque_lag_s"]) == (0.0, 0.0)
