@@ -17,6 +17,7 @@ import numpy as np
 
 from drillpy import _core
 from drillpy.records import identification as ident
+from drillpy.records.bit_balance import string_of
 from drillpy.model.config import engine_config
 from .data import LoopData, measured
 from .effects import CATALOGUE
@@ -829,15 +830,7 @@ def bit_equation(model: LoopModel) -> dict:
         Rayleigh damping), ``viscous_nms_rad`` c_v [N m s/rad], ``string_friction_nm`` T_sf [N m].
     """
     cfg = view(model.engine_config())
-    flex, j_string = 0.0, 0.0
-    for s in cfg.string.sections:
-        jp = math.pi / 2.0 * (s.outer_radius_m ** 4 - s.inner_radius_m ** 4)
-        g = s.youngs_modulus_pa / (2.0 * (1.0 + s.poisson_ratio))
-        flex += s.length_m / (g * jp)
-        j_string += s.density_kg_m3 * jp * s.length_m
-    k = 1.0 / flex
-    j_bit = sum(li.inertia_kg_m2 for li in cfg.string.get("lumped_inertias", ()) if li.get("node", -1) == -1)
-    J = j_bit + j_string / 3.0
+    k, J = string_of(cfg)  # the sections in series, the bit's inertia and a third of the string's
     ratios = model.damping_ratios or [0.0]
     op = cfg.operation
     return {"k_nm_rad": k, "J_kg_m2": J, "c_nms_rad": 2.0 * ratios[0] * math.sqrt(k * J),
