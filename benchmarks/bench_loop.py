@@ -12,8 +12,11 @@ Configurations:
 * ``per-perturbation``: this tree with ``LoopOptions(batched_jacobian=False)``: scipy's '2-point'
   differences, one engine call per perturbed model (the trials' configurations built without
   ``copy.deepcopy`` and JSON text, as in ``batched``);
+* ``declared-step``: this tree's defaults but the step rule off (``LoopOptions(step_tolerance=0)``):
+  every prediction at the preset's 1e-4 s;
 * ``batched``: this tree's defaults: every perturbed model of one Jacobian in one
-  ``_core.predict_horizons_many`` call;
+  ``_core.predict_horizons_many`` call, at the step rule's engine step (``drillpy.loop.time_step``:
+  2.5e-4 s on sample 175);
 * ``exact_modal``: the defaults with ``LoopOptions(scheme="exact_modal", dt_s=1e-3)``: every
   prediction on the exact modal scheme at 1 ms instead of the modified Euler at the preset's 0.1 ms.
 
@@ -34,7 +37,8 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
-OPTIONS = {"base": {}, "per-perturbation": {"batched_jacobian": False}, "batched": {},
+OPTIONS = {"base": {}, "per-perturbation": {"batched_jacobian": False}, "declared-step": {"step_tolerance": 0.0},
+           "batched": {},
            "exact_modal": {"scheme": "exact_modal", "dt_s": 1e-3}}
 
 
@@ -54,7 +58,8 @@ def child(name: str, rate: float, record: str) -> None:
     wall = time.perf_counter() - t0
     steps = [[s.action, s.effect, round(s.error_before, 4), round(s.error_after, 4)] for s in res.steps]
     print(json.dumps({"wall": wall, "calls": calls["n"], "steps": steps, "baseline": res.baseline.E_test,
-                      "final": res.final.E_test, "effects": list(res.final.model.effects)}))
+                      "final": res.final.E_test, "effects": list(res.final.model.effects),
+                      "dt": res.baseline.model.cfg["simulation"]["dt_s"]}))
 
 
 def run(name: str, tree: Path, rate: float, record: str) -> dict:
@@ -64,7 +69,7 @@ def run(name: str, tree: Path, rate: float, record: str) -> dict:
     if p.returncode:
         raise SystemExit(f"{name}: failed\n{p.stderr}")
     r = json.loads(p.stdout.strip().splitlines()[-1])
-    print(f"{name}: {r['wall']:.1f} s, {r['calls']} engine calls; baseline E {r['baseline']:.4f}, final E "
+    print(f"{name}: {r['wall']:.1f} s, {r['calls']} engine calls, engine step {r['dt']:.3g} s; baseline E {r['baseline']:.4f}, final E "
           f"{r['final']:.4f}, effects {r['effects']}")
     for s in r["steps"]:
         print(f"  {s[0]:<6} {s[1]:<20} E {s[2]:.4f} -> {s[3]:.4f}")
@@ -92,6 +97,9 @@ def main() -> int:
             if n != "batched":
                 same = r["steps"] == b["steps"] and r["effects"] == b["effects"]
                 print(f"{n} / batched: {r['wall'] / b['wall']:.2f} x; same decisions: {same}")
+        if "base" in res:
+            same = b["steps"] == res["base"]["steps"] and b["effects"] == res["base"]["effects"]
+            print(f"base / batched: {res['base']['wall'] / b['wall']:.2f} x; same decisions: {same}")
         if "base" in res and "exact_modal" in res:
             e = res["exact_modal"]
             same = e["steps"] == res["base"]["steps"] and e["effects"] == res["base"]["effects"]

@@ -26,7 +26,7 @@ from drillpy.loop.synthetic import declared_config, synthetic_record
 
 LOOP_KEYS = {"metric", "decision", "warnings", "baseline_error", "steps", "final_error", "parameters", "declared", "removed", "final_effects",
              "confusable", "unexplained_fraction", "discovered_terms", "adequacy", "baseline_long_run", "provenance",
-             "wob_input", "channel_timing"}
+             "wob_input", "channel_timing", "time_step"}
 STEP_KEYS = {"action", "effect", "error_before", "error_after", "evidence", "long_run"}
 
 

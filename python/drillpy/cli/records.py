@@ -305,7 +305,12 @@ def _add_loop(sub) -> argparse.ArgumentParser:
     s.add_argument("--min-delta-bic", type=float, default=6.0, help="minimum BIC improvement (calibration part)")
     s.add_argument("--max-steps", type=int, default=6, help="at most this many effects are added")
     s.add_argument("--effects", help="comma-separated candidate effects (default: the whole catalogue)")
-    s.add_argument("--dt", type=float, help="engine time step of the predictions [s] (default: the model's)")
+    s.add_argument("--dt", type=float, help="engine time step of the predictions [s] (default: the step rule, "
+                                            "--step-tolerance, from the model's)")
+    s.add_argument("--step-tolerance", type=float, default=0.0035,
+                   help="without --dt, predict at the coarsest step (at least twice the model's) whose horizon "
+                        "predictions differ from the model's step's by at most this RMS fraction of E's spreads, "
+                        "which bounds any reported E's change by it (0: the model's step; docs/loop.md)")
     s.add_argument("--scheme", choices=("modified_euler", "exact_modal"), default="modified_euler",
                    help="the engine's scheme of the predictions (exact_modal: the modes exact over the step; "
                         "with --dt 1e-3 about 3 x faster on the test rig, docs/loop.md)")
@@ -352,7 +357,7 @@ def cmd_loop(a: argparse.Namespace) -> int:
     effects = NAMES if a.effects is None else tuple(e.strip() for e in a.effects.split(",") if e.strip())
     opt = LoopOptions(horizon_s=a.horizon, calibration_fraction=a.calibration_fraction, rate_hz=a.rate,
                       min_gain=a.min_gain, alpha=a.alpha, min_delta_bic=a.min_delta_bic, max_steps=a.max_steps,
-                      effects=effects, threads=a.threads, dt_s=a.dt, scheme=a.scheme, batched=not a.scalar,
+                      effects=effects, threads=a.threads, dt_s=a.dt, step_tolerance=a.step_tolerance, scheme=a.scheme, batched=not a.scalar,
                       law_knot=not a.thesis_knot, gj_tolerance=a.gj_tolerance,
                       wob_input=a.wob_input, channel_timing=_channel_timing(a.channel_timing))
     from drillpy.progress import log_progress

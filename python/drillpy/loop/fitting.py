@@ -643,11 +643,39 @@ def null_candidate(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
     return _finish(m, data), ci
 
 
+def declared_model(cfg: dict, data: LoopData, opt: LoopOptions) -> LoopModel:
+    """The declared model before its calibration: its catalogue effects taken out of the
+    configuration into the model, the declared law, damping and GJ, and the operating point (top
+    speed and WOB: the calibration part's means).
+
+    Parameters
+    ----------
+    cfg : dict
+        The declared engine configuration (normalized, at the loop's engine step).
+    data : LoopData
+        The record on the analysis grid.
+    opt : LoopOptions
+        The loop's options (the GJ tolerance).
+
+    Returns
+    -------
+    LoopModel
+    """
+    tr = data.valid & (data.t < data.t_split)
+    op = view(cfg).operation
+    om = float(np.mean(data.ch["top"][tr])) if data.has_top else float(op.top_speed_rad_s)
+    w0 = float(np.mean(data.ch["W"][tr])) if data.has_wob else float(op.wob_n)
+    base = stripped(cfg)
+    wr = data.wob_response
+    return LoopModel(base, view(base).law.to_dict(), om, w0, declared_effects(cfg), gj_tolerance=opt.gj_tolerance,
+                     wob_input=wr["input"] if wr else "measured", wob_is_response=bool(wr and wr["response"]),
+                     metric_scale=(data.sigma_v, data.sigma_T))
+
+
 def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:
-    """The declared model calibrated on the calibration part: its catalogue effects taken out of
-    the configuration into the model, the law, the damping ratios, the string's GJ within
-    ``opt.gj_tolerance`` of the declared, the effects' parameters, and the operating point (top
-    speed and WOB: the calibration part's means). Returns (model, intervals).
+    """The declared model (:func:`declared_model`) calibrated on the calibration part: the law, the
+    damping ratios, the string's GJ within ``opt.gj_tolerance`` of the declared and the effects'
+    parameters. Returns (model, intervals).
 
     Parameters
     ----------
@@ -663,16 +691,7 @@ def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:
     tuple
         (LoopModel, intervals as :func:`fit_dynamic`).
     """
-    tr = data.valid & (data.t < data.t_split)
-    op = view(cfg).operation
-    om = float(np.mean(data.ch["top"][tr])) if data.has_top else float(op.top_speed_rad_s)
-    w0 = float(np.mean(data.ch["W"][tr])) if data.has_wob else float(op.wob_n)
-    base = stripped(cfg)
-    wr = data.wob_response
-    m = LoopModel(base, view(base).law.to_dict(), om, w0, declared_effects(cfg), gj_tolerance=opt.gj_tolerance,
-                  wob_input=wr["input"] if wr else "measured", wob_is_response=bool(wr and wr["response"]),
-                  metric_scale=(data.sigma_v, data.sigma_T))
-    return refit(m, data, opt)
+    return refit(declared_model(cfg, data, opt), data, opt)
 
 
 def fit_candidate(model: LoopModel, data: LoopData, name: str, opt: LoopOptions) -> tuple:

@@ -8,6 +8,10 @@ from .effects.string_stiffness import MARGIN as GJ_TOLERANCE
 from drillpy import validate
 from drillpy.records.stick import STICK_FRACTION
 
+#: Largest RMS difference of the horizon predictions, in units of E's spreads, a coarser engine step may
+#: make (:mod:`drillpy.loop.time_step`).
+STEP_TOLERANCE = 0.0035
+
 #: Values of :attr:`LoopOptions.wob_input`.
 WOB_INPUTS = ("auto", "measured", "trend")
 
@@ -44,11 +48,19 @@ class LoopOptions:
     threads : int
         Engine threads (0: OpenMP default).
     dt_s : float, optional
-        Engine time step of the predictions [s] (default: the declared configuration's); it is
-        lowered, if needed, to divide the analysis sampling interval. A coarser step is not a free
-        speed-up: the predictions of a fixed model converge (sample 175 and the Stribeck rig: E within
-        2 % from 2e-5 to 5e-4 s), but the calibration's least squares then end in other local minima
-        and a decision near the gate can flip (``benchmarks/loop_timestep.py``, docs/loop.md).
+        Engine time step of the predictions [s], lowered if needed to divide the analysis sampling
+        interval. Default: the step rule (``step_tolerance``) from the declared configuration's step.
+    step_tolerance : float
+        The step rule (:mod:`drillpy.loop.time_step`; without ``dt_s``): the loop predicts at the
+        coarsest step, at least twice the declared one and dividing the analysis interval, whose
+        horizon predictions differ from the declared step's by at most this RMS fraction of E's
+        spreads, which bounds the change of any E it reports by the same amount; measured on the
+        declared model, confirmed on the calibrated baseline (else the declared step) and reported
+        for the final model (``loop.json`` -> ``time_step``). Default 0.0035: sample 175 runs at
+        2.5e-4 s instead of 1e-4 s with the same decisions, the Stribeck rig's record at its
+        declared 1e-4 s (docs/loop.md, "The engine step"). 0: the declared step. A coarser step
+        alone is not enough: the calibration's least squares can end in another local minimum and
+        a decision near the gate can flip (``benchmarks/loop_timestep.py``).
     scheme : str
         The engine's scheme for every prediction: ``"modified_euler"`` (default: appendix A, the
         thesis's) or ``"exact_modal"`` (issue 33: each mode's linear part exact over the step, the
@@ -122,6 +134,7 @@ class LoopOptions:
     stick_fraction: float = STICK_FRACTION
     threads: int = 0
     dt_s: float | None = None
+    step_tolerance: float = STEP_TOLERANCE
     scheme: str = "modified_euler"
     nfev_per_parameter: int = 60
     backward: bool = True
@@ -155,6 +168,7 @@ class LoopOptions:
         validate.fraction("stick_fraction", self.stick_fraction, closed=False)
         if self.dt_s is not None:
             validate.positive("dt_s", self.dt_s, "s")
+        validate.number("step_tolerance", self.step_tolerance, lo=0.0, hi=0.1)
         if self.scheme not in ("modified_euler", "exact_modal"):
             raise ValueError(f"scheme = {self.scheme!r}: the loop runs 'modified_euler' or 'exact_modal'")
         validate.integer("nfev_per_parameter", self.nfev_per_parameter, 1)

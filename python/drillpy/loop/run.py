@@ -19,12 +19,13 @@ from .data import LoopData, prepare
 from .discovery import discover, library, residual_structure
 from .effects import CATALOGUE
 from .evidence import Evidence, adequacy, evidence, law_evidence
-from .fitting import RESTART_GAIN, calibrate, e_train, fit_candidate, null_candidate, parameter_evidence, refit
+from .fitting import RESTART_GAIN, calibrate, declared_model, e_train, fit_candidate, null_candidate, parameter_evidence, refit
 from .longrun import cycle_damage, long_run, missed_cycle, stick_collapse
 from .model import STIFFNESS, Evaluation, LoopModel, equation_residual, evaluate
 from .options import LoopOptions
 from .rivals import confusable_note, rivals
 from .step import Step
+from .time_step import at_step, choose_step, step_difference
 
 
 @dataclass
@@ -65,6 +66,10 @@ class LoopResult:
         Candidate name -> Evaluation of the last round (for the signature figure).
     warnings : list of PlausibilityWarning
         The record checked against the declared model (:func:`drillpy.records.plausibility.check_record`).
+    time_step : dict
+        The step rule's record (:mod:`drillpy.loop.time_step`): ``declared_s``, ``used_s`` [s],
+        ``tolerance``, the differences [-] of the declared model (``declared_model_difference``, and
+        every step ``tried``), of the baseline and of the final model; {} when the step was given.
     """
     data: LoopData
     baseline: Evaluation
@@ -80,6 +85,7 @@ class LoopResult:
     discovery: dict = field(default_factory=dict)       #: the discovery step's output
     last_round: dict = field(default_factory=dict)      #: candidate -> Evaluation of the last round
     warnings: list = field(default_factory=list)        #: plausibility warnings of the record
+    time_step: dict = field(default_factory=dict)       #: the step rule's record ({}: the step was given)
 
     def metric(self) -> str:
         """The definition of the error E of this run, in words and numbers (``loop.json`` ->
@@ -143,7 +149,7 @@ class LoopResult:
 
     def loop_json(self) -> dict:
         """The content of ``loop.json`` (docs/loop.md): metric, decision data, baseline error and adequacy,
-        the WOB input and the channels' timing (None: as recorded), declared and removed effects, long runs, steps, final error and effects, unexplained
+        the WOB input and the channels' timing (None: as recorded), the step rule, declared and removed effects, long runs, steps, final error and effects, unexplained
         fraction, discovered terms, the final model's parameters and the plausibility ``warnings``.
 
         Returns
@@ -153,6 +159,7 @@ class LoopResult:
         """
         return {"metric": self.metric(), "decision": self.decision(), "baseline_error": self.baseline.E_test,
                 "adequacy": self.adequacy, "wob_input": self.data.wob_response, "channel_timing": self.data.channel_timing,
+                "time_step": self.time_step,
                 "declared": self.declared, "removed": self.removed, "baseline_long_run": self.baseline_long_run,
                 "steps": [s.to_json() for s in self.steps],
                 "final_error": self.final.E_test, "final_effects": list(self.final.model.effects),
@@ -472,7 +479,11 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
     cfg = normalize(cfg)
     data, warns, notes = _read(record, cfg, opt, log)
     cfg = _analysis(cfg, data, opt, notes)
+    declared_cfg, cfg, step = _time_step(cfg, data, opt, log)
     base, base_lr, adeq = _baseline(cfg, data, opt, notes, log)
+    if step and not _step_holds(step, base.model, data, opt, log):
+        cfg = declared_cfg
+        base, base_lr, adeq = _baseline(cfg, data, opt, notes, log)
     st = _State(data, opt, log, base, base_lr, notes)
     if adeq["adequate"]:
         _search(st)
@@ -481,9 +492,16 @@ def _run_loop(record, cfg: dict, opt: LoopOptions, log) -> LoopResult:
                      "is attributed")
         log("the declared model is not better than a trivial predictor: nothing is attributed")
     _final_flags(st)
+    if step and step["used_s"] != step["declared_s"]:
+        step["final_difference"] = step_difference(at_step(st.cur.model, step["declared_s"]), data, step["used_s"],
+                                                   threads=opt.threads)
+        if step["final_difference"] > opt.step_tolerance:
+            notes.append(f"the final model's predictions at the loop's step {step['used_s']:.3g} s differ from the "
+                         f"declared step's by {step['final_difference']:.4f} of the spreads, above the step rule's "
+                         f"{opt.step_tolerance:g}: rerun with --dt {step['declared_s']:.3g} to check its decisions")
     disc = _discovery(st.cur.model, data, log) if opt.discovery else {}
     return LoopResult(data, base, st.cur, st.steps, st.rounds, opt, cfg, notes, list(base.model.effects), adeq,
-                      base_lr, disc, st.last, warns)
+                      base_lr, disc, st.last, warns, step)
 
 
 @dataclass
@@ -553,6 +571,38 @@ def _analysis(cfg: dict, data: LoopData, opt: LoopOptions, notes: list) -> dict:
         notes.append(f"the loop integrates with the {opt.scheme} scheme (its option scheme), not the declared "
                      f"{c.simulation.scheme}")
     return analysis_config(cfg, data.dt, opt.dt_s)
+
+
+def _time_step(cfg: dict, data: LoopData, opt: LoopOptions, log) -> tuple:
+    """Stage 2b, the step rule (:mod:`.time_step`; only without ``opt.dt_s``): (the configuration at
+    the declared step, at the step the loop takes, the rule's record for ``loop.json``; {} when it
+    does not run)."""
+    if opt.dt_s is not None or not opt.step_tolerance:
+        return cfg, cfg, {}
+    m = declared_model(cfg, data, opt)
+    h0 = float(m.cfg["simulation"]["dt_s"])
+    h, d, tried = choose_step(m, data, opt.step_tolerance, opt.threads)
+    step = {"declared_s": h0, "used_s": h, "tolerance": opt.step_tolerance, "declared_model_difference": d,
+            "tried": [{"dt_s": x, "difference": y} for x, y in tried]}
+    log(f"engine step: {h:.3g} s (declared {h0:.3g} s; the declared model's horizon predictions differ by "
+        + ", ".join(f"{y:.4f} at {x:.3g} s" for x, y in tried) + f" of the spreads, tolerance {opt.step_tolerance:g})")
+    return cfg, (analysis_config(cfg, data.dt, h) if h != h0 else cfg), step
+
+
+def _step_holds(step: dict, model: LoopModel, data: LoopData, opt: LoopOptions, log) -> bool:
+    """The step rule confirmed on the calibrated baseline ``model``: its predictions at the loop's step
+    within the tolerance of the declared step's (recorded in ``step``); False sends the loop back to
+    the declared step."""
+    if step["used_s"] == step["declared_s"]:
+        return True
+    d = step_difference(at_step(model, step["declared_s"]), data, step["used_s"], threads=opt.threads)
+    step["baseline_difference"] = d
+    if d <= opt.step_tolerance:
+        return True
+    log(f"engine step: the calibrated baseline's predictions at {step['used_s']:.3g} s differ by {d:.4f} of the "
+        f"spreads (tolerance {opt.step_tolerance:g}): back to the declared {step['declared_s']:.3g} s")
+    step["used_s"] = step["declared_s"]
+    return False
 
 
 def _baseline(cfg: dict, data: LoopData, opt: LoopOptions, notes: list, log) -> tuple:

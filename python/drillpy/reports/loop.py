@@ -95,7 +95,7 @@ def evidence_json(res: LoopResult) -> dict:
     dict
         ``metric``; ``decision`` (which data fitted, decided, and measure the final E); ``record`` (source, samples, rates [Hz], span, calibration and validation
         parts [s], cleaning, stick threshold [rad/s], sd of bit speed [rad/s] and torque [N m],
-        horizon [s] and counts); ``options``; ``engine_dt_s`` [s]; ``baseline`` and ``final``
+        horizon [s] and counts); ``options``; ``engine_dt_s`` [s]; ``time_step`` (the step rule's record, :mod:`drillpy.loop.time_step`); ``baseline`` and ``final``
         (errors, validation RMSE, law residual RMSE [N m], parameters, k); ``adequacy``,
         ``declared``, ``baseline_long_run``, ``steps``, ``rounds``, ``discovery``, ``notes``.
     """
@@ -119,11 +119,24 @@ def evidence_json(res: LoopResult) -> dict:
                                               for s, r in sorted(d.set_apart.items())],
                        "channel_timing": d.channel_timing},
             "options": {k: (list(v) if isinstance(v, tuple) else v) for k, v in vars(res.options).items()},
-            "engine_dt_s": Configuration.of(res.config).simulation.dt_s,
+            "engine_dt_s": Configuration.of(res.config).simulation.dt_s, "time_step": res.time_step,
             "baseline": ev_summary(res.baseline), "final": ev_summary(res.final),
             "adequacy": res.adequacy, "declared": res.declared, "baseline_long_run": res.baseline_long_run,
             "steps": [s.to_json() for s in res.steps],
             "rounds": res.rounds, "discovery": res.discovery, "notes": res.notes}
+
+
+def _step_rule(step: dict) -> str:
+    """The step rule's clause of report.md's engine-step line ('' when the step was given)."""
+    if not step:
+        return ""
+    diffs = ", ".join(f"{x['difference']:.4f} at {x['dt_s']:.3g} s" for x in step["tried"])
+    out = (f"; the step rule from the declared {step['declared_s']:.3g} s: the declared model's horizon predictions "
+           f"differ by {diffs} of E's spreads, tolerance {step['tolerance']:g}")
+    for key, what in (("baseline_difference", "the calibrated baseline"), ("final_difference", "the final model")):
+        if key in step:
+            out += f"; {what}: {step[key]:.4f}"
+    return out
 
 
 def model_config(res: LoopResult) -> dict:
@@ -244,8 +257,9 @@ def render_report(res: LoopResult, files: dict) -> str:
          f"- **calibration part** t < {d.t_split:.3f} s ({int((~d.is_test).sum())} horizons), **validation part** "
          f"t >= {d.t_split:.3f} s ({int(d.is_test.sum())} horizons), horizons of {o.horizon_s:g} s. Nothing is fitted "
          "on the validation part; the errors reported are the validation part's.",
-         f"- engine step {cfg.simulation.dt_s:.3g} s (modified Euler); derivatives by Savitzky-Golay "
-         f"filters of {o.derivative_window_s:g} s (order 4).", ""]
+         f"- engine step {cfg.simulation.dt_s:.3g} s ({cfg.simulation.scheme.replace('_', ' ')}"
+         + _step_rule(res.time_step) + f"); derivatives by Savitzky-Golay filters of {o.derivative_window_s:g} s "
+         "(order 4).", ""]
     L += ["## Metrics", "",
           "- **Law residual**: r_law = T - T_model(v, a, W) on the slip samples (bit speed above "
           f"{d.stick_threshold * RPM:.2f} RPM, every {max(1, int(round(0.01 / d.dt)))}th sample), the model's law "
