@@ -77,6 +77,16 @@ def test_analyze_sample175_from_the_command_line(tmp_path, capsys):
     how = ident_model["calibration"]["identified"]
     assert 0.25 < how["drive"]["motor_slope_nms_rad"] < 0.4 and how["drive"]["motor_inertia_kg_m2"] < 0.01
     assert fl["record_eta_std"] < how["torque_fluctuation_std"]["value"] < 2 * fl["record_eta_std"]
+    # every estimated parameter with a 95 % interval around it; the damping and the coupling held
+    params = ident_model["rig"]["parameters"]
+    for name in ("motor_slope_nms_rad", "motor_inertia_kg_m2", "command_rad_s", "jack_gain_n_rad"):
+        lo, hi = params[name]["ci95"]
+        assert lo <= params[name]["value"] <= hi and lo < hi, name
+    assert params["damping_ratio"]["fixed"] and params["coupling_stiffness_nm_rad"]["fixed"]
+    lo, hi = how["torque_fluctuation_std"]["ci95"]
+    assert lo < how["torque_fluctuation_std"]["value"] < hi
+    assert cb["drive_interval"]["motor_slope"] == pytest.approx(params["motor_slope_nms_rad"]["ci95"])
+    assert "| motor_slope_nms_rad [N m s/rad] |" in report and "| damping_ratio [-] | 0.01 | held |" in report
     parts = [w["part"] for w in idf["windows"]]
     assert parts == ["calibration", "held out"]
     for w in idf["windows"]:  # a cycle held by the fluctuation: SS inside its interval on both windows

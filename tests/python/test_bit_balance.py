@@ -117,6 +117,31 @@ def test_an_independent_whole_rig_truths_drive_is_recovered_and_its_channels_bal
     assert b.motor_inertia == pytest.approx(whole_rig.DEFAULTS["J_m"], rel=0.15)
     lead, lag, _ = bit_balance.timing_scan(rec, k, J, bit_balance.TIMING_GRID_S, bit_balance.TIMING_GRID_S, valid=ok)[0]
     assert abs(lead + lag) <= 0.0101  # the timing that balances it best: none, to a step of the grid
+    # the drive's 95 % intervals hold the truth's droop and rotor
+    cfg = drillpy.load_config(preset="thesis-rig")
+    di = bit_balance.drive_interval(rec, cfg, bit_balance.summary(rec, cfg, valid=ok), valid=ok)
+    assert di["motor_slope"][0] <= whole_rig.DEFAULTS["c_m"] <= di["motor_slope"][1]
+    assert di["motor_inertia"][0] <= whole_rig.DEFAULTS["J_m"] <= di["motor_inertia"][1]
+    assert di["motor_slope"][1] - di["motor_slope"][0] < 0.2 * whole_rig.DEFAULTS["c_m"]  # and say something
+
+
+def test_the_drive_interval_holds_the_simulated_rigs_drive_and_spans_sample_175s_timings(simulated, halves):
+    m, sim = simulated
+    cfg = drillpy.load_config(preset="thesis-rig")
+    di = bit_balance.drive_interval(sim, cfg, bit_balance.summary(sim, cfg))
+    assert di["motor_slope"][0] <= m.motor_slope_nms_rad <= di["motor_slope"][1]
+    assert di["motor_inertia"][0] <= m.motor_inertia_kg_m2 <= di["motor_inertia"][1]
+    # on the record every timing that balances as well gives another drive: the interval spans them
+    ok = rigsim.reliable_top_speed(halves[0])
+    s = bit_balance.summary(halves[0], cfg, valid=ok)
+    di = bit_balance.drive_interval(halves[0], cfg, s, valid=ok)
+    assert len(di["timings"]) >= 2 and len(di["blocks"]) == bit_balance.DRIVE_BLOCKS
+    for r in di["timings"] + di["blocks"]:
+        assert di["motor_slope"][0] <= r["motor_slope"] <= di["motor_slope"][1]
+        assert di["motor_inertia"][0] <= r["motor_inertia"] <= di["motor_inertia"][1]
+    assert 0.2 < di["motor_slope"][0] < s["best"]["motor_slope"] < di["motor_slope"][1] < 0.4
+    with pytest.raises(ValueError, match="blocks"):
+        bit_balance.drive_interval(halves[0], cfg, s, valid=ok, blocks=8)  # 2.5 s blocks: too short
 
 
 def test_the_loop_brings_the_channels_to_the_bit_encoders_time_before_anything_else(halves):

@@ -34,7 +34,19 @@ FACTORS = (2.0, 2.5, 4.0, 5.0, 10.0, 20.0, 25.0, 50.0, 100.0)
 
 
 def at_step(model: LoopModel, dt_s: float) -> LoopModel:
-    """A copy of ``model`` whose engine step is ``dt_s`` [s] (nothing else changed)."""
+    """A copy of ``model`` whose engine step is ``dt_s`` [s] (nothing else changed).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model.
+    dt_s : float
+        The engine step [s].
+
+    Returns
+    -------
+    LoopModel
+    """
     m = model.copy()
     m.cfg["simulation"]["dt_s"] = float(dt_s)
     return m
@@ -43,7 +55,19 @@ def at_step(model: LoopModel, dt_s: float) -> LoopModel:
 def candidate_steps(analysis_dt: float, declared_dt: float) -> list:
     """The coarser steps the rule tries, ascending [s]: ``analysis_dt`` / k for the integers k nearest
     below ``analysis_dt`` / (f ``declared_dt``), f in :data:`FACTORS`, each at least twice ``declared_dt``
-    and at most ``analysis_dt``."""
+    and at most ``analysis_dt``.
+
+    Parameters
+    ----------
+    analysis_dt : float
+        The analysis sampling interval [s].
+    declared_dt : float
+        The declared engine step [s] (after :func:`drillpy.loop.run.analysis_config`).
+
+    Returns
+    -------
+    list of float
+    """
     k0 = max(1, math.ceil(analysis_dt / declared_dt - 1e-9))
     ks = sorted({max(1, math.floor(k0 / f + 1e-9)) for f in FACTORS if k0 / f >= 1.0 - 1e-9}, reverse=True)
     return [analysis_dt / k for k in ks if analysis_dt / k >= 2.0 * declared_dt * (1 - 1e-9)]
@@ -86,6 +110,17 @@ def step_difference(model: LoopModel, data: LoopData, dt_s: float, reference=Non
 def choose_step(model: LoopModel, data: LoopData, tolerance: float = STEP_TOLERANCE, threads: int = 0) -> tuple:
     """The coarsest step of :func:`candidate_steps` whose d(h) is within ``tolerance``, trying them in
     ascending order and stopping at the first beyond it.
+
+    Parameters
+    ----------
+    model : LoopModel
+        The model the differences are measured on (at the declared step).
+    data : LoopData
+        The record on the analysis grid.
+    tolerance : float
+        The largest d [-] a step may have.
+    threads : int
+        Engine threads.
 
     Returns
     -------

@@ -419,6 +419,18 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
             log(f"cycle balance: {S['cycle_balance']['statement']}")
         except ValueError as e:  # too few samples with the three channels
             S["cycle_balance"] = {"skipped": str(e)}
+        else:
+            try:
+                di = bit_balance.drive_interval(rec, load_config(preset=opt.preset), S["cycle_balance"],
+                                                valid=rigsim.reliable_top_speed(rec))
+            except ValueError as e:  # a window too short for the blocks
+                S["cycle_balance"]["drive_interval"] = {"skipped": str(e)}
+            else:
+                S["cycle_balance"]["drive_interval"] = di
+                log(f"cycle balance: the drive's 95 % intervals (the balanced timings, the window's "
+                    f"{sum('skipped' not in b for b in di['blocks'])} of {len(di['blocks'])} blocks with the samples the "
+                    f"balance needs and the string's reduction): c_m [{di['motor_slope'][0]:.3f}, {di['motor_slope'][1]:.3f}] N m s/rad, "
+                    f"J_m [{di['motor_inertia'][0]:.4f}, {di['motor_inertia'][1]:.4f}] kg m^2")
 
     # ---------------------------------------------------------------- rig simulation
     sims, model = {}, None
@@ -582,12 +594,25 @@ def identified_rig_model(rec: Record, base: rigsim.RigModel, balance: dict, psd:
     _, hi_k, _, _ = rigsim.RIG_PARAMETERS["coupling_stiffness_nm_rad"]
     jm = max(float(best["motor_inertia"]), lo_j)
     ok = rigsim.reliable_top_speed(rec) & rec.valid("torque_on_bit")
-    command = float(np.mean(rec.top_speed[ok]) + np.mean(rec.torque_on_bit[ok]) / cm)
+    top_mean, torque_mean = float(np.mean(rec.top_speed[ok])), float(np.mean(rec.torque_on_bit[ok]))
+    command = top_mean + torque_mean / cm
+    # 95 % intervals: the kept parts' from the calibration, the drive's from the balance (the balanced
+    # timings and the window's blocks, bit_balance.drive_interval), the command's through the droop line
+    intervals = {k: v for k, v in base.intervals.items() if k in KEPT_FROM_CALIBRATION}
+    di = balance.get("drive_interval") or {}
+    if "motor_slope" in di:
+        c_lo, c_hi = di["motor_slope"]
+        _, hi_j, _, _ = rigsim.RIG_PARAMETERS["motor_inertia_kg_m2"]
+        intervals["motor_slope_nms_rad"] = [c_lo, c_hi]
+        intervals["motor_inertia_kg_m2"] = [min(max(di["motor_inertia"][0], lo_j), jm), min(di["motor_inertia"][1], hi_j)]
+        if c_lo > 0:
+            intervals["command_rad_s"] = [top_mean + torque_mean / c_hi, top_mean + torque_mean / c_lo]
     m = dataclasses.replace(base, motor_slope_nms_rad=cm, motor_inertia_kg_m2=jm, coupling_stiffness_nm_rad=hi_k,
-                            command_rad_s=command, damping_ratio=STEEL_DAMPING, intervals={})
+                            command_rad_s=command, damping_ratio=STEEL_DAMPING, intervals=intervals)
     own = AnalysisOptions(simulate=False, folds=0, laws=("polynomial",), psd_fmax_hz=opt.psd_fmax_hz,
                           eta_reference=opt.eta_reference)
-    target = float(compute_analysis(rec, own, log=lambda *_: None).eta.statistics()["std"])
+    eta_series = compute_analysis(rec, own, log=lambda *_: None).eta
+    target = float(eta_series.statistics()["std"])
     if not target > 0:
         raise ValueError(f"the record's eta_exp has standard deviation {target!r}: no fluctuation to match")
     span = float(rec.time_s[-1] - rec.time_s[0]) + 1.0
@@ -601,6 +626,11 @@ def identified_rig_model(rec: Record, base: rigsim.RigModel, balance: dict, psd:
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if shown(mid) < target else (lo, mid)
     level = 0.5 * (lo + hi)
+    # the level's 95 % interval: the record's eta_exp std over the window's blocks, through the local
+    # slope of the model's eta_exp against the level (one more simulation at 1.2 times the level)
+    t_lo, t_hi = _eta_std_interval(eta_series)
+    slope = (shown(1.2 * level) - shown(level)) / (0.2 * level)
+    level_ci = [level + (t_lo - target) / slope, level + (t_hi - target) / slope] if slope > 0 else None
     m.torque_fluctuation = {**rig_fluctuation.identify(psd.model.as_dict(), level, opt.psd_fmax_hz),
                             "record_eta_std": target,
                             "rule": "Eq. (4.1) T = (1 + eta) T_law; eta's PSD the Eq. (4.4) fit to eta_exp (Eq. 4.2) of the "
@@ -612,12 +642,36 @@ def identified_rig_model(rec: Record, base: rigsim.RigModel, balance: dict, psd:
                   "motor_slope_nms_rad": cm, "motor_inertia_kg_m2": jm, "coupling_stiffness_nm_rad": hi_k},
         "command_rad_s": {"value": command, "from": "the record's droop line through its means"},
         "damping_ratio": {"value": STEEL_DAMPING, "from": "a steel bar's modal damping"},
-        "torque_fluctuation_std": {"value": level, "from": f"eta_exp of the model's simulation equal to the "
-                                                          f"record's {target:.4f}"},
+        "torque_fluctuation_std": {"value": level, "ci95": level_ci,
+                                   "from": f"eta_exp of the model's simulation equal to the record's {target:.4f} "
+                                           f"(95 % [{t_lo:.4f}, {t_hi:.4f}] over the window's {ETA_BLOCKS} blocks)"},
         "kept": "the law, the jack, the platform, the GJ and the disk of the calibrated whole-rig model"}}
-    m.calibration.pop("per_drive", None)
+    if "motor_inertia" in di:
+        m.calibration["identified"]["drive"]["motor_inertia_ci95_as_measured"] = list(di["motor_inertia"])
     m.calibration.pop("mismatch", None)
+    # held, not estimated: a steel bar's damping and a rigid coupling (no interval, no bound flag)
+    base_fixed = ((base.calibration.get("per_drive") or {}).get("rig") or {}).get("fixed") or {}
+    m.calibration["per_drive"] = {"rig": {"fixed": {**base_fixed, "damping_ratio": STEEL_DAMPING,
+                                                    "coupling_stiffness_nm_rad": hi_k}}}
     return m
+
+
+#: The calibrated whole-rig model's parameters the identified model keeps, with their intervals.
+KEPT_FROM_CALIBRATION = ("jack_gain_n_rad", "jack_relaxation_s", "platform_damping", "gj_factor", "bit_inertia_factor",
+                         "static_torque_factor")
+#: Blocks of the window over which the record's eta_exp standard deviation gets its interval.
+ETA_BLOCKS = 4
+
+
+def _eta_std_interval(es) -> tuple:
+    """95 % interval of the standard deviation of an eta_exp series (Eq. 4.2): its value on the whole
+    series +- t(0.975, n - 1) sd / sqrt(n) of its values on :data:`ETA_BLOCKS` equal blocks."""
+    from scipy import stats
+    edges = np.linspace(es.t[0], es.t[-1], ETA_BLOCKS + 1)
+    per = [float(np.std(es.eta[(es.t >= a) & (es.t <= b) & es.measured], ddof=1)) for a, b in zip(edges[:-1], edges[1:])]
+    full = float(es.statistics()["std"])
+    half = float(stats.t.ppf(0.975, ETA_BLOCKS - 1)) * float(np.std(per, ddof=1)) / math.sqrt(ETA_BLOCKS)
+    return full - half, full + half
 
 
 def _identified_section(m: rigsim.RigModel, rec: Record, held: list, thr: float, opt: "AnalysisOptions", log) -> dict:

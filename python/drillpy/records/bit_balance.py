@@ -324,6 +324,90 @@ def summary(record: Record, config, valid: np.ndarray | None = None) -> dict:
     return out
 
 
+#: Blocks the window is cut into for the drive's interval (:func:`drive_interval`).
+DRIVE_BLOCKS = 4
+#: The relative error of c_m and J_m from the string reduced to one spring and one inertia, taken into
+#: the drive's interval (:func:`drive_interval`): on simulated rigs whose drive is known the balance
+#: reads c_m 5 % and J_m 7 % high (drillpy's whole-rig model: 0.263 against 0.250, 0.0199 against
+#: 0.0186 kg m^2) and c_m 1-5 % high on ``benchmarks/whole_rig.py``'s ten-segment string
+#: (``tests/python/test_bit_balance.py``).
+REDUCTION_ERROR = 0.08
+
+
+def drive_interval(record: Record, config, balance: dict, valid: np.ndarray | None = None,
+                   blocks: int = DRIVE_BLOCKS) -> dict:
+    """95 % intervals of the drive the balance shows (c_m and J_m of ``balance["best"]``), from its two
+    sources of uncertainty, the wider at each end:
+
+    * the channels' timing: one frequency fixes about the sum of the two shifts, so every timing of
+      ``balance["balanced"]`` balances the equation as well; the range of c_m and J_m over them;
+    * the window: the balance at the best timing on ``blocks`` equal blocks of the window, the mean
+      +- t(0.975, n - 1) sd / sqrt(n) over the n blocks with the samples the balance needs (a block
+      whose artifacts leave too few is left out and said; with fewer than two this term is absent);
+    * the string reduced to one spring and one inertia: +- :data:`REDUCTION_ERROR` of the value.
+
+    Parameters
+    ----------
+    record : Record
+        The window the balance was measured on.
+    config : dict or Configuration
+        The declared model (its string: :func:`string_of`).
+    balance : dict
+        :func:`summary` of ``record``.
+    valid : numpy.ndarray, optional
+        As for :func:`cycle_balance`.
+    blocks : int
+        At least 2; each block needs the 4 s :func:`cycle_balance` needs.
+
+    Returns
+    -------
+    dict
+        ``motor_slope`` and ``motor_inertia``: ``[low, high]`` [N m s/rad], [kg m^2]; ``blocks`` (per
+        block: ``t0_s``, ``motor_slope``, ``motor_inertia``, or ``skipped`` with the reason) and ``timings`` (the balanced [lead, lag]
+        pairs with their values).
+
+    Raises
+    ------
+    ValueError
+        For fewer than 2 blocks or a block too short for the balance (naming ``blocks``).
+    """
+    from scipy import stats
+    if not (isinstance(blocks, int) and blocks >= 2):
+        raise ValueError(f"blocks = {blocks!r}: an integer of at least 2")
+    k, J = string_of(config)
+    best = balance["best"]
+    lead, lag = best["top_lead_s"], best["torque_lag_s"]
+    t = record.time_s
+    edges = np.linspace(t[0], t[-1], blocks + 1)
+    per = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        sel = (t >= a) & (t <= b)
+        if b - a < 4.0:
+            raise ValueError(f"blocks = {blocks}: blocks of {b - a:.2f} s, the balance needs 4 s each")
+        try:
+            cb = cycle_balance(record.take(np.flatnonzero(sel)), k, J, torque_lag_s=lag, top_lead_s=lead,
+                               valid=None if valid is None else np.asarray(valid, bool)[sel])
+        except ValueError as e:  # a block whose artifacts leave less than the balance needs: left out, said
+            per.append({"t0_s": float(a), "skipped": str(e)})
+            continue
+        per.append({"t0_s": float(a), "motor_slope": cb.drive_at_motor.real, "motor_inertia": cb.motor_inertia})
+    used = [p for p in per if "skipped" not in p]
+    timings = []
+    for ld, lg in balance["balanced"]:
+        cb = cycle_balance(record, k, J, torque_lag_s=lg, top_lead_s=ld, valid=valid)
+        timings.append({"top_lead_s": ld, "torque_lag_s": lg, "motor_slope": cb.drive_at_motor.real,
+                        "motor_inertia": cb.motor_inertia})
+    out = {"blocks": per, "timings": timings}
+    for key in ("motor_slope", "motor_inertia"):
+        x = np.array([p[key] for p in used])
+        half = (float(stats.t.ppf(0.975, x.size - 1)) * float(np.std(x, ddof=1)) / math.sqrt(x.size)
+                if x.size >= 2 else 0.0)
+        vals = [best[key]] + [r[key] for r in timings]
+        model = REDUCTION_ERROR * abs(best[key])
+        out[key] = [min(min(vals), best[key] - half, best[key] - model), max(max(vals), best[key] + half, best[key] + model)]
+    return out
+
+
 #: R^2 within which two timings of :func:`identify_timing` are as good: the smaller shift is taken.
 TIMING_R2_TIE = 1e-3
 #: The largest channel shift :func:`aligned` takes [s] (far beyond any acquisition's skew).

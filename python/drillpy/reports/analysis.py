@@ -250,12 +250,7 @@ def render_report(S: dict) -> str:
                   f"{rigsim.WOB_TREND_HZ:g} Hz), the torque platform's {rigsim.PLATFORM_HZ:g} Hz response and the "
                   "10 Hz filter. Its inputs are constants and that slow trend: it predicts the cycle. The `measured` "
                   "drive is a diagnosis only (it is fed the measured top speed, which carries the cycle).", "",
-                  "| parameter | value | 95 % interval | physical range | source of the range | flag |",
-                  "|---|---:|---|---|---|---|"]
-            for k, v in rg["parameters"].items():
-                ci = "n/a" if v["ci95"] is None else f"[{v['ci95'][0]:.4g}, {v['ci95'][1]:.4g}]"
-                L.append(f"| {k} [{v['unit']}] | {v['value']:.4g} | {ci} | [{v['range'][0]:g}, {v['range'][1]:g}] | "
-                         f"{v['source']} | {v['flag'] or ''} |")
+                  *_parameter_table(rg["parameters"])]
             L += ["", "The simpler drives, calibrated on the same part (damping ratio and top drive, rig_calibration.calibrate):",
                   "", "| drive | damping ratio | c_m [N m s/rad] | J_m [kg m^2] | mismatch |", "|---|---:|---:|---:|---:|"]
             for d, b in rg["simple_drives"].items():
@@ -309,6 +304,16 @@ def render_report(S: dict) -> str:
     return "\n".join(L) + "\n"
 
 
+def _parameter_table(params: dict) -> list:
+    """report.md's table of a rig model's parameters (:meth:`drillpy.records.rigsim.RigModel.parameters`)."""
+    L = ["| parameter | value | 95 % interval | physical range | source of the range | flag |", "|---|---:|---|---|---|---|"]
+    for k, v in params.items():
+        ci = ("held" if v.get("fixed") else "n/a") if v["ci95"] is None else f"[{v['ci95'][0]:.4g}, {v['ci95'][1]:.4g}]"
+        L.append(f"| {k} [{v['unit']}] | {v['value']:.4g} | {ci} | [{v['range'][0]:g}, {v['range'][1]:g}] | "
+                 f"{v['source']} | {v['flag'] or ''} |")
+    return L
+
+
 def _identified_lines(idf: dict) -> list:
     """report.md's section on the rig model identified from the record (analysis.identified_rig_model)."""
     L = ["## The rig model identified from the record", ""]
@@ -324,6 +329,15 @@ def _identified_lines(idf: dict) -> list:
           f"({info['damping_ratio']['value']:g}), and Eq. (4.1)'s fluctuation at the level "
           f"{info['torque_fluctuation_std']['value']:.3f} whose eta_exp on the model's simulation is the record's; "
           f"{info['kept']}. Written as `model_identified.json`.", "",
+          "Its parameters: the drive's intervals span the channel timings that balance the bit's equation as well "
+          "and the window's blocks (`bit_balance.drive_interval`), the command's follows c_m along the droop line, "
+          "the kept parts' are the calibration's; held, not estimated: the damping and the coupling.", "",
+          *_parameter_table(idf["model"]["rig"]["parameters"]), "",
+          f"Eq. (4.1)'s level: {_f(info['torque_fluctuation_std']['value'], '.3f')}, 95 % "
+          + ("n/a" if not info['torque_fluctuation_std'].get('ci95') else
+             "[{:.3f}, {:.3f}]".format(*info['torque_fluctuation_std']['ci95']))
+          + f" ({info['torque_fluctuation_std']['from']}, through the local slope of the model's eta_exp against the "
+          "level).", "",
           "| window | part | metric | measured | median | predictive interval | inside |", "|---|---|---|---:|---:|---|---|"]
     for w in idf["windows"]:
         pr = w["predictive"]
