@@ -389,3 +389,24 @@ def test_the_drives_phase_is_measured_only_where_it_is_matched_or_shown(window):
     assert 0.3 < keyed.simulated["top_in_phase"] == full.simulated["top_in_phase"] < 0.6
     assert "top_in_phase" in lean.measured
     assert lean.mismatch == full.mismatch
+
+
+def test_a_scanned_interval_is_the_chi_square_region_to_the_grids_resolution():
+    """Where no local slope holds the calibration scans the weighted misfit across the range
+    (rig_calibration._scan_interval): on a misfit quadratic in the parameter, ((v - 0.3) / 0.05)^2 with
+    unit noise, the 95 % region is 0.3 +- 1.96 * 0.05, found to half a grid step; a run that fails at a
+    value (a stall) is outside; the interval stays inside the range."""
+    import numpy as np
+    from drillpy.records.rig_calibration import SCAN_POINTS, _scan_interval
+
+    def residuals(q):
+        if q["x"] > 0.9:
+            raise RuntimeError("stalled")
+        return np.array([(q["x"] - 0.3) / 0.05, 0.0])
+    lo, hi = 0.0, 1.2
+    step = (hi - lo) / (SCAN_POINTS - 1)
+    a, b = _scan_interval(residuals, {"x": 0.3, "y": 1.0}, "x", lo, hi, np.ones(2), 2)
+    assert abs(a - (0.3 - 1.96 * 0.05)) <= step and abs(b - (0.3 + 1.96 * 0.05)) <= step
+    assert a < 0.3 < b
+    wide = _scan_interval(lambda q: residuals(q) * 0.0, {"x": 0.3}, "x", lo, hi, np.ones(2), 1)
+    assert wide[0] == lo and wide[1] < hi  # flat misfit: the whole range but where the runs stall

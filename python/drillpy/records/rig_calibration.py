@@ -342,6 +342,39 @@ DEFAULT_FIXED = {"static_torque_factor": 1.0}
 EXTRA_KEYS = ("cycle_frequency_hz", "top_in_phase")
 
 
+#: Points of the scan of :func:`_scan_interval` across a parameter's range.
+SCAN_POINTS = 13
+#: The weighted misfit's rise that bounds a scanned interval: chi-square with one degree of freedom at 95 %.
+SCAN_CHI2 = 3.84
+
+
+def _scan_interval(residuals, p: dict, k: str, lo: float, hi: float, sigma: np.ndarray, workers: int) -> list | None:
+    """95 % interval of parameter ``k`` where no local slope holds: the weighted misfit
+    chi^2(q) = sum_m (r_m(q) / sigma_m)^2 of the relative errors r (``residuals``) on
+    :data:`SCAN_POINTS` values evenly across [lo, hi] and at the optimum, the others held at ``p``
+    (a conditional interval: narrower than one with the others refitted). The interval spans the
+    values whose chi^2 is within :data:`SCAN_CHI2` of the optimum's, widened by half a grid step on
+    each side within the range (the scan's resolution). None when the optimum's own simulation fails.
+    """
+    grid = np.unique(np.append(np.linspace(lo, hi, SCAN_POINTS), p[k]))
+
+    def chi2(v):
+        try:
+            r = residuals({**p, k: float(v)})
+        except (ValueError, RuntimeError):  # a stalled or unstable run: outside
+            return math.inf
+        x = float(np.sum((r / sigma) ** 2))
+        return x if math.isfinite(x) else math.inf
+    with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
+        c = np.array(list(pool.map(chi2, grid)))
+    at = int(np.flatnonzero(grid == p[k])[0])
+    if not math.isfinite(c[at]):
+        return None
+    ok = np.flatnonzero(c <= c[at] + SCAN_CHI2)
+    half = 0.5 * (hi - lo) / (SCAN_POINTS - 1)
+    return [float(max(lo, grid[ok].min() - half)), float(min(hi, grid[ok].max() + half))]
+
+
 @fitted_values()
 def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: str = "thesis-rig", screen: int = 64,
                   starts: int = 4, evaluations: int = 200, seed: int = 175, log=None, threads: int = 0,
@@ -361,9 +394,11 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
 
     95 % intervals: the relative errors are linearized around the optimum (central differences at
     6 % of each range) and weighted by each metric's own sampling uncertainty, the spread of the
-    metric between four blocks of the part (:func:`_metric_noise`). A parameter gets no interval when
-    the metrics do not determine it, or when its slope at 2 % of the range differs from the one at
-    6 % by more than half (a cycle or a stall appears in between: no local linearization holds).
+    metric between four blocks of the part (:func:`_metric_noise`). Where the metrics do not determine
+    a parameter that way, or where its slope at 2 % of the range differs from the one at 6 % by more
+    than half (a cycle or a stall appears in between: no local linearization holds), its interval is
+    scanned instead (:func:`_scan_interval`: the weighted misfit across the range, the others held).
+    ``per_drive["rig"]["interval_method"]`` says which gave each.
 
     Parameters
     ----------
@@ -505,12 +540,20 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
                     intervals[k] = [float(max(p[k] - 1.96 * sd, lo[j])), float(min(p[k] + 1.96 * sd, hi[j]))]
     except (ValueError, RuntimeError, np.linalg.LinAlgError):
         intervals = {}
+    method = {k: "linearized" for k in intervals}
+    # where no local slope holds, the misfit scanned across the range (the others held)
+    for j, k in enumerate(names):
+        if k not in intervals:
+            iv = _scan_interval(residuals, p, k, lo[j], hi[j], sigma, workers)
+            if iv is not None:
+                intervals[k], method[k] = iv, "scan"
     model = model_of(p)
     model.intervals = intervals
     per = {"rig": {**{k: float(v) for k, v in p.items()},
                    "mismatch": cmp.mismatch, "evaluations": int(sum(r.nfev for r in results) + polish.nfev),
                    "fixed": dict(fixed),
-                   "intervals": intervals, "metric_noise": dict(zip(keys, map(float, sigma)))}}
+                   "intervals": intervals, "interval_method": method,
+                   "metric_noise": dict(zip(keys, map(float, sigma)))}}
     model.calibration = {"window_s": [float(record.time_s[0]), float(record.time_s[-1])], "operating_point": op,
                          "command_rad_s": p["command_rad_s"], "mismatch": cmp.mismatch,
                          "matched": list(keys), "stick_threshold_rad_s": float(stick_threshold),
