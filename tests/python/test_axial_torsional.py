@@ -212,8 +212,9 @@ def test_mse_of_steady_drilling_is_the_rock_energy_plus_wob_and_friction_terms()
 def test_the_exact_scheme_with_the_hysteretic_law_on_the_wob_reaches_the_fine_cycle_from_any_start_at_1_ms(disturbance):
     """The thesis's hysteretic law (Eqs. 3.2-3.3, beta1 = 0.14) on the axial WOB of the rgd-field string at
     8 rad/s stick-slips (SS about 1.22-1.24) from every start on the modified Euler at 0.1 ms; the exact
-    modal scheme reaches that cycle from every start at 1 ms (at 2.5 ms it leaves it for a regime with
-    no stick from some starts: docs/axial.md, "The time step")."""
+    modal scheme reaches that cycle from every start at 1 ms (at 2.5 ms it leaves it from some starts for
+    the model's other regime, with no stick, which the model has for beta1 between about 0.145 and
+    0.155: docs/axial.md, "The time step")."""
     import sys
     from pathlib import Path
     sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
