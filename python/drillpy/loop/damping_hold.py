@@ -12,6 +12,7 @@ from .fitting import refit
 from .longrun import long_run
 from .model import LoopModel
 from .options import LoopOptions
+from .side_by_side import task_map
 from .view import view
 
 #: Rounds of the damping hold: search, refit, and again while the refit model has left the cycle.
@@ -66,16 +67,13 @@ def hold_damping(model: LoopModel, lr: dict, data: LoopData, opt: LoopOptions, l
         z0 = model.damping_ratios
         factors = np.geomspace(1.6, 0.4, 13) if retune else np.geomspace(1.0, 0.1, 13)[1:]
         best = (mismatch(new_lr) if retune else math.inf, 1.0, new_lr)
-        for f in factors:
-            m = model.copy()
-            m.cfg = view(m.cfg).replace({"damping.ratios": [z * float(f) for z in z0]}).to_dict()
-            r = long_run(m, data)
+        runs = task_map(lambda f, _: long_run(scaled(model, z0, float(f)), data), factors, opt)  # side by side
+        for f, r in zip(factors, runs):
             best = min(best, (mismatch(r), float(f), r), key=lambda b: b[0])
         f = best[1]
         if retune and f == 1.0:
             break
-        held = model.copy()
-        held.cfg = view(held.cfg).replace({"damping.ratios": [z * f for z in z0]}).to_dict()
+        held = scaled(model, z0, f)
         held.damping_held = True
         held, _ = refit(held, data, opt)
         new_lr = long_run(held, data)
@@ -95,3 +93,10 @@ def hold_damping(model: LoopModel, lr: dict, data: LoopData, opt: LoopOptions, l
                 "and stick fraction best with this step's model")
     log(note)
     return held, new_lr, note
+
+
+def scaled(model: LoopModel, z0: list, f: float) -> LoopModel:
+    """A copy of ``model`` with the damping ratios ``z0`` scaled by ``f``."""
+    m = model.copy()
+    m.cfg = view(m.cfg).replace({"damping.ratios": [z * f for z in z0]}).to_dict()
+    return m

@@ -7,7 +7,7 @@ undefined) is regressed on a library of candidate terms built from the measured 
 with its coefficient in physical units and a physical reading; :func:`residual_structure` describes
 what is left (RMS, spectral peaks, correlation with the channels).
 
-**Estimator.** Orthogonal matching pursuit (:class:`sklearn.linear_model.OrthogonalMatchingPursuit`)
+**Estimator.** Orthogonal matching pursuit (:func:`sklearn.linear_model.orthogonal_mp`, its path)
 along its path of 0..``max_terms`` terms, the number of terms chosen by BIC computed with the
 effective sample size n_eff = n / tau. OMP refits the selected terms by unpenalized least squares
 (no Lasso shrinkage, so the coefficients are read directly in physical units) and caps the model at
@@ -288,21 +288,22 @@ def library(channels: dict, wob_ref: float | None = None, *, dt: float | None = 
 
 # ------------------------------------------------------------------------------------ regression
 def _omp_bic(X: np.ndarray, y: np.ndarray, n_eff: float, max_terms: int) -> np.ndarray:
-    """Indices of the columns OMP selects at the BIC-optimal number of terms (BIC at n_eff)."""
-    from sklearn.linear_model import OrthogonalMatchingPursuit
+    """Indices of the columns OMP selects at the BIC-optimal number of terms (BIC at n_eff), from
+    one OMP path (:func:`sklearn.linear_model.orthogonal_mp`, ``return_path``: the coefficients
+    after each added term)."""
+    from sklearn.linear_model import orthogonal_mp
 
     n = y.size
     best = (n_eff * math.log(max(float(y @ y), 1e-300) / n), np.zeros(0, int))
     kmax = min(max_terms, X.shape[1], max(int(n_eff) - 2, 0))
-    prev = None
-    for k in range(1, kmax + 1):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # "ended prematurely due to linear dependence"
-            coef = OrthogonalMatchingPursuit(n_nonzero_coefs=k, fit_intercept=False).fit(X, y).coef_
+    if kmax < 1:
+        return best[1]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # "ended prematurely due to linear dependence": the path stops there
+        path = orthogonal_mp(X, y, n_nonzero_coefs=kmax, precompute=X.shape[0] > X.shape[1], return_path=True)
+    path = path.reshape(X.shape[1], -1)
+    for coef in path.T:
         sel = np.flatnonzero(coef)
-        if prev is not None and np.array_equal(sel, prev):
-            break  # the path stopped (linear dependence or exact fit)
-        prev = sel
         rss = float(np.sum((y - X @ coef) ** 2))
         bic = n_eff * math.log(max(rss, 1e-300) / n) + sel.size * math.log(n_eff)
         if bic < best[0]:
@@ -422,7 +423,7 @@ def discover(residual: np.ndarray, terms: dict, *, dt: float, max_terms: int = 4
         tau = max(tau, _tau(y - X[:, sel0] @ c0))
     n_eff = n / tau
     block = max(1, int(round(tau)))
-    method = (f"sklearn.linear_model.OrthogonalMatchingPursuit path (<= {max_terms} terms, "
+    method = (f"sklearn.linear_model.orthogonal_mp path (<= {max_terms} terms, "
               f"standardized), number of terms by BIC at n_eff = n/tau; kept if selected in >= "
               f"{MIN_SELECTION_FREQUENCY:.0%} of {N_BOOTSTRAP} moving-block bootstrap refits "
               f"(block {block} samples) and partial F test at n_eff p < {alpha:g}")

@@ -22,6 +22,7 @@ from .data import LoopData
 from .effects import CATALOGUE, declared_effects, stripped
 from .model import STIFFNESS, LoopModel, law_channels, law_torque, residual_vector, residual_vectors
 from .options import LoopOptions
+from .side_by_side import task_map
 from .view import view
 
 LAW = "law"          #: pseudo-effect: the law's free parameters (and the WOB coupling gain)
@@ -491,9 +492,13 @@ def fit_dynamic(model: LoopModel, data: LoopData, names, opt: LoopOptions) -> tu
             raise r
         return r if np.isfinite(r).all() else np.where(np.isfinite(r), r, 10.0)
 
-    last = {}  # the last evaluation: the Jacobian's f0 (the optimizer asks for J where it just evaluated)
+    # the last evaluation and the last Jacobian: the optimizer asks for J where it just evaluated,
+    # and a restart starts with f and J at the point where the run before it ended
+    last, last_jac = {}, {}
 
     def res(x):
+        if "x" in last and np.array_equal(last["x"], x):
+            return np.copy(last["f"])
         try:
             r = residual_vector(_unpack(model, x, where, data.law_knot, trial=True), data, opt.threads, check=False)
         except (ValueError, RuntimeError) as e:
@@ -506,8 +511,11 @@ def fit_dynamic(model: LoopModel, data: LoopData, names, opt: LoopOptions) -> tu
         return [clean(r) for r in residual_vectors(models, data, opt.threads, check=False)]
 
     def jac(x):
+        if "x" in last_jac and np.array_equal(last_jac["x"], x):
+            return np.copy(last_jac["J"])
         f0 = last["f"] if "x" in last and np.array_equal(last["x"], x) else res(x)
-        return fd_jacobian(batch, x, f0, fd_steps(x, lo, hi, DIFF_STEP))
+        last_jac["x"], last_jac["J"] = np.copy(x), fd_jacobian(batch, x, f0, fd_steps(x, lo, hi, DIFF_STEP))
+        return last_jac["J"]  # (the trust region with the linear loss does not write into J)
 
     # one engine call per Jacobian (scipy's steps, the engine's lanes bit-identical to single runs:
     # the same Jacobian as scipy's '2-point', bit for bit), or scipy's differences, one call each
@@ -613,8 +621,7 @@ def refit(model: LoopModel, data: LoopData, opt: LoopOptions) -> tuple:
     law = fit_law(model, data)
     own = model.copy()
     own.n_law = law.n_law  # one law family: its free parameters count alike from either start
-    a = _calibrate(law, data, opt)
-    b = _calibrate(own, data, opt)
+    a, b = task_map(lambda m, o: _calibrate(m, data, o), [law, own], opt)  # the two starts side by side
     best = a if e_train(a[0], data, opt.threads) < e_train(b[0], data, opt.threads) else b
     m = _finish(best[0], data)
     m.intervals = best[1]

@@ -21,6 +21,7 @@ from drillpy.records.bit_balance import string_of
 from drillpy.model.config import engine_config
 from .data import LoopData, measured
 from .effects import CATALOGUE
+from .side_by_side import engine_threads
 from .view import view
 
 #: The catalogue's effect that carries a GJ beyond the declared geometry's tolerance.
@@ -470,7 +471,7 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
     job = _horizon_job(model, data, horizons, check)
     # the batched SIMD integrator unless the options ask for the scalar reference one (LoopOptions.batched)
     r = _core.predict_horizons(job.sim, job.starts, data.dt, job.samples, top_speed=job.top_speed, wob=job.wob,
-                               eta=job.eta, threads=threads, batched=data.batched)
+                               eta=job.eta, threads=engine_threads(threads), batched=data.batched)
     return job.outputs(r, top)
 
 
@@ -579,7 +580,7 @@ def predict_many(models, data: LoopData, horizons=None, threads: int = 0, top: b
     ok = [j for j in jobs if not isinstance(j, BaseException)]
     rs = iter(_core.predict_horizons_many(
         [j.sim for j in ok], [j.starts for j in ok], data.dt, [j.samples for j in ok],
-        top_speed=[j.top_speed for j in ok], wob=[j.wob for j in ok], eta=[j.eta for j in ok], threads=threads,
+        top_speed=[j.top_speed for j in ok], wob=[j.wob for j in ok], eta=[j.eta for j in ok], threads=engine_threads(threads),
         batched=data.batched)) if ok else iter(())
     for j in jobs:
         if isinstance(j, BaseException):

@@ -24,6 +24,7 @@ from .longrun import cycle_damage, long_run, missed_cycle, stick_collapse
 from .model import STIFFNESS, Evaluation, LoopModel, equation_residual, evaluate
 from .options import LoopOptions
 from .rivals import confusable_note, rivals
+from .side_by_side import task_map
 from .step import Step
 from .time_step import at_step, choose_step, step_difference
 
@@ -645,12 +646,7 @@ def _search(st: _State) -> None:
         null_m, _ = null_candidate(st.cur.model, st.data, st.opt)
         null = evaluate(null_m, st.data, st.opt.threads)
         st.log(f"  null candidate (no effect, recalibrated) E_val {null.E_test:.4f}")
-        fits = {}
-        for name in cands:
-            try:
-                fits[name] = fit_candidate(st.cur.model, st.data, name, st.opt)
-            except (ValueError, RuntimeError) as err:  # a candidate the engine refuses is not evidence
-                fits[name] = err
+        fits = _fit_candidates(st, cands)
         recal, refused_recal = _round_recalibration(st, fits, null)
         if recal:
             continue  # the candidates refitted from the recalibrated model
@@ -664,6 +660,17 @@ def _search(st: _State) -> None:
             st.log("no candidate beats the null candidate with significant, physical parameters: stop")
             break
         _add(st, chosen, results, null)
+
+
+def _fit_candidates(st: _State, cands: list) -> dict:
+    """The round's candidate fits side by side (:func:`drillpy.loop.side_by_side.task_map`): {name:
+    (model, intervals), or the error of a candidate the engine refuses: not evidence}."""
+    def fit(name, opt):
+        try:
+            return fit_candidate(st.cur.model, st.data, name, opt)
+        except (ValueError, RuntimeError) as err:
+            return err
+    return dict(zip(cands, task_map(fit, cands, st.opt)))
 
 
 def _candidates(st: _State) -> list:
