@@ -2,7 +2,7 @@
 finite-difference Jacobian in one engine call per Jacobian (issue 33, item 2) against one call per
 perturbation, measured in one run; each configuration in its own process, one after the other.
 
-    PYTHONPATH=python python3 benchmarks/bench_loop.py [--base-tree DIR] [--rate 1000]
+    PYTHONPATH=python python3 benchmarks/bench_loop.py [--base-tree DIR] [--rate 1000] [--repeat N]
 
 Configurations:
 
@@ -22,7 +22,8 @@ Configurations:
 
 Prints per configuration: the wall time of ``run_loop`` (the record read, no figures, no files),
 engine calls, the steps (action, effect, E before -> after) and the final validation E; then the
-ratios of the wall times and whether the decisions are the same. The `drillpy loop` analysis rate
+ratios of the wall times (with ``--repeat N``: each configuration run N times, interleaved, and the
+medians compared) and whether the decisions are the same. The `drillpy loop` analysis rate
 (1000 Hz) is the default. The machine is shared: read the ratios.
 """
 from __future__ import annotations
@@ -30,6 +31,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import sys
 import time
@@ -82,15 +84,27 @@ def main() -> int:
     ap.add_argument("--base-tree", type=Path, help="a source tree with its built extension: the loop before")
     ap.add_argument("--rate", type=float, default=1000.0, help="analysis rate [Hz] (drillpy loop's default: 1000)")
     ap.add_argument("--record", default=str(SAMPLE175))
-    ap.add_argument("--only", choices=tuple(OPTIONS))
+    ap.add_argument("--only", help="comma-separated configurations to run (default: all): " + ", ".join(OPTIONS))
+    ap.add_argument("--repeat", type=int, default=1, help="runs of each configuration, interleaved; the median wall time")
     ap.add_argument("--child", choices=tuple(OPTIONS), help=argparse.SUPPRESS)
     a = ap.parse_args()
     if a.child:
         child(a.child, a.rate, a.record)
         return 0
-    names = [n for n in OPTIONS if (n != "base" or a.base_tree) and (a.only in (None, n))]
+    only = set(a.only.split(",")) if a.only else set(OPTIONS)
+    if only - set(OPTIONS):
+        raise SystemExit(f"--only {a.only!r}: unknown configuration(s) {sorted(only - set(OPTIONS))}; use {', '.join(OPTIONS)}")
+    names = [n for n in OPTIONS if (n != "base" or a.base_tree) and n in only]
     print(f"sample 175 at {a.rate:g} Hz; {os.cpu_count()} CPUs; load average {os.getloadavg()[0]:.1f}")
-    res = {n: run(n, a.base_tree.resolve() if n == "base" else REPO, a.rate, a.record) for n in names}
+    runs = {n: [] for n in names}
+    for _ in range(max(a.repeat, 1)):  # interleaved: a slow spell of the shared machine hits every configuration
+        for n in names:
+            runs[n].append(run(n, a.base_tree.resolve() if n == "base" else REPO, a.rate, a.record))
+    res = {}
+    for n, rs in runs.items():
+        res[n] = dict(rs[0], wall=statistics.median(r["wall"] for r in rs))
+        if len(rs) > 1:
+            print(f"{n}: median of {len(rs)} runs {res[n]['wall']:.1f} s (" + ", ".join(f"{r['wall']:.1f}" for r in rs) + ")")
     if "batched" in res:
         b = res["batched"]
         for n, r in res.items():

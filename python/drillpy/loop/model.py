@@ -678,15 +678,20 @@ def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=N
 
     Returns
     -------
-    list of numpy.ndarray
-        (prediction - record) / spread [-], one array (horizons x L) per channel: bit speed, torque
+    numpy.ndarray
+        (prediction - record) / spread [-], channels x horizons x L (C order): bit speed, torque
         and, with a top-speed channel, top speed.
     """
     h = np.arange(data.starts.size) if horizons is None else np.asarray(horizons)
     Yv, YT, top_ok, Ytop = _reference(data, h) if ref is None else ref
-    out = [(v - Yv) / data.sigma_v, (T - YT) / data.sigma_T]
+    out = np.empty((3 if data.has_top else 2, *np.shape(v)))  # one buffer, no temporaries
+    for o, x, y, sd in ((out[0], v, Yv, data.sigma_v), (out[1], T, YT, data.sigma_T)):
+        np.subtract(x, y, out=o)
+        o /= sd
     if data.has_top:
-        out.append(np.where(top_ok, (top - Ytop) / data.sigma_v, 0.0))
+        np.subtract(top, Ytop, out=out[2])
+        out[2] /= data.sigma_v
+        out[2][~top_ok] = 0.0
     return out
 
 
@@ -781,7 +786,9 @@ def _residuals(pred: tuple, data: LoopData, h: np.ndarray, ref=None) -> np.ndarr
     (``ref``: :func:`channel_errors`')."""
     v, T, top = pred
     parts = channel_errors(v, T, top, data, h, ref)
-    return np.concatenate([r.ravel() for r in parts]) / math.sqrt(len(parts) * v.size)
+    r = parts.reshape(-1)  # the channels one after the other
+    r /= math.sqrt(len(parts) * v.size)
+    return r
 
 
 def residual_vectors(models, data: LoopData, threads: int, check: bool = True) -> list:

@@ -643,10 +643,9 @@ def _search(st: _State) -> None:
         cands = _candidates(st)
         if not cands or sum(s.action == "add" for s in st.steps) >= st.opt.max_steps:
             break
-        null_m, _ = null_candidate(st.cur.model, st.data, st.opt)
+        null_m, fits = _fit_round(st, cands)
         null = evaluate(null_m, st.data, st.opt.threads)
         st.log(f"  null candidate (no effect, recalibrated) E_val {null.E_test:.4f}")
-        fits = _fit_candidates(st, cands)
         recal, refused_recal = _round_recalibration(st, fits, null)
         if recal:
             continue  # the candidates refitted from the recalibrated model
@@ -662,15 +661,19 @@ def _search(st: _State) -> None:
         _add(st, chosen, results, null)
 
 
-def _fit_candidates(st: _State, cands: list) -> dict:
-    """The round's candidate fits side by side (:func:`drillpy.loop.side_by_side.task_map`): {name:
-    (model, intervals), or the error of a candidate the engine refuses: not evidence}."""
+def _fit_round(st: _State, cands: list) -> tuple:
+    """The round's fits side by side (:func:`drillpy.loop.side_by_side.task_map`): the null
+    candidate's model and {name: (model, intervals), or the error of a candidate the engine
+    refuses: not evidence}."""
     def fit(name, opt):
+        if name is None:
+            return null_candidate(st.cur.model, st.data, opt)[0]
         try:
             return fit_candidate(st.cur.model, st.data, name, opt)
         except (ValueError, RuntimeError) as err:
             return err
-    return dict(zip(cands, task_map(fit, cands, st.opt)))
+    null_m, *fits = task_map(fit, [None, *cands], st.opt)
+    return null_m, dict(zip(cands, fits))
 
 
 def _candidates(st: _State) -> list:
