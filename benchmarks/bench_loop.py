@@ -108,7 +108,7 @@ def main() -> int:
     if "batched" in res:
         b = res["batched"]
         for n, r in res.items():
-            if n != "batched":
+            if n not in ("batched", "base"):
                 same = r["steps"] == b["steps"] and r["effects"] == b["effects"]
                 print(f"{n} / batched: {r['wall'] / b['wall']:.2f} x; same decisions: {same}")
         if "base" in res:
