@@ -30,8 +30,10 @@ def test_tasks_return_in_order_and_share_the_cores():
         both_running.wait(timeout=10)
         seen[x] = S.engine_threads(o.threads)
         both_read.wait(timeout=10)
-        if x == "slow":
-            time.sleep(0.2)  # the other task has ended by now
+        if x == "slow":  # wait for the other task to end: then this one gets both cores
+            deadline = time.monotonic() + 10.0
+            while S.engine_threads(o.threads) != 2 and time.monotonic() < deadline:
+                time.sleep(0.005)
             seen["alone"] = S.engine_threads(o.threads)
         return x * 2
 
