@@ -67,13 +67,13 @@ def hold_damping(model: LoopModel, lr: dict, data: LoopData, opt: LoopOptions, l
         z0 = model.damping_ratios
         factors = np.geomspace(1.6, 0.4, 13) if retune else np.geomspace(1.0, 0.1, 13)[1:]
         best = (mismatch(new_lr) if retune else math.inf, 1.0, new_lr)
-        runs = task_map(lambda f, _: long_run(scaled(model, z0, float(f)), data), factors, opt)  # side by side
+        runs = task_map(lambda f, _: long_run(_scaled(model, z0, float(f)), data), factors, opt)  # side by side
         for f, r in zip(factors, runs):
             best = min(best, (mismatch(r), float(f), r), key=lambda b: b[0])
         f = best[1]
         if retune and f == 1.0:
             break
-        held = scaled(model, z0, f)
+        held = _scaled(model, z0, f)
         held.damping_held = True
         held, _ = refit(held, data, opt)
         new_lr = long_run(held, data)
@@ -95,7 +95,7 @@ def hold_damping(model: LoopModel, lr: dict, data: LoopData, opt: LoopOptions, l
     return held, new_lr, note
 
 
-def scaled(model: LoopModel, z0: list, f: float) -> LoopModel:
+def _scaled(model: LoopModel, z0: list, f: float) -> LoopModel:
     """A copy of ``model`` with the damping ratios ``z0`` scaled by ``f``."""
     m = model.copy()
     m.cfg = view(m.cfg).replace({"damping.ratios": [z * f for z in z0]}).to_dict()

@@ -756,6 +756,38 @@ def fit_candidate(model: LoopModel, data: LoopData, name: str, opt: LoopOptions)
     return _finish(m, data), ci
 
 
+def fit_round(model: LoopModel, data: LoopData, names: list, opt: LoopOptions) -> tuple:
+    """A round's fits side by side (:func:`drillpy.loop.side_by_side.task_map`): the null candidate
+    (:func:`null_candidate`) and every candidate of ``names`` (:func:`fit_candidate`).
+
+    Parameters
+    ----------
+    model : LoopModel
+        The current model.
+    data : LoopData
+        The record on the analysis grid.
+    names : list of str
+        The candidates' catalogue names.
+    opt : LoopOptions
+        The loop's options (the optimizer's budget, threads).
+
+    Returns
+    -------
+    tuple
+        (the null candidate's model, {name: (model, intervals), or the ValueError or RuntimeError of
+        a candidate the engine refuses: not evidence}).
+    """
+    def fit(name, o):
+        if name is None:
+            return null_candidate(model, data, o)[0]
+        try:
+            return fit_candidate(model, data, name, o)
+        except (ValueError, RuntimeError) as err:
+            return err
+    null_m, *fits = task_map(fit, [None, *names], opt)
+    return null_m, dict(zip(names, fits))
+
+
 def parameter_evidence(model: LoopModel, name: str, ci: dict, data: LoopData) -> tuple:
     """(parameters with intervals, reasons against crediting the effect): each fitted parameter
     must be inside its bounds and its interval must exclude the no-effect value; the effect's own

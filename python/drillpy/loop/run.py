@@ -19,12 +19,11 @@ from .data import LoopData, prepare
 from .discovery import discover, library, residual_structure
 from .effects import CATALOGUE
 from .evidence import Evidence, adequacy, evidence, law_evidence
-from .fitting import RESTART_GAIN, calibrate, declared_model, e_train, fit_candidate, null_candidate, parameter_evidence, refit
+from .fitting import RESTART_GAIN, calibrate, declared_model, e_train, fit_round, null_candidate, parameter_evidence, refit
 from .longrun import cycle_damage, long_run, missed_cycle, stick_collapse
 from .model import STIFFNESS, Evaluation, LoopModel, equation_residual, evaluate
 from .options import LoopOptions
 from .rivals import confusable_note, rivals
-from .side_by_side import task_map
 from .step import Step
 from .time_step import at_step, choose_step, step_difference
 
@@ -643,7 +642,7 @@ def _search(st: _State) -> None:
         cands = _candidates(st)
         if not cands or sum(s.action == "add" for s in st.steps) >= st.opt.max_steps:
             break
-        null_m, fits = _fit_round(st, cands)
+        null_m, fits = fit_round(st.cur.model, st.data, cands, st.opt)
         null = evaluate(null_m, st.data, st.opt.threads)
         st.log(f"  null candidate (no effect, recalibrated) E_val {null.E_test:.4f}")
         recal, refused_recal = _round_recalibration(st, fits, null)
@@ -659,21 +658,6 @@ def _search(st: _State) -> None:
             st.log("no candidate beats the null candidate with significant, physical parameters: stop")
             break
         _add(st, chosen, results, null)
-
-
-def _fit_round(st: _State, cands: list) -> tuple:
-    """The round's fits side by side (:func:`drillpy.loop.side_by_side.task_map`): the null
-    candidate's model and {name: (model, intervals), or the error of a candidate the engine
-    refuses: not evidence}."""
-    def fit(name, opt):
-        if name is None:
-            return null_candidate(st.cur.model, st.data, opt)[0]
-        try:
-            return fit_candidate(st.cur.model, st.data, name, opt)
-        except (ValueError, RuntimeError) as err:
-            return err
-    null_m, *fits = task_map(fit, [None, *cands], st.opt)
-    return null_m, dict(zip(cands, fits))
 
 
 def _candidates(st: _State) -> list:
