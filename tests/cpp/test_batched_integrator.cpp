@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -21,6 +22,36 @@
 using namespace drill;
 
 namespace {
+
+/// Every step's bit speed, torque on bit, top speed and WOB (the motor's and the jack's states).
+struct DriveTrace {
+  std::vector<double> v, T, top, wob;
+  void operator()(const StepState& s) {
+    v.push_back(s.bit_speed);
+    T.push_back(s.torque_on_bit);
+    top.push_back(s.top_speed);
+    wob.push_back(s.wob);
+  }
+  bool operator==(const DriveTrace& o) const { return v == o.v && T == o.T && top == o.top && wob == o.wob; }
+};
+
+/// The rig with stick (rig_with_stick.hpp) turned by the thesis's open-loop motor (section 5.3.2:
+/// a speed droop, a torque limit of 8 N m at which the top stalls) and loaded by the jack.
+Config rig_with_motor(BitRockLaw::Kind kind, bool motor, bool jack) {
+  Config c = rig_with_stick(kind);
+  if (motor) {
+    c.top_drive.kind = TopDrive::Kind::motor;
+    c.top_drive.inertia = 0.02;
+    c.top_drive.slope = 0.3;
+    c.top_drive.max_torque = 8.0;
+  }
+  if (jack) {
+    c.axial.kind = Axial::Kind::jack;
+    c.axial.gain = 200.0;
+    c.axial.relaxation = 0.1;
+  }
+  return c;
+}
 
 Config batch_field(double duration) {
   Config c = preset("thesis-field");
@@ -130,9 +161,10 @@ TEST(BatchedIntegrator, AgreesWithTheScalarReferenceToTheStatedTolerance) {
 
 TEST(BatchedIntegrator, StudiesFallBackToTheScalarPathOutsideItsScope) {
   Config c = batch_field(10.0);
-  c.top_drive.kind = TopDrive::Kind::motor;
+  c.top_drive.kind = TopDrive::Kind::motor;  // the motor on the exact modal scheme: ExactSteps has no motor
   c.top_drive.inertia = 2000.0;
   c.top_drive.slope = 1e5;
+  c.sim.scheme = Scheme::exact_modal;
   const Simulation sim(c);
   EXPECT_FALSE(BatchedIntegrator(sim.integrator()).supports(sim.inputs()));
   const std::vector<double> sp = {8, 20};
@@ -209,4 +241,103 @@ TEST(BatchedIntegrator, HorizonPredictionsAgreeWithTheScalarPath) {
   EXPECT_LE((b.torque - s.torque).cwiseAbs().maxCoeff(), 1e-9 * ts);
   EXPECT_LE((b.top_speed - s.top_speed).cwiseAbs().maxCoeff(), 1e-12 * vs);
   EXPECT_GT(s.bit_speed.maxCoeff() - s.bit_speed.minCoeff(), 1.0);  // the horizons see stick-slip
+}
+
+TEST(BatchedIntegrator, StepsTheMotorAndTheJackAsTheScalarPath) {
+  // The open-loop motor (drives/motor.hpp) and the rig's jack (axial.hpp) are states of the lanes:
+  // with one mode and Eq. (5.1) (no exp or log) the motor's runs are the scalar path's bits, top
+  // speed included; the jack's WOB enters the law as W / W_ref and its static torque as the law's
+  // at W_ref times that scale (the scalar path: at W), so they agree to rounding. A run's bits do
+  // not depend on its lane or on the drives of the runs beside it.
+  for (const bool jack : {false, true}) {
+    const Simulation sim(rig_with_motor(BitRockLaw::Kind::polynomial, true, jack));
+    const BatchedIntegrator b(sim.integrator());
+    ASSERT_TRUE(b.supports(sim.inputs()));
+    const std::vector<Inputs> in = varied_inputs(sim, 5);
+    std::vector<DriveTrace> tr(in.size());
+    const std::vector<const ModelState*> start(in.size(), nullptr);
+    b.run(in.data(), start.data(), in.size(), tr.data());
+    for (std::size_t k = 0; k < in.size(); ++k) {
+      DriveTrace ref;
+      sim.integrator().run(in[k], ref);
+      if (!jack) {
+        EXPECT_TRUE(tr[k] == ref) << "run " << k;
+        continue;
+      }
+      ASSERT_EQ(tr[k].v.size(), ref.v.size());
+      const double vs = Eigen::Map<const Eigen::VectorXd>(ref.v.data(), ref.v.size()).cwiseAbs().maxCoeff();
+      const double ws = Eigen::Map<const Eigen::VectorXd>(ref.wob.data(), ref.wob.size()).cwiseAbs().maxCoeff();
+      for (std::size_t i = 0; i < ref.v.size(); ++i) {
+        ASSERT_NEAR(tr[k].v[i], ref.v[i], 1e-6 * vs) << "run " << k << " step " << i;
+        ASSERT_NEAR(tr[k].wob[i], ref.wob[i], 1e-9 * ws) << "run " << k << " step " << i;
+        ASSERT_NEAR(tr[k].top[i], ref.top[i], 1e-6 * vs) << "run " << k << " step " << i;
+      }
+    }
+    // the states move: the motor droops under the torque and the jack's WOB follows the bit's lag
+    double top_swing = 0.0, wob_swing = 0.0;
+    for (const DriveTrace& t : tr) {
+      top_swing = std::max(top_swing, *std::max_element(t.top.begin(), t.top.end()) - *std::min_element(t.top.begin(), t.top.end()));
+      wob_swing = std::max(wob_swing, *std::max_element(t.wob.begin(), t.wob.end()) - *std::min_element(t.wob.begin(), t.wob.end()));
+    }
+    EXPECT_GT(top_swing, 0.1 * sim.config().top_speed);
+    if (jack) EXPECT_GT(wob_swing, 1.0);
+  }
+  // lanes of every kind side by side: ideal, motor, jack, both (Eq. 5.3: its tanh, Highway's exp)
+  std::vector<Inputs> in;
+  std::vector<Simulation> sims;
+  for (int k = 0; k < 4; ++k) sims.emplace_back(rig_with_motor(BitRockLaw::Kind::polynomial_hysteretic, k & 1, k & 2));
+  for (std::size_t r = 0; r < 2 * BatchedIntegrator::width() + 1; ++r) in.push_back(sims[r % 4].inputs());
+  const BatchedIntegrator b(sims[0].integrator());
+  std::vector<DriveTrace> mixed(in.size());
+  const std::vector<const ModelState*> start(in.size(), nullptr);
+  b.run(in.data(), start.data(), in.size(), mixed.data());
+  for (std::size_t r = 0; r < in.size(); ++r) {
+    DriveTrace alone;
+    b.run(&in[r], start.data(), 1, &alone);
+    EXPECT_TRUE(mixed[r] == alone) << "run " << r;
+  }
+}
+
+TEST(BatchedIntegrator, HorizonsWithTheMotorRunOnTheBatchedPath) {
+  // the loop's motor candidate: horizons restarted with the top speed a state agree with the
+  // scalar path's to rounding, for any thread count
+  Config c = rig_with_motor(BitRockLaw::Kind::polynomial_hysteretic, true, true);
+  c.sim.duration = 3.0;
+  const Simulation sim(c);
+  std::vector<double> v, a, T, top, wob;
+  sim.integrator().run(sim.inputs(), [&](const StepState& s) {
+    v.push_back(s.bit_speed);
+    a.push_back(s.bit_accel);
+    T.push_back(s.torque_on_bit);
+    top.push_back(s.top_speed);
+    wob.push_back(s.wob);
+  });
+  const int stride = 10, samples = 100;
+  HorizonInputs hin;
+  hin.dt = stride * c.sim.dt;
+  hin.samples = samples;
+  std::vector<HorizonStart> starts;
+  for (long k = 0; k < 11; ++k) {
+    const long i = (10 + 17 * k) * stride;
+    HorizonStart h;
+    h.index = i / stride;
+    h.bit_speed = v[i];
+    h.bit_accel = a[i];
+    h.torque = T[i];
+    h.top_speed = top[i];
+    h.wob = wob[i];
+    h.y_bit_speed = v[i];
+    h.y_torque = T[i];
+    h.y_top_speed = top[i];
+    starts.push_back(h);
+  }
+  const HorizonResult b = predict_horizons(sim, starts, hin, nullptr, 2, true);
+  const HorizonResult b1 = predict_horizons(sim, starts, hin, nullptr, 1, true);
+  const HorizonResult s = predict_horizons(sim, starts, hin, nullptr, 1, false);
+  EXPECT_EQ(b.bit_speed, b1.bit_speed);
+  EXPECT_EQ(b.top_speed, b1.top_speed);
+  const double vs = s.bit_speed.cwiseAbs().maxCoeff();
+  EXPECT_LE((b.bit_speed - s.bit_speed).cwiseAbs().maxCoeff(), 1e-9 * vs);
+  EXPECT_LE((b.top_speed - s.top_speed).cwiseAbs().maxCoeff(), 1e-9 * vs);
+  EXPECT_GT(s.top_speed.maxCoeff() - s.top_speed.minCoeff(), 0.1 * c.top_speed);  // the motor droops and recovers
 }

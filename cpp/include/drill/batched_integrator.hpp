@@ -3,13 +3,15 @@
 // the bit acceleration, vectorized exp/log.
 //
 // Scope: the modified Euler scheme (appendix A, Eqs. A.5-A.6) with the implicit bit acceleration
-// of Eq. (A.1), an ideal top drive with any top speed Omega(t), any WOB W(t) and eta(t) of Eq.
-// (4.1), any bit-rock law (Eqs. 3.1-3.3, 5.1, 5.3) with its stick condition, bit viscous torque,
-// string friction, and diagonal modal damping, which may differ from lane to lane: the
-// constant-speed sweeps and the Monte Carlo of section 4.2, the loop's horizon predictions
-// (horizons.hpp) and the damping scans of several configurations (run_many.hpp). Other runs (motor or controlled
-// drive, bdf2, the lagged acceleration, dense damping) are refused by supports() and stay on
-// Integrator, which is also the reference of this path.
+// of Eq. (A.1), an ideal top drive with any top speed Omega(t) or the rig's open-loop motor
+// (drives/motor.hpp, its speed a state of the lane), any WOB W(t) or the rig's jack (axial.hpp, the
+// WOB a state of the lane), eta(t) of Eq. (4.1), any bit-rock law (Eqs. 3.1-3.3, 5.1, 5.3) with its
+// stick condition, bit viscous torque, string friction, and diagonal modal damping, which may
+// differ from lane to lane: the constant-speed sweeps and the Monte Carlo of section 4.2, the
+// loop's horizon predictions (horizons.hpp, its motor and jack candidates included) and the damping
+// scans of several configurations (run_many.hpp). Other runs (a controlled drive, the motor or the
+// jack on the exact modal scheme, bdf2, the lagged acceleration, dense damping) are refused by
+// supports() and stay on Integrator, which is also the reference of this path.
 // The exact modal scheme (exact_modal.hpp) runs here too, on the same inputs, in its own kernel
 // (ExactSteps, batched_kernel-inl.hpp): the bit's equation, Eq. (3.3) with Eq. (A.1)'s acceleration
 // at the step's end, solved by Integrator::exact_newton's iteration masked across the lanes (its
@@ -68,6 +70,22 @@ struct BatchStepArgs {
   /// Omega, dOmega/dt, W / W_ref, the static torque at W, eta [count + 1][lanes]
   const double *om = nullptr, *domega = nullptr, *wob_scale = nullptr, *static_torque = nullptr, *eta = nullptr;
   double *v = nullptr, *a = nullptr, *T = nullptr;  ///< bit speed, acceleration, torque on bit [count][lanes]
+  /// The motor top drive (drives/motor.hpp) on the lanes where motor[lanes] is 1 (nullptr: no lane
+  /// has one): there the om rows are the command Omega_c, the top speed is the state om_state
+  /// [lanes] and each step's top speed goes to top [count][lanes]. Per lane: dt / J_m, c_m,
+  /// 1 + dt c_m / J_m and T_max; top_torque: the string's top torque per mode [modes].
+  const double *motor = nullptr, *motor_k = nullptr, *motor_c = nullptr, *motor_den = nullptr, *motor_max = nullptr;
+  const double* top_torque = nullptr;
+  double *om_state = nullptr, *top = nullptr;
+  /// The rig's jack (axial.hpp) on the lanes where jack[lanes] is 1 (nullptr: no lane has one):
+  /// there the WOB is the state wob_state [lanes], stepped towards the set force rows force
+  /// [count + 1][lanes], and each step's WOB goes to wob [count][lanes]. Per lane: e = exp(-dt /
+  /// tau), 1 - e, the gain, tau and the feed speed; static_per_scale: the law's static torque at
+  /// W = W_ref (static torques are linear in W).
+  const double *jack = nullptr, *jack_e = nullptr, *jack_1me = nullptr, *jack_gain = nullptr, *jack_tau = nullptr,
+               *jack_feed = nullptr, *force = nullptr;
+  double static_per_scale = 0.0, wob_ref = 1.0;
+  double *wob_state = nullptr, *wob = nullptr;
 };
 
 /// Arguments of one exact modal kernel call (ExactSteps; the scheme of exact_modal.hpp): steps
@@ -130,9 +148,11 @@ class BatchedIntegrator {
   /// Whether the batched path can run these inputs (see the header's scope); otherwise use Integrator.
   bool supports(const Inputs& in) const {
     const SimOptions& o = in_.opt_;
-    const bool scheme = (o.scheme == Scheme::modified_euler && o.acceleration == Acceleration::implicit) ||
-                        o.scheme == Scheme::exact_modal;
-    return scheme && in_.diag_damping_ && !in.top_drive.has_inertia() && !in.axial.active() && !in.axial.coupled();
+    const bool euler = o.scheme == Scheme::modified_euler && o.acceleration == Acceleration::implicit;
+    // the motor and the jack on the modified Euler scheme only (BatchSteps); no controlled drive
+    const bool drive = !in.top_drive.has_inertia() || (euler && in.top_drive.kind == TopDrive::Kind::motor);
+    const bool axial = !in.axial.coupled() && (!in.axial.active() || euler);
+    return (euler || o.scheme == Scheme::exact_modal) && in_.diag_damping_ && drive && axial;
   }
 
   /// Whether `other` can step in lockstep with this integrator's runs with its own damping: the
@@ -160,7 +180,7 @@ class BatchedIntegrator {
                               const Integrator* const* damping = nullptr, double* diverged_at = nullptr) const {
     std::vector<const Integrator*> model(n, &in_);
     for (std::size_t r = 0; r < n; ++r) {
-      in[r].validate();
+      in_.check_inputs(in[r]);
       require(supports(in[r]), "batched run", r, "is outside the batched path (BatchedIntegrator::supports)");
       if (damping && damping[r]) {
         require(shares_model(*damping[r]), "batched run", r,
@@ -184,9 +204,11 @@ class BatchedIntegrator {
  private:
   /// The lanes' inputs at t = (first + s) dt in row s, s = 0..count (row-major, width lane.size()):
   /// the top speed (and its rate when `dom` is given), the law's WOB scale W / W_ref and static torque,
-  /// eta. A constant signal's rows are filled once (`sampled` false), a sampled one's at every block.
+  /// eta, and the WOB itself when `force` is given (the jack's set force). A constant signal's rows
+  /// are filled once (`sampled` false), a sampled one's at every block.
   static void fill_inputs(const BitRockLaw& law, const std::vector<const Inputs*>& lane, double dt, long first,
-                          long count, bool sampled, double* om, double* dom, double* ws, double* st, double* eta) {
+                          long count, bool sampled, double* om, double* dom, double* ws, double* st, double* eta,
+                          double* force = nullptr) {
     const std::size_t N = lane.size();
     for (long s = 0; s <= count; ++s)
       for (std::size_t l = 0; l < N; ++l) {
@@ -201,6 +223,7 @@ class BatchedIntegrator {
           const double wob = x.wob.at(t);
           ws[k] = wob / law.wob_ref;
           st[k] = law.static_torque(wob);
+          if (force) force[k] = wob;
         }
         if (x.eta.is_constant() != sampled) eta[k] = x.eta.at(t);
       }
@@ -377,11 +400,46 @@ class BatchedIntegrator {
     std::vector<double> z(m * N), p(m * N), f(m * N), negd(m * N), a_guess(3 * N, 0.0), cv(N), sf(N);
     std::vector<double> om((block + 1) * N), dom((block + 1) * N), ws((block + 1) * N), st((block + 1) * N);
     std::vector<double> eta((block + 1) * N), v(block * N), a(block * N), T(block * N);
+    // the motor's and the jack's lanes (Motor::Run, Axial::step of Integrator::run_euler)
+    bool motor = false, jack = false;
+    for (std::size_t r = 0; r < n; ++r) {
+      motor = motor || in[r].top_drive.has_inertia();
+      jack = jack || in[r].axial.active();
+    }
+    std::vector<double> mon, mk, mc, mden, mmax, oms, top, jon, je, j1e, jg, jtau, jfeed, force, W, wob;
+    if (motor) {
+      for (auto* x : {&mon, &mk, &mc, &mden, &mmax, &oms}) x->assign(N, 0.0);
+      top.assign(block * N, 0.0);
+    }
+    if (jack) {
+      for (auto* x : {&jon, &je, &j1e, &jg, &jtau, &jfeed, &W}) x->assign(N, 0.0);
+      force.assign((block + 1) * N, 0.0);
+      wob.assign(block * N, 0.0);
+    }
     for (std::size_t l = 0; l < N; ++l) {
       const std::size_t r = l < n ? l : 0;  // padding lanes repeat the first run
       cv[l] = in[r].bit_viscous;
       sf[l] = in[r].string_friction;
       const ModelState s0 = start[r] ? *start[r] : I.initial_state(in[r].top_speed.at(0.0));
+      const TopDrive& td = in[r].top_drive;
+      if (td.has_inertia()) {  // Motor::step's constants, as it computes them
+        mon[l] = 1.0;
+        mk[l] = dt / td.inertia;
+        mc[l] = td.slope;
+        mden[l] = 1.0 + dt * td.slope / td.inertia;
+        mmax[l] = td.max_torque;
+        oms[l] = std::isfinite(s0.top_speed) ? s0.top_speed : in[r].top_speed.at(0.0);
+      }
+      const Axial& ax = in[r].axial;
+      if (ax.active()) {  // Axial::step's constants, as it computes them
+        jon[l] = 1.0;
+        je[l] = std::exp(-dt / ax.relaxation);
+        j1e[l] = 1.0 - je[l];
+        jg[l] = ax.gain;
+        jtau[l] = ax.relaxation;
+        jfeed[l] = ax.feed_speed;
+        W[l] = std::isfinite(s0.wob) ? s0.wob : in[r].wob.at(0.0);
+      }
       require(s0.q.size() == I.V_.rows() && s0.qdot.size() == I.V_.rows(), "initial_state", s0.q.size(),
               "has the wrong size (the model has " + show(I.V_.rows()) + " coordinates)");
       const Eigen::VectorXd zl = I.Vinv_ * s0.q, pl = I.Vinv_ * s0.qdot;
@@ -416,12 +474,36 @@ class BatchedIntegrator {
     args.v = v.data();
     args.a = a.data();
     args.T = T.data();
+    if (motor) {
+      args.motor = mon.data();
+      args.motor_k = mk.data();
+      args.motor_c = mc.data();
+      args.motor_den = mden.data();
+      args.motor_max = mmax.data();
+      args.top_torque = I.top_torque_.data();
+      args.om_state = oms.data();
+      args.top = top.data();
+    }
+    if (jack) {
+      args.jack = jon.data();
+      args.jack_e = je.data();
+      args.jack_1me = j1e.data();
+      args.jack_gain = jg.data();
+      args.jack_tau = jtau.data();
+      args.jack_feed = jfeed.data();
+      args.force = force.data();
+      args.static_per_scale = I.law_.static_torque(I.law_.wob_ref);
+      args.wob_ref = I.law_.wob_ref;
+      args.wob_state = W.data();
+      args.wob = wob.data();
+    }
     // the inputs of Integrator::run_euler's step first + s, in row s; a constant signal's rows are
     // filled once, a sampled one's at every block
     std::vector<const Inputs*> lane(N);
     for (std::size_t l = 0; l < N; ++l) lane[l] = &in[l < n ? l : 0];  // padding lanes repeat the first run
     auto fill = [&](long first, long count, bool sampled) {
-      fill_inputs(I.law_, lane, dt, first, count, sampled, om.data(), dom.data(), ws.data(), st.data(), eta.data());
+      fill_inputs(I.law_, lane, dt, first, count, sampled, om.data(), dom.data(), ws.data(), st.data(), eta.data(),
+                  jack ? force.data() : nullptr);
     };
     fill(0, block, false);
     const bool sampled = any_sampled(in, n);
@@ -444,7 +526,8 @@ class BatchedIntegrator {
             a_guess[l] = a_guess[N + l] = a_guess[2 * N + l] = 0.0;
             break;
           }
-          obs[l](static_cast<const StepState&>(StepState{i, t, v[k], a[k], NAN, T[k], NAN, om[k], NAN, in[l].wob.at(t)}));
+          obs[l](static_cast<const StepState&>(StepState{i, t, v[k], a[k], NAN, T[k], NAN, motor ? top[k] : om[k], NAN,
+                                                         jack ? wob[k] : in[l].wob.at(t)}));
         }
     }
     for (std::size_t l = 0; l < n; ++l) {
@@ -454,6 +537,8 @@ class BatchedIntegrator {
         pl(j) = p[j * N + l];
       }
       out[l] = I.to_model(zl, pl);
+      if (motor && mon[l] != 0.0) out[l].top_speed = oms[l];
+      if (jack && jon[l] != 0.0) out[l].wob = W[l];
     }
   }
 

@@ -4,7 +4,9 @@
 //
 // One call steps one vector of independent runs (one run per lane) through the modified Euler
 // scheme of Integrator::run_euler (Eqs. A.5-A.6 with Eq. A.1's bit acceleration solved by the
-// safeguarded Newton iteration; the stick condition of Eqs. 5.1, 5.3) with an ideal top drive. Every lane performs the scalar path's arithmetic in the same order
+// safeguarded Newton iteration; the stick condition of Eqs. 5.1, 5.3) with an ideal top drive, or
+// with the motor and the jack of run_euler on the lanes that have them (BatchStepsT). Every lane
+// performs the scalar path's arithmetic in the same order
 // (no FMA contraction: -ffp-contract=off in CMakeLists.txt), except that the modal dot products
 // are summed mode by mode and exp/log are Highway's (contrib/math: exp within 1 ulp, log within 4
 // ulp of the exact value). The Newton iteration is masked: a lane that has converged keeps its
@@ -321,11 +323,20 @@ HWY_INLINE void ExactStepsT(const ExactStepArgs& a) {
   hn::StoreU(x1, d, a.x1);
   hn::StoreU(x2, d, a.x2);
 }
-}  // namespace batched_detail
 
-/// Steps a.first .. a.first + a.count - 1 of one vector of runs (see BatchStepArgs).
-inline void BatchSteps(const BatchStepArgs& a) {
-  using namespace batched_detail;
+/// Motor::step (drives/motor.hpp) lane by lane: the motor speed after one step from om at the
+/// command cmd and the string's top torque Tt (k = dt / J_m, c = c_m, den = 1 + dt c_m / J_m).
+HWY_INLINE V MotorStep(V om, V cmd, V Tt, V k, V c, V den, V Tmax) {
+  const V next = (om + k * (c * cmd - Tt)) / den;
+  return hn::IfThenElse(c * (cmd - next) <= Tmax, next, om + k * (Tmax - Tt));
+}
+
+/// The steps of BatchSteps with a motor top drive on some lanes (Motor) and the rig's jack on
+/// some lanes (Jack): Integrator::run_euler's Motor::Run and Axial::step lane by lane. With the
+/// motor the top's acceleration of a step follows from the string's top torque at its start, so
+/// the modes are passed twice per step (the update with the top torque's sum, then the forces).
+template <bool Motor, bool Jack>
+HWY_INLINE void BatchStepsT(const BatchStepArgs& a) {
   const D d;
   const std::size_t N = hn::Lanes(d);
   const int m = a.modes;
@@ -337,24 +348,79 @@ inline void BatchSteps(const BatchStepArgs& a) {
   const bool hysteresis = k != 0.0;
   // the accelerations of the last three solves of Eq. (A.1) (a1 the latest), as Integrator::run_euler keeps them
   V a1 = hn::LoadU(d, a.a_guess), a2 = hn::LoadU(d, a.a_guess + N), a3 = hn::LoadU(d, a.a_guess + 2 * N);
-  // the modal sums of the first step: v = Omega + bit . p, f = -D p - w2 z - top_load dOmega/dt
-  // (the last term where dOmega/dt != 0), alpha = bit . f
-  V bp = zero, bf = zero;
-  const V dom0 = hn::LoadU(d, a.domega);
-  const M accel0 = dom0 != zero;
-  for (int j = 0; j < m; ++j) {
-    const V p = hn::LoadU(d, a.p + j * N), z = hn::LoadU(d, a.z + j * N);
-    V f = hn::LoadU(d, a.negd + j * N) * p - hn::Set(d, a.w2[j]) * z;
-    f = hn::IfThenElse(accel0, f - hn::Set(d, a.top_load[j]) * dom0, f);
-    hn::StoreU(f, d, a.f + j * N);
-    bp = bp + hn::Set(d, a.bit[j]) * p;
-    bf = bf + hn::Set(d, a.bit[j]) * f;
+  // the motor's lanes, parameters and speed (Motor::Run: the speed a state, stepped from the top torque)
+  M mot = hn::FirstN(d, 0);
+  V mk = zero, mc = zero, mden = one, mmax = zero, oms = zero, om_next = zero;
+  auto top_torque = [&]() {  // the string's elastic torque at the top, mode by mode
+    V Tt = zero;
+    for (int j = 0; j < m; ++j) Tt = Tt + hn::Set(d, a.top_torque[j]) * hn::LoadU(d, a.z + j * N);
+    return Tt;
+  };
+  // the top's acceleration of step s: the motor's (om_next - om) / dt from the top torque Tt, or the input
+  auto top_accel = [&](long s, V Tt) {
+    const V in = hn::LoadU(d, a.domega + s * N);
+    if constexpr (Motor) {
+      om_next = MotorStep(oms, hn::LoadU(d, a.om + s * N), Tt, mk, mc, mden, mmax);
+      return hn::IfThenElse(mot, (om_next - oms) / dt, in);
+    } else {
+      (void)Tt;
+      return in;
+    }
+  };
+  if constexpr (Motor) {
+    mot = hn::LoadU(d, a.motor) != zero;
+    mk = hn::LoadU(d, a.motor_k);
+    mc = hn::LoadU(d, a.motor_c);
+    mden = hn::LoadU(d, a.motor_den);
+    mmax = hn::LoadU(d, a.motor_max);
+    oms = hn::LoadU(d, a.om_state);
   }
+  // the jack's lanes, parameters and WOB (Axial::step)
+  M jk = hn::FirstN(d, 0);
+  V je = zero, j1e = zero, jg = zero, jtau = zero, jfeed = zero, W = zero;
+  const V wref = hn::Set(d, a.wob_ref), s_per = hn::Set(d, a.static_per_scale);
+  if constexpr (Jack) {
+    jk = hn::LoadU(d, a.jack) != zero;
+    je = hn::LoadU(d, a.jack_e);
+    j1e = hn::LoadU(d, a.jack_1me);
+    jg = hn::LoadU(d, a.jack_gain);
+    jtau = hn::LoadU(d, a.jack_tau);
+    jfeed = hn::LoadU(d, a.jack_feed);
+    W = hn::LoadU(d, a.wob_state);
+  }
+  // the modal forces f = -D p - w2 z - top_load dOmega/dt (the last term where dOmega/dt != 0) and bf = bit . f
+  auto forces = [&](V dom) {
+    V bf = zero;
+    const M accel = dom != zero;
+    for (int j = 0; j < m; ++j) {
+      const V p = hn::LoadU(d, a.p + j * N), z = hn::LoadU(d, a.z + j * N);
+      V f = hn::LoadU(d, a.negd + j * N) * p - hn::Set(d, a.w2[j]) * z;
+      f = hn::IfThenElse(accel, f - hn::Set(d, a.top_load[j]) * dom, f);
+      hn::StoreU(f, d, a.f + j * N);
+      bf = bf + hn::Set(d, a.bit[j]) * f;
+    }
+    return bf;
+  };
+  // the modal sums of the first step: v = Omega + bit . p, alpha = bit . f + dOmega/dt
+  V bp = zero;
+  for (int j = 0; j < m; ++j) bp = bp + hn::Set(d, a.bit[j]) * hn::LoadU(d, a.p + j * N);
+  V dom = top_accel(0, Motor ? top_torque() : zero);
+  V bf = forces(dom);
   for (long s = 0; s < a.count; ++s) {
     const long i = a.first + s;
-    const V om = hn::LoadU(d, a.om + s * N), w = hn::LoadU(d, a.wob_scale + s * N);
-    const V static0 = hn::LoadU(d, a.static_torque + s * N);
-    const V v = om + bp, alpha = bf + hn::LoadU(d, a.domega + s * N);
+    V om = hn::LoadU(d, a.om + s * N), w = hn::LoadU(d, a.wob_scale + s * N);
+    V static0 = hn::LoadU(d, a.static_torque + s * N);
+    if constexpr (Motor) {
+      om = hn::IfThenElse(mot, oms, om);
+      hn::StoreU(om, d, a.top + s * N);
+    }
+    if constexpr (Jack) {  // the law at the jack's WOB (BitRockLaw: W / W_ref; static torques linear in W)
+      const V wj = W / wref;
+      w = hn::IfThenElse(jk, wj, w);
+      static0 = hn::IfThenElse(jk, s_per * wj, static0);
+      hn::StoreU(hn::IfThenElse(jk, W, hn::LoadU(d, a.force + s * N)), d, a.wob + s * N);
+    }
+    const V v = om + bp, alpha = bf + dom;
     const V eta = hn::LoadU(d, a.eta + s * N);
     V base, frac, c;
     AtSpeed(d, law, a.speed_factor, v, w, base, frac, c);
@@ -429,11 +495,33 @@ inline void BatchSteps(const BatchStepArgs& a) {
     hn::StoreU(acc, d, a.a + s * N);
     hn::StoreU(hn::IfThenElse(fric != zero, T - fric, T), d, a.T + s * N);
     if (i == a.last) break;
+    if constexpr (Jack) {  // Axial::step from the step's bit speed towards its set force
+      const V F = hn::LoadU(d, a.force + s * N);
+      const V Wn = F + (W - F) * je + jg * (jfeed - v) * jtau * j1e;
+      W = hn::IfThenElse(jk, hn::IfThenElse(Wn > zero, Wn, zero), W);
+    }
     // Eqs. (A.5), (A.6), fused with the modal sums of the next step
     bp = zero;
+    if constexpr (Motor) {
+      // the update with the top torque's sum, the motor's step from it, then the forces
+      V Tt = zero;
+      for (int j = 0; j < m; ++j) {
+        const V bj = hn::Set(d, a.bit[j]);
+        const V p = hn::LoadU(d, a.p + j * N) + dt * (hn::LoadU(d, a.f + j * N) - bj * T);
+        const V z = hn::LoadU(d, a.z + j * N) + dt * p;
+        hn::StoreU(p, d, a.p + j * N);
+        hn::StoreU(z, d, a.z + j * N);
+        bp = bp + bj * p;
+        Tt = Tt + hn::Set(d, a.top_torque[j]) * z;
+      }
+      oms = hn::IfThenElse(mot, om_next, oms);
+      dom = top_accel(s + 1, Tt);
+      bf = forces(dom);
+      continue;
+    }
     bf = zero;
-    const V dom1 = hn::LoadU(d, a.domega + (s + 1) * N);
-    const M accel1 = dom1 != zero;
+    dom = hn::LoadU(d, a.domega + (s + 1) * N);
+    const M accel1 = dom != zero;
     for (int j = 0; j < m; ++j) {
       const V bj = hn::Set(d, a.bit[j]);
       const V p = hn::LoadU(d, a.p + j * N) + dt * (hn::LoadU(d, a.f + j * N) - bj * T);
@@ -441,7 +529,7 @@ inline void BatchSteps(const BatchStepArgs& a) {
       hn::StoreU(p, d, a.p + j * N);
       hn::StoreU(z, d, a.z + j * N);
       V f = hn::LoadU(d, a.negd + j * N) * p - hn::Set(d, a.w2[j]) * z;
-      f = hn::IfThenElse(accel1, f - hn::Set(d, a.top_load[j]) * dom1, f);
+      f = hn::IfThenElse(accel1, f - hn::Set(d, a.top_load[j]) * dom, f);
       hn::StoreU(f, d, a.f + j * N);
       bp = bp + bj * p;
       bf = bf + bj * f;
@@ -450,6 +538,22 @@ inline void BatchSteps(const BatchStepArgs& a) {
   hn::StoreU(a1, d, a.a_guess);
   hn::StoreU(a2, d, a.a_guess + N);
   hn::StoreU(a3, d, a.a_guess + 2 * N);
+  if constexpr (Motor) hn::StoreU(oms, d, a.om_state);
+  if constexpr (Jack) hn::StoreU(W, d, a.wob_state);
+}
+}  // namespace batched_detail
+
+/// Steps a.first .. a.first + a.count - 1 of one vector of runs (see BatchStepArgs).
+inline void BatchSteps(const BatchStepArgs& a) {
+  using namespace batched_detail;
+  if (a.motor && a.jack)
+    BatchStepsT<true, true>(a);
+  else if (a.motor)
+    BatchStepsT<true, false>(a);
+  else if (a.jack)
+    BatchStepsT<false, true>(a);
+  else
+    BatchStepsT<false, false>(a);
 }
 
 /// Steps a.first .. a.first + a.count - 1 of the exact modal scheme (exact_modal.hpp) on one vector

@@ -273,6 +273,22 @@ class Integrator {
   /// including t = 0. Returns the final state.
   template <class Observer>
   ModelState run(const Inputs& in, Observer&& obs, const ModelState* start = nullptr) const {
+    check_inputs(in);
+    const ModelState s0 = start ? *start : initial_state(in.top_speed.at(0.0));
+    require(s0.q.size() == V_.rows() && s0.qdot.size() == V_.rows(), "initial_state", s0.q.size(),
+            "has the wrong size (the model has " + show(V_.rows()) + " coordinates)");
+    Eigen::VectorXd z = Vinv_ * s0.q, p = Vinv_ * s0.qdot;
+    if (opt_.scheme == Scheme::bdf2) return run_bdf2(in, obs, z, p);
+    if (opt_.scheme == Scheme::exact_modal)
+      return TopDrive::visit(in.top_drive.kind,
+                             [&](auto drive) { return run_exact<decltype(drive)>(in, obs, z, p, s0); });
+    return TopDrive::visit(in.top_drive.kind,
+                           [&](auto drive) { return run_euler<decltype(drive)>(in, obs, z, p, s0); });
+  }
+
+  /// The checks of run() on its inputs (BatchedIntegrator's too): valid, not the coupled model, a
+  /// tuned controller, and a drive with inertia on a scheme that has it, within Eq. (A.7)'s bound.
+  void check_inputs(const Inputs& in) const {
     in.validate();
     require(!in.axial.coupled(), "axial.type", Axial::kind_name(in.axial.kind),
             "runs through Simulation::run only (drillpy simulate, drillsim --job run): sweeps, maps, Monte Carlo, "
@@ -295,16 +311,6 @@ class Integrator {
                   " top drive, dt < " + show(bound) + " s (Eq. A.7 for the string coupled to top_drive.inertia_kg_m2 = " +
                   show(in.top_drive.inertia) + ")");
     }
-    const ModelState s0 = start ? *start : initial_state(in.top_speed.at(0.0));
-    require(s0.q.size() == V_.rows() && s0.qdot.size() == V_.rows(), "initial_state", s0.q.size(),
-            "has the wrong size (the model has " + show(V_.rows()) + " coordinates)");
-    Eigen::VectorXd z = Vinv_ * s0.q, p = Vinv_ * s0.qdot;
-    if (opt_.scheme == Scheme::bdf2) return run_bdf2(in, obs, z, p);
-    if (opt_.scheme == Scheme::exact_modal)
-      return TopDrive::visit(in.top_drive.kind,
-                             [&](auto drive) { return run_exact<decltype(drive)>(in, obs, z, p, s0); });
-    return TopDrive::visit(in.top_drive.kind,
-                           [&](auto drive) { return run_euler<decltype(drive)>(in, obs, z, p, s0); });
   }
 
  private:
