@@ -204,29 +204,47 @@ class BatchedIntegrator {
  private:
   /// The lanes' inputs at t = (first + s) dt in row s, s = 0..count (row-major, width lane.size()):
   /// the top speed (and its rate when `dom` is given), the law's WOB scale W / W_ref and static torque,
-  /// eta, and the WOB itself when `force` is given (the jack's set force). A constant signal's rows
-  /// are filled once (`sampled` false), a sampled one's at every block.
+  /// eta, and the WOB itself (the observers' and the jack's set force). A constant signal's rows are
+  /// filled once (`sampled` false), a sampled one's at every block.
   static void fill_inputs(const BitRockLaw& law, const std::vector<const Inputs*>& lane, double dt, long first,
                           long count, bool sampled, double* om, double* dom, double* ws, double* st, double* eta,
-                          double* force = nullptr) {
+                          double* wob_raw) {
     const std::size_t N = lane.size();
-    for (long s = 0; s <= count; ++s)
-      for (std::size_t l = 0; l < N; ++l) {
-        const Inputs& x = *lane[l];
-        const double t = (first + s) * dt;
-        const std::size_t k = s * N + l;
-        if (x.top_speed.is_constant() != sampled) {
-          om[k] = x.top_speed.at(t);
-          if (dom) dom[k] = x.top_speed.rate(t);
+    for (long s = 0; s <= count; ++s) {
+      const double t = (first + s) * dt;
+      // the position on the sampling grid of the last sampled signal, reused by the next signal on
+      // the same grid (the loop's horizons: every lane's slices share one): Signal::at's bits
+      const Signal* on = nullptr;
+      double x = 0.0;
+      auto grid = [&](const Signal& sig) {
+        if (!on || sig.t0 != on->t0 || sig.dt != on->dt) {
+          on = &sig;
+          x = sig.grid(t);
         }
-        if (x.wob.is_constant() != sampled) {
-          const double wob = x.wob.at(t);
+        return x;
+      };
+      for (std::size_t l = 0; l < N; ++l) {
+        const Inputs& in = *lane[l];
+        const std::size_t k = s * N + l;
+        if (in.top_speed.is_constant() != sampled) {
+          if (sampled) {
+            const double xt = grid(in.top_speed);
+            om[k] = in.top_speed.at_grid(xt);
+            if (dom) dom[k] = in.top_speed.samples.size() < 2 ? 0.0 : in.top_speed.rate_grid(xt);
+          } else {
+            om[k] = in.top_speed.value;
+            if (dom) dom[k] = 0.0;
+          }
+        }
+        if (in.wob.is_constant() != sampled) {
+          const double wob = sampled ? in.wob.at_grid(grid(in.wob)) : in.wob.value;
           ws[k] = wob / law.wob_ref;
           st[k] = law.static_torque(wob);
-          if (force) force[k] = wob;
+          wob_raw[k] = wob;
         }
-        if (x.eta.is_constant() != sampled) eta[k] = x.eta.at(t);
+        if (in.eta.is_constant() != sampled) eta[k] = sampled ? in.eta.at_grid(grid(in.eta)) : in.eta.value;
       }
+    }
   }
   /// True when an input of one of the n runs is a sampled signal (fill_inputs at every block).
   static bool any_sampled(const Inputs* in, std::size_t n) {
@@ -251,6 +269,7 @@ class BatchedIntegrator {
     constexpr int K = ExactModal::lane_kinds;
     std::vector<double> z(m * N), p(m * N), c(N), c0(N), ce(N), cv(N), sf(N), v0(N), T0(N), x1(N), x2(N);
     std::vector<double> om((block + 1) * N), ws((block + 1) * N), st((block + 1) * N), eta((block + 1) * N);
+    std::vector<double> wob_in((block + 1) * N);  // the WOB input (the observers')
     std::vector<double> v(block * N), a(block * N), T(block * N);
     std::vector<const Inputs*> lane(N);
     bool per_lane = false;
@@ -334,7 +353,8 @@ class BatchedIntegrator {
     args.ctx = &fb;
     // the inputs at t_first+s in row s; a constant signal's rows are filled once, a sampled one's at every block
     auto fill = [&](long first, long count, bool sampled) {
-      fill_inputs(I.law_, lane, dt, first, count, sampled, om.data(), nullptr, ws.data(), st.data(), eta.data());
+      fill_inputs(I.law_, lane, dt, first, count, sampled, om.data(), nullptr, ws.data(), st.data(), eta.data(),
+                  wob_in.data());
     };
     fill(0, block, false);
     const bool sampled = any_sampled(in, n);
@@ -355,7 +375,7 @@ class BatchedIntegrator {
             live[l] = 0;
             break;
           }
-          obs[l](static_cast<const StepState&>(StepState{i, t, v[k], a[k], NAN, T[k], NAN, om[k + N], NAN, in[l].wob.at(t)}));
+          obs[l](static_cast<const StepState&>(StepState{i, t, v[k], a[k], NAN, T[k], NAN, om[k + N], NAN, wob_in[k + N]}));
         }
       }
     }
@@ -406,14 +426,14 @@ class BatchedIntegrator {
       motor = motor || in[r].top_drive.has_inertia();
       jack = jack || in[r].axial.active();
     }
-    std::vector<double> mon, mk, mc, mden, mmax, oms, top, jon, je, j1e, jg, jtau, jfeed, force, W, wob;
+    std::vector<double> mon, mk, mc, mden, mmax, oms, top, jon, je, j1e, jg, jtau, jfeed, W, wob;
+    std::vector<double> wob_in((block + 1) * N);  // the WOB input (the observers', the jack's set force)
     if (motor) {
       for (auto* x : {&mon, &mk, &mc, &mden, &mmax, &oms}) x->assign(N, 0.0);
       top.assign(block * N, 0.0);
     }
     if (jack) {
       for (auto* x : {&jon, &je, &j1e, &jg, &jtau, &jfeed, &W}) x->assign(N, 0.0);
-      force.assign((block + 1) * N, 0.0);
       wob.assign(block * N, 0.0);
     }
     for (std::size_t l = 0; l < N; ++l) {
@@ -491,7 +511,7 @@ class BatchedIntegrator {
       args.jack_gain = jg.data();
       args.jack_tau = jtau.data();
       args.jack_feed = jfeed.data();
-      args.force = force.data();
+      args.force = wob_in.data();
       args.static_per_scale = I.law_.static_torque(I.law_.wob_ref);
       args.wob_ref = I.law_.wob_ref;
       args.wob_state = W.data();
@@ -503,7 +523,7 @@ class BatchedIntegrator {
     for (std::size_t l = 0; l < N; ++l) lane[l] = &in[l < n ? l : 0];  // padding lanes repeat the first run
     auto fill = [&](long first, long count, bool sampled) {
       fill_inputs(I.law_, lane, dt, first, count, sampled, om.data(), dom.data(), ws.data(), st.data(), eta.data(),
-                  jack ? force.data() : nullptr);
+                  wob_in.data());
     };
     fill(0, block, false);
     const bool sampled = any_sampled(in, n);
@@ -527,7 +547,7 @@ class BatchedIntegrator {
             break;
           }
           obs[l](static_cast<const StepState&>(StepState{i, t, v[k], a[k], NAN, T[k], NAN, motor ? top[k] : om[k], NAN,
-                                                         jack ? wob[k] : in[l].wob.at(t)}));
+                                                         jack ? wob[k] : wob_in[k]}));
         }
     }
     for (std::size_t l = 0; l < n; ++l) {

@@ -83,16 +83,21 @@ struct HorizonSensors {
       fv.reset(st->y_bit_speed, st->dy_bit_speed, s.bit_speed);
       ft.reset(st->y_torque, st->dy_torque, contact);
       fo.reset(st->y_top_speed, st->dy_top_speed, s.top_speed);
+      next = stride;
+      out = 0;
       return;
     }
     const double yv = fv.step(s.bit_speed), yt = ft.step(contact), yo = fo.step(s.top_speed);
-    if (s.step % stride == 0) {
-      const Eigen::Index j = static_cast<Eigen::Index>(s.step / stride - 1);
-      r->bit_speed(row, j) = yv;
-      r->torque(row, j) = yt;
-      r->top_speed(row, j) = yo;
+    if (s.step == next) {  // every stride-th step (a counter: no division per step)
+      r->bit_speed(row, out) = yv;
+      r->torque(row, out) = yt;
+      r->top_speed(row, out) = yo;
+      ++out;
+      next += stride;
     }
   }
+  long next = 0;         ///< the step of the next output (set at step 0: stride)
+  Eigen::Index out = 0;  ///< its column
 };
 
 /// One predict_horizons call, validated and set up: its integrator and result rows. Its work
@@ -113,7 +118,8 @@ class HorizonRun {
     const long need = static_cast<long>(hin.samples) + 1;
     auto check_series = [&](const std::vector<double>& s, const char* field) {
       if (s.empty()) return;
-      for (std::size_t k = 0; k < s.size(); ++k) require_finite(s[k], std::string(field) + "[" + std::to_string(k) + "]");
+      for (std::size_t k = 0; k < s.size(); ++k)  // (the field's name built for a failure only)
+        if (!std::isfinite(s[k])) require_finite(s[k], std::string(field) + "[" + std::to_string(k) + "]");
       for (std::size_t h = 0; h < n; ++h)
         require(starts[h].index >= 0 && starts[h].index + need <= static_cast<long>(s.size()),
                 "horizons.start_index[" + std::to_string(h) + "]", starts[h].index,

@@ -32,20 +32,24 @@ struct Signal {
       if (!std::isfinite(samples[k])) require_finite(samples[k], field + "[" + std::to_string(k) + "]");
   }
 
-  double at(double t) const {
-    if (samples.empty()) return value;
-    const double x = (t - t0) / dt;
+  double at(double t) const { return samples.empty() ? value : at_grid(grid(t)); }
+
+  /// Time derivative of the interpolant (slope of the segment holding t; 0 outside).
+  double rate(double t) const { return samples.size() < 2 ? 0.0 : rate_grid(grid(t)); }
+
+  /// t on the sampling grid, x = (t - t0) / dt: one division shared by the signals sampled on the
+  /// same grid (the same t0 and dt), whose at_grid(x) and rate_grid(x) are at(t) and rate(t).
+  double grid(double t) const { return (t - t0) / dt; }
+  /// at(t) of a sampled signal from x = grid(t).
+  double at_grid(double x) const {
     if (x <= 0.0) return samples.front();
     const std::size_t k = static_cast<std::size_t>(x);
     if (k + 1 >= samples.size()) return samples.back();
     const double f = x - static_cast<double>(k);
     return samples[k] + f * (samples[k + 1] - samples[k]);
   }
-
-  /// Time derivative of the interpolant (slope of the segment holding t; 0 outside).
-  double rate(double t) const {
-    if (samples.size() < 2) return 0.0;
-    const double x = (t - t0) / dt;
+  /// rate(t) of a signal of two samples or more from x = grid(t).
+  double rate_grid(double x) const {
     if (x < 0.0) return 0.0;
     const std::size_t k = static_cast<std::size_t>(x);
     if (k + 1 >= samples.size()) return 0.0;
