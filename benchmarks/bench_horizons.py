@@ -7,7 +7,10 @@ Python (the baseline a loop without the batch runner would use), measured in the
     PYTHONPATH=python python3 benchmarks/bench_horizons.py
 
 Prints the time per evaluation of 80 horizons of 0.25 s of the thesis-rig model (engine step
-0.1 ms, outputs at 1 kHz: one evaluation of the calibration half of sample 175), minima of 5.
+0.1 ms, outputs at 1 kHz: one evaluation of the calibration half of sample 175), minima of 5; then
+the same horizons turned by the rig's open-loop motor (section 5.3.2: droop, 8 N m limit) and loaded
+by its jack, the loop's ``top_drive_dynamics`` and ``axial_jack`` candidates, scalar against batched
+(both in SIMD lockstep since issue 33).
 """
 from __future__ import annotations
 
@@ -63,6 +66,15 @@ def main() -> None:
           f"  ({scalar1 / batched1:.2f} x scalar)")
     print(f"  runner, batched, {_core.max_threads()} threads           {1e3 * batched:8.1f} ms"
           f"  ({s / batched:.1f} x one run per horizon)")
+    motor = {"type": "motor", "slope_nms_rad": 0.3, "inertia_kg_m2": 0.02, "max_torque_nm": 8.0}
+    rig = drillpy.with_overrides(cfg, top_drive=motor)
+    rig["axial"] = {"type": "jack", "gain_n_rad": 200.0, "relaxation_s": 0.1}
+    sim = _core.Simulation(engine_config(rig))
+    scalar1, batched1 = runner(1, False), runner(1, True)
+    print("the same horizons with the rig's motor and jack (top speed and WOB states of the lanes):")
+    print(f"  runner, scalar, 1 thread            {1e3 * scalar1:8.1f} ms  {1e9 * scalar1 / steps:5.0f} ns per step")
+    print(f"  runner, batched, 1 thread           {1e3 * batched1:8.1f} ms  {1e9 * batched1 / steps:5.0f} ns per step"
+          f"  ({scalar1 / batched1:.2f} x scalar)")
 
 
 if __name__ == "__main__":
