@@ -26,8 +26,8 @@ class AxialJack(Effect):
     whole-rig model (:data:`drillpy.records.rigsim.RIG_PARAMETERS`, with their sources). The restarts start
     the state at the recorded WOB (:meth:`restart_wob`). Needs a WOB channel, and is a candidate only
     where the record's WOB is a response of the rotation (:meth:`applicable`). The horizons of a model
-    with it run on the scalar integrator (the batched one has no axial state): the same decisions on
-    either path.
+    with it run in SIMD lockstep like the others, the jack's WOB a state of each lane (issue 33;
+    ``--scalar``: the scalar integrator, the same decisions).
     """
     name = "axial_jack"
     # the ranges of the whole-rig model (drillpy.records.rigsim.RIG_PARAMETERS, with their sources); the
