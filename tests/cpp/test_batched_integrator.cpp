@@ -53,6 +53,36 @@ Config rig_with_motor(BitRockLaw::Kind kind, bool motor, bool jack) {
   return c;
 }
 
+/// Eleven horizon restarts from the states of a long run of `sim` (every 17 * stride steps from
+/// step 10 * stride), on a grid of stride engine steps; the WOB state too (the jack's).
+std::vector<HorizonStart> restarts_of_a_long_run(const Simulation& sim, int stride, std::size_t* grid = nullptr) {
+  std::vector<double> v, a, T, top, wob;
+  sim.integrator().run(sim.inputs(), [&](const StepState& s) {
+    v.push_back(s.bit_speed);
+    a.push_back(s.bit_accel);
+    T.push_back(s.torque_on_bit);
+    top.push_back(s.top_speed);
+    wob.push_back(s.wob);
+  });
+  if (grid) *grid = v.size() / stride;
+  std::vector<HorizonStart> starts;
+  for (long k = 0; k < 11; ++k) {
+    const long i = (10 + 17 * k) * stride;
+    HorizonStart h;
+    h.index = i / stride;
+    h.bit_speed = v[i];
+    h.bit_accel = a[i];
+    h.torque = T[i];
+    h.top_speed = top[i];
+    h.wob = wob[i];
+    h.y_bit_speed = v[i];
+    h.y_torque = T[i];
+    h.y_top_speed = top[i];
+    starts.push_back(h);
+  }
+  return starts;
+}
+
 Config batch_field(double duration) {
   Config c = preset("thesis-field");
   c.modes = 10;
@@ -198,35 +228,15 @@ TEST(BatchedIntegrator, HorizonPredictionsAgreeWithTheScalarPath) {
   c.sim.duration = 3.0;
   c.transient = 1.0;
   const Simulation sim(c);
-  std::vector<double> v, a, T, top;
-  sim.integrator().run(sim.inputs(), [&](const StepState& s) {
-    v.push_back(s.bit_speed);
-    a.push_back(s.bit_accel);
-    T.push_back(s.torque_on_bit);
-    top.push_back(s.top_speed);
-  });
   const int stride = 10, samples = 100;
+  std::size_t grid = 0;
+  const std::vector<HorizonStart> starts = restarts_of_a_long_run(sim, stride, &grid);
   HorizonInputs hin;
   hin.dt = stride * c.sim.dt;
   hin.samples = samples;
-  const std::size_t grid = v.size() / stride;
   for (std::size_t j = 0; j < grid; ++j) {
     hin.top_speed.push_back(c.top_speed * (1.0 + 0.1 * std::sin(0.01 * j)));
     hin.wob.push_back(c.wob * (1.0 + 0.05 * std::cos(0.02 * j)));
-  }
-  std::vector<HorizonStart> starts;
-  for (long k = 0; k < 11; ++k) {
-    const long i = (10 + 17 * k) * stride;
-    HorizonStart h;
-    h.index = i / stride;
-    h.bit_speed = v[i];
-    h.bit_accel = a[i];
-    h.torque = T[i];
-    h.top_speed = top[i];
-    h.y_bit_speed = v[i];
-    h.y_torque = T[i];
-    h.y_top_speed = top[i];
-    starts.push_back(h);
   }
   hin.eta = Eigen::MatrixXd::NullaryExpr(11, samples + 1, [](Eigen::Index r, Eigen::Index j) {
     return 0.2 * std::sin(0.3 * r + 0.05 * j);
@@ -304,33 +314,11 @@ TEST(BatchedIntegrator, HorizonsWithTheMotorRunOnTheBatchedPath) {
   Config c = rig_with_motor(BitRockLaw::Kind::polynomial_hysteretic, true, true);
   c.sim.duration = 3.0;
   const Simulation sim(c);
-  std::vector<double> v, a, T, top, wob;
-  sim.integrator().run(sim.inputs(), [&](const StepState& s) {
-    v.push_back(s.bit_speed);
-    a.push_back(s.bit_accel);
-    T.push_back(s.torque_on_bit);
-    top.push_back(s.top_speed);
-    wob.push_back(s.wob);
-  });
-  const int stride = 10, samples = 100;
+  const int stride = 10;
+  const std::vector<HorizonStart> starts = restarts_of_a_long_run(sim, stride);
   HorizonInputs hin;
   hin.dt = stride * c.sim.dt;
-  hin.samples = samples;
-  std::vector<HorizonStart> starts;
-  for (long k = 0; k < 11; ++k) {
-    const long i = (10 + 17 * k) * stride;
-    HorizonStart h;
-    h.index = i / stride;
-    h.bit_speed = v[i];
-    h.bit_accel = a[i];
-    h.torque = T[i];
-    h.top_speed = top[i];
-    h.wob = wob[i];
-    h.y_bit_speed = v[i];
-    h.y_torque = T[i];
-    h.y_top_speed = top[i];
-    starts.push_back(h);
-  }
+  hin.samples = 100;
   const HorizonResult b = predict_horizons(sim, starts, hin, nullptr, 2, true);
   const HorizonResult b1 = predict_horizons(sim, starts, hin, nullptr, 1, true);
   const HorizonResult s = predict_horizons(sim, starts, hin, nullptr, 1, false);
