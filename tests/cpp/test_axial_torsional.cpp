@@ -203,6 +203,108 @@ TEST(AxialTorsional, ControlledDriveSweepIsTheSameForAnyThreadCount) {
   EXPECT_TRUE(std::isfinite(r.severity));
 }
 
+// The rig's open-loop motor (drives/motor.hpp) on the coupled model. On a string reduced with all its
+// modes (the static twist's top torque is then the bit's torque to round-off), steady drilling at the
+// motor's drooped speed is an equilibrium of the scheme on both top boundaries and both schemes: the
+// top and the bit turn at Omega_s = Omega_c - T0(Omega_s) / c_m, the WOB and the torque stay RGD's at
+// Omega_s. With the feed top T0 = A + B / Omega (d0 = 2 pi V0 / Omega), so Omega_s is the larger root
+// of c_m Omega^2 - (c_m Omega_c - A) Omega + B = 0.
+namespace {
+Config rgd_full_modes(AxialTop top, Scheme scheme) {
+  Config c = rgd(2.0);
+  test::steady_start(c, top);
+  c.string.sections[0].elements = 8;
+  c.string.sections[1].elements = 2;
+  c.modes = 10;
+  c.axial.rgd.modes = 10;
+  c.sim.scheme = scheme;
+  c.top_drive.kind = TopDrive::Kind::motor;
+  c.top_drive.inertia = 2000.0;  // [kg m^2] an assumed field drive, as the controlled drive's tests
+  c.top_drive.max_torque = 5e4;
+  return c;
+}
+}  // namespace
+
+TEST(AxialTorsional, MotorDriveDrillsSteadilyAtTheSpeedItsCharacteristicCarries) {
+  for (Scheme scheme : {Scheme::modified_euler, Scheme::exact_modal}) {
+    for (AxialTop top : {AxialTop::hook_load, AxialTop::feed}) {
+      Config c = rgd_full_modes(top, scheme);
+      {  // the slope that droops the top by 20 % under the torque at the command
+        Config ic = c;
+        ic.top_drive.kind = TopDrive::Kind::ideal;
+        const Simulation ideal(ic);
+        c.top_drive.slope = ideal.coupled()->steady(c.top_speed).torque / (0.2 * c.top_speed);
+      }
+      const Simulation sim(c);
+      const AxialTorsional& m = *sim.coupled();
+      const double om_c = c.top_speed, cm = c.top_drive.slope;
+      const double om = m.steady_speed(c.top_drive, om_c);
+      const AxialTorsional::Steady st = m.steady(om);
+      EXPECT_NEAR(om, om_c - st.torque / cm, 1e-11 * om_c) << to_string(top);
+      EXPECT_LT(om, 0.85 * om_c);
+      if (top == AxialTop::feed) {
+        const RgdBit& b = c.axial.rgd.bit;
+        const double A = 0.5 * b.geometry * b.friction * b.radius * b.radius * b.wear_flat * b.contact_strength;
+        const double B = 0.5 * b.radius * b.radius * b.specific_energy * 2.0 * M_PI * c.axial.rgd.feed_rate;
+        const double p = cm * om_c - A;
+        EXPECT_NEAR(om, (p + std::sqrt(p * p - 4.0 * cm * B)) / (2.0 * cm), 1e-9 * om_c);
+      }
+      c.axial.rgd.disturbance = 0.0;
+      const Simulation still(c);
+      const ModelState s0 = still.steady_state(om_c, c.wob, 0.0);
+      EXPECT_DOUBLE_EQ(s0.top_speed, om);
+      const Trace tr = test::coupled_trace(still, &s0);
+      ASSERT_EQ(tr.s.size(), static_cast<std::size_t>(c.sim.steps() + 1));
+      const std::string what = to_string(top) + " " + to_string(scheme);
+      for (std::size_t i = 0; i < tr.s.size(); i += 97) {
+        const StepState& s = tr.s[i];
+        ASSERT_NEAR(s.top_speed, om, 1e-9 * om) << what << " t = " << s.t;
+        ASSERT_NEAR(s.bit_speed, om, 1e-9 * om) << what << " t = " << s.t;
+        ASSERT_NEAR(s.top_torque, cm * (om_c - om), 1e-7 * st.torque) << what << " t = " << s.t;
+        ASSERT_NEAR(tr.a[i].wob, st.wob, 1e-7 * st.wob) << what << " t = " << s.t;
+        ASSERT_NEAR(s.torque_on_bit, st.torque, 1e-7 * st.torque) << what << " t = " << s.t;
+      }
+    }
+  }
+}
+
+// The motor gives way: from steady drilling disturbed, at a speed where RGD's bit sticks and slips
+// under the ideal drive, the motor's top swings with the cycle; a run has the same bits alone and in a
+// batch, on 1 and 2 threads; a torque limit below the steady torque, and an inertia too small for the
+// step, are refused naming the field.
+TEST(AxialTorsional, MotorDriveGivesWayWithTheCycleAndIsRefusedWhereItCannotRun) {
+  Config c = rgd(40.0);  // 4 rad/s, 150 kN: stick-slip under the ideal drive (the test above)
+  c.top_drive.kind = TopDrive::Kind::motor;
+  c.top_drive.inertia = 2000.0;
+  c.top_drive.slope = 5e4;  // N m s/rad: a stiff characteristic (0.19 rad/s of droop under RGD's 9394 N m)
+  c.top_drive.max_torque = 5e4;
+  const Simulation sim(c);
+  const RunReport r = sim.run(sim.inputs(), true);
+  const auto [lo, hi] = std::minmax_element(r.series.top_speed.begin(), r.series.top_speed.end());
+  EXPECT_GT(r.severity, 0.5);  // it sticks and slips
+  EXPECT_GT(*hi - *lo, 0.02 * c.top_speed);  // the top gives way with the cycle
+  const std::vector<double> speeds{3.0, 4.0, 6.0};
+  const std::vector<double> ss = sim.sweep_severity(speeds, {}, nullptr, 2);
+  EXPECT_EQ(ss, sim.sweep_severity(speeds, {}, nullptr, 1));
+  EXPECT_EQ(ss, sim.sweep_severity(speeds, {}, nullptr, 1, std::nullopt, false));
+  EXPECT_DOUBLE_EQ(ss[1], r.severity);
+  auto refused = [](Config x, const std::string& field) {
+    try {
+      const Simulation s(x);
+      s.run(s.inputs(), false);
+      ADD_FAILURE() << "accepted, expected an error naming " << field;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
+  Config stall = c;
+  stall.top_drive.max_torque = 5000.0;  // below RGD's steady 9394 N m: the motor stalls
+  refused(stall, "top_drive.type");
+  Config light = c;
+  light.top_drive.inertia = 1e-3;  // the top's own mode far above pi / (5 dt)
+  refused(light, "simulation.dt_s");
+}
+
 TEST(AxialTorsional, ConfigurationErrorsNameTheField) {
   json j = preset_json("rgd-field");
   auto refused = [](json x, const std::string& field) {
@@ -313,12 +415,7 @@ TEST(AxialTorsional, ConfigurationErrorsNameTheField) {
     EXPECT_FALSE(to_json(c)["axial"].contains("damping_ratio"));
     EXPECT_EQ(to_json(parse_config(to_json(c))), to_json(c));
   }
-  // the top drives the coupled model does not run, and a controlled drive's bad limit, named
-  {
-    json x = j;
-    x["top_drive"] = {{"type", "motor"}, {"inertia_kg_m2", 2000.0}, {"slope_nms_rad", 1e5}, {"max_torque_nm", 5e4}};
-    refused(x, "top_drive.type");
-  }
+  // a controlled drive without integral action, and one whose limit is too low, named
   {
     json x = j;
     x["top_drive"] = {{"type", "controlled"},

@@ -254,11 +254,37 @@ class AxialTorsional {
     if (g > 0.0) eta_dot -= ax_.bit * (spec_.disturbance * s.rop / g);
   }
 
-  /// The top drives the coupled model runs: the ideal one and a controlled one whose steady speed is
-  /// its command (integral action: the steady drilling it starts in is that at the command).
+  /// The speed [rad/s] of steady drilling under the top drive td at a top-speed command [rad/s]: the
+  /// command for the ideal drive and a controller with integral action; for the rig's open-loop motor
+  /// (drives/motor.hpp) the speed where its characteristic carries the steady torque on the bit,
+  /// Omega = Omega_c - T0(Omega) / c_m, below its torque limit. T0 depends on Omega with top = feed
+  /// (d0 = 2 pi V0 / Omega) and with axial.torque = law, and can have two such speeds: the highest is
+  /// taken (a scan down from the command, then bisection). Refused, naming the drive, when the motor
+  /// cannot carry steady drilling at any speed (it stalls).
+  double steady_speed(const TopDrive& td, double command) const {
+    if (!td.droops() || !(command > 0.0)) return command;
+    // g(x) = x - Omega_c + T0(x) / c_m: positive at the command (T0 >= 0), at 0 with feed; a stall: no root
+    auto g = [&](double x) { return x - td.steady_speed(command, steady(x).torque); };
+    constexpr int scan = 1000;
+    double hi = command, lo = NAN;
+    for (int k = scan - 1; k >= 1 && std::isnan(lo); --k) {
+      const double x = command * k / scan;
+      if (g(x) < 0.0) lo = x;
+      else hi = x;
+    }
+    require(!std::isnan(lo), "top_drive.type", TopDrive::kind_name(td.kind),
+            "cannot carry steady drilling at operation.top_speed_rad_s = " + show(command) +
+                " rad/s: the steady torque on the bit (" + show(steady(command).torque) +
+                " N m at the command) is above the drive's torque at every speed (it stalls; a higher command, "
+                "top_drive.slope_nms_rad or top_drive.max_torque_nm, or a lighter WOB)");
+    for (int it = 0; it < 200 && hi - lo > 1e-13 * command; ++it) (g(0.5 * (lo + hi)) < 0.0 ? lo : hi) = 0.5 * (lo + hi);
+    return 0.5 * (lo + hi);
+  }
+
+  /// The top drives the coupled model runs: the ideal one, the rig's motor (its steady speed solved,
+  /// steady_speed) and a controlled one whose steady speed is its command (integral action: the
+  /// steady drilling it starts in is that at the command).
   static void require_drive(const TopDrive& td) {
-    require(!td.has_inertia() || td.has_controller(), "top_drive.type", TopDrive::kind_name(td.kind),
-            "is not implemented with axial.type = rgd (use ideal or controlled)");
     if (td.has_controller() && td.controller.tuned())
       require(!td.droops(), "top_drive.controller.ki_nm_rad", td.controller.ki,
               "must be positive with axial.type = rgd: the coupled model starts in steady drilling at the commanded "
@@ -296,6 +322,7 @@ class AxialTorsional {
       in[r].top_speed.validate("operation.top_speed_rad_s");
       in[r].eta.validate("eta");
       require_drive(in[r].top_drive);
+      require_drive_bound(in[r].top_drive);
       require(in[r].top_drive.kind == in[0].top_drive.kind, "top_drive.type", TopDrive::kind_name(in[r].top_drive.kind),
               "differs from the first run's (" + TopDrive::kind_name(in[0].top_drive.kind) +
                   "): the runs stepped together share the top drive's kind");
@@ -307,6 +334,18 @@ class AxialTorsional {
       else run_drive(L, in, obs, diverged_at);
       L.finish(*this, out);
     });
+  }
+
+  /// A top drive with inertia (motor, controlled) is stepped explicitly in the string's top torque on
+  /// both schemes, as in the torsional engine (Integrator::check_inputs): Eq. (A.7)'s bound of the
+  /// torsional modes coupled to the drive's inertia, and with modified Euler the axial modes' too.
+  void require_drive_bound(const TopDrive& td) const {
+    if (!td.has_inertia()) return;
+    const double w = Integrator::drive_omega_max(w2_, top_load_, top_torque_, td.inertia);
+    const double bound = M_PI / (5.0 * (opt_.scheme == Scheme::exact_modal ? w : std::max(w, axial_omega_max())));
+    require(opt_.dt < bound, "simulation.dt_s", opt_.dt,
+            "exceeds the stability bound with the " + TopDrive::kind_name(td.kind) + " top drive, dt < " + show(bound) +
+                " s (Eq. A.7 for the string coupled to top_drive.inertia_kg_m2 = " + show(td.inertia) + ")");
   }
 
   /// The exact modal scheme's bound from the cutting law's stiffness at the bit (the header's comment):
@@ -326,8 +365,8 @@ class AxialTorsional {
     Steady st;
   };
   RunStart run_start(const Inputs& in, const ModelState* start) const {
-    const double om0 = in.top_speed.at(0.0);
-    require_positive(om0, "operation.top_speed_rad_s");
+    require_positive(in.top_speed.at(0.0), "operation.top_speed_rad_s");
+    const double om0 = steady_speed(in.top_drive, in.top_speed.at(0.0));  // the motor's droop
     ModelState s0 = start ? *start : steady_torsion(om0);
     require(s0.q.size() == V_.rows() && s0.qdot.size() == V_.rows(), "initial_state", s0.q.size(),
             "has the wrong size (the model has " + show(V_.rows()) + " coordinates)");

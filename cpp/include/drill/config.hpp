@@ -164,8 +164,6 @@ struct Config {
     require((!axial.active() && !axial.coupled()) || sim.scheme != Scheme::bdf2, "axial.type",
             Axial::kind_name(axial.kind), "is implemented for simulation.scheme = modified_euler and exact_modal only");
     if (axial.coupled()) {
-      require(!top_drive.has_inertia() || top_drive.has_controller(), "top_drive.type",
-              TopDrive::kind_name(top_drive.kind), "is not implemented with axial.type = rgd (use ideal or controlled)");
       const int free_axial = string.n_elements() + (axial.rgd.top == AxialTop::hook_load ? 1 : 0);
       require(axial.rgd.modes <= free_axial, "axial.modes", axial.rgd.modes,
               "must be at most the number of free axial DOFs (" + show(free_axial) + ")");

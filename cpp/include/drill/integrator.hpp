@@ -208,9 +208,17 @@ class Integrator {
   /// continuous; a sampled loop holds its torque over the step and is checked by Jury's criterion).
   double stability_bound(const TopDrive& td) const {
     if (!td.has_inertia()) return stability_bound();
-    const Eigen::MatrixXd Ka = Eigen::MatrixXd(w2_.asDiagonal()) - top_load_ * top_torque_.transpose() / td.inertia;
-    const double w2max = Ka.eigenvalues().cwiseAbs().maxCoeff();
-    return M_PI / (5.0 * std::sqrt(std::max(w2max, omega_max_ * omega_max_)));
+    return M_PI / (5.0 * drive_omega_max(w2_, top_load_, top_torque_, td.inertia));
+  }
+
+  /// The largest frequency [rad/s] of the modes of squared frequencies w2 (modal basis, M = I) coupled
+  /// to a free top inertia J through the top's load and torque rows: the largest |eigenvalue| of
+  /// diag(w2) - top_load top_torque^T / J, at least the modes' own (stability_bound(td); the
+  /// axial-torsional model's bound with a top drive of inertia, axial_torsional.hpp).
+  static double drive_omega_max(const Eigen::VectorXd& w2, const Eigen::VectorXd& top_load,
+                                const Eigen::VectorXd& top_torque, double inertia) {
+    const Eigen::MatrixXd Ka = Eigen::MatrixXd(w2.asDiagonal()) - top_load * top_torque.transpose() / inertia;
+    return std::sqrt(std::max(Ka.eigenvalues().cwiseAbs().maxCoeff(), w2.maxCoeff()));
   }
 
   /// Elastic torque the top drive applies for a state of the model [N m].

@@ -109,7 +109,12 @@ class Simulation {
   /// The twist and the motor carry the total torque at the bit, c_v Omega and the string friction
   /// T_sf sign(Omega) of `operation.string_friction_nm` included.
   ModelState steady_state(double top_speed, double wob, double disturbance = 0.01) const {
-    if (coupled_) return coupled_->steady_torsion(top_speed, disturbance);  // axial.type = rgd: its steady torque
+    if (coupled_) {  // axial.type = rgd: its steady torque, at the drive's steady speed (the motor's droop)
+      const double om = coupled_->steady_speed(cfg_.top_drive, top_speed);
+      ModelState s = coupled_->steady_torsion(om, disturbance);
+      if (cfg_.top_drive.droops()) s.top_speed = om;
+      return s;
+    }
     const ReducedModel& r = rom_.model;
     const double om = steady_speed(top_speed, wob);
     ModelState s{r.K.ldlt().solve(-steady_torque(om, wob) * r.bit.transpose()), -disturbance * om * r.init_velocity};
@@ -205,12 +210,18 @@ class Simulation {
     return obs.report(std::move(last));
   }
 
-  /// The torsional start of a run of the coupled model `m` at top speed om0: steady drilling
-  /// (disturbed), or `start`'s state (rest: Eq. 2.10); the axial state is always steady drilling's.
+  /// The torsional start of a run of the coupled model `m` at top-speed command om0: steady drilling
+  /// (disturbed) at the drive's steady speed (AxialTorsional::steady_speed: the motor's droop), or
+  /// `start`'s state (rest: Eq. 2.10); the axial state is always steady drilling's.
   ModelState coupled_start(const AxialTorsional& m, double om0, StartMode start) const {
     std::optional<ModelState> s0;
-    if (start == StartMode::steady) s0 = m.steady_torsion(om0);
-    else s0 = start_state(start, om0, 0.0);
+    if (start == StartMode::steady) {
+      const double om = m.steady_speed(cfg_.top_drive, om0);
+      s0 = m.steady_torsion(om);
+      if (cfg_.top_drive.droops()) s0->top_speed = om;
+    } else {
+      s0 = start_state(start, om0, 0.0);
+    }
     if (!s0) s0 = integ_.initial_state(om0);  // rest: Eq. (2.10)
     return *s0;
   }
@@ -306,13 +317,14 @@ class Simulation {
     }
     RunObserver obs(cfg_, in, record);
     AxialReport ax;
-    const AxialTorsional::Steady st = m.steady(om0);
+    const double om_s = m.steady_speed(in.top_drive, om0);  // the command, or the motor's drooped speed
+    const AxialTorsional::Steady st = m.steady(om_s);
     ax.steady_wob = st.wob;
     ax.steady_rop = st.rop;
     ax.steady_depth = st.depth;
     ax.steady_torque = st.torque;
     const double face = M_PI * cfg_.axial.rgd.bit.radius * cfg_.axial.rgd.bit.radius;  // A = pi a^2
-    ax.steady_mse = (st.torque * om0 + st.wob * st.rop) / (face * st.rop);
+    ax.steady_mse = (st.torque * om_s + st.wob * st.rop) / (face * st.rop);
     const long stride = std::max(1L, cfg_.output_stride);
     const long every = std::max(1L, cfg_.sim.steps() / 1000);
     long next_report = progress ? 0 : LONG_MAX, count = 0, off = 0;

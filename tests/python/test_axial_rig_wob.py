@@ -1,0 +1,41 @@
+"""The coupled axial-torsional rig model (axial.type = rgd with the rig's motor and law) against sample
+175's WOB swing at the stick-slip cycle (benchmarks/axial_rig_wob.py, docs/axial.md "Sample 175's WOB").
+
+The bit's parameters come from the rig's description and RGD's published set, not from the WOB channel:
+the test asserts the sign of the swing (the WOB rises while the bit slows, as in the record), its order
+of magnitude, and that it grows with the cutting share (the depth of cut's delay is its source)."""
+import pytest
+
+from axial_rig_wob import model_swing, record_swing
+from drillpy.records import rigsim
+
+# the whole-rig model drillpy analyze calibrates on 0-20 s (rounded, as tests/python/test_bit_balance.py)
+LAW = {"type": "polynomial", "speed_unit": "rpm", "wob_ref_n": 562.9, "a0": 2.0906, "a1": -0.17888, "a2": 1.92968,
+       "a3": 0.0, "a4": 1.94462, "a5": -0.0031835, "a6": -3.0877e-05, "a7": 1.0397e-07, "ref_speed": 89.96, "gain": 1.36}
+
+
+@pytest.fixture(scope="module")
+def swings(testrig_record):
+    rec = record_swing(testrig_record, 0.0, 20.0)
+    m = rigsim.RigModel(LAW, 0.0303, "rig", 0.25, 0.0186, command_rad_s=17.27, jack_gain_n_rad=181.8,
+                        jack_relaxation_s=0.0987, platform_damping=0.75, gj_factor=1.0475,
+                        bit_inertia_factor=1.07, coupling_stiffness_nm_rad=41.0)
+    cfg = m.config(17.27, wob=rec["wob_mean"])
+    return rec, {eps: model_swing(cfg, eps, rec["wob_mean"], 15.0, 5.0) for eps in (30e6, 60e6)}
+
+
+def test_the_coupled_rig_swings_its_wob_against_the_bit_speed_as_the_record_does(swings):
+    rec, models = swings
+    assert rec["corr"] < -0.3 and rec["h_deg"] < -90.0  # the record: WOB up while the bit slows
+    for m in models.values():
+        assert m["steady_wob"] == pytest.approx(rec["wob_mean"], rel=1e-3)  # the jack's operating point
+        assert m["severity"] > 0.5  # it sticks and slips under the motor
+        assert m["corr"] < -0.5 and m["h_deg"] < -90.0  # the same sign
+        assert 0.1 < m["swing"] / rec["swing"] < 1.0  # the same order of magnitude (below it: the note)
+
+
+def test_the_swing_grows_with_the_cutting_share(swings):
+    _, models = swings
+    a, b = models[30e6], models[60e6]
+    assert b["cutting_wob"] == pytest.approx(2.0 * a["cutting_wob"], rel=0.02)
+    assert 1.5 < b["swing"] / a["swing"] < 3.0
