@@ -121,8 +121,8 @@ def model_swing(model_cfg: dict, eps: float, wob: float, duration: float, transi
     import drillpy
     from drillpy.model.simulation import simulate
     from drillpy.records.signals import rig_lowpass
-    l = wear_flat_for(model_cfg, eps, wob)
-    r = simulate(drillpy.load_config(config=coupled_config(model_cfg, eps, l, duration, transient)))
+    flat = wear_flat_for(model_cfg, eps, wob)
+    r = simulate(drillpy.load_config(config=coupled_config(model_cfg, eps, flat, duration, transient)))
     s = r.summary()
     keep = r.t >= transient
     fs = 1.0 / float(r.t[1] - r.t[0])
@@ -130,7 +130,7 @@ def model_swing(model_cfg: dict, eps: float, wob: float, duration: float, transi
     w = rig_lowpass(r.axial.wob, fs)[keep]
     out = swing(r.t[keep], v, w)
     d0 = s["steady_depth_of_cut_m"]
-    out.update(eps=eps, wear_flat=l, steady_wob=s["steady_wob_n"], depth=d0, cutting_wob=RADIUS * ZETA * eps * d0,
+    out.update(eps=eps, wear_flat=flat, steady_wob=s["steady_wob_n"], depth=d0, cutting_wob=RADIUS * ZETA * eps * d0,
                gain=RADIUS * ZETA * eps * d0 * BLADES / (2.0 * math.pi), severity=s["severity"],
                mean_top=float(np.mean(r.top_speed[keep])), mean_bit=float(np.mean(r.bit_speed[keep])))
     return out
