@@ -102,17 +102,14 @@ def wear_flat_for(model_cfg: dict, eps: float, wob: float) -> float:
     """The wear flat l that makes steady drilling's WOB the record's mean: a zeta eps d0 + a l sigma = W,
     d0 = 2 pi V0 / Omega_s at the motor's drooped steady speed, which falls as l raises the WOB and the
     law's torque with it: bisection on l, a wear flat at which the motor cannot carry steady drilling
-    (the engine refuses it: a fold of the feed's steady state) counted as too large."""
+    (no steady speed: a fold of the feed's steady state) counted as too large."""
     import drillpy
     from drillpy.model.simulation import simulate
     lo, hi = 0.0, wob / (RADIUS * eps)
     for _ in range(40):
         mid = 0.5 * (lo + hi)
-        try:
-            w0 = simulate(drillpy.load_config(config=coupled_config(model_cfg, eps, mid, 0.01, 0.0))).summary()[
-                "steady_wob_n"]
-        except ValueError:
-            w0 = math.inf
+        s = simulate(drillpy.load_config(config=coupled_config(model_cfg, eps, mid, 0.01, 0.0))).summary()
+        w0 = math.inf if s["steady_speed_rad_s"] is None else s["steady_wob_n"]
         lo, hi = (mid, hi) if w0 < wob else (lo, mid)
     return lo
 
@@ -124,13 +121,15 @@ def model_swing(model_cfg: dict, eps: float, wob: float, duration: float, transi
     flat = wear_flat_for(model_cfg, eps, wob)
     r = simulate(drillpy.load_config(config=coupled_config(model_cfg, eps, flat, duration, transient)))
     s = r.summary()
+    if s["steady_speed_rad_s"] is None:  # no steady drilling under the motor: the run stalls, no cycle
+        return dict(steady_speed=None, severity=s["severity"])
     keep = r.t >= transient
     fs = 1.0 / float(r.t[1] - r.t[0])
     v = rig_lowpass(r.bit_speed, fs)[keep]
     w = rig_lowpass(r.axial.wob, fs)[keep]
     out = swing(r.t[keep], v, w)
     d0 = s["steady_depth_of_cut_m"]
-    out.update(eps=eps, wear_flat=flat, steady_wob=s["steady_wob_n"], depth=d0, cutting_wob=RADIUS * ZETA * eps * d0,
+    out.update(steady_speed=s["steady_speed_rad_s"], eps=eps, wear_flat=flat, steady_wob=s["steady_wob_n"], depth=d0, cutting_wob=RADIUS * ZETA * eps * d0,
                gain=RADIUS * ZETA * eps * d0 * BLADES / (2.0 * math.pi), severity=s["severity"],
                mean_top=float(np.mean(r.top_speed[keep])), mean_bit=float(np.mean(r.bit_speed[keep])))
     return out
@@ -159,10 +158,10 @@ def main() -> None:
               f"{m['corr']:>6.2f} {m['corr_hp']:>8.2f} {m['h_abs']:>9.2f} {m['h_deg']:>6.0f}")
     row("record", rec)
     for eps in (float(x) for x in a.eps.split(",")):
-        try:
-            m = model_swing(model["config"], eps, rec["wob_mean"], a.duration, a.transient)
-        except ValueError as e:  # the feed's steady state has folded: the motor stalls under it
-            print(f"{f'model eps {eps / 1e6:g} MPa':>26} no steady drilling: {e}")
+        m = model_swing(model["config"], eps, rec["wob_mean"], a.duration, a.transient)
+        if m["steady_speed"] is None:  # the feed's steady state has folded: the motor stalls under it
+            print(f"{f'model eps {eps / 1e6:g} MPa':>26} no steady drilling: the motor cannot carry a "
+                  f"{FEED * 1e3:g} mm/s feed at any speed, even without wear flats (it stalls; SS {m['severity']:.2f})")
             continue
         row(f"model eps {eps / 1e6:g} MPa", m)
         print(f"{'':>26} wear flat {m['wear_flat'] * 1e3:.2f} mm, d0 {m['depth'] * 1e3:.3f} mm/rev, cutting WOB "

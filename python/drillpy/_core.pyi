@@ -145,6 +145,11 @@ class AxialReport:
         Rate of penetration of steady drilling [m/s].
         """
     @property
+    def steady_speed(self) -> float:
+        """
+        Speed of steady drilling under the top drive [rad/s]: the command, or a drooping drive's (the motor's); NaN where the drive cannot carry steady drilling (it stalls; the run starts from the command's steady drilling).
+        """
+    @property
     def steady_torque(self) -> float:
         """
         Torque on bit of steady drilling [N m].

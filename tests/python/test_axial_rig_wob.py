@@ -39,3 +39,42 @@ def test_the_swing_grows_with_the_cutting_share(swings):
     a, b = models[30e6], models[60e6]
     assert b["cutting_wob"] == pytest.approx(2.0 * a["cutting_wob"], rel=0.02)
     assert 1.5 < b["swing"] / a["swing"] < 3.0
+
+
+def _rig_coupled(tmp_path):
+    """The coupled rig model of benchmarks/axial_rig_wob.py (eps 30 MPa, the wear flat it finds for
+    sample 175's 565 N: 2.30 mm) as a configuration file, and its motor's command."""
+    import json
+    from axial_rig_wob import coupled_config
+    m = rigsim.RigModel(LAW, 0.0303, "rig", 0.25, 0.0186, command_rad_s=17.27, jack_gain_n_rad=181.8,
+                        jack_relaxation_s=0.0987, platform_damping=0.75, gj_factor=1.0475,
+                        bit_inertia_factor=1.07, coupling_stiffness_nm_rad=41.0)
+    cfg = coupled_config(m.config(17.27, wob=564.6), 30e6, 2.30e-3, 8.0, 4.0)
+    cfg["simulation"]["output_stride"] = 10
+    path = tmp_path / "rig_coupled.json"
+    path.write_text(json.dumps(cfg))
+    return path
+
+
+def test_the_coupled_rig_runs_from_the_cli_and_a_sweep_across_its_stall_answers_every_point(tmp_path):
+    """The motor's droop in simulate's text (the rig's WOB in N), and a sweep whose slowest command cannot
+    carry the feed's steady drilling (the motor stalls there) gives SS at every speed, not an error."""
+    import json
+    from conftest import run_cli
+    cfg = _rig_coupled(tmp_path)
+    r = run_cli("simulate", "--config", str(cfg), "--no-progress")
+    assert r.returncode == 0, r.stderr
+    assert " N (steady 56" in r.stdout and "kN" not in r.stdout  # 565 N, not "0.6 kN"
+    assert "steady drilling under the top drive at " in r.stdout
+    r = run_cli("simulate", "--config", str(cfg), "--no-progress", "--json")
+    s = json.loads(r.stdout)
+    assert 8.0 < s["steady_speed_rad_s"] < 10.0  # the motor's droop from its 17.27 rad/s command
+    r = run_cli("sweep", "--config", str(cfg), "--speeds", "8,17.27", "--no-progress", "--json",
+                "--out", str(tmp_path / "sweep"))
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)
+    ss = out["severity"] if "severity" in out else out["ss"]
+    assert len(ss) == 2 and all(x is not None for x in ss)
+    r = run_cli("simulate", "--config", str(cfg), "--no-progress", "--top-speed", "8")
+    assert r.returncode == 0, r.stderr
+    assert "no steady drilling under the top drive: it stalls" in r.stdout

@@ -257,10 +257,12 @@ class AxialTorsional {
   /// The speed [rad/s] of steady drilling under the top drive td at a top-speed command [rad/s]: the
   /// command for the ideal drive and a controller with integral action; for the rig's open-loop motor
   /// (drives/motor.hpp) the speed where its characteristic carries the steady torque on the bit,
-  /// Omega = Omega_c - T0(Omega) / c_m, below its torque limit. T0 depends on Omega with top = feed
-  /// (d0 = 2 pi V0 / Omega) and with axial.torque = law, and can have two such speeds: the highest is
-  /// taken (a scan down from the command, then bisection). Refused, naming the drive, when the motor
-  /// cannot carry steady drilling at any speed (it stalls).
+  /// Omega = Omega_c - T0(Omega) / c_m, below its torque limit (and for a controller without integral
+  /// action, Omega = Omega_c - T0(Omega) / kp: TopDrive::steady_speed). T0 depends on Omega with
+  /// top = feed (d0 = 2 pi V0 / Omega) and with axial.torque = law, and can have two such speeds: the
+  /// highest is taken (a scan down from the command, then bisection). NaN when the drive cannot carry
+  /// steady drilling at any speed: it stalls (its limit is below T0, or with a feed the two speeds
+  /// have merged: the slower the bit, the deeper its cut and the larger the torque).
   double steady_speed(const TopDrive& td, double command) const {
     if (!td.droops() || !(command > 0.0)) return command;
     // g(x) = x - Omega_c + T0(x) / c_m: positive at the command (T0 >= 0), at 0 with feed; a stall: no root
@@ -272,23 +274,31 @@ class AxialTorsional {
       if (g(x) < 0.0) lo = x;
       else hi = x;
     }
-    require(!std::isnan(lo), "top_drive.type", TopDrive::kind_name(td.kind),
-            "cannot carry steady drilling at operation.top_speed_rad_s = " + show(command) +
-                " rad/s: the steady torque on the bit (" + show(steady(command).torque) +
-                " N m at the command) is above the drive's torque at every speed (it stalls; a higher command, "
-                "top_drive.slope_nms_rad or top_drive.max_torque_nm, or a lighter WOB)");
+    if (std::isnan(lo)) return NAN;
     for (int it = 0; it < 200 && hi - lo > 1e-13 * command; ++it) (g(0.5 * (lo + hi)) < 0.0 ? lo : hi) = 0.5 * (lo + hi);
     return 0.5 * (lo + hi);
   }
 
-  /// The top drives the coupled model runs: the ideal one, the rig's motor (its steady speed solved,
-  /// steady_speed) and a controlled one whose steady speed is its command (integral action: the
-  /// steady drilling it starts in is that at the command).
-  static void require_drive(const TopDrive& td) {
-    if (td.has_controller() && td.controller.tuned())
-      require(!td.droops(), "top_drive.controller.ki_nm_rad", td.controller.ki,
-              "must be positive with axial.type = rgd: the coupled model starts in steady drilling at the commanded "
-              "speed, which a drive without integral action does not hold (it droops by T / kp)");
+  /// The speed a run under td at `command` starts from: steady_speed, or the command where the drive
+  /// cannot carry steady drilling (the run then starts from the command's steady drilling, which the
+  /// drive cannot hold: it stalls, and the run shows how).
+  double start_speed(const TopDrive& td, double command) const {
+    const double om = steady_speed(td, command);
+    return std::isnan(om) ? command : om;
+  }
+
+  /// Steady drilling (disturbed by `disturbance`) under the top drive td at a top-speed command: the
+  /// torsional state at the drive's steady speed (start_speed), with the top's speed in it for a
+  /// drive that droops, and a controller without integral action started with a zero integral and
+  /// mean torque, its proportional part carrying T0 at the drooped speed (as Simulation::steady_state
+  /// starts the torsional engine). A controller with integral action starts in equilibrium with the
+  /// string's top torque (drives/controlled.hpp).
+  ModelState steady_start(const TopDrive& td, double command, double disturbance = 0.01) const {
+    const double om = start_speed(td, command);
+    ModelState s = steady_torsion(om, disturbance);
+    if (td.droops()) s.top_speed = om;
+    if (td.has_controller() && td.droops()) s.drive_integral = s.drive_mean = 0.0;
+    return s;
   }
 
   /// Integrate from the torsional state `start` (or steady drilling, disturbed), the axial state at
@@ -321,7 +331,6 @@ class AxialTorsional {
     for (std::size_t r = 0; r < n; ++r) {
       in[r].top_speed.validate("operation.top_speed_rad_s");
       in[r].eta.validate("eta");
-      require_drive(in[r].top_drive);
       require_drive_bound(in[r].top_drive);
       require(in[r].top_drive.kind == in[0].top_drive.kind, "top_drive.type", TopDrive::kind_name(in[r].top_drive.kind),
               "differs from the first run's (" + TopDrive::kind_name(in[0].top_drive.kind) +
@@ -365,9 +374,10 @@ class AxialTorsional {
     Steady st;
   };
   RunStart run_start(const Inputs& in, const ModelState* start) const {
-    require_positive(in.top_speed.at(0.0), "operation.top_speed_rad_s");
-    const double om0 = steady_speed(in.top_drive, in.top_speed.at(0.0));  // the motor's droop
-    ModelState s0 = start ? *start : steady_torsion(om0);
+    const double command = in.top_speed.at(0.0);
+    require_positive(command, "operation.top_speed_rad_s");
+    const double om0 = start_speed(in.top_drive, command);  // a drive's droop
+    ModelState s0 = start ? *start : steady_start(in.top_drive, command);
     require(s0.q.size() == V_.rows() && s0.qdot.size() == V_.rows(), "initial_state", s0.q.size(),
             "has the wrong size (the model has " + show(V_.rows()) + " coordinates)");
     Eigen::VectorXd z = Vinv_ * s0.q, p = Vinv_ * s0.qdot, eta, r;

@@ -43,6 +43,7 @@ Json run_summary(const RunReport& r) {
     s["steady_depth_of_cut_m"] = a.steady_depth;
     s["steady_torque_nm"] = a.steady_torque;
     s["steady_mse_pa"] = a.steady_mse;
+    s["steady_speed_rad_s"] = finite_or_null(a.steady_speed);  // null: the drive cannot carry steady drilling
   }
   return s;
 }

@@ -34,6 +34,10 @@ struct AxialReport {
   double mse = NAN;
   double steady_wob = NAN, steady_rop = NAN, steady_depth = NAN, steady_torque = NAN;  ///< RGD steady drilling
   double steady_mse = NAN;  ///< MSE of steady drilling [Pa]
+  /// The speed of steady drilling under the top drive [rad/s]: the command, or a drooping drive's
+  /// speed (AxialTorsional::steady_speed); NaN where the drive cannot carry steady drilling (it stalls:
+  /// the run starts from the command's steady drilling, whose values the steady_* fields then hold).
+  double steady_speed = NAN;
   bool present() const { return std::isfinite(steady_wob); }
 };
 
@@ -65,7 +69,6 @@ class Simulation {
     // a controlled top drive is tuned from the top section's characteristic impedance and the
     // first natural frequency of the reduced model (string clamped at the top): controller.hpp
     if (cfg_.top_drive.has_controller()) cfg_.top_drive.tune_controller(top_impedance(), rom_.omega(0));
-    if (coupled_) AxialTorsional::require_drive(cfg_.top_drive);  // its tuned gains: integral action
   }
 
   /// The characteristic torsional impedance of the top section, Z = J_p sqrt(G rho) [N m s/rad].
@@ -109,12 +112,8 @@ class Simulation {
   /// The twist and the motor carry the total torque at the bit, c_v Omega and the string friction
   /// T_sf sign(Omega) of `operation.string_friction_nm` included.
   ModelState steady_state(double top_speed, double wob, double disturbance = 0.01) const {
-    if (coupled_) {  // axial.type = rgd: its steady torque, at the drive's steady speed (the motor's droop)
-      const double om = coupled_->steady_speed(cfg_.top_drive, top_speed);
-      ModelState s = coupled_->steady_torsion(om, disturbance);
-      if (cfg_.top_drive.droops()) s.top_speed = om;
-      return s;
-    }
+    // axial.type = rgd: its steady torque, at the drive's steady speed (a motor's or a P controller's droop)
+    if (coupled_) return coupled_->steady_start(cfg_.top_drive, top_speed, disturbance);
     const ReducedModel& r = rom_.model;
     const double om = steady_speed(top_speed, wob);
     ModelState s{r.K.ldlt().solve(-steady_torque(om, wob) * r.bit.transpose()), -disturbance * om * r.init_velocity};
@@ -211,17 +210,12 @@ class Simulation {
   }
 
   /// The torsional start of a run of the coupled model `m` at top-speed command om0: steady drilling
-  /// (disturbed) at the drive's steady speed (AxialTorsional::steady_speed: the motor's droop), or
+  /// (disturbed) at the drive's steady speed (AxialTorsional::steady_start: a drive's droop), or
   /// `start`'s state (rest: Eq. 2.10); the axial state is always steady drilling's.
   ModelState coupled_start(const AxialTorsional& m, double om0, StartMode start) const {
     std::optional<ModelState> s0;
-    if (start == StartMode::steady) {
-      const double om = m.steady_speed(cfg_.top_drive, om0);
-      s0 = m.steady_torsion(om);
-      if (cfg_.top_drive.droops()) s0->top_speed = om;
-    } else {
-      s0 = start_state(start, om0, 0.0);
-    }
+    if (start == StartMode::steady) s0 = m.steady_start(cfg_.top_drive, om0);
+    else s0 = start_state(start, om0, 0.0);
     if (!s0) s0 = integ_.initial_state(om0);  // rest: Eq. (2.10)
     return *s0;
   }
@@ -317,7 +311,8 @@ class Simulation {
     }
     RunObserver obs(cfg_, in, record);
     AxialReport ax;
-    const double om_s = m.steady_speed(in.top_drive, om0);  // the command, or the motor's drooped speed
+    ax.steady_speed = m.steady_speed(in.top_drive, om0);  // the command, a drive's drooped speed, or NaN (stall)
+    const double om_s = m.start_speed(in.top_drive, om0);
     const AxialTorsional::Steady st = m.steady(om_s);
     ax.steady_wob = st.wob;
     ax.steady_rop = st.rop;

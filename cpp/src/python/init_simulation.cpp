@@ -92,6 +92,10 @@ void bind_axial_report(py::module_& m) {
                  "(torque x bit speed + WOB x axial speed, over pi a^2 x advance) [Pa]; NaN without advance.");
   c.def_readonly("steady_mse", &AxialReport::steady_mse,
                  "MSE of steady drilling, W / A + T Omega / (A V) (Teale 1965) [Pa].");
+  c.def_readonly("steady_speed", &AxialReport::steady_speed,
+                 "Speed of steady drilling under the top drive [rad/s]: the command, or a drooping drive's (the "
+                 "motor's); NaN where the drive cannot carry steady drilling (it stalls; the run starts from the "
+                 "command's steady drilling).");
   c.def_property_readonly("present", &AxialReport::present, "True for a run of the axial-torsional model.");
 }
 

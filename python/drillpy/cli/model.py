@@ -6,6 +6,7 @@ them into one library call and prints the result (text, or one JSON line with ``
 from __future__ import annotations
 
 import argparse
+import math
 
 import numpy as np
 
@@ -130,10 +131,16 @@ def cmd_simulate(a: argparse.Namespace) -> int:
             f"periodic over {r.period_cycles} cycle(s)")
     ax = r.axial  # the axial-torsional model (axial.type = rgd): WOB, ROP and bit bounce beside SS
     if ax is not None:
-        text += (f"\nWOB = {ax.mean_wob / 1e3:.1f} +- {ax.wob_std / 1e3:.1f} kN (steady {ax.steady_wob / 1e3:.1f} kN), "
+        # kN for a field string's WOB, N for a rig's (below 10 kN: a swing of tens of N would print as 0.0 kN)
+        k, unit = (1e3, "kN") if abs(ax.steady_wob) >= 1e4 else (1.0, "N")
+        text += (f"\nWOB = {ax.mean_wob / k:.1f} +- {ax.wob_std / k:.1f} {unit} (steady {ax.steady_wob / k:.1f} {unit}), "
                  f"ROP = {ax.mean_rop * 3600:.2f} +- {ax.rop_std * 3600:.2f} m/h (steady {ax.steady_rop * 3600:.2f} m/h), "
                  f"bit bounce fraction = {ax.bounce_fraction:.3f}, MSE = {ax.mse / 1e6:.1f} MPa "
                  f"(steady {ax.steady_mse / 1e6:.1f} MPa)")
+        if not math.isfinite(ax.steady_speed):  # a motor that cannot carry steady drilling
+            text += "\nno steady drilling under the top drive: it stalls (the run starts from the command's steady drilling)"
+        elif ax.steady_speed != r.config["operation"]["top_speed_rad_s"]:  # a drooping drive
+            text += f"\nsteady drilling under the top drive at {ax.steady_speed:.3f} rad/s"
     print(dumps(r.summary(), indent=None) if a.json else text)
     return 0
 
