@@ -25,6 +25,10 @@ WOB's oscillation is fitted: the bit's parameters come from the rig's descriptio
   section 5.1) at the bit; one axial mode (the bit on the bar's spring, 140 Hz: far above the 2.7 Hz
   cycle; the next mode, 1.7 kHz, would need a step below Eq. A.7's 0.06 ms), damping ratio 0.05.
 
+Each eps runs twice: under the constant feed, and under the jack top (axial.top = "jack": the same free
+feed, less kappa per N of the string's force above the record's mean WOB, kappa = 1 / (tau k) with tau
+the rig model's jack relaxation and k :func:`axial_stiffness`).
+
 Prints for the record and for the model (both channels through the rig's 10 Hz filter): the cycle
 frequency (the bit speed's Welch peak), the WOB's standard deviation above 0.5 Hz, the swing at the cycle
 frequency (sqrt 2 x the standard deviation of the WOB band-passed at f_c +- 0.6 Hz), its correlation
@@ -85,20 +89,34 @@ def record_swing(path: Path, t0: float, t1: float) -> dict:
     return swing(rec.time_s, rec.bit_speed, rec.wob, rec.valid("bit_speed", "wob"))
 
 
-def coupled_config(model_cfg: dict, eps: float, wear_flat: float, duration: float, t_transient: float) -> dict:
-    """The rig model's engine configuration with its jack replaced by the coupled model's RGD bit."""
+def axial_stiffness(eps: float) -> float:
+    """The axial stiffness between the top and the rock [N/m]: the bar's E A / L (1.53 m, section 5.1) in
+    series with the cut's N a zeta eps (a bit displaced by dU deepens the cut by N dU)."""
+    bar = 220e9 * math.pi * BAR_RADIUS ** 2 / 1.53
+    return 1.0 / (1.0 / bar + 1.0 / (BLADES * RADIUS * ZETA * eps))
+
+
+def coupled_config(model_cfg: dict, eps: float, wear_flat: float, duration: float, t_transient: float,
+                   jack: tuple | None = None) -> dict:
+    """The rig model's engine configuration with its jack replaced by the coupled model's RGD bit, under a
+    constant feed, or with ``jack = (W_s [N], tau [s])`` under the jack top (axial.top = jack: the feed
+    less kappa per N above the set force W_s, kappa = 1 / (tau k), k :func:`axial_stiffness`, so that the
+    WOB relaxes towards W_s in about tau)."""
     c = json.loads(json.dumps(model_cfg))
     c["axial"] = dict(type="rgd", top="feed", rop_m_s=FEED, torque="law", modes=1, damping_ratio=0.05,
                       bit_mass_kg=DISK_MASS,
                       bit=dict(radius_m=RADIUS, blades=BLADES, specific_energy_pa=eps, contact_strength_pa=eps,
                                zeta=ZETA, wear_flat_m=wear_flat, gamma=GAMMA, mu=MU))
     c["operation"].pop("wob_n", None)  # with a feed top the WOB is the bit's response
+    if jack is not None:
+        c["axial"].update(top="jack", jack_admittance_m_s_n=1.0 / (jack[1] * axial_stiffness(eps)))
+        c["operation"]["wob_n"] = float(jack[0])
     c["simulation"].update(start="steady", duration_s=duration, transient_s=t_transient, output_stride=1)
     c.pop("sensors", None)
     return c
 
 
-def wear_flat_for(model_cfg: dict, eps: float, wob: float) -> float:
+def wear_flat_for(model_cfg: dict, eps: float, wob: float, jack: tuple | None = None) -> float:
     """The wear flat l that makes steady drilling's WOB the record's mean: a zeta eps d0 + a l sigma = W,
     d0 = 2 pi V0 / Omega_s at the motor's drooped steady speed, which falls as l raises the WOB and the
     law's torque with it: bisection on l, a wear flat at which the motor cannot carry steady drilling
@@ -108,18 +126,20 @@ def wear_flat_for(model_cfg: dict, eps: float, wob: float) -> float:
     lo, hi = 0.0, wob / (RADIUS * eps)
     for _ in range(40):
         mid = 0.5 * (lo + hi)
-        s = simulate(drillpy.load_config(config=coupled_config(model_cfg, eps, mid, 0.01, 0.0))).summary()
+        s = simulate(drillpy.load_config(config=coupled_config(model_cfg, eps, mid, 0.01, 0.0, jack))).summary()
         w0 = math.inf if s["steady_speed_rad_s"] is None else s["steady_wob_n"]
         lo, hi = (mid, hi) if w0 < wob else (lo, mid)
     return lo
 
 
-def model_swing(model_cfg: dict, eps: float, wob: float, duration: float, transient: float) -> dict:
+def model_swing(model_cfg: dict, eps: float, wob: float, duration: float, transient: float,
+                jack_relaxation: float | None = None) -> dict:
     import drillpy
     from drillpy.model.simulation import simulate
     from drillpy.records.signals import rig_lowpass
-    flat = wear_flat_for(model_cfg, eps, wob)
-    r = simulate(drillpy.load_config(config=coupled_config(model_cfg, eps, flat, duration, transient)))
+    jack = None if jack_relaxation is None else (wob, jack_relaxation)  # the set force: the mean WOB
+    flat = wear_flat_for(model_cfg, eps, wob, jack)
+    r = simulate(drillpy.load_config(config=coupled_config(model_cfg, eps, flat, duration, transient, jack)))
     s = r.summary()
     if s["steady_speed_rad_s"] is None:  # no steady drilling under the motor: the run stalls, no cycle
         return dict(steady_speed=None, severity=s["severity"])
@@ -150,20 +170,24 @@ def main() -> None:
     head = (f"{'':>26} {'f_c Hz':>7} {'WOB mean':>9} {'sd>0.5Hz':>9} {'swing N':>8} {'corr':>6} {'corr>0.5':>8} "
             f"{'|W/v| N s':>9} {'phase':>6}")
     print(f"sample 175, {a.t0:g}-{a.t1:g} s; the coupled rig model: {a.duration:g} s, the first {a.transient:g} s "
-          f"left out; both through the 10 Hz filter")
+          f"left out; both through the 10 Hz filter; feed: {FEED * 1e3:g} mm/s at the top; jack: the same free feed "
+          f"relaxing the WOB to the record's mean in the rig model's {model['rig']['parameters']['jack_relaxation_s']['value']:.3f} s")
     print(head)
 
     def row(name, m):
         print(f"{name:>26} {m['fc']:>7.3f} {m['wob_mean']:>9.1f} {m['wob_sd_hp']:>9.1f} {m['swing']:>8.1f} "
               f"{m['corr']:>6.2f} {m['corr_hp']:>8.2f} {m['h_abs']:>9.2f} {m['h_deg']:>6.0f}")
     row("record", rec)
-    for eps in (float(x) for x in a.eps.split(",")):
-        m = model_swing(model["config"], eps, rec["wob_mean"], a.duration, a.transient)
+    tau = model["rig"]["parameters"]["jack_relaxation_s"]["value"]
+    for eps, top in ((float(x), t) for x in a.eps.split(",") for t in ("feed", "jack")):
+        m = model_swing(model["config"], eps, rec["wob_mean"], a.duration, a.transient,
+                        tau if top == "jack" else None)
+        name = f"{top} eps {eps / 1e6:g} MPa"
         if m["steady_speed"] is None:  # the feed's steady state has folded: the motor stalls under it
-            print(f"{f'model eps {eps / 1e6:g} MPa':>26} no steady drilling: the motor cannot carry a "
+            print(f"{name:>26} no steady drilling: the motor cannot carry a "
                   f"{FEED * 1e3:g} mm/s feed at any speed, even without wear flats (it stalls; SS {m['severity']:.2f})")
             continue
-        row(f"model eps {eps / 1e6:g} MPa", m)
+        row(name, m)
         print(f"{'':>26} wear flat {m['wear_flat'] * 1e3:.2f} mm, d0 {m['depth'] * 1e3:.3f} mm/rev, cutting WOB "
               f"{m['cutting_wob']:.0f} of {m['steady_wob']:.0f} N, g = W_c N / 2 pi {m['gain']:.0f} N/rad; "
               f"SS {m['severity']:.2f}, mean top {m['mean_top']:.2f}, bit {m['mean_bit']:.2f} rad/s")

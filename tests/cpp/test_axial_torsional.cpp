@@ -303,6 +303,81 @@ TEST(AxialTorsional, ControllerWithoutIntegralActionDrillsSteadilyAtItsDroopedSp
   }
 }
 
+// The rig's jack as the top boundary (axial.top = jack): the top fed at V0 less kappa per N of the
+// string's force on it above the set force W_s. Steady drilling balances the jack's feed with the cut,
+// Omega d0 / (2 pi) = V0 + kappa (W_s - W0(d0)), and is an equilibrium of both schemes (the string with
+// all its modes: the static string's force on the top is W0 to round-off); with an ideal drive and with
+// the rig's open-loop motor (Omega_s from both balances).
+TEST(AxialTorsional, JackTopDrillsSteadilyWhereItsFeedBalancesTheCut) {
+  for (Scheme scheme : {Scheme::modified_euler, Scheme::exact_modal}) {
+    for (bool motor : {false, true}) {
+      Config c = rgd_full_modes(AxialTop::jack, scheme);
+      c.axial.rgd.feed_rate = 0.01;      // 36 m/h free feed
+      c.axial.rgd.top_force = 150e3;     // the set force [N]
+      c.axial.rgd.jack_admittance = 1e-7;  // m/s per N: 10 mm/s less per 100 kN above the set force
+      if (!motor) c.top_drive.kind = TopDrive::Kind::ideal;
+      else c.top_drive.slope = 1e4;
+      c.axial.rgd.disturbance = 0.0;
+      const Simulation sim(c);
+      const AxialTorsional& m = *sim.coupled();
+      const double om = m.steady_speed(c.top_drive, c.top_speed);
+      const AxialTorsional::Steady st = m.steady(om);
+      const RgdBit& b = c.axial.rgd.bit;
+      const double kap = c.axial.rgd.jack_admittance;
+      const std::string what = std::string(motor ? "motor " : "ideal ") + to_string(scheme);
+      EXPECT_NEAR(st.rop, c.axial.rgd.feed_rate + kap * (c.axial.rgd.top_force - st.wob), 1e-12) << what;
+      EXPECT_NEAR(st.rop, om * st.depth / (2.0 * M_PI), 1e-15) << what;
+      EXPECT_NEAR(st.wob, test::rgd_steady_wob(b, st.depth), 1e-9 * st.wob) << what;
+      if (motor) EXPECT_NEAR(om, c.top_speed - st.torque / c.top_drive.slope, 1e-11 * c.top_speed) << what;
+      const ModelState s0 = sim.steady_state(c.top_speed, 0.0, 0.0);
+      const Trace tr = test::coupled_trace(sim, &s0);
+      for (std::size_t i = 0; i < tr.s.size(); i += 97) {
+        ASSERT_NEAR(tr.a[i].wob, st.wob, 1e-7 * st.wob) << what << " t = " << tr.a[i].t;
+        ASSERT_NEAR(tr.a[i].rop, st.rop, 1e-7 * st.rop) << what << " t = " << tr.a[i].t;
+        ASSERT_NEAR(tr.a[i].position - tr.a[0].position, st.rop * tr.a[i].t, 1e-12 + 1e-7 * st.rop * tr.a[i].t)
+            << what;
+        ASSERT_NEAR(tr.s[i].bit_speed, om, 1e-9 * om) << what << " t = " << tr.a[i].t;
+        ASSERT_NEAR(tr.s[i].torque_on_bit, st.torque, 1e-7 * st.torque) << what << " t = " << tr.a[i].t;
+      }
+    }
+  }
+}
+
+// The jack between its limits, from RGD's steady drilling disturbed (rgd-field, 4 rad/s): a vanishing
+// admittance is the constant feed (the WOB series differs from the feed's in proportion to kappa), and a
+// stiff one holds the mean WOB at the set force as a hook load would (within 2 %).
+TEST(AxialTorsional, JackTopIsTheFeedAtZeroAdmittanceAndHoldsItsForceWhenStiff) {
+  Config feed = rgd(20.0);
+  test::steady_start(feed, AxialTop::feed);
+  feed.axial.rgd.disturbance = 0.01;
+  const RunReport rf = Simulation(feed).run(Simulation(feed).inputs(), true);
+  Config jack = feed;
+  jack.axial.rgd.top = AxialTop::jack;
+  jack.axial.rgd.top_force = jack.wob = 150e3;
+  auto wob_difference = [&](double kappa) {  // the largest difference of the WOB series from the feed's
+    jack.axial.rgd.jack_admittance = kappa;
+    const Simulation sj(jack);
+    const RunReport rj = sj.run(sj.inputs(), true);
+    EXPECT_EQ(rj.axial.wob.size(), rf.axial.wob.size());
+    double dw = 0.0;
+    for (std::size_t i = 0; i < rf.axial.wob.size(); ++i) dw = std::max(dw, std::fabs(rj.axial.wob[i] - rf.axial.wob[i]));
+    return dw;
+  };
+  // first order in kappa (2.4e-2 and 2.5e-3 N on this run), 2.5e-8 of the steady WOB at 1e-16
+  const double d15 = wob_difference(1e-15), d16 = wob_difference(1e-16);
+  EXPECT_LT(d16, 1e-7 * rf.axial.steady_wob);
+  EXPECT_GT(d15 / d16, 8.0);
+  EXPECT_LT(d15 / d16, 12.0);
+  EXPECT_GT(rf.axial.wob_std, 0.01 * rf.axial.steady_wob);  // the feed's WOB swings with the cycle
+  // kappa a zeta eps = 39 >> Omega / (2 pi) = 0.64: the set force carries the cut (steady W0 149.2 kN);
+  // kappa x the string's 4.7e5 N/m x dt = 2.3e-3: the explicit update is stable
+  jack.axial.rgd.jack_admittance = 1e-5;
+  const Simulation stiff(jack);
+  const RunReport rs = stiff.run(stiff.inputs(), false);
+  EXPECT_NEAR(rs.axial.mean_wob, 150e3, 0.02 * 150e3);
+  EXPECT_TRUE(std::isfinite(rs.severity));
+}
+
 // The motor gives way: from steady drilling disturbed, at a speed where RGD's bit sticks and slips
 // under the ideal drive, the motor's top swings with the cycle; a run has the same bits alone and in a
 // batch, on 1 and 2 threads; under a torque limit below the steady torque there is no steady drilling
@@ -466,6 +541,27 @@ TEST(AxialTorsional, ConfigurationErrorsNameTheField) {
                       {"inertia_kg_m2", 2000.0},
                       {"controller", {{"type", "stiff"}, {"torque_limit_nm", 5000.0}}}};
     refused(x, "top_drive.controller.torque_limit_nm");
+  }
+  // the jack top: its admittance and free feed required, the admittance refused on another top, the
+  // set force named when it cannot advance the bit; and its configuration round-trips
+  {
+    json x = j;
+    x["axial"]["top"] = "jack";
+    x["axial"]["rop_m_s"] = 0.005;
+    refused(x, "axial.jack_admittance_m_s_n");
+    x["axial"]["jack_admittance_m_s_n"] = 1e-7;
+    const Config c = parse_config(x);
+    EXPECT_EQ(c.axial.rgd.top, AxialTop::jack);
+    EXPECT_EQ(to_json(parse_config(to_json(c))), to_json(c));
+    json y = x;
+    y["operation"]["wob_n"] = 1e3;  // 5 mm/s + 1e-7 (1 kN - 71 kN) < 0: the jack would retract
+    refused(y, "operation.wob_n");
+    json z = j;
+    z["axial"]["jack_admittance_m_s_n"] = 1e-7;  // on the hook load
+    refused(z, "axial.jack_admittance_m_s_n");
+    json w = x;
+    w["axial"].erase("rop_m_s");
+    refused(w, "axial.rop_m_s");
   }
   // the configuration round-trips through JSON
   const Config c = preset("rgd-field");

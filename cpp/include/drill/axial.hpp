@@ -54,14 +54,22 @@ struct AxialTorsionalSpec {
   double damping_ratio = 0.05;  ///< modal damping ratio of the axial modes (damping = modal)
   double damping_rate = NAN;    ///< k [1/s] of damping = distributed: ratio k / omega_j on mode j
   double bit_mass = 0.0;      ///< lumped axial mass at the bit [kg]
-  double feed_rate = NAN;     ///< V0 with top = feed [m/s]
-  double top_force = NAN;     ///< net force down at the top with top = hook_load [N] (the steady WOB)
+  double feed_rate = NAN;     ///< V0 with top = feed, the jack's free feed with top = jack [m/s]
+  double top_force = NAN;     ///< net force down at the top with top = hook_load (the steady WOB), the jack's set force W_s [N]
+  double jack_admittance = NAN;  ///< kappa [m/s per N] with top = jack: X' = V0 + kappa (W_s - F_top)
   double disturbance = 0.01;  ///< start: the bit's axial speed is (1 - disturbance) V0 (0: steady; > 1: upwards)
 
   /// The depth of cut per revolution of steady drilling at bit speed omega [rad/s]: 2 pi V0 / omega with
   /// top = feed, RGD's balance W0 = a zeta eps d0 + a l sigma with the hook load's W0 (rgd_bit.hpp).
+  /// With top = jack the jack's feed carries the WOB of the cut: omega d0 / (2 pi) = V0 + kappa (W_s - W0(d0)),
+  /// W0(d) = a zeta eps d + a l sigma, so d0 = (V0 + kappa (W_s - a l sigma)) / (omega / (2 pi) + kappa a zeta eps)
+  /// (0 if the jack cannot feed: the bit then rests on the rock).
   double steady_depth(double omega) const {
-    return top == AxialTop::feed ? 2.0 * M_PI * feed_rate / omega : bit.steady_depth(top_force);
+    if (top == AxialTop::feed) return 2.0 * M_PI * feed_rate / omega;
+    if (top == AxialTop::jack)
+      return std::max(0.0, (feed_rate + jack_admittance * (top_force - bit.contact_wob())) /
+                               (omega / (2.0 * M_PI) + jack_admittance * bit.cutting_wob_per_depth()));
+    return bit.steady_depth(top_force);
   }
 
   /// The axial modes' damping (axial_string.hpp).
@@ -82,8 +90,19 @@ struct AxialTorsionalSpec {
     require_non_negative(bit_mass, where + ".bit_mass_kg");
     require(std::isfinite(disturbance) && std::fabs(disturbance) <= 1000.0, where + ".disturbance", disturbance,
             "must be in [-1000, 1000]");
+    require(top == AxialTop::jack || std::isnan(jack_admittance), where + ".jack_admittance_m_s_n", jack_admittance,
+            "is used with " + where + ".top = jack only");
     if (top == AxialTop::feed) {
       require_positive(feed_rate, where + ".rop_m_s");
+    } else if (top == AxialTop::jack) {
+      require_positive(feed_rate, where + ".rop_m_s");
+      require_positive(top_force, "operation.wob_n");
+      require(std::isfinite(jack_admittance) && jack_admittance > 0.0, where + ".jack_admittance_m_s_n",
+              jack_admittance, "must be a positive number with " + where + ".top = jack (the jack's speed lost per N "
+              "of force above operation.wob_n)");
+      require(feed_rate + jack_admittance * (top_force - bit.contact_wob()) > 0.0, "operation.wob_n", top_force,
+              "is too low for the jack to advance the bit: rop_m_s + kappa (wob_n - a l sigma) <= 0 with a l sigma = " +
+                  show(bit.contact_wob()) + " N (the wear flats' contact force): the bit would not cut");
     } else {
       require_positive(top_force, "operation.wob_n");
       require(top_force > bit.contact_wob(), "operation.wob_n", top_force,

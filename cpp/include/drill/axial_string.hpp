@@ -10,6 +10,12 @@
 //               V0 t is clamped at the top (nodes 1..n free), a fixed-free bar whose natural
 //               frequencies tend to (2k - 1) c / (4 L), c = sqrt(E / rho), for a uniform string
 //               (tests/cpp/test_axial_string.cpp);
+//  * jack       the top is driven by a force-regulated feed, the rig's electrical jack (thesis section
+//               5.1): the top moves at X' = V0 + kappa (W_s - F_top), F_top the string's axial force at
+//               the top and W_s the set force; the coordinates are relative to the moving top, clamped
+//               there as with feed, and the top's acceleration X'' loads them through top_load (the
+//               axial counterpart of the torsional top's, modal.hpp). kappa -> 0 is feed; a large kappa
+//               holds F_top at W_s as a hook load would;
 //  * hook_load  the top is free and pushed down by a constant force (the string's submerged weight
 //               less the hook load, the WOB of steady drilling): a free-free bar with its rigid mode.
 //               (The weight of a uniform vertical string is a distributed constant load; on a linear
@@ -42,7 +48,9 @@
 
 namespace drill {
 
-enum class AxialTop { feed, hook_load };
+enum class AxialTop { feed, hook_load, jack };
+/// The top is clamped in a frame moving with it (feed, jack): the coordinates are relative to it.
+inline bool moving_frame(AxialTop t) { return t != AxialTop::hook_load; }
 
 /// The damping of the axial modes (axial.damping; the header's comment).
 enum class AxialDamping { modal, distributed };
@@ -69,7 +77,8 @@ struct AxialModalDamping {
   }
 };
 
-inline constexpr Named<AxialTop> axial_top_names[] = {{AxialTop::hook_load, "hook_load"}, {AxialTop::feed, "feed"}};
+inline constexpr Named<AxialTop> axial_top_names[] = {
+    {AxialTop::hook_load, "hook_load"}, {AxialTop::feed, "feed"}, {AxialTop::jack, "jack"}};
 inline AxialTop parse_axial_top(const std::string& s) {
   return parse_name(axial_top_names, s, "axial.top", "top boundary");
 }
@@ -99,8 +108,12 @@ struct AxialROM {
   Eigen::VectorXd omega;    ///< natural circular frequencies [rad/s] (hook_load: the first is 0)
   Eigen::VectorXd damping;  ///< modal damping 2 zeta omega [1/s]
   Eigen::VectorXd bit;      ///< the bit node's row of the basis: U_bit = bit . eta (+ V0 t with feed)
-  Eigen::VectorXd top_row;  ///< the top node's row (hook_load; zero with feed)
+  Eigen::VectorXd top_row;  ///< the top node's row (hook_load; zero with feed and jack)
   Eigen::VectorXd uniform;  ///< Phi^T M 1: the modal velocity of a rigid axial motion at unit speed
+  /// feed and jack (the top clamped in a frame moving with it): the string's axial force on the top,
+  /// F_top = top_force . eta (K(free, top)^T Phi: the WOB in a static string), and the load of the
+  /// frame's acceleration, -top_load X'' (Phi^T (M 1 + M(free, top))); zero with hook_load
+  Eigen::VectorXd top_force, top_load;
   double mass = 0.0;        ///< total mass of the string and the bit [kg]
   int size() const { return static_cast<int>(omega.size()); }
 };
@@ -110,7 +123,7 @@ inline AxialROM build_axial_rom(const StringModel& s, AxialTop top, int modes, c
                                 double bit_mass = 0.0) {
   const FEMatrices fe = assemble_axial(s, bit_mass);
   const Eigen::Index nn = fe.M.rows();
-  const Eigen::Index first = top == AxialTop::feed ? 1 : 0;  // feed: the top node is clamped (moving frame)
+  const Eigen::Index first = moving_frame(top) ? 1 : 0;  // feed, jack: the top node is clamped (moving frame)
   const Eigen::Index n = nn - first;
   require(modes >= 1 && modes <= n, "axial.modes", modes,
           "must be between 1 and the number of free axial DOFs (" + show(n) + ")");
@@ -126,6 +139,11 @@ inline AxialROM build_axial_rom(const StringModel& s, AxialTop top, int modes, c
   r.bit = phi.row(n - 1).transpose();
   r.top_row = top == AxialTop::hook_load ? Eigen::VectorXd(phi.row(0).transpose()) : Eigen::VectorXd::Zero(modes);
   r.uniform = phi.transpose() * M * Eigen::VectorXd::Ones(n);
+  r.top_force = r.top_load = Eigen::VectorXd::Zero(modes);
+  if (moving_frame(top)) {
+    r.top_force = phi.transpose() * fe.K.col(0).tail(n);
+    r.top_load = phi.transpose() * (M * Eigen::VectorXd::Ones(n) + fe.M.col(0).tail(n));
+  }
   r.mass = fe.M.sum();
   return r;
 }

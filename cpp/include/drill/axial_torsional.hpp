@@ -6,9 +6,12 @@
 //   z'' + D z' + diag(w^2) z = -b T - l Omega'(t),          bit speed  Omega_b = Omega(t) + b . z'
 //   e'' + C e' + diag(k^2) e = -c W + h F_top,              bit advance U = V0 t + c . e   (feed)
 //                                                                       U = c . e        (hook_load)
+//   e'' + C e' + diag(k^2) e = -c W - l_a X'',              U = X(t) + c . e,  X' = V0 + kappa (W_s - f . e)  (jack)
 // (C diagonal: 2 zeta k_j with axial.damping = modal, 2 k_d on the elastic modes with distributed,
 // D = 2 k_d M; axial_string.hpp)
-// with F_top the constant net force at the top (hook_load; 0 with feed), and W, T the RGD weight and
+// with F_top the constant net force at the top (hook_load; 0 with feed and jack), the jack's top X(t)
+// fed at V0 less kappa per N of the string's force on it f . e above its set force W_s (the rig's
+// electrical jack, thesis section 5.1; l_a its inertia load, axial_string.hpp), and W, T the RGD weight and
 // torque on bit at the depth of cut d = N [U - S(Phi_b - 2 pi / N)] (the rock surface S of the blade
 // ahead, bit_profile.hpp). A uniform string with infinite axial stiffness and one torsional mode is
 // RGD's own two-degree-of-freedom model (their M U'' = W_0 - W, I Phi'' + C (Phi - Omega_0 t) = -T).
@@ -467,6 +470,51 @@ class AxialTorsional {
     }
   };
 
+  /// The axial top of the lanes, the frame the axial coordinates are relative to: feed (X = V0 t),
+  /// hook_load (none: X = 0, the string free) or the jack, whose feed speed is a state of each lane,
+  /// V_i+1 = V0 + kappa (W_s - F_top,i) with F_top,i = top_force . eta at the step's start (explicit in
+  /// the string's force, as a top drive's step is in its torque), X advanced by the trapezoid; its
+  /// acceleration dV = (V_i+1 - V_i) / dt loads the axial modes through -top_load (axial_string.hpp).
+  struct AxialFrame {
+    bool jack = false;
+    double v0 = 0.0, kappa = 0.0, set_force = 0.0, dt = 0.0;
+    std::vector<double> X, V, V1, dV, F;  ///< per lane: position, speed, next speed, acceleration, F_top
+
+    template <class Run0>
+    AxialFrame(const AxialTorsionalSpec& spec, const std::vector<Run0>& run0, double dt_)
+        : jack(spec.top == AxialTop::jack), v0(moving_frame(spec.top) ? spec.feed_rate : 0.0),
+          kappa(jack ? spec.jack_admittance : 0.0), set_force(jack ? spec.top_force : 0.0), dt(dt_) {
+      const std::size_t n = run0.size();
+      X.assign(n, 0.0);
+      V1.assign(n, 0.0);
+      dV.assign(n, 0.0);
+      F.assign(n, 0.0);
+      V.resize(n);
+      for (std::size_t l = 0; l < n; ++l) V[l] = jack ? run0[l].st.rop : v0;  // steady drilling's feed
+    }
+    /// The string's force on the top of every lane, for the jack (nullptr: no sum needed).
+    double* force() { return jack ? F.data() : nullptr; }
+    /// The jack's next speeds and the step's accelerations (nothing for feed and hook_load).
+    void next() {
+      if (!jack) return;
+      for (std::size_t l = 0; l < V.size(); ++l) {
+        V1[l] = v0 + kappa * (set_force - F[l]);
+        dV[l] = (V1[l] - V[l]) / dt;
+      }
+    }
+    double position(std::size_t l, double t) const { return jack ? X[l] : v0 * t; }
+    double speed(std::size_t l) const { return jack ? V[l] : v0; }
+    /// The position and speed at the step's end (after next()).
+    double end_position(std::size_t l, double t1) const { return jack ? X[l] + 0.5 * dt * (V[l] + V1[l]) : v0 * t1; }
+    double end_speed(std::size_t l) const { return jack ? V1[l] : v0; }
+    /// Lane l takes the step.
+    void advance(std::size_t l) {
+      if (!jack) return;
+      X[l] += 0.5 * dt * (V[l] + V1[l]);
+      V[l] = V1[l];
+    }
+  };
+
   /// The modified Euler scheme (the header's comment) on the lanes of L.
   template <class Drive, class Observer>
   DRILL_AXIAL_FLATTEN void run_drive(Lanes<Drive>& L, const Inputs* in, Observer* obs, double* diverged_at) const {
@@ -475,7 +523,8 @@ class AxialTorsional {
     const std::size_t n = L.n;
     const int mt = static_cast<int>(w2_.size()), ma = ax_.size();
     const RgdBit& b = spec_.bit;
-    const double v_feed = spec_.top == AxialTop::feed ? spec_.feed_rate : 0.0, F_top = top_force();
+    const double F_top = top_force();
+    AxialFrame frame(spec_, L.run0, dt);
     const double cw = b.cutting_wob_per_depth(), ct = b.cutting_torque_per_depth(), Wf_max = b.contact_wob(),
                  ctw = b.contact_torque_per_wob();
     const double gt = bit_.squaredNorm(), ga = ax_.bit.squaredNorm();
@@ -484,18 +533,19 @@ class AxialTorsional {
     // modes, -C e' - k^2 e and the top force (load top_row) on the axial ones; the passes over the modes
     // (euler_lanes.hpp) also sum the bit's rows: b . z, b . p, b . f and the top's torque, c . e, c . e', c . f
     const Eigen::VectorXd negd = -d_, neg_top_load = -top_load_, negc = -ax_.damping,
-                          k2 = ax_.omega.cwiseProduct(ax_.omega);
+                          k2 = ax_.omega.cwiseProduct(ax_.omega), neg_ax_top_load = -ax_.top_load;
     const Eigen::MatrixXd Drow = D_.transpose();  // row-major D (dense damping)
     std::vector<double> ft(mt * n), fa(ma * n), om(n), om_next(n), dom(n), bp(n), ar(n), at(n), aa(n), T(n, 0.0),
         W(n, 0.0);
     const EulerModes tor{mt, n, dt, bit_.data(), top_torque_.data(), diag_damping_ ? negd.data() : nullptr,
                          w2_.data(), nullptr, 0.0, L.z.data(), L.p.data(), ft.data()};
-    const EulerModes axl{ma, n, dt, ax_.bit.data(), nullptr, negc.data(), k2.data(), ax_.top_row.data(), F_top,
-                         L.eta.data(), L.r.data(), fa.data()};
+    // the jack's top: the string's force on it summed with the axial pass (its row top_force)
+    const EulerModes axl{ma, n, dt, ax_.bit.data(), frame.jack ? ax_.top_force.data() : nullptr, negc.data(),
+                         k2.data(), ax_.top_row.data(), F_top, L.eta.data(), L.r.data(), fa.data()};
     auto modes = [&](bool update) {  // Eqs. (A.5)-(A.6) with the step's T and W, then the next step's forces and sums
       tor.pass(update, T.data(), L.bz.data(), bp.data(), at.data(), L.T_top.data());
       if (!diag_damping_) tor.dense_forces(Drow.data(), at.data());
-      axl.pass(update, W.data(), L.ce.data(), ar.data(), aa.data(), nullptr);
+      axl.pass(update, W.data(), L.ce.data(), ar.data(), aa.data(), frame.force());
     };
     modes(false);
     std::vector<LawHistory> hist(n);  // Eq. (A.1)'s accelerations of the last steps (by_law)
@@ -507,11 +557,15 @@ class AxialTorsional {
         dom[l] = L.drive[l]->accel(t, om[l], om_next[l]);    // and its acceleration over the step
       }
       tor.add_load(neg_top_load.data(), dom.data(), at.data());
+      if (frame.jack) {  // the jack's speed at the next step and the load of its acceleration
+        frame.next();
+        axl.add_load(neg_ax_top_load.data(), frame.dV.data(), aa.data());
+      }
       for (std::size_t l = 0; l < n; ++l) {
         T[l] = W[l] = 0.0;
         if (!L.live[l]) continue;
         const double Ob = om[l] + bp[l], Phi = L.theta_top[l] + L.bz[l];
-        const double U = v_feed * t + L.ce[l], V = v_feed + ar[l];
+        const double U = frame.position(l, t) + L.ce[l], V = frame.speed(l) + ar[l];
         const double alpha_t = at[l] + dom[l], alpha_a = aa[l];
         const BitProfile::Cut cut = L.profile[l].cut(t, Phi, U);  // the depth of cut and the delay t_N
         const double d = cut.depth;
@@ -556,7 +610,8 @@ class AxialTorsional {
         if (!L.live[l]) continue;
         L.theta_top[l] += 0.5 * dt * (om[l] + om_next[l]);
         L.om_state[l] = om_next[l];
-        L.profile[l].record(t + dt, L.theta_top[l] + L.bz[l], v_feed * (t + dt) + L.ce[l]);
+        frame.advance(l);
+        L.profile[l].record(t + dt, L.theta_top[l] + L.bz[l], frame.position(l, t + dt) + L.ce[l]);
       }
     }
   }
@@ -569,7 +624,8 @@ class AxialTorsional {
     const long steps = opt_.steps();
     const std::size_t n = L.n;
     const RgdBit& b = spec_.bit;
-    const double v_feed = spec_.top == AxialTop::feed ? spec_.feed_rate : 0.0, F_top = top_force();
+    const double F_top = top_force();
+    AxialFrame frame(spec_, L.run0, dt);
     const double cw = b.cutting_wob_per_depth(), ct = b.cutting_torque_per_depth(), Wf_max = b.contact_wob(),
                  ctw = b.contact_torque_per_wob();
     const int mt = et_.modes, ma = ea_.modes;
@@ -583,15 +639,15 @@ class AxialTorsional {
     std::vector<double> unused(n);
     const EulerModes tor{mt, n, dt, bit_.data(), top_torque_.data(), nullptr, nullptr, nullptr, 0.0, L.z.data(),
                          L.p.data(), nullptr};
-    const EulerModes axl{ma, n, dt, ax_.bit.data(), nullptr, nullptr, nullptr, nullptr, 0.0, L.eta.data(), L.r.data(),
-                         nullptr};
+    const EulerModes axl{ma, n, dt, ax_.bit.data(), frame.jack ? ax_.top_force.data() : nullptr, nullptr, nullptr,
+                         nullptr, 0.0, L.eta.data(), L.r.data(), nullptr};
     const EulerModes tor_free{mt, n, dt, bit_.data(), nullptr, nullptr, nullptr, nullptr, 0.0, zs.data(), ps.data(),
                               nullptr};
     const EulerModes axl_free{ma, n, dt, ax_.bit.data(), nullptr, nullptr, nullptr, nullptr, 0.0, es.data(), rs.data(),
                               nullptr};
     // the state at t = 0 and the forces the first step starts from: steady drilling's
     tor.pass(false, nullptr, L.bz.data(), Ob.data(), nullptr, L.T_top.data());
-    axl.pass(false, nullptr, L.ce.data(), ar.data(), nullptr, nullptr);
+    axl.pass(false, nullptr, L.ce.data(), ar.data(), nullptr, frame.force());
     for (std::size_t l = 0; l < n; ++l) {
       const Steady& st = L.run0[l].st;
       om[l] = L.drive[l]->speed(0.0, L.om_state[l]);
@@ -603,7 +659,7 @@ class AxialTorsional {
       obs[l](static_cast<const StepState&>(
                  StepState{0, 0.0, Ob[l], 0.0, L.bz[l], T0[l], L.T_top[l], om[l], L.drive[l]->torque(), W0[l]}),
              static_cast<const AxialStep&>(
-                 AxialStep{0.0, W0[l], v_feed + ar[l], L.ce[l], cut.depth, cut.delay, cut.depth > 0.0}));
+                 AxialStep{0.0, W0[l], frame.speed(l) + ar[l], L.ce[l], cut.depth, cut.delay, cut.depth > 0.0}));
     }
     std::vector<double> V(n), d(n), delay(n);
     std::vector<char> contact(n), rest_a(n), held_t(n), held_a(n);
@@ -614,10 +670,11 @@ class AxialTorsional {
         om1[l] = L.drive[l]->next(t, om[l], L.T_top[l]);
         dom[l] = (om1[l] - om[l]) / dt;  // the top's acceleration averaged over the step
       }
+      frame.next();  // the jack's speed at the step's end: its acceleration loads the axial modes (prepare_exact)
       exact_modal_free(mt, n, kt.data(), bit_.data(), L.z.data(), L.p.data(), dom.data(), T0.data(), zs.data(),
                        ps.data(), w.data());
-      exact_modal_free(ma, n, ka.data(), ax_.bit.data(), L.eta.data(), L.r.data(), top.data(), W0.data(), es.data(),
-                       rs.data(), wa.data());
+      exact_modal_free(ma, n, ka.data(), ax_.bit.data(), L.eta.data(), L.r.data(),
+                       frame.jack ? frame.dV.data() : top.data(), W0.data(), es.data(), rs.data(), wa.data());
       tor_free.pass(false, nullptr, bzs.data(), unused.data(), nullptr, nullptr);
       axl_free.pass(false, nullptr, ces.data(), unused.data(), nullptr, nullptr);
       for (std::size_t l = 0; l < n; ++l) {
@@ -626,7 +683,7 @@ class AxialTorsional {
         const double theta1 = L.theta_top[l] + 0.5 * dt * (om[l] + om1[l]);
         // the rock surface at the angle the bit reaches with T_i+1 = T_i (explicit in the angle), and d_p,
         // the depth of cut at the axial position it reaches with W_i+1 = W_i
-        const double Phi_p = theta1 + bzs[l] - zt1_ * T0[l], U_p = v_feed * t1 + ces[l] - za1_ * W0[l];
+        const double Phi_p = theta1 + bzs[l] - zt1_ * T0[l], U_p = frame.end_position(l, t1) + ces[l] - za1_ * W0[l];
         const BitProfile::Cut cut = L.profile[l].cut(t1, Phi_p, U_p);
         const bool turning = Ob[l] > bit_rest_tolerance(om[l]);
         const double fl = std::max(0.0, 1.0 + in[l].eta.at(t1));
@@ -641,7 +698,7 @@ class AxialTorsional {
           ha = ra = false;
           if (cont) {
             const double Wc = cw * dl;
-            exact_axial(v_feed + wa[l], W0[l], turning ? Wc : 0.0, Wc + Wf_max, Wl, ha, ra);
+            exact_axial(frame.end_speed(l) + wa[l], W0[l], turning ? Wc : 0.0, Wc + Wf_max, Wl, ha, ra);
             Wf = std::min(Wl - (turning ? Wc : 0.0), Wf_max);
           }
           const double dn = cut.depth - b.blades * (ha ? za0_ + za1_ : za1_) * (Wl - W0[l]);
@@ -678,18 +735,20 @@ class AxialTorsional {
       exact_modal_close(mt, n, kt.data(), zs.data(), ps.data(), T.data(), dT0.data(), L.z.data(), L.p.data());
       exact_modal_close(ma, n, ka.data(), es.data(), rs.data(), W.data(), dW0.data(), L.eta.data(), L.r.data());
       tor.pass(false, nullptr, L.bz.data(), unused.data(), nullptr, L.T_top.data());
-      axl.pass(false, nullptr, L.ce.data(), ar.data(), nullptr, nullptr);
+      axl.pass(false, nullptr, L.ce.data(), ar.data(), nullptr, frame.force());
       for (std::size_t l = 0; l < n; ++l) {
         if (!L.live[l]) continue;
         L.om_state[l] = om1[l];
-        const double v1 = om1[l] + x1[l], V1 = rest_a[l] ? 0.0 : v_feed + ar[l];
-        L.profile[l].record(t1, L.theta_top[l] + L.bz[l], v_feed * t1 + L.ce[l]);
+        frame.advance(l);
+        const double v1 = om1[l] + x1[l], V1 = rest_a[l] ? 0.0 : frame.speed(l) + ar[l];
+        L.profile[l].record(t1, L.theta_top[l] + L.bz[l], frame.position(l, t1) + L.ce[l]);
         // the step's mean forces (exact_modal.hpp): the end ones where they are held over the step
         const double Tm = held_t[l] ? T[l] : 0.5 * (T0[l] + T[l]), Wm = held_a[l] ? W[l] : 0.5 * (W0[l] + W[l]);
         const double a_bit = (v1 - Ob[l]) / dt;
         obs[l](static_cast<const StepState&>(StepState{i + 1, t1, v1, a_bit, L.theta_top[l] + L.bz[l], Tm, L.T_top[l],
                                                        om1[l], L.drive[l]->torque(), Wm}),
-               static_cast<const AxialStep&>(AxialStep{t1, Wm, V1, v_feed * t1 + L.ce[l], d[l], delay[l], contact[l] != 0}));
+               static_cast<const AxialStep&>(
+                   AxialStep{t1, Wm, V1, frame.position(l, t1) + L.ce[l], d[l], delay[l], contact[l] != 0}));
         Ob[l] = v1;
         T0[l] = T[l];
         W0[l] = W[l];
@@ -770,7 +829,11 @@ class AxialTorsional {
                 " N/m on the bit's axial modal gain g_a = " + show(ax_.bit.squaredNorm()) +
                 " 1/kg, the depth of cut's iteration in the bit's axial position: a smaller dt)");
     et_ = ExactModal::build(w2_, d_, bit_, top_load_, opt_.dt);
-    ea_ = ExactModal::build(ax_.omega.cwiseAbs2(), ax_.damping, ax_.bit, -ax_.top_row, opt_.dt);
+    // the axial modes' "top acceleration": the hook load's F_top on the load -(-top_row), or the jack's
+    // acceleration on -top_load (the moving frame's inertia)
+    ea_ = ExactModal::build(ax_.omega.cwiseAbs2(), ax_.damping, ax_.bit,
+                            spec_.top == AxialTop::jack ? Eigen::VectorXd(ax_.top_load) : Eigen::VectorXd(-ax_.top_row),
+                            opt_.dt);
     zt1_ = za0_ = za1_ = 0.0;
     for (int j = 0; j < et_.modes; ++j) zt1_ += bit_(j) * et_.at(j, ExactModal::hz1);
     for (int j = 0; j < ea_.modes; ++j) {

@@ -33,7 +33,8 @@
 //          | {"type": "jack", "gain_n_rad": g, "relaxation_s": tau}
 //                                                  (the WOB as a state, axial.hpp:
 //                                                   W' = g (Omega_f - v) - (W - W_s) / tau),
-//          | {"type": "rgd", "top": "hook_load" | "feed", "rop_m_s" (feed), "modes",
+//          | {"type": "rgd", "top": "hook_load" | "feed" | "jack", "rop_m_s" (feed, jack),
+//             "jack_admittance_m_s_n" (jack), "modes",
 //             "damping": "modal" | "distributed", "damping_ratio" (modal), "damping_rate_per_s" (distributed),
 //             "bit_mass_kg", "disturbance", "torque": "rgd" | "law",
 //             "bit": {"radius_m", "specific_energy_pa", "contact_strength_pa", "zeta", "wear_flat_m",
@@ -164,7 +165,7 @@ struct Config {
     require((!axial.active() && !axial.coupled()) || sim.scheme != Scheme::bdf2, "axial.type",
             Axial::kind_name(axial.kind), "is implemented for simulation.scheme = modified_euler and exact_modal only");
     if (axial.coupled()) {
-      const int free_axial = string.n_elements() + (axial.rgd.top == AxialTop::hook_load ? 1 : 0);
+      const int free_axial = string.n_elements() + (moving_frame(axial.rgd.top) ? 0 : 1);
       require(axial.rgd.modes <= free_axial, "axial.modes", axial.rgd.modes,
               "must be at most the number of free axial DOFs (" + show(free_axial) + ")");
       require(bit_viscous == 0.0, "operation.bit_viscous_nms", bit_viscous, "is not implemented with axial.type = rgd");
@@ -427,14 +428,21 @@ inline Tables make_tables() {
             &A::gain},
            {number("relaxation_s", "tau: the jack's time constant [s]").positive().req(), &A::relaxation}}},
          {A::kind_name(A::Kind::rgd),
-          {{text("top", "top boundary: hook_load (constant force operation.wob_n down at the top) or feed (constant "
-                        "rate of penetration rop_m_s)",
+          {{text("top", "top boundary: hook_load (constant force operation.wob_n down at the top), feed (constant "
+                        "rate of penetration rop_m_s) or jack (the rig's force-regulated feed: the top moves at "
+                        "rop_m_s + jack_admittance_m_s_n (operation.wob_n - F_top), F_top the string's force on it)",
                  names_of(axial_top_names))
                 .def(to_string(ad.top)),
             [](const A& a) { return to_string(a.rgd.top); },
             [](A& a, const std::string& v) { a.rgd.top = parse_axial_top(v); }},
-           {number("rop_m_s", "V0: the top's constant feed rate with top = feed [m/s]").positive(),
+           {number("rop_m_s", "V0: the top's constant feed rate with top = feed, the jack's free feed with top = "
+                              "jack [m/s]")
+                .positive(),
             [](auto& a) -> auto& { return a.rgd.feed_rate; }},
+           {number("jack_admittance_m_s_n", "kappa: the jack's feed speed lost per N of the string's force on the top "
+                                            "above operation.wob_n, with top = jack [m/s per N]")
+                .positive(),
+            [](auto& a) -> auto& { return a.rgd.jack_admittance; }},
            {integer("modes", "retained axial modes, at most the free axial DOFs").at_least(1).def(ad.modes),
             [](auto& a) -> auto& { return a.rgd.modes; }},
            {text("damping", "damping of the axial modes: modal (damping_ratio on every mode) or distributed "
@@ -653,8 +661,9 @@ inline Config parse_config(const json& j) {
     c.law = detail::parse_law(j.at("law"));
   }
   if (rgd && !feed && !(j.contains("operation") && j.at("operation").contains("wob_n")))
-    throw std::invalid_argument("operation.wob_n: missing (required with axial.type = rgd, top = hook_load: the "
-                                "net force down at the top, the WOB of steady drilling)");
+    throw std::invalid_argument("operation.wob_n: missing (required with axial.type = rgd and top = hook_load or "
+                                "jack: the net force down at the top, the WOB of steady drilling, or the jack's set "
+                                "force)");
   if (feed && j.contains("operation") && j.at("operation").contains("wob_n"))
     throw std::invalid_argument("operation.wob_n = " + j.at("operation").at("wob_n").dump() +
                                 ": not used with axial.top = feed (the WOB follows from axial.rop_m_s): remove it");
@@ -677,11 +686,13 @@ inline Config parse_config(const json& j) {
     if (c.axial.coupled()) {
       AxialTorsionalSpec& x = c.axial.rgd;
       if (c.wob > 0.0) x.top_force = c.wob;
-      if (x.top == AxialTop::feed && !a.contains("rop_m_s"))
+      if (moving_frame(x.top) && !a.contains("rop_m_s"))
         throw std::invalid_argument("axial.rop_m_s: missing (required number)");
-      if (x.top != AxialTop::feed && a.contains("rop_m_s"))
+      if (!moving_frame(x.top) && a.contains("rop_m_s"))
         throw std::invalid_argument("axial.rop_m_s = " + a.at("rop_m_s").dump() +
-                                    ": only with axial.top = feed (hook_load sets the WOB, operation.wob_n)");
+                                    ": only with axial.top = feed or jack (hook_load sets the WOB, operation.wob_n)");
+      if (x.top == AxialTop::jack && !a.contains("jack_admittance_m_s_n"))
+        throw std::invalid_argument("axial.jack_admittance_m_s_n: missing (required number with axial.top = jack)");
       if (x.damping == AxialDamping::distributed && a.contains("damping_ratio"))
         throw std::invalid_argument("axial.damping_ratio = " + a.at("damping_ratio").dump() +
                                     ": not used with axial.damping = distributed (the ratio on mode j is "

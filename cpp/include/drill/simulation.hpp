@@ -235,7 +235,8 @@ class Simulation {
 
   /// SS of the axial-torsional model on a grid (sweep_severity with axial.type = rgd): result[w *
   /// speeds.size() + s]. With top = hook_load a WOB of `wobs` is the net force at the top, the WOB of
-  /// steady drilling (operation.wob_n), one coupled model per WOB; with top = feed the WOB is the bit's
+  /// steady drilling (operation.wob_n), with top = jack the jack's set force, one coupled model per
+  /// WOB; with top = feed the WOB is the bit's
   /// response, not an input, and `wobs` must be empty. Each run starts as run_coupled starts it, from
   /// `start` (other than steady: the torsional state only). The speeds of one WOB in batches of
   /// BatchedIntegrator::width() runs stepped together (AxialTorsional::run_lanes; `batched` false:
@@ -243,9 +244,9 @@ class Simulation {
   std::vector<double> sweep_coupled(const std::vector<double>& speeds, const std::vector<double>& wobs,
                                     const ProgressFn& progress, int threads, StartMode start, bool batched) const {
     const AxialTorsionalSpec& base = cfg_.axial.rgd;
-    require(wobs.empty() || base.top == AxialTop::hook_load, "sweep.wobs_n", wobs.size(),
+    require(wobs.empty() || base.top != AxialTop::feed, "sweep.wobs_n", wobs.size(),
             "values given, but with axial.top = feed the WOB is the bit's response, not an input (sweep "
-            "axial.rop_m_s in separate runs, or use axial.top = hook_load)");
+            "axial.rop_m_s in separate runs, or use axial.top = hook_load or jack)");
     std::vector<AxialTorsional> models;
     if (wobs.empty()) {
       models.push_back(*coupled_);
