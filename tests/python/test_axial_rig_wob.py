@@ -91,3 +91,32 @@ def test_the_jack_top_holds_the_mean_wob_and_keeps_the_sign(swings):
     assert j["wob_mean"] == pytest.approx(rec["wob_mean"], rel=0.02)
     assert j["corr"] < -0.5 and j["h_deg"] < -90.0
     assert 0.3 < j["swing"] / f["swing"] < 0.9
+
+
+def test_the_rgd_rig_preset_sticks_slips_and_swings_its_wob_against_the_bit_speed():
+    """drillpy's coupled rig (preset rgd-rig, docs/presets.md): under the rated motor and the jack it
+    drills below the command (the motor's droop), sticks and slips at 2-4 Hz, holds the mean WOB near the
+    565 N set force and swings it against the bit speed; 20 s of it from the CLI's JSON and the series."""
+    import json
+    import numpy as np
+    import drillpy
+    from conftest import run_cli
+    from drillpy.model.simulation import simulate
+    from drillpy.records.signals import rig_lowpass
+    from axial_rig_wob import swing
+    r = run_cli("simulate", "--preset", "rgd-rig", "--duration", "20", "--json", "--no-progress")
+    assert r.returncode == 0, r.stderr
+    s = json.loads(r.stdout)
+    assert 5.0 < s["steady_speed_rad_s"] < 17.27  # the motor's droop from its command
+    assert s["severity"] > 0.5 and s["stick_fraction"] > 0.05
+    assert s["mean_wob_n"] == pytest.approx(565.0, rel=0.02)
+    assert s["wob_std_n"] > 1.0
+    cfg = drillpy.load_config(preset="rgd-rig")
+    cfg["simulation"].update(duration_s=20.0, output_stride=1)
+    res = simulate(cfg)
+    keep = res.t >= cfg["simulation"]["transient_s"]
+    fs = 1.0 / float(res.t[1] - res.t[0])
+    m = swing(res.t[keep], rig_lowpass(res.bit_speed, fs)[keep], rig_lowpass(res.axial.wob, fs)[keep])
+    assert 2.0 < m["fc"] < 4.0
+    assert m["corr"] < -0.5 and m["h_deg"] < -90.0
+    assert np.isfinite(m["swing"]) and m["swing"] > 1.0

@@ -9,7 +9,8 @@ from drillpy.model.config import thesis_law, with_overrides
 
 
 def test_presets_load_normalized():
-    assert set(drillpy.preset_names()) == {"thesis-field", "thesis-ch4", "thesis-rig", "thesis-ch6", "rgd-field"}
+    assert set(drillpy.preset_names()) == {"thesis-field", "thesis-ch4", "thesis-rig", "thesis-ch6", "rgd-field",
+                                             "rgd-rig"}
     c = drillpy.load_config(preset="thesis-field")
     assert [s["elements"] for s in c["string"]["sections"]] == [91, 9]
     assert c["law"]["speed_unit"] == "rpm" and c["law"]["beta1"] == 0.14
