@@ -38,10 +38,7 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "benchmarks"))
 
-# the rig model drillpy analyze calibrates on sample 175, 0-20 s (rounded; tests/python/test_bit_balance.py)
-LAW = {"type": "polynomial", "speed_unit": "rpm", "wob_ref_n": 562.9, "a0": 2.0906, "a1": -0.17888, "a2": 1.92968,
-       "a3": 0.0, "a4": 1.94462, "a5": -0.0031835, "a6": -3.0877e-05, "a7": 1.0397e-07, "ref_speed": 89.96, "gain": 1.36}
-SET_FORCE, TAU, EPS, COMMAND = 565.0, 0.1, 30e6, 17.27
+SET_FORCE, TAU, EPS, COMMAND = 565.0, 0.1, 30e6, 17.27  # the rgd-rig preset's (docs/presets.md)
 TRANSIENT = 5.0
 
 
@@ -60,8 +57,10 @@ def compare(blades: int, duration: float = 30.0) -> dict:
     from axial_rig_wob import BAR_RADIUS, RADIUS, ZETA, coupled_config
     from drillpy.model.simulation import simulate
     from drillpy.records import rigsim
-    motor = (0.25, 0.0186, 8.0)
-    base = rigsim.rig_config(LAW, 0.03, top_speed=COMMAND, wob=SET_FORCE, motor=motor, duration_s=duration)
+    rig = drillpy.load_config(preset="rgd-rig")  # its law (Eq. 5.1 identified on sample 175), motor, damping
+    law, td = rig["law"], rig["top_drive"]
+    motor = (td["slope_nms_rad"], td["inertia_kg_m2"], td["max_torque_nm"])
+    base = rigsim.rig_config(law, 0.03, top_speed=COMMAND, wob=SET_FORCE, motor=motor, duration_s=duration)
     k_bar = 220e9 * math.pi * BAR_RADIUS ** 2 / 1.7
     k = 1.0 / (1.0 / k_bar + 1.0 / (blades * RADIUS * ZETA * EPS))
     kappa = 1.0 / (TAU * k)
@@ -82,7 +81,7 @@ def compare(blades: int, duration: float = 30.0) -> dict:
     rc = simulate(drillpy.load_config(config=coupled(lo, duration)))
     sc = rc.summary()
     gain = k * sc["steady_depth_of_cut_m"] / (2.0 * math.pi)
-    jack = rigsim.rig_config(LAW, 0.03, top_speed=COMMAND, wob=SET_FORCE, motor=motor, axial=(gain, TAU),
+    jack = rigsim.rig_config(law, 0.03, top_speed=COMMAND, wob=SET_FORCE, motor=motor, axial=(gain, TAU),
                              duration_s=duration)
     jack["simulation"].update(output_stride=1, start="steady")
     rj = simulate(drillpy.load_config(config=jack))

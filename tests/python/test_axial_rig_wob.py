@@ -6,12 +6,12 @@ the test asserts the sign of the swing (the WOB rises while the bit slows, as in
 of magnitude, and that it grows with the cutting share (the depth of cut's delay is its source)."""
 import pytest
 
+import drillpy
 from axial_rig_wob import model_swing, record_swing
 from drillpy.records import rigsim
 
-# the whole-rig model drillpy analyze calibrates on 0-20 s (rounded, as tests/python/test_bit_balance.py)
-LAW = {"type": "polynomial", "speed_unit": "rpm", "wob_ref_n": 562.9, "a0": 2.0906, "a1": -0.17888, "a2": 1.92968,
-       "a3": 0.0, "a4": 1.94462, "a5": -0.0031835, "a6": -3.0877e-05, "a7": 1.0397e-07, "ref_speed": 89.96, "gain": 1.36}
+# the law of the whole-rig model drillpy analyze calibrates on 0-20 s (rounded): the rgd-rig preset's
+LAW = drillpy.load_config(preset="rgd-rig")["law"]
 
 
 @pytest.fixture(scope="module")
@@ -99,7 +99,6 @@ def test_the_rgd_rig_preset_sticks_slips_and_swings_its_wob_against_the_bit_spee
     565 N set force and swings it against the bit speed; 20 s of it from the CLI's JSON and the series."""
     import json
     import numpy as np
-    import drillpy
     from conftest import run_cli
     from drillpy.model.simulation import simulate
     from drillpy.records.signals import rig_lowpass
