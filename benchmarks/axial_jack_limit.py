@@ -54,15 +54,14 @@ def _stats(r) -> dict:
 def compare(blades: int, duration: float = 30.0) -> dict:
     """Both models' statistics and the jack's parameters for a cut of `blades` cutting edges."""
     import drillpy
-    from axial_rig_wob import BAR_RADIUS, RADIUS, ZETA, coupled_config
+    from axial_rig_wob import RADIUS, axial_stiffness, coupled_config
     from drillpy.model.simulation import simulate
     from drillpy.records import rigsim
     rig = drillpy.load_config(preset="rgd-rig")  # its law (Eq. 5.1 identified on sample 175), motor, damping
     law, td = rig["law"], rig["top_drive"]
     motor = (td["slope_nms_rad"], td["inertia_kg_m2"], td["max_torque_nm"])
     base = rigsim.rig_config(law, 0.03, top_speed=COMMAND, wob=SET_FORCE, motor=motor, duration_s=duration)
-    k_bar = 220e9 * math.pi * BAR_RADIUS ** 2 / 1.7
-    k = 1.0 / (1.0 / k_bar + 1.0 / (blades * RADIUS * ZETA * EPS))
+    k = axial_stiffness(EPS, blades)
     kappa = 1.0 / (TAU * k)
 
     def coupled(flat: float, d: float) -> dict:

@@ -89,11 +89,12 @@ def record_swing(path: Path, t0: float, t1: float) -> dict:
     return swing(rec.time_s, rec.bit_speed, rec.wob, rec.valid("bit_speed", "wob"))
 
 
-def axial_stiffness(eps: float) -> float:
-    """The axial stiffness between the top and the rock [N/m]: the bar's E A / L (1.53 m, section 5.1) in
-    series with the cut's N a zeta eps (a bit displaced by dU deepens the cut by N dU)."""
-    bar = 220e9 * math.pi * BAR_RADIUS ** 2 / 1.53
-    return 1.0 / (1.0 / bar + 1.0 / (BLADES * RADIUS * ZETA * eps))
+def axial_stiffness(eps: float, blades: int = BLADES) -> float:
+    """The axial stiffness between the top and the rock [N/m]: the simulated bar's E A / L (the 1.7 m of
+    Table 5.1, as the thesis-rig string) in series with the cut's N a zeta eps (a bit displaced by dU
+    deepens the cut by N dU)."""
+    bar = 220e9 * math.pi * BAR_RADIUS ** 2 / 1.7
+    return 1.0 / (1.0 / bar + 1.0 / (blades * RADIUS * ZETA * eps))
 
 
 def coupled_config(model_cfg: dict, eps: float, wear_flat: float, duration: float, t_transient: float,
