@@ -151,9 +151,53 @@ def test_oscillation_while_the_bit_moves_is_excluded(window):
     assert not rec.valid("top_speed")[m].any() and rec.valid("bit_speed")[m].all()
 
 
+def test_held_values_are_flagged_in_every_channel(window):
+    # a frozen bit encoder in slip, a torque channel dropped out to 0, a WOB load cell saturated
+    ref = {ch: getattr(window, ch).copy() for ch in ("bit_speed", "torque_on_bit", "wob")}
+    slipping = int(np.flatnonzero(window.bit_speed > 60 / RPM)[0])
+    window.bit_speed[slipping:slipping + 300] = window.bit_speed[slipping]
+    window.torque_on_bit[2000:2200] = 0.0
+    window.wob[3000:3500] = 2000.0
+    rec, rep = clean(window)
+    flats = {a.channel: a for a in rep.artifacts if a.kind == "flatline"}
+    assert set(flats) == {"bit_speed", "torque_on_bit", "wob"}
+    assert [flats[ch].samples for ch in ("bit_speed", "torque_on_bit", "wob")] == [300, 200, 500]
+    assert all(not a.repaired for a in flats.values()) and "2000 held for 500 samples" in flats["wob"].repair
+    for ch, sl in (("bit_speed", slice(slipping, slipping + 300)), ("torque_on_bit", slice(2000, 2200)),
+                   ("wob", slice(3000, 3500))):
+        assert np.all(rec.flags[ch][sl] & Flag.FLATLINE) and not rec.valid(ch)[sl].any()
+        keep = np.ones(len(rec), bool)
+        keep[sl] = False
+        assert rec.valid(ch)[keep].all()
+        np.testing.assert_array_equal(getattr(rec, ch)[keep], ref[ch][keep])
+    # the WOB's spread without the saturated stretch is the clean record's (within the held half second)
+    assert np.std(rec.wob[rec.valid("wob")]) == pytest.approx(np.std(ref["wob"]), rel=0.05)
+    assert rep.counts()["flatline"] == {"events": 3, "samples": 1000, "repaired_samples": 0,
+                                        "excluded_samples": 1000}
+
+
+def test_a_stuck_bit_a_set_point_and_a_quantized_channel_are_not_held_values(window):
+    n = len(window)
+    window.bit_speed[1000:1400] = 0.0            # a noise-free stuck bit ...
+    window.torque_on_bit[1000:1400] = 3.0        # ... holding the torque of a stalled drive
+    window.top_speed[:] = 160 / RPM              # an ideal drive's set point
+    window.wob = np.round(window.wob / 20.0) * 20.0  # a load cell read in 20 N steps
+    rec, rep = clean(window)
+    assert rep.counts()["flatline"]["events"] == 0
+    assert not any(rec.flagged(ch, Flag.FLATLINE).any() for ch in ("bit_speed", "top_speed", "wob", "torque_on_bit"))
+    # the 20 N steps do hold for more than 0.1 s: only the quantization test keeps them as motion
+    _, rep = clean(window, CleaningOptions(flatline_quantized_fraction=1.0))
+    assert [a.channel for a in rep.artifacts if a.kind == "flatline"] == ["wob"]
+    window.bit_speed[1000:1400] = 0.0
+    rec, rep = clean(window, CleaningOptions(flatline_min_s=0.0))  # the search switched off
+    assert rep.counts()["flatline"]["events"] == 0 and len(rec) == n
+
+
 def test_bad_options_are_refused():
     with pytest.raises(ValueError, match="cleaning.max_fill_s"):
         CleaningOptions(max_fill_s=-1).validate()
+    with pytest.raises(ValueError, match="cleaning.flatline_min_s"):
+        CleaningOptions(flatline_min_s=-0.1).validate()
     with pytest.raises(ValueError, match="stretch_min_spikes"):
         CleaningOptions(stretch_min_spikes=1).validate()
     with pytest.raises(ValueError, match="only 2 finite time stamp"):

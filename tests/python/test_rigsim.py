@@ -362,6 +362,16 @@ def test_predict_reports_the_artifacts_it_excluded_and_repaired(window):
     assert art["wob"]["excluded_samples"] >= 300 and art["wob"]["kinds"].get("nonfinite") == 1
     assert art["bit_speed"]["repaired_samples"] >= 2 and art["bit_speed"]["kinds"].get("spike") == 1
     assert "torque_on_bit" not in art
+    # held values: a WOB load cell saturated for 0.5 s and the torque dropped out to 0 for 0.2 s are
+    # excluded, not measured: the WOB's spread stays the clean window's
+    clean_sd = s["long_run"]["wob_std_n"]["measured"]
+    raw.wob[6000:6500] = 2000.0
+    raw.torque_on_bit[7000:7200] = 0.0
+    s = predict_record(model, raw, realizations=0).summary()
+    art = s["record"]["artifacts"]
+    assert art["wob"]["kinds"].get("flatline") == 1 and art["torque_on_bit"]["kinds"] == {"flatline": 1}
+    assert art["wob"]["excluded_samples"] >= 800 and art["torque_on_bit"]["excluded_samples"] == 200
+    assert s["long_run"]["wob_std_n"]["measured"] == pytest.approx(clean_sd, rel=0.1) and clean_sd < 100.0
     assert np.isfinite(s["short_horizon_error"]) and np.isfinite(s["long_run"]["ss"]["predicted"])
 
 

@@ -88,7 +88,7 @@ def _artifact_spans(ax, rec, report, alpha=0.25):
     """Shade the artifact spans (top speed) on an axis."""
     done = set()
     for a in report.artifacts:
-        if a.kind in ("spike", "oscillation", "gap", "nonfinite") and (a.start_s, a.end_s) not in done:
+        if a.kind in ("spike", "oscillation", "gap", "nonfinite", "flatline") and (a.start_s, a.end_s) not in done:
             ax.axvspan(a.start_s, max(a.end_s, a.start_s + 0.02), color="orange", alpha=alpha, lw=0)
             done.add((a.start_s, a.end_s))
 
@@ -166,7 +166,7 @@ def cleaning_plot(path, raw, rec, report) -> plt.Figure:
     matplotlib.figure.Figure
         The figure, written to ``path`` (then closed) unless ``path`` is None.
     """
-    arts = [a for a in report.artifacts if a.kind in ("oscillation", "spike", "nonfinite", "gap", "time")]
+    arts = [a for a in report.artifacts if a.kind in ("oscillation", "spike", "nonfinite", "gap", "time", "flatline")]
     show = sorted(arts, key=lambda a: -a.samples)[:1] + [a for a in arts if a.kind == "spike"][:1]
     show = list({(a.start_s, a.channel): a for a in show}.values())
     if not show:

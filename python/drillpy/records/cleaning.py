@@ -13,7 +13,15 @@
 * non-finite values (NaN, empty cells, inf);
 * isolated spikes (encoder artifacts: short excursions far from the running median);
 * artifact stretches: clusters of spikes, like the top-speed channel of sample 175 oscillating
-  between about -200 and +50 RPM while the bit is stuck (around 28-30 s).
+  between about -200 and +50 RPM while the bit is stuck (around 28-30 s);
+* held values (flatlines): a channel that repeats one value exactly for ``flatline_min_s`` or
+  longer (a frozen encoder, a saturated load cell, a logger holding its last sample). The rig's
+  channels carry noise through a 10 Hz filter and never repeat a value more than twice in sample
+  175, so a hold is no motion. Not flagged: a speed held at or below the stick threshold (a stuck
+  bit, as a noise-free simulation writes it), a torque held while the bit is stuck (a noise-free
+  stall: the string at rest against a drive that cannot turn it), a channel held over most of its
+  length (a set point, e.g. an ideal drive's top speed) and a quantized channel (one whose
+  consecutive samples repeat often outside the holds).
 
 Repairs, all reported and flagged REPAIRED:
 
@@ -41,7 +49,7 @@ from drillpy.records.io import Flag, Record
 from drillpy import validate
 from drillpy.records.stick import STICK_FRACTION, stick_threshold
 
-KINDS = ("time", "order", "duplicate", "gap", "nonfinite", "spike", "oscillation")
+KINDS = ("time", "order", "duplicate", "gap", "nonfinite", "spike", "oscillation", "flatline")
 MAX_RESTAMP = 10  #: anchors re-stamped on each side of a run of bad time stamps, at most
 #: The time grid may hold at most MAX_GRID_FACTOR x rows + MAX_GRID_EXTRA samples (gaps inserted):
 #: beyond that the stamps are refused rather than a grid of invented samples built (e.g. one stamp
@@ -83,6 +91,13 @@ class CleaningOptions:
         Channels searched for spikes and artifact stretches (None: all). ``drillpy loop`` searches
         the encoder channels only: a load cell's torque drops sharply, and genuinely, when the bit
         nearly sticks for a few milliseconds.
+    flatline_min_s : float
+        A value repeated exactly for this long or longer is a held value (every channel is
+        searched) [s]; 0 switches the search off.
+    flatline_quantized_fraction : float
+        A channel whose consecutive samples, outside the holds, repeat exactly more often than this
+        fraction is quantized (an encoder's counts, a logger's coarse steps): its holds may be
+        motion and are not flagged.
     """
     max_fill_s: float = 0.05
     grid_tolerance: float = 0.1
@@ -96,6 +111,8 @@ class CleaningOptions:
     stick_threshold_rad_s: float | None = None
     stuck_fraction: float = 0.9
     spike_channels: tuple | None = None
+    flatline_min_s: float = 0.1
+    flatline_quantized_fraction: float = 0.05
 
     def validate(self) -> None:
         """Check the thresholds (called by :func:`clean`).
@@ -108,7 +125,8 @@ class CleaningOptions:
             negative.
         """
         for name in ("max_fill_s", "spike_window_s", "spike_sigmas", "spike_min_fraction",
-                     "spike_max_width_s", "spike_pad_s", "stretch_gap_s", "stuck_fraction"):
+                     "spike_max_width_s", "spike_pad_s", "stretch_gap_s", "stuck_fraction",
+                     "flatline_min_s", "flatline_quantized_fraction"):
             validate.non_negative(f"cleaning.{name}", getattr(self, name))
         validate.number("cleaning.grid_tolerance", self.grid_tolerance, lo=0.0, hi=0.5,
                         lo_closed=False, hi_closed=False)
@@ -127,7 +145,7 @@ class Artifact:
         One of :data:`KINDS`: ``time`` (bad time stamps re-stamped), ``order`` (rows sorted into
         time order), ``duplicate`` (exact duplicate rows removed), ``gap`` (samples inserted on the
         time grid), ``nonfinite`` (NaN/empty/inf values), ``spike`` (isolated encoder spike) or
-        ``oscillation`` (artifact stretch, a cluster of spikes).
+        ``oscillation`` (artifact stretch, a cluster of spikes) or ``flatline`` (a held value).
     channel : str
         Channel name, or ``"time"`` for the time-grid artifacts.
     start_s, end_s : float
@@ -271,6 +289,8 @@ def clean(record: Record, options: CleaningOptions | None = None) -> tuple[Recor
         for name in rec.channels:
             _fill_missing(rec, name, opt, rep)
         rep.stick_threshold_rad_s = _stick_threshold(rec, opt)
+        for name in rec.channels:
+            _flatlines(rec, name, opt, rep)
         for name in rec.channels:
             if opt.spike_channels is None or name in opt.spike_channels:
                 _spikes(rec, name, opt, rep)
@@ -499,6 +519,45 @@ def _stick_threshold(rec: Record, opt: CleaningOptions) -> float:
     if rec.bit_speed is not None and np.isfinite(rec.bit_speed).any():
         return STICK_FRACTION * float(np.nanpercentile(np.abs(rec.bit_speed), 95))
     return float("nan")
+
+
+# ------------------------------------------------------------------------------ held values
+def _flatlines(rec: Record, name: str, opt: CleaningOptions, rep: CleaningReport) -> None:
+    """Flag UNRELIABLE the runs of one value held exactly for ``flatline_min_s`` or longer."""
+    x = getattr(rec, name)
+    nmin = max(int(np.ceil(opt.flatline_min_s / rep.dt_s - 1e-9)), 3) if opt.flatline_min_s > 0 else 0
+    if nmin == 0 or x.size < nmin:
+        return
+    fl = rec.flags[name]
+    same = np.isfinite(x[1:]) & (x[1:] == x[:-1])  # sample i+1 repeats sample i
+    holds = [np.r_[r[0], r + 1] for r in _runs(same) if r.size + 1 >= nmin]
+    if not holds:
+        return
+    held = np.zeros(x.size, bool)
+    for h in holds:
+        held[h] = True
+    if held.mean() > 0.5:  # a set point (an ideal drive's speed, a constant WOB), not an artifact
+        return
+    outside = same & ~held[1:] & ~held[:-1]
+    pairs = int(np.count_nonzero(~held[1:] & ~held[:-1] & np.isfinite(x[1:]) & np.isfinite(x[:-1])))
+    if pairs and np.count_nonzero(outside) > opt.flatline_quantized_fraction * pairs:
+        return  # quantized: holds happen in motion
+    speed = name in ("bit_speed", "top_speed")
+    thr = rep.stick_threshold_rad_s
+    t = rec.time_s
+    vb = rec.bit_speed
+    for h in holds:
+        v = float(x[h[0]])
+        if speed and np.isfinite(thr) and abs(v) <= thr:
+            continue  # a stuck bit (or a top at rest) held at zero: motion, not an artifact
+        if name == "torque_on_bit" and vb is not None and np.isfinite(thr) \
+                and np.mean(np.abs(vb[h]) <= thr) >= opt.stuck_fraction:
+            continue  # a bit stuck under a stalled drive holds its torque (a noise-free simulation's stall)
+        fl[h] |= int(Flag.FLATLINE | Flag.UNRELIABLE)
+        rep.artifacts.append(Artifact(
+            "flatline", name, float(t[h[0]]), float(t[h[-1]]), h.size,
+            f"none: flagged UNRELIABLE (excluded; the value {v:.6g} held for {h.size} samples, "
+            f"{h.size * rep.dt_s:.3g} s: a frozen, saturated or dropped-out sensor)"))
 
 
 # ------------------------------------------------------------------------------ spikes

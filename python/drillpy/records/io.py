@@ -64,6 +64,7 @@ class Flag(enum.IntFlag):
     OSCILLATION  part of an artifact stretch (top speed oscillating while the bit is stuck)
     REPAIRED     the value was replaced (the cleaning report says how)
     UNRELIABLE   the value is not trusted and was not repaired: excluded from every analysis
+    FLATLINE     part of a held value (a frozen sensor, a saturated or dropped-out channel)
     """
     NONFINITE = 1
     GAP = 2
@@ -72,6 +73,7 @@ class Flag(enum.IntFlag):
     OSCILLATION = 16
     REPAIRED = 32
     UNRELIABLE = 64
+    FLATLINE = 128
 
 
 @dataclass
