@@ -52,8 +52,9 @@ ORIGINAL_SIX = ("bit_hysteresis", "wob_coupling", "top_drive_dynamics", "sensor_
                 "viscous_damping")
 #: Record length [s], rate [Hz] and engine step of the loop [s].
 DURATION_S, RATE_HZ, LOOP_DT_S = 40.0, 500.0, 2e-4
-#: The loop's scheme (``LoopOptions.scheme``; ``--scheme``)
-SCHEME = {"scheme": "modified_euler"}
+#: The loop's scheme and its long runs' torque (``LoopOptions.scheme``, ``long_run_fluctuation``; ``--scheme``,
+#: ``--long-run-fluctuation``)
+SCHEME = {"scheme": "modified_euler", "long_run_fluctuation": "none"}
 
 
 @dataclass
@@ -114,7 +115,8 @@ def run_case(case: Case, truth_gj: bool = False) -> dict:
     """Generate the record of a case, run the loop, summarize (cached: a case runs once).
     ``truth_gj``: declare the truth's GJ (its draw inside the geometry's tolerance) instead of the
     nominal one."""
-    key = (case.kind, repr(case.effects), case.seed, case.noise, case.search, truth_gj, SCHEME["scheme"])
+    key = (case.kind, repr(case.effects), case.seed, case.noise, case.search, truth_gj, SCHEME["scheme"],
+           SCHEME["long_run_fluctuation"])
     if key not in _DONE:
         _DONE[key] = _run(case, truth_gj)
     return _DONE[key]
@@ -123,6 +125,7 @@ def run_case(case: Case, truth_gj: bool = False) -> dict:
 def _run(case: Case, truth_gj: bool) -> dict:
     rec = synthetic_record(case.effects, duration_s=DURATION_S, seed=case.seed, fs_hz=RATE_HZ, noise=case.noise)
     opt = LoopOptions(rate_hz=RATE_HZ, dt_s=LOOP_DT_S, scheme=SCHEME["scheme"],
+                      long_run_fluctuation=SCHEME["long_run_fluctuation"],
                       **({"effects": case.search} if case.search else {}))
     declared = declared_config()
     if truth_gj:
@@ -225,8 +228,11 @@ def main(argv=None) -> int:
                     help="declare the nominal GJ (default) or the truth's own (its draw inside the tolerance)")
     ap.add_argument("--scheme", choices=("modified_euler", "exact_modal"), default="modified_euler",
                     help="the loop's scheme (at the table's step, 2e-4 s)")
+    ap.add_argument("--long-run-fluctuation", choices=("none", "record"), default="none",
+                    help="the long runs' bit-rock torque (LoopOptions.long_run_fluctuation)")
     a = ap.parse_args(argv)
     SCHEME["scheme"] = a.scheme
+    SCHEME["long_run_fluctuation"] = a.long_run_fluctuation
     kinds = None if a.only is None else set(a.only.split(","))
     cases = [c for c in CASES if (kinds is None or c.kind in kinds or ("fast" in kinds and c.fast))
              and (a.seed is None or c.seed in a.seed)]

@@ -2,7 +2,7 @@
 jack, platform, exponential Stribeck law with ageing, quantized encoders, noise and glitches; no
 drillpy code), as a user runs it on sample 175: from the ideal-drive ``thesis-rig`` declared model.
 
-    PYTHONPATH=python python3 benchmarks/loop_whole_rig.py [--seed 5] [--duration 40] [--rate 1000]
+    PYTHONPATH=python python3 benchmarks/loop_whole_rig.py [--seed 5] [--duration 40] [--rate 1000] [--long-run-fluctuation record]
 
 Prints the WOB-response test, every step with its validation error before and after, the final
 effects and their parameters next to the truth's (jack: the product g tau, the steady WOB per rad/s
@@ -23,6 +23,8 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=5)
     ap.add_argument("--duration", type=float, default=40.0)
     ap.add_argument("--rate", type=float, default=1000.0)
+    ap.add_argument("--long-run-fluctuation", choices=("none", "record"), default="none",
+                    help="the long runs' bit-rock torque (LoopOptions.long_run_fluctuation)")
     a = ap.parse_args(argv)
     import whole_rig
     from drillpy.loop import LoopOptions, run_loop
@@ -32,9 +34,10 @@ def main(argv=None) -> int:
         path = Path(tmp) / "truth.mat"
         whole_rig.write_mat(whole_rig.simulate({"jack_steps": []}, duration=a.duration, seed=a.seed), str(path))
         rec = read_record(path)
-    res = run_loop(rec, load_config(preset="thesis-rig"), LoopOptions(rate_hz=a.rate), log=lambda s: None)
+    res = run_loop(rec, load_config(preset="thesis-rig"), LoopOptions(rate_hz=a.rate, long_run_fluctuation=a.long_run_fluctuation), log=lambda s: None)
     w = res.data.wob_response
-    print(f"whole-rig truth, seed {a.seed}, {a.duration:g} s at {a.rate:g} Hz")
+    print(f"whole-rig truth, seed {a.seed}, {a.duration:g} s at {a.rate:g} Hz, long runs' torque fluctuation: "
+          f"{a.long_run_fluctuation}")
     print(f"WOB: correlation {w['correlation']:.2f} at {1e3 * w['lag_s']:+.0f} ms, {w['gain_n_rad']:.0f} N/rad -> the law "
           f"takes the {w['input']}")
     print(f"baseline E {res.baseline.E_test:.4f} (damping {[round(z, 3) for z in res.baseline.model.damping_ratios]})")

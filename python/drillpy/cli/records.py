@@ -330,6 +330,9 @@ def _add_loop(sub) -> argparse.ArgumentParser:
                    help="bring the channels to the bit encoder's time first: none (as recorded, the default), auto "
                         "(the timing that balances the bit's equation with the declared string) or the top encoder's "
                         "lead and the torque's lag in s, e.g. 0.04,0.03")
+    s.add_argument("--long-run-fluctuation", choices=("none", "record"), default="none",
+                   help="the bit-rock torque of the long runs: the law alone (none, the default) or with the "
+                        "fluctuation of Eq. (4.1) the calibration part shows (record)")
     s.add_argument("--json", action="store_true", help="print the errors and the effects found as JSON")
     s.add_argument("--no-progress", action="store_true", help="no progress bar")
     s.set_defaults(func=cmd_loop)
@@ -359,7 +362,8 @@ def cmd_loop(a: argparse.Namespace) -> int:
                       min_gain=a.min_gain, alpha=a.alpha, min_delta_bic=a.min_delta_bic, max_steps=a.max_steps,
                       effects=effects, threads=a.threads, dt_s=a.dt, step_tolerance=a.step_tolerance, scheme=a.scheme, batched=not a.scalar,
                       law_knot=not a.thesis_knot, gj_tolerance=a.gj_tolerance,
-                      wob_input=a.wob_input, channel_timing=_channel_timing(a.channel_timing))
+                      wob_input=a.wob_input, channel_timing=_channel_timing(a.channel_timing),
+                      long_run_fluctuation=a.long_run_fluctuation)
     from drillpy.progress import log_progress
     with log_progress(((r"  null candidate", "candidates"), (r"  candidate ", "candidates"), (r"  remove ", "backward")),
                       "loop", enabled=not a.no_progress, echo=None if a.json else print, count=True) as log:

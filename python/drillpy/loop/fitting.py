@@ -17,6 +17,7 @@ import numpy as np
 from scipy import optimize
 
 from drillpy.records import identification as ident
+from drillpy.records import rig_fluctuation
 from drillpy.records.io import RPM
 from .data import LoopData
 from .effects import CATALOGUE, declared_effects, stripped
@@ -674,9 +675,13 @@ def declared_model(cfg: dict, data: LoopData, opt: LoopOptions) -> LoopModel:
     w0 = float(np.mean(data.ch["W"][tr])) if data.has_wob else float(op.wob_n)
     base = stripped(cfg)
     wr = data.wob_response
+    fluct = None
+    if opt.long_run_fluctuation == "record":  # Eq. (4.1)'s fluctuation the calibration part shows
+        part = data.record.select(None, data.t_split)
+        fluct = rig_fluctuation.of_record(part, data.stick_threshold)
     return LoopModel(base, view(base).law.to_dict(), om, w0, declared_effects(cfg), gj_tolerance=opt.gj_tolerance,
                      wob_input=wr["input"] if wr else "measured", wob_is_response=bool(wr and wr["response"]),
-                     metric_scale=(data.sigma_v, data.sigma_T))
+                     metric_scale=(data.sigma_v, data.sigma_T), fluctuation=fluct)
 
 
 def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from drillpy.records import rig_comparison
+from drillpy.records import rig_comparison, rig_fluctuation
 from drillpy import _core
 from drillpy.model.config import engine_config
 from drillpy.model.configuration import Configuration
@@ -26,6 +26,8 @@ STICK_FRACTION = 0.01
 STICK_COLLAPSE = 1.0 / 3.0
 #: Simulated time before the record's span starts [s] (the start from rest dies out).
 SETTLE_S = 2.0
+#: Seed of the long runs' realization of the torque fluctuation (LoopModel.fluctuation).
+FLUCTUATION_SEED = 0
 
 
 def simulate_record(model: LoopModel, data: LoopData) -> Record:
@@ -36,7 +38,9 @@ def simulate_record(model: LoopModel, data: LoopData) -> Record:
     The simulation starts :data:`SETTLE_S` before the record's span (drive series held at their
     first value) at an engine step that divides the record's interval, from Eq. (2.10) (a motor
     turning at the record's first top speed); the torque on bit is the contact torque (the viscous
-    torque outside the sensor removed).
+    torque outside the sensor removed). A model with a ``fluctuation`` carries it: the bit-rock
+    torque of Eq. (4.1), T = (1 + eta) T_law, with one realization of eta (seed
+    :data:`FLUCTUATION_SEED`, the record's grid; the same series on any machine).
 
     Parameters
     ----------
@@ -83,7 +87,11 @@ def simulate_record(model: LoopModel, data: LoopData) -> Record:
         om0 = float(_filled(rec, "top_speed")[0])
         v0 = np.asarray(_core.Simulation(engine_config(cfg)).reduced_matrices()["init_velocity"], float)
         start = {"q0": np.zeros(v0.size), "qdot0": -om0 * v0, "top_speed0": om0}
-    res = simulate(cfg, top_speed_series=top, wob_series=wob, series_dt=dt, **start)
+    eta = None
+    if model.fluctuation is not None:  # Eq. (4.1): T = (1 + eta) T_law, one realization over the whole span
+        eta = rig_fluctuation.realization(model.fluctuation, dt, (t.size + pad) * dt, seed=FLUCTUATION_SEED)
+        eta = eta[:t.size + pad]
+    res = simulate(cfg, top_speed_series=top, wob_series=wob, eta_series=eta, series_dt=dt, **start)
     keep = res.t >= SETTLE_S - 1e-9
     n = min(int(keep.sum()), t.size)
     chans = {"bit_speed": res.bit_speed[keep][:n], "top_speed": res.top_speed[keep][:n],

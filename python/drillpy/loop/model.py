@@ -76,7 +76,11 @@ class LoopModel:
     metric_scale : tuple or None
         (sd_v [rad/s], sd_T [N m]) of the calibration part (``LoopData.sigma_v``, ``sigma_T``): the
         scale of the metric E, kept in ``model.json`` so that ``drillpy predict`` scores any record
-        on it (None: a model file without it; the record's own spreads are taken).
+        on it (None: a model file without it; the record's own spreads are taken).    fluctuation : dict or None
+        The bit-rock torque fluctuation of Eq. (4.1) its long runs carry, identified on the
+        calibration part (:func:`drillpy.records.rig_fluctuation.of_record`; ``LoopOptions.long_run_fluctuation``),
+        kept in ``model.json``; None: the long runs are the law's alone. The short-horizon
+        predictions never take it.
     """
     cfg: dict
     law: dict
@@ -91,6 +95,7 @@ class LoopModel:
     wob_input: str = "measured"  #: the law's WOB channel: the recorded WOB or its trend
     wob_is_response: bool = False  #: the calibration record's WOB responded to the rotation
     metric_scale: tuple | None = None  #: (sd_v, sd_T) of the calibration part: the scale of E
+    fluctuation: dict | None = None  #: Eq. (4.1)'s process of the long runs (rig_fluctuation.identify)
 
     @property
     def predictive(self) -> bool:
@@ -160,7 +165,8 @@ class LoopModel:
                 "wob_input": self.wob_input, "wob_is_response": self.wob_is_response,
                 "metric_scale": None if self.metric_scale is None else
                 {"bit_speed_rad_s": self.metric_scale[0], "torque_on_bit_nm": self.metric_scale[1],
-                 "from": "the calibration part's spreads, stalls left out: E of drillpy predict is on this scale"}}
+                 "from": "the calibration part's spreads, stalls left out: E of drillpy predict is on this scale"},
+                "long_run_fluctuation": self.fluctuation}
 
     @classmethod
     def from_dict(cls, d: dict) -> "LoopModel":
@@ -194,7 +200,8 @@ class LoopModel:
                        int(d.get("n_law", 0)), bool(d.get("damping_held", False)),
                        float(d.get("gj_tolerance", 0.0)), float(d.get("gj_factor", 1.0)),
                        dict(d.get("intervals", {})), str(d.get("wob_input", "measured")),
-                       bool(d.get("wob_is_response", False)), _scale(d.get("metric_scale")))
+                       bool(d.get("wob_is_response", False)), _scale(d.get("metric_scale")),
+                       d.get("long_run_fluctuation"))
         except KeyError as e:
             raise ValueError(f"model: lacks {e}") from None
 

@@ -14,6 +14,8 @@ STEP_TOLERANCE = 0.0035
 
 #: Values of :attr:`LoopOptions.wob_input`.
 WOB_INPUTS = ("auto", "measured", "trend")
+#: The bit-rock torque of the long runs: the record's fluctuation of Eq. (4.1), or the law alone.
+LONG_RUN_FLUCTUATIONS = ("record", "none")
 
 
 @dataclass
@@ -121,6 +123,13 @@ class LoopOptions:
         :func:`drillpy.records.bit_balance.identify_timing`; a record without top speed is left as
         recorded) or (top lead, torque lag) [s]. The record's channels are brought to the bit
         encoder's time before anything else (docs/loop.md, "The channels' timing").
+    long_run_fluctuation : str
+        The bit-rock torque of the long runs (:func:`drillpy.loop.longrun.simulate_record`):
+        ``"none"`` (default) runs the law alone (deterministic); ``"record"`` carries the fluctuation
+        of Eq. (4.1) the calibration part shows (eta_exp of Eq. 4.2, its Eq. 4.4 PSD and standard
+        deviation: :func:`drillpy.records.rig_fluctuation.of_record`), one realization of seed 0. The
+        short-horizon predictions are the law's in both (docs/loop.md, "The long run's torque
+        fluctuation").
     """
     horizon_s: float = 0.25
     calibration_fraction: float = 0.5
@@ -147,6 +156,7 @@ class LoopOptions:
     gj_tolerance: float = GJ_TOLERANCE
     wob_input: str = "auto"
     channel_timing: str | tuple = "none"
+    long_run_fluctuation: str = "none"
 
     def validate(self) -> None:
         """Check every option (ranges, types, known effect names).
@@ -185,6 +195,9 @@ class LoopOptions:
         else:
             for name, x in zip(("channel_timing[0] (top lead)", "channel_timing[1] (torque lag)"), self.channel_timing):
                 validate.number(name, x, lo=-0.2, hi=0.2)
+        if self.long_run_fluctuation not in LONG_RUN_FLUCTUATIONS:
+            raise ValueError(f"long_run_fluctuation = {self.long_run_fluctuation!r}: use one of "
+                             f"{', '.join(LONG_RUN_FLUCTUATIONS)}")
         if self.wob_input not in WOB_INPUTS:
             raise ValueError(f"wob_input = {self.wob_input!r}: use one of {', '.join(WOB_INPUTS)}")
         for e in self.effects:

@@ -75,6 +75,44 @@ def identify(psd_fit: dict, eta_std: float, fmax_hz: float) -> dict:
                     "calibration window, band-limited to the fitted band and scaled to eta_exp's standard deviation"}
 
 
+def of_record(record: Record, threshold: float, fmax_hz: float = 10.0, reference: str = "mean") -> dict | None:
+    """The torque fluctuation a record shows, as the thesis measures it (chapter 4): eta_exp of Eq.
+    (4.2) against the record's mean cycle, the Eq. (4.4) fit to its periodogram and its standard
+    deviation, built into a process by :func:`identify`.
+
+    Parameters
+    ----------
+    record : Record
+        Cleaned, with bit speed and torque on bit.
+    threshold : float
+        Stick threshold [rad/s].
+    fmax_hz : float
+        Top of the fitted band [Hz] (the acquisition's 10 Hz filter on the rig).
+    reference : {"mean", "branch"}
+        T_hys of Eq. (4.2) (:func:`drillpy.records.signals.eta_exp`).
+
+    Returns
+    -------
+    dict or None
+        :func:`identify`'s process, or None when the record has no valid stick-slip cycle or too few
+        measured eta samples for the fit.
+    """
+    from drillpy.records import signals as sig
+    v, tq = record.bit_speed, record.torque_on_bit
+    ok = record.valid("bit_speed", "torque_on_bit")
+    cyc = sig.segment_cycles(v, record.dt, threshold, valid=ok)
+    if not cyc.valid.any():
+        return None
+    lab = cyc.branch_labels(len(record))
+    acc = sig.derivative(np.where(np.isfinite(v), v, 0.0), record.dt)
+    eta = sig.eta_exp(record.time_s, v, tq, lab, sig.mean_cycle(v, tq, acc, lab), reference=reference)
+    if eta.eta.size < 64 or not np.std(eta.eta) > 0:
+        return None
+    f, p = process.periodogram(eta.eta, 1.0 / eta.fs_hz)
+    psd = process.fit_psd_model(f, p, averages=1.0, fmax=fmax_hz)
+    return identify(psd.model.as_dict(), float(eta.statistics()["std"]), fmax_hz)
+
+
 def realization(fluctuation: dict, dt: float, duration: float, seed: int = 0, sample: int = 0) -> np.ndarray:
     """One realization of eta on a grid of step ``dt`` [s] covering ``duration`` [s].
 
