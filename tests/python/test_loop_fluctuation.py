@@ -43,6 +43,8 @@ def test_the_option_is_checked_and_a_model_file_carries_the_fluctuation():
     m = L.LoopModel(cfg, dict(cfg["law"]), 9.0, 560.0, fluctuation=fl)
     back = L.LoopModel.from_dict(json.loads(json.dumps(m.to_dict())))
     assert back.fluctuation == fl
+    from drillpy.loop.prediction import describe
+    assert "torque fluctuation of Eq. (4.1) (std 0.17)" in describe(back)
     d = m.to_dict()
     d.pop("long_run_fluctuation")  # a model file written before the option: deterministic long runs
     assert L.LoopModel.from_dict(d).fluctuation is None

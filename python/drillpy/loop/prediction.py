@@ -137,11 +137,15 @@ def describe(model) -> str:
     -------
     str
         ``"rig model: <drive> drive, damping ratio <z>"`` or
-        ``"loop model: effects <names>, damping ratios <ratios>"``.
+        ``"loop model: effects <names>, damping ratios <ratios>"`` (and the long run's torque
+        fluctuation of Eq. 4.1 when the model carries one).
     """
     if isinstance(model, loop.LoopModel):
         note = "" if model.predictive else " (a diagnosis: fed a recorded channel that carries the cycle)"
-        return f"loop model{note}: effects {', '.join(model.effects) or 'none'}, damping ratios {model.damping_ratios}"
+        fl = ("" if model.fluctuation is None else
+              f", long run with the torque fluctuation of Eq. (4.1) (std {model.fluctuation['std']:.3g})")
+        return (f"loop model{note}: effects {', '.join(model.effects) or 'none'}, damping ratios "
+                f"{model.damping_ratios}{fl}")
     if model.drive == "rig":
         return f"rig model: the rig modelled whole (motor, jack, platform), damping ratio {model.damping_ratio:.3g}"
     note = " (a diagnosis: fed the measured top speed)" if model.drive == "measured" else ""

@@ -296,7 +296,10 @@ def render_report(res: LoopResult, files: dict) -> str:
           f"value held from the restart {a['hold_last_predictor_error']:.4f} -> "
           + ("**adequate** (better than both)." if a["adequate"] else
              "**not adequate**: the declared model predicts no better than a trivial predictor; nothing is attributed."),
-          f"- long run (the model simulated over the record): measured {_lr(res.baseline_long_run.get('measured'))}; "
+          "- long run (the model simulated over the record"
+          + ("" if b.model.fluctuation is None else ", its bit-rock torque with the fluctuation of Eq. (4.1) the "
+             f"calibration part shows, eta_exp std {b.model.fluctuation['std']:.3g}: --long-run-fluctuation record")
+          + f"): measured {_lr(res.baseline_long_run.get('measured'))}; "
           f"model {_lr(res.baseline_long_run.get('model'))}.", ""]
     L += ["## Result", "",
           "| step | action | effect | E before | E after | gain | p | dBIC | parameters [95 %] | long run after |",
