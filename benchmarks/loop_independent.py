@@ -192,6 +192,8 @@ THIRD_CASES = [
     _third("calibration", ["sensor_gain"], 9, "load_cell", note="load cell 1.15 T + 0.15 N m"),
 ]
 SIMULATORS = {"tucker-wang": CASES, "stribeck": STRIBECK_CASES, "third": THIRD_CASES}
+#: The loop's long-run torque (``LoopOptions.long_run_fluctuation``; ``--long-run-fluctuation``).
+FLUCTUATION = {"long_run": "none"}
 
 
 def _acceptable(case: Case, res) -> set:
@@ -301,7 +303,7 @@ def run_case(i: int, case: Case, folder: str, rate: float, simulator: str = "tuc
     lines: list = []
     cfg = drillpy.load_config(preset="thesis-rig")
     t0 = time.time()
-    res = run_loop(path, cfg, LoopOptions(rate_hz=rate), log=lines.append)
+    res = run_loop(path, cfg, LoopOptions(rate_hz=rate, long_run_fluctuation=FLUCTUATION["long_run"]), log=lines.append)
     t_loop = time.time() - t0
     ok, why = judge(case, res)
     with open(os.path.join(folder, f"case_{i:02d}.log"), "w") as fh:
@@ -342,7 +344,10 @@ def main(argv=None) -> int:
                     help="independent_rig.py (tucker-wang, 19 cases), stribeck_rig.py (stribeck, 11 cases) or "
                          "third_rig.py (third, 9 cases)")
     ap.add_argument("--dir", help="folder for records and logs (default: a new temporary folder)")
+    ap.add_argument("--long-run-fluctuation", choices=("none", "record"), default="none",
+                    help="the long runs' bit-rock torque (LoopOptions.long_run_fluctuation)")
     a = ap.parse_args(argv)
+    FLUCTUATION["long_run"] = a.long_run_fluctuation
     rig.use_law(a.law)
     cases = SIMULATORS[a.simulator]
     idx = list(range(len(cases))) if not a.only else [int(x) for x in a.only.split(",")]
