@@ -354,14 +354,11 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
             "measured side of every comparison below)")
 
     # ---------------------------------------------------------------- mean cycle and eta
-    mc = sig.mean_cycle(v, tq, acc, lab)
+    mc, eta, f, p, psd = rig_fluctuation.measured(rec.time_s, v, tq, acc, lab, opt.eta_reference, opt.psd_fmax_hz)
     S["mean_cycle"] = {"speed_rpm": (mc.speed * RPM).tolist(), "all_nm": _nan_list(mc.all),
                        "upper_nm": _nan_list(mc.upper), "lower_nm": _nan_list(mc.lower),
                        "half_width_rpm": mc.half_width * RPM}
     mcw = sig.mean_cycle(v, rec.wob, acc, lab * rec.valid("wob")) if rec.wob is not None else None
-    eta = sig.eta_exp(rec.time_s, v, tq, lab, mc, reference=opt.eta_reference)
-    f, p = process.periodogram(eta.eta, 1.0 / eta.fs_hz)  # Schuster's raw periodogram (section 4.1)
-    psd = process.fit_psd_model(f, p, averages=1.0, fmax=opt.psd_fmax_hz)  # Eq. (4.4)
     S["eta"] = {**eta.statistics(), "reference": opt.eta_reference,
                 "thesis_rig_mean": sig.THESIS_ETA_MEAN, "thesis_rig_std": sig.THESIS_ETA_STD}
     band = f[(f > 0) & (f <= opt.psd_fmax_hz)]

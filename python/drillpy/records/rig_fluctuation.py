@@ -75,10 +75,39 @@ def identify(psd_fit: dict, eta_std: float, fmax_hz: float) -> dict:
                     "calibration window, band-limited to the fitted band and scaled to eta_exp's standard deviation"}
 
 
+def measured(t, bit_speed, torque, accel, labels, reference: str = "mean", fmax_hz: float = 10.0) -> tuple:
+    """Chapter 4's measurement of the torque fluctuation on a record: the mean cycle (T_hys), eta_exp of
+    Eq. (4.2) against it, eta_exp's raw periodogram and the Eq. (4.4) fit to it.
+
+    Parameters
+    ----------
+    t, bit_speed, torque, accel : array_like
+        Time [s], bit speed [rad/s], torque on bit [N m] and bit acceleration [rad/s^2] of the record.
+    labels : array_like of int
+        Branch of each sample (:meth:`drillpy.records.signals.Cycles.branch_labels`).
+    reference : {"mean", "branch"}
+        T_hys of Eq. (4.2) (:func:`drillpy.records.signals.eta_exp`).
+    fmax_hz : float
+        Top of the fitted band [Hz] (the acquisition's 10 Hz filter on the rig).
+
+    Returns
+    -------
+    tuple
+        (:class:`~drillpy.records.signals.MeanCycle`, :class:`~drillpy.records.signals.EtaSeries`, the
+        periodogram's frequencies [Hz] and ordinates [1/Hz], the :func:`~drillpy.uncertainty.process.fit_psd_model`
+        result).
+    """
+    from drillpy.records import signals as sig
+    mc = sig.mean_cycle(bit_speed, torque, accel, labels)
+    eta = sig.eta_exp(t, bit_speed, torque, labels, mc, reference=reference)
+    f, p = process.periodogram(eta.eta, 1.0 / eta.fs_hz)  # Schuster's raw periodogram (section 4.1)
+    return mc, eta, f, p, process.fit_psd_model(f, p, averages=1.0, fmax=fmax_hz)  # Eq. (4.4)
+
+
 def of_record(record: Record, threshold: float, fmax_hz: float = 10.0, reference: str = "mean") -> dict | None:
-    """The torque fluctuation a record shows, as the thesis measures it (chapter 4): eta_exp of Eq.
-    (4.2) against the record's mean cycle, the Eq. (4.4) fit to its periodogram and its standard
-    deviation, built into a process by :func:`identify`.
+    """The torque fluctuation a record shows, as the thesis measures it (chapter 4, :func:`measured`),
+    built into a process by :func:`identify` (the drillpy loop's long runs:
+    ``LoopOptions.long_run_fluctuation``).
 
     Parameters
     ----------
@@ -87,29 +116,22 @@ def of_record(record: Record, threshold: float, fmax_hz: float = 10.0, reference
     threshold : float
         Stick threshold [rad/s].
     fmax_hz : float
-        Top of the fitted band [Hz] (the acquisition's 10 Hz filter on the rig).
+        Top of the fitted band [Hz].
     reference : {"mean", "branch"}
-        T_hys of Eq. (4.2) (:func:`drillpy.records.signals.eta_exp`).
+        T_hys of Eq. (4.2).
 
     Returns
     -------
     dict or None
-        :func:`identify`'s process, or None when the record has no valid stick-slip cycle or too few
-        measured eta samples for the fit.
+        :func:`identify`'s process, or None when the record has no valid stick-slip cycle.
     """
     from drillpy.records import signals as sig
     v, tq = record.bit_speed, record.torque_on_bit
-    ok = record.valid("bit_speed", "torque_on_bit")
-    cyc = sig.segment_cycles(v, record.dt, threshold, valid=ok)
+    cyc = sig.segment_cycles(v, record.dt, threshold, valid=record.valid("bit_speed", "torque_on_bit"))
     if not cyc.valid.any():
         return None
-    lab = cyc.branch_labels(len(record))
     acc = sig.derivative(np.where(np.isfinite(v), v, 0.0), record.dt)
-    eta = sig.eta_exp(record.time_s, v, tq, lab, sig.mean_cycle(v, tq, acc, lab), reference=reference)
-    if eta.eta.size < 64 or not np.std(eta.eta) > 0:
-        return None
-    f, p = process.periodogram(eta.eta, 1.0 / eta.fs_hz)
-    psd = process.fit_psd_model(f, p, averages=1.0, fmax=fmax_hz)
+    _, eta, _, _, psd = measured(record.time_s, v, tq, acc, cyc.branch_labels(len(record)), reference, fmax_hz)
     return identify(psd.model.as_dict(), float(eta.statistics()["std"]), fmax_hz)
 
 
