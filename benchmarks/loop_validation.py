@@ -54,7 +54,7 @@ ORIGINAL_SIX = ("bit_hysteresis", "wob_coupling", "top_drive_dynamics", "sensor_
 DURATION_S, RATE_HZ, LOOP_DT_S = 40.0, 500.0, 2e-4
 #: The loop's scheme and its long runs' torque (``LoopOptions.scheme``, ``long_run_fluctuation``; ``--scheme``,
 #: ``--long-run-fluctuation``)
-SCHEME = {"scheme": "modified_euler", "long_run_fluctuation": "none"}
+OPTIONS = {"scheme": "modified_euler", "long_run_fluctuation": "none"}
 
 
 @dataclass
@@ -115,8 +115,8 @@ def run_case(case: Case, truth_gj: bool = False) -> dict:
     """Generate the record of a case, run the loop, summarize (cached: a case runs once).
     ``truth_gj``: declare the truth's GJ (its draw inside the geometry's tolerance) instead of the
     nominal one."""
-    key = (case.kind, repr(case.effects), case.seed, case.noise, case.search, truth_gj, SCHEME["scheme"],
-           SCHEME["long_run_fluctuation"])
+    key = (case.kind, repr(case.effects), case.seed, case.noise, case.search, truth_gj, OPTIONS["scheme"],
+           OPTIONS["long_run_fluctuation"])
     if key not in _DONE:
         _DONE[key] = _run(case, truth_gj)
     return _DONE[key]
@@ -124,8 +124,8 @@ def run_case(case: Case, truth_gj: bool = False) -> dict:
 
 def _run(case: Case, truth_gj: bool) -> dict:
     rec = synthetic_record(case.effects, duration_s=DURATION_S, seed=case.seed, fs_hz=RATE_HZ, noise=case.noise)
-    opt = LoopOptions(rate_hz=RATE_HZ, dt_s=LOOP_DT_S, scheme=SCHEME["scheme"],
-                      long_run_fluctuation=SCHEME["long_run_fluctuation"],
+    opt = LoopOptions(rate_hz=RATE_HZ, dt_s=LOOP_DT_S, scheme=OPTIONS["scheme"],
+                      long_run_fluctuation=OPTIONS["long_run_fluctuation"],
                       **({"effects": case.search} if case.search else {}))
     declared = declared_config()
     if truth_gj:
@@ -180,7 +180,7 @@ def truth_model_errors(case: Case) -> dict:
     from drillpy.loop.model import LoopModel, evaluate
     from drillpy.loop.run import analysis_config
     rec = synthetic_record(case.effects, duration_s=DURATION_S, seed=case.seed, fs_hz=RATE_HZ, noise=case.noise)
-    data = prepare(rec, normalize(declared_config()), LoopOptions(rate_hz=RATE_HZ, dt_s=LOOP_DT_S, scheme=SCHEME["scheme"]))
+    data = prepare(rec, normalize(declared_config()), LoopOptions(rate_hz=RATE_HZ, dt_s=LOOP_DT_S, scheme=OPTIONS["scheme"]))
     info = rec.provenance["synthetic"]
     out = {}
     for key, gj in (("truth", 1.0), ("declared_gj", info["truth"]["gj_factor"])):
@@ -189,7 +189,7 @@ def truth_model_errors(case: Case) -> dict:
         c["damping"]["ratios"] = c["damping"]["ratios"][:1]
         for sec in c["string"]["sections"]:
             sec["youngs_modulus_pa"] /= gj
-        c["simulation"]["scheme"] = SCHEME["scheme"]
+        c["simulation"]["scheme"] = OPTIONS["scheme"]
         c = analysis_config(normalize(c), data.dt, LOOP_DT_S)
         base = stripped(c)
         m = LoopModel(base, dict(base["law"]), float(c["operation"]["top_speed_rad_s"]), float(c["operation"]["wob_n"]),
@@ -231,8 +231,8 @@ def main(argv=None) -> int:
     ap.add_argument("--long-run-fluctuation", choices=("none", "record"), default="none",
                     help="the long runs' bit-rock torque (LoopOptions.long_run_fluctuation)")
     a = ap.parse_args(argv)
-    SCHEME["scheme"] = a.scheme
-    SCHEME["long_run_fluctuation"] = a.long_run_fluctuation
+    OPTIONS["scheme"] = a.scheme
+    OPTIONS["long_run_fluctuation"] = a.long_run_fluctuation
     kinds = None if a.only is None else set(a.only.split(","))
     cases = [c for c in CASES if (kinds is None or c.kind in kinds or ("fast" in kinds and c.fast))
              and (a.seed is None or c.seed in a.seed)]
