@@ -43,7 +43,7 @@ assert blas and all(i["architecture"] == sys.argv[1] and i["num_threads"] == 1 f
 print("OpenBLAS:", ", ".join(f"{i['prefix']} {i['version']} {i['architecture']} x{i['num_threads']}" for i in blas))
 EOF
 python3 -m pytest -q -p no:cacheprovider python/test_loop.py python/test_loop_calibration.py python/test_loop_discovery.py python/test_loop_gate.py \
-  python/test_loop_effects.py python/test_identification.py python/test_loop_fluctuation.py
+  python/test_loop_effects.py python/test_identification.py python/test_loop_fluctuation.py python/test_loop_refit.py
 unset OPENBLAS_CORETYPE OPENBLAS_NUM_THREADS
 cd ..
 

@@ -730,6 +730,12 @@ def _choose(st: _State, results: list):
     opt, data, cur, cur_lr = st.opt, st.data, st.cur, st.cur_lr
     for name, ev, e in sorted([r for r in results if r[2].accepted], key=lambda r: r[1].E_test):
         nm, ci = refit(ev.model, data, opt)
+        _, why = parameter_evidence(nm, name, ci, data)
+        if why:  # refitted, the effect must still be there: a gain whose effect went back to its
+            # no-effect value is the other parameters' new optimum, not the effect's (issue 33)
+            e.refuse(*(f"refitted: {w}" for w in why))
+            st.log(f"  {name}: rejected, refitted {'; '.join(why)}")
+            continue
         new = evaluate(nm, data, opt.threads)
         lr = _long(opt, nm, data)
         held = None
