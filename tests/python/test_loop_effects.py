@@ -201,4 +201,11 @@ def test_a_motor_behind_a_coupling_round_trips_through_the_configuration():
     assert CATALOGUE["top_drive_dynamics"].count(rigid) == 3
     droop = dict(p, inertia_kg_m2=1.005e-6)  # inertia at its lower bound: a quasi-static droop, J_m no freedom
     assert CATALOGUE["top_drive_dynamics"].count(droop) == 3
+    # sample 175's motor candidate: J_m 8.6e-6 kg m^2, four times the step's floor, and droop 1.68 rad/s per N m: a
+    # time constant J_m / c_m of 14 us, which no 1000 Hz record resolves (counted as the droop alone)
+    fast = dict(p, inertia_kg_m2=8.6e-6, droop_rad_s_per_nm=1.68, coupling_stiffness_nm_rad=300.0)
+    assert CATALOGUE["top_drive_dynamics"].count(fast) == 2
+    # the rig's rotor (0.019 kg m^2 at c_m 0.25: 76 ms) is resolved; the boundary is a 1 ms time constant
+    assert CATALOGUE["top_drive_dynamics"].count(dict(p, inertia_kg_m2=0.99e-3 / 4.0)) == 3
+    assert CATALOGUE["top_drive_dynamics"].count(dict(p, inertia_kg_m2=1.01e-3 / 4.0)) == 4
     assert "no inertia the record resolves" in reading("top_drive_dynamics", droop)

@@ -23,19 +23,26 @@ INERTIA_RANGE = (1e-6, 10.0)
 STEADY_TOP = 0.01
 
 
+#: A motor whose time constant J_m / c_m is below this [s] has no inertia a record resolves: 1 ms is
+#: the sample interval of a 1000 Hz record, the finest the loop analyses (sample 175's rate).
+RESOLVED_TIME_S = 1e-3
+
+
 def quasi_static(p: dict) -> bool:
-    """True when the motor's inertia was fitted at the lower bound of its range (within 1 %): the
+    """True when the motor's time constant J_m / c_m is below :data:`RESOLVED_TIME_S` (1 ms): the
     record resolves no inertia, the motor acts as a speed droop Omega = Omega_c - T / c_m (through
     the coupling, a spring in series with the droop's damper), and J_m is no free parameter (not
-    counted, flagged; the motor is then credited on its droop, command and coupling).
+    counted, flagged; the motor is then credited on its droop, command and coupling). Such a fit
+    sits near the inertia's lower bound, which the engine's step sets (:meth:`TopDriveDynamics.bounds`).
 
     Parameters
     ----------
     p : dict
-        The effect's values.
+        The effect's values (``inertia_kg_m2`` J_m [kg m^2], ``droop_rad_s_per_nm`` 1/c_m).
     """
-    j = p.get("inertia_kg_m2")
-    return p.get("variant", "motor") == "motor" and j is not None and j <= 1.01 * INERTIA_RANGE[0]
+    j, droop = p.get("inertia_kg_m2"), p.get("droop_rad_s_per_nm")
+    return p.get("variant", "motor") == "motor" and j is not None and droop is not None and \
+        j * droop < RESOLVED_TIME_S
 
 
 class TopDriveDynamics(Effect):
@@ -103,8 +110,8 @@ class TopDriveDynamics(Effect):
     def count(self, p):
         """4 for the motor behind a compliant coupling, 3 without one or behind a coupling fitted at
         its rigid bound (within 1 % of 300 N m/rad: the three-parameter motor, whose BIC it then
-        has), one less for a quasi-static motor (:func:`quasi_static`: its inertia at the lower
-        bound carries no freedom), 0 for the kinematic variant; see :meth:`Effect.count`.
+        has), one less for a quasi-static motor (:func:`quasi_static`: an inertia no record resolves
+        carries no freedom), 0 for the kinematic variant; see :meth:`Effect.count`.
 
         Parameters
         ----------
@@ -127,8 +134,9 @@ class TopDriveDynamics(Effect):
         if p.get("variant") == "measured":
             return "the top follows the measured top speed (kinematic drive: a diagnosis, fed the cycle it should predict)"
         c = 1.0 / p["droop_rad_s_per_nm"]
-        inertia = ("no inertia the record resolves (fitted at its lower bound: a quasi-static droop; a rotor's "
-                   "real inertia is not that small, so the coupling or the drive train shields it)"
+        inertia = (f"no inertia the record resolves (fitted at {p['inertia_kg_m2']:.3g} kg m^2, a time constant of "
+                   f"{p['inertia_kg_m2'] / c:.2g} s: a quasi-static droop; a rotor's real inertia is not that small, so "
+                   "the coupling or the drive train shields it)"
                    if quasi_static(p) else
                    f"inertia {p['inertia_kg_m2']:.3g} kg m^2 (time constant {p['inertia_kg_m2'] / c:.3g} s)")
         k = p.get("coupling_stiffness_nm_rad")
