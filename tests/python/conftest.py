@@ -41,3 +41,18 @@ def run_cli(*args: str, check: bool = False) -> subprocess.CompletedProcess:
     """Run `python -m drillpy ARGS` in a subprocess with the current environment."""
     return subprocess.run([sys.executable, "-m", "drillpy", *args], capture_output=True, text=True,
                           check=check, env={**os.environ, "PYTHONWARNINGS": "error"})
+
+
+def outside_loop(folder: Path, make_record, effects: tuple) -> tuple:
+    """``drillpy loop`` on a record of an outside simulator (``benchmarks/``, no drillpy code), as a
+    user runs it from the ``thesis-rig`` preset at 250 Hz with the candidates ``effects`` only:
+    ``make_record(path)`` writes the CSV record; returns (loop.json, evidence.json) as dicts."""
+    import json
+    from drillpy.loop import LoopOptions
+    from drillpy.reports.loop import loop_record
+    path = folder / "record.csv"
+    make_record(str(path))
+    out = folder / "res"
+    loop_record(path, out, preset="thesis-rig", options=LoopOptions(rate_hz=250, effects=tuple(effects)),
+                log=lambda *a: None)
+    return json.loads((out / "loop.json").read_text()), json.loads((out / "evidence.json").read_text())

@@ -3,13 +3,10 @@ the guard's margin; a direct measurement (static friction's break-away torques) 
 candidate but never replaces that test (docs/loop.md, "Which data decide")."""
 from __future__ import annotations
 
-import json
-
 import pytest
 
 import stribeck_rig  # benchmarks/ (conftest.py): the second outside simulator, no drillpy inside
-from drillpy.loop import LoopOptions
-from drillpy.reports.loop import loop_record
+from conftest import outside_loop
 
 
 @pytest.fixture(scope="module")
@@ -20,18 +17,12 @@ def stribeck_clean(tmp_path_factory):
     ``static_friction``; but the candidate's model predicts the validation part worse than the
     null candidate. Until issue 29 it came in on that direct measurement (the long run's SS and
     stick fraction came closer to the record's), and the step raised E from 0.120 to 0.140."""
-    folder = tmp_path_factory.mktemp("gate")
-    path = folder / "stribeck_clean_1.csv"
-    stribeck_rig.make_record("clean", 1, str(path))
-    out = folder / "res"
-    loop_record(path, out, preset="thesis-rig", options=LoopOptions(rate_hz=250, effects=("static_friction",)),
-                log=lambda *a: None)
-    return out
+    return outside_loop(tmp_path_factory.mktemp("gate"), lambda p: stribeck_rig.make_record("clean", 1, p),
+                        ("static_friction",))
 
 
 def test_a_directly_measured_candidate_that_does_not_lower_e_is_refused(stribeck_clean):
-    js = json.loads((stribeck_clean / "loop.json").read_text())
-    ev = json.loads((stribeck_clean / "evidence.json").read_text())
+    js, ev = stribeck_clean
     cands = [c for rnd in ev["rounds"] for c in rnd if c["effect"] == "static_friction"]
     assert cands, "static_friction was a candidate"
     c = cands[0]
@@ -50,7 +41,7 @@ def test_no_accepted_step_raises_the_error_on_the_data_that_decided_it(stribeck_
     """Every addition lowers E on the validation part by min_gain, every recalibration lowers it; a
     removal (the effect not defended by min_gain) never raises it; the final
     error is the last step's, and loop.json says which data decided it."""
-    js = json.loads((stribeck_clean / "loop.json").read_text())
+    js, _ = stribeck_clean
     for s in js["steps"]:
         if s["action"] == "add":
             assert s["error_after"] <= 0.95 * s["error_before"]

@@ -9,30 +9,21 @@ validation error by 5.6 %; refitted from a fresh law fit, s went to 1.0007, and 
 load-cell error the record does not have (docs/loop.md, "The third simulator")."""
 from __future__ import annotations
 
-import json
-
 import pytest
 
 import third_rig  # benchmarks/ (conftest.py): the third outside simulator, no drillpy inside
-from drillpy.loop import LoopOptions
+from conftest import outside_loop
 from drillpy.loop.effects.sensor_gain import MARGIN
-from drillpy.reports.loop import loop_record
 
 
 @pytest.fixture(scope="module")
 def viscous_bit(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("refit")
-    path = folder / "third_bit_viscous_5.csv"
-    third_rig.make_record("bit_viscous", 5, str(path))
-    out = folder / "res"
-    loop_record(path, out, preset="thesis-rig", options=LoopOptions(rate_hz=250, effects=("sensor_gain",)),
-                log=lambda *a: None)
-    return out
+    return outside_loop(tmp_path_factory.mktemp("refit"), lambda p: third_rig.make_record("bit_viscous", 5, p),
+                        ("sensor_gain",))
 
 
 def test_an_effect_refitted_to_its_no_effect_value_is_not_named(viscous_bit):
-    js = json.loads((viscous_bit / "loop.json").read_text())
-    ev = json.loads((viscous_bit / "evidence.json").read_text())
+    js, ev = viscous_bit
     # the load cell is exact: no load-cell error in the final model, and none added on the way
     assert "sensor_gain" not in js["final_effects"]
     assert all(s["effect"] != "sensor_gain" for s in js["steps"] if s["action"] == "add")
