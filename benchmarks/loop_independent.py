@@ -156,9 +156,15 @@ BREAKAWAY = "static_friction at the law's own Ts0 (2.6 N m) is in the truth"
 STRIBECK_BREAKAWAY = {"static_friction": ("static_torque_nm", 0.95 * 2.6, 1.05 * 2.6)}
 
 
+def _breakaway(breakaway: dict, kind, effects, seed, acceptable=(), **kw) -> Case:
+    """A case of a truth whose law holds the bit above its sliding torques: ``static_friction``
+    within ``breakaway``'s range is a reading of that truth (:func:`_acceptable`)."""
+    return Case(kind, effects, seed, acceptable=tuple(acceptable) + ("static_friction",),
+                acceptable_range=breakaway, **kw)
+
+
 def _stribeck(kind, effects, seed, **kw) -> Case:
-    return Case(kind, effects, seed, acceptable=tuple(kw.pop("acceptable", ())) + ("static_friction",),
-                acceptable_range=STRIBECK_BREAKAWAY, **kw)
+    return _breakaway(STRIBECK_BREAKAWAY, kind, effects, seed, **kw)
 
 
 STRIBECK_CASES = [
@@ -183,9 +189,8 @@ STRIBECK_CASES = [
 THIRD_BREAKAWAY = {"static_friction": ("static_torque_nm", 0.95 * 2.7, 1.05 * 2.7)}
 
 
-def _third(kind, effects, seed, case, acceptable=(), **kw) -> Case:
-    return Case(kind, effects, seed, acceptable=tuple(acceptable) + ("static_friction",),
-                acceptable_range=THIRD_BREAKAWAY, options={"case": case}, **kw)
+def _third(kind, effects, seed, case, **kw) -> Case:
+    return _breakaway(THIRD_BREAKAWAY, kind, effects, seed, options={"case": case}, **kw)
 
 
 THIRD_CASES = [
