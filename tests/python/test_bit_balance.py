@@ -167,6 +167,58 @@ def test_the_loop_brings_the_channels_to_the_bit_encoders_time_before_anything_e
         bit_balance.aligned(raw, float("inf"), 0.0)
 
 
+def test_auto_timing_is_identified_on_the_calibration_part_only():
+    # the validation half read with its torque 60 ms later still (another acquisition setting): the whole
+    # record's best timing moves with it, the loop's does not (a prediction uses only what is known beforehand)
+    import dataclasses
+    from drillpy.loop import LoopOptions
+    from drillpy.loop.data import prepare
+    from drillpy.records.cleaning import clean
+    raw = sample175_raw().select(0.0, 20.0)
+    cfg = drillpy.load_config(preset="thesis-rig")
+    T = raw.torque_on_bit.copy()
+    later = np.r_[np.full(60, np.nan), T[:-60]]
+    T[raw.time_s >= 10.0] = later[raw.time_s >= 10.0]
+    mod = dataclasses.replace(raw, torque_on_bit=T)
+    rec, _ = clean(mod)
+    whole = bit_balance.identify_timing(rec, cfg, valid=rigsim.reliable_top_speed(rec))
+    assert (whole["top_lead_s"], whole["torque_lag_s"]) != (0.04, 0.03)
+    ct = prepare(mod, cfg, LoopOptions(channel_timing="auto")).channel_timing
+    assert (ct["top_lead_s"], ct["torque_lag_s"]) == (0.04, 0.03)
+
+
+def test_predict_reads_a_record_at_the_timing_its_loop_model_was_calibrated_at():
+    # a loop model that carries the channels' timing (model.json -> channel_timing) is scored on the record
+    # brought to that timing, as the loop scored it: the same E as the record aligned by hand, not the E as recorded
+    from drillpy.loop import LoopModel
+    from drillpy.loop.prediction import predict_record
+    raw = sample175_raw().select(20.0, 30.0)
+    cfg = drillpy.load_config(preset="thesis-rig")
+
+    def model(ct):
+        return LoopModel(cfg, dict(cfg["law"]), 8.5, 557.1, {}, damping_held=True, metric_scale=(4.0, 0.64),
+                         channel_timing=ct)
+    timed = LoopModel.from_dict(model({"top_lead_s": 0.04, "torque_lag_s": 0.03, "from": "given"}).to_dict())
+    assert timed.channel_timing == {"top_lead_s": 0.04, "torque_lag_s": 0.03, "from": "given"}
+    E_timed = predict_record(timed, raw, realizations=0).short_horizon_error
+    E_aligned = predict_record(model(None), bit_balance.aligned(raw, 0.04, 0.03), realizations=0).short_horizon_error
+    E_recorded = predict_record(model(None), raw, realizations=0).short_horizon_error
+    assert E_timed == pytest.approx(E_aligned, rel=2e-3)  # the operating point's mean differs by the shifted ends
+    assert E_timed < E_recorded - 0.01  # the bit's equation balances at that timing: the horizons fit better
+    with pytest.raises(ValueError, match="channel_timing"):
+        LoopModel.from_dict({**timed.to_dict(), "channel_timing": {"top_lead_s": "late"}})
+
+
+def test_aligned_moves_each_readings_flags_with_it():
+    from drillpy.records.io import Flag
+    raw = sample175_raw().select(0.0, 2.0)
+    raw.flags["torque_on_bit"][100] |= int(Flag.SPIKE | Flag.REPAIRED)
+    out = bit_balance.aligned(raw, 0.0, 0.03)  # the torque read 30 samples (1 kHz) earlier
+    assert out.flags["torque_on_bit"][70] == int(Flag.SPIKE | Flag.REPAIRED) and out.flags["torque_on_bit"][100] == 0
+    assert out.torque_on_bit[70] == raw.torque_on_bit[100] and np.isnan(out.torque_on_bit[-30:]).all()
+    assert (out.flags["torque_on_bit"][-30:] & int(Flag.NONFINITE)).all()
+
+
 def test_a_record_with_a_steady_top_speed_and_no_skew_is_left_as_recorded():
     # the loop's synthetic truths turn the top at a constant speed: its lead changes nothing and stays 0, and
     # their torque is not late

@@ -82,6 +82,21 @@ def test_motor_command_reproduces_the_reliable_mean_top_speed(window):
     assert sim.provenance["command_rad_s"] > target  # droop: the command is above the loaded speed
 
 
+def test_the_motor_commands_a_search_tries_raise_no_plausibility_warning(window):
+    # a soft motor (c_m 0.114 N m s/rad: drillpy analyze's motor drive on 0-20 s) needs a no-load command of
+    # about 27 rad/s, and the bracketing tries 35-62 rad/s on the way: fitted values, not a speed a user typed
+    # in RPM (drillpy analyze printed six such warnings on sample 175)
+    import warnings
+    from drillpy.model.plausibility import ImplausibleConfiguration
+    rec, _ = window
+    law = load_config(preset="thesis-rig")["law"]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        sim = rigsim.simulate_model(rigsim.RigModel(law, 0.109, "motor", 0.114, 0.0161), rec)
+    assert sim.provenance["command_rad_s"] > 20.0
+    assert not [w for w in caught if issubclass(w.category, ImplausibleConfiguration)]
+
+
 def test_sample175_model_calibrated_on_0_20_s_predicts_20_40_s():
     """Issue 9's target on data the model never saw: SS, stick fraction and cycle frequency of the
     held-out 20-40 s within 15 % (law identified and rig calibrated on 0-20 s only)."""

@@ -298,8 +298,9 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions, scale: tup
     rec, rep = clean(raw, CleaningOptions(spike_channels=ENCODER_CHANNELS))
     timing = None
     if opt.channel_timing != "none" and rec.top_speed is not None:
-        if opt.channel_timing == "auto":
-            timing = {**bit_balance.identify_timing(rec, cfg, valid=reliable_top_speed(rec)), "from": "auto"}
+        if opt.channel_timing == "auto":  # identified on the calibration part: the validation part is unseen
+            part = rec.select(None, rec.time_s[0] + opt.calibration_fraction * (rec.time_s[-1] - rec.time_s[0]))
+            timing = {**bit_balance.identify_timing(part, cfg, valid=reliable_top_speed(part)), "from": "auto"}
         else:
             timing = {"top_lead_s": float(opt.channel_timing[0]), "torque_lag_s": float(opt.channel_timing[1]),
                       "from": "given"}

@@ -681,7 +681,8 @@ def declared_model(cfg: dict, data: LoopData, opt: LoopOptions) -> LoopModel:
         fluct = rig_fluctuation.of_record(part, data.stick_threshold)
     return LoopModel(base, view(base).law.to_dict(), om, w0, declared_effects(cfg), gj_tolerance=opt.gj_tolerance,
                      wob_input=wr["input"] if wr else "measured", wob_is_response=bool(wr and wr["response"]),
-                     metric_scale=(data.sigma_v, data.sigma_T), fluctuation=fluct)
+                     metric_scale=(data.sigma_v, data.sigma_T), fluctuation=fluct,
+                     channel_timing=None if data.channel_timing is None else dict(data.channel_timing))
 
 
 def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:

@@ -76,11 +76,17 @@ class LoopModel:
     metric_scale : tuple or None
         (sd_v [rad/s], sd_T [N m]) of the calibration part (``LoopData.sigma_v``, ``sigma_T``): the
         scale of the metric E, kept in ``model.json`` so that ``drillpy predict`` scores any record
-        on it (None: a model file without it; the record's own spreads are taken).    fluctuation : dict or None
+        on it (None: a model file without it; the record's own spreads are taken).
+    fluctuation : dict or None
         The bit-rock torque fluctuation of Eq. (4.1) its long runs carry, identified on the
         calibration part (:func:`drillpy.records.rig_fluctuation.of_record`; ``LoopOptions.long_run_fluctuation``),
         kept in ``model.json``; None: the long runs are the law's alone. The short-horizon
         predictions never take it.
+    channel_timing : dict or None
+        The channels' timing the calibration read its record at (``top_lead_s``, ``torque_lag_s`` [s]
+        and ``from``, ``LoopData.channel_timing``: the acquisition's skew, identified on the
+        calibration part or given), kept in ``model.json`` so that ``drillpy predict`` reads any
+        record it scores at the same timing; None: as recorded.
     """
     cfg: dict
     law: dict
@@ -96,6 +102,7 @@ class LoopModel:
     wob_is_response: bool = False  #: the calibration record's WOB responded to the rotation
     metric_scale: tuple | None = None  #: (sd_v, sd_T) of the calibration part: the scale of E
     fluctuation: dict | None = None  #: Eq. (4.1)'s process of the long runs (rig_fluctuation.identify)
+    channel_timing: dict | None = None  #: the acquisition's skew the calibration read its record at (None: as recorded)
 
     @property
     def predictive(self) -> bool:
@@ -166,7 +173,7 @@ class LoopModel:
                 "metric_scale": None if self.metric_scale is None else
                 {"bit_speed_rad_s": self.metric_scale[0], "torque_on_bit_nm": self.metric_scale[1],
                  "from": "the calibration part's spreads, stalls left out: E of drillpy predict is on this scale"},
-                "long_run_fluctuation": self.fluctuation}
+                "long_run_fluctuation": self.fluctuation, "channel_timing": self.channel_timing}
 
     @classmethod
     def from_dict(cls, d: dict) -> "LoopModel":
@@ -201,7 +208,7 @@ class LoopModel:
                        float(d.get("gj_tolerance", 0.0)), float(d.get("gj_factor", 1.0)),
                        dict(d.get("intervals", {})), str(d.get("wob_input", "measured")),
                        bool(d.get("wob_is_response", False)), _scale(d.get("metric_scale")),
-                       d.get("long_run_fluctuation"))
+                       d.get("long_run_fluctuation"), _timing(d.get("channel_timing")))
         except KeyError as e:
             raise ValueError(f"model: lacks {e}") from None
 
@@ -659,6 +666,20 @@ def _scale(d) -> tuple | None:
     if not (sv > 0 and sT > 0):
         raise ValueError(f"model: metric_scale = {d!r}: needs positive 'bit_speed_rad_s' and 'torque_on_bit_nm'")
     return sv, sT
+
+
+def _timing(d) -> dict | None:
+    """``channel_timing`` of a model file (None when absent); shifts that are not numbers are one
+    error naming the key (their range is :func:`drillpy.records.bit_balance.aligned`'s)."""
+    if d is None:
+        return None
+    try:
+        lead, lag = float(d["top_lead_s"]), float(d["torque_lag_s"])
+    except (KeyError, TypeError, ValueError):
+        lead = lag = float("nan")
+    if not (math.isfinite(lead) and math.isfinite(lag)):
+        raise ValueError(f"model: channel_timing = {d!r}: needs finite 'top_lead_s' and 'torque_lag_s' [s]")
+    return {**d, "top_lead_s": lead, "torque_lag_s": lag}
 
 
 def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=None, ref=None) -> list:

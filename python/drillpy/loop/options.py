@@ -119,10 +119,12 @@ class LoopOptions:
         with evidence. 0 holds the declared GJ.
     channel_timing : str or tuple
         The channels' timing (:func:`drillpy.records.bit_balance.aligned`): ``"none"`` (default: as
-        recorded), ``"auto"`` (the timing that balances the bit's equation with the declared string,
-        :func:`drillpy.records.bit_balance.identify_timing`; a record without top speed is left as
-        recorded) or (top lead, torque lag) [s]. The record's channels are brought to the bit
-        encoder's time before anything else (docs/loop.md, "The channels' timing").
+        recorded), ``"auto"`` (the timing that balances the bit's equation with the declared string
+        on the calibration part, :func:`drillpy.records.bit_balance.identify_timing`; a record without
+        top speed is left as recorded) or (top lead, torque lag) [s]. The record's channels are
+        brought to the bit encoder's time before anything else (docs/loop.md, "The channels'
+        timing"); the model file keeps the timing and ``drillpy predict`` reads the records it
+        scores at it.
     long_run_fluctuation : str
         The bit-rock torque of the long runs (:func:`drillpy.loop.longrun.simulate_record`):
         ``"none"`` (default) runs the law alone (deterministic); ``"record"`` carries the fluctuation

@@ -164,8 +164,11 @@ def _loop_model_at(model: "loop.LoopModel", record: Record, data) -> "loop.LoopM
 
 
 def _loop_prediction(model: "loop.LoopModel", rec: Record, thr: float, horizon_s: float, threads: int) -> tuple:
-    # the law takes the same kind of WOB as in the calibration (the recorded WOB, or its trend)
-    opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads, wob_input=model.wob_input)
+    # the law takes the same kind of WOB as in the calibration (the recorded WOB, or its trend), and the
+    # channels are read at the calibration's timing (the acquisition's skew is the rig's, not the record's)
+    ct = model.channel_timing
+    opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads, wob_input=model.wob_input,
+                           channel_timing="none" if ct is None else (ct["top_lead_s"], ct["torque_lag_s"]))
     data = loop.prepare(rec, model.engine_config(), opt, scale=model.metric_scale)
     m = _loop_model_at(model, rec, data)
     sim = simulate_record(m, data)

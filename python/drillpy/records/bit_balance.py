@@ -40,7 +40,7 @@ import numpy as np
 from scipy import signal as sps
 
 from drillpy.model.configuration import Configuration
-from drillpy.records.io import Record
+from drillpy.records.io import Flag, Record
 from drillpy.records.signals import cycle_response
 
 
@@ -448,13 +448,14 @@ def identify_timing(record: Record, config, valid: np.ndarray | None = None) -> 
 def aligned(record: Record, top_lead_s: float, torque_lag_s: float) -> Record:
     """The record with its channels brought to the bit encoder's time: the top speed read
     ``top_lead_s`` later (it was that early), the torque ``torque_lag_s`` earlier (it was that late),
-    to the nearest sample. The samples a shift leaves without a reading are NaN, which the cleaning
-    excludes (:func:`drillpy.records.cleaning.clean`); the other channels are untouched.
+    to the nearest sample. Each reading's flags move with it; the samples a shift leaves without a
+    reading are NaN and flagged non-finite, which the cleaning excludes
+    (:func:`drillpy.records.cleaning.clean`); the other channels are untouched.
 
     Parameters
     ----------
     record : Record
-        The raw record (before cleaning).
+        The record, raw or cleaned (its flags then stay on their readings).
     top_lead_s, torque_lag_s : float
         The shifts [s], each within +-:data:`MAX_SHIFT_S`.
 
@@ -469,7 +470,7 @@ def aligned(record: Record, top_lead_s: float, torque_lag_s: float) -> Record:
         For a shift that is not finite or beyond :data:`MAX_SHIFT_S` (naming it), or a shift of a
         channel the record lacks.
     """
-    out = {}
+    out, flags = {}, dict(record.flags)
     for name, shift, channel, sign in (("top_lead_s", top_lead_s, "top_speed", 1),
                                        ("torque_lag_s", torque_lag_s, "torque_on_bit", -1)):
         if not (math.isfinite(shift) and abs(shift) <= MAX_SHIFT_S):
@@ -480,11 +481,18 @@ def aligned(record: Record, top_lead_s: float, torque_lag_s: float) -> Record:
         x = getattr(record, channel)
         if x is None:
             raise ValueError(f"{name} = {shift!r}: the record has no {channel} channel to shift")
-        y = np.full_like(np.asarray(x, float), np.nan)
         n *= sign  # > 0: the reading moves later
-        if n > 0:
-            y[n:] = x[:-n]
-        else:
-            y[:n] = x[-n:]
-        out[channel] = y
-    return dataclasses.replace(record, **out)
+        out[channel] = _shifted(np.asarray(x, float), n, np.nan)
+        # a reading's flags travel with it (a cleaned record's artifacts stay on their samples)
+        flags[channel] = _shifted(record.flags[channel], n, int(Flag.NONFINITE))
+    return dataclasses.replace(record, flags=flags, **out)
+
+
+def _shifted(x: np.ndarray, n: int, fill) -> np.ndarray:
+    """``x`` moved ``n`` samples later (earlier for n < 0), the vacated samples ``fill``."""
+    y = np.full_like(x, fill)
+    if n > 0:
+        y[n:] = x[:-n]
+    else:
+        y[:n] = x[-n:]
+    return y

@@ -35,6 +35,7 @@ import numpy as np
 
 from drillpy.model.config import normalize
 from drillpy.model.configuration import Configuration
+from drillpy.model.plausibility import fitted_values
 from drillpy.records import stick as _stick
 from drillpy.records.stick import STICK_FRACTION
 from drillpy.records.io import Flag, Record
@@ -780,6 +781,7 @@ def simulate_model(model: RigModel, record: Record, *, filtered: bool = True, sk
     if model.drive == "motor":
         sel = record.time_s >= record.time_s[0] + skip_s
 
+        @fitted_values()  # the commands the search tries are not a user's input (and may exceed 32 rad/s)
         def gap(c):
             res = _run(model, record, c, wob, eta)
             _, _, top, _, _ = _channels(res, record, False)
@@ -803,6 +805,8 @@ def simulate_model(model: RigModel, record: Record, *, filtered: bool = True, sk
                 break
             lo, hi = (mid, hi) if g < 0 else (lo, mid)
         command = best[1]
+        with fitted_values():  # the command found: a fitted no-load speed, judged by the search, not typed
+            return _as_record(model, record, _run(model, record, command, wob, eta), command, op, wob, filtered)
     return _as_record(model, record, _run(model, record, command, wob, eta), command, op, wob, filtered)
 
 
