@@ -1,7 +1,7 @@
 """The rig modelled whole on sample 175: calibrated on one half, predicting the other (issue 28's targets).
 
     PYTHONPATH=python python3 benchmarks/rig_whole.py [--record FILE.mat] [--split 20] [--keep DIR] [--rig-fix NAME=VALUE]
-        [--law-platform ZETA]
+        [--law-platform ZETA] [--channel-timing none|auto|LEAD,LAG]
 
 Runs ``drillpy analyze --calibrate 0:SPLIT`` and ``--calibrate SPLIT:END`` (the rig modelled whole,
 ``rig_calibration.calibrate_rig``: motor, jack, platform, bar and disk, its inputs the motor command and the
@@ -70,6 +70,8 @@ def main() -> None:
                     help="passed to drillpy analyze: hold a rig parameter instead of calibrating it")
     ap.add_argument("--law-platform", type=float, default=None, metavar="ZETA",
                     help="passed to drillpy analyze: identify the law with the speed and the WOB through the platform")
+    ap.add_argument("--channel-timing", default="none", metavar="none|auto|LEAD,LAG",
+                    help="drillpy analyze's --channel-timing: the channels' timing the short-horizon E reads the records at")
     ap.add_argument("--keep", default=None, help="write the two analyses into DIR/calT0 (kept) instead of a temporary directory")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
@@ -77,7 +79,8 @@ def main() -> None:
             tmp = a.keep
             Path(tmp).mkdir(parents=True, exist_ok=True)
         for (c0, c1) in ((0.0, a.split), (a.split, a.end)):
-            extra = [] if a.law_platform is None else ["--law-platform", f"{a.law_platform:g}"]
+            extra = ([] if a.law_platform is None else ["--law-platform", f"{a.law_platform:g}"]) + [
+                "--channel-timing", a.channel_timing]
             S = analyze(a.record, c0, c1, Path(tmp) / f"cal{c0:g}", a.rig_fix, extra)
             rg = S["rig"]
             cal = rg["calibration_metrics"]

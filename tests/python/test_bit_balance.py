@@ -209,6 +209,24 @@ def test_predict_reads_a_record_at_the_timing_its_loop_model_was_calibrated_at()
         LoopModel.from_dict({**timed.to_dict(), "channel_timing": {"top_lead_s": "late"}})
 
 
+def test_a_rig_models_short_horizon_error_reads_the_record_at_the_timing_its_file_keeps(simulated, halves):
+    # drillpy analyze --channel-timing: the whole-rig model keeps the timing (model.json -> channel_timing) and
+    # its E reads a record at it, as the loop's does; an impossible shift in a model file is one error naming it
+    import dataclasses
+    from drillpy.loop.prediction import short_horizon_error
+    m, _ = simulated
+    piece = halves[1].select(20.0, 30.0)
+    timed = rigsim.RigModel.from_dict(dataclasses.replace(
+        m, channel_timing={"top_lead_s": 0.04, "torque_lag_s": 0.03, "from": "given"}).to_dict())
+    assert timed.channel_timing["torque_lag_s"] == 0.03
+    E_timed = short_horizon_error(timed, piece, m.command_rad_s, threads=1)
+    E_aligned = short_horizon_error(m, bit_balance.aligned(piece, 0.04, 0.03), m.command_rad_s, threads=1)
+    E_recorded = short_horizon_error(m, piece, m.command_rad_s, threads=1)
+    assert E_timed == pytest.approx(E_aligned, rel=2e-3) and E_timed < E_recorded - 0.01
+    with pytest.raises(ValueError, match="channel_timing"):
+        rigsim.RigModel.from_dict({**timed.to_dict(), "channel_timing": {"top_lead_s": 0.5, "torque_lag_s": 0.0}})
+
+
 def test_aligned_moves_each_readings_flags_with_it():
     from drillpy.records.io import Flag
     raw = sample175_raw().select(0.0, 2.0)

@@ -43,6 +43,11 @@ def _add_analyze(sub) -> argparse.ArgumentParser:
     s.add_argument("--law-platform", type=float, metavar="ZETA",
                    help="identify the laws with the bit speed and the WOB brought through the torque-on-bit platform "
                         "(20 Hz, damping ratio ZETA) the measured torque went through (one record; default: as measured)")
+    s.add_argument("--channel-timing", default="none", metavar="none|auto|LEAD,LAG",
+                   help="read the records the rig model's short-horizon E scores with the channels at the bit "
+                        "encoder's time: none (as recorded, the default), auto (the timing that balances the bit's "
+                        "equation on the calibration part) or the top encoder's lead and the torque's lag in s, e.g. "
+                        "0.04,0.03; model.json keeps it for drillpy predict")
     g = s.add_argument_group("acceptance criterion across samples (thesis section 5.3.3)")
     g.add_argument("--max-var-mse-regularized", type=float, default=47.93,
                    help="largest acceptable Var[MSE] (Eq. 5.2) of the regularized law Eq. (3.1)")
@@ -125,7 +130,8 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
         cal = None if a.calibrate is None else parse_window(a.calibrate, "--calibrate")
         opt = AnalysisOptions(t0=t0, t1=t1, cycle_at_s=a.cycle_at, folds=5 if a.folds is None else a.folds,
                               psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim, calibrate=cal,
-                              rig_fixed=_rig_fixed(a.rig_fix), law_platform_damping=a.law_platform)
+                              rig_fixed=_rig_fixed(a.rig_fix), law_platform_damping=a.law_platform,
+                              channel_timing=_channel_timing(a.channel_timing))
         s = analyze_record(items[0][1], a.out, opt, log=log, figure_units=a.figure_units)
         if a.json:
             keys = ("warnings", "cleaning", "cycles", "severity", "torque_statistics", "psd", "identification", "rig")
@@ -155,6 +161,14 @@ def _check_analyze_options(a: argparse.Namespace) -> None:
     validate.positive("--psd-fmax", a.psd_fmax, "Hz")
     if a.law_platform is not None:
         validate.positive("--law-platform", a.law_platform)
+    ct = _channel_timing(a.channel_timing)
+    if isinstance(ct, tuple):
+        from drillpy.records.bit_balance import MAX_SHIFT_S, timing_of
+        try:
+            timing_of({"top_lead_s": ct[0], "torque_lag_s": ct[1]})
+        except ValueError:
+            raise ValueError(f"--channel-timing = {a.channel_timing!r}: the top lead and the torque lag must be "
+                             f"finite shifts within +-{MAX_SHIFT_S:g} s") from None
     for name in ("max_var_mse_regularized", "max_var_mse_non_regularized", "cv_reference", "concrete_variation"):
         validate.non_negative("--" + name.replace("_", "-"), getattr(a, name))
 

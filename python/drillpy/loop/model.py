@@ -17,7 +17,7 @@ import numpy as np
 
 from drillpy import _core
 from drillpy.records import identification as ident
-from drillpy.records.bit_balance import string_of
+from drillpy.records.bit_balance import string_of, timing_of
 from drillpy.model.config import engine_config
 from .data import LoopData, measured
 from .effects import CATALOGUE
@@ -208,7 +208,7 @@ class LoopModel:
                        float(d.get("gj_tolerance", 0.0)), float(d.get("gj_factor", 1.0)),
                        dict(d.get("intervals", {})), str(d.get("wob_input", "measured")),
                        bool(d.get("wob_is_response", False)), _scale(d.get("metric_scale")),
-                       d.get("long_run_fluctuation"), _timing(d.get("channel_timing")))
+                       d.get("long_run_fluctuation"), timing_of(d.get("channel_timing")))
         except KeyError as e:
             raise ValueError(f"model: lacks {e}") from None
 
@@ -666,20 +666,6 @@ def _scale(d) -> tuple | None:
     if not (sv > 0 and sT > 0):
         raise ValueError(f"model: metric_scale = {d!r}: needs positive 'bit_speed_rad_s' and 'torque_on_bit_nm'")
     return sv, sT
-
-
-def _timing(d) -> dict | None:
-    """``channel_timing`` of a model file (None when absent); shifts that are not numbers are one
-    error naming the key (their range is :func:`drillpy.records.bit_balance.aligned`'s)."""
-    if d is None:
-        return None
-    try:
-        lead, lag = float(d["top_lead_s"]), float(d["torque_lag_s"])
-    except (KeyError, TypeError, ValueError):
-        lead = lag = float("nan")
-    if not (math.isfinite(lead) and math.isfinite(lag)):
-        raise ValueError(f"model: channel_timing = {d!r}: needs finite 'top_lead_s' and 'torque_lag_s' [s]")
-    return {**d, "top_lead_s": lead, "torque_lag_s": lag}
 
 
 def channel_errors(v: np.ndarray, T: np.ndarray, top, data: LoopData, horizons=None, ref=None) -> list:

@@ -163,12 +163,18 @@ def _loop_model_at(model: "loop.LoopModel", record: Record, data) -> "loop.LoopM
     return m
 
 
+def _timing_option(model) -> str | tuple:
+    """``LoopOptions.channel_timing`` of a model: the skew its file keeps (the acquisition's, read on its
+    calibration record), or ``"none"``."""
+    ct = model.channel_timing
+    return "none" if ct is None else (ct["top_lead_s"], ct["torque_lag_s"])
+
+
 def _loop_prediction(model: "loop.LoopModel", rec: Record, thr: float, horizon_s: float, threads: int) -> tuple:
     # the law takes the same kind of WOB as in the calibration (the recorded WOB, or its trend), and the
     # channels are read at the calibration's timing (the acquisition's skew is the rig's, not the record's)
-    ct = model.channel_timing
     opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads, wob_input=model.wob_input,
-                           channel_timing="none" if ct is None else (ct["top_lead_s"], ct["torque_lag_s"]))
+                           channel_timing=_timing_option(model))
     data = loop.prepare(rec, model.engine_config(), opt, scale=model.metric_scale)
     m = _loop_model_at(model, rec, data)
     sim = simulate_record(m, data)
@@ -185,8 +191,9 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
     ``axial_jack``: its WOB state restarted from the recorded WOB and relaxed towards the WOB's
     trend) at the record's operating point, restarted from the measured bit speed, acceleration,
     torque and top speed at the start of every horizon and integrated over it. The horizons have no
-    platform and no motor torque limit: the torque they predict is the contact torque. E = sqrt(mean
-    of the per-horizon normalized squared errors), 0 perfect, 1 as far off as the spread of the
+    platform and no motor torque limit: the torque they predict is the contact torque. The record is
+    read at the model's channel timing (``model.channel_timing``: the acquisition's skew, as the loop
+    reads it; None: as recorded). E = sqrt(mean of the per-horizon normalized squared errors), 0 perfect, 1 as far off as the spread of the
     model's calibration window (``calibration.metric_scale``; a model file without it: the first
     half of ``record``), the scale the loop's E is on.
 
@@ -211,7 +218,7 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
     """
     op = rigsim.operating_point(record)
     wob = op.get("wob_n", model.law["wob_ref_n"])
-    opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads)
+    opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads, channel_timing=_timing_option(model))
     cfg = model.config(command, wob)
     sc = model.calibration.get("metric_scale")
     data = loop.prepare(record, cfg, opt, scale=None if sc is None else (sc["bit_speed_rad_s"], sc["torque_on_bit_nm"]))

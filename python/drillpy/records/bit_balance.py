@@ -488,6 +488,38 @@ def aligned(record: Record, top_lead_s: float, torque_lag_s: float) -> Record:
     return dataclasses.replace(record, flags=flags, **out)
 
 
+def timing_of(d) -> dict | None:
+    """The channels' timing a model file keeps (``channel_timing``: ``top_lead_s``, ``torque_lag_s``
+    [s], and how it was found), checked; None when the file has none (the record as recorded).
+
+    Parameters
+    ----------
+    d : dict or None
+        The ``channel_timing`` entry of a ``model.json``.
+
+    Returns
+    -------
+    dict or None
+        ``d`` with its two shifts as floats.
+
+    Raises
+    ------
+    ValueError
+        For a shift that is missing, not a finite number, or beyond :data:`MAX_SHIFT_S` (naming
+        the entry and its value).
+    """
+    if d is None:
+        return None
+    try:
+        lead, lag = float(d["top_lead_s"]), float(d["torque_lag_s"])
+    except (KeyError, TypeError, ValueError):
+        lead = lag = float("nan")
+    if not all(math.isfinite(x) and abs(x) <= MAX_SHIFT_S for x in (lead, lag)):
+        raise ValueError(f"model: channel_timing = {d!r}: needs 'top_lead_s' and 'torque_lag_s' [s], finite "
+                         f"shifts within +-{MAX_SHIFT_S:g} s")
+    return {**d, "top_lead_s": lead, "torque_lag_s": lag}
+
+
 def _shifted(x: np.ndarray, n: int, fill) -> np.ndarray:
     """``x`` moved ``n`` samples later (earlier for n < 0), the vacated samples ``fill``."""
     y = np.full_like(x, fill)

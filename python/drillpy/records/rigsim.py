@@ -38,6 +38,7 @@ from drillpy.model.configuration import Configuration
 from drillpy.model.plausibility import fitted_values
 from drillpy.records import stick as _stick
 from drillpy.records.stick import STICK_FRACTION
+from drillpy.records.bit_balance import timing_of
 from drillpy.records.io import Flag, Record
 from drillpy.records.signals import (platform_response, rig_lowpass)
 from drillpy.model.simulation import simulate, simulate_many
@@ -432,6 +433,11 @@ class RigModel:
     static_torque_factor : float
         Factor on the law's static torque 1.36 a0 (``rig`` drive; 1 for the others, and by default:
         :data:`RIG_PARAMETERS`, :attr:`engine_law`).
+    channel_timing : dict or None
+        The acquisition's skew (``top_lead_s``, ``torque_lag_s`` [s], ``from``) at which the records
+        the model is scored on are read (:func:`drillpy.records.bit_balance.aligned`): found on the
+        calibration window by ``drillpy analyze --channel-timing auto`` or given; the short-horizon
+        error E is computed on the record brought to it. None: as recorded.
     """
     law: dict
     damping_ratio: float
@@ -450,6 +456,7 @@ class RigModel:
     intervals: dict = field(default_factory=dict)
     torque_fluctuation: dict | None = None
     static_torque_factor: float = 1.0
+    channel_timing: dict | None = None
 
     def __post_init__(self):
         if self.drive not in DRIVES:
@@ -585,6 +592,8 @@ class RigModel:
                           "parameters": self.parameters()}
         if self.torque_fluctuation:
             out["torque_fluctuation"] = self.torque_fluctuation
+        if self.channel_timing:
+            out["channel_timing"] = self.channel_timing
         return out
 
     @classmethod
@@ -638,7 +647,7 @@ class RigModel:
                        motor_slope_nms_rad=td.get("slope_nms_rad") if motor else None,
                        motor_inertia_kg_m2=td.get("inertia_kg_m2") if motor else None,
                        calibration=d.get("calibration", {}), torque_fluctuation=d.get("torque_fluctuation"),
-                       **extra)  # rebuilt on the thesis-rig geometry
+                       channel_timing=timing_of(d.get("channel_timing")), **extra)  # rebuilt on the thesis-rig geometry
         except KeyError as e:
             raise ValueError(f"model: config lacks {e}") from None
 

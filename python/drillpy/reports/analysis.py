@@ -299,6 +299,12 @@ def render_report(S: dict) -> str:
                              f"{mp('top_speed_std', '.2f')} | {mp('wob_std', '.1f')} | "
                              f"{st(m['stalls']['measured'])} / {st(m['stalls']['simulated'])} | "
                              f"{_f(h['short_horizon_error'])} |")
+                ct = rg.get("channel_timing")
+                if ct:
+                    L += ["", f"The short-horizon E reads the record with the top speed {1e3 * ct['top_lead_s']:.0f} ms later "
+                          f"and the torque {1e3 * ct['torque_lag_s']:.0f} ms earlier (`--channel-timing`, "
+                          + ("found on the calibration part" if ct.get("from") == "auto" else "given")
+                          + "; `model.json` keeps it)."]
                 L.append("")
             L += ["![rig time series](rig_time_series.png)", "", "![rig loops](rig_loops.png)", ""]
     return "\n".join(L) + "\n"
