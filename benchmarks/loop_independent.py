@@ -209,7 +209,7 @@ THIRD_CASES = [
 ]
 SIMULATORS = {"tucker-wang": CASES, "stribeck": STRIBECK_CASES, "third": THIRD_CASES}
 #: The loop's long-run torque (``LoopOptions.long_run_fluctuation``; ``--long-run-fluctuation``).
-FLUCTUATION = {"long_run": "none"}
+FLUCTUATION = {"long_run": "none", "channel_timing": "none"}
 
 
 def _acceptable(case: Case, res) -> set:
@@ -319,7 +319,8 @@ def run_case(i: int, case: Case, folder: str, rate: float, simulator: str = "tuc
     lines: list = []
     cfg = drillpy.load_config(preset="thesis-rig")
     t0 = time.time()
-    res = run_loop(path, cfg, LoopOptions(rate_hz=rate, long_run_fluctuation=FLUCTUATION["long_run"]), log=lines.append)
+    res = run_loop(path, cfg, LoopOptions(rate_hz=rate, long_run_fluctuation=FLUCTUATION["long_run"],
+                                                channel_timing=FLUCTUATION["channel_timing"]), log=lines.append)
     t_loop = time.time() - t0
     ok, why = judge(case, res)
     with open(os.path.join(folder, f"case_{i:02d}.log"), "w") as fh:
@@ -362,8 +363,11 @@ def main(argv=None) -> int:
     ap.add_argument("--dir", help="folder for records and logs (default: a new temporary folder)")
     ap.add_argument("--long-run-fluctuation", choices=("none", "record"), default="none",
                     help="the long runs' bit-rock torque (LoopOptions.long_run_fluctuation)")
+    ap.add_argument("--channel-timing", choices=("none", "auto"), default="none",
+                    help="the channels' timing the loop reads each record at (LoopOptions.channel_timing)")
     a = ap.parse_args(argv)
     FLUCTUATION["long_run"] = a.long_run_fluctuation
+    FLUCTUATION["channel_timing"] = a.channel_timing
     rig.use_law(a.law)
     cases = SIMULATORS[a.simulator]
     idx = list(range(len(cases))) if not a.only else [int(x) for x in a.only.split(",")]

@@ -54,7 +54,7 @@ ORIGINAL_SIX = ("bit_hysteresis", "wob_coupling", "top_drive_dynamics", "sensor_
 DURATION_S, RATE_HZ, LOOP_DT_S = 40.0, 500.0, 2e-4
 #: The loop's scheme and its long runs' torque (``LoopOptions.scheme``, ``long_run_fluctuation``; ``--scheme``,
 #: ``--long-run-fluctuation``)
-OPTIONS = {"scheme": "modified_euler", "long_run_fluctuation": "none"}
+OPTIONS = {"scheme": "modified_euler", "long_run_fluctuation": "none", "channel_timing": "none"}
 
 
 @dataclass
@@ -116,7 +116,7 @@ def run_case(case: Case, truth_gj: bool = False) -> dict:
     ``truth_gj``: declare the truth's GJ (its draw inside the geometry's tolerance) instead of the
     nominal one."""
     key = (case.kind, repr(case.effects), case.seed, case.noise, case.search, truth_gj, OPTIONS["scheme"],
-           OPTIONS["long_run_fluctuation"])
+           OPTIONS["long_run_fluctuation"], OPTIONS["channel_timing"])
     if key not in _DONE:
         _DONE[key] = _run(case, truth_gj)
     return _DONE[key]
@@ -125,7 +125,7 @@ def run_case(case: Case, truth_gj: bool = False) -> dict:
 def _run(case: Case, truth_gj: bool) -> dict:
     rec = synthetic_record(case.effects, duration_s=DURATION_S, seed=case.seed, fs_hz=RATE_HZ, noise=case.noise)
     opt = LoopOptions(rate_hz=RATE_HZ, dt_s=LOOP_DT_S, scheme=OPTIONS["scheme"],
-                      long_run_fluctuation=OPTIONS["long_run_fluctuation"],
+                      long_run_fluctuation=OPTIONS["long_run_fluctuation"], channel_timing=OPTIONS["channel_timing"],
                       **({"effects": case.search} if case.search else {}))
     declared = declared_config()
     if truth_gj:
@@ -230,9 +230,12 @@ def main(argv=None) -> int:
                     help="the loop's scheme (at the table's step, 2e-4 s)")
     ap.add_argument("--long-run-fluctuation", choices=("none", "record"), default="none",
                     help="the long runs' bit-rock torque (LoopOptions.long_run_fluctuation)")
+    ap.add_argument("--channel-timing", choices=("none", "auto"), default="none",
+                    help="the channels' timing the loop reads each record at (LoopOptions.channel_timing)")
     a = ap.parse_args(argv)
     OPTIONS["scheme"] = a.scheme
     OPTIONS["long_run_fluctuation"] = a.long_run_fluctuation
+    OPTIONS["channel_timing"] = a.channel_timing
     kinds = None if a.only is None else set(a.only.split(","))
     cases = [c for c in CASES if (kinds is None or c.kind in kinds or ("fast" in kinds and c.fast))
              and (a.seed is None or c.seed in a.seed)]
