@@ -167,6 +167,41 @@ def test_the_loop_brings_the_channels_to_the_bit_encoders_time_before_anything_e
         bit_balance.aligned(raw, float("inf"), 0.0)
 
 
+def test_a_timing_is_the_acquisitions_only_where_the_bit_equation_holds_at_it_and_fails_as_recorded():
+    # sample 175: the equation fails as recorded and holds at 40/30 ms, a skew. With a declared string three
+    # times too stiff it holds at no timing: the best shift fits the string's error, and the loop reads the
+    # record as recorded. A motor truth of loop_validation (three modes read as one spring, no skew): the best
+    # shift gains 0.08 only, not a skew
+    import copy
+    import sys
+    from pathlib import Path
+    from drillpy.loop import LoopOptions
+    from drillpy.loop.data import prepare
+    from drillpy.loop.synthetic import declared_config, synthetic_record
+    from drillpy.records.cleaning import clean
+    raw = sample175_raw().select(0.0, 20.0)
+    rec, _ = clean(raw)
+    part = rec.select(0.0, 10.0)
+    cfg = drillpy.load_config(preset="thesis-rig")
+    t = bit_balance.identify_timing(part, cfg, valid=rigsim.reliable_top_speed(part))
+    assert t["skew"] and (t["top_lead_s"], t["torque_lag_s"]) == (0.04, 0.03)
+    stiff = copy.deepcopy(cfg)
+    for sec in stiff["string"]["sections"]:
+        sec["outer_radius_m"] *= 3.0 ** 0.25  # G J x 3
+    t = bit_balance.identify_timing(part, stiff, valid=rigsim.reliable_top_speed(part))
+    assert not t["skew"] and t["r2"] < bit_balance.TIMING_MIN_R2 and "does not hold" in t["reason"]
+    ct = prepare(raw, stiff, LoopOptions(channel_timing="auto")).channel_timing
+    assert (ct["top_lead_s"], ct["torque_lag_s"]) == (0.0, 0.0) and not ct["refused"]["skew"]
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
+    import loop_validation as LV
+    case = next(c for c in LV.CASES if c.fast and c.seed == 13)  # the motor truth
+    truth, _ = clean(synthetic_record(case.effects, duration_s=LV.DURATION_S, seed=case.seed, fs_hz=LV.RATE_HZ,
+                                      noise=case.noise))
+    t = bit_balance.identify_timing(truth, declared_config(), valid=rigsim.reliable_top_speed(truth))
+    assert t["r2"] > bit_balance.TIMING_MIN_R2 and 0 < t["r2"] - t["r2_as_recorded"] < bit_balance.TIMING_MIN_GAIN
+    assert not t["skew"] and "one-spring" in t["reason"]
+
+
 def test_auto_timing_is_identified_on_the_calibration_part_only():
     # the validation half read with its torque 60 ms later still (another acquisition setting): the whole
     # record's best timing moves with it, the loop's does not (a prediction uses only what is known beforehand)

@@ -708,6 +708,9 @@ def _channel_timing(rec: Record, opt: AnalysisOptions, log) -> dict | None:
     if ct == "auto":
         timing = {**bit_balance.identify_timing(rec, Configuration.load(preset=opt.preset),
                                                 valid=rigsim.reliable_top_speed(rec)), "from": "auto"}
+        if not timing["skew"]:
+            log(f"channel timing: the records are read as recorded: {timing['reason']}")
+            return None
     else:
         timing = bit_balance.timing_of({"top_lead_s": ct[0], "torque_lag_s": ct[1], "from": "given"})
     log(f"channel timing: the rig model's short-horizon E reads the records with the top speed "

@@ -410,6 +410,14 @@ def drive_interval(record: Record, config, balance: dict, valid: np.ndarray | No
 
 #: R^2 within which two timings of :func:`identify_timing` are as good: the smaller shift is taken.
 TIMING_R2_TIE = 1e-3
+#: The bit's equation must hold at a timing (R^2 at least this) for the timing to be the acquisition's:
+#: where it does not, the declared string does not describe the record and the shift that fits best fits
+#: the string's error (the third simulator's compliant bit and two-inertia motor: R^2 -0.44 and -1.29).
+TIMING_MIN_R2 = 0.8
+#: ... and it must fail as recorded by at least this much more: a one-spring reading of a string with
+#: more modes leaves a few hundredths to a 10-20 ms shift (loop_validation's motor truths: 0.85 -> 0.93,
+#: 0.92 -> 0.94), an acquisition's skew breaks the equation (sample 175: -0.28 -> 0.93).
+TIMING_MIN_GAIN = 0.1
 #: The largest channel shift :func:`aligned` takes [s] (far beyond any acquisition's skew).
 MAX_SHIFT_S = 0.2
 
@@ -433,7 +441,12 @@ def identify_timing(record: Record, config, valid: np.ndarray | None = None) -> 
     Returns
     -------
     dict
-        ``top_lead_s``, ``torque_lag_s`` [s], ``r2`` (the fit's) and ``r2_as_recorded`` (no shift).
+        ``top_lead_s``, ``torque_lag_s`` [s], ``r2`` (the fit's), ``r2_as_recorded`` (no shift) and
+        ``skew``: True when the timing is the acquisition's skew, False when the shifts are 0 or the
+        record does not identify one (the equation does not hold at the best timing, R^2 below
+        :data:`TIMING_MIN_R2`, or holds nearly as well as recorded, a gain below
+        :data:`TIMING_MIN_GAIN`: then the shifts are those of the best fit); with False, ``reason``
+        says why.
     """
     k, J = string_of(config)
     rows = timing_fit(record, TIMING_GRID_S, TIMING_GRID_S, stiffness=k, inertia=J, valid=valid)
@@ -441,8 +454,21 @@ def identify_timing(record: Record, config, valid: np.ndarray | None = None) -> 
     # the smallest shift among those as good as the best: a steady top speed says nothing of its lead
     near = [r for r in rows if r["r2"] >= rows[0]["r2"] - TIMING_R2_TIE]
     best = min(near, key=lambda r: (abs(r["top_lead_s"]) + abs(r["torque_lag_s"]), -r["r2"]))
-    return {"top_lead_s": best["top_lead_s"], "torque_lag_s": best["torque_lag_s"], "r2": best["r2"],
-            "r2_as_recorded": raw["r2"]}
+    out = {"top_lead_s": best["top_lead_s"], "torque_lag_s": best["torque_lag_s"], "r2": best["r2"],
+           "r2_as_recorded": raw["r2"], "skew": False}
+    if best["top_lead_s"] == 0.0 and best["torque_lag_s"] == 0.0:
+        out["reason"] = "the bit's equation with the declared string holds best as recorded"
+        return out
+    if best["r2"] < TIMING_MIN_R2:
+        out["reason"] = (f"the bit's equation with the declared string does not hold at any timing (R^2 "
+                         f"{best['r2']:.3f} at the best, below {TIMING_MIN_R2:g}): the string, not the acquisition, "
+                         "is what it misses")
+    elif best["r2"] - raw["r2"] < TIMING_MIN_GAIN:
+        out["reason"] = (f"the shift gains R^2 {best['r2'] - raw['r2']:.3f} only (below {TIMING_MIN_GAIN:g}): what a "
+                         "one-spring reading of a string with more modes makes up, not an acquisition's skew")
+    else:
+        out["skew"] = True
+    return out
 
 
 def aligned(record: Record, top_lead_s: float, torque_lag_s: float) -> Record:
