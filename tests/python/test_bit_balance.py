@@ -200,6 +200,9 @@ def test_a_timing_is_the_acquisitions_only_where_the_bit_equation_holds_at_it_an
     t = bit_balance.identify_timing(truth, declared_config(), valid=rigsim.reliable_top_speed(truth))
     assert t["r2"] > bit_balance.TIMING_MIN_R2 and 0 < t["r2"] - t["r2_as_recorded"] < bit_balance.TIMING_MIN_GAIN
     assert not t["skew"] and "one-spring" in t["reason"]
+    # a record too short for the balance is read as recorded, not refused
+    t = bit_balance.identify_timing(rec.select(0.0, 2.0), cfg)
+    assert not t["skew"] and (t["top_lead_s"], t["torque_lag_s"]) == (0.0, 0.0) and "needs 4 s" in t["reason"]
 
 
 def test_auto_timing_is_identified_on_the_calibration_part_only():

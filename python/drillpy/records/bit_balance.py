@@ -114,14 +114,22 @@ def string_of(config) -> tuple:
     return 1.0 / compliance, bit + inertia / 3.0
 
 
+#: Samples the balance needs [s of the record's rate].
+MIN_BALANCE_S = 4.0
+
+
+def _usable(record: Record, valid: np.ndarray | None) -> np.ndarray:
+    """The samples with the bit speed, the top speed and the torque (and ``valid``)."""
+    ok = record.valid("bit_speed", "top_speed", "torque_on_bit")
+    return ok & np.asarray(valid, bool) if valid is not None else ok
+
+
 def _channels(record: Record, valid: np.ndarray | None) -> tuple:
     """Bit speed, top speed and torque on the record's grid, excluded samples interpolated over."""
-    ok = record.valid("bit_speed", "top_speed", "torque_on_bit")
-    if valid is not None:
-        ok = ok & np.asarray(valid, bool)
-    if ok.sum() < 4.0 / record.dt:
+    ok = _usable(record, valid)
+    if ok.sum() < MIN_BALANCE_S / record.dt:
         raise ValueError(f"record: {int(ok.sum())} samples with the bit speed, the top speed and the torque; "
-                         f"the balance needs 4 s of them")
+                         f"the balance needs {MIN_BALANCE_S:g} s of them")
     t = record.time_s
     return tuple(np.interp(t, t[ok], x[ok]) for x in (record.bit_speed, record.top_speed, record.torque_on_bit))
 
@@ -445,9 +453,15 @@ def identify_timing(record: Record, config, valid: np.ndarray | None = None) -> 
         ``skew``: True when the timing is the acquisition's skew, False when the shifts are 0 or the
         record does not identify one (the equation does not hold at the best timing, R^2 below
         :data:`TIMING_MIN_R2`, or holds nearly as well as recorded, a gain below
-        :data:`TIMING_MIN_GAIN`: then the shifts are those of the best fit); with False, ``reason``
+        :data:`TIMING_MIN_GAIN`: then the shifts are those of the best fit; or the record holds less
+        than :data:`MIN_BALANCE_S` of usable samples: shifts 0, R^2 None); with False, ``reason``
         says why.
     """
+    n = int(_usable(record, valid).sum())
+    if n < MIN_BALANCE_S / record.dt:  # too short a record to say: read as recorded
+        return {"top_lead_s": 0.0, "torque_lag_s": 0.0, "r2": None, "r2_as_recorded": None, "skew": False,
+                "reason": f"{n * record.dt:.2f} s of samples with the bit speed, the top speed and the torque; the "
+                          f"bit's equation needs {MIN_BALANCE_S:g} s to tell a skew"}
     k, J = string_of(config)
     rows = timing_fit(record, TIMING_GRID_S, TIMING_GRID_S, stiffness=k, inertia=J, valid=valid)
     raw = next(r for r in rows if r["top_lead_s"] == 0.0 and r["torque_lag_s"] == 0.0)
