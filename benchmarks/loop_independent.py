@@ -209,7 +209,7 @@ THIRD_CASES = [
 ]
 SIMULATORS = {"tucker-wang": CASES, "stribeck": STRIBECK_CASES, "third": THIRD_CASES}
 #: The loop's long-run torque (``LoopOptions.long_run_fluctuation``; ``--long-run-fluctuation``).
-FLUCTUATION = {"long_run": "none", "channel_timing": "none"}
+FLUCTUATION = {"long_run": "none", "channel_timing": "auto"}
 
 
 def _acceptable(case: Case, res) -> set:
@@ -363,7 +363,7 @@ def main(argv=None) -> int:
     ap.add_argument("--dir", help="folder for records and logs (default: a new temporary folder)")
     ap.add_argument("--long-run-fluctuation", choices=("none", "record"), default="none",
                     help="the long runs' bit-rock torque (LoopOptions.long_run_fluctuation)")
-    ap.add_argument("--channel-timing", choices=("none", "auto"), default="none",
+    ap.add_argument("--channel-timing", choices=("none", "auto"), default="auto",
                     help="the channels' timing the loop reads each record at (LoopOptions.channel_timing)")
     a = ap.parse_args(argv)
     FLUCTUATION["long_run"] = a.long_run_fluctuation

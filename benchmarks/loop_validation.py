@@ -54,7 +54,7 @@ ORIGINAL_SIX = ("bit_hysteresis", "wob_coupling", "top_drive_dynamics", "sensor_
 DURATION_S, RATE_HZ, LOOP_DT_S = 40.0, 500.0, 2e-4
 #: The loop's scheme and its long runs' torque (``LoopOptions.scheme``, ``long_run_fluctuation``; ``--scheme``,
 #: ``--long-run-fluctuation``)
-OPTIONS = {"scheme": "modified_euler", "long_run_fluctuation": "none", "channel_timing": "none"}
+OPTIONS = {"scheme": "modified_euler", "long_run_fluctuation": "none", "channel_timing": "auto"}
 
 
 @dataclass
@@ -230,7 +230,7 @@ def main(argv=None) -> int:
                     help="the loop's scheme (at the table's step, 2e-4 s)")
     ap.add_argument("--long-run-fluctuation", choices=("none", "record"), default="none",
                     help="the long runs' bit-rock torque (LoopOptions.long_run_fluctuation)")
-    ap.add_argument("--channel-timing", choices=("none", "auto"), default="none",
+    ap.add_argument("--channel-timing", choices=("none", "auto"), default="auto",
                     help="the channels' timing the loop reads each record at (LoopOptions.channel_timing)")
     a = ap.parse_args(argv)
     OPTIONS["scheme"] = a.scheme

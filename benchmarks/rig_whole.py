@@ -70,7 +70,7 @@ def main() -> None:
                     help="passed to drillpy analyze: hold a rig parameter instead of calibrating it")
     ap.add_argument("--law-platform", type=float, default=None, metavar="ZETA",
                     help="passed to drillpy analyze: identify the law with the speed and the WOB through the platform")
-    ap.add_argument("--channel-timing", default="none", metavar="none|auto|LEAD,LAG",
+    ap.add_argument("--channel-timing", default="auto", metavar="none|auto|LEAD,LAG",
                     help="drillpy analyze's --channel-timing: the channels' timing the short-horizon E reads the records at")
     ap.add_argument("--keep", default=None, help="write the two analyses into DIR/calT0 (kept) instead of a temporary directory")
     a = ap.parse_args()

@@ -151,12 +151,13 @@ def test_the_loop_brings_the_channels_to_the_bit_encoders_time_before_anything_e
     cfg = drillpy.load_config(preset="thesis-rig")
     data = prepare(raw, cfg, LoopOptions(channel_timing="auto"))
     ct = data.channel_timing
-    assert (ct["top_lead_s"], ct["torque_lag_s"]) == (0.04, 0.03) and ct["r2"] > 0.9 > ct["r2_as_recorded"]
+    # 40 and 50 ms of top lead balance it nearly alike on this part (R^2 within a few thousandths)
+    assert ct["top_lead_s"] in (0.04, 0.05) and ct["torque_lag_s"] == 0.03 and ct["r2"] > 0.9 > ct["r2_as_recorded"]
     # the aligned record balances the bit's equation as recorded: the shifted channels are what the loop reads
     k, J = bit_balance.string_of(cfg)
     b = bit_balance.cycle_balance(data.record, k, J, valid=rigsim.reliable_top_speed(data.record))
-    assert abs(b.string_damping) < 0.02
-    assert prepare(raw, cfg, LoopOptions()).channel_timing is None  # the default: as recorded
+    assert abs(b.string_damping) < 0.03  # a bar's damping, where as recorded it is 0.15
+    assert prepare(raw, cfg, LoopOptions(channel_timing="none")).channel_timing is None  # as recorded
     shifted = bit_balance.aligned(raw, 0.04, 0.03)
     n = int(round(0.04 / raw.dt))
     assert np.isnan(shifted.top_speed[:n]).all() and np.array_equal(shifted.top_speed[n:], raw.top_speed[:-n])
@@ -168,45 +169,37 @@ def test_the_loop_brings_the_channels_to_the_bit_encoders_time_before_anything_e
 
 
 def test_a_timing_is_the_acquisitions_only_where_the_bit_equation_holds_at_it_and_fails_as_recorded():
-    # sample 175: the equation fails as recorded and holds at 40/30 ms, a skew. With a declared string three
-    # times too stiff it holds at no timing: the best shift fits the string's error, and the loop reads the
-    # record as recorded. A motor truth of loop_validation (three modes read as one spring, no skew): the best
-    # shift gains 0.08 only, not a skew
-    import copy
+    # sample 175: with the string's k and J fitted at every timing the equation holds as recorded at R^2 0.71
+    # and at 0.94 with the top 40-50 ms early and the torque 30 ms late, a skew, whatever string is declared.
+    # The validation suite's truths have none: a motor (three modes read as one spring) and a motor beside
+    # a string's GJ x 0.85 gain a few hundredths from their best shifts, which a string with more modes, or
+    # softer than declared, makes up
     import sys
     from pathlib import Path
-    from drillpy.loop import LoopOptions
-    from drillpy.loop.data import prepare
     from drillpy.loop.synthetic import declared_config, synthetic_record
     from drillpy.records.cleaning import clean
-    raw = sample175_raw().select(0.0, 20.0)
-    rec, _ = clean(raw)
+    rec, _ = clean(sample175_raw().select(0.0, 20.0))
     part = rec.select(0.0, 10.0)
     cfg = drillpy.load_config(preset="thesis-rig")
     t = bit_balance.identify_timing(part, cfg, valid=rigsim.reliable_top_speed(part))
-    assert t["skew"] and (t["top_lead_s"], t["torque_lag_s"]) == (0.04, 0.03)
-    stiff = copy.deepcopy(cfg)
-    for sec in stiff["string"]["sections"]:
-        sec["outer_radius_m"] *= 3.0 ** 0.25  # G J x 3
-    t = bit_balance.identify_timing(part, stiff, valid=rigsim.reliable_top_speed(part))
-    assert not t["skew"] and t["r2"] < bit_balance.TIMING_MIN_R2 and "does not hold" in t["reason"]
-    ct = prepare(raw, stiff, LoopOptions(channel_timing="auto")).channel_timing
-    assert (ct["top_lead_s"], ct["torque_lag_s"]) == (0.0, 0.0) and not ct["refused"]["skew"]
+    assert t["skew"] and t["top_lead_s"] in (0.04, 0.05) and t["torque_lag_s"] == 0.03
+    assert t["r2"] > 0.9 and t["r2"] - t["r2_as_recorded"] > 0.2 and t["stiffness_nm_rad"] < t["declared_stiffness_nm_rad"]
     sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
     import loop_validation as LV
-    case = next(c for c in LV.CASES if c.fast and c.seed == 13)  # the motor truth
-    truth, _ = clean(synthetic_record(case.effects, duration_s=LV.DURATION_S, seed=case.seed, fs_hz=LV.RATE_HZ,
-                                      noise=case.noise))
-    t = bit_balance.identify_timing(truth, declared_config(), valid=rigsim.reliable_top_speed(truth))
-    assert t["r2"] > bit_balance.TIMING_MIN_R2 and 0 < t["r2"] - t["r2_as_recorded"] < bit_balance.TIMING_MIN_GAIN
-    assert not t["skew"] and "one-spring" in t["reason"]
+    for seed in (13, 34):  # the motor truth; the motor with a softer string
+        case = next(c for c in LV.CASES if c.seed == seed and "top_drive_dynamics" in c.effects)
+        truth, _ = clean(synthetic_record(case.effects, duration_s=LV.DURATION_S, seed=case.seed, fs_hz=LV.RATE_HZ,
+                                          noise=case.noise))
+        t = bit_balance.identify_timing(truth, declared_config(), valid=rigsim.reliable_top_speed(truth))
+        assert t["r2"] > bit_balance.TIMING_MIN_R2 and 0 < t["r2"] - t["r2_as_recorded"] < bit_balance.TIMING_MIN_GAIN
+        assert not t["skew"] and "one-spring" in t["reason"]
     # a record too short for the balance is read as recorded, not refused
     t = bit_balance.identify_timing(rec.select(0.0, 2.0), cfg)
     assert not t["skew"] and (t["top_lead_s"], t["torque_lag_s"]) == (0.0, 0.0) and "needs 4 s" in t["reason"]
 
 
 def test_auto_timing_is_identified_on_the_calibration_part_only():
-    # the validation half read with its torque 60 ms later still (another acquisition setting): the whole
+    # the validation half read with its torque 100 ms later still (another acquisition setting): the whole
     # record's best timing moves with it, the loop's does not (a prediction uses only what is known beforehand)
     import dataclasses
     from drillpy.loop import LoopOptions
@@ -215,14 +208,14 @@ def test_auto_timing_is_identified_on_the_calibration_part_only():
     raw = sample175_raw().select(0.0, 20.0)
     cfg = drillpy.load_config(preset="thesis-rig")
     T = raw.torque_on_bit.copy()
-    later = np.r_[np.full(60, np.nan), T[:-60]]
+    later = np.r_[np.full(100, np.nan), T[:-100]]
     T[raw.time_s >= 10.0] = later[raw.time_s >= 10.0]
     mod = dataclasses.replace(raw, torque_on_bit=T)
     rec, _ = clean(mod)
     whole = bit_balance.identify_timing(rec, cfg, valid=rigsim.reliable_top_speed(rec))
-    assert (whole["top_lead_s"], whole["torque_lag_s"]) != (0.04, 0.03)
+    assert whole["top_lead_s"] > 0.05
     ct = prepare(mod, cfg, LoopOptions(channel_timing="auto")).channel_timing
-    assert (ct["top_lead_s"], ct["torque_lag_s"]) == (0.04, 0.03)
+    assert ct["top_lead_s"] in (0.04, 0.05) and ct["torque_lag_s"] == 0.03  # the unmodified part's (near-tied)
 
 
 def test_predict_reads_a_record_at_the_timing_its_loop_model_was_calibrated_at():

@@ -43,11 +43,11 @@ def _add_analyze(sub) -> argparse.ArgumentParser:
     s.add_argument("--law-platform", type=float, metavar="ZETA",
                    help="identify the laws with the bit speed and the WOB brought through the torque-on-bit platform "
                         "(20 Hz, damping ratio ZETA) the measured torque went through (one record; default: as measured)")
-    s.add_argument("--channel-timing", default="none", metavar="none|auto|LEAD,LAG",
+    s.add_argument("--channel-timing", default="auto", metavar="none|auto|LEAD,LAG",
                    help="read the records the rig model's short-horizon E scores with the channels at the bit "
-                        "encoder's time: none (as recorded, the default), auto (the timing that balances the bit's "
-                        "equation on the calibration part) or the top encoder's lead and the torque's lag in s, e.g. "
-                        "0.04,0.03; model.json keeps it for drillpy predict")
+                        "encoder's time: auto (the default: the skew that balances the bit's equation on the "
+                        "calibration part, where the record identifies one), none (as recorded) or the top encoder's "
+                        "lead and the torque's lag in s, e.g. 0.04,0.03; model.json keeps it for drillpy predict")
     g = s.add_argument_group("acceptance criterion across samples (thesis section 5.3.3)")
     g.add_argument("--max-var-mse-regularized", type=float, default=47.93,
                    help="largest acceptable Var[MSE] (Eq. 5.2) of the regularized law Eq. (3.1)")
@@ -340,10 +340,10 @@ def _add_loop(sub) -> argparse.ArgumentParser:
     s.add_argument("--wob-input", choices=("auto", "measured", "trend"), default="auto",
                    help="the WOB the law takes: the recorded one where it is an input, its trend below 0.5 Hz where "
                         "the record shows it is a response of the rotation (auto, the default), or forced")
-    s.add_argument("--channel-timing", default="none", metavar="none|auto|LEAD,LAG",
-                   help="bring the channels to the bit encoder's time first: none (as recorded, the default), auto "
-                        "(the timing that balances the bit's equation with the declared string) or the top encoder's "
-                        "lead and the torque's lag in s, e.g. 0.04,0.03")
+    s.add_argument("--channel-timing", default="auto", metavar="none|auto|LEAD,LAG",
+                   help="bring the channels to the bit encoder's time first: auto (the default: the skew that "
+                        "balances the bit's equation on the calibration part, where the record identifies one), "
+                        "none (as recorded) or the top encoder's lead and the torque's lag in s, e.g. 0.04,0.03")
     s.add_argument("--long-run-fluctuation", choices=("none", "record"), default="none",
                    help="the bit-rock torque of the long runs: the law alone (none, the default) or with the "
                         "fluctuation of Eq. (4.1) the calibration part shows (record)")

@@ -118,10 +118,11 @@ class LoopOptions:
         the declared model leaves uncertain); a mismatch beyond it is ``string_stiffness``, found
         with evidence. 0 holds the declared GJ.
     channel_timing : str or tuple
-        The channels' timing (:func:`drillpy.records.bit_balance.aligned`): ``"none"`` (default: as
-        recorded), ``"auto"`` (the timing that balances the bit's equation with the declared string
-        on the calibration part, :func:`drillpy.records.bit_balance.identify_timing`; a record without
-        top speed is left as recorded) or (top lead, torque lag) [s]. The record's channels are
+        The channels' timing (:func:`drillpy.records.bit_balance.aligned`): ``"auto"`` (default: the
+        timing that balances the bit's equation, the string's stiffness and inertia fitted, on the
+        calibration part, :func:`drillpy.records.bit_balance.identify_timing`, where the record
+        identifies a skew; a record without one, or without top speed, is left as recorded),
+        ``"none"`` (as recorded) or (top lead, torque lag) [s]. The record's channels are
         brought to the bit encoder's time before anything else (docs/loop.md, "The channels'
         timing"); the model file keeps the timing and ``drillpy predict`` reads the records it
         scores at it.
@@ -157,7 +158,7 @@ class LoopOptions:
     law_knot: bool = True
     gj_tolerance: float = GJ_TOLERANCE
     wob_input: str = "auto"
-    channel_timing: str | tuple = "none"
+    channel_timing: str | tuple = "auto"
     long_run_fluctuation: str = "none"
 
     def validate(self) -> None:

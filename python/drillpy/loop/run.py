@@ -619,7 +619,7 @@ def _baseline(cfg: dict, data: LoopData, opt: LoopOptions, notes: list, log) -> 
     elif ct:
         log(f"channels brought to the bit encoder's time: the top speed read {1e3 * ct['top_lead_s']:.0f} ms later, the "
             f"torque {1e3 * ct['torque_lag_s']:.0f} ms earlier ("
-            + (f"the bit's equation with the declared string: R^2 {ct['r2']:.3f}, {ct['r2_as_recorded']:.3f} as recorded"
+            + (f"the bit's equation, the string's k and J fitted: R^2 {ct['r2']:.3f}, {ct['r2_as_recorded']:.3f} as recorded"
                if ct["from"] == "auto" else "as given") + ")")
     m0, _ = calibrate(cfg, data, opt)
     base_lr = _long(opt, m0, data)

@@ -81,9 +81,10 @@ class AnalysisOptions:
         None (default): against the speed and the WOB as measured (docs/records.md section 1).
     channel_timing : str or tuple
         The acquisition's skew at which the rig model's short-horizon error E reads a record
-        (:func:`drillpy.records.bit_balance.aligned`): ``"none"`` (default: as recorded), ``"auto"``
-        (the timing that balances the bit's equation on the calibration part with the preset's
-        string, :func:`drillpy.records.bit_balance.identify_timing`) or (top lead, torque lag) [s].
+        (:func:`drillpy.records.bit_balance.aligned`): ``"auto"`` (default: the timing that balances
+        the bit's equation on the calibration part, the string's stiffness and inertia fitted,
+        :func:`drillpy.records.bit_balance.identify_timing`, where the record identifies a skew; else
+        as recorded), ``"none"`` (as recorded) or (top lead, torque lag) [s].
         ``model.json`` keeps it, and ``drillpy predict`` reads the records it scores at it; the
         long-run metrics of the calibration are the record's as recorded.
     """
@@ -103,7 +104,7 @@ class AnalysisOptions:
     realizations: int = 20
     rig_fixed: dict | None = None
     law_platform_damping: float | None = None
-    channel_timing: str | tuple = "none"
+    channel_timing: str | tuple = "auto"
 
 
 def _stats(x) -> dict:
@@ -701,7 +702,7 @@ def _identified_section(m: rigsim.RigModel, rec: Record, held: list, thr: float,
 
 def _channel_timing(rec: Record, opt: AnalysisOptions, log) -> dict | None:
     """The channels' timing of ``opt.channel_timing`` (None: as recorded): ``auto`` is found on the cleaned
-    calibration part ``rec`` with the preset's string (:func:`drillpy.records.bit_balance.identify_timing`)."""
+    calibration part ``rec`` (:func:`drillpy.records.bit_balance.identify_timing`; None where it finds no skew)."""
     ct = opt.channel_timing
     if ct == "none":
         return None
