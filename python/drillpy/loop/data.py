@@ -298,15 +298,9 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions, scale: tup
     rec, rep = clean(raw, CleaningOptions(spike_channels=ENCODER_CHANNELS))
     timing = None
     if opt.channel_timing != "none" and rec.top_speed is not None:
-        if opt.channel_timing == "auto":  # identified on the calibration part: the validation part is unseen
-            part = rec.select(None, rec.time_s[0] + opt.calibration_fraction * (rec.time_s[-1] - rec.time_s[0]))
-            found = bit_balance.identify_timing(part, cfg, valid=reliable_top_speed(part))
-            timing = {**found, "from": "auto"}
-            if not found["skew"]:  # no skew the record identifies: read as recorded, and say what was found
-                timing = {"top_lead_s": 0.0, "torque_lag_s": 0.0, "from": "auto", "refused": found}
-        else:
-            timing = {"top_lead_s": float(opt.channel_timing[0]), "torque_lag_s": float(opt.channel_timing[1]),
-                      "from": "given"}
+        # identified on the calibration part: the validation part is unseen
+        part = rec.select(None, rec.time_s[0] + opt.calibration_fraction * (rec.time_s[-1] - rec.time_s[0]))
+        timing = bit_balance.resolve_timing(part, opt.channel_timing, cfg, valid=reliable_top_speed(part))
         if timing["top_lead_s"] or timing["torque_lag_s"]:
             raw = bit_balance.aligned(raw, timing["top_lead_s"], timing["torque_lag_s"])
             rec, rep = clean(raw, CleaningOptions(spike_channels=ENCODER_CHANNELS))

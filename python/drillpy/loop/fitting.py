@@ -16,6 +16,7 @@ import math
 import numpy as np
 from scipy import optimize
 
+from drillpy.records import bit_balance
 from drillpy.records import identification as ident
 from drillpy.records import rig_fluctuation
 from drillpy.records.io import RPM
@@ -682,15 +683,7 @@ def declared_model(cfg: dict, data: LoopData, opt: LoopOptions) -> LoopModel:
     return LoopModel(base, view(base).law.to_dict(), om, w0, declared_effects(cfg), gj_tolerance=opt.gj_tolerance,
                      wob_input=wr["input"] if wr else "measured", wob_is_response=bool(wr and wr["response"]),
                      metric_scale=(data.sigma_v, data.sigma_T), fluctuation=fluct,
-                     channel_timing=_applied(data.channel_timing))
-
-
-def _applied(timing: dict | None) -> dict | None:
-    """The channel timing a model keeps: the shifts the record was read at, None when there were none
-    (as recorded, or ``auto`` on a record that identifies no skew)."""
-    if not timing or not (timing["top_lead_s"] or timing["torque_lag_s"]):
-        return None
-    return {k: v for k, v in timing.items() if k != "refused"}
+                     channel_timing=bit_balance.applied_timing(data.channel_timing))
 
 
 def calibrate(cfg: dict, data: LoopData, opt: LoopOptions) -> tuple:

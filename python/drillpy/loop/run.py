@@ -12,6 +12,7 @@ from pathlib import Path
 from drillpy.model.config import normalize
 from drillpy.model.configuration import Configuration
 from drillpy.model.plausibility import fitted_values
+from drillpy.records import bit_balance
 from drillpy.records.io import read_record
 from drillpy.records.plausibility import check_record, emit
 from .damping_hold import hold_damping
@@ -611,16 +612,8 @@ def _baseline(cfg: dict, data: LoopData, opt: LoopOptions, notes: list, log) -> 
     long run, adequacy)."""
     log(f"record: {data.source}; {data.t.size} samples at {1 / data.dt:.0f} Hz; calibration t < {data.t_split:.2f} s "
         f"({int((~data.is_test).sum())} horizons), validation ({int(data.is_test.sum())} horizons of {opt.horizon_s:g} s)")
-    ct = data.channel_timing
-    if ct and ct.get("refused"):
-        log(f"channels read as recorded: {ct['refused'].get('reason', 'no shift balances the bit equation better')} "
-            f"(best shift: the top speed {1e3 * ct['refused']['top_lead_s']:.0f} ms later, the torque "
-            f"{1e3 * ct['refused']['torque_lag_s']:.0f} ms earlier)")
-    elif ct:
-        log(f"channels brought to the bit encoder's time: the top speed read {1e3 * ct['top_lead_s']:.0f} ms later, the "
-            f"torque {1e3 * ct['torque_lag_s']:.0f} ms earlier ("
-            + (f"the bit's equation, the string's k and J fitted: R^2 {ct['r2']:.3f}, {ct['r2_as_recorded']:.3f} as recorded"
-               if ct["from"] == "auto" else "as given") + ")")
+    if data.channel_timing:
+        log(bit_balance.timing_line(data.channel_timing))
     m0, _ = calibrate(cfg, data, opt)
     base_lr = _long(opt, m0, data)
     m0, base_lr, note = hold_damping(m0, base_lr, data, opt, log)

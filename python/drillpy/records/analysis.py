@@ -442,9 +442,8 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
     sims, model = {}, None
     if opt.simulate and rec.top_speed is not None and rigsim.reliable_top_speed(rec).sum() >= 10:
         held = _held_out(full, rec, opt.min_holdout_s) if opt.calibrate is not None else []
-        timing = _channel_timing(rec, opt, log)
         S["rig"], sims, model = _rig_section(rec, thr, side, fits_by, opt.preset, log, held, horizon_error,
-                                             opt.rig_fixed, timing)
+                                             opt.rig_fixed, opt.channel_timing)
         model.torque_fluctuation = _torque_fluctuation(S, psd, sims, opt, log)
         S["rig"]["torque_fluctuation"] = model.torque_fluctuation
         for row, piece in zip(S["rig"]["held_out"], held):
@@ -700,37 +699,19 @@ def _identified_section(m: rigsim.RigModel, rec: Record, held: list, thr: float,
     return out
 
 
-def _channel_timing(rec: Record, opt: AnalysisOptions, log) -> dict | None:
-    """The channels' timing of ``opt.channel_timing`` (None: as recorded): ``auto`` is found on the cleaned
-    calibration part ``rec`` (:func:`drillpy.records.bit_balance.identify_timing`; None where it finds no skew)."""
-    ct = opt.channel_timing
-    if ct == "none":
-        return None
-    if ct == "auto":
-        timing = {**bit_balance.identify_timing(rec, Configuration.load(preset=opt.preset),
-                                                valid=rigsim.reliable_top_speed(rec)), "from": "auto"}
-        if not timing["skew"]:
-            log(f"channel timing: the records are read as recorded: {timing['reason']}")
-            return None
-    else:
-        timing = bit_balance.timing_of({"top_lead_s": ct[0], "torque_lag_s": ct[1], "from": "given"})
-    log(f"channel timing: the rig model's short-horizon E reads the records with the top speed "
-        f"{1e3 * timing['top_lead_s']:.0f} ms later and the torque {1e3 * timing['torque_lag_s']:.0f} ms earlier ("
-        + (f"the bit's equation: R^2 {timing['r2']:.3f}, {timing['r2_as_recorded']:.3f} as recorded)"
-           if timing["from"] == "auto" else "as given)"))
-    return timing
-
-
 def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log, held: list, horizon_error,
-                 fixed: dict | None = None, timing: dict | None = None) -> tuple:
+                 fixed: dict | None = None, channel_timing="none") -> tuple:
     """The rig model: the rig modelled whole and self-contained (:func:`drillpy.records.rig_calibration.calibrate_rig`:
     motor, jack, platform, with the identified sticking law) as the predictive answer, the simpler
     drives (constant, motor, and the measured top speed as a diagnosis) calibrated beside it
     (:func:`drillpy.records.rig_calibration.calibrate`) for comparison, and the prediction of the held-out pieces.
     Every case is compared with the same measured side ``side`` (:func:`drillpy.records.rig_comparison.measured_side`);
-    ``horizon_error`` gives the held-out pieces' short-horizon E (None: not computed), read at the channel
-    ``timing`` (None: as recorded), which the model keeps."""
+    ``horizon_error`` gives the held-out pieces' short-horizon E (None: not computed), read at the channels'
+    timing ``channel_timing`` resolves to on ``rec`` (:func:`drillpy.records.bit_balance.resolve_timing`), which
+    the model keeps."""
     base = Configuration.load(preset=preset)
+    timing = bit_balance.resolve_timing(rec, channel_timing, base, valid=rigsim.reliable_top_speed(rec))
+    log(f"rig: {bit_balance.timing_line(timing)} (the held-out short-horizon E reads the records so)")
 
     def sticky(fits):
         return [f for f in fits if f.name.startswith("polynomial")] or list(fits)
@@ -770,7 +751,7 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log,
         case(f"{law_c.name}, {drive} drive, zeta {m.damping_ratio:.3g}{extra}{note}", m)
     cal = rig_calibration.calibrate_rig(rec, law_w.law, thr, preset=preset, log=log, fixed=fixed)
     model = cal.model
-    model.channel_timing = out["channel_timing"] = timing
+    model.channel_timing = out["channel_timing"] = bit_balance.applied_timing(timing)
     case(f"{law_w.name}, the rig modelled whole (motor, jack, platform), zeta {model.damping_ratio:.3g} "
          "(calibrated model)", model)
     out["simple_drives"] = simple.summary()["per_drive"]

@@ -488,6 +488,81 @@ def identify_timing(record: Record, config, valid: np.ndarray | None = None) -> 
     return out
 
 
+def resolve_timing(record: Record, option, config, valid: np.ndarray | None = None) -> dict | None:
+    """The channels' timing of a ``--channel-timing`` option on a cleaned calibration part.
+
+    Parameters
+    ----------
+    record : Record
+        The calibration part (``auto`` identifies the timing on it only).
+    option : str or tuple
+        ``"none"``, ``"auto"`` or (top lead, torque lag) [s].
+    config : dict or Configuration
+        The declared model (:func:`identify_timing`).
+    valid : numpy.ndarray, optional
+        As for :func:`cycle_balance`.
+
+    Returns
+    -------
+    dict or None
+        None for ``"none"``; else ``top_lead_s``, ``torque_lag_s`` [s] and ``from`` (``"auto"`` or
+        ``"given"``): with ``auto``, :func:`identify_timing`'s result where it finds a skew, else zero
+        shifts with that result under ``refused``.
+    """
+    if option == "none":
+        return None
+    if option != "auto":
+        return timing_of({"top_lead_s": option[0], "torque_lag_s": option[1], "from": "given"})
+    found = identify_timing(record, config, valid=valid)
+    if found["skew"]:
+        return {**found, "from": "auto"}
+    return {"top_lead_s": 0.0, "torque_lag_s": 0.0, "from": "auto", "refused": found}
+
+
+def applied_timing(timing: dict | None) -> dict | None:
+    """What a model file keeps of a :func:`resolve_timing` result.
+
+    Parameters
+    ----------
+    timing : dict or None
+        A :func:`resolve_timing` result.
+
+    Returns
+    -------
+    dict or None
+        The shifts the record was read at, None when there were none (as recorded, or ``auto``
+        without a skew).
+    """
+    if not timing or not (timing["top_lead_s"] or timing["torque_lag_s"]):
+        return None
+    return {k: v for k, v in timing.items() if k != "refused"}
+
+
+def timing_line(timing: dict | None) -> str:
+    """One line saying how the channels are read (the logs of ``drillpy loop`` and ``analyze``).
+
+    Parameters
+    ----------
+    timing : dict or None
+        A :func:`resolve_timing` result.
+
+    Returns
+    -------
+    str
+        The line.
+    """
+    if timing is None:
+        return "channels read as recorded"
+    if "refused" in timing:
+        r = timing["refused"]
+        return (f"channels read as recorded: {r['reason']} (best shift: the top speed {1e3 * r['top_lead_s']:.0f} ms "
+                f"later, the torque {1e3 * r['torque_lag_s']:.0f} ms earlier)")
+    how = (f"the bit's equation, the string's k and J fitted: R^2 {timing['r2']:.3f}, {timing['r2_as_recorded']:.3f} "
+           "as recorded" if timing["from"] == "auto" else "as given")
+    return (f"channels brought to the bit encoder's time: the top speed read {1e3 * timing['top_lead_s']:.0f} ms "
+            f"later, the torque {1e3 * timing['torque_lag_s']:.0f} ms earlier ({how})")
+
+
 def aligned(record: Record, top_lead_s: float, torque_lag_s: float) -> Record:
     """The record with its channels brought to the bit encoder's time: the top speed read
     ``top_lead_s`` later (it was that early), the torque ``torque_lag_s`` earlier (it was that late),
