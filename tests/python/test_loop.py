@@ -360,13 +360,15 @@ def test_sample175_read_at_its_channels_timing_holds_a_steel_bars_damping_and_th
     model = json.loads((out / "model.json").read_text())
     assert model["channel_timing"]["torque_lag_s"] == 0.03
     ev = json.loads((out / "evidence.json").read_text())
-    assert ev["baseline"]["parameters"]["damping"]["ratios"][0] <= 0.1
+    # held at 0.099 here (0.146 as recorded): a steel bar's, within what another CPU's long runs may move it
+    assert ev["baseline"]["parameters"]["damping"]["ratios"][0] < 0.11
     assert ev["discovery"]["balanced"] is True
     # the guard's tests (gain, significance, BIC, physical parameters) pass for the motor alone; the long run
     # refuses it after
     motor = next(c for r in ev["rounds"] for c in r if c["effect"] == "top_drive_dynamics")
     assert motor["delta_bic"] > 6 and motor["relative_gain"] > 0.1
-    assert motor["reasons"] == ["the corrected model no longer stick-slips while the record does"]
+    assert "the corrected model no longer stick-slips while the record does" in motor["reasons"]
+    assert not any(g in x for x in motor["reasons"] for g in ("validation gain", "p = ", "dBIC"))
     others = [c for r in ev["rounds"] for c in r if c["effect"] != "top_drive_dynamics"]
     assert others and all(any(g in x for x in c["reasons"] for g in ("validation gain", "p = ", "dBIC"))
                           for c in others)
