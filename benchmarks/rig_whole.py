@@ -1,7 +1,7 @@
 """The rig modelled whole on sample 175: calibrated on one half, predicting the other (issue 28's targets).
 
     PYTHONPATH=python python3 benchmarks/rig_whole.py [--record FILE.mat] [--split 20] [--keep DIR] [--rig-fix NAME=VALUE]
-        [--law-platform ZETA] [--channel-timing none|auto|LEAD,LAG]
+        [--law-platform ZETA] [--channel-timing none|auto|LEAD,LAG] [--horizon-weight W]
 
 Runs ``drillpy analyze --calibrate 0:SPLIT`` and ``--calibrate SPLIT:END`` (the rig modelled whole,
 ``rig_calibration.calibrate_rig``: motor, jack, platform, bar and disk, its inputs the motor command and the
@@ -72,6 +72,9 @@ def main() -> None:
                     help="passed to drillpy analyze: identify the law with the speed and the WOB through the platform")
     ap.add_argument("--channel-timing", default="auto", metavar="none|auto|LEAD,LAG",
                     help="drillpy analyze's --channel-timing: the channels' timing the short-horizon E reads the records at")
+    ap.add_argument("--horizon-weight", default="1", metavar="W",
+                    help="drillpy analyze's --horizon-weight: the calibration part's short-horizon E beside the long-run "
+                         "mismatch (0: the long-run metrics alone)")
     ap.add_argument("--keep", default=None, help="write the two analyses into DIR/calT0 (kept) instead of a temporary directory")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
@@ -80,11 +83,14 @@ def main() -> None:
             Path(tmp).mkdir(parents=True, exist_ok=True)
         for (c0, c1) in ((0.0, a.split), (a.split, a.end)):
             extra = ([] if a.law_platform is None else ["--law-platform", f"{a.law_platform:g}"]) + [
-                "--channel-timing", a.channel_timing]
+                "--channel-timing", a.channel_timing, "--horizon-weight", a.horizon_weight]
             S = analyze(a.record, c0, c1, Path(tmp) / f"cal{c0:g}", a.rig_fix, extra)
             rg = S["rig"]
             cal = rg["calibration_metrics"]
-            print(f"\n== calibrated on {c0:g}-{c1:g} s (mismatch {rg['calibration']['mismatch']:.3f}) ==")
+            e_cal = rg["calibration"].get("short_horizon_error")
+            print(f"\n== calibrated on {c0:g}-{c1:g} s (mismatch {rg['calibration']['mismatch']:.3f}"
+                  + (f", short-horizon E {e_cal:.3f} at weight {rg['calibration']['horizon_weight']:g}" if e_cal else "")
+                  + ") ==")
             law = rg["recommended"]["law"]
             print(f"  law {rg['recommended']['law_name']} at its reference WOB {law['wob_ref_n']:.1f} N, T [N m] at "
                   + ", ".join(f"{v:g}" for v in LAW_SPEEDS) + " rad/s: "

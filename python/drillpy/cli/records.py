@@ -48,6 +48,10 @@ def _add_analyze(sub) -> argparse.ArgumentParser:
                         "encoder's time: auto (the default: the skew that balances the bit's equation on the "
                         "calibration part, where the record identifies one), none (as recorded) or the top encoder's "
                         "lead and the torque's lag in s, e.g. 0.04,0.03; model.json keeps it for drillpy predict")
+    s.add_argument("--horizon-weight", type=float, default=1.0, metavar="W",
+                   help="weight of the calibration part's short-horizon error E (0.25 s horizons restarted from the "
+                        "measured state) beside the long-run metrics' mismatch in the rig calibration (default 1; "
+                        "0: the long-run metrics alone)")
     g = s.add_argument_group("acceptance criterion across samples (thesis section 5.3.3)")
     g.add_argument("--max-var-mse-regularized", type=float, default=47.93,
                    help="largest acceptable Var[MSE] (Eq. 5.2) of the regularized law Eq. (3.1)")
@@ -131,7 +135,7 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
         opt = AnalysisOptions(t0=t0, t1=t1, cycle_at_s=a.cycle_at, folds=5 if a.folds is None else a.folds,
                               psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim, calibrate=cal,
                               rig_fixed=_rig_fixed(a.rig_fix), law_platform_damping=a.law_platform,
-                              channel_timing=_channel_timing(a.channel_timing))
+                              channel_timing=_channel_timing(a.channel_timing), horizon_weight=a.horizon_weight)
         s = analyze_record(items[0][1], a.out, opt, log=log, figure_units=a.figure_units)
         if a.json:
             keys = ("warnings", "cleaning", "cycles", "severity", "torque_statistics", "psd", "identification", "rig")

@@ -87,6 +87,9 @@ class AnalysisOptions:
         as recorded), ``"none"`` (as recorded) or (top lead, torque lag) [s].
         ``model.json`` keeps it, and ``drillpy predict`` reads the records it scores at it; the
         long-run metrics of the calibration are the record's as recorded.
+    horizon_weight : float
+        Weight of the calibration part's short-horizon error E beside the long-run metrics' mismatch in
+        the rig calibration (:func:`drillpy.records.rig_calibration.calibrate_rig`; 0: the metrics alone).
     """
     t0: float | None = None
     t1: float | None = None
@@ -105,6 +108,7 @@ class AnalysisOptions:
     rig_fixed: dict | None = None
     law_platform_damping: float | None = None
     channel_timing: str | tuple = "auto"
+    horizon_weight: float = rig_calibration.HORIZON_WEIGHT
 
 
 def _stats(x) -> dict:
@@ -442,8 +446,7 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
     sims, model = {}, None
     if opt.simulate and rec.top_speed is not None and rigsim.reliable_top_speed(rec).sum() >= 10:
         held = _held_out(full, rec, opt.min_holdout_s) if opt.calibrate is not None else []
-        S["rig"], sims, model = _rig_section(rec, thr, side, fits_by, opt.preset, log, held, horizon_error,
-                                             opt.rig_fixed, opt.channel_timing)
+        S["rig"], sims, model = _rig_section(rec, thr, side, fits_by, opt, log, held, horizon_error)
         model.torque_fluctuation = _torque_fluctuation(S, psd, sims, opt, log)
         S["rig"]["torque_fluctuation"] = model.torque_fluctuation
         for row, piece in zip(S["rig"]["held_out"], held):
@@ -699,18 +702,26 @@ def _identified_section(m: rigsim.RigModel, rec: Record, held: list, thr: float,
     return out
 
 
-def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log, held: list, horizon_error,
-                 fixed: dict | None = None, channel_timing="none") -> tuple:
+def _shown(cmp: rig_comparison.RigComparison) -> str:
+    """The log's reading of a comparison: SS, stick fraction and cycle frequency, simulated (measured)."""
+    return ", ".join(f"{name} {cmp.simulated[k]:.{d}f} (measured {cmp.measured[k]:.{d}f})" for k, name, d in (
+        ("ss", "SS", 3), ("stick_fraction", "stick fraction", 3), ("cycle_frequency_hz", "cycle frequency [Hz]", 2)))
+
+
+def _rig_section(rec: Record, thr: float, side, fits_by: dict, opt: AnalysisOptions, log, held: list,
+                 horizon_error) -> tuple:
     """The rig model: the rig modelled whole and self-contained (:func:`drillpy.records.rig_calibration.calibrate_rig`:
     motor, jack, platform, with the identified sticking law) as the predictive answer, the simpler
     drives (constant, motor, and the measured top speed as a diagnosis) calibrated beside it
     (:func:`drillpy.records.rig_calibration.calibrate`) for comparison, and the prediction of the held-out pieces.
     Every case is compared with the same measured side ``side`` (:func:`drillpy.records.rig_comparison.measured_side`);
-    ``horizon_error`` gives the held-out pieces' short-horizon E (None: not computed), read at the channels'
-    timing ``channel_timing`` resolves to on ``rec`` (:func:`drillpy.records.bit_balance.resolve_timing`), which
-    the model keeps."""
+    ``horizon_error`` gives the short-horizon E (None: not computed) of the calibration part, which the
+    calibration weighs by ``opt.horizon_weight`` beside the long-run metrics, and of the held-out pieces,
+    read at the channels' timing ``opt.channel_timing`` resolves to on ``rec``
+    (:func:`drillpy.records.bit_balance.resolve_timing`), which the model keeps."""
+    preset = opt.preset
     base = Configuration.load(preset=preset)
-    timing = bit_balance.resolve_timing(rec, channel_timing, base, valid=rigsim.reliable_top_speed(rec))
+    timing = bit_balance.resolve_timing(rec, opt.channel_timing, base, valid=rigsim.reliable_top_speed(rec))
     log(f"rig: {bit_balance.timing_line(timing)} (the held-out short-horizon E reads the records so)")
 
     def sticky(fits):
@@ -734,10 +745,7 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log,
                              "measured": cmp.measured, "simulated": cmp.simulated,
                              "mismatch": cmp.mismatch, "loop_rms_nm": cmp.loop_rms_nm})
         sims[label] = (sim, cmp)
-        log(f"rig: {label}: mismatch {cmp.mismatch:.3f}, SS {cmp.simulated['ss']:.3f} "
-            f"(measured {cmp.measured['ss']:.3f}), stick fraction {cmp.simulated['stick_fraction']:.3f} "
-            f"(measured {cmp.measured['stick_fraction']:.3f}), cycle frequency {cmp.simulated['cycle_frequency_hz']:.2f} Hz "
-            f"(measured {cmp.measured['cycle_frequency_hz']:.2f})")
+        log(f"rig: {label}: mismatch {cmp.mismatch:.3f}, " + _shown(cmp))
 
     z0 = base.damping.ratios[0]
     case(f"preset law, zeta {z0:g}, constant top speed", rigsim.RigModel(base.law.to_dict(), z0, "constant",
@@ -749,15 +757,17 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log,
         extra = (f", c_m {m.motor_slope_nms_rad:.3g}, J_m {m.motor_inertia_kg_m2:.3g}" if drive == "motor" else "")
         note = " (diagnosis: fed the measured top speed, which carries the cycle)" if drive == "measured" else ""
         case(f"{law_c.name}, {drive} drive, zeta {m.damping_ratio:.3g}{extra}{note}", m)
-    cal = rig_calibration.calibrate_rig(rec, law_w.law, thr, preset=preset, log=log, fixed=fixed)
+    out["channel_timing"] = bit_balance.applied_timing(timing)
+    cal = rig_calibration.calibrate_rig(rec, law_w.law, thr, preset=preset, log=log, fixed=opt.rig_fixed,
+                                        horizon_error=horizon_error, horizon_weight=opt.horizon_weight,
+                                        channel_timing=out["channel_timing"])
     model = cal.model
-    model.channel_timing = out["channel_timing"] = bit_balance.applied_timing(timing)
     case(f"{law_w.name}, the rig modelled whole (motor, jack, platform), zeta {model.damping_ratio:.3g} "
          "(calibrated model)", model)
     out["simple_drives"] = simple.summary()["per_drive"]
     out["calibration"] = {"mismatch": cal.comparison.mismatch, "matched": list(rigsim.MATCHED_RIG),
-                          "fixed": cal.per_drive["rig"]["fixed"],
-                          "per_drive": cal.per_drive}
+                          "fixed": cal.per_drive["rig"]["fixed"], "per_drive": cal.per_drive,
+                          **{k: model.calibration[k] for k in ("horizon_weight", "short_horizon_error")}}
     out["parameters"] = model.parameters()
     out["recommended"] = {"law": model.engine_law, "law_name": law_w.name, "damping_ratio": model.damping_ratio,
                           "static_torque_factor": model.static_torque_factor,
@@ -778,11 +788,7 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, preset: str, log,
             if horizon_error is not None:
                 row["short_horizon_error"] = horizon_error(model, piece, sim.provenance["command_rad_s"])
             sims[f"held-out {row['window_s'][0]:.1f}-{row['window_s'][1]:.1f} s (prediction)"] = (sim, cmp)
-            mm = row["metrics"]
-            log(f"rig: held-out {row['window_s'][0]:.1f}-{row['window_s'][1]:.1f} s: SS {mm['ss']['simulated']:.3f} "
-                f"(measured {mm['ss']['measured']:.3f}), stick fraction {mm['stick_fraction']['simulated']:.3f} "
-                f"({mm['stick_fraction']['measured']:.3f}), cycle frequency {mm['cycle_frequency_hz']['simulated']:.2f} Hz "
-                f"({mm['cycle_frequency_hz']['measured']:.2f})"
+            log(f"rig: held-out {row['window_s'][0]:.1f}-{row['window_s'][1]:.1f} s: " + _shown(cmp)
                 + (f"; short-horizon E {row['short_horizon_error']:.3f}" if "short_horizon_error" in row else ""))
         except ValueError as e:
             row["skipped"] = str(e)

@@ -308,6 +308,31 @@ def droop_estimate(record: Record) -> tuple:
     return float(2.0 * np.mean(om)) if om.size else 16.8, 0.25
 
 
+def _linearized_variances(A: np.ndarray, rcond: float = 1e-10) -> np.ndarray:
+    """Each parameter's variance from the weighted Jacobian ``A`` (residuals x parameters): the diagonal of
+    (A^T A)^-1 over its eigen-directions, a direction whose eigenvalue is below ``rcond`` times the largest
+    counting as undetermined (an infinite variance for every parameter with a share above 1e-8 in it,
+    rather than the zero a pseudo-inverse would give it)."""
+    w, V = np.linalg.eigh(A.T @ A)
+    ok = w > rcond * max(float(w.max()), 0.0)
+    share = V ** 2  # each parameter's share of each direction; one above 1e-8 in an undetermined one: infinite
+    return np.where((share[:, ~ok] > 1e-8).any(axis=1), math.inf, (share[:, ok] / w[ok]).sum(axis=1))
+
+
+def _horizon_noise(record: Record, error, blocks: int = 4) -> float:
+    """Standard error of the short-horizon error E over ``record``: the spread of ``error(piece)`` between
+    ``blocks`` consecutive blocks, over sqrt(blocks), at least 0.01 (0.05 with fewer than two blocks)."""
+    edges = np.linspace(record.time_s[0], record.time_s[-1], blocks + 1)
+    vals = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        try:
+            vals.append(error(record.select(a, b)))
+        except (ValueError, RuntimeError):
+            continue
+    v = np.asarray([x for x in vals if math.isfinite(x)])
+    return float(max(np.std(v, ddof=1) / math.sqrt(v.size), 0.01)) if v.size >= 2 else 0.05
+
+
 def _metric_noise(record: Record, stick_threshold: float, keys: tuple, blocks: int = 4) -> np.ndarray:
     """Relative standard error of each metric over ``record``: the spread of the metric between
     ``blocks`` consecutive blocks, divided by sqrt(blocks) and by the metric's magnitude (at least 1 %)."""
@@ -346,6 +371,11 @@ EXTRA_KEYS = ("cycle_frequency_hz", "top_in_phase")
 SCAN_POINTS = 13
 #: The weighted misfit's rise that bounds a scanned interval: chi-square with one degree of freedom at 95 %.
 SCAN_CHI2 = 3.84
+#: Weight of the short-horizon error E on the calibration part beside the long-run metrics' mismatch in
+#: :func:`calibrate_rig`'s objective (both dimensionless: a relative RMS and a normalized RMS). 1 weighs a
+#: unit of E as a unit of mismatch; 0 matches the long-run metrics alone (the calibration before issue 28's
+#: "one calibration": docs/records.md, section 4).
+HORIZON_WEIGHT = 1.0
 
 
 def _scan_interval(residuals, p: dict, k: str, lo: float, hi: float, sigma: np.ndarray, workers: int) -> list | None:
@@ -378,14 +408,18 @@ def _scan_interval(residuals, p: dict, k: str, lo: float, hi: float, sigma: np.n
 @fitted_values()
 def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: str = "thesis-rig", screen: int = 64,
                   starts: int = 4, evaluations: int = 200, seed: int = 175, log=None, threads: int = 0,
-                  fixed: dict | None = None, keys: tuple = MATCHED_RIG) -> Calibration:
+                  fixed: dict | None = None, keys: tuple = MATCHED_RIG, horizon_error=None,
+                  horizon_weight: float = HORIZON_WEIGHT, channel_timing: dict | None = None) -> Calibration:
     """Calibrate the rig modelled whole (the ``rig`` drive) on a cleaned calibration part.
 
     The parameters of :data:`RIG_PARAMETERS`, each inside its physical range (a logistic map of
     the range, so that no value outside it is tried), minimize the mismatch over
     :data:`MATCHED_RIG` (:func:`compare`; the regular cycle's SS, stick fraction, cycle frequency,
     bit-speed p95, torque p5 and p95, the top speed's standard deviation and mean, the WOB's
-    standard deviation). The mismatch jumps where cycles appear and vanish, so the search screens
+    standard deviation) plus ``horizon_weight`` times the short-horizon error E of the model on the same
+    part (``horizon_error``: each 0.25 s horizon restarted from the measured state, the loop's
+    criterion), so that one calibration answers both the long-run statistics and what the next
+    quarter second does. The mismatch jumps where cycles appear and vanish, so the search screens
     ``screen`` points, a start from the record's droop line (:func:`droop_estimate`) and typical
     values and others scattered around it (normal, sd 0.7 in the logistic coordinates, from
     ``seed``: most of the ranges' corners stall the rig or stop the cycle, where the mismatch is
@@ -398,7 +432,9 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     a parameter that way, or where its slope at 2 % of the range differs from the one at 6 % by more
     than half (a cycle or a stall appears in between: no local linearization holds), its interval is
     scanned instead (:func:`_scan_interval`: the weighted misfit across the range, the others held).
-    ``per_drive["rig"]["interval_method"]`` says which gave each.
+    ``per_drive["rig"]["interval_method"]`` says which gave each. With E in the objective it is one
+    more residual, weighted by its own sampling uncertainty (the spread of E between four blocks of
+    the part, over 2, and at least 0.01).
 
     Parameters
     ----------
@@ -429,6 +465,14 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     keys : tuple
         The metrics of the mismatch (default :data:`MATCHED_RIG`); :data:`EXTRA_KEYS` may be added, e.g.
         ``top_in_phase``, the drive's phase in the cycle (docs/records.md, section 4).
+    horizon_error : callable, optional
+        ``horizon_error(model, record, command)``: the short-horizon error E [-] of a rig model on a
+        record (:func:`drillpy.loop.prediction.short_horizon_error`); None: the long-run metrics alone.
+    horizon_weight : float
+        E's weight in the objective (>= 0; :data:`HORIZON_WEIGHT`).
+    channel_timing : dict, optional
+        The acquisition's skew the model keeps and E reads the record at
+        (:func:`drillpy.records.bit_balance.applied_timing`); None: as recorded.
 
     Returns
     -------
@@ -437,6 +481,9 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
         evaluations.
     """
     keys = tuple(keys)
+    if not (math.isfinite(horizon_weight) and horizon_weight >= 0.0):
+        raise ValueError(f"horizon_weight = {horizon_weight!r}: must be a finite number >= 0")
+    weight = float(horizon_weight) if horizon_error is not None else 0.0
     for k in keys:
         if k not in MATCHED_RIG + EXTRA_KEYS:
             raise ValueError(f"keys: {k!r} is not a rig metric (use {', '.join(MATCHED_RIG + EXTRA_KEYS)})")
@@ -451,6 +498,7 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     lo = np.array([RIG_PARAMETERS[k][0] for k in names])
     hi = np.array([RIG_PARAMETERS[k][1] for k in names])
     op = operating_point(record)
+    scale = scale_of(record, stick_threshold)  # E's unit: the part's spreads, as the model file keeps them
 
     def params(x):
         return {**dict(zip(names, lo + (hi - lo) / (1.0 + np.exp(-np.clip(x, -30, 30))))), **fixed}
@@ -465,16 +513,21 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
                         jack_relaxation_s=p["jack_relaxation_s"], platform_damping=p["platform_damping"],
                         gj_factor=p["gj_factor"], bit_inertia_factor=p["bit_inertia_factor"],
                         coupling_stiffness_nm_rad=p["coupling_stiffness_nm_rad"],
-                        static_torque_factor=p["static_torque_factor"])
+                        static_torque_factor=p["static_torque_factor"], channel_timing=channel_timing,
+                        calibration={"metric_scale": scale})
 
     side = measured_side(record, stick_threshold, float(record.time_s[0]), "rig")
 
     def comparison(p):
         return compare(record, simulate_model(model_of(p), record), stick_threshold, side=side, keys=keys)
 
+    def short(p, rec=record):  # E on the part (or a block of it), the motor at the parameters' command
+        return float(horizon_error(model_of(p), rec, p["command_rad_s"])) if weight > 0 else 0.0
+
     def cost(x):
         try:
-            return comparison(params(x)).mismatch
+            p = params(x)
+            return comparison(p).mismatch + (weight * short(p) if weight > 0 else 0.0)
         except (ValueError, RuntimeError):  # diverged, unstable step
             return math.inf
 
@@ -500,8 +553,9 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
         results = list(pool.map(search, x0s))
     for i, r in enumerate(results):
         if log:
-            log(f"rig calibration (whole rig): start {i + 1} of {len(results)}: mismatch {r.fun:.3f} "
-                f"after {r.nfev} simulations")
+            log(f"rig calibration (whole rig): start {i + 1} of {len(results)}: "
+                + (f"mismatch + {weight:g} E {r.fun:.3f}" if weight > 0 else f"mismatch {r.fun:.3f}")
+                + f" after {r.nfev} simulations")
     best = min(results, key=lambda r: (r.fun, results.index(r)))
     polish = search(best.x)
     if polish.fun < best.fun:
@@ -510,10 +564,14 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     cmp = comparison(p)
     # 95 % intervals from the linearized relative errors weighted by the metrics' own noise
     sigma = _metric_noise(record, stick_threshold, keys)
+    e_cal = short(p) if weight > 0 else None
+    if weight > 0:
+        sigma = np.append(sigma, _horizon_noise(record, lambda piece: short(p, piece)) / math.sqrt(weight))
 
     def residuals(q):
         c = compare(record, simulate_model(model_of(q), record), stick_threshold, side=side, keys=keys)
-        return np.array([relative_error(c.simulated[k], c.measured[k]) for k in keys])
+        r = [relative_error(c.simulated[k], c.measured[k]) for k in keys]
+        return np.array(r + ([short(q)] if weight > 0 else []))
 
     intervals = {}
     try:
@@ -532,10 +590,10 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
                 kept.append(j)
         if cols:
             A = np.column_stack(cols) / sigma[:, None]
-            cov = np.linalg.pinv(A.T @ A, rcond=1e-10)
+            var = _linearized_variances(A)
             for c, j in enumerate(kept):
                 k = names[j]
-                sd = math.sqrt(cov[c, c]) if cov[c, c] > 0 else math.inf
+                sd = math.sqrt(var[c])
                 if math.isfinite(sd) and sd < (hi[j] - lo[j]):  # determined by the metrics
                     intervals[k] = [float(max(p[k] - 1.96 * sd, lo[j])), float(min(p[k] + 1.96 * sd, hi[j]))]
     except (ValueError, RuntimeError, np.linalg.LinAlgError):
@@ -551,14 +609,17 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     model.intervals = intervals
     per = {"rig": {**{k: float(v) for k, v in p.items()},
                    "mismatch": cmp.mismatch, "evaluations": int(sum(r.nfev for r in results) + polish.nfev),
+                   "horizon_weight": weight, "short_horizon_error": e_cal,
                    "fixed": dict(fixed),
                    "intervals": intervals, "interval_method": method,
                    "metric_noise": dict(zip(keys, map(float, sigma)))}}
     model.calibration = {"window_s": [float(record.time_s[0]), float(record.time_s[-1])], "operating_point": op,
                          "command_rad_s": p["command_rad_s"], "mismatch": cmp.mismatch,
                          "matched": list(keys), "stick_threshold_rad_s": float(stick_threshold),
-                         "per_drive": per, "metric_scale": scale_of(record, stick_threshold)}
+                         "horizon_weight": weight, "short_horizon_error": e_cal,
+                         "per_drive": per, "metric_scale": scale}
     if log:
         log("rig calibration (whole rig): mismatch %.3f; " % cmp.mismatch
+            + (f"short-horizon E {e_cal:.3f} (weight {weight:g}); " if weight > 0 else "")
             + ", ".join(f"{k} {v:.4g}" for k, v in p.items()))
     return Calibration(model, cmp, per)
