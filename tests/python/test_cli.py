@@ -253,7 +253,8 @@ def test_analyze_options_are_checked_before_work(tmp_path, capsys):
                           "--rig-fix = 'static_torque_factor=5': static_torque_factor must be a number within its "
                           "physical range [1, 1.2]"),
                          (["--rig-fix", "gj_factor=nan"], "gj_factor must be a number within its physical range"),
-                         (["--rig-fix", "gj_factor"], "--rig-fix = 'gj_factor': give NAME=VALUE or NAME=free")):
+                         (["--rig-fix", "gj_factor"], "--rig-fix = 'gj_factor': give NAME=VALUE or NAME=free"),
+                         (["--horizon-weight", "-1"], "--horizon-weight = -1.0: must be a non-negative number")):
         assert main(["analyze", str(p), "--out", str(tmp_path / "out"), "--no-progress", *args]) == 2
         assert needle in _one_error_line(capsys)
         assert not (tmp_path / "out").exists()

@@ -173,7 +173,8 @@ def _check_analyze_options(a: argparse.Namespace) -> None:
         except ValueError:
             raise ValueError(f"--channel-timing = {a.channel_timing!r}: the top lead and the torque lag must be "
                              f"finite shifts within +-{MAX_SHIFT_S:g} s") from None
-    for name in ("max_var_mse_regularized", "max_var_mse_non_regularized", "cv_reference", "concrete_variation"):
+    for name in ("max_var_mse_regularized", "max_var_mse_non_regularized", "cv_reference", "concrete_variation",
+                 "horizon_weight"):
         validate.non_negative("--" + name.replace("_", "-"), getattr(a, name))
 
 

@@ -272,8 +272,12 @@ def render_report(S: dict) -> str:
                          f"{s['torque_p95']:.2f} | {_f(s['wob_std'], '.1f')} | {cs['mismatch']:.3f} | "
                          f"{_f(cs['loop_rms_nm'])} |")
             rec_ = rg["recommended"]
+            cal_ = rg["calibration"]
+            e_cal = cal_.get("short_horizon_error")
             L += ["", f"Calibrated rig model ({rec_['rule']}): {rec_['law_name']} law, modal damping ratio "
-                  f"{rec_['damping_ratio']:.3g}; written as `model.json` (apply it to any record with "
+                  f"{rec_['damping_ratio']:.3g}; the calibration minimized the long-run mismatch ({cal_['mismatch']:.3f})"
+                  + (f" plus {cal_['horizon_weight']:g} x the calibration part's short-horizon E ({e_cal:.3f})"
+                     if e_cal is not None else " alone") + "; written as `model.json` (apply it to any record with "
                   "`drillpy predict model.json RECORD`).", ""]
             if rg.get("held_out"):
                 L += ["### Prediction of the held-out parts (never used by the fits)", "",
