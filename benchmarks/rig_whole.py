@@ -57,6 +57,27 @@ def law_torques(law: dict) -> list:
     return list(law_eval(law, list(LAW_SPEEDS), 0.0, law["wob_ref_n"])[0])
 
 
+def stall_torques(record: str, stalls: dict, params: dict, window: tuple) -> str:
+    """The torques a stall is made of: the measured torque and top speed during each measured stall (the
+    motor held at rest), the whole-rig model's stall torque c_m Omega_c, and the one the calibration
+    half's droop line gives (``rig_calibration.droop_estimate``: known beforehand)."""
+    import numpy as np
+    from drillpy.records.cleaning import clean
+    from drillpy.records.io import read_record
+    from drillpy.records.rig_calibration import droop_estimate
+    rec = clean(read_record(record))[0]
+    om0, cm0 = droop_estimate(rec.select(*window))
+    parts = []
+    for t0, d in zip(stalls["starts_s"], stalls["durations_s"]):
+        k = (rec.time_s >= t0) & (rec.time_s <= t0 + d)
+        top = np.where(rec.valid("top_speed"), rec.top_speed, np.nan)[k]
+        parts.append(f"at {t0:.2f} s the torque {np.nanmean(rec.torque_on_bit[k]):.2f} N m with the top speed "
+                     f"{np.nanmean(top):.2f} rad/s, the WOB {np.nanmean(rec.wob[k]):.0f} N")
+    model = params["motor_slope_nms_rad"]["value"] * params["command_rad_s"]["value"]
+    return (f"stall torque: model c_m Omega_c {model:.2f} N m; the calibration half's droop line "
+            f"{om0 * cm0:.2f} N m" + ("; measured stall " + "; ".join(parts) if parts else ""))
+
+
 def rel(a: float, b: float) -> str:
     return f"{100 * (a - b) / abs(b):+.1f} %" if b else "n/a"
 
@@ -112,6 +133,7 @@ def main() -> None:
                 st = m["stalls"]
                 print(f"  stalls: measured {st['measured']['count']} {st['measured']['durations_s']}, "
                       f"predicted {st['simulated']['count']} {st['simulated']['durations_s']}")
+                print("  " + stall_torques(a.record, st["measured"], rg["parameters"], (c0, c1)))
                 print(f"  targets within 10 %: {within} of 7")
                 iv = h.get("predictive")
                 if iv:
