@@ -1,7 +1,7 @@
 """The rig modelled whole on sample 175: calibrated on one half, predicting the other (issue 28's targets).
 
     PYTHONPATH=python python3 benchmarks/rig_whole.py [--record FILE.mat] [--split 20] [--keep DIR] [--rig-fix NAME=VALUE]
-        [--law-platform ZETA] [--channel-timing none|auto|LEAD,LAG] [--horizon-weight W]
+        [--law-platform ZETA] [--channel-timing none|auto|LEAD,LAG] [--horizon-weight W] [--rig-search 8,400]
 
 Runs ``drillpy analyze --calibrate 0:SPLIT`` and ``--calibrate SPLIT:END`` (the rig modelled whole,
 ``rig_calibration.calibrate_rig``: motor, jack, platform, bar and disk, its inputs the motor command and the
@@ -17,7 +17,7 @@ jack's slow WOB trend only) and prints, for each direction:
 * the predictive intervals over realizations of the model's torque fluctuation, Eq. (4.1)
   (``records.rig_fluctuation``), and which measured metrics lie in them.
 
-About 2 x 50 s on one core. Every number of docs/records.md section 3 comes from this script.
+About 2 x 70 s on the shared 2-core machine (2 x 5 min with `--rig-search 8,400`). Every number of docs/records.md section 4 comes from this script.
 """
 from __future__ import annotations
 
@@ -96,6 +96,8 @@ def main() -> None:
     ap.add_argument("--horizon-weight", default="1", metavar="W",
                     help="drillpy analyze's --horizon-weight: the calibration part's short-horizon E beside the long-run "
                          "mismatch (0: the long-run metrics alone)")
+    ap.add_argument("--rig-search", default="4,200", metavar="STARTS,EVALUATIONS",
+                    help="drillpy analyze's --rig-search: the rig calibration's starts and simulations per start")
     ap.add_argument("--keep", default=None, help="write the two analyses into DIR/calT0 (kept) instead of a temporary directory")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
@@ -104,7 +106,8 @@ def main() -> None:
             Path(tmp).mkdir(parents=True, exist_ok=True)
         for (c0, c1) in ((0.0, a.split), (a.split, a.end)):
             extra = ([] if a.law_platform is None else ["--law-platform", f"{a.law_platform:g}"]) + [
-                "--channel-timing", a.channel_timing, "--horizon-weight", a.horizon_weight]
+                "--channel-timing", a.channel_timing, "--horizon-weight", a.horizon_weight,
+                "--rig-search", a.rig_search]
             S = analyze(a.record, c0, c1, Path(tmp) / f"cal{c0:g}", a.rig_fix, extra)
             rg = S["rig"]
             cal = rg["calibration_metrics"]

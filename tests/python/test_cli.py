@@ -254,7 +254,10 @@ def test_analyze_options_are_checked_before_work(tmp_path, capsys):
                           "physical range [1, 1.2]"),
                          (["--rig-fix", "gj_factor=nan"], "gj_factor must be a number within its physical range"),
                          (["--rig-fix", "gj_factor"], "--rig-fix = 'gj_factor': give NAME=VALUE or NAME=free"),
-                         (["--horizon-weight", "-1"], "--horizon-weight = -1.0: must be a non-negative number")):
+                         (["--horizon-weight", "-1"], "--horizon-weight = -1.0: must be a non-negative number"),
+                         (["--rig-search", "4"], "--rig-search = '4': use STARTS,EVALUATIONS, two integers"),
+                         (["--rig-search", "0,200"], "--rig-search = '0,200': the starts and the evaluations must each "
+                                                     "be at least 1")):
         assert main(["analyze", str(p), "--out", str(tmp_path / "out"), "--no-progress", *args]) == 2
         assert needle in _one_error_line(capsys)
         assert not (tmp_path / "out").exists()

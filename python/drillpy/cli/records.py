@@ -52,6 +52,9 @@ def _add_analyze(sub) -> argparse.ArgumentParser:
                    help="weight of the calibration part's short-horizon error E (0.25 s horizons restarted from the "
                         "measured state) beside the long-run metrics' mismatch in the rig calibration (default 1; "
                         "0: the long-run metrics alone)")
+    s.add_argument("--rig-search", default="4,200", metavar="STARTS,EVALUATIONS",
+                   help="the rig calibration's search: Nelder-Mead starts and simulations per start (default 4,200; "
+                        "8,400 searches longer, about 4 x the time)")
     g = s.add_argument_group("acceptance criterion across samples (thesis section 5.3.3)")
     g.add_argument("--max-var-mse-regularized", type=float, default=47.93,
                    help="largest acceptable Var[MSE] (Eq. 5.2) of the regularized law Eq. (3.1)")
@@ -135,7 +138,8 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
         opt = AnalysisOptions(t0=t0, t1=t1, cycle_at_s=a.cycle_at, folds=5 if a.folds is None else a.folds,
                               psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim, calibrate=cal,
                               rig_fixed=_rig_fixed(a.rig_fix), law_platform_damping=a.law_platform,
-                              channel_timing=_channel_timing(a.channel_timing), horizon_weight=a.horizon_weight)
+                              channel_timing=_channel_timing(a.channel_timing), horizon_weight=a.horizon_weight,
+                              rig_search=_rig_search(a.rig_search))
         s = analyze_record(items[0][1], a.out, opt, log=log, figure_units=a.figure_units)
         if a.json:
             keys = ("warnings", "cleaning", "cycles", "severity", "torque_statistics", "psd", "identification", "rig")
@@ -165,6 +169,7 @@ def _check_analyze_options(a: argparse.Namespace) -> None:
     validate.positive("--psd-fmax", a.psd_fmax, "Hz")
     if a.law_platform is not None:
         validate.positive("--law-platform", a.law_platform)
+    _rig_search(a.rig_search)
     ct = _channel_timing(a.channel_timing)
     if isinstance(ct, tuple):
         from drillpy.records.bit_balance import MAX_SHIFT_S, timing_of
@@ -393,6 +398,17 @@ def cmd_loop(a: argparse.Namespace) -> int:
                                        "final_effects", "confusable", "unexplained_fraction", "warnings")} |
                    {"added": [s["effect"] for s in js["steps"] if s["action"] == "add"]})
     return 0
+
+
+def _rig_search(text: str) -> tuple:
+    """``--rig-search STARTS,EVALUATIONS`` -> (starts, evaluations), both integers >= 1."""
+    try:
+        starts, evaluations = (int(x) for x in text.split(","))
+    except ValueError:
+        raise ValueError(f"--rig-search = {text!r}: use STARTS,EVALUATIONS, two integers (e.g. 8,400)") from None
+    if starts < 1 or evaluations < 1:
+        raise ValueError(f"--rig-search = {text!r}: the starts and the evaluations must each be at least 1")
+    return starts, evaluations
 
 
 def _channel_timing(text: str):

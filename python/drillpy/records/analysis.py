@@ -90,6 +90,9 @@ class AnalysisOptions:
     horizon_weight : float
         Weight of the calibration part's short-horizon error E beside the long-run metrics' mismatch in
         the rig calibration (:func:`drillpy.records.rig_calibration.calibrate_rig`; 0: the metrics alone).
+    rig_search : (int, int)
+        The rig calibration's Nelder-Mead starts and simulations per start (``starts``,
+        ``evaluations`` of :func:`drillpy.records.rig_calibration.calibrate_rig`).
     """
     t0: float | None = None
     t1: float | None = None
@@ -109,6 +112,7 @@ class AnalysisOptions:
     law_platform_damping: float | None = None
     channel_timing: str | tuple = "auto"
     horizon_weight: float = rig_calibration.HORIZON_WEIGHT
+    rig_search: tuple = (4, 200)
 
 
 def _stats(x) -> dict:
@@ -520,10 +524,8 @@ METRIC_ROWS = ("ss", "stick_fraction", "cycle_frequency_hz", "median_period_s", 
 
 def _metric_row(cmp: rig_comparison.RigComparison) -> dict:
     m, s = cmp.measured, cmp.simulated
-    row = {k: {"measured": m[k], "simulated": s[k], "relative_error": rig_comparison.relative_error(s[k], m[k])}
-           for k in METRIC_ROWS}
-    row["stalls"] = {"measured": m["stalls"], "simulated": s["stalls"]}
-    return row
+    return {**{k: {"measured": m[k], "simulated": s[k], "relative_error": rig_comparison.relative_error(s[k], m[k])}
+                for k in METRIC_ROWS}, "stalls": {"measured": m["stalls"], "simulated": s["stalls"]}}
 
 
 def _torque_fluctuation(S: dict, psd: process.PsdFit, sims: dict, opt: AnalysisOptions, log) -> dict | None:
@@ -760,7 +762,8 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, opt: AnalysisOpti
     out["channel_timing"] = bit_balance.applied_timing(timing)
     cal = rig_calibration.calibrate_rig(rec, law_w.law, thr, preset=preset, log=log, fixed=opt.rig_fixed,
                                         horizon_error=horizon_error, horizon_weight=opt.horizon_weight,
-                                        channel_timing=out["channel_timing"])
+                                        channel_timing=out["channel_timing"], starts=opt.rig_search[0],
+                                        evaluations=opt.rig_search[1])
     model = cal.model
     case(f"{law_w.name}, the rig modelled whole (motor, jack, platform), zeta {model.damping_ratio:.3g} "
          "(calibrated model)", model)
