@@ -81,7 +81,7 @@ def main() -> int:
         m.effects = effects
         return m
 
-    z, own = rig.damping_ratio, {k: v for k, v in base.effects.items()}
+    z, own = rig.damping_ratio, dict(base.effects)
     rows = [("loop baseline", model(base.law, base.damping_ratios[0], own)),
             ("loop's law, the rig's damping", model(base.law, z, own)),
             ("  + motor", model(base.law, z, {**own, "top_drive_dynamics": motor})),

@@ -319,34 +319,33 @@ def _linearized_variances(A: np.ndarray, rcond: float = 1e-10) -> np.ndarray:
     return np.where((share[:, ~ok] > 1e-8).any(axis=1), math.inf, (share[:, ok] / w[ok]).sum(axis=1))
 
 
+def _block_values(record: Record, measure, blocks: int) -> list:
+    """``measure(piece)`` on each of ``blocks`` consecutive blocks of ``record``; a block it cannot measure
+    (ValueError, RuntimeError) is left out."""
+    edges = np.linspace(record.time_s[0], record.time_s[-1], blocks + 1)
+    out = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        try:
+            out.append(measure(record.select(a, b)))
+        except (ValueError, RuntimeError):
+            continue
+    return out
+
+
 def _horizon_noise(record: Record, error, blocks: int = 4) -> float:
     """Standard error of the short-horizon error E over ``record``: the spread of ``error(piece)`` between
     ``blocks`` consecutive blocks, over sqrt(blocks), at least 0.01 (0.05 with fewer than two blocks)."""
-    edges = np.linspace(record.time_s[0], record.time_s[-1], blocks + 1)
-    vals = []
-    for a, b in zip(edges[:-1], edges[1:]):
-        try:
-            vals.append(error(record.select(a, b)))
-        except (ValueError, RuntimeError):
-            continue
-    v = np.asarray([x for x in vals if math.isfinite(x)])
+    v = np.asarray([x for x in _block_values(record, error, blocks) if math.isfinite(x)])
     return float(max(np.std(v, ddof=1) / math.sqrt(v.size), 0.01)) if v.size >= 2 else 0.05
 
 
 def _metric_noise(record: Record, stick_threshold: float, keys: tuple, blocks: int = 4) -> np.ndarray:
     """Relative standard error of each metric over ``record``: the spread of the metric between
     ``blocks`` consecutive blocks, divided by sqrt(blocks) and by the metric's magnitude (at least 1 %)."""
-    t = record.time_s
-    edges = np.linspace(t[0], t[-1], blocks + 1)
-    vals = []
-    for a, b in zip(edges[:-1], edges[1:]):
-        piece = record.select(a, b)
-        try:
-            m = record_metrics(piece, stick_threshold, float(piece.time_s[0]), np.zeros(len(piece), bool))
-            vals.append([m.get(k, np.nan) for k in keys])
-        except (ValueError, RuntimeError):
-            continue
-    v = np.asarray(vals, float)
+    def metrics(piece):
+        m = record_metrics(piece, stick_threshold, float(piece.time_s[0]), np.zeros(len(piece), bool))
+        return [m.get(k, np.nan) for k in keys]
+    v = np.asarray(_block_values(record, metrics, blocks), float)
     if v.shape[0] < 2:
         return np.full(len(keys), 0.05)
     sd = np.nanstd(v, axis=0, ddof=1) / np.sqrt(v.shape[0])
@@ -527,7 +526,7 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     def cost(x):
         try:
             p = params(x)
-            return comparison(p).mismatch + (weight * short(p) if weight > 0 else 0.0)
+            return comparison(p).mismatch + weight * short(p)
         except (ValueError, RuntimeError):  # diverged, unstable step
             return math.inf
 
