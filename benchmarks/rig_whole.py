@@ -2,6 +2,7 @@
 
     PYTHONPATH=python python3 benchmarks/rig_whole.py [--record FILE.mat] [--split 20] [--keep DIR] [--rig-fix NAME=VALUE]
         [--law-platform ZETA] [--channel-timing none|auto|LEAD,LAG] [--horizon-weight W] [--rig-search 8,400]
+        [--horizon-channels loop|all]
 
 Runs ``drillpy analyze --calibrate 0:SPLIT`` and ``--calibrate SPLIT:END`` (the rig modelled whole,
 ``rig_calibration.calibrate_rig``: motor, jack, platform, bar and disk, its inputs the motor command and the
@@ -96,6 +97,8 @@ def main() -> None:
     ap.add_argument("--horizon-weight", default="1", metavar="W",
                     help="drillpy analyze's --horizon-weight: the calibration part's short-horizon E beside the long-run "
                          "mismatch (0: the long-run metrics alone)")
+    ap.add_argument("--horizon-channels", default="loop", choices=("loop", "all"),
+                    help="drillpy analyze's --horizon-channels: the short-horizon error's channels (all: the WOB too)")
     ap.add_argument("--rig-search", default="4,200", metavar="STARTS,EVALUATIONS",
                     help="drillpy analyze's --rig-search: the rig calibration's starts and simulations per start")
     ap.add_argument("--keep", default=None, help="write the two analyses into DIR/calT0 (kept) instead of a temporary directory")
@@ -107,13 +110,15 @@ def main() -> None:
         for (c0, c1) in ((0.0, a.split), (a.split, a.end)):
             extra = ([] if a.law_platform is None else ["--law-platform", f"{a.law_platform:g}"]) + [
                 "--channel-timing", a.channel_timing, "--horizon-weight", a.horizon_weight,
-                "--rig-search", a.rig_search]
+                "--rig-search", a.rig_search, "--horizon-channels", a.horizon_channels]
             S = analyze(a.record, c0, c1, Path(tmp) / f"cal{c0:g}", a.rig_fix, extra)
             rg = S["rig"]
             cal = rg["calibration_metrics"]
             e_cal = rg["calibration"].get("short_horizon_error")
             print(f"\n== calibrated on {c0:g}-{c1:g} s (mismatch {rg['calibration']['mismatch']:.3f}"
                   + (f", short-horizon E {e_cal:.3f} at weight {rg['calibration']['horizon_weight']:g}" if e_cal else "")
+                  + (f", the WOB's {rg['calibration']['wob_horizon_error']:.3f}"
+                     if rg["calibration"].get("wob_horizon_error") is not None else "")
                   + ") ==")
             law = rg["recommended"]["law"]
             print(f"  law {rg['recommended']['law_name']} at its reference WOB {law['wob_ref_n']:.1f} N, T [N m] at "
@@ -125,7 +130,8 @@ def main() -> None:
                     continue
                 m = h["metrics"]
                 print(f"  predicting {h['window_s'][0]:.1f}-{h['window_s'][1]:.1f} s: short-horizon E "
-                      f"{h['short_horizon_error']:.3f}, long-run mismatch {h['mismatch']:.3f}")
+                      f"{h['short_horizon_error']:.3f}" + (f", the WOB's {h['wob_horizon_error']:.3f}" if "wob_horizon_error"
+                                                            in h else "") + f", long-run mismatch {h['mismatch']:.3f}")
                 print(f"  {'metric':22s} {'measured':>9s} {'predicted':>10s} {'error':>9s}   "
                       f"{'persistence':>11s} {'error':>9s}")
                 within = 0

@@ -1,7 +1,7 @@
 """The rig modelled whole on the independent whole-rig truth (benchmarks/whole_rig.py), not on its own model.
 
     PYTHONPATH=python python3 benchmarks/rig_whole_truth.py [--seed 5] [--duration 24] [--rig-fix NAME=VALUE|free]
-        [--law-platform ZETA] [--horizon-weight W]
+        [--law-platform ZETA] [--horizon-weight W] [--horizon-channels loop|all]
 
 Writes a record of the whole-rig truth (no jack steps, so no stall), calibrates ``rig_calibration.calibrate_rig``
 (default budget) on its first half with the law identified there, predicts the second half, and prints
@@ -32,6 +32,8 @@ def main() -> None:
                     help="identify the law with the speed and the WOB through the 20 Hz platform of this damping")
     ap.add_argument("--horizon-weight", type=float, default=1.0, metavar="W",
                     help="the calibration part's short-horizon E beside the long-run mismatch (0: the metrics alone)")
+    ap.add_argument("--horizon-channels", default="loop", choices=("loop", "all"),
+                    help="the objective's short-horizon channels: all (the WOB beside the others) or loop (without it)")
     a = ap.parse_args()
     import numpy as np
     from drillpy.loop.prediction import short_horizon_error
@@ -70,13 +72,16 @@ def main() -> None:
         " ".join(f"{x:.3f}" for x in ident.law_eval(law, speeds, 0.0, law["wob_ref_n"])[0]),
         " ".join(f"{x:.3f}" for x in truth)))
     c = rig_calibration.calibrate_rig(cal, law, thr, fixed=fixed, horizon_error=short_horizon_error,
-                                      horizon_weight=a.horizon_weight)
+                                      horizon_weight=a.horizon_weight, horizon_channels=a.horizon_channels)
     sim = rigsim.simulate_model(c.model, hold)
     pred = rig_comparison.compare(hold, sim, thr)
     e_cal = short_horizon_error(c.model, cal, c.model.command_rad_s)
     e_val = short_horizon_error(c.model, hold, sim.provenance["command_rad_s"])
+    w_cal = short_horizon_error(c.model, cal, c.model.command_rad_s, channels="wob")
+    w_val = short_horizon_error(c.model, hold, sim.provenance["command_rad_s"], channels="wob")
     print(f"calibrated on 0-{h:g} s (horizon weight {a.horizon_weight:g}): mismatch {c.comparison.mismatch:.3f}, "
-          f"short-horizon E {e_cal:.3f}; predicting {h:g}-{a.duration:g} s: short-horizon E {e_val:.3f}")
+          f"short-horizon E {e_cal:.3f}, the WOB's {w_cal:.3f}; predicting {h:g}-{a.duration:g} s: short-horizon E "
+          f"{e_val:.3f}, the WOB's {w_val:.3f}")
     for k in rigsim.MATCHED_RIG + ("cycle_frequency_hz",):
         m, s = pred.measured[k], pred.simulated[k]
         print(f"  {k:22s} {m:9.3f} {s:9.3f} {100 * rig_comparison.relative_error(s, m):+7.1f} %")

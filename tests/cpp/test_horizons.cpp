@@ -128,7 +128,7 @@ TEST(Horizons, RestartedHorizonsReproduceTheLongRun) {
 
 TEST(Horizons, TheJacksWobStateRestartsTheHorizons) {
   // drill/axial.hpp: the WOB is a state; a horizon started from the long run's WOB follows it, one
-  // started at the set force (the state unknown, NaN) does not
+  // started at the set force (the state unknown, NaN) does not; the horizons report that state
   Config c = rig(false);
   c.axial.kind = Axial::Kind::jack;
   c.axial.gain = 130.0;
@@ -137,7 +137,7 @@ TEST(Horizons, TheJacksWobStateRestartsTheHorizons) {
   const double dt = sim.config().sim.dt;
   const LongRun lr = long_run(sim, 6.0);
   const int stride = 10, samples = 200;
-  double err[2] = {0.0, 0.0}, wmin = HUGE_VAL, wmax = -HUGE_VAL;
+  double err[2] = {0.0, 0.0}, werr[2] = {0.0, 0.0}, wmin = HUGE_VAL, wmax = -HUGE_VAL;
   for (int known = 0; known < 2; ++known) {
     std::vector<HorizonStart> starts;
     for (long k = 20; k < 28; ++k) {
@@ -159,6 +159,7 @@ TEST(Horizons, TheJacksWobStateRestartsTheHorizons) {
       for (int j = 0; j < samples; ++j) {
         const long i = (starts[h].index + j + 1) * stride;
         err[known] = std::max(err[known], std::fabs(r.bit_speed(h, j) - lr.v[i]));
+        werr[known] = std::max(werr[known], std::fabs(r.wob(h, j) - lr.wob[i]));
         wmin = std::min(wmin, lr.wob[i]);
         wmax = std::max(wmax, lr.wob[i]);
       }
@@ -166,6 +167,8 @@ TEST(Horizons, TheJacksWobStateRestartsTheHorizons) {
   EXPECT_GT(wmax - wmin, 20.0);  // the WOB swings with the cycle [N]
   EXPECT_LT(err[1], 1e-6);       // the same steps from the same states
   EXPECT_GT(err[0], 1e-2);       // the WOB state matters [rad/s]
+  EXPECT_LT(werr[1], 1e-6);      // the reported WOB is the long run's [N]
+  EXPECT_GT(werr[0], 1.0);       // and not the set force's
 }
 
 TEST(Horizons, StringFrictionIsPartOfTheRestartStateButNotOfTheReportedTorque) {

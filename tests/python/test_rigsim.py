@@ -261,6 +261,17 @@ def test_one_calibration_of_the_whole_rig_answers_the_next_quarter_second_as_wel
                                                                                          pred.measured[k])
     with pytest.raises(ValueError, match="horizon_weight = -1"):
         rig_calibration.calibrate_rig(cal, law, thr, horizon_error=short_horizon_error, horizon_weight=-1.0)
+    # the WOB's error over the same horizons (the jack's state against the recorded WOB): reported, and
+    # "all" is the mean square over the four channels
+    e = {ch: short_horizon_error(c.model, hold, c.model.command_rad_s, channels=ch) for ch in ("loop", "wob", "all")}
+    assert e["all"] ** 2 == pytest.approx((3 * e["loop"] ** 2 + e["wob"] ** 2) / 4, rel=1e-12)
+    assert 0.0 < e["wob"] < 1.0, e  # the jack predicts part of the WOB's swing
+    assert c.model.calibration["wob_horizon_error"] == pytest.approx(
+        short_horizon_error(c.model, cal, c.model.command_rad_s, channels="wob"))
+    with pytest.raises(ValueError, match="channels = 'torque'"):
+        short_horizon_error(c.model, hold, c.model.command_rad_s, channels="torque")
+    with pytest.raises(ValueError, match="horizon_channels = 'wob'"):
+        rig_calibration.calibrate_rig(cal, law, thr, horizon_error=short_horizon_error, horizon_channels="wob")
 
 
 def test_stalls_are_counted_apart_from_the_regular_cycle():

@@ -49,6 +49,8 @@ struct HorizonStart {
   /// the WOB state [N] of an axial jack (drill/axial.hpp), the recorded WOB at the restart; NaN:
   /// the set force at the horizon's start (without an axial model it is not read)
   double wob = NAN;
+  /// the recorded (filtered) WOB's rate at the restart [N/s]: with `wob`, the WOB sensor filter's state
+  double dy_wob = 0.0;
 };
 
 /// Inputs shared by all horizons, sampled on the record's grid (empty vectors: the configuration's
@@ -63,8 +65,10 @@ struct HorizonInputs {
 };
 
 /// Outputs after the sensors: row h, column j is the value at (j + 1) dt after the start of horizon h.
+/// `wob` is the WOB the law saw (the axial jack's state, or the input) after the same sensors, its
+/// filter started from the recorded WOB at the restart and its rate (the input where it is NaN).
 struct HorizonResult {
-  Eigen::MatrixXd bit_speed, torque, top_speed;
+  Eigen::MatrixXd bit_speed, torque, top_speed, wob;
 };
 
 /// The sensors of one horizon: observes its run and writes its row of the result.
@@ -74,7 +78,7 @@ struct HorizonSensors {
   long stride;
   Eigen::Index row;
   HorizonResult* r;
-  LowPass2 fv, ft, fo;
+  LowPass2 fv, ft, fo, fw;
 
   void operator()(const StepState& s) {
     // (the integrator's torque on bit already leaves the string friction out)
@@ -83,15 +87,17 @@ struct HorizonSensors {
       fv.reset(st->y_bit_speed, st->dy_bit_speed, s.bit_speed);
       ft.reset(st->y_torque, st->dy_torque, contact);
       fo.reset(st->y_top_speed, st->dy_top_speed, s.top_speed);
+      fw.reset(std::isfinite(st->wob) ? st->wob : s.wob, std::isfinite(st->wob) ? st->dy_wob : 0.0, s.wob);
       next = stride;
       out = 0;
       return;
     }
-    const double yv = fv.step(s.bit_speed), yt = ft.step(contact), yo = fo.step(s.top_speed);
+    const double yv = fv.step(s.bit_speed), yt = ft.step(contact), yo = fo.step(s.top_speed), yw = fw.step(s.wob);
     if (s.step == next) {  // every stride-th step (a counter: no division per step)
       r->bit_speed(row, out) = yv;
       r->torque(row, out) = yt;
       r->top_speed(row, out) = yo;
+      r->wob(row, out) = yw;
       ++out;
       next += stride;
     }
@@ -136,6 +142,7 @@ class HorizonRun {
     result.bit_speed.resize(n, hin.samples);
     result.torque.resize(n, hin.samples);
     result.top_speed.resize(n, hin.samples);
+    result.wob.resize(n, hin.samples);
     lanes_ = batched && lockstep_.supports(sim.inputs()) ? BatchedIntegrator::width() : 0;
   }
   HorizonRun(const HorizonRun&) = delete;
@@ -212,7 +219,7 @@ class HorizonRun {
     s0.wob = st.wob;
     const double fc = c_.sensor_lowpass_hz, dt = c_.sim.dt;
     return HorizonSensors{&st, in.bit_viscous, stride_, static_cast<Eigen::Index>(h), &result,
-                          LowPass2(fc, dt), LowPass2(fc, dt), LowPass2(fc, dt)};
+                          LowPass2(fc, dt), LowPass2(fc, dt), LowPass2(fc, dt), LowPass2(fc, dt)};
   }
 
   const Simulation& sim_;

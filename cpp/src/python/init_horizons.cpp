@@ -80,23 +80,25 @@ void bind_horizons(py::module_& m) {
                               "Where one prediction horizon starts (drill/horizons.hpp): the model's state read off "
                               "the record and the recorded channels that start the sensor filters.");
   hs.def(py::init([](long index, double v, double a, double T, double om, double dom, double yv, double dyv,
-                     double yT, double dyT, double ytop, double dytop, double wob) {
-           return HorizonStart{index, v, a, T, om, dom, yv, dyv, yT, dyT, ytop, dytop, wob};
+                     double yT, double dyT, double ytop, double dytop, double wob, double dywob) {
+           return HorizonStart{index, v, a, T, om, dom, yv, dyv, yT, dyT, ytop, dytop, wob, dywob};
          }),
          py::kw_only(), py::arg("index"), py::arg("bit_speed"), py::arg("bit_accel"), py::arg("torque"),
          py::arg("top_speed"), py::arg("top_accel"), py::arg("y_bit_speed"), py::arg("dy_bit_speed"),
          py::arg("y_torque"), py::arg("dy_torque"), py::arg("y_top_speed"), py::arg("dy_top_speed"),
-         py::arg("wob") = NAN);
+         py::arg("wob") = NAN, py::arg("dy_wob") = 0.0);
   hs.def_readonly("index", &HorizonStart::index, "Sample of the input grid at which the horizon starts.");
   hs.def_readonly("wob", &HorizonStart::wob,
                   "WOB state of an axial jack at the restart [N] (drill/axial.hpp; NaN: the set force).");
+  hs.def_readonly("dy_wob", &HorizonStart::dy_wob,
+                  "Rate of the recorded WOB at the restart [N/s]: with wob, the WOB sensor filter's state.");
   for (const StartField& f : start_fields) hs.def_readonly(f.name, f.member, f.doc);
   hs.def_static(
       "from_arrays",
       [](const std::vector<long>& index, const Eigen::VectorXd& v, const Eigen::VectorXd& a, const Eigen::VectorXd& T,
          const Eigen::VectorXd& om, const Eigen::VectorXd& dom, const Eigen::VectorXd& yv, const Eigen::VectorXd& dyv,
          const Eigen::VectorXd& yT, const Eigen::VectorXd& dyT, const Eigen::VectorXd& ytop,
-         const Eigen::VectorXd& dytop, py::object wob) {
+         const Eigen::VectorXd& dytop, py::object wob, py::object dy_wob) {
         const Eigen::Index n = static_cast<Eigen::Index>(index.size());
         const Eigen::VectorXd* cols[] = {&v, &a, &T, &om, &dom, &yv, &dyv, &yT, &dyT, &ytop, &dytop};
         for (std::size_t k = 0; k < std::size(cols); ++k)
@@ -105,21 +107,25 @@ void bind_horizons(py::module_& m) {
         const std::vector<double> w = as_vector(wob, "wob");
         require(w.empty() || static_cast<Eigen::Index>(w.size()) == n, "wob", w.size(),
                 "must have one entry per horizon (" + show(n) + ")");
+        const std::vector<double> dw = as_vector(dy_wob, "dy_wob");
+        require(dw.empty() || dw.size() == w.size(), "dy_wob", dw.size(),
+                "must have one entry per entry of wob (" + show(w.size()) + ")");
         std::vector<HorizonStart> starts(index.size());
         for (Eigen::Index h = 0; h < n; ++h) {
           HorizonStart& s = starts[static_cast<std::size_t>(h)];
           s.index = index[static_cast<std::size_t>(h)];
           for (std::size_t k = 0; k < std::size(cols); ++k) s.*(start_fields[k].member) = (*cols[k])(h);
           if (!w.empty()) s.wob = w[static_cast<std::size_t>(h)];
+          if (!dw.empty()) s.dy_wob = dw[static_cast<std::size_t>(h)];
         }
         return starts;
       },
       py::kw_only(), py::arg("index"), py::arg("bit_speed"), py::arg("bit_accel"), py::arg("torque"),
       py::arg("top_speed"), py::arg("top_accel"), py::arg("y_bit_speed"), py::arg("dy_bit_speed"),
       py::arg("y_torque"), py::arg("dy_torque"), py::arg("y_top_speed"), py::arg("dy_top_speed"),
-      py::arg("wob") = py::none(),
+      py::arg("wob") = py::none(), py::arg("dy_wob") = py::none(),
       "One HorizonStart per horizon from arrays with one entry per horizon (units of the fields; wob: the "
-      "axial jack's WOB state [N], None: the set force).");
+      "axial jack's WOB state [N], None: the set force; dy_wob: the recorded WOB's rate [N/s], None: 0).");
   hs.def("__repr__", [](const HorizonStart& s) {
     return "<drillpy._core.HorizonStart index=" + std::to_string(s.index) + ">";
   });
@@ -130,11 +136,13 @@ void bind_horizons(py::module_& m) {
       .def_readonly("bit_speed", &HorizonResult::bit_speed, "Bit speed [rad/s], horizons x samples.")
       .def_readonly("torque", &HorizonResult::torque, "Contact torque on bit [N m], horizons x samples.")
       .def_readonly("top_speed", &HorizonResult::top_speed, "Top speed [rad/s], horizons x samples.")
+      .def_readonly("wob", &HorizonResult::wob,
+                    "WOB the law saw [N] (the axial jack's state, or the input), horizons x samples.")
       .def(
           "to_dict",
           [](const HorizonResult& r) {
             return py::dict(py::arg("bit_speed") = r.bit_speed, py::arg("torque") = r.torque,
-                            py::arg("top_speed") = r.top_speed);
+                            py::arg("top_speed") = r.top_speed, py::arg("wob") = r.wob);
           },
           "Every field in a dict keyed by the field names.");
 }

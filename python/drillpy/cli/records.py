@@ -52,6 +52,9 @@ def _add_analyze(sub) -> argparse.ArgumentParser:
                    help="weight of the calibration part's short-horizon error E (0.25 s horizons restarted from the "
                         "measured state) beside the long-run metrics' mismatch in the rig calibration (default 1; "
                         "0: the long-run metrics alone)")
+    s.add_argument("--horizon-channels", default="loop", choices=("loop", "all"),
+                   help="the channels of that short-horizon error in the rig calibration: loop (the default: bit "
+                        "speed, torque and top speed, the loop's E) or all (the WOB, the jack's state, beside them)")
     s.add_argument("--rig-search", default="4,200", metavar="STARTS,EVALUATIONS",
                    help="the rig calibration's search: Nelder-Mead starts and simulations per start (default 4,200; "
                         "8,400 searches longer, about 4 x the time)")
@@ -139,7 +142,7 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
                               psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim, calibrate=cal,
                               rig_fixed=_rig_fixed(a.rig_fix), law_platform_damping=a.law_platform,
                               channel_timing=_channel_timing(a.channel_timing), horizon_weight=a.horizon_weight,
-                              rig_search=_rig_search(a.rig_search))
+                              horizon_channels=a.horizon_channels, rig_search=_rig_search(a.rig_search))
         s = analyze_record(items[0][1], a.out, opt, log=log, figure_units=a.figure_units)
         if a.json:
             keys = ("warnings", "cleaning", "cycles", "severity", "torque_statistics", "psd", "identification", "rig")

@@ -446,7 +446,7 @@ def law_torque(model: LoopModel, chs: dict, index=None) -> np.ndarray:
 
 
 def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, top: bool = False,
-            check: bool = True) -> tuple:
+            check: bool = True, wob: bool = False) -> tuple:
     """Predicted bit speed [rad/s] and torque on bit [N m] (and top speed [rad/s] with ``top``) of
     the horizons (rows; default all), after the model's sensors.
 
@@ -475,18 +475,22 @@ def predict(model: LoopModel, data: LoopData, horizons=None, threads: int = 0, t
         Also return the predicted top speed.
     check : bool
         The configuration's plausibility warnings (:func:`simulation`; False: the calibration's trials).
+    wob : bool
+        Also return the predicted WOB [N] (last): the axial jack's state, restarted from the recorded
+        WOB and its rate, or the law's WOB input, after the sensors.
 
     Returns
     -------
     tuple of numpy.ndarray
-        (bit speed [rad/s], torque on bit [N m]) or, with ``top``, (bit speed, torque on bit, top
-        speed [rad/s]), each of shape (horizons, L), aligned with :func:`drillpy.loop.data.measured`.
+        (bit speed [rad/s], torque on bit [N m]), with ``top`` the top speed [rad/s] after them and
+        with ``wob`` the WOB [N] last, each of shape (horizons, L), aligned with
+        :func:`drillpy.loop.data.measured`.
     """
     job = _horizon_job(model, data, horizons, check)
     # the batched SIMD integrator unless the options ask for the scalar reference one (LoopOptions.batched)
     r = _core.predict_horizons(job.sim, job.starts, data.dt, job.samples, top_speed=job.top_speed, wob=job.wob,
                                eta=job.eta, threads=engine_threads(threads), batched=data.batched)
-    return job.outputs(r, top)
+    return job.outputs(r, top, wob)
 
 
 @dataclass
@@ -503,13 +507,11 @@ class _HorizonJob:
     gain: float
     offset: float
 
-    def outputs(self, r, top: bool) -> tuple:
-        """(bit speed, torque[, top speed]) of the engine's HorizonResult ``r``, after the model's sensors."""
+    def outputs(self, r, top: bool, wob: bool = False) -> tuple:
+        """(bit speed, torque[, top speed][, WOB]) of the engine's HorizonResult ``r``, after the model's sensors."""
         D = self.D
         T = self.gain * r.torque[:, D:] + self.offset if (self.gain, self.offset) != (1.0, 0.0) else r.torque[:, D:]
-        if top:
-            return r.bit_speed[:, D:], T, r.top_speed[:, D:]
-        return r.bit_speed[:, D:], T
+        return (r.bit_speed[:, D:], T) + ((r.top_speed[:, D:],) if top else ()) + ((r.wob[:, D:],) if wob else ())
 
 
 def _horizon_job(model: LoopModel, data: LoopData, horizons=None, check: bool = True) -> _HorizonJob:
@@ -541,16 +543,18 @@ def _horizon_job(model: LoopModel, data: LoopData, horizons=None, check: bool = 
         ytop, dytop = ch["top"][idx], ch["top1"][idx]
     else:
         ytop, dytop = om, dom
-    w0 = None
+    w0 = dw0 = None
     for name, p in model.effects.items():
         x = CATALOGUE[name].restart_wob(p, model, data, chs, idx)
-        if x is not None:
+        if x is not None:  # the state and, for the WOB sensor's filter, the recorded rate (central difference)
             w0 = x
+            dw0 = (CATALOGUE[name].restart_wob(p, model, data, chs, idx + 1)
+                   - CATALOGUE[name].restart_wob(p, model, data, chs, idx - 1)) / (2.0 * data.dt)
     starts = _core.HorizonStart.from_arrays(
         index=idx.tolist(), bit_speed=chs["v"][idx], bit_accel=chs["a"][idx], torque=T0, top_speed=om, top_accel=dom,
         y_bit_speed=ch["v"][idx], dy_bit_speed=ch["v1"][idx], y_torque=true_torque(model, ch["T"][idx]),
         dy_torque=true_torque(model, ch["T1"][idx], rate=True),
-        y_top_speed=ytop, dy_top_speed=dytop, wob=w0)
+        y_top_speed=ytop, dy_top_speed=dytop, wob=w0, dy_wob=dw0)
     # the law's WOB input series (an axial model's set force: never the recorded state itself)
     wob_series = _wob_input(model, chs.get("W"), data.t.size) if any(
         CATALOGUE[n].wob_input(p, model, chs.get("W")) is not None for n, p in model.effects.items()) else None
@@ -632,6 +636,9 @@ class Evaluation:
         Law residual RMSE on the validation part's slip samples [N m].
     channel_rmse : dict
         Validation RMSE per channel: ``bit_speed_rad_s`` [rad/s], ``torque_on_bit_nm`` [N m].
+    wob : numpy.ndarray or None
+        Predicted WOB, horizons x L [N] (records with a WOB channel; else None): the axial jack's
+        state or the law's WOB input. E does not score it (:func:`wob_errors` does).
     """
     model: LoopModel
     v: np.ndarray          #: predicted bit speed, horizons x L [rad/s]
@@ -643,6 +650,7 @@ class Evaluation:
     law_rmse_train: float  #: law residual RMSE on the calibration part's slip samples [N m]
     law_rmse_test: float   #: ... on the validation part's [N m]
     channel_rmse: dict     #: validation RMSE per channel: bit speed [rad/s], torque [N m]
+    wob: np.ndarray | None = None  #: predicted WOB, horizons x L [N] (records with a WOB channel)
 
 
 def _reference(data: LoopData, h: np.ndarray) -> tuple:
@@ -754,7 +762,7 @@ def evaluate(model: LoopModel, data: LoopData, threads: int = 0) -> Evaluation:
     Evaluation
         The model with its predictions and errors.
     """
-    v, T, top = predict(model, data, threads=threads, top=True)
+    v, T, top, W = predict(model, data, threads=threads, top=True, wob=True)
     Yv, YT = measured(data)
     e_h, e_tr, e_te = score(v, T, data, top)
     chs = law_channels(model, data)
@@ -765,7 +773,38 @@ def evaluate(model: LoopModel, data: LoopData, threads: int = 0) -> Evaluation:
     te = data.is_test
     rm = {"bit_speed_rad_s": float(np.sqrt(np.mean((v[te] - Yv[te]) ** 2))),
           "torque_on_bit_nm": float(np.sqrt(np.mean((T[te] - YT[te]) ** 2)))}
-    return Evaluation(model, v, T, top if data.has_top else None, e_h, e_tr, e_te, lr["train"], lr["test"], rm)
+    return Evaluation(model, v, T, top if data.has_top else None, e_h, e_tr, e_te, lr["train"], lr["test"], rm,
+                      W if data.has_wob else None)
+
+
+def wob_errors(W: np.ndarray, data: LoopData, scale: float | None = None) -> np.ndarray:
+    """Per-horizon normalized mean squared error of predicted WOB ``W`` (horizons x L, every horizon)
+    against the recorded WOB (the record's own, also where the law takes its trend), on the
+    scale ``scale`` [N] (None: the recorded WOB's standard deviation over the calibration horizons):
+    the WOB's term of E, for a model whose WOB is a state (docs/records.md, section 4).
+
+    Parameters
+    ----------
+    W : numpy.ndarray
+        Predicted WOB [N], horizons x L (:attr:`Evaluation.wob`).
+    data : LoopData
+        The record on the analysis grid, with a WOB channel.
+    scale : float, optional
+        The WOB's spread [N] the errors are divided by.
+
+    Returns
+    -------
+    numpy.ndarray
+        Mean over each horizon's samples of ((W - recorded) / scale)^2 [-].
+    """
+    if not data.has_wob:
+        raise ValueError("record: no WOB channel to score the predicted WOB against")
+    rec = data.wob_measured if data.wob_measured is not None else data.ch["W"]
+    Y = rec[data.horizon_samples]
+    s = float(np.std(Y[~data.is_test])) if scale is None else float(scale)
+    if not s > 0:
+        raise ValueError(f"scale = {scale!r}: the WOB's spread must be positive")
+    return np.mean(((W - Y) / s) ** 2, axis=1)
 
 
 def residual_vector(model: LoopModel, data: LoopData, threads: int, check: bool = True) -> np.ndarray:

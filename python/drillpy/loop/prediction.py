@@ -30,6 +30,7 @@ from drillpy.records.cleaning import clean
 from drillpy.model.config import read_json
 from drillpy.loop.effects import stripped
 from drillpy.loop.longrun import simulate_record
+from drillpy.loop.model import wob_errors
 from drillpy.loop.run import analysis_config
 from drillpy.records.io import Flag, Record, read_record
 
@@ -182,8 +183,12 @@ def _loop_prediction(model: "loop.LoopModel", rec: Record, thr: float, horizon_s
     return sim, float(math.sqrt(np.mean(ev.e_h)))
 
 
+#: What :func:`short_horizon_error` scores: the loop's E (bit speed, torque and top speed), the WOB alone, or all.
+HORIZON_CHANNELS = ("loop", "wob", "all")
+
+
 def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, horizon_s: float = 0.25,
-                        threads: int = 0) -> float:
+                        threads: int = 0, channels: str = "loop") -> float:
     """E of docs/loop.md over every horizon of ``record`` (restarted from the measured state).
 
     The rig model is expressed as a loop model (the motor drive as the ``motor`` variant of
@@ -210,12 +215,20 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
         Length of each horizon [s].
     threads : int
         Engine threads (0: the OpenMP default).
+    channels : str
+        ``"loop"``: E over the bit speed, the torque and the top speed, the loop's criterion and
+        issue 28's; ``"wob"``: the WOB alone, the jack's state against the recorded WOB (on the
+        calibration's WOB spread, ``metric_scale["wob_n"]``; a model file without it: the record's
+        first half); ``"all"``: every channel the record has, the WOB one more beside the loop's (the
+        rig calibration's objective, :func:`drillpy.records.rig_calibration.calibrate_rig`).
 
     Returns
     -------
     float
         E [-].
     """
+    if channels not in HORIZON_CHANNELS:
+        raise ValueError(f"channels = {channels!r}: use one of {', '.join(HORIZON_CHANNELS)}")
     op = rigsim.operating_point(record)
     wob = op.get("wob_n", model.law["wob_ref_n"])
     opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads, channel_timing=_timing_option(model))
@@ -235,7 +248,13 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
         effects["axial_jack"] = {"gain_n_rad": model.jack_gain_n_rad, "relaxation_s": model.jack_relaxation_s}
     lm = loop.LoopModel(cfg, dict(getattr(model, "engine_law", model.law)), op["top_speed_rad_s"], wob, effects)
     ev = loop.evaluate(lm, data, threads)
-    return float(math.sqrt(np.mean(ev.e_h)))
+    if channels == "loop" or (channels == "all" and not data.has_wob):
+        return float(math.sqrt(np.mean(ev.e_h)))
+    e_w = wob_errors(ev.wob, data, None if sc is None else sc.get("wob_n"))
+    if channels == "wob":
+        return float(math.sqrt(np.mean(e_w)))
+    n = 3 if data.has_top else 2  # e_h is the mean over the loop's channels
+    return float(math.sqrt(np.mean((n * ev.e_h + e_w) / (n + 1))))
 
 
 def predict_record(model, record: Record | str | Path, *, t0: float | None = None,

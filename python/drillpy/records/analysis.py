@@ -90,6 +90,9 @@ class AnalysisOptions:
     horizon_weight : float
         Weight of the calibration part's short-horizon error E beside the long-run metrics' mismatch in
         the rig calibration (:func:`drillpy.records.rig_calibration.calibrate_rig`; 0: the metrics alone).
+    horizon_channels : str
+        The channels of that short-horizon error: ``"loop"`` (bit speed, torque, top speed) or ``"all"``
+        (the WOB beside them; ``horizon_channels`` of :func:`~drillpy.records.rig_calibration.calibrate_rig`).
     rig_search : (int, int)
         The rig calibration's Nelder-Mead starts and simulations per start (``starts``,
         ``evaluations`` of :func:`drillpy.records.rig_calibration.calibrate_rig`).
@@ -112,7 +115,12 @@ class AnalysisOptions:
     law_platform_damping: float | None = None
     channel_timing: str | tuple = "auto"
     horizon_weight: float = rig_calibration.HORIZON_WEIGHT
+    horizon_channels: str = rig_calibration.HORIZON_CHANNELS
     rig_search: tuple = (4, 200)
+
+
+#: What the summary's ``rig -> calibration`` keeps of the short horizons (rig_calibration.calibrate_rig).
+HORIZON_KEYS = ("horizon_weight", "horizon_channels", "short_horizon_error", "wob_horizon_error")
 
 
 def _stats(x) -> dict:
@@ -296,8 +304,7 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
     thr = rigsim.stick_threshold(rec, opt.stick_fraction) if raw.top_speed is not None else rep.stick_threshold_rad_s
     S: dict = {"record": {"source": rec.provenance.get("source"), "format": rec.provenance.get("format"),
                           "channels": list(rec.channels), "units_in_file": rec.units,
-                          "n_samples": len(rec), "duration_s": rec.duration_s,
-                          "sample_rate_hz": rec.sample_rate_hz,
+                          "n_samples": len(rec), "duration_s": rec.duration_s, "sample_rate_hz": rec.sample_rate_hz,
                           "window_s": [float(rec.time_s[0]), float(rec.time_s[-1])]},
                "cleaning": rep.summary()}
     warns = plausibility.check_record(rec, load_config(preset=opt.preset))  # the declared model: the rig preset
@@ -413,8 +420,7 @@ def compute_analysis(record: Record | str | Path, options: AnalysisOptions | Non
         cmp = ident.compare_laws(fits)
         fits_by[key] = fits
         S["identification"][key] = {"n_samples": len(data), "n_cycles": int(np.unique(data.group).size),
-                                    "wob_ref_n": data.wob_ref, "fits": [f.as_dict() for f in fits],
-                                    "comparison": cmp}
+                                    "wob_ref_n": data.wob_ref, "fits": [f.as_dict() for f in fits], "comparison": cmp}
         log(f"identification ({key.replace('_', ' ')}): {cmp.get('statement', '')}")
         for row in cmp["table"]:
             log(f"  {row['law']:<22} k={row['k']}  RMSE {row['rmse_nm']:.4f}  CV-RMSE {_f(row['cv_rmse_nm'], '.4f')}  "
@@ -760,21 +766,21 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, opt: AnalysisOpti
         note = " (diagnosis: fed the measured top speed, which carries the cycle)" if drive == "measured" else ""
         case(f"{law_c.name}, {drive} drive, zeta {m.damping_ratio:.3g}{extra}{note}", m)
     out["channel_timing"] = bit_balance.applied_timing(timing)
-    cal = rig_calibration.calibrate_rig(rec, law_w.law, thr, preset=preset, log=log, fixed=opt.rig_fixed,
-                                        horizon_error=horizon_error, horizon_weight=opt.horizon_weight,
-                                        channel_timing=out["channel_timing"], starts=opt.rig_search[0],
-                                        evaluations=opt.rig_search[1])
+    cal = rig_calibration.calibrate_rig(
+        rec, law_w.law, thr, preset=preset, log=log, fixed=opt.rig_fixed, horizon_error=horizon_error,
+        horizon_weight=opt.horizon_weight, horizon_channels=opt.horizon_channels,
+        channel_timing=out["channel_timing"], starts=opt.rig_search[0], evaluations=opt.rig_search[1])
     model = cal.model
     case(f"{law_w.name}, the rig modelled whole (motor, jack, platform), zeta {model.damping_ratio:.3g} "
          "(calibrated model)", model)
     out["simple_drives"] = simple.summary()["per_drive"]
     out["calibration"] = {"mismatch": cal.comparison.mismatch, "matched": list(rigsim.MATCHED_RIG),
                           "fixed": cal.per_drive["rig"]["fixed"], "per_drive": cal.per_drive,
-                          **{k: model.calibration[k] for k in ("horizon_weight", "short_horizon_error")}}
+                          **{k: model.calibration[k] for k in HORIZON_KEYS}}
     out["parameters"] = model.parameters()
     out["recommended"] = {"law": model.engine_law, "law_name": law_w.name, "damping_ratio": model.damping_ratio,
-                          "static_torque_factor": model.static_torque_factor,
-                          "drive": model.drive, "predictive": True, "mismatch": cal.comparison.mismatch,
+                          "static_torque_factor": model.static_torque_factor, "drive": model.drive,
+                          "predictive": True, "mismatch": cal.comparison.mismatch,
                           "rule": "the rig modelled whole (rig_calibration.calibrate_rig): every parameter inside its physical "
                                   "range, inputs the motor command and the jack's slow WOB trend only"}
     flags = [f"{k}: {v['flag']}" for k, v in out["parameters"].items() if v["flag"]]
@@ -788,8 +794,9 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, opt: AnalysisOpti
             sim = rigsim.simulate_model(model, piece)
             cmp = rig_comparison.compare(piece, sim, thr)
             row.update(metrics=_metric_row(cmp), mismatch=cmp.mismatch)
-            if horizon_error is not None:
-                row["short_horizon_error"] = horizon_error(model, piece, sim.provenance["command_rad_s"])
+            if horizon_error is not None:  # the loop's E, and the WOB's where the record has one
+                row.update({k: horizon_error(model, piece, sim.provenance["command_rad_s"], channels=ch) for k, ch in (
+                    ("short_horizon_error", "loop"), ("wob_horizon_error", "wob")) if ch == "loop" or piece.wob is not None})
             sims[f"held-out {row['window_s'][0]:.1f}-{row['window_s'][1]:.1f} s (prediction)"] = (sim, cmp)
             log(f"rig: held-out {row['window_s'][0]:.1f}-{row['window_s'][1]:.1f} s: " + _shown(cmp)
                 + (f"; short-horizon E {row['short_horizon_error']:.3f}" if "short_horizon_error" in row else ""))

@@ -20,7 +20,7 @@ from drillpy.records.io import Record
 from drillpy.records.rigsim import (DRIVES, MATCHED, MATCHED_RIG, RIG_PARAMETERS, RigModel, operating_point,
                                     reliable_top_speed, simulate_model, simulate_models)
 from drillpy.records.rig_comparison import (RigComparison, compare, measured_side, metric_scale, record_metrics,
-                                            relative_error)
+                                            relative_error, stalls)
 
 
 def scale_of(record: Record, stick_threshold: float) -> dict:
@@ -37,8 +37,15 @@ def scale_of(record: Record, stick_threshold: float) -> dict:
     """
     ok = record.valid("bit_speed") & record.valid("torque_on_bit")
     sv, sT = metric_scale(record.bit_speed, record.torque_on_bit, ok, record.dt, stick_threshold)
-    return {"bit_speed_rad_s": sv, "torque_on_bit_nm": sT,
-            "from": "the calibration window's spreads, stalls left out: E of drillpy predict is on this scale"}
+    out = {"bit_speed_rad_s": sv, "torque_on_bit_nm": sT,
+           "from": "the calibration window's spreads, stalls left out: E of drillpy predict is on this scale"}
+    if record.wob is not None:  # the WOB's term of the calibration's E, the stalls left out as well
+        w = record.valid("wob") & np.isfinite(record.wob) & np.isfinite(record.bit_speed)
+        for a, n in stalls(record.bit_speed, record.dt, stick_threshold, valid=w):
+            w[a:a + n] = False
+        if w.sum() > 1 and np.std(record.wob[w]) > 0:
+            out["wob_n"] = float(np.std(record.wob[w]))
+    return out
 
 
 @dataclass
@@ -375,6 +382,10 @@ SCAN_CHI2 = 3.84
 #: unit of E as a unit of mismatch; 0 matches the long-run metrics alone (the calibration before issue 28's
 #: "one calibration": docs/records.md, section 4).
 HORIZON_WEIGHT = 1.0
+#: The channels of that short-horizon error (:func:`calibrate_rig`'s ``horizon_channels``): ``"loop"``, the
+#: bit speed, the torque and the top speed (the loop's E); ``"all"`` adds the WOB, the jack's state against
+#: the recorded WOB (docs/records.md, section 4: no better on the independent truth or on sample 175).
+HORIZON_CHANNELS = "loop"
 
 
 def _scan_interval(residuals, p: dict, k: str, lo: float, hi: float, sigma: np.ndarray, workers: int) -> list | None:
@@ -408,17 +419,20 @@ def _scan_interval(residuals, p: dict, k: str, lo: float, hi: float, sigma: np.n
 def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: str = "thesis-rig", screen: int = 64,
                   starts: int = 4, evaluations: int = 200, seed: int = 175, log=None, threads: int = 0,
                   fixed: dict | None = None, keys: tuple = MATCHED_RIG, horizon_error=None,
-                  horizon_weight: float = HORIZON_WEIGHT, channel_timing: dict | None = None) -> Calibration:
+                  horizon_weight: float = HORIZON_WEIGHT, channel_timing: dict | None = None,
+                  horizon_channels: str = HORIZON_CHANNELS) -> Calibration:
     """Calibrate the rig modelled whole (the ``rig`` drive) on a cleaned calibration part.
 
     The parameters of :data:`RIG_PARAMETERS`, each inside its physical range (a logistic map of
     the range, so that no value outside it is tried), minimize the mismatch over
     :data:`MATCHED_RIG` (:func:`compare`; the regular cycle's SS, stick fraction, cycle frequency,
     bit-speed p95, torque p5 and p95, the top speed's standard deviation and mean, the WOB's
-    standard deviation) plus ``horizon_weight`` times the short-horizon error E of the model on the same
-    part (``horizon_error``: each 0.25 s horizon restarted from the measured state, the loop's
-    criterion), so that one calibration answers both the long-run statistics and what the next
-    quarter second does. The mismatch jumps where cycles appear and vanish, so the search screens
+    standard deviation) plus ``horizon_weight`` times the short-horizon error of the model on the same
+    part (``horizon_error``: each 0.25 s horizon restarted from the measured state; over
+    ``horizon_channels``, by default the loop's criterion E over the bit speed, the torque and the top
+    speed), so that one calibration answers both the long-run statistics and what the next quarter
+    second does. With ``"all"`` the WOB is scored beside them (the jack's state against the recorded
+    WOB); ``calibration.wob_horizon_error`` reports the WOB's error either way. The mismatch jumps where cycles appear and vanish, so the search screens
     ``screen`` points, a start from the record's droop line (:func:`droop_estimate`) and typical
     values and others scattered around it (normal, sd 0.7 in the logistic coordinates, from
     ``seed``: most of the ranges' corners stall the rig or stop the cycle, where the mismatch is
@@ -465,10 +479,14 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
         The metrics of the mismatch (default :data:`MATCHED_RIG`); :data:`EXTRA_KEYS` may be added, e.g.
         ``top_in_phase``, the drive's phase in the cycle (docs/records.md, section 4).
     horizon_error : callable, optional
-        ``horizon_error(model, record, command)``: the short-horizon error E [-] of a rig model on a
-        record (:func:`drillpy.loop.prediction.short_horizon_error`); None: the long-run metrics alone.
+        ``horizon_error(model, record, command, channels=...)``: the short-horizon error [-] of a rig
+        model on a record over the channels ``"loop"``, ``"wob"`` or ``"all"``
+        (:func:`drillpy.loop.prediction.short_horizon_error`); None: the long-run metrics alone.
     horizon_weight : float
         E's weight in the objective (>= 0; :data:`HORIZON_WEIGHT`).
+    horizon_channels : str
+        The channels of the objective's short-horizon error (:data:`HORIZON_CHANNELS`): ``"loop"``
+        (the bit speed, the torque and the top speed) or ``"all"`` (the WOB beside them).
     channel_timing : dict, optional
         The acquisition's skew the model keeps and E reads the record at
         (:func:`drillpy.records.bit_balance.applied_timing`); None: as recorded.
@@ -520,8 +538,11 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     def comparison(p):
         return compare(record, simulate_model(model_of(p), record), stick_threshold, side=side, keys=keys)
 
-    def short(p, rec=record):  # E on the part (or a block of it), the motor at the parameters' command
-        return float(horizon_error(model_of(p), rec, p["command_rad_s"])) if weight > 0 else 0.0
+    if horizon_channels not in ("all", "loop"):
+        raise ValueError(f"horizon_channels = {horizon_channels!r}: use all or loop")
+
+    def short(p, rec=record, channels=horizon_channels):  # E on the part (or a block of it), the motor at the parameters' command
+        return float(horizon_error(model_of(p), rec, p["command_rad_s"], channels=channels)) if weight > 0 else 0.0
 
     def cost(x):
         try:
@@ -563,7 +584,8 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     cmp = comparison(p)
     # 95 % intervals from the linearized relative errors weighted by the metrics' own noise
     sigma = _metric_noise(record, stick_threshold, keys)
-    e_cal = short(p) if weight > 0 else None
+    e_cal = short(p, channels="loop") if weight > 0 else None
+    e_wob = short(p, channels="wob") if weight > 0 and "wob_n" in scale else None
     if weight > 0:
         sigma = np.append(sigma, _horizon_noise(record, lambda piece: short(p, piece)) / math.sqrt(weight))
 
@@ -608,17 +630,18 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     model.intervals = intervals
     per = {"rig": {**{k: float(v) for k, v in p.items()},
                    "mismatch": cmp.mismatch, "evaluations": int(sum(r.nfev for r in results) + polish.nfev),
-                   "horizon_weight": weight, "short_horizon_error": e_cal,
-                   "fixed": dict(fixed),
+                   "horizon_weight": weight, "short_horizon_error": e_cal, "wob_horizon_error": e_wob,
+                   "horizon_channels": horizon_channels, "fixed": dict(fixed),
                    "intervals": intervals, "interval_method": method,
                    "metric_noise": dict(zip(keys, map(float, sigma)))}}
     model.calibration = {"window_s": [float(record.time_s[0]), float(record.time_s[-1])], "operating_point": op,
                          "command_rad_s": p["command_rad_s"], "mismatch": cmp.mismatch,
                          "matched": list(keys), "stick_threshold_rad_s": float(stick_threshold),
-                         "horizon_weight": weight, "short_horizon_error": e_cal,
-                         "per_drive": per, "metric_scale": scale}
+                         "horizon_weight": weight, "short_horizon_error": e_cal, "wob_horizon_error": e_wob,
+                         "horizon_channels": horizon_channels, "per_drive": per, "metric_scale": scale}
     if log:
         log("rig calibration (whole rig): mismatch %.3f; " % cmp.mismatch
-            + (f"short-horizon E {e_cal:.3f} (weight {weight:g}); " if weight > 0 else "")
+            + (f"short-horizon E {e_cal:.3f}, the WOB's {e_wob if e_wob is None else round(e_wob, 3)} "
+               f"(weight {weight:g}); " if weight > 0 else "")
             + ", ".join(f"{k} {v:.4g}" for k, v in p.items()))
     return Calibration(model, cmp, per)

@@ -276,8 +276,11 @@ def render_report(S: dict) -> str:
             e_cal = cal_.get("short_horizon_error")
             L += ["", f"Calibrated rig model ({rec_['rule']}): {rec_['law_name']} law, modal damping ratio "
                   f"{rec_['damping_ratio']:.3g}; the calibration minimized the long-run mismatch ({cal_['mismatch']:.3f})"
-                  + (f" plus {cal_['horizon_weight']:g} x the calibration part's short-horizon E ({e_cal:.3f})"
-                     if e_cal is not None else " alone") + "; written as `model.json` (apply it to any record with "
+                  + (f" plus {cal_['horizon_weight']:g} x the calibration part's short-horizon error over "
+                     + ("every channel, the WOB's included" if cal_.get("horizon_channels") == "all" else
+                        "the bit speed, torque and top speed") + f" (E {e_cal:.3f}"
+                     + (f"; the WOB's {cal_['wob_horizon_error']:.3f}" if cal_.get("wob_horizon_error") is not None else "")
+                     + ")" if e_cal is not None else " alone") + "; written as `model.json` (apply it to any record with "
                   "`drillpy predict model.json RECORD`).", ""]
             if rg.get("held_out"):
                 L += ["### Prediction of the held-out parts (never used by the fits)", "",
