@@ -500,11 +500,11 @@ class HorizonStart:
     Where one prediction horizon starts (drill/horizons.hpp): the model's state read off the record and the recorded channels that start the sensor filters.
     """
     @staticmethod
-    def from_arrays(*, index: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], bit_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], bit_accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], torque: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], top_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], top_accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], y_bit_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], dy_bit_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], y_torque: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], dy_torque: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], y_top_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], dy_top_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], wob: typing.Any = None) -> list[HorizonStart]:
+    def from_arrays(*, index: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], bit_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], bit_accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], torque: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], top_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], top_accel: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], y_bit_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], dy_bit_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], y_torque: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], dy_torque: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], y_top_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], dy_top_speed: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], wob: typing.Any = None, dy_wob: typing.Any = None) -> list[HorizonStart]:
         """
-        One HorizonStart per horizon from arrays with one entry per horizon (units of the fields; wob: the axial jack's WOB state [N], None: the set force).
+        One HorizonStart per horizon from arrays with one entry per horizon (units of the fields; wob: the axial jack's WOB state [N], None: the set force; dy_wob: the recorded WOB's rate [N/s], None: 0).
         """
-    def __init__(self, *, index: typing.SupportsInt | typing.SupportsIndex, bit_speed: typing.SupportsFloat | typing.SupportsIndex, bit_accel: typing.SupportsFloat | typing.SupportsIndex, torque: typing.SupportsFloat | typing.SupportsIndex, top_speed: typing.SupportsFloat | typing.SupportsIndex, top_accel: typing.SupportsFloat | typing.SupportsIndex, y_bit_speed: typing.SupportsFloat | typing.SupportsIndex, dy_bit_speed: typing.SupportsFloat | typing.SupportsIndex, y_torque: typing.SupportsFloat | typing.SupportsIndex, dy_torque: typing.SupportsFloat | typing.SupportsIndex, y_top_speed: typing.SupportsFloat | typing.SupportsIndex, dy_top_speed: typing.SupportsFloat | typing.SupportsIndex, wob: typing.SupportsFloat | typing.SupportsIndex = ...) -> None:
+    def __init__(self, *, index: typing.SupportsInt | typing.SupportsIndex, bit_speed: typing.SupportsFloat | typing.SupportsIndex, bit_accel: typing.SupportsFloat | typing.SupportsIndex, torque: typing.SupportsFloat | typing.SupportsIndex, top_speed: typing.SupportsFloat | typing.SupportsIndex, top_accel: typing.SupportsFloat | typing.SupportsIndex, y_bit_speed: typing.SupportsFloat | typing.SupportsIndex, dy_bit_speed: typing.SupportsFloat | typing.SupportsIndex, y_torque: typing.SupportsFloat | typing.SupportsIndex, dy_torque: typing.SupportsFloat | typing.SupportsIndex, y_top_speed: typing.SupportsFloat | typing.SupportsIndex, dy_top_speed: typing.SupportsFloat | typing.SupportsIndex, wob: typing.SupportsFloat | typing.SupportsIndex = ..., dy_wob: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
         ...
     def __repr__(self) -> str:
         ...
@@ -532,6 +532,11 @@ class HorizonStart:
     def dy_torque(self) -> float:
         """
         Rate of the recorded torque [N m/s].
+        """
+    @property
+    def dy_wob(self) -> float:
+        """
+        Rate of the recorded WOB at the restart [N/s]: with wob, the WOB sensor filter's state.
         """
     @property
     def index(self) -> int:
@@ -595,6 +600,11 @@ class HorizonResult:
     def torque(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
         Contact torque on bit [N m], horizons x samples.
+        """
+    @property
+    def wob(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        WOB the law saw [N] (the axial jack's state, or the input), horizons x samples.
         """
 def cb_frequencies(config: Config, n: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
