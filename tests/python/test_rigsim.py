@@ -224,7 +224,7 @@ def test_one_calibration_of_the_whole_rig_answers_the_next_quarter_second_as_wel
     # part (drillpy analyze's default). On the independent truth's held-out half E falls from 0.625 (the
     # metrics alone) to 0.258, the long run still sticks and slips like the truth, and every parameter
     # stays inside its physical range (benchmarks/rig_whole_truth.py [--horizon-weight 0])
-    from drillpy.loop.prediction import short_horizon_error
+    from drillpy.loop.prediction import predict_record, short_horizon_error
     rec, thr = whole_rig_truth
     cal, hold = rec.select(0.0, 12.0), rec.select(12.001, 24.0)
     law = _identified_law(cal, thr)
@@ -263,7 +263,10 @@ def test_one_calibration_of_the_whole_rig_answers_the_next_quarter_second_as_wel
         rig_calibration.calibrate_rig(cal, law, thr, horizon_error=short_horizon_error, horizon_weight=-1.0)
     # the WOB's error over the same horizons (the jack's state against the recorded WOB): reported, and
     # "all" is the mean square over the four channels
-    e = {ch: short_horizon_error(c.model, hold, c.model.command_rad_s, channels=ch) for ch in ("loop", "wob", "all")}
+    e = {ch: short_horizon_error(c.model, hold, sim.provenance["command_rad_s"], channels=ch)
+         for ch in ("loop", "wob", "all")}
+    pred = predict_record(c.model, hold)  # drillpy predict reports both
+    assert (pred.short_horizon_error, pred.wob_horizon_error) == pytest.approx((e["loop"], e["wob"]), rel=1e-12)
     assert e["all"] ** 2 == pytest.approx((3 * e["loop"] ** 2 + e["wob"] ** 2) / 4, rel=1e-12)
     assert 0.0 < e["wob"] < 1.0, e  # the jack predicts part of the WOB's swing
     assert c.model.calibration["wob_horizon_error"] == pytest.approx(

@@ -271,11 +271,12 @@ def cmd_predict(a: argparse.Namespace) -> int:
         write_prediction(pred, a.out, a.figure_units)
     s = pred.summary()
     if a.json:
-        print_json({k: s[k] for k in ("short_horizon_error", "long_run", "predictive_intervals", "record")
-                    if s[k] is not None})  # the intervals: a rig model with Eq. (4.1)'s fluctuation
+        print_json({k: s[k] for k in ("short_horizon_error", "wob_horizon_error", "long_run", "predictive_intervals",
+                                      "record") if s[k] is not None})  # the intervals: a rig model with Eq. (4.1)'s fluctuation
     else:
         lr = s["long_run"]
-        print(f"{describe(model)} at the record's operating point; short-horizon error E = {s['short_horizon_error']:.3f}")
+        print(f"{describe(model)} at the record's operating point; short-horizon error E = {s['short_horizon_error']:.3f}"
+              + ("" if s["wob_horizon_error"] is None else f", the WOB's {s['wob_horizon_error']:.3f}"))
         art = s["record"]["artifacts"]
         print("  record's artifacts: " + ("none flagged" if not art else "; ".join(
             f"{ch} {a['excluded_samples']} sample(s) excluded, {a['repaired_samples']} repaired"

@@ -62,6 +62,9 @@ class Prediction:
         Predictive intervals of the long-run metrics over realizations of the rig model's torque
         fluctuation, Eq. (4.1) (:func:`drillpy.records.rig_fluctuation.predictive`); None for a
         model without one.
+    wob_horizon_error : float or None
+        The WOB's error over the same horizons, on the WOB's spread [-] (:func:`short_horizon_error`
+        with ``channels="wob"``): a rig model on a record with a WOB channel; else None.
     """
     model: "rigsim.RigModel | loop.LoopModel"
     measured: Record
@@ -70,6 +73,7 @@ class Prediction:
     short_horizon_error: float
     stick_threshold: float
     intervals: dict | None = None
+    wob_horizon_error: float | None = None
 
     def summary(self) -> dict:
         """The ``--json`` output (and ``summary.json``)."""
@@ -79,7 +83,7 @@ class Prediction:
             return {"measured": m[k], "predicted": s[k], "relative_error": rig_comparison.relative_error(s[k], m[k])}
 
         return jsonable({
-            "short_horizon_error": self.short_horizon_error,
+            "short_horizon_error": self.short_horizon_error, "wob_horizon_error": self.wob_horizon_error,
             "long_run": {"ss": pair("ss"), "stick_fraction": pair("stick_fraction"),
                          "cycle_frequency_hz": pair("cycle_frequency_hz"),
                          "torque_p05_p95_nm": {"measured": [m["torque_p5"], m["torque_p95"]],
@@ -309,8 +313,10 @@ def predict_record(model, record: Record | str | Path, *, t0: float | None = Non
     sim = rigsim.simulate_model(model, rec)
     cmp = rig_comparison.compare(rec, sim, thr)
     E = short_horizon_error(model, rec, sim.provenance["command_rad_s"], horizon_s, threads)
+    E_w = short_horizon_error(model, rec, sim.provenance["command_rad_s"], horizon_s, threads, "wob") \
+        if rec.wob is not None and model.jack_gain_n_rad is not None else None  # the jack's WOB state
     iv = rig_fluctuation.predictive(model, rec, thr, realizations, seed) if model.torque_fluctuation else None
-    return Prediction(model, rec, sim, cmp, E, thr, iv)
+    return Prediction(model, rec, sim, cmp, E, thr, iv, E_w)
 
 
 def load_model(path: str | Path):
