@@ -13,6 +13,7 @@ from drillpy.loop import LoopModel, LoopOptions, evaluate, run_loop
 from drillpy.loop.effects import stripped
 from drillpy.loop.data import RESPONSE_R, prepare, wob_response
 from drillpy.loop.model import wob_errors
+from drillpy.loop.prediction import predict_record
 from drillpy.model.config import load_config
 from drillpy.records.cleaning import clean
 from drillpy.records.io import read_record
@@ -100,6 +101,10 @@ def test_the_loop_calibrates_a_declared_jack_and_predicts_its_own_record(jack_re
     e_w = {k: float(np.sqrt(np.mean(wob_errors(ev.wob, with_jack.data)))) for k, ev in (
         ("truth", evaluate(truth, with_jack.data)), ("calibrated", with_jack.baseline), ("none", without.baseline))}
     assert e_w["truth"] < 0.1 and e_w["calibrated"] < 0.25 and e_w["none"] > 0.8, e_w
+    # drillpy predict reports it for the model with the jack (the same horizons), not for the one without
+    pred = {k: predict_record(r.baseline.model, jack_record) for k, r in (("jack", with_jack), ("none", without))}
+    assert pred["jack"].wob_horizon_error == pytest.approx(e_w["calibrated"], rel=1e-9)
+    assert pred["none"].wob_horizon_error is None
     # the model file carries the intervals and says what it takes from a record
     d = with_jack.baseline.model.to_dict()
     lo, hi = d["intervals"]["axial_jack"]["gain_n_rad"]["ci95"]

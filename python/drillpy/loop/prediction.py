@@ -63,8 +63,10 @@ class Prediction:
         fluctuation, Eq. (4.1) (:func:`drillpy.records.rig_fluctuation.predictive`); None for a
         model without one.
     wob_horizon_error : float or None
-        The WOB's error over the same horizons, on the WOB's spread [-] (:func:`short_horizon_error`
-        with ``channels="wob"``): a rig model on a record with a WOB channel; else None.
+        The WOB's error over the same horizons, on the WOB's spread [-], for a model whose WOB is a
+        state (the jack) on a record with a WOB channel, else None: a rig model's on its calibration
+        part's spread (:func:`short_horizon_error` with ``channels="wob"``), a loop model's on the
+        spread over the predicted record's first part (:func:`drillpy.loop.model.wob_errors`).
     """
     model: "rigsim.RigModel | loop.LoopModel"
     measured: Record
@@ -184,7 +186,10 @@ def _loop_prediction(model: "loop.LoopModel", rec: Record, thr: float, horizon_s
     m = _loop_model_at(model, rec, data)
     sim = simulate_record(m, data)
     ev = loop.evaluate(m, data, threads)
-    return sim, float(math.sqrt(np.mean(ev.e_h)))
+    # the WOB's error of a model whose WOB is a state, on the WOB's spread over the record's first part (a
+    # loop model file keeps no WOB spread)
+    e_w = float(math.sqrt(np.mean(wob_errors(ev.wob, data)))) if "axial_jack" in m.effects and data.has_wob else None
+    return sim, float(math.sqrt(np.mean(ev.e_h))), e_w
 
 
 #: What :func:`short_horizon_error` scores: the loop's E (bit speed, torque and top speed), the WOB alone, or all.
@@ -308,8 +313,9 @@ def predict_record(model, record: Record | str | Path, *, t0: float | None = Non
     rec, _ = clean(raw)
     thr = rigsim.stick_threshold(rec)
     if isinstance(model, loop.LoopModel):
-        sim, E = _loop_prediction(model, rec, thr, horizon_s, threads)
-        return Prediction(model, rec, sim, rig_comparison.compare(rec, sim, thr, t_start=0.0), E, thr)
+        sim, E, E_w = _loop_prediction(model, rec, thr, horizon_s, threads)
+        return Prediction(model, rec, sim, rig_comparison.compare(rec, sim, thr, t_start=0.0), E, thr,
+                          wob_horizon_error=E_w)
     sim = rigsim.simulate_model(model, rec)
     cmp = rig_comparison.compare(rec, sim, thr)
     E = short_horizon_error(model, rec, sim.provenance["command_rad_s"], horizon_s, threads)
