@@ -88,28 +88,6 @@ def main() -> int:
     return 0
 
 
-def _evaluated(model, rec):
-    """The rig model's horizons on ``rec`` (as ``loop.prediction.short_horizon_error`` builds them): the
-    prepared data and the evaluation, with the predicted bit speed and WOB."""
-    from drillpy import loop
-    from drillpy.loop.effects import stripped
-    from drillpy.loop.prediction import _timing_option
-    from drillpy.loop.run import analysis_config
-    from drillpy.records import rigsim
-    op = rigsim.operating_point(rec)
-    sc = model.calibration["metric_scale"]
-    cfg = model.config(model.command_rad_s, op["wob_n"])
-    data = loop.prepare(rec, cfg, loop.LoopOptions(channel_timing=_timing_option(model)),
-                        scale=(sc["bit_speed_rad_s"], sc["torque_on_bit_nm"]))
-    eff = {"top_drive_dynamics": {"variant": "motor", "droop_rad_s_per_nm": 1.0 / model.motor_slope_nms_rad,
-                                  "inertia_kg_m2": model.motor_inertia_kg_m2, "command_rad_s": model.command_rad_s,
-                                  "coupling_stiffness_nm_rad": model.coupling_stiffness_nm_rad},
-           "axial_jack": {"gain_n_rad": model.jack_gain_n_rad, "relaxation_s": model.jack_relaxation_s}}
-    lm = loop.LoopModel(analysis_config(stripped(cfg), data.dt), dict(model.engine_law), op["top_speed_rad_s"],
-                        op["wob_n"], eff)
-    return data, loop.evaluate(lm, data)
-
-
 def _jack(x, data, v) -> np.ndarray:
     """The WOB [N] of the jack with a direct term, x = (g, tau, k_d, Omega_f), over every horizon (rows)
     driven by the bit speed ``v`` (horizons x L), restarted from the recorded WOB."""
@@ -129,10 +107,10 @@ def horizons(record: str, model_path: str, raw, mid: float) -> None:
     with and without the direct term, driven by the predicted and by the measured bit speed."""
     from scipy.optimize import least_squares
     from drillpy.records.cleaning import clean
-    from drillpy.loop.prediction import load_model
+    from drillpy.loop.prediction import load_model, rig_horizons
     model = load_model(model_path)
     s = model.calibration["metric_scale"]["wob_n"]
-    halves = [_evaluated(model, clean(raw.select(t0, t1))[0])
+    halves = [rig_horizons(model, clean(raw.select(t0, t1))[0], model.command_rad_s)
               for t0, t1 in ((float(raw.time_s[0]), mid), (mid, float(raw.time_s[-1])))]
 
     def error(x, data, v):

@@ -238,6 +238,41 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
     """
     if channels not in HORIZON_CHANNELS:
         raise ValueError(f"channels = {channels!r}: use one of {', '.join(HORIZON_CHANNELS)}")
+    data, ev = rig_horizons(model, record, command, horizon_s, threads)
+    if channels == "loop" or (channels == "all" and not data.has_wob):
+        return float(math.sqrt(np.mean(ev.e_h)))
+    sc = model.calibration.get("metric_scale")
+    e_w = wob_errors(ev.wob, data, None if sc is None else sc.get("wob_n"))
+    if channels == "wob":
+        return float(math.sqrt(np.mean(e_w)))
+    n = 3 if data.has_top else 2  # e_h is the mean over the loop's channels
+    return float(math.sqrt(np.mean((n * ev.e_h + e_w) / (n + 1))))
+
+
+def rig_horizons(model: rigsim.RigModel, record: Record, command: float, horizon_s: float = 0.25,
+                 threads: int = 0) -> tuple:
+    """The horizons :func:`short_horizon_error` scores: the rig model as a loop model at the record's
+    operating point (see there), the record prepared at the model's channel timing and scale.
+
+    Parameters
+    ----------
+    model : RigModel
+        The rig model.
+    record : Record
+        The cleaned record, with bit speed, torque on bit and top speed.
+    command : float
+        Top-drive speed or motor command Omega_c [rad/s] of the long run.
+    horizon_s : float
+        Length of each horizon [s].
+    threads : int
+        Engine threads (0: the OpenMP default).
+
+    Returns
+    -------
+    tuple
+        (:class:`drillpy.loop.data.LoopData`, :class:`drillpy.loop.model.Evaluation`): the prepared
+        record and every horizon's predictions (bit speed, torque, top speed, WOB) with their errors.
+    """
     op = rigsim.operating_point(record)
     wob = op.get("wob_n", model.law["wob_ref_n"])
     opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads, channel_timing=_timing_option(model))
@@ -256,14 +291,7 @@ def short_horizon_error(model: rigsim.RigModel, record: Record, command: float, 
     if model.drive == "rig" and model.jack_gain_n_rad is not None:
         effects["axial_jack"] = {"gain_n_rad": model.jack_gain_n_rad, "relaxation_s": model.jack_relaxation_s}
     lm = loop.LoopModel(cfg, dict(getattr(model, "engine_law", model.law)), op["top_speed_rad_s"], wob, effects)
-    ev = loop.evaluate(lm, data, threads)
-    if channels == "loop" or (channels == "all" and not data.has_wob):
-        return float(math.sqrt(np.mean(ev.e_h)))
-    e_w = wob_errors(ev.wob, data, None if sc is None else sc.get("wob_n"))
-    if channels == "wob":
-        return float(math.sqrt(np.mean(e_w)))
-    n = 3 if data.has_top else 2  # e_h is the mean over the loop's channels
-    return float(math.sqrt(np.mean((n * ev.e_h + e_w) / (n + 1))))
+    return data, loop.evaluate(lm, data, threads)
 
 
 def predict_record(model, record: Record | str | Path, *, t0: float | None = None,
