@@ -20,7 +20,7 @@ from drillpy.records.io import Record
 from drillpy.records.rigsim import (DRIVES, MATCHED, MATCHED_RIG, RIG_PARAMETERS, RigModel, operating_point,
                                     reliable_top_speed, simulate_model, simulate_models)
 from drillpy.records.rig_comparison import (RigComparison, compare, measured_side, metric_scale, record_metrics,
-                                            relative_error, stalls)
+                                            outside_stalls, relative_error)
 
 
 def scale_of(record: Record, stick_threshold: float) -> dict:
@@ -40,9 +40,7 @@ def scale_of(record: Record, stick_threshold: float) -> dict:
     out = {"bit_speed_rad_s": sv, "torque_on_bit_nm": sT,
            "from": "the calibration window's spreads, stalls left out: E of drillpy predict is on this scale"}
     if record.wob is not None:  # the WOB's term of the calibration's E, the stalls left out as well
-        w = record.valid("wob") & np.isfinite(record.wob) & np.isfinite(record.bit_speed)
-        for a, n in stalls(record.bit_speed, record.dt, stick_threshold, valid=w):
-            w[a:a + n] = False
+        w = outside_stalls(record.bit_speed, record.valid("wob") & np.isfinite(record.wob), record.dt, stick_threshold)
         if w.sum() > 1 and np.std(record.wob[w]) > 0:
             out["wob_n"] = float(np.std(record.wob[w]))
     return out

@@ -133,6 +133,31 @@ def stalls(bit_speed, dt: float, stick_threshold: float, valid=None, min_s: floa
     return [(int(a), int(b - a)) for a, b in zip(starts, ends) if b - a >= n_min]
 
 
+def outside_stalls(bit_speed, usable, dt: float, stick_threshold: float) -> np.ndarray:
+    """The ``usable`` samples with a finite bit speed that lie outside the stalls (:func:`stalls`).
+
+    Parameters
+    ----------
+    bit_speed : array_like
+        Bit speed [rad/s], one sample per ``dt``.
+    usable : array_like of bool
+        The samples to keep where no stall covers them.
+    dt : float
+        Sampling interval [s].
+    stick_threshold : float
+        Bit speed at or below which the bit is stuck [rad/s].
+
+    Returns
+    -------
+    numpy.ndarray of bool
+    """
+    v = np.asarray(bit_speed, float)
+    ok = np.asarray(usable, bool) & np.isfinite(v)
+    for a, n in stalls(v, dt, stick_threshold, valid=ok):
+        ok[a:a + n] = False
+    return ok
+
+
 def metric_scale(bit_speed, torque, usable, dt: float, stick_threshold: float) -> tuple:
     """The scale of the short-horizon error E (docs/loop.md, "Residuals and metrics"): the standard
     deviations of the bit speed and of the torque on bit over the usable samples, the stalls left out.
@@ -165,9 +190,7 @@ def metric_scale(bit_speed, torque, usable, dt: float, stick_threshold: float) -
         If fewer than two samples are usable or a channel is constant over them.
     """
     v, T = np.asarray(bit_speed, float), np.asarray(torque, float)
-    ok = np.asarray(usable, bool) & np.isfinite(v) & np.isfinite(T)
-    for a, n in stalls(v, dt, stick_threshold, valid=ok):
-        ok[a:a + n] = False
+    ok = outside_stalls(v, np.asarray(usable, bool) & np.isfinite(T), dt, stick_threshold)
     if ok.sum() < 2:
         raise ValueError(f"record: {int(ok.sum())} usable samples outside the stalls; the error's scale needs two")
     sv, sT = float(np.std(v[ok])), float(np.std(T[ok]))
