@@ -3,7 +3,7 @@
 held-out statistics?
 
     PYTHONPATH=python python3 benchmarks/calibration_coverage.py [--truths 6] [--population 100] \
-        [--simulations 2000] [--duration 24] [--first-truth 0] [--discrepancy F]
+        [--simulations 2000] [--duration 24] [--first-truth 0] [--discrepancy F] [--simulator rig_model]
 
 ``--first-truth N`` skips the first N truths of the seed's sequence (to choose an option such as the
 model discrepancy's factor ``--discrepancy`` on truths other than the reported ones).
@@ -22,6 +22,16 @@ truth, the family probabilities, and how many predictive intervals contain the h
 statistic; then the coverage over all truths and the histogram of the truths' ranks under the
 posterior (the posterior mass below the truth: uniform when the posterior is calibrated). With a handful of truths the coverage is itself
 uncertain: a binomial 90 % interval is printed beside it.
+
+``--simulator rig_model`` is the control: truths of drillpy's own rig model (no structural misfit),
+each with its law family drawn from the calibration's prior model probabilities (equal over the
+default families) and every calibrated parameter from its prior (``calibration_family_truths.py``'s
+``rig_model_truth``, stepped at 5e-5 s with the platform, the 10 Hz filter and sensor noise); a draw
+whose record stalls (the bit below 0.5 rad/s over more than half of it) is drawn again, counted. Every
+parameter the default families share is scored. On such truths a sound ABC gives uniform ranks
+(simulation-based calibration, Talts et al. 2018) when run without a model discrepancy
+(``--discrepancy 0``): with one, the posterior is that of "record = model + discrepancy" and its
+ranks bunch in the middle.
 """
 from __future__ import annotations
 
@@ -39,6 +49,8 @@ sys.path.insert(0, str(REPO / "benchmarks"))
 
 #: whole_rig parameter -> drillpy's calibrated parameter of the same meaning.
 SHARED = {"c_m": "motor_slope_nms_rad", "omega_c": "command_rad_s"}
+#: Redraws of a rig-model truth whose record stalls, at most.
+REDRAWS = 20
 
 
 def _mixture(summary: dict, name: str) -> tuple:
@@ -71,6 +83,42 @@ def rank(summary: dict, name: str, truth: float) -> float:
     return float(np.sum(w[v <= truth]) / np.sum(w))
 
 
+def whole_rig_truth(i: int, rng, duration: float) -> tuple:
+    """(record, {drillpy parameter: true value}, label) of truth ``i`` of the independent whole rig."""
+    import whole_rig
+
+    from drillpy.records.cleaning import clean
+    from drillpy.records.io import read_record
+    truth = {"c_m": float(rng.uniform(0.16, 0.30)), "omega_c": float(rng.uniform(15.5, 20.5)), "jack_steps": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "truth.mat"
+        whole_rig.write_mat(whole_rig.simulate(truth, duration=duration, seed=100 + i), str(path))
+        rec, _ = clean(read_record(path))
+    return rec, {name: truth[k] for k, name in SHARED.items()}, ""
+
+
+def rig_model_truth(i: int, rng, duration: float) -> tuple:
+    """(record, {drillpy parameter: true value}, label) of truth ``i`` of drillpy's own rig model: its
+    family from the prior model probabilities, its parameters from their priors, redrawn (at most
+    :data:`REDRAWS` times) while the record stalls; the parameters every default family shares are scored."""
+    import calibration_family_truths as cft
+
+    from drillpy import load_config
+    from drillpy.calibration.families import DEFAULT_FAMILIES
+    from drillpy.calibration.priors import prior_spec
+    spec = prior_spec({})
+    base = load_config(preset="thesis-rig")["law"]
+    shared = [p.name for p in spec.families[DEFAULT_FAMILIES[0]]
+              if all(p.name in [q.name for q in spec.families[f]] for f in DEFAULT_FAMILIES)]
+    for redraw in range(REDRAWS):
+        family = DEFAULT_FAMILIES[int(rng.integers(len(DEFAULT_FAMILIES)))]
+        truth = cft.rig_model_truth(family, rng, spec)
+        rec, stalled = cft.truth_record(family, truth, base, duration, seed=100 + i)
+        if stalled <= 0.5:
+            break
+    return rec, {k: truth["values"][k] for k in shared}, f"{family}, redrawn {redraw}x;"
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--truths", type=int, default=6)
@@ -86,45 +134,43 @@ def main() -> int:
     ap.add_argument("--dt", type=float, default=None, help="the calibration's time step [s] (default SIM_DT_S)")
     ap.add_argument("--discrepancy", type=float, default=None,
                     help="the model discrepancy's factor (drillpy calibrate --discrepancy; default drillpy's)")
+    ap.add_argument("--simulator", choices=("whole_rig", "rig_model"), default="whole_rig",
+                    help="the truths: the independent whole rig (default) or drillpy's own rig model (the control)")
     ap.add_argument("--bins", type=int, default=5, help="bins of the rank histograms")
     ap.add_argument("--figure", help="also draw the rank histograms (simulation-based calibration) into this PNG")
     a = ap.parse_args()
-    import whole_rig
     from scipy import stats
 
     from drillpy.calibration.posterior import calibrate_record
-    from drillpy.records.cleaning import clean
-    from drillpy.records.io import read_record
     rng = np.random.default_rng(a.seed)
-    hits = {k: 0 for k in SHARED}
-    ranks = {k: [] for k in SHARED}
-    widths = {k: [] for k in SHARED}
+    make = whole_rig_truth if a.simulator == "whole_rig" else rig_model_truth
+    hits, ranks, widths = {}, {}, {}
     pred_in = pred_n = 0
     h = 0.5 * a.duration
     if a.first_truth < 0:
         ap.error(f"--first-truth = {a.first_truth}: a non-negative integer")
     for i in range(a.first_truth + a.truths):
-        truth = {"c_m": float(rng.uniform(0.16, 0.30)), "omega_c": float(rng.uniform(15.5, 20.5)), "jack_steps": []}
+        if a.simulator == "whole_rig" and i < a.first_truth:  # its truths draw from the one sequence
+            rng.uniform(size=2)
+            continue
         if i < a.first_truth:
             continue
-        with tempfile.TemporaryDirectory() as tmp:
-            path = Path(tmp) / "truth.mat"
-            whole_rig.write_mat(whole_rig.simulate(truth, duration=a.duration, seed=100 + i), str(path))
-            rec, _ = clean(read_record(path))
+        rec, truth, label = make(i, rng if a.simulator == "whole_rig" else np.random.default_rng([a.seed, i]),
+                                 a.duration)
         post = calibrate_record(rec, preset="thesis-rig", t0=0.0, t1=h, heldout=(h + rec.dt, a.duration),
                                 population=a.population, max_simulations=a.simulations, predictive_draws=100,
                                 seed=a.seed + i, threads=a.threads, discrepancy=a.discrepancy,
                                 **({} if a.dt is None else {"dt_s": a.dt}))
         s = post.summary()
-        line = [f"truth {i + 1}:"]
-        for k, name in SHARED.items():
+        line = [f"truth {i + 1}:"] + ([label] if label else [])
+        for name, value in truth.items():
             lo, hi = model_averaged_interval(s, name)
-            ok = lo <= truth[k] <= hi
-            hits[k] += ok
-            ranks[k].append(rank(s, name, truth[k]))
-            widths[k].append(hi - lo)
-            line.append(f"{name} {truth[k]:.3f} in [{lo:.3f}, {hi:.3f}] {'yes' if ok else 'NO'} "
-                        f"(rank {ranks[k][-1]:.2f});")
+            ok = lo <= value <= hi
+            hits[name] = hits.get(name, 0) + ok
+            ranks.setdefault(name, []).append(rank(s, name, value))
+            widths.setdefault(name, []).append(hi - lo)
+            line.append(f"{name} {value:.3g} in [{lo:.3g}, {hi:.3g}] {'yes' if ok else 'NO'} "
+                        f"(rank {ranks[name][-1]:.2f});")
         pin = sum(v["contained"] for v in s["predictive"].values())
         pred_in += pin
         pred_n += len(s["predictive"])
@@ -139,8 +185,8 @@ def main() -> int:
         hi = stats.beta.ppf(0.95, k + 1, n - k) if k < n else 1.0
         return f"{k}/{n} = {k / n:.2f} (90 % interval [{lo:.2f}, {hi:.2f}])"
 
-    for k, name in SHARED.items():
-        print(f"coverage of the 90 % posterior interval, {name}: {binom(hits[k], a.truths)}")
+    for k in ranks:
+        print(f"coverage of the 90 % posterior interval, {k}: {binom(hits[k], a.truths)}")
         counts = np.histogram(ranks[k], bins=a.bins, range=(0.0, 1.0))[0]
         # uniform ranks (a calibrated posterior): chi-square over the bins, a.truths / bins expected in each
         chi2 = stats.chisquare(counts)
@@ -150,12 +196,12 @@ def main() -> int:
         print(f"  90 % interval width: median {np.median(widths[k]):.3g}, mean {np.mean(widths[k]):.3g}")
     print(f"coverage of the 90 % predictive intervals of the held-out statistics: {binom(pred_in, pred_n)}")
     if a.figure:
-        _rank_figure(a.figure, ranks, a.bins, a.truths)
+        _rank_figure(a.figure, ranks, a.bins, a.truths, a.simulator)
         print(f"rank histograms: {a.figure}")
     return 0
 
 
-def _rank_figure(path: str, ranks: dict, bins: int, n: int) -> None:
+def _rank_figure(path: str, ranks: dict, bins: int, n: int, simulator: str) -> None:
     """The simulation-based calibration's rank histograms, one panel per shared parameter, with the
     band a uniform histogram of ``n`` ranks stays in 90 % of the time (binomial, per bin)."""
     import matplotlib
@@ -167,9 +213,10 @@ def _rank_figure(path: str, ranks: dict, bins: int, n: int) -> None:
     for ax, (k, r) in zip(np.atleast_1d(axes), ranks.items()):
         ax.axhspan(lo, hi, color="0.88", label="90 % band of a uniform rank")
         ax.hist(r, bins=bins, range=(0.0, 1.0), color="C0", edgecolor="white")
-        ax.set(xlabel=f"rank of the true {SHARED[k]} under the posterior", ylabel="truths", xlim=(0, 1))
+        ax.set(xlabel=f"rank of the true {k} under the posterior", ylabel="truths", xlim=(0, 1))
         ax.legend(fontsize=8, loc="upper center")
-    fig.suptitle(f"Simulation-based calibration over {n} independent truths (benchmarks/whole_rig.py)")
+    fig.suptitle(f"Simulation-based calibration over {n} " + ("independent truths (benchmarks/whole_rig.py)"
+                 if simulator == "whole_rig" else "truths of drillpy's own rig model"))
     fig.savefig(path, dpi=110)
     plt.close(fig)
 

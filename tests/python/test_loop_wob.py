@@ -123,3 +123,40 @@ def test_a_model_fed_a_wob_that_responds_to_the_rotation_is_a_diagnosis():
         assert m.predictive
     kinematic = dataclasses.replace(fed, effects={"top_drive_dynamics": {"variant": "measured"}})
     assert not kinematic.predictive
+
+
+def test_a_record_too_short_to_test_the_wob_takes_the_input_the_model_declares(testrig_record):
+    # under 10 s (five periods of the 0.5 Hz trend) the response test cannot run; a forced input still holds
+    short = read_record(testrig_record).select(30.0, 38.0)
+    cfg = load_config(preset="thesis-rig")
+    auto = prepare(short, cfg, LoopOptions())
+    trend = prepare(short, cfg, LoopOptions(wob_input="trend"))
+    assert auto.wob_response is None and auto.wob_measured is None      # untested: the recorded WOB, as before
+    assert trend.wob_response["input"] == "trend" and trend.wob_response["correlation"] is None
+    f = np.fft.rfftfreq(trend.t.size, trend.dt)
+    band = (f > 2.0) & (f < 3.5)                     # the stick-slip cycle
+    power = [(np.abs(np.fft.rfft(d.ch["W"] - d.ch["W"].mean())) ** 2)[band].sum() for d in (trend, auto)]
+    assert power[0] < 5e-2 * power[1]                # (1.8 %: the zero-phase filter's edges on 8 s)
+    assert np.allclose(trend.wob_measured, auto.ch["W"])   # the recorded WOB stays the jack's restart state
+
+
+def test_the_rig_models_horizons_do_not_depend_on_the_windows_length(testrig_record):
+    # the whole-rig model's jack is driven by the slow WOB trend in its long runs; its horizons too, on a
+    # window too short for the response test (the recorded WOB would feed it the cycle)
+    from drillpy.loop.prediction import rig_horizons
+    from drillpy.records import rigsim
+    law = load_config(preset="rgd-rig")["law"]
+    m = rigsim.RigModel(law, 0.0303, "rig", 0.25, 0.0186, command_rad_s=17.27, jack_gain_n_rad=181.8,
+                        jack_relaxation_s=0.0987, platform_damping=0.75, gj_factor=1.0475,
+                        bit_inertia_factor=1.07, coupling_stiffness_nm_rad=41.0)
+    raw = read_record(testrig_record)
+    runs = {}
+    for t0, t1 in ((26.0, 40.0), (32.0, 40.0)):
+        data, ev = rig_horizons(m, clean(raw.select(t0, t1))[0], 17.27, threads=1)
+        assert data.wob_response["input"] == "trend"
+        runs[(t0, t1)] = dict(zip(np.round(data.t[data.starts], 2), ev.e_h))
+    a, b = runs[(26.0, 40.0)], runs[(32.0, 40.0)]
+    common = sorted(set(a) & set(b))[4:]             # away from the short window's first second (its filters' edge)
+    assert len(common) >= 20
+    ea, eb = (np.sqrt(np.mean([r[t] for t in common])) for r in (a, b))
+    assert eb == pytest.approx(ea, rel=0.05)         # the same horizons score alike from either window

@@ -305,6 +305,8 @@ def prepare(record: Record | str | Path, cfg: dict, opt: LoopOptions, scale: tup
             raw = bit_balance.aligned(raw, timing["top_lead_s"], timing["torque_lag_s"])
             rec, rep = clean(raw, CleaningOptions(spike_channels=ENCODER_CHANNELS))
     wresp = wob_response(rec)
+    if wresp is None and rec.wob is not None and opt.wob_input != "auto":  # too short to test: the option decides
+        wresp = {"correlation": None, "lag_s": None, "gain_n_rad": None, "response": False}
     wob_meas = None
     if wresp is not None:
         mode = opt.wob_input if opt.wob_input != "auto" else ("trend" if wresp["response"] else "measured")

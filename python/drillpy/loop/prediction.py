@@ -275,7 +275,9 @@ def rig_horizons(model: rigsim.RigModel, record: Record, command: float, horizon
     """
     op = rigsim.operating_point(record)
     wob = op.get("wob_n", model.law["wob_ref_n"])
-    opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads, channel_timing=_timing_option(model))
+    # the jack's set force is the record's slow WOB trend, as in the long run (rigsim.simulate_model): never
+    # the recorded WOB, which carries the cycle, whatever the record's length
+    opt = loop.LoopOptions(horizon_s=horizon_s, threads=threads, channel_timing=_timing_option(model), wob_input="trend")
     cfg = model.config(command, wob)
     sc = model.calibration.get("metric_scale")
     data = loop.prepare(record, cfg, opt, scale=None if sc is None else (sc["bit_speed_rad_s"], sc["torque_on_bit_nm"]))

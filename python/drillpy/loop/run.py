@@ -549,7 +549,12 @@ def _read(record, cfg: dict, opt: LoopOptions, log) -> tuple:
         notes.append(note)
         log(note)
     wr = data.wob_response
-    if wr is not None and wr["input"] == "trend":
+    if wr is not None and wr["input"] == "trend" and wr["correlation"] is None:
+        note = ("the law takes the recorded WOB's trend below 0.5 Hz (--wob-input trend): the record is too short "
+                "(under 10 s) to test whether the WOB is a response of the rotation")
+        notes.append(note)
+        log(note)
+    elif wr is not None and wr["input"] == "trend":
         note = (f"the recorded WOB is a response of the rotation, not an input: its part above 0.5 Hz follows the "
                 f"bit's angle deficit (correlation {wr['correlation']:.2f} at a lag of {1e3 * wr['lag_s']:.0f} ms, "
                 f"{wr['gain_n_rad']:.0f} N/rad); the law takes its trend below 0.5 Hz, the WOB known beforehand "
