@@ -94,7 +94,7 @@ def whole_rig_truth(i: int, rng, duration: float) -> tuple:
         path = Path(tmp) / "truth.mat"
         whole_rig.write_mat(whole_rig.simulate(truth, duration=duration, seed=100 + i), str(path))
         rec, _ = clean(read_record(path))
-    return rec, {name: truth[k] for k, name in SHARED.items()}, ""
+    return rec, {name: truth[k] for k, name in SHARED.items()}, "", None
 
 
 def rig_model_truth(i: int, rng, duration: float) -> tuple:
@@ -116,7 +116,31 @@ def rig_model_truth(i: int, rng, duration: float) -> tuple:
         rec, stalled = cft.truth_record(family, truth, base, duration, seed=100 + i)
         if stalled <= 0.5:
             break
-    return rec, {k: truth["values"][k] for k in shared}, f"{family}, redrawn {redraw}x;"
+    return rec, {k: truth["values"][k] for k in shared}, f"{family}, redrawn {redraw}x;", (family, truth["values"])
+
+
+def distance_at_truth(rec, t1: float, family: str, values: dict) -> float:
+    """The distance (root mean square in the statistics' noise units, as the ABC's, without a
+    discrepancy) between the calibration window's statistics and one run of the calibration's
+    simulator at the truth's own parameters: about 1 where the simulator reproduces the truth's
+    record, far more where the record's WOB trend, which the simulator takes as the jack's set
+    force, is not the truth's set force (the jack's slow response: the bit lifting off or stalling)."""
+    from drillpy import load_config
+    from drillpy.calibration.posterior import SKIP_S, RigSimulator
+    from drillpy.calibration.priors import prior_spec
+    from drillpy.calibration.summaries import noise_scale, summaries
+    from drillpy.records import rigsim
+    part = rec.select(None, t1)
+    thr = rigsim.stick_threshold(part)
+    sim = RigSimulator(part, thr, prior_spec({}), load_config(preset="thesis-rig")["law"], threads=1)
+    z = (sim.one(family, values) - summaries(part, thr, SKIP_S)) / noise_scale(part, thr, skip_s=SKIP_S)
+    return float(np.sqrt(np.nanmean(z ** 2)))
+
+
+#: A truth whose record the simulator reproduces at the truth's parameters within this distance
+#: counts as reproduced (twice a right model's distance without a discrepancy, sqrt(2): the
+#: record's and the run's sampling noise).
+REPRODUCED = 2.0 * np.sqrt(2.0)
 
 
 def main() -> int:
@@ -145,6 +169,7 @@ def main() -> int:
     rng = np.random.default_rng(a.seed)
     make = whole_rig_truth if a.simulator == "whole_rig" else rig_model_truth
     hits, ranks, widths = {}, {}, {}
+    reproduced = []  # per truth (rig_model): the simulator reproduces its record at its parameters
     pred_in = pred_n = 0
     h = 0.5 * a.duration
     if a.first_truth < 0:
@@ -155,14 +180,18 @@ def main() -> int:
             continue
         if i < a.first_truth:
             continue
-        rec, truth, label = make(i, rng if a.simulator == "whole_rig" else np.random.default_rng([a.seed, i]),
-                                 a.duration)
+        rec, truth, label, own = make(i, rng if a.simulator == "whole_rig" else np.random.default_rng([a.seed, i]),
+                                      a.duration)
         post = calibrate_record(rec, preset="thesis-rig", t0=0.0, t1=h, heldout=(h + rec.dt, a.duration),
                                 population=a.population, max_simulations=a.simulations, predictive_draws=100,
                                 seed=a.seed + i, threads=a.threads, discrepancy=a.discrepancy,
                                 **({} if a.dt is None else {"dt_s": a.dt}))
         s = post.summary()
         line = [f"truth {i + 1}:"] + ([label] if label else [])
+        if own is not None:
+            d = distance_at_truth(rec, h, *own)
+            reproduced.append(d <= REPRODUCED)
+            line.append(f"distance at the truth {d:.3g} ({'reproduced' if reproduced[-1] else 'NOT reproduced'});")
         for name, value in truth.items():
             lo, hi = model_averaged_interval(s, name)
             ok = lo <= value <= hi
@@ -194,6 +223,14 @@ def main() -> int:
               f"{counts.tolist()}; uniform: chi-square p = {chi2.pvalue:.2g}; mean rank {np.mean(ranks[k]):.2f} (0.5 "
               "when calibrated)")
         print(f"  90 % interval width: median {np.median(widths[k]):.3g}, mean {np.mean(widths[k]):.3g}")
+        if reproduced:
+            for flag, label in ((True, "reproduces"), (False, "does not reproduce")):
+                r = [x for x, ok in zip(ranks[k], reproduced) if ok == flag]
+                if r:
+                    c = np.histogram(r, bins=a.bins, range=(0.0, 1.0))[0]
+                    print(f"  the truths whose record the simulator {label} at their parameters ({len(r)}): rank "
+                          f"histogram {c.tolist()}, uniform: chi-square p = {stats.chisquare(c).pvalue:.2g}, "
+                          f"inside the 90 % interval {sum(0.05 <= x <= 0.95 for x in r)} of {len(r)}")
     print(f"coverage of the 90 % predictive intervals of the held-out statistics: {binom(pred_in, pred_n)}")
     if a.figure:
         _rank_figure(a.figure, ranks, a.bins, a.truths, a.simulator)
