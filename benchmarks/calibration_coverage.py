@@ -23,7 +23,7 @@ statistic; then the coverage over all truths and the histogram of the truths' ra
 posterior (the posterior mass below the truth: uniform when the posterior is calibrated). With a handful of truths the coverage is itself
 uncertain: a binomial 90 % interval is printed beside it.
 
-``--simulator rig_model`` is the control: truths of drillpy's own rig model (no structural misfit),
+``--simulator rig_model [--reproduced-only]`` is the control: truths of drillpy's own rig model (no structural misfit),
 each with its law family drawn from the calibration's prior model probabilities (equal over the
 default families) and every calibrated parameter from its prior (``calibration_family_truths.py``'s
 ``rig_model_truth``, stepped at 5e-5 s with the platform, the 10 Hz filter and sensor noise); a draw
@@ -31,7 +31,11 @@ whose record stalls (the bit below 0.5 rad/s over more than half of it) is drawn
 parameter the default families share is scored. On such truths a sound ABC gives uniform ranks
 (simulation-based calibration, Talts et al. 2018) when run without a model discrepancy
 (``--discrepancy 0``): with one, the posterior is that of "record = model + discrepancy" and its
-ranks bunch in the middle.
+ranks bunch in the middle. Each truth's distance at its own parameters (one run of the calibration's
+simulator at them, in the ABC's units) says whether the simulator reproduces its record at all, and
+the rank histograms are split by it; ``--reproduced-only`` redraws the truths it does not reproduce, so
+that the ABC's machinery alone is under test (a selection on the truth's parameters and record, not on
+the posterior).
 """
 from __future__ import annotations
 
@@ -97,10 +101,13 @@ def whole_rig_truth(i: int, rng, duration: float) -> tuple:
     return rec, {name: truth[k] for k, name in SHARED.items()}, "", None
 
 
-def rig_model_truth(i: int, rng, duration: float) -> tuple:
-    """(record, {drillpy parameter: true value}, label) of truth ``i`` of drillpy's own rig model: its
-    family from the prior model probabilities, its parameters from their priors, redrawn (at most
-    :data:`REDRAWS` times) while the record stalls; the parameters every default family shares are scored."""
+def rig_model_truth(i: int, rng, duration: float, reproduced_only: bool = False) -> tuple:
+    """(record, {drillpy parameter: true value}, label, (family, values)) of truth ``i`` of drillpy's own
+    rig model: its family from the prior model probabilities, its parameters from their priors, redrawn
+    (at most :data:`REDRAWS` times) while the record stalls, and with ``reproduced_only`` while the
+    calibration's simulator does not reproduce the record at the truth's parameters
+    (:func:`distance_at_truth` above :data:`REPRODUCED`); the parameters every default family shares
+    are scored."""
     import calibration_family_truths as cft
 
     from drillpy import load_config
@@ -110,11 +117,12 @@ def rig_model_truth(i: int, rng, duration: float) -> tuple:
     base = load_config(preset="thesis-rig")["law"]
     shared = [p.name for p in spec.families[DEFAULT_FAMILIES[0]]
               if all(p.name in [q.name for q in spec.families[f]] for f in DEFAULT_FAMILIES)]
-    for redraw in range(REDRAWS):
+    for redraw in range(REDRAWS * (10 if reproduced_only else 1)):
         family = DEFAULT_FAMILIES[int(rng.integers(len(DEFAULT_FAMILIES)))]
         truth = cft.rig_model_truth(family, rng, spec)
         rec, stalled = cft.truth_record(family, truth, base, duration, seed=100 + i)
-        if stalled <= 0.5:
+        if stalled <= 0.5 and (not reproduced_only
+                               or distance_at_truth(rec, 0.5 * duration, family, truth["values"]) <= REPRODUCED):
             break
     return rec, {k: truth["values"][k] for k in shared}, f"{family}, redrawn {redraw}x;", (family, truth["values"])
 
@@ -160,6 +168,9 @@ def main() -> int:
                     help="the model discrepancy's factor (drillpy calibrate --discrepancy; default drillpy's)")
     ap.add_argument("--simulator", choices=("whole_rig", "rig_model"), default="whole_rig",
                     help="the truths: the independent whole rig (default) or drillpy's own rig model (the control)")
+    ap.add_argument("--reproduced-only", action="store_true",
+                    help="with --simulator rig_model: redraw a truth until the calibration's simulator reproduces its "
+                         "record at its own parameters (the ABC's machinery alone under test)")
     ap.add_argument("--bins", type=int, default=5, help="bins of the rank histograms")
     ap.add_argument("--figure", help="also draw the rank histograms (simulation-based calibration) into this PNG")
     a = ap.parse_args()
@@ -167,7 +178,11 @@ def main() -> int:
 
     from drillpy.calibration.posterior import calibrate_record
     rng = np.random.default_rng(a.seed)
-    make = whole_rig_truth if a.simulator == "whole_rig" else rig_model_truth
+    if a.simulator == "whole_rig":
+        make = whole_rig_truth
+    else:
+        def make(i, rng, duration):
+            return rig_model_truth(i, rng, duration, a.reproduced_only)
     hits, ranks, widths = {}, {}, {}
     reproduced = []  # per truth (rig_model): the simulator reproduces its record at its parameters
     pred_in = pred_n = 0
