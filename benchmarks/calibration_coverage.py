@@ -206,7 +206,10 @@ def main() -> int:
         if own is not None:
             d = distance_at_truth(rec, h, *own)
             reproduced.append(d <= REPRODUCED)
-            line.append(f"distance at the truth {d:.3g} ({'reproduced' if reproduced[-1] else 'NOT reproduced'});")
+            part = rec.select(2.0, h)  # what the record shows after the start-up: lift-off, a runaway WOB, no cycle
+            line.append(f"distance at the truth {d:.3g} ({'reproduced' if reproduced[-1] else 'NOT reproduced'}; "
+                        f"record: WOB {np.mean(part.wob):.0f} N, bit-speed sd {np.std(part.bit_speed):.2f} rad/s, "
+                        f"bit below 0.5 rad/s {np.mean(part.bit_speed < 0.5):.2f});")
         for name, value in truth.items():
             lo, hi = model_averaged_interval(s, name)
             ok = lo <= value <= hi
