@@ -19,15 +19,11 @@ from pathlib import Path
 import numpy as np
 
 from drillpy.text import number_text as _f
-from drillpy.records import bit_balance
+from drillpy.records import bit_balance, plausibility, rigsim, rig_calibration, rig_comparison, rig_fluctuation
 from drillpy.records import identification as ident
-from drillpy.records import plausibility
 from drillpy.uncertainty import process
-from drillpy.records import rigsim
-from drillpy.records import rig_calibration
-from drillpy.records import rig_comparison
-from drillpy.records import rig_fluctuation
 from drillpy.records import signals as sig
+from drillpy.records.cycle_margin import cycle_margin
 from drillpy.records.cleaning import CleaningOptions, CleaningReport, clean
 from drillpy.model.config import load_config
 from drillpy.model.configuration import Configuration
@@ -787,6 +783,10 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, opt: AnalysisOpti
     log(f"rig: calibrated model: {law_w.name}, the rig modelled whole, damping ratio {model.damping_ratio:.3g} "
         f"(mismatch {cal.comparison.mismatch:.3f})" + ("; flagged: " + "; ".join(flags) if flags else ""))
     out["calibration_metrics"] = _metric_row(cal.comparison)
+    if rec.wob is not None:  # how far the cycle sits from its edge in WOB (issue 28: a marginal model)
+        out["cycle_margin"] = cycle_margin(model, rec, thr)
+        if out["cycle_margin"]["flag"]:
+            log("rig: flagged: " + out["cycle_margin"]["flag"])
     out["held_out"] = []
     for piece in held:
         row = {"window_s": [float(piece.time_s[0]), float(piece.time_s[-1])]}

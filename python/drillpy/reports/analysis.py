@@ -282,6 +282,13 @@ def render_report(S: dict) -> str:
                      + (f"; the WOB's {cal_['wob_horizon_error']:.3f}" if cal_.get("wob_horizon_error") is not None else "")
                      + ")" if e_cal is not None else " alone") + "; written as `model.json` (apply it to any record with "
                   "`drillpy predict model.json RECORD`).", ""]
+            cm = rg.get("cycle_margin")
+            if cm:  # the cycle against the WOB (records.cycle_margin)
+                L += ["The calibrated model's stick fraction with the part's WOB scaled: " + ", ".join(
+                    f"{100 * r['wob_factor']:.0f} % ({r['wob_n']:.0f} N) {_f(r['stick_fraction'], '.3f')}" for r in cm["model"])
+                      + "; the record's 5 s blocks: " + ", ".join(
+                    f"{b['wob_n']:.0f} N {b['stick_fraction']:.3f}" for b in cm["record_blocks"]) + "."
+                      + (f" **Flagged**: {cm['flag']}." if cm["flag"] else ""), ""]
             if rg.get("held_out"):
                 L += ["### Prediction of the held-out parts (never used by the fits)", "",
                       "| window [s] | SS meas. / pred. | stick fraction meas. / pred. | cycle freq. [Hz] meas. / pred. | "

@@ -1,0 +1,47 @@
+"""The rig model's stick-slip cycle against the WOB (drillpy.records.cycle_margin): the thesis's laws scale
+with the WOB, so below some WOB the model stops sticking; a model that does so within 10 % of its part's
+WOB is flagged, since the record's own 5 s blocks vary that much and keep sticking."""
+import numpy as np
+import pytest
+
+import drillpy
+from drillpy.records import rigsim
+from drillpy.records.cleaning import clean
+from drillpy.records.cycle_margin import FACTORS, cycle_margin
+from drillpy.records.io import read_record
+
+LAW = drillpy.load_config(preset="rgd-rig")["law"]
+
+
+def _model(damping: float) -> rigsim.RigModel:
+    # the whole-rig model of the 0-20 s part (tests/python/test_axial_rig_wob.py), its damping varied
+    return rigsim.RigModel(LAW, damping, "rig", 0.25, 0.0186, command_rad_s=17.27, jack_gain_n_rad=181.8,
+                           jack_relaxation_s=0.0987, platform_damping=0.75, gj_factor=1.0475,
+                           bit_inertia_factor=1.07, coupling_stiffness_nm_rad=41.0)
+
+
+@pytest.fixture(scope="module")
+def margins(testrig_record):
+    rec = clean(read_record(testrig_record).select(0.0, 20.0))[0]
+    thr = rigsim.stick_threshold(rec)
+    return {z: cycle_margin(_model(z), rec, thr) for z in (0.02, 0.036)}
+
+
+def test_the_model_sticks_more_at_more_wob_and_less_damping(margins):
+    stick = {z: np.array([r["stick_fraction"] for r in m["model"]]) for z, m in margins.items()}
+    assert [r["wob_factor"] for r in margins[0.02]["model"]] == list(FACTORS)
+    for s in stick.values():
+        assert np.all(np.diff(s) >= -0.005)          # the law's torque, and its weakening, grow with the WOB
+        assert s[-1] > s[0] + 0.05
+    assert np.all(stick[0.02] >= stick[0.036] - 0.005)  # less damping, longer stick phases
+
+
+def test_a_model_that_stops_sticking_at_ten_percent_less_wob_is_flagged(margins, testrig_record):
+    blocks = margins[0.02]["record_blocks"]
+    assert len(blocks) == 4 and all(b["stick_fraction"] > 0.02 for b in blocks)  # the record sticks in every block
+    assert 480.0 < min(b["wob_n"] for b in blocks) < max(b["wob_n"] for b in blocks) < 620.0
+    robust, marginal = margins[0.02], margins[0.036]
+    assert robust["lost_below_factor"] is None and robust["flag"] is None
+    assert marginal["lost_below_factor"] >= 0.9 and "marginal" in marginal["flag"]
+    one = [r for r in marginal["model"] if r["wob_factor"] == 1.0][0]
+    assert one["stick_fraction"] > 0.03               # it sticks at its part's own WOB
