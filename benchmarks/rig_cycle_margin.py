@@ -1,0 +1,50 @@
+"""The rig model's stick-slip cycle against the WOB, and whether a larger static torque widens its margin
+(issue 28, docs/records.md section 4, "Another split").
+
+    PYTHONPATH=python python3 benchmarks/rig_cycle_margin.py --model D/model.json [--window 0:20] \
+        [--static-torque-factors 1,1.05,1.1,1.15,1.2]
+
+D from ``drillpy analyze ../shared/data/testrig/sample175_0-40s.mat --calibrate 0:20 --out D``. For each
+static-torque factor (the law's static torque scaled, ``RigModel.static_torque_factor``; its physical
+range 1-1.2) it prints the model's stick fraction with the window's WOB scaled by 0.85, 0.9 and 1
+(:func:`drillpy.records.cycle_margin.model_runs`) and the long-run mismatch on the window. A second.
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import sys
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--model", required=True, help="model.json of drillpy analyze --calibrate")
+    ap.add_argument("--record", default=str(SAMPLE175))
+    ap.add_argument("--window", default="0:20", help="T0:T1 [s], the model's calibration part")
+    ap.add_argument("--static-torque-factors", default="1,1.05,1.1,1.15,1.2")
+    a = ap.parse_args(argv)
+    from drillpy.loop.prediction import load_model
+    from drillpy.records import rig_comparison, rigsim
+    from drillpy.records.cleaning import clean
+    from drillpy.records.cycle_margin import model_runs
+    from drillpy.records.io import read_record
+    t0, t1 = (float(x) for x in a.window.split(":"))
+    rec = clean(read_record(a.record).select(t0, t1))[0]
+    model = load_model(a.model)
+    thr = model.calibration["stick_threshold_rad_s"]
+    print("static-torque factor | stick fraction at 85 / 90 / 100 % of the WOB | mismatch | SS")
+    for f in (float(x) for x in a.static_torque_factors.split(",")):
+        m = dataclasses.replace(model, static_torque_factor=f)
+        runs = model_runs(m, rec, thr, factors=(0.85, 0.9, 1.0))
+        c = rig_comparison.compare(rec, rigsim.simulate_model(m, rec), thr)
+        print(f"{f:g} | " + " / ".join(f"{r['stick_fraction']:.3f}" for r in runs)
+              + f" | {c.mismatch:.3f} | {c.simulated['ss']:.3f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
