@@ -2,12 +2,15 @@
 (issue 28, docs/records.md section 4, "Another split").
 
     PYTHONPATH=python python3 benchmarks/rig_cycle_margin.py --model D/model.json [--window 0:20] \
-        [--static-torque-factors 1,1.05,1.1,1.15,1.2]
+        [--static-torque-factors 1,1.05,1.1,1.15,1.2] [--realizations 6]
 
 D from ``drillpy analyze ../shared/data/testrig/sample175_0-40s.mat --calibrate 0:20 --out D``. For each
 static-torque factor (the law's static torque scaled, ``RigModel.static_torque_factor``; its physical
 range 1-1.2) it prints the model's stick fraction with the window's WOB scaled by 0.85, 0.9 and 1
-(:func:`drillpy.records.cycle_margin.model_runs`) and the long-run mismatch on the window. A second.
+(:func:`drillpy.records.cycle_margin.model_runs`) and the long-run mismatch on the window; then, at the
+model's own static torque, the stick fraction at the same WOBs over ``--realizations`` realizations of
+the model's torque fluctuation, Eq. (4.1) (``records.rig_fluctuation``): whether the fluctuation keeps
+the bit sticking where the deterministic model does not. A few seconds.
 """
 from __future__ import annotations
 
@@ -26,9 +29,12 @@ def main(argv=None) -> int:
     ap.add_argument("--record", default=str(SAMPLE175))
     ap.add_argument("--window", default="0:20", help="T0:T1 [s], the model's calibration part")
     ap.add_argument("--static-torque-factors", default="1,1.05,1.1,1.15,1.2")
+    ap.add_argument("--realizations", type=int, default=6, help="realizations of Eq. (4.1)'s fluctuation")
     a = ap.parse_args(argv)
     from drillpy.loop.prediction import load_model
-    from drillpy.records import rig_comparison, rigsim
+    import numpy as np
+
+    from drillpy.records import rig_comparison, rig_fluctuation, rigsim
     from drillpy.records.cleaning import clean
     from drillpy.records.cycle_margin import model_runs
     from drillpy.records.io import read_record
@@ -43,6 +49,17 @@ def main(argv=None) -> int:
         c = rig_comparison.compare(rec, rigsim.simulate_model(m, rec), thr)
         print(f"{f:g} | " + " / ".join(f"{r['stick_fraction']:.3f}" for r in runs)
               + f" | {c.mismatch:.3f} | {c.simulated['ss']:.3f}")
+    tf = model.torque_fluctuation
+    if tf is None or a.realizations < 1:
+        return 0
+    span = float(rec.time_s[-1] - rec.time_s[0])
+    print(f"with Eq. (4.1)'s fluctuation (std {tf['std']:.3f}), {a.realizations} realizations:")
+    for f in (0.85, 0.9, 1.0):
+        scaled = dataclasses.replace(rec, wob=rec.wob * f)
+        st = [rig_comparison.compare(scaled, rigsim.simulate_model(
+            model, scaled, eta=rig_fluctuation.realization(tf, rec.dt, span, seed=0, sample=k)), thr).simulated["stick_fraction"]
+              for k in range(a.realizations)]
+        print(f"  {100 * f:.0f} % of the WOB: stick fraction {min(st):.3f}-{max(st):.3f} (median {np.median(st):.3f})")
     return 0
 
 
