@@ -3,6 +3,7 @@
 
     PYTHONPATH=python python3 benchmarks/rig_cycle_margin.py --model D/model.json [--window 0:20] \
         [--static-torque-factors 1,1.05,1.1,1.15,1.2] [--realizations 6]
+    PYTHONPATH=python python3 benchmarks/rig_cycle_margin.py --truth [--voltages 0.93,0.95,0.97,1]
 
 D from ``drillpy analyze ../shared/data/testrig/sample175_0-40s.mat --calibrate 0:20 --out D``. For each
 static-torque factor (the law's static torque scaled, ``RigModel.static_torque_factor``; its physical
@@ -11,6 +12,10 @@ range 1-1.2) it prints the model's stick fraction with the window's WOB scaled b
 model's own static torque, the stick fraction at the same WOBs over ``--realizations`` realizations of
 the model's torque fluctuation, Eq. (4.1) (``records.rig_fluctuation``): whether the fluctuation keeps
 the bit sticking where the deterministic model does not. A few seconds.
+
+``--truth`` asks the same of the independent whole-rig truth (``benchmarks/whole_rig.py``, seed 5, no
+supply step): 30 s at each jack supply voltage (its WOB's level), the stick fraction of each 5 s block
+after the first 5 s, with the mean WOB and top speed. About 10 s per voltage.
 """
 from __future__ import annotations
 
@@ -25,15 +30,21 @@ SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--model", required=True, help="model.json of drillpy analyze --calibrate")
+    ap.add_argument("--model", help="model.json of drillpy analyze --calibrate")
+    ap.add_argument("--truth", action="store_true", help="the independent whole-rig truth at --voltages instead")
+    ap.add_argument("--voltages", default="0.93,0.95,0.97,1", help="the truth's jack supply voltages")
     ap.add_argument("--record", default=str(SAMPLE175))
     ap.add_argument("--window", default="0:20", help="T0:T1 [s], the model's calibration part")
     ap.add_argument("--static-torque-factors", default="1,1.05,1.1,1.15,1.2")
     ap.add_argument("--realizations", type=int, default=6, help="realizations of Eq. (4.1)'s fluctuation")
     a = ap.parse_args(argv)
-    from drillpy.loop.prediction import load_model
+    if a.truth:
+        return _truth([float(x) for x in a.voltages.split(",")])
+    if a.model is None:
+        ap.error("--model DIR/model.json (or --truth)")
     import numpy as np
 
+    from drillpy.loop.prediction import load_model
     from drillpy.records import rig_comparison, rig_fluctuation, rigsim
     from drillpy.records.cleaning import clean
     from drillpy.records.cycle_margin import model_runs
@@ -60,6 +71,31 @@ def main(argv=None) -> int:
             model, scaled, eta=rig_fluctuation.realization(tf, rec.dt, span, seed=0, sample=k)), thr).simulated["stick_fraction"]
               for k in range(a.realizations)]
         print(f"  {100 * f:.0f} % of the WOB: stick fraction {min(st):.3f}-{max(st):.3f} (median {np.median(st):.3f})")
+    return 0
+
+
+def _truth(voltages: list) -> int:
+    """The independent whole-rig truth's stick fraction per 5 s block at each jack supply voltage."""
+    import tempfile
+
+    import numpy as np
+
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    import whole_rig
+    from drillpy.records import rigsim
+    from drillpy.records.cleaning import clean
+    from drillpy.records.cycle_margin import record_blocks
+    from drillpy.records.io import read_record
+    print("jack voltage | mean WOB [N] | mean top speed [rad/s] | stick fraction per 5 s block")
+    for u in voltages:
+        with tempfile.TemporaryDirectory() as tmp:
+            path = Path(tmp) / "truth.mat"
+            whole_rig.write_mat(whole_rig.simulate({"jack_voltage": u, "jack_steps": []}, duration=30.0, seed=5),
+                                str(path))
+            part = clean(read_record(path))[0].select(5.0, None)
+        blocks = record_blocks(part, rigsim.stick_threshold(part))
+        print(f"{u:g} | {np.nanmean(part.wob):.0f} | {np.nanmean(part.top_speed):.2f} | "
+              + ", ".join(f"{b['stick_fraction']:.3f}" for b in blocks))
     return 0
 
 
