@@ -4,6 +4,7 @@
     PYTHONPATH=python python3 benchmarks/rig_cycle_margin.py --model D/model.json [--window 0:20] \
         [--static-torque-factors 1,1.05,1.1,1.15,1.2] [--realizations 6]
     PYTHONPATH=python python3 benchmarks/rig_cycle_margin.py --truth [--voltages 0.93,0.95,0.97,1]
+    PYTHONPATH=python python3 benchmarks/rig_cycle_margin.py --breakaway [--record FILE.mat]
 
 D from ``drillpy analyze ../shared/data/testrig/sample175_0-40s.mat --calibrate 0:20 --out D``. For each
 static-torque factor (the law's static torque scaled, ``RigModel.static_torque_factor``; its physical
@@ -16,6 +17,13 @@ the bit sticking where the deterministic model does not. A few seconds.
 ``--truth`` asks the same of the independent whole-rig truth (``benchmarks/whole_rig.py``, seed 5, no
 supply step): 30 s at each jack supply voltage (its WOB's level), the stick fraction of each 5 s block
 after the first 5 s, with the mean WOB and top speed. About 10 s per voltage.
+
+``--breakaway`` asks the record how its break-away torque depends on the WOB: for every regular stick
+phase (10-500 ms below the stick threshold) the largest recorded torque from its start to 40 ms after
+it, regressed by least squares on the WOB's trend below 0.5 Hz at its start and on its duration, beside
+the slope a torque proportional to the WOB would have (the mean break-away torque over the mean WOB).
+The recorded torque went through the 10 Hz filter and the platform, which round off a short plateau:
+part of the duration's term is theirs.
 """
 from __future__ import annotations
 
@@ -33,6 +41,7 @@ def main(argv=None) -> int:
     ap.add_argument("--model", help="model.json of drillpy analyze --calibrate")
     ap.add_argument("--truth", action="store_true", help="the independent whole-rig truth at --voltages instead")
     ap.add_argument("--voltages", default="0.93,0.95,0.97,1", help="the truth's jack supply voltages")
+    ap.add_argument("--breakaway", action="store_true", help="the record's break-away torques against the WOB")
     ap.add_argument("--record", default=str(SAMPLE175))
     ap.add_argument("--window", default="0:20", help="T0:T1 [s], the model's calibration part")
     ap.add_argument("--static-torque-factors", default="1,1.05,1.1,1.15,1.2")
@@ -40,6 +49,8 @@ def main(argv=None) -> int:
     a = ap.parse_args(argv)
     if a.truth:
         return _truth([float(x) for x in a.voltages.split(",")])
+    if a.breakaway:
+        return _breakaway(a.record)
     if a.model is None:
         ap.error("--model DIR/model.json (or --truth)")
     import numpy as np
@@ -71,6 +82,42 @@ def main(argv=None) -> int:
             model, scaled, eta=rig_fluctuation.realization(tf, rec.dt, span, seed=0, sample=k)), thr).simulated["stick_fraction"]
               for k in range(a.realizations)]
         print(f"  {100 * f:.0f} % of the WOB: stick fraction {min(st):.3f}-{max(st):.3f} (median {np.median(st):.3f})")
+    return 0
+
+
+def _breakaway(path: str) -> int:
+    """The record's break-away torques regressed on the WOB trend and the stick duration (module docstring)."""
+    import numpy as np
+
+    from drillpy.records import rigsim
+    from drillpy.records.cleaning import clean
+    from drillpy.records.io import read_record
+    rec = clean(read_record(path))[0]
+    v, torque = rec.bit_speed, rec.torque_on_bit
+    trend = rigsim.wob_trend(rec, float(np.nanmean(rec.wob)))
+    stuck = v <= rigsim.stick_threshold(rec)
+    lag = int(round(0.04 / rec.dt))
+    rows, i = [], 0
+    while i < len(v):
+        if not stuck[i]:
+            i += 1
+            continue
+        e = i
+        while e < len(v) and stuck[e]:
+            e += 1
+        if 0.01 <= (e - i) * rec.dt <= 0.5 and i > 0 and e < len(v):
+            rows.append(((e - i) * rec.dt, float(np.nanmax(torque[i:e + lag])), float(trend[i])))
+        i = e
+    dur, tb, w = np.array(rows).T
+    X = np.c_[np.ones_like(w), w, dur]
+    coef, *_ = np.linalg.lstsq(X, tb, rcond=None)
+    res = tb - X @ coef
+    se = np.sqrt(np.diag(np.linalg.inv(X.T @ X)) * (res @ res) / (len(tb) - 3))
+    print(f"{len(tb)} regular stick phases, WOB trend {w.min():.0f}-{w.max():.0f} N, break-away torque "
+          f"{tb.mean():.2f} +- {tb.std():.2f} N m")
+    print(f"break-away torque = {coef[0]:.2f} (+- {se[0]:.2f}) N m + {coef[1]:.4f} (+- {se[1]:.4f}) N m/N x WOB "
+          f"+ {coef[2]:.1f} (+- {se[2]:.1f}) N m/s x duration; R^2 {1 - (res @ res) / np.sum((tb - tb.mean()) ** 2):.2f}")
+    print(f"a torque proportional to the WOB: {tb.mean() / w.mean():.4f} N m/N")
     return 0
 
 
