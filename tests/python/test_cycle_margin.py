@@ -45,3 +45,19 @@ def test_a_model_that_stops_sticking_at_ten_percent_less_wob_is_flagged(margins,
     assert marginal["lost_below_factor"] >= 0.9 and "marginal" in marginal["flag"]
     one = [r for r in marginal["model"] if r["wob_factor"] == 1.0][0]
     assert one["stick_fraction"] > 0.03               # it sticks at its part's own WOB
+
+
+def test_predict_notes_a_window_below_the_wob_where_the_model_lost_its_cycle(margins, testrig_record):
+    from drillpy.loop.prediction import predict_record
+    from drillpy.records.cycle_margin import window_note
+    marginal = margins[0.036]
+    lost = marginal["lost_at_wob_n"]
+    assert window_note(marginal, lost + 1.0) is None and window_note(None, 400.0) is None
+    assert "model's edge" in window_note(marginal, lost - 1.0)
+    m = _model(0.036)
+    # model.json keeps the calibration's margin; 30-40 s of sample 175 has a mean WOB of 533 N
+    m.calibration = {"cycle_margin": {"lost_below_factor": 0.95, "lost_at_wob_n": 560.0}}
+    pred = predict_record(m, read_record(testrig_record), t0=30.0, t1=40.0, realizations=0, threads=1)
+    assert pred.summary()["notes"] and "(533 N)" in pred.notes[0] and "(560 N" in pred.notes[0]
+    m.calibration = {"cycle_margin": margins[0.02]}   # a model that sticks at every WOB tried: no note
+    assert predict_record(m, read_record(testrig_record), t0=30.0, t1=40.0, realizations=0, threads=1).notes == []

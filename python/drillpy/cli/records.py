@@ -303,6 +303,8 @@ def cmd_predict(a: argparse.Namespace) -> int:
               + ", ".join([str(st["measured"]["count"])] + [f"{d:.2f} s" for d in st["measured"]["durations_s"]])
               + "; predicted " + ", ".join([str(st["predicted"]["count"])]
                                            + [f"{d:.2f} s" for d in st["predicted"]["durations_s"]]))
+        for note in s["notes"]:
+            print(f"  note: {note}")
         iv = s["predictive_intervals"]
         if iv:
             print(f"  with the torque fluctuation of Eq. (4.1), {iv['realizations']} realizations: {iv['inside']} of "

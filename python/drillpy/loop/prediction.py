@@ -16,7 +16,7 @@ follows it; see :func:`drillpy.records.rigsim.simulate_model` and :func:`drillpy
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +25,7 @@ from drillpy import loop
 from drillpy.records import rigsim
 from drillpy.records import rig_comparison
 from drillpy.records import rig_fluctuation
+from drillpy.records.cycle_margin import window_note
 from drillpy.jsonio import jsonable
 from drillpy.records.cleaning import clean
 from drillpy.model.config import read_json
@@ -67,6 +68,10 @@ class Prediction:
         state (the jack) on a record with a WOB channel, else None: a rig model's on its calibration
         part's spread (:func:`short_horizon_error` with ``channels="wob"``), a loop model's on the
         spread over the predicted record's first part (:func:`drillpy.loop.model.wob_errors`).
+    notes : list of str
+        What the numbers need beside them: a rig model applied to a window whose mean WOB is at or
+        below the WOB at which it had no stick phase on its calibration part
+        (:func:`drillpy.records.cycle_margin.window_note`).
     """
     model: "rigsim.RigModel | loop.LoopModel"
     measured: Record
@@ -76,6 +81,7 @@ class Prediction:
     stick_threshold: float
     intervals: dict | None = None
     wob_horizon_error: float | None = None
+    notes: list = field(default_factory=list)
 
     def summary(self) -> dict:
         """The ``--json`` output (and ``summary.json``)."""
@@ -102,7 +108,7 @@ class Prediction:
                        "window_s": [float(self.measured.time_s[0]), float(self.measured.time_s[-1])],
                        "artifacts": artifacts(self.measured)},
             "stick_threshold_rad_s": self.stick_threshold,
-            "predictive_intervals": self.intervals})
+            "predictive_intervals": self.intervals, "notes": list(self.notes)})
 
 
 def artifacts(record: Record) -> dict:
@@ -352,7 +358,8 @@ def predict_record(model, record: Record | str | Path, *, t0: float | None = Non
     E_w = short_horizon_error(model, rec, sim.provenance["command_rad_s"], horizon_s, threads, "wob") \
         if rec.wob is not None and model.jack_gain_n_rad is not None else None  # the jack's WOB state
     iv = rig_fluctuation.predictive(model, rec, thr, realizations, seed) if model.torque_fluctuation else None
-    return Prediction(model, rec, sim, cmp, E, thr, iv, E_w)
+    note = window_note(model.calibration.get("cycle_margin"), rigsim.operating_point(rec).get("wob_n", math.nan))
+    return Prediction(model, rec, sim, cmp, E, thr, iv, E_w, [note] if note else [])
 
 
 def load_model(path: str | Path):

@@ -783,10 +783,10 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, opt: AnalysisOpti
     log(f"rig: calibrated model: {law_w.name}, the rig modelled whole, damping ratio {model.damping_ratio:.3g} "
         f"(mismatch {cal.comparison.mismatch:.3f})" + ("; flagged: " + "; ".join(flags) if flags else ""))
     out["calibration_metrics"] = _metric_row(cal.comparison)
-    if rec.wob is not None:  # how far the cycle sits from its edge in WOB (issue 28: a marginal model)
-        out["cycle_margin"] = cycle_margin(model, rec, thr)
-        if out["cycle_margin"]["flag"]:
-            log("rig: flagged: " + out["cycle_margin"]["flag"])
+    if rec.wob is not None:  # how far the cycle sits from its edge in WOB (issue 28); model.json keeps it for predict
+        out["cycle_margin"] = model.calibration["cycle_margin"] = cm = cycle_margin(model, rec, thr)
+        if cm["flag"]:
+            log("rig: flagged: " + cm["flag"])
     out["held_out"] = []
     for piece in held:
         row = {"window_s": [float(piece.time_s[0]), float(piece.time_s[-1])]}

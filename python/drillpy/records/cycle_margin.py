@@ -113,8 +113,8 @@ def cycle_margin(model: rigsim.RigModel, record: Record, stick_threshold: float)
     -------
     dict
         ``model`` (:func:`model_runs`), ``record_blocks``, ``lost_below_factor`` (the highest factor of
-        the WOB at which the model has no stick phase, None if it sticks at every factor) and ``flag``
-        (str or None).
+        the WOB below 1 at which the model has no stick phase, None if it sticks at every factor),
+        ``lost_at_wob_n`` (that WOB [N], None likewise) and ``flag`` (str or None).
     """
     runs = model_runs(model, record, stick_threshold)
     blocks = record_blocks(record, stick_threshold)
@@ -122,7 +122,7 @@ def cycle_margin(model: rigsim.RigModel, record: Record, stick_threshold: float)
     lost = [r for r in runs if r["stick_fraction"] < NO_STICK and r["wob_factor"] < 1.0]
     top = max(lost, key=lambda r: r["wob_factor"]) if lost else None
     out = {"model": runs, "record_blocks": blocks, "lost_below_factor": top["wob_factor"] if top else None,
-           "flag": None}
+           "lost_at_wob_n": top["wob_n"] if top else None, "flag": None}
     if top is not None and top["wob_factor"] >= MARGIN and at_one and at_one[0]["stick_fraction"] >= NO_STICK:
         wobs = [b["wob_n"] for b in blocks if np.isfinite(b["wob_n"])]
         sticks = [b["stick_fraction"] for b in blocks]
@@ -131,3 +131,29 @@ def cycle_margin(model: rigsim.RigModel, record: Record, stick_threshold: float)
                        f"{min(wobs):.0f}-{max(wobs):.0f} N (stick fractions {min(sticks):.3f}-{max(sticks):.3f}): "
                        "a window of a little less WOB would be predicted without stick-slip")
     return out
+
+
+def window_note(margin: dict | None, wob_n: float) -> str | None:
+    """A note for a prediction on a window of mean WOB ``wob_n`` [N] by a model whose calibration part
+    showed ``margin`` (:func:`cycle_margin`, kept in ``model.json`` -> ``calibration`` -> ``cycle_margin``):
+    the window's WOB is at or below the WOB at which the model had no stick phase, so a prediction of
+    little or no stick-slip there is the model's edge, not the rig's (docs/records.md, section 4).
+
+    Parameters
+    ----------
+    margin : dict or None
+        The calibration's cycle margin (None: a model file written before it).
+    wob_n : float
+        The predicted window's mean WOB [N].
+
+    Returns
+    -------
+    str or None
+        The note, or None.
+    """
+    lost = None if not margin else margin.get("lost_at_wob_n")
+    if lost is None or not np.isfinite(wob_n) or wob_n > lost:
+        return None
+    return (f"the window's mean WOB ({wob_n:.0f} N) is at or below the WOB at which this model had no stick phase on "
+            f"its calibration part ({lost:.0f} N, {100 * (1 - margin['lost_below_factor']):.0f} % below that part's): "
+            "its prediction of the stick-slip here is at the model's edge, not the rig's")
