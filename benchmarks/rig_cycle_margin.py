@@ -23,7 +23,8 @@ phase (10-500 ms below the stick threshold) the largest recorded torque from its
 it, regressed by least squares on the WOB's trend below 0.5 Hz at its start and on its duration, beside
 the slope a torque proportional to the WOB would have (the mean break-away torque over the mean WOB).
 The recorded torque went through the 10 Hz filter and the platform, which round off a short plateau:
-part of the duration's term is theirs.
+part of the duration's term is theirs. Then the record's 5 s blocks: mean WOB and regular stick fraction
+(:func:`drillpy.records.cycle_margin.record_blocks`).
 """
 from __future__ import annotations
 
@@ -118,6 +119,10 @@ def _breakaway(path: str) -> int:
     print(f"break-away torque = {coef[0]:.2f} (+- {se[0]:.2f}) N m + {coef[1]:.4f} (+- {se[1]:.4f}) N m/N x WOB "
           f"+ {coef[2]:.1f} (+- {se[2]:.1f}) N m/s x duration; R^2 {1 - (res @ res) / np.sum((tb - tb.mean()) ** 2):.2f}")
     print(f"a torque proportional to the WOB: {tb.mean() / w.mean():.4f} N m/N")
+    from drillpy.records.cycle_margin import record_blocks
+    print("the record's 5 s blocks (stalls left out): " + ", ".join(
+        f"{b['window_s'][0]:g} s {b['wob_n']:.0f} N {b['stick_fraction']:.3f}"
+        for b in record_blocks(rec, rigsim.stick_threshold(rec))))
     return 0
 
 
