@@ -183,7 +183,7 @@ def main() -> int:
     else:
         def make(i, rng, duration):
             return rig_model_truth(i, rng, duration, a.reproduced_only)
-    hits, ranks, widths = {}, {}, {}
+    hits, ranks, widths, values = {}, {}, {}, {}
     reproduced = []  # per truth (rig_model): the simulator reproduces its record at its parameters
     pred_in = pred_n = 0
     h = 0.5 * a.duration
@@ -215,6 +215,7 @@ def main() -> int:
             ok = lo <= value <= hi
             hits[name] = hits.get(name, 0) + ok
             ranks.setdefault(name, []).append(rank(s, name, value))
+            values.setdefault(name, []).append(value)
             widths.setdefault(name, []).append(hi - lo)
             line.append(f"{name} {value:.3g} in [{lo:.3g}, {hi:.3g}] {'yes' if ok else 'NO'} "
                         f"(rank {ranks[name][-1]:.2f});")
@@ -241,6 +242,13 @@ def main() -> int:
               f"{counts.tolist()}; uniform: chi-square p = {chi2.pvalue:.2g}; mean rank {np.mean(ranks[k]):.2f} (0.5 "
               "when calibrated)")
         print(f"  90 % interval width: median {np.median(widths[k]):.3g}, mean {np.mean(widths[k]):.3g}")
+        if a.simulator == "rig_model":  # the truths against the prior they were drawn from (a selection shows here)
+            from drillpy.calibration.families import DEFAULT_FAMILIES
+            from drillpy.calibration.priors import prior_spec
+            par = {q.name: q for q in prior_spec({}).families[DEFAULT_FAMILIES[0]]}[k]
+            c = np.histogram([float(par.to_unit(x)) for x in values[k]], bins=a.bins, range=(0.0, 1.0))[0]
+            print(f"  the truths: median {np.median(values[k]):.3g} (the prior's {float(par.from_unit(0.5)):.3g}); "
+                  f"their ranks under the prior {c.tolist()}")
         if reproduced:
             for flag, label in ((True, "reproduces"), (False, "does not reproduce")):
                 r = [x for x, ok in zip(ranks[k], reproduced) if ok == flag]

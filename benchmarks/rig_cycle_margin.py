@@ -9,7 +9,8 @@
 D from ``drillpy analyze ../shared/data/testrig/sample175_0-40s.mat --calibrate 0:20 --out D``. For each
 static-torque factor (the law's static torque scaled, ``RigModel.static_torque_factor``; its physical
 range 1-1.2) it prints the model's stick fraction with the window's WOB scaled by 0.85, 0.9 and 1
-(:func:`drillpy.records.cycle_margin.model_runs`) and the long-run mismatch on the window; then, at the
+(:func:`drillpy.records.cycle_margin.model_runs`) and the long-run mismatch on the window, the mean WOB of
+the record and of the model's run (whether the record's WOB trend is the jack's set force); then, at the
 model's own static torque, the stick fraction at the same WOBs over ``--realizations`` realizations of
 the model's torque fluctuation, Eq. (4.1) (``records.rig_fluctuation``): whether the fluctuation keeps
 the bit sticking where the deterministic model does not. A few seconds.
@@ -72,6 +73,10 @@ def main(argv=None) -> int:
         c = rig_comparison.compare(rec, rigsim.simulate_model(m, rec), thr)
         print(f"{f:g} | " + " / ".join(f"{r['stick_fraction']:.3f}" for r in runs)
               + f" | {c.mismatch:.3f} | {c.simulated['ss']:.3f}")
+    sim = rigsim.simulate_model(model, rec)
+    after = sim.time_s >= sim.time_s[0] + 2.0
+    print(f"mean WOB after the first 2 s: record {np.nanmean(rec.wob[rec.time_s >= rec.time_s[0] + 2.0]):.1f} N, "
+          f"model {np.nanmean(sim.wob[after]):.1f} N (the jack's set force is the record's trend)")
     tf = model.torque_fluctuation
     if tf is None or a.realizations < 1:
         return 0
