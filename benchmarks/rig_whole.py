@@ -2,7 +2,7 @@
 
     PYTHONPATH=python python3 benchmarks/rig_whole.py [--record FILE.mat] [--split 20] [--keep DIR] [--rig-fix NAME=VALUE]
         [--law-platform ZETA] [--channel-timing none|auto|LEAD,LAG] [--horizon-weight W] [--rig-search 8,400]
-        [--horizon-channels loop|all]
+        [--horizon-channels loop|all] [--rig-metric NAME]
 
 Runs ``drillpy analyze --calibrate 0:SPLIT`` and ``--calibrate SPLIT:END`` (the rig modelled whole,
 ``rig_calibration.calibrate_rig``: motor, jack, platform, bar and disk, its inputs the motor command and the
@@ -101,6 +101,9 @@ def main() -> None:
                     help="drillpy analyze's --horizon-channels: the short-horizon error's channels (all: the WOB too)")
     ap.add_argument("--rig-search", default="4,200", metavar="STARTS,EVALUATIONS",
                     help="drillpy analyze's --rig-search: the rig calibration's starts and simulations per start")
+    ap.add_argument("--rig-metric", action="append", default=[], metavar="NAME",
+                    help="drillpy analyze's --rig-metric (repeatable): a metric matched beside the defaults, e.g. "
+                         "block_stick_min")
     ap.add_argument("--keep", default=None, help="write the two analyses into DIR/calT0 (kept) instead of a temporary directory")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
@@ -110,7 +113,8 @@ def main() -> None:
         for (c0, c1) in ((0.0, a.split), (a.split, a.end)):
             extra = ([] if a.law_platform is None else ["--law-platform", f"{a.law_platform:g}"]) + [
                 "--channel-timing", a.channel_timing, "--horizon-weight", a.horizon_weight,
-                "--rig-search", a.rig_search, "--horizon-channels", a.horizon_channels]
+                "--rig-search", a.rig_search, "--horizon-channels", a.horizon_channels] + [
+                x for m in a.rig_metric for x in ("--rig-metric", m)]
             S = analyze(a.record, c0, c1, Path(tmp) / f"cal{c0:g}", a.rig_fix, extra)
             rg = S["rig"]
             cal = rg["calibration_metrics"]
@@ -159,6 +163,10 @@ def main() -> None:
                 ci = "n/a" if v["ci95"] is None else f"[{v['ci95'][0]:.4g}, {v['ci95'][1]:.4g}]"
                 print(f"    {k:22s} {v['value']:10.4g} {ci:24s} [{v['range'][0]:g}, {v['range'][1]:g}] {v['unit']}"
                       + (f"  FLAG: {v['flag']}" if v["flag"] else ""))
+            if rg.get("cycle_margin"):
+                from drillpy.records.cycle_margin import margin_lines
+                for line in margin_lines(rg["cycle_margin"]):
+                    print(f"  cycle margin: {line}")
             diag = next((c for c in rg["cases"] if c["drive"] == "measured"), None)
             if diag:
                 print(f"  diagnosis (measured top speed fed in): damping ratio {diag['damping_ratio']:.3g}, "

@@ -61,3 +61,45 @@ def test_predict_notes_a_window_below_the_wob_where_the_model_lost_its_cycle(mar
     assert pred.summary()["notes"] and "(533 N)" in pred.notes[0] and "(560 N" in pred.notes[0]
     m.calibration = {"cycle_margin": margins[0.02]}   # a model that sticks at every WOB tried: no note
     assert predict_record(m, read_record(testrig_record), t0=30.0, t1=40.0, realizations=0, threads=1).notes == []
+
+
+def test_the_models_stick_fraction_follows_the_wob_inside_its_part_far_more_than_the_records(margins):
+    from drillpy.records.cycle_margin import margin_lines, wob_slope
+    # the slope is a least-squares slope per 100 N
+    blocks = [{"wob_n": w, "stick_fraction": 0.01 + 0.002 * (w - 500.0)} for w in (500.0, 550.0, 620.0)]
+    assert wob_slope(blocks) == pytest.approx(0.2, rel=1e-9)
+    assert np.isnan(wob_slope(blocks[:2])) and np.isnan(wob_slope([dict(b, wob_n=500.0) for b in blocks]))
+    for m in margins.values():
+        s = m["wob_slope_per_100n"]
+        one = [r for r in m["model"] if r["wob_factor"] == 1.0][0]
+        assert len(one["blocks"]) == 4                           # the model's own blocks in its run at the part's WOB
+        assert abs(s["record"]) < 0.03                           # sample 175's blocks: no trend in the WOB
+        assert s["model"] > 0.05 and s["model"] > 3 * abs(s["record"])  # the law scales with the WOB
+        assert "per 100 N" in margin_lines(m)[0]
+
+
+def test_block_stick_min_is_the_smallest_stick_fraction_of_the_five_second_blocks():
+    from drillpy.records.io import Record
+    from drillpy.records.rig_comparison import block_stick_min
+    dt, n = 0.01, 2000                                           # 20 s: four 5 s blocks
+    t = np.arange(n) * dt
+    v = np.full(n, 10.0)
+    stuck = {0: 0.10, 1: 0.05, 2: 0.0, 3: 0.20}                  # each block's share of samples at rest
+    for b, share in stuck.items():
+        v[b * 500:b * 500 + int(share * 500)] = 0.0
+    rec = Record(time_s=t, bit_speed=v, top_speed=np.full(n, 10.0), torque_on_bit=np.ones(n))
+    sel = np.ones(n, bool)
+    assert block_stick_min(rec, sel, 0.5) == pytest.approx(0.0)
+    v[1000:1010] = 0.0                                          # the third block sticks too: 2 %
+    assert block_stick_min(rec, sel, 0.5) == pytest.approx(0.02)
+    sel[1000:1300] = False                                       # a block with under half its samples is left out
+    assert block_stick_min(rec, sel, 0.5) == pytest.approx(0.05)
+    assert np.isnan(block_stick_min(rec, np.zeros(n, bool), 0.5))
+
+
+def test_the_cli_offers_every_extra_rig_metric():
+    from drillpy.cli import build_parser
+    from drillpy.records.rig_calibration import EXTRA_KEYS
+    sub = [a for a in build_parser()._actions if a.dest == "command"][0].choices["analyze"]
+    act = [a for a in sub._actions if a.dest == "rig_metric"][0]
+    assert tuple(act.choices) == EXTRA_KEYS

@@ -55,6 +55,11 @@ def _add_analyze(sub) -> argparse.ArgumentParser:
     s.add_argument("--horizon-channels", default="loop", choices=("loop", "all"),
                    help="the channels of that short-horizon error in the rig calibration: loop (the default: bit "
                         "speed, torque and top speed, the loop's E) or all (the WOB, the jack's state, beside them)")
+    s.add_argument("--rig-metric", action="append", default=[], metavar="NAME",
+                   choices=("cycle_frequency_hz", "top_in_phase", "block_stick_min"),
+                   help="a metric the rig calibration matches beside its defaults (repeatable): cycle_frequency_hz, "
+                        "top_in_phase (the top speed's part in phase with the bit speed) or block_stick_min (the "
+                        "smallest stick fraction of the part's 5 s blocks: the cycle kept where the WOB trend dips)")
     s.add_argument("--rig-search", default="4,200", metavar="STARTS,EVALUATIONS",
                    help="the rig calibration's search: Nelder-Mead starts and simulations per start (default 4,200; "
                         "8,400 searches longer, about 4 x the time)")
@@ -142,7 +147,8 @@ def _analyze(a: argparse.Namespace, items: list, log) -> int:
                               psd_fmax_hz=a.psd_fmax, simulate=not a.no_sim, calibrate=cal,
                               rig_fixed=_rig_fixed(a.rig_fix), law_platform_damping=a.law_platform,
                               channel_timing=_channel_timing(a.channel_timing), horizon_weight=a.horizon_weight,
-                              horizon_channels=a.horizon_channels, rig_search=_rig_search(a.rig_search))
+                              horizon_channels=a.horizon_channels, rig_search=_rig_search(a.rig_search),
+                              rig_metrics=tuple(a.rig_metric))
         s = analyze_record(items[0][1], a.out, opt, log=log, figure_units=a.figure_units)
         if a.json:
             keys = ("warnings", "cleaning", "cycles", "severity", "torque_statistics", "psd", "identification", "rig")

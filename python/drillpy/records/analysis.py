@@ -19,11 +19,10 @@ from pathlib import Path
 import numpy as np
 
 from drillpy.text import number_text as _f
-from drillpy.records import bit_balance, plausibility, rigsim, rig_calibration, rig_comparison, rig_fluctuation
-from drillpy.records import identification as ident
+from drillpy.records import (bit_balance, identification as ident, plausibility, rigsim, rig_calibration,
+                             rig_comparison, rig_fluctuation, signals as sig)
 from drillpy.uncertainty import process
-from drillpy.records import signals as sig
-from drillpy.records.cycle_margin import cycle_margin
+from drillpy.records.cycle_margin import cycle_margin, margin_lines
 from drillpy.records.cleaning import CleaningOptions, CleaningReport, clean
 from drillpy.model.config import load_config
 from drillpy.model.configuration import Configuration
@@ -92,6 +91,9 @@ class AnalysisOptions:
     rig_search : (int, int)
         The rig calibration's Nelder-Mead starts and simulations per start (``starts``,
         ``evaluations`` of :func:`drillpy.records.rig_calibration.calibrate_rig`).
+    rig_metrics : tuple of str
+        Metrics of :data:`drillpy.records.rig_calibration.EXTRA_KEYS` the rig calibration matches beside
+        :data:`drillpy.records.rigsim.MATCHED_RIG` (default none), e.g. ``block_stick_min``.
     """
     t0: float | None = None
     t1: float | None = None
@@ -113,6 +115,7 @@ class AnalysisOptions:
     horizon_weight: float = rig_calibration.HORIZON_WEIGHT
     horizon_channels: str = rig_calibration.HORIZON_CHANNELS
     rig_search: tuple = (4, 200)
+    rig_metrics: tuple = ()
 
 
 #: What the summary's ``rig -> calibration`` keeps of the short horizons (rig_calibration.calibrate_rig).
@@ -764,13 +767,13 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, opt: AnalysisOpti
     out["channel_timing"] = bit_balance.applied_timing(timing)
     cal = rig_calibration.calibrate_rig(
         rec, law_w.law, thr, preset=preset, log=log, fixed=opt.rig_fixed, horizon_error=horizon_error,
-        horizon_weight=opt.horizon_weight, horizon_channels=opt.horizon_channels,
-        channel_timing=out["channel_timing"], starts=opt.rig_search[0], evaluations=opt.rig_search[1])
+        horizon_weight=opt.horizon_weight, horizon_channels=opt.horizon_channels, keys=rigsim.MATCHED_RIG + tuple(
+            opt.rig_metrics), channel_timing=out["channel_timing"], starts=opt.rig_search[0], evaluations=opt.rig_search[1])
     model = cal.model
     case(f"{law_w.name}, the rig modelled whole (motor, jack, platform), zeta {model.damping_ratio:.3g} "
          "(calibrated model)", model)
     out["simple_drives"] = simple.summary()["per_drive"]
-    out["calibration"] = {"mismatch": cal.comparison.mismatch, "matched": list(rigsim.MATCHED_RIG),
+    out["calibration"] = {"mismatch": cal.comparison.mismatch, "matched": list(cal.model.calibration["matched"]),
                           "fixed": cal.per_drive["rig"]["fixed"], "per_drive": cal.per_drive,
                           **{k: model.calibration[k] for k in HORIZON_KEYS}}
     out["parameters"] = model.parameters()
@@ -785,8 +788,8 @@ def _rig_section(rec: Record, thr: float, side, fits_by: dict, opt: AnalysisOpti
     out["calibration_metrics"] = _metric_row(cal.comparison)
     if rec.wob is not None:  # how far the cycle sits from its edge in WOB (issue 28); model.json keeps it for predict
         out["cycle_margin"] = model.calibration["cycle_margin"] = cm = cycle_margin(model, rec, thr)
-        if cm["flag"]:
-            log("rig: flagged: " + cm["flag"])
+        for line in margin_lines(cm):
+            log("rig: " + line)
     out["held_out"] = []
     for piece in held:
         row = {"window_s": [float(piece.time_s[0]), float(piece.time_s[-1])]}

@@ -22,7 +22,7 @@ from . import rig_comparison, rigsim
 #: The WOB trend's scale factors of the model's long runs.
 FACTORS = (0.85, 0.9, 0.95, 1.0, 1.05, 1.1)
 #: Length of the record's blocks [s].
-BLOCK_S = 5.0
+BLOCK_S = rig_comparison.BLOCK_S
 #: A stick fraction below this counts as no stick phase: a cycle lost.
 NO_STICK = 0.01
 #: A model that has no stick phase at this factor of the part's WOB or above is flagged as marginal.
@@ -78,7 +78,8 @@ def model_runs(model: rigsim.RigModel, record: Record, stick_threshold: float, f
     -------
     list of dict
         ``wob_factor``, ``wob_n`` (the scaled record's mean WOB [N]), ``ss`` and ``stick_fraction``
-        of the run (NaN where it fails).
+        of the run (NaN where it fails), and ``blocks``, the run's own blocks (:func:`record_blocks`:
+        the model's mean WOB and stick fraction per block; empty where it fails).
     """
     op = rigsim.operating_point(record)
     out = []
@@ -88,11 +89,38 @@ def model_runs(model: rigsim.RigModel, record: Record, stick_threshold: float, f
             sim = rigsim.simulate_model(model, scaled)
             m = rig_comparison.compare(scaled, sim, stick_threshold).simulated
             ss, stick = float(m["ss"]), float(m["stick_fraction"])
+            blocks = record_blocks(sim, stick_threshold)
         except (ValueError, RuntimeError):
             ss = stick = float("nan")
+            blocks = []
         out.append({"wob_factor": float(f), "wob_n": float(op.get("wob_n", np.nan) * f), "ss": ss,
-                    "stick_fraction": stick})
+                    "stick_fraction": stick, "blocks": blocks})
     return out
+
+
+def wob_slope(blocks: list) -> float:
+    """The least-squares slope of the blocks' stick fraction against their mean WOB, per 100 N [1/(100 N)]:
+    how much more of the time the bit sticks per 100 N more WOB. NaN with fewer than 3 blocks or no
+    spread in their WOB.
+
+    Parameters
+    ----------
+    blocks : list of dict
+        :func:`record_blocks` of the record or of a model's run.
+
+    Returns
+    -------
+    float
+        The slope per 100 N.
+    """
+    pts = [(b["wob_n"], b["stick_fraction"]) for b in blocks
+           if np.isfinite(b["wob_n"]) and np.isfinite(b["stick_fraction"])]
+    if len(pts) < 3:
+        return float("nan")
+    w, st = np.array(pts).T
+    if np.ptp(w) <= 0:
+        return float("nan")
+    return float(100.0 * np.polyfit(w, st, 1)[0])
 
 
 def cycle_margin(model: rigsim.RigModel, record: Record, stick_threshold: float) -> dict:
@@ -114,7 +142,9 @@ def cycle_margin(model: rigsim.RigModel, record: Record, stick_threshold: float)
     dict
         ``model`` (:func:`model_runs`), ``record_blocks``, ``lost_below_factor`` (the highest factor of
         the WOB below 1 at which the model has no stick phase, None if it sticks at every factor),
-        ``lost_at_wob_n`` (that WOB [N], None likewise) and ``flag`` (str or None).
+        ``lost_at_wob_n`` (that WOB [N], None likewise), ``flag`` (str or None) and
+        ``wob_slope_per_100n``: :func:`wob_slope` of the record's blocks and of the model's own blocks in
+        its run at the part's WOB (how much the stick fraction follows the WOB inside the part itself).
     """
     runs = model_runs(model, record, stick_threshold)
     blocks = record_blocks(record, stick_threshold)
@@ -122,7 +152,9 @@ def cycle_margin(model: rigsim.RigModel, record: Record, stick_threshold: float)
     lost = [r for r in runs if r["stick_fraction"] < NO_STICK and r["wob_factor"] < 1.0]
     top = max(lost, key=lambda r: r["wob_factor"]) if lost else None
     out = {"model": runs, "record_blocks": blocks, "lost_below_factor": top["wob_factor"] if top else None,
-           "lost_at_wob_n": top["wob_n"] if top else None, "flag": None}
+           "lost_at_wob_n": top["wob_n"] if top else None, "flag": None,
+           "wob_slope_per_100n": {"record": wob_slope(blocks),
+                                  "model": wob_slope(at_one[0]["blocks"]) if at_one else float("nan")}}
     if top is not None and top["wob_factor"] >= MARGIN and at_one and at_one[0]["stick_fraction"] >= NO_STICK:
         wobs = [b["wob_n"] for b in blocks if np.isfinite(b["wob_n"])]
         sticks = [b["stick_fraction"] for b in blocks]
@@ -131,6 +163,42 @@ def cycle_margin(model: rigsim.RigModel, record: Record, stick_threshold: float)
                        f"{min(wobs):.0f}-{max(wobs):.0f} N (stick fractions {min(sticks):.3f}-{max(sticks):.3f}): "
                        "a window of a little less WOB would be predicted without stick-slip")
     return out
+
+
+def slope_statement(slopes: dict | None) -> str | None:
+    """One sentence on how much the stick fraction follows the WOB inside the calibration part: the
+    ``wob_slope_per_100n`` of :func:`cycle_margin` for the model's own blocks and the record's.
+
+    Parameters
+    ----------
+    slopes : dict or None
+        ``{"model": slope, "record": slope}`` per 100 N (None, or NaN slopes: no sentence).
+
+    Returns
+    -------
+    str or None
+        The sentence, or None.
+    """
+    if not slopes or not all(np.isfinite(slopes.get(k, np.nan)) for k in ("model", "record")):
+        return None
+    return (f"over the part's {BLOCK_S:g} s blocks the model's stick fraction rises {slopes['model']:+.3f} per 100 N of "
+            f"WOB, the record's {slopes['record']:+.3f}")
+
+
+def margin_lines(margin: dict) -> list:
+    """The log lines of :func:`cycle_margin`'s result: :func:`slope_statement` and the flag, if any.
+
+    Parameters
+    ----------
+    margin : dict
+        :func:`cycle_margin`'s result.
+
+    Returns
+    -------
+    list of str
+    """
+    out = [x for x in (slope_statement(margin.get("wob_slope_per_100n")),) if x]
+    return out + (["flagged: " + margin["flag"]] if margin.get("flag") else [])
 
 
 def window_note(margin: dict | None, wob_n: float) -> str | None:

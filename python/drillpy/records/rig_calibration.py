@@ -367,8 +367,9 @@ DEFAULT_FIXED = {"static_torque_factor": 1.0}
 #: Metrics :func:`calibrate_rig` can match beside :data:`MATCHED_RIG`: the cycle frequency, and the top
 #: speed's part in phase with the bit speed at it (``rig_comparison.record_metrics``), which the calibration
 #: does not match by default (docs/records.md, section 4: no model of the rig family matches it and keeps
-#: the cycle).
-EXTRA_KEYS = ("cycle_frequency_hz", "top_in_phase")
+#: the cycle), and the smallest stick fraction of the part's 5 s blocks (``block_stick_min``: the cycle kept
+#: where the WOB trend dips).
+EXTRA_KEYS = ("cycle_frequency_hz", "top_in_phase", "block_stick_min")
 
 
 #: Points of the scan of :func:`_scan_interval` across a parameter's range.

@@ -18,6 +18,9 @@ from drillpy.records.signals import (MeanCycle, cycle_response, derivative, mean
                                      stick_slip_metrics)
 from drillpy.records.rigsim import MATCHED, MATCHED_RIG, STALL_MIN_S, reliable_top_speed
 
+#: Length of the blocks of :func:`block_stick_min` [s].
+BLOCK_S = 5.0
+
 
 @dataclass
 class RigComparison:
@@ -232,6 +235,7 @@ def record_metrics(rec: Record, stick_threshold: float, t0: float, skip: np.ndar
     if (sel & ~stall).sum() >= 3:
         sel = sel & ~stall
     m = stick_slip_metrics(rec.time_s, rec.bit_speed, rec.top_speed, rec.torque_on_bit, stick_threshold, valid=sel)
+    m["block_stick_min"] = block_stick_min(rec, sel, stick_threshold)
     m["stalls"] = {"count": len(found), "starts_s": [float(rec.time_s[a]) for a, _ in found],
                    "durations_s": [float(k * rec.dt) for _, k in found]}
     m["stall_fraction"] = float(sum(k for _, k in found) / max(int(base.sum()), 1))
@@ -249,6 +253,35 @@ def record_metrics(rec: Record, stick_threshold: float, t0: float, skip: np.ndar
     if phase:
         m["top_in_phase"] = _top_in_phase(rec, ok & rec.valid("bit_speed"))
     return m
+
+
+def block_stick_min(rec: Record, sel: np.ndarray, stick_threshold: float, block_s: float = BLOCK_S) -> float:
+    """The smallest regular stick fraction over the record's consecutive blocks of ``block_s``
+    (the share of a block's selected samples at or below the stick threshold; a block with fewer than
+    half its samples selected is left out): 0 when the bit stops sticking in some block, as a model
+    near the edge of its cycle does where the WOB trend dips (docs/records.md, section 4). NaN
+    without a block.
+
+    Parameters
+    ----------
+    rec : Record
+        The record (measured, or a simulation on the measured grid).
+    sel : numpy.ndarray
+        Boolean per sample: the regular cycle's samples (stalls and skipped samples left out).
+    stick_threshold : float
+        Bit speed at or below which the bit is stuck [rad/s].
+    block_s : float
+        Block length [s].
+
+    Returns
+    -------
+    float
+        The smallest block stick fraction [-], or NaN.
+    """
+    n = max(1, int(round(block_s / rec.dt)))
+    out = [float(np.mean(rec.bit_speed[a:a + n][sel[a:a + n]] <= stick_threshold))
+           for a in range(0, len(rec) - n // 2, n) if sel[a:a + n].sum() >= n // 2]
+    return min(out) if out else float("nan")
 
 
 def _top_in_phase(rec: Record, ok: np.ndarray) -> float:

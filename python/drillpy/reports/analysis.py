@@ -17,6 +17,7 @@ from drillpy.provenance import provenance, with_markdown_footer
 from drillpy.text import number_text
 from drillpy.records import plausibility
 from drillpy.records import rigsim
+from drillpy.records.cycle_margin import slope_statement
 from drillpy.records.io import RPM, Record
 from drillpy.records.analysis import AnalysisOptions, RecordAnalysis, compute_analysis
 
@@ -288,6 +289,7 @@ def render_report(S: dict) -> str:
                     f"{100 * r['wob_factor']:.0f} % ({r['wob_n']:.0f} N) {_f(r['stick_fraction'], '.3f')}" for r in cm["model"])
                       + "; the record's 5 s blocks: " + ", ".join(
                     f"{b['wob_n']:.0f} N {b['stick_fraction']:.3f}" for b in cm["record_blocks"]) + "."
+                      + (f" Inside the part, {st}." if (st := slope_statement(cm.get("wob_slope_per_100n"))) else "")
                       + (f" **Flagged**: {cm['flag']}." if cm["flag"] else ""), ""]
             if rg.get("held_out"):
                 L += ["### Prediction of the held-out parts (never used by the fits)", "",
