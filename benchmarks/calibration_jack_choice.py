@@ -9,8 +9,8 @@ ratio of 0.02, its jack at 180 N/rad (``tests/python/test_calibration_statistics
 stick-slip at 2.86 Hz), stepped at 5e-5 s, with the platform, the 10 Hz filter and sensor noise, 10 s.
 Two models are compared by :func:`drillpy.calibration.abcsmc.run` (equal prior probabilities): Eq.
 (5.1) with every rig parameter calibrated, and the same with the jack's gain held at 0 (the WOB is then
-the record's slow trend, the model's input, alone): the comparison of the prototype branch
-``calib-elements-prototype`` (``calibration.without: ["jack"]``), here without its machinery: the
+the record's slow trend, the model's input, alone): the comparison of a prototype's
+``calibration.without: ["jack"]`` option (on a branch that was not kept), here without its machinery: the
 proposals, seeds and populations are those of its run (same seed, same numbers).
 
 ``--statistics``: ``default`` (the 13 of :data:`drillpy.calibration.summaries.NAMES`, with the WOB's
