@@ -433,6 +433,10 @@ class RigModel:
     static_torque_factor : float
         Factor on the law's static torque 1.36 a0 (``rig`` drive; 1 for the others, and by default:
         :data:`RIG_PARAMETERS`, :attr:`engine_law`).
+    motor_max_torque_nm : float
+        The ``rig`` drive's motor torque limit [N m]: the motor gives at most this torque, whatever its
+        speed (default :data:`MOTOR_MAX_TORQUE_NM`, the rating; below it, the ESC's current limit, which
+        is not measured: ``benchmarks/rig_stall.py``).
     channel_timing : dict or None
         The acquisition's skew (``top_lead_s``, ``torque_lag_s`` [s], ``from``) at which the records
         the model is scored on are read (:func:`drillpy.records.bit_balance.aligned`): found on the
@@ -457,6 +461,7 @@ class RigModel:
     torque_fluctuation: dict | None = None
     static_torque_factor: float = 1.0
     channel_timing: dict | None = None
+    motor_max_torque_nm: float = MOTOR_MAX_TORQUE_NM
 
     def __post_init__(self):
         if self.drive not in DRIVES:
@@ -476,6 +481,8 @@ class RigModel:
             raise ValueError(f"jack_gain_n_rad = {self.jack_gain_n_rad!r}: the rig drive needs a value >= 0")
         if not (math.isfinite(self.static_torque_factor) and self.static_torque_factor > 0):
             raise ValueError(f"static_torque_factor = {self.static_torque_factor!r}: must be a positive number")
+        if not (math.isfinite(self.motor_max_torque_nm) and self.motor_max_torque_nm > 0):
+            raise ValueError(f"motor_max_torque_nm = {self.motor_max_torque_nm!r}: must be a positive number")
         if self.drive != "rig" and self.static_torque_factor != 1.0:
             raise ValueError(f"static_torque_factor = {self.static_torque_factor!r}: only the rig drive calibrates it")
 
@@ -488,9 +495,9 @@ class RigModel:
     @property
     def motor(self) -> tuple | None:
         """(c_m [N m s/rad], J_m [kg m^2]) for the motor drive, with the torque limit
-        :data:`MOTOR_MAX_TORQUE_NM` for the rig drive, None for the others."""
+        :attr:`motor_max_torque_nm` for the rig drive, None for the others."""
         if self.drive == "rig":
-            return (self.motor_slope_nms_rad, self.motor_inertia_kg_m2, MOTOR_MAX_TORQUE_NM)
+            return (self.motor_slope_nms_rad, self.motor_inertia_kg_m2, self.motor_max_torque_nm)
         return (self.motor_slope_nms_rad, self.motor_inertia_kg_m2) if self.drive == "motor" else None
 
     @property
@@ -636,6 +643,7 @@ class RigModel:
                 # the configuration holds the law the engine runs; the model keeps the identified one
                 law = rig.get("identified_law", law)
                 extra["static_torque_factor"] = float(rig.get("static_torque_factor", 1.0))
+                extra["motor_max_torque_nm"] = float(td.get("max_torque_nm", MOTOR_MAX_TORQUE_NM))
                 extra |= {"command_rad_s": cfg["operation"]["top_speed_rad_s"], "jack_gain_n_rad": ax.get("gain_n_rad"),
                          "jack_relaxation_s": ax.get("relaxation_s"), "platform_damping": rig.get("platform_damping"),
                          "gj_factor": rig.get("gj_factor", 1.0),

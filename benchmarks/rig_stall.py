@@ -1,0 +1,82 @@
+"""Can the rig model's motor torque limit predict sample 175's stall (issue 28)?
+
+    PYTHONPATH=python python3 benchmarks/rig_stall.py --model D/model.json [--record FILE.mat]
+        [--limits 8,3.2,3.1,3.0,2.95,2.9,2.85]
+
+D from ``drillpy analyze ../shared/data/testrig/sample175_0-40s.mat --calibrate T0:T1 --out D``. The record
+stalls once, at 28.05 s for 1.43 s (the load cell at 3.74 N m, the top speed at 0.42 rad/s, the WOB at
+647 N); the thesis's reading (section 5.3.2): the bit "achieves a reactive torque that the electrical motor
+is not able to overcome". The calibrated motor gives c_m Omega_c, about 5 N m, at rest, above the 8 N m
+rating's half; the ESC's current limit, which would cap it lower, is not measured. So the model is run over
+the whole record (its WOB trend as the jack's set force, as in every long run) with its motor's torque
+limit (``RigModel.motor_max_torque_nm``) at each of ``--limits`` N m, and prints per limit:
+
+* the stalls (stick phases of at least ``rigsim.STALL_MIN_S``) with their starts and durations;
+* the regular stick fraction and SS;
+* the three longest stick phases (start and duration) and the top speed's lowest value and its time
+  (the record's reliable samples), after the first 2 s: where the model comes closest to a stall;
+
+and the record's own values in the first line.
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[1]
+SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
+
+
+def stick_phases(t: np.ndarray, v: np.ndarray, threshold: float) -> list:
+    """The stick phases (runs of ``v <= threshold``) as (start [s], duration [s]), longest first."""
+    stuck = np.r_[False, v <= threshold, False].astype(int)
+    edges = np.flatnonzero(np.diff(stuck))
+    dt = float(np.median(np.diff(t)))
+    runs = [(float(t[a]), (b - a) * dt) for a, b in zip(edges[::2], edges[1::2])]
+    return sorted(runs, key=lambda r: -r[1])
+
+
+def describe(rec, metrics: dict, threshold: float, reliable: np.ndarray, skip_s: float = 2.0) -> str:
+    """One line: the stalls, the regular metrics, the longest stick phases and the lowest reliable top
+    speed, after the first ``skip_s`` (the simulation's start from rest, as in the comparison)."""
+    st = metrics["stalls"]
+    t0 = float(rec.time_s[0]) + skip_s
+    phases = [p for p in stick_phases(rec.time_s, rec.bit_speed, threshold) if p[0] >= t0]
+    longest = ", ".join(f"{a:.2f} s {d:.2f} s" for a, d in phases[:3])
+    ok = np.isfinite(rec.top_speed) & reliable[:len(rec)] & (rec.time_s >= t0)
+    k = int(np.argmin(np.where(ok, rec.top_speed, np.inf)))
+    return (f"stalls {st['count']}" + "".join(f" ({a:.2f} s, {d:.2f} s)" for a, d in zip(st["starts_s"], st["durations_s"]))
+            + f"; stick fraction {metrics['stick_fraction']:.3f}, SS {metrics['ss']:.3f}; longest sticks: {longest}; "
+            f"top speed lowest {rec.top_speed[k]:.2f} rad/s at {rec.time_s[k]:.2f} s")
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--model", required=True, help="model.json of drillpy analyze --calibrate")
+    ap.add_argument("--record", default=str(SAMPLE175))
+    ap.add_argument("--limits", default="8,3.2,3.1,3.0,2.95,2.9,2.85", help="motor torque limits [N m], comma-separated")
+    a = ap.parse_args(argv)
+    from drillpy.records import rig_comparison, rigsim
+    from drillpy.records.cleaning import clean
+    from drillpy.records.io import read_record
+    rec = clean(read_record(a.record))[0]
+    thr = rigsim.stick_threshold(rec)
+    model = rigsim.RigModel.from_dict(json.loads(Path(a.model).read_text()))
+    if model.drive != "rig":
+        raise SystemExit(f"--model: drive {model.drive!r}: the motor's torque limit belongs to the rig drive")
+    side = rig_comparison.measured_side(rec, thr, float(rec.time_s[0]), "rig")
+    print(f"record: {describe(rec, side.metrics, thr, rigsim.reliable_top_speed(rec))}")
+    for lim in (float(x) for x in a.limits.split(",")):
+        m = dataclasses.replace(model, motor_max_torque_nm=lim)
+        sim = rigsim.simulate_model(m, rec)
+        cmp = rig_comparison.compare(rec, sim, thr, side=side)
+        print(f"limit {lim:5.2f} N m: {describe(sim, cmp.simulated, thr, np.ones(len(sim), bool))}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
