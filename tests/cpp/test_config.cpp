@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "drill/batched_integrator.hpp"
 #include "drill/config.hpp"
 #include "drill/config_schema.hpp"
 #include "drill/presets.hpp"
@@ -109,6 +110,35 @@ TEST(Config, StringFrictionRoundTripsAndDefaultsToZero) {
   EXPECT_EQ(back.string_friction, 1.25);
   EXPECT_EQ(to_json(back), to_json(c));
   EXPECT_EQ(Simulation(c).inputs().string_friction, 1.25);
+}
+
+TEST(Config, StaticAgeingRoundTripsAndIsRefusedWhereItIsNotModelled) {
+  json j = preset_json("thesis-rig");
+  j["law"] = preset_json("rgd-rig")["law"];  // Eq. (5.1) with a0 > 0 (sample 175's): a static torque to age
+  EXPECT_FALSE(j["law"].contains("static_ageing"));  // absent: no ageing, as before
+  j["law"]["static_ageing"] = 0.5;
+  EXPECT_NE(parse_error_of(j.dump()).find("law.static_ageing_s = nan: must be a positive time"), std::string::npos)
+      << parse_error_of(j.dump());
+  j["law"]["static_ageing_s"] = 0.05;
+  const Config c = parse_config_text(j.dump());
+  EXPECT_TRUE(c.law.ages());
+  EXPECT_DOUBLE_EQ(c.law.ageing_factor(0.05), 1.25);
+  EXPECT_EQ(to_json(c)["law"]["static_ageing"], 0.5);
+  EXPECT_EQ(parse_config(to_json(c)).law, c.law);
+  json b = j;
+  b["simulation"]["scheme"] = "bdf2";
+  EXPECT_NE(parse_error_of(b.dump()).find("law.static_ageing = 0.5: is implemented on the torsional engine's "
+                                          "modified_euler scheme only"),
+            std::string::npos)
+      << parse_error_of(b.dump());
+  b = j;
+  b["law"]["static_ageing"] = -1.0;
+  EXPECT_NE(parse_error_of(b.dump()).find("law.static_ageing = -1"), std::string::npos);
+  json f = preset_json("thesis-field");  // Eqs. (3.2)-(3.3): no static torque
+  f["law"]["static_ageing"] = 0.5;
+  f["law"]["static_ageing_s"] = 0.05;
+  EXPECT_NE(parse_error_of(f.dump()).find("needs a static torque to age"), std::string::npos) << parse_error_of(f.dump());
+  EXPECT_FALSE(BatchedIntegrator(Simulation(c).integrator()).supports(Simulation(c).inputs()));
 }
 
 TEST(Config, NegativeOrNonFiniteStringFrictionIsRefused) {

@@ -2,6 +2,7 @@
 // an exact solution and a reference solution, rotating-frame forcing, stick without chatter.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstring>
@@ -265,6 +266,47 @@ TEST(Integrator, StuckBitBreaksAwayWhenTheStringTorqueReachesTheStaticTorque) {
     EXPECT_LT(worst_T, (sch == Scheme::modified_euler ? 1e-9 : 1e-3) * Ts) << to_string(sch);
     EXPECT_NEAR(t_move, t_b, 2.5 * o.dt) << to_string(sch);
   }
+}
+
+TEST(Integrator, AgedStaticTorqueHoldsTheStuckBitUntilTheStringExceedsItsAgedValue) {
+  // The case above with law.static_ageing A, tau_a: after t stuck the static torque is
+  // Ts (1 + A t / (t + tau_a)), so the bit breaks away where Omega (d + w^2 t) / b^2 first exceeds
+  // it (bisection), later than without ageing; A = 0 is the law without ageing, bit for bit.
+  const ModalROM rom = rig_rom(0.1);
+  const double b = rom.model.bit(0), w = rom.omega(0), d = 2 * 0.1 * w, Om = 8.0, Ts = 3.0, A = 0.5, ta = 0.05;
+  const auto excess = [&](double t) { return Om * (d + w * w * t) / (b * b) - Ts * (1.0 + A * t / (t + ta)); };
+  const double t_b0 = (Ts * b * b / Om - d) / (w * w);
+  double lo = 0.0, hi = 20.0 * t_b0;
+  ASSERT_LT(excess(lo), 0.0);
+  ASSERT_GT(excess(hi), 0.0);
+  for (int k = 0; k < 100; ++k) (excess(0.5 * (lo + hi)) < 0.0 ? lo : hi) = 0.5 * (lo + hi);
+  const double t_b = hi;
+  ASSERT_GT(t_b, 1.3 * t_b0);  // the ageing holds the bit markedly longer
+  ModelState start{Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, -Om / b)};
+  Inputs in;
+  in.top_speed = Signal::constant(Om);
+  in.wob = Signal::constant(500.0);
+  SimOptions o;
+  o.dt = 1e-4;
+  o.duration = 1.5 * t_b;
+  const auto run = [&](const BitRockLaw& law) {
+    std::vector<double> v;
+    Integrator(rom.model, law, o).run(in, [&](const StepState& s) { v.push_back(s.bit_speed); }, &start);
+    return v;
+  };
+  BitRockLaw aged = coulomb_law(Ts, 0.6 * Ts);
+  aged.static_ageing = A;
+  aged.static_ageing_s = ta;
+  const std::vector<double> v = run(aged);
+  const long moved = std::find_if(v.begin(), v.end(), [](double x) { return x > 1e-9; }) - v.begin();
+  EXPECT_NEAR(moved * o.dt, t_b, 2.5 * o.dt);
+  BitRockLaw none = coulomb_law(Ts, 0.6 * Ts);
+  const std::vector<double> v0 = run(none);
+  none.static_ageing = 0.0;
+  none.static_ageing_s = ta;
+  EXPECT_EQ(run(none), v0);
+  const long moved0 = std::find_if(v0.begin(), v0.end(), [](double x) { return x > 1e-9; }) - v0.begin();
+  EXPECT_NEAR(moved0 * o.dt, t_b0, 2.5 * o.dt);
 }
 
 TEST(Integrator, StaticTorqueAboveKineticTorqueGivesTrueStickPhasesCappedByTheStaticTorque) {

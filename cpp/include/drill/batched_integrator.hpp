@@ -152,7 +152,8 @@ class BatchedIntegrator {
     // the motor and the jack on the modified Euler scheme only (BatchSteps); no controlled drive
     const bool drive = !in.top_drive.has_inertia() || (euler && in.top_drive.kind == TopDrive::Kind::motor);
     const bool axial = !in.axial.coupled() && (!in.axial.active() || euler);
-    return (euler || o.scheme == Scheme::exact_modal) && in_.diag_damping_ && drive && axial;
+    // the static torque's ageing (law.static_ageing) is Integrator::run_euler's only
+    return (euler || o.scheme == Scheme::exact_modal) && in_.diag_damping_ && drive && axial && !in_.law_.ages();
   }
 
   /// Whether `other` can step in lockstep with this integrator's runs with its own damping: the

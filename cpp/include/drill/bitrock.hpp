@@ -57,6 +57,12 @@ struct BitRockLaw : laws::Hysteresis, laws::AllParameters {
   Kind kind = Kind::hysteretic;
   SpeedUnit speed_unit = SpeedUnit::rad_s;
   double wob_ref = 245e3;  ///< [N] weight on bit at which the parameters hold
+  /// Ageing of the static torque (not in the thesis; the rig's stall, docs/records.md section 4):
+  /// after tau [s] stuck the static torque is static_torque(W) (1 + A tau / (tau + tau_a)), A =
+  /// static_ageing (absent: none), tau_a = static_ageing_s. A bit that sticks for a cycle's short stick
+  /// phase breaks away near the law's static torque; one held longer (a stall) holds more.
+  double static_ageing = NAN;
+  double static_ageing_s = NAN;  ///< tau_a [s]: the time stuck at which the static torque has grown by A / 2
 
   /// The laws by name (law.type); their keys are the variants of the "law" table (config.hpp).
 #define DRILL_LAW_NAME(name, Law) {Kind::name, #name},
@@ -82,11 +88,28 @@ struct BitRockLaw : laws::Hysteresis, laws::AllParameters {
     require_positive(wob_ref, "law.wob_ref_n");
     visit(kind, [&](auto law) { decltype(law)::validate(*this); });
     Hysteresis::validate();
+    require(std::isnan(static_ageing_s) || (std::isfinite(static_ageing_s) && static_ageing_s > 0.0),
+            "law.static_ageing_s", static_ageing_s, "must be a positive time");
+    if (std::isnan(static_ageing)) return;
+    require_non_negative(static_ageing, "law.static_ageing");
+    require(std::isfinite(static_ageing_s), "law.static_ageing_s", static_ageing_s,
+            "must be a positive time with law.static_ageing");
+    require(static_ageing == 0.0 || static_torque(wob_ref) > 0.0, "law.static_ageing", static_ageing,
+            "needs a static torque to age: Eq. (5.1) or (5.3) with a0 > 0");
+  }
+
+  /// Whether the static torque ages (static_ageing present and positive).
+  bool ages() const { return std::isfinite(static_ageing) && static_ageing > 0.0; }
+  /// The static torque's factor after `stuck_s` [s] at rest: 1 + A tau / (tau + tau_a) (1 without ageing).
+  double ageing_factor(double stuck_s) const {
+    return ages() ? 1.0 + static_ageing * (stuck_s / (stuck_s + static_ageing_s)) : 1.0;
   }
 
   bool operator==(const BitRockLaw& o) const {
-    return kind == o.kind && speed_unit == o.speed_unit && wob_ref == o.wob_ref && Hysteresis::operator==(o) &&
-           laws::AllParameters::operator==(o);
+    const auto same = [](double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); };
+    return kind == o.kind && speed_unit == o.speed_unit && wob_ref == o.wob_ref &&
+           same(static_ageing, o.static_ageing) && same(static_ageing_s, o.static_ageing_s) &&
+           Hysteresis::operator==(o) && laws::AllParameters::operator==(o);
   }
 
   /// The law at a fixed bit speed as a function of the bit acceleration (all SI, WOB applied):

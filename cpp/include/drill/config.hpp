@@ -135,6 +135,8 @@ struct Config {
     damping.validate();
     // with axial.type = rgd the bit law is axial.bit, unless axial.torque = law takes the torque from the law
     if (!axial.coupled() || axial.rgd.torque == AxialTorque::law) law.validate();
+    require(!law.ages() || (sim.scheme == Scheme::modified_euler && !axial.coupled()), "law.static_ageing",
+            law.static_ageing, "is implemented on the torsional engine's modified_euler scheme only");
     // The law, the stick threshold and SS (Eq. 3.4) are written for a top turning forward: SS divides
     // by the top speed (0 gave NaN) and a negative speed is a negative torque on bit.
     require_positive(top_speed, "operation.top_speed_rad_s");
@@ -357,7 +359,15 @@ inline Tables make_tables() {
               .req(),
           [](const L& l) { return to_string(l.speed_unit); },
           [](L& l, const std::string& v, const std::string& path) { l.speed_unit = parse_speed_unit(v, path); }},
-         {number("wob_ref_n", "WOB at which the parameters hold [N]").positive().req(), &L::wob_ref}},
+         {number("wob_ref_n", "WOB at which the parameters hold [N]").positive().req(), &L::wob_ref},
+         {number("static_ageing", "A: after tau s stuck the static torque is (1 + A tau / (tau + tau_a)) times the "
+                                  "law's (ageing; Eqs. 5.1, 5.3 with a0 > 0, modified_euler; absent: none)")
+              .non_negative(),
+          &L::static_ageing},
+         {number("static_ageing_s", "tau_a: the time stuck at which the static torque has grown by A / 2 [s] "
+                                    "(with static_ageing)")
+              .positive(),
+          &L::static_ageing_s}},
         variants};
   }
 

@@ -84,8 +84,8 @@ inline bool solve_euler_accel(const laws::AtSpeed& ts, double alpha, double g, d
 /// v the bit speed at the step's start, om the top speed, alpha the bit acceleration without the bit
 /// torque, g the bit's modal gain, visc = c_v v. On entry (a, T) are the slipping step's; on return
 /// the step's bit acceleration and total torque, and fric the part of T that is string friction
-/// (unchanged when the bit slips on).
-inline void stick_euler(double v, double om, double alpha, double g, double dt, double Ts, double Tsf, double visc,
+/// (unchanged when the bit slips on). Returns whether the bit is stuck (at rest at the step's end).
+inline bool stick_euler(double v, double om, double alpha, double g, double dt, double Ts, double Tsf, double visc,
                         double& a, double& T, double& fric) {
   const double T_req = (alpha + v / dt) / g, F_req = T_req - visc;
   const double sv = (v > 0.0) - (v < 0.0), sf = (F_req > 0.0) - (F_req < 0.0);
@@ -95,11 +95,14 @@ inline void stick_euler(double v, double om, double alpha, double g, double dt, 
     T = T_req;  // stuck: the bit is at rest at the end of the step
     a = -v / dt;
     fric = Tsf > 0.0 ? string_share(F_req, Ts, Tsf) : 0.0;
-  } else if (at_rest) {
+    return true;
+  }
+  if (at_rest) {
     fric = sf * Tsf;
     T = sf * (Ts + Tsf) + visc;  // break-away: sign(0) = 0, so H = 0 in Eq. (5.3)
     a = alpha - g * T;
   }
+  return false;
 }
 
 }  // namespace drill

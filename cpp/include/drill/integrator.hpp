@@ -370,6 +370,9 @@ class Integrator {
     double theta_top = 0.0, v_prev = NAN;
     double a1 = 0.0, a2 = 0.0, a3 = 0.0;  // the accelerations of the last three solves of Eq. (A.1)
     bool newton = false;                  // the last step solved Eq. (A.1) by Newton
+    // the time the bit has been stuck [s], for the static torque's ageing (a run starts it at 0)
+    const bool ages = law_.ages();
+    double stuck_s = 0.0;
     const double k_law = law_.beta2 * speed_factor(law_.speed_unit);  // k of BitRockLaw::AtSpeed
     const bool lagged = opt_.acceleration == Acceleration::lagged;
     double om_state = std::isfinite(top0) ? top0 : in.top_speed.at(0.0);  // motor speed
@@ -424,8 +427,12 @@ class Integrator {
         a2 = a1;
         a1 = a;
       }
-      const double Ts = scale * law_.static_torque(wob);
-      if (Ts + in.string_friction > 0.0) stick_euler(v, om, alpha, g, dt, Ts, in.string_friction, visc, a, T, fric);
+      // the static torque, aged by the time the bit has been stuck (law.static_ageing; 1 without)
+      const double Ts = ages ? scale * law_.static_torque(wob) * law_.ageing_factor(stuck_s)
+                             : scale * law_.static_torque(wob);
+      const bool stuck =
+          Ts + in.string_friction > 0.0 && stick_euler(v, om, alpha, g, dt, Ts, in.string_friction, visc, a, T, fric);
+      stuck_s = stuck ? stuck_s + dt : 0.0;
       if (!std::isfinite(v) || !std::isfinite(T)) diverged(t);
       const double T_bit = fric != 0.0 ? T - fric : T;  // the string friction acts outside the torque sensor
       obs(static_cast<const StepState&>(

@@ -56,10 +56,11 @@ def _add_analyze(sub) -> argparse.ArgumentParser:
                    help="the channels of that short-horizon error in the rig calibration: loop (the default: bit "
                         "speed, torque and top speed, the loop's E) or all (the WOB, the jack's state, beside them)")
     s.add_argument("--rig-metric", action="append", default=[], metavar="NAME",
-                   choices=("cycle_frequency_hz", "top_in_phase", "block_stick_min"),
+                   choices=("cycle_frequency_hz", "top_in_phase", "block_stick_min", "stall_fraction"),
                    help="a metric the rig calibration matches beside its defaults (repeatable): cycle_frequency_hz, "
                         "top_in_phase (the top speed's part in phase with the bit speed) or block_stick_min (the "
-                        "smallest stick fraction of the part's 5 s blocks: the cycle kept where the WOB trend dips)")
+                        "smallest stick fraction of the part's 5 s blocks: the cycle kept where the WOB trend dips) or stall_fraction "
+                        "(the share of the time in stalls)")
     s.add_argument("--rig-search", default="4,200", metavar="STARTS,EVALUATIONS",
                    help="the rig calibration's search: Nelder-Mead starts and simulations per start (default 4,200; "
                         "8,400 searches longer, about 4 x the time)")

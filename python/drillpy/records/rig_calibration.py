@@ -362,14 +362,17 @@ def _metric_noise(record: Record, stick_threshold: float, keys: tuple, blocks: i
 #: torque as identified. Calibrated, on sample 175 it is not determined by the metrics (its interval
 #: spans the range), the calibration ends at a higher mismatch and the cycle stays as marginal as at 1;
 #: on the independent whole-rig truth the search ends in a model that loses its cycle on the held-out
-#: half (docs/records.md, section 4, "The static torque").
-DEFAULT_FIXED = {"static_torque_factor": 1.0}
+#: half (docs/records.md, section 4, "The static torque"). And the stall's elements at none: the motor's
+#: 8 N m rating and no ageing of the static torque (``--rig-fix NAME=free`` calibrates them, on a part with a
+#: stall: docs/records.md, section 4, "Where the stall comes from").
+DEFAULT_FIXED = {"static_torque_factor": 1.0, "motor_max_torque_nm": 8.0, "static_ageing": 0.0, "static_ageing_s": 0.3}
 #: Metrics :func:`calibrate_rig` can match beside :data:`MATCHED_RIG`: the cycle frequency, and the top
 #: speed's part in phase with the bit speed at it (``rig_comparison.record_metrics``), which the calibration
 #: does not match by default (docs/records.md, section 4: no model of the rig family matches it and keeps
 #: the cycle), and the smallest stick fraction of the part's 5 s blocks (``block_stick_min``: the cycle kept
-#: where the WOB trend dips).
-EXTRA_KEYS = ("cycle_frequency_hz", "top_in_phase", "block_stick_min")
+#: where the WOB trend dips), and the share of the time in stalls (``stall_fraction``: with the motor's torque
+#: limit and the static torque's ageing calibrated, ``--rig-fix NAME=free``).
+EXTRA_KEYS = ("cycle_frequency_hz", "top_in_phase", "block_stick_min", "stall_fraction")
 
 
 #: Points of the scan of :func:`_scan_interval` across a parameter's range.
@@ -530,6 +533,8 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
                         gj_factor=p["gj_factor"], bit_inertia_factor=p["bit_inertia_factor"],
                         coupling_stiffness_nm_rad=p["coupling_stiffness_nm_rad"],
                         static_torque_factor=p["static_torque_factor"], channel_timing=channel_timing,
+                        motor_max_torque_nm=p["motor_max_torque_nm"], static_ageing=p["static_ageing"],
+                        static_ageing_s=p["static_ageing_s"],
                         calibration={"metric_scale": scale})
 
     side = measured_side(record, stick_threshold, float(record.time_s[0]), "rig")
@@ -554,7 +559,8 @@ def calibrate_rig(record: Record, law: dict, stick_threshold: float, *, preset: 
     first = {"damping_ratio": 0.04, "motor_slope_nms_rad": float(np.clip(cm0, lo[1], hi[1])),
              "motor_inertia_kg_m2": 0.015, "command_rad_s": float(np.clip(om0, lo[3], hi[3])),
              "jack_gain_n_rad": 150.0, "jack_relaxation_s": 0.2, "platform_damping": 0.7, "gj_factor": 1.05,
-             "bit_inertia_factor": 1.05, "coupling_stiffness_nm_rad": 30.0, "static_torque_factor": 1.08}
+             "bit_inertia_factor": 1.05, "coupling_stiffness_nm_rad": 30.0, "static_torque_factor": 1.08,
+             "motor_max_torque_nm": 4.0, "static_ageing": 0.3, "static_ageing_s": 0.3}
     first = {k: v for k, v in first.items() if k in names}
     rng = np.random.default_rng(seed)
     scatter = [internal(first)] + [internal(first) + rng.normal(0.0, 0.7, len(names)) for _ in range(screen - 1)]

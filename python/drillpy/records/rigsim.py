@@ -91,6 +91,14 @@ RIG_PARAMETERS = {
                                                          "Table 5.1): elastomer jaw couplings for 5-8 mm shafts are a "
                                                          "few to a few tens of N m/rad; 300 is rigid next to the "
                                                          "bar's 3.08"),
+    "motor_max_torque_nm": (2.0, 8.0, "N m", "the motor's torque limit: its rating, 8 N m (section 5.1), or the ESC's "
+                                              "current limit below it (not measured); sample 175's stall holds 3.74 N m "
+                                              "at 0.42 rad/s"),
+    "static_ageing": (0.0, 1.0, "-", "A, the static torque's growth with the time stuck (not in the thesis): sample "
+                                     "175's stall holds 3.74 N m where the law's static torque is 3.28 (+14 %); a "
+                                     "rate-and-state ageing of a few tens of % (docs/records.md section 4)"),
+    "static_ageing_s": (0.05, 3.0, "s", "tau_a, the time stuck at which the static torque has grown by A / 2: from "
+                                        "about the cycle's stick phases (0.09 s at most) to twice the stall's 1.43 s"),
     "static_torque_factor": (1.0, 1.2, "-", "factor on the static torque 1.36 a0 of Eqs. (5.1, 5.3) identified from the "
                                             "filtered break-away peaks: the platform and the 10 Hz filter flatten the "
                                             "peak by 8 % on the calibrated model's own simulation and 9 % on a simulated "
@@ -437,6 +445,10 @@ class RigModel:
         The ``rig`` drive's motor torque limit [N m]: the motor gives at most this torque, whatever its
         speed (default :data:`MOTOR_MAX_TORQUE_NM`, the rating; below it, the ESC's current limit, which
         is not measured: ``benchmarks/rig_stall.py``).
+    static_ageing, static_ageing_s : float
+        The ``rig`` drive's ageing of the law's static torque, A [-] and tau_a [s] (``law.static_ageing``,
+        ``law.static_ageing_s``: after tau s stuck the static torque is (1 + A tau / (tau + tau_a)) times
+        the law's); A = 0 (default): none.
     channel_timing : dict or None
         The acquisition's skew (``top_lead_s``, ``torque_lag_s`` [s], ``from``) at which the records
         the model is scored on are read (:func:`drillpy.records.bit_balance.aligned`): found on the
@@ -462,6 +474,8 @@ class RigModel:
     static_torque_factor: float = 1.0
     channel_timing: dict | None = None
     motor_max_torque_nm: float = MOTOR_MAX_TORQUE_NM
+    static_ageing: float = 0.0
+    static_ageing_s: float = 0.3
 
     def __post_init__(self):
         if self.drive not in DRIVES:
@@ -483,14 +497,24 @@ class RigModel:
             raise ValueError(f"static_torque_factor = {self.static_torque_factor!r}: must be a positive number")
         if not (math.isfinite(self.motor_max_torque_nm) and self.motor_max_torque_nm > 0):
             raise ValueError(f"motor_max_torque_nm = {self.motor_max_torque_nm!r}: must be a positive number")
+        if not (math.isfinite(self.static_ageing) and self.static_ageing >= 0):
+            raise ValueError(f"static_ageing = {self.static_ageing!r}: must be a number >= 0")
+        if not (math.isfinite(self.static_ageing_s) and self.static_ageing_s > 0):
+            raise ValueError(f"static_ageing_s = {self.static_ageing_s!r}: must be a positive time [s]")
+        if self.drive != "rig" and self.static_ageing != 0.0:
+            raise ValueError(f"static_ageing = {self.static_ageing!r}: only the rig drive calibrates it")
         if self.drive != "rig" and self.static_torque_factor != 1.0:
             raise ValueError(f"static_torque_factor = {self.static_torque_factor!r}: only the rig drive calibrates it")
 
     @property
     def engine_law(self) -> dict:
         """The law the engine runs: :attr:`law` (as identified) with its static torque times
-        :attr:`static_torque_factor` (:func:`with_static_torque_factor`)."""
-        return with_static_torque_factor(self.law, self.static_torque_factor)
+        :attr:`static_torque_factor` (:func:`with_static_torque_factor`), aged by :attr:`static_ageing`
+        over :attr:`static_ageing_s` where it is positive."""
+        law = with_static_torque_factor(self.law, self.static_torque_factor)
+        if self.static_ageing > 0:
+            law |= {"static_ageing": float(self.static_ageing), "static_ageing_s": float(self.static_ageing_s)}
+        return law
 
     @property
     def motor(self) -> tuple | None:
@@ -595,6 +619,7 @@ class RigModel:
                           "gj_factor": self.gj_factor, "bit_inertia_factor": self.bit_inertia_factor,
                           "coupling_stiffness_nm_rad": self.coupling_stiffness_nm_rad,
                           "wob_trend_hz": WOB_TREND_HZ, "static_torque_factor": self.static_torque_factor,
+                          "static_ageing": self.static_ageing, "static_ageing_s": self.static_ageing_s,
                           "identified_law": self.law,
                           "parameters": self.parameters()}
         if self.torque_fluctuation:
@@ -644,6 +669,8 @@ class RigModel:
                 law = rig.get("identified_law", law)
                 extra["static_torque_factor"] = float(rig.get("static_torque_factor", 1.0))
                 extra["motor_max_torque_nm"] = float(td.get("max_torque_nm", MOTOR_MAX_TORQUE_NM))
+                extra["static_ageing"] = float(rig.get("static_ageing", 0.0))
+                extra["static_ageing_s"] = float(rig.get("static_ageing_s", 0.3))
                 extra |= {"command_rad_s": cfg["operation"]["top_speed_rad_s"], "jack_gain_n_rad": ax.get("gain_n_rad"),
                          "jack_relaxation_s": ax.get("relaxation_s"), "platform_damping": rig.get("platform_damping"),
                          "gj_factor": rig.get("gj_factor", 1.0),

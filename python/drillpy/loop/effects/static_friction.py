@@ -188,8 +188,9 @@ class StaticFriction(Effect):
         return None
 
     def strip(self, cfg):
-        """Set a polynomial law's a0 to 0 (a1 re-tied): the regularized, reversible law; other laws
-        are left as they are. See :meth:`Effect.strip`.
+        """Set a polynomial law's a0 to 0 (a1 re-tied): the regularized, reversible law, without the
+        static torque's ageing (``static_ageing``) either; other laws are left as they are. See
+        :meth:`Effect.strip`.
 
         Parameters
         ----------
@@ -199,6 +200,8 @@ class StaticFriction(Effect):
         law = cfg["law"]
         if str(law["type"]).startswith("polynomial"):
             self._set(law, 0.0)
+            law.pop("static_ageing", None)
+            law.pop("static_ageing_s", None)
 
     @staticmethod
     def _set(law, a0):
