@@ -26,6 +26,8 @@ candidates whose run over the part has as many stalls as the part, ranked by the
 starts and durations and then by the part's mismatch (``rig_comparison.compare``); prints the best five,
 then runs the best over the whole record and prints, per 10 s window, its stalls beside the record's:
 the windows outside the part are the held-out check (a stall where the record has none is a false one).
+The same for the best candidate whose limit is at least the torque the load cell holds through the part's
+stall (its median): the motor gives that torque there, so a lower limit is not the rig's.
 """
 from __future__ import annotations
 
@@ -90,7 +92,26 @@ def fit(model, rec, thr: float, t0: float, t1: float) -> int:
               f"{[round(x, 2) for x in st['starts_s']]} s for {[round(x, 2) for x in st['durations_s']]} s")
     if not rows:
         return 1
-    _, _, lim, amp, tau, _ = rows[0]
+    # through its stall the rig's motor gives the torque the load cell holds: a limit below it is not the rig's
+    held = np.concatenate([part.torque_on_bit[(part.time_s >= a) & (part.time_s < a + d)]
+                           for a, d in zip(meas["starts_s"], meas["durations_s"])]) if meas["count"] else np.array([])
+    floor = float(np.nanmedian(held)) if held.size else 0.0
+    plausible = [r for r in rows if r[2] >= floor - 1e-9]
+    print(f"the load cell through the part's stall(s): median {floor:.2f} N m, the least limit the record allows; "
+          + (f"the best candidate at or above it: limit {plausible[0][2]:.1f} N m, A {plausible[0][3]:g}, tau_a "
+             f"{plausible[0][4]:g} s, error {plausible[0][0]:.2f} s, mismatch {plausible[0][1]:.3f}" if plausible
+             else "no candidate at or above it"))
+    for label, row in (("the best", rows[0]), ("the best at or above that torque", plausible[0] if plausible else None)):
+        if row is not None:
+            print(f"{label} over the whole record:")
+            windows(model, rec, thr, t0, t1, *row[2:5])
+    return 0
+
+
+def windows(model, rec, thr: float, t0: float, t1: float, lim: float, amp: float, tau: float) -> None:
+    """The model with these elements over the whole record: per 10 s window its stalls and stick fraction
+    beside the record's (the windows outside [t0, t1] held out)."""
+    from drillpy.records import rig_comparison, rigsim
     best = dataclasses.replace(model, motor_max_torque_nm=lim, static_ageing=amp, static_ageing_s=tau)
     sim = rigsim.simulate_model(best, rec)
     for w0 in np.arange(float(rec.time_s[0]), float(rec.time_s[-1]) - 1.0, 10.0):
@@ -102,7 +123,6 @@ def fit(model, rec, thr: float, t0: float, t1: float) -> int:
               f"{[round(x, 2) for x in sm['stalls']['starts_s']]}, model {cm['stalls']['count']} "
               f"{[round(x, 2) for x in cm['stalls']['starts_s']]} for {[round(x, 2) for x in cm['stalls']['durations_s']]} s; "
               f"stick fraction {sm['stick_fraction']:.3f} / {cm['stick_fraction']:.3f}")
-    return 0
 
 
 def main(argv=None) -> int:
