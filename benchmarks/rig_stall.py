@@ -74,6 +74,9 @@ def fit(model, rec, thr: float, t0: float, t1: float) -> int:
     side = rig_comparison.measured_side(part, thr, float(part.time_s[0]), "rig")
     meas = side.metrics["stalls"]
     print(f"part {t0:g}-{t1:g} s: {meas['count']} stall(s) at {meas['starts_s']} s for {meas['durations_s']} s")
+    if not meas["count"]:
+        print("the part has no stall: nothing to find the elements on (--fit needs a part that holds one)")
+        return 1
     rows = []
     for lim, amp, tau in itertools.product(np.arange(2.9, 4.25, 0.1), (0.1, 0.2, 0.4, 0.6, 0.8, 1.0), (0.1, 0.3, 1.0)):
         m = dataclasses.replace(model, motor_max_torque_nm=float(lim), static_ageing=amp, static_ageing_s=tau)
@@ -93,9 +96,8 @@ def fit(model, rec, thr: float, t0: float, t1: float) -> int:
     if not rows:
         return 1
     # through its stall the rig's motor gives the torque the load cell holds: a limit below it is not the rig's
-    held = np.concatenate([part.torque_on_bit[(part.time_s >= a) & (part.time_s < a + d)]
-                           for a, d in zip(meas["starts_s"], meas["durations_s"])]) if meas["count"] else np.array([])
-    floor = float(np.nanmedian(held)) if held.size else 0.0
+    floor = float(np.nanmedian(np.concatenate([part.torque_on_bit[(part.time_s >= a) & (part.time_s < a + d)]
+                                               for a, d in zip(meas["starts_s"], meas["durations_s"])])))
     plausible = [r for r in rows if r[2] >= floor - 1e-9]
     print(f"the load cell through the part's stall(s): median {floor:.2f} N m, the least limit the record allows; "
           + (f"the best candidate at or above it: limit {plausible[0][2]:.1f} N m, A {plausible[0][3]:g}, tau_a "
@@ -116,8 +118,10 @@ def windows(model, rec, thr: float, t0: float, t1: float, lim: float, amp: float
     sim = rigsim.simulate_model(best, rec)
     for w0 in np.arange(float(rec.time_s[0]), float(rec.time_s[-1]) - 1.0, 10.0):
         piece, spiece = rec.select(w0, w0 + 10.0), sim.select(w0, w0 + 10.0)
-        sm = rig_comparison.measured_side(piece, thr, float(piece.time_s[0]), "rig").metrics
-        cm = rig_comparison.compare(piece, spiece, thr).simulated
+        # the whole record's run has its start-up in the first window only: no window but that skips its start
+        skip = 2.0 if w0 == float(rec.time_s[0]) else 0.0
+        sm = rig_comparison.measured_side(piece, thr, float(piece.time_s[0]), "rig", t_start=skip).metrics
+        cm = rig_comparison.compare(piece, spiece, thr, t_start=skip).simulated
         tag = "part" if t0 <= w0 < t1 else "held out"
         print(f"  {w0:g}-{w0 + 10:g} s ({tag}): record stalls {sm['stalls']['count']} "
               f"{[round(x, 2) for x in sm['stalls']['starts_s']]}, model {cm['stalls']['count']} "
