@@ -42,21 +42,14 @@ REPO = Path(__file__).resolve().parents[1]
 SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
 
 
-def stick_phases(t: np.ndarray, v: np.ndarray, threshold: float) -> list:
-    """The stick phases (runs of ``v <= threshold``) as (start [s], duration [s]), longest first."""
-    stuck = np.r_[False, v <= threshold, False].astype(int)
-    edges = np.flatnonzero(np.diff(stuck))
-    dt = float(np.median(np.diff(t)))
-    runs = [(float(t[a]), (b - a) * dt) for a, b in zip(edges[::2], edges[1::2])]
-    return sorted(runs, key=lambda r: -r[1])
-
-
 def describe(rec, metrics: dict, threshold: float, reliable: np.ndarray, skip_s: float = 2.0) -> str:
     """One line: the stalls, the regular metrics, the longest stick phases and the lowest reliable top
     speed, after the first ``skip_s`` (the simulation's start from rest, as in the comparison)."""
     st = metrics["stalls"]
     t0 = float(rec.time_s[0]) + skip_s
-    phases = [p for p in stick_phases(rec.time_s, rec.bit_speed, threshold) if p[0] >= t0]
+    from drillpy.records.rig_comparison import stalls
+    runs = stalls(rec.bit_speed, rec.dt, threshold, min_s=0.0)  # every stick phase, longest first below
+    phases = sorted(((float(rec.time_s[a]), k * rec.dt) for a, k in runs if rec.time_s[a] >= t0), key=lambda r: -r[1])
     longest = ", ".join(f"{a:.2f} s {d:.2f} s" for a, d in phases[:3])
     ok = np.isfinite(rec.top_speed) & reliable[:len(rec)] & (rec.time_s >= t0)
     k = int(np.argmin(np.where(ok, rec.top_speed, np.inf)))

@@ -669,8 +669,8 @@ class RigModel:
                 law = rig.get("identified_law", law)
                 extra["static_torque_factor"] = float(rig.get("static_torque_factor", 1.0))
                 extra["motor_max_torque_nm"] = float(td.get("max_torque_nm", MOTOR_MAX_TORQUE_NM))
-                extra["static_ageing"] = float(rig.get("static_ageing", 0.0))
-                extra["static_ageing_s"] = float(rig.get("static_ageing_s", 0.3))
+                extra["static_ageing"] = float(rig.get("static_ageing", cls.static_ageing))
+                extra["static_ageing_s"] = float(rig.get("static_ageing_s", cls.static_ageing_s))
                 extra |= {"command_rad_s": cfg["operation"]["top_speed_rad_s"], "jack_gain_n_rad": ax.get("gain_n_rad"),
                          "jack_relaxation_s": ax.get("relaxation_s"), "platform_damping": rig.get("platform_damping"),
                          "gj_factor": rig.get("gj_factor", 1.0),
