@@ -334,7 +334,7 @@ def test_each_familys_law_from_prior_draws_is_valid_for_the_engine_and_has_its_p
         family_law(cfg["law"], "tucker_wang", {"law_scale": 1.0})
     with pytest.raises(ValueError, match=r"calibration\.priors\.hy_beta1\.range = \[0\.0, 1\.2\]: .*\[0, 1\)"):
         prior_spec({"priors": {"hy_beta1": {"range": [0.0, 1.2]}}})
-    with pytest.raises(ValueError, match=r"calibration\.families = \['hysteretic', 'hysteretic'\]: a family named twice"):
+    with pytest.raises(ValueError, match=r"calibration\.families = \['hysteretic', 'hysteretic'\]: a model named twice"):
         prior_spec({"families": ["hysteretic", "hysteretic"]})
 
 

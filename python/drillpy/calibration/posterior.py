@@ -31,7 +31,8 @@ from pathlib import Path
 import numpy as np
 
 from drillpy.calibration import abcsmc
-from drillpy.calibration.families import FAMILIES, check_base, family_law
+from drillpy.calibration.elements import left_out, model_equation, parse_model
+from drillpy.calibration.families import check_base, family_law
 from drillpy.calibration.priors import PriorSpec, discrepancy_factor, family_share, prior_spec, split_config
 from drillpy.calibration.sampler import Sampler, check_backend
 from drillpy.calibration.summaries import ALL_NAMES, ALL_UNITS, BOUNDS, NAMES, noise_scale, statistics, summaries
@@ -59,9 +60,11 @@ def rig_model(base_law: dict, family: str, values: dict, fixed: dict, preset: st
     base_law : dict
         The configuration's polynomial law (:func:`drillpy.calibration.families.family_law`).
     family : str
-        Law family.
+        Model of the comparison: a law family, or a family without some of the rig's elements
+        (``"polynomial without jack"``, :mod:`drillpy.calibration.elements`).
     values : dict
-        Calibrated parameter -> value (names of :data:`drillpy.calibration.priors.PARAMETERS`).
+        Calibrated parameter -> value (names of :data:`drillpy.calibration.priors.PARAMETERS`); the
+        parameters of the elements the model leaves out are held (:func:`~drillpy.calibration.elements.left_out`).
     fixed : dict
         Held rig parameter -> value (:data:`drillpy.calibration.priors.FIXED`).
     preset : str
@@ -71,7 +74,8 @@ def rig_model(base_law: dict, family: str, values: dict, fixed: dict, preset: st
     -------
     RigModel
     """
-    law = family_law(base_law, family, values)
+    values = {**values, **left_out(family)}
+    law = family_law(base_law, parse_model(family)[0], values)
     return rigsim.RigModel(law, values["damping_ratio"], "rig", values["motor_slope_nms_rad"],
                            fixed["motor_inertia_kg_m2"], preset=preset, command_rad_s=values["command_rad_s"],
                            jack_gain_n_rad=values["jack_gain_n_rad"], jack_relaxation_s=fixed["jack_relaxation_s"],
@@ -231,7 +235,7 @@ class Posterior:
     def summary(self) -> dict:
         """JSON-ready dict (``posterior.json``)."""
         return {"format": "drillpy.posterior", "version": 1, "record": self.record, "families": self.families,
-                "equations": {f: FAMILIES[f].equation for f in self.families},
+                "equations": {f: model_equation(f) for f in self.families},
                 "model_probability": self.model_probability, "model_probability_se": self.model_probability_se,
                 "model_choice": self.model_choice, "parameters": self.parameters, "predictive": self.predictive,
                 "observed": self.observed, "scale": self.scale, "units": {n: _unit(n) for n in self.observed}, "run": self.run, "priors": self.spec,

@@ -15,7 +15,8 @@ replaces any of them, fixes the parameters not calibrated, and names the law fam
     }
 
 The families (default Eqs. 5.3 and 5.1) and their law parameters' ranges are those of
-:mod:`drillpy.calibration.families`. ``discrepancy`` is the model discrepancy's factor
+:mod:`drillpy.calibration.families`; a name may also be a family's rig model without some of its
+elements, ``"polynomial without jack"`` (:mod:`drillpy.calibration.elements`). ``discrepancy`` is the model discrepancy's factor
 (:func:`discrepancy_factor`). ``family_share`` is the share of the sampler's model proposals spread
 evenly over the families (:func:`family_share`). ``statistics`` names the summary statistics of the distance among
 :data:`drillpy.calibration.summaries.ALL_NAMES` (default :data:`~drillpy.calibration.summaries.NAMES`). The section is read here and removed before the engine
@@ -29,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from drillpy.calibration.elements import left_out, parse_model
 from drillpy.calibration.families import DEFAULT_FAMILIES, FAMILIES, FRACTION, LAW_PARAMETERS, POSITIVE
 from drillpy.calibration.summaries import ALL_NAMES, NAMES
 from drillpy.records.rigsim import RIG_PARAMETERS
@@ -229,12 +231,11 @@ def prior_spec(section: dict | None = None) -> PriorSpec:
     family_share(sec.get("family_share"))
     fams = sec.get("families", list(DEFAULT_FAMILIES))
     if not isinstance(fams, (list, tuple)) or not fams:
-        raise ValueError(f"calibration.families = {fams!r}: a non-empty list of {', '.join(FAMILIES)}")
-    for f in fams:
-        if f not in FAMILIES:
-            raise ValueError(f"calibration.families = {fams!r}: unknown family {f!r} (use {', '.join(FAMILIES)})")
-    if len(set(fams)) != len(fams):
-        raise ValueError(f"calibration.families = {fams!r}: a family named twice")
+        raise ValueError(f"calibration.families = {fams!r}: a non-empty list of {', '.join(FAMILIES)} (each "
+                         "optionally 'FAMILY without ELEMENT')")
+    parsed = [parse_model(f, f"calibration.families = {fams!r}") for f in fams]
+    if len(set(parsed)) != len(parsed):
+        raise ValueError(f"calibration.families = {fams!r}: a model named twice")
     given = sec.get("priors", {})
     if not isinstance(given, dict):
         raise ValueError(f"calibration.priors = {given!r}: must be an object name -> {{range, scale}}")
@@ -262,8 +263,25 @@ def prior_spec(section: dict | None = None) -> PriorSpec:
             raise ValueError(f"calibration.fixed.{k} = {v!r}: must be a number in its physical range "
                              f"[{lo:g}, {hi:g}] {RIG_PARAMETERS[k][2]}")
         fixed[k] = float(v)
-    return PriorSpec({f: tuple(priors[p] for p in RIG_CALIBRATED + FAMILY_PARAMETERS[f]) for f in fams}, fixed,
-                     tuple(stats))
+    return PriorSpec({f: tuple(priors[p] for p in model_parameters(f)) for f in fams}, fixed, tuple(stats))
+
+
+def model_parameters(name: str) -> tuple:
+    """The calibrated parameters of a model of the comparison: the rig's (:data:`RIG_CALIBRATED`) but
+    those of the elements it leaves out (:mod:`drillpy.calibration.elements`), then its law family's.
+
+    Parameters
+    ----------
+    name : str
+        ``"FAMILY"`` or ``"FAMILY without ELEMENT[, ELEMENT]"``.
+
+    Returns
+    -------
+    tuple of str
+    """
+    family, _ = parse_model(name)
+    held = left_out(name)
+    return tuple(p for p in RIG_CALIBRATED if p not in held) + FAMILY_PARAMETERS[family]
 
 
 #: The model discrepancy's factor by default (:func:`discrepancy_factor`; docs/calibration.md,

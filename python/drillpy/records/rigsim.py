@@ -431,7 +431,8 @@ class RigModel:
     bit_inertia_factor : float
         Factor on the inertia at the bit (``rig`` drive; 1 for the others).
     coupling_stiffness_nm_rad : float or None
-        Stiffness of the coupling between the motor and the bar [N m/rad] (``rig`` drive).
+        Stiffness of the coupling between the motor and the bar [N m/rad] (``rig`` drive; None: no
+        coupling, the rotor turns the bar's top rigidly).
     intervals : dict
         Parameter name -> [low, high], a 95 % interval (``rig`` drive: :func:`drillpy.records.rig_calibration.calibrate_rig`).
     torque_fluctuation : dict or None
@@ -484,12 +485,15 @@ class RigModel:
             raise ValueError(f"damping_ratio = {self.damping_ratio!r}: must be a positive number")
         need = {"motor": ("motor_slope_nms_rad", "motor_inertia_kg_m2"),
                 "rig": ("motor_slope_nms_rad", "motor_inertia_kg_m2", "command_rad_s", "jack_relaxation_s",
-                        "platform_damping", "gj_factor", "bit_inertia_factor",
-                        "coupling_stiffness_nm_rad")}.get(self.drive, ())
+                        "platform_damping", "gj_factor", "bit_inertia_factor")}.get(self.drive, ())
         for k in need:
             v = getattr(self, k)
             if v is None or not (math.isfinite(v) and v > 0):
                 raise ValueError(f"{k} = {v!r}: the {self.drive} drive needs a positive value")
+        k_c = self.coupling_stiffness_nm_rad
+        if k_c is not None and not (math.isfinite(k_c) and k_c > 0):
+            raise ValueError(f"coupling_stiffness_nm_rad = {k_c!r}: a positive stiffness, or None for a rigid "
+                             "connection (no coupling)")
         if self.drive == "rig" and not (self.jack_gain_n_rad is not None and math.isfinite(self.jack_gain_n_rad)
                                         and self.jack_gain_n_rad >= 0):
             raise ValueError(f"jack_gain_n_rad = {self.jack_gain_n_rad!r}: the rig drive needs a value >= 0")
@@ -547,6 +551,10 @@ class RigModel:
         held = set(rig.get("fixed") or {}) | ({"static_torque_factor"} if not rig and self.static_torque_factor == 1.0
                                               else set())
         for name, (lo, hi, unit, source) in RIG_PARAMETERS.items():
+            if getattr(self, name) is None:  # an element the model does not have (a rigid coupling)
+                out[name] = {"value": None, "ci95": None, "range": [lo, hi], "unit": unit, "source": source,
+                             "flag": None, "fixed": True}
+                continue
             v = float(getattr(self, name))
             flag = None
             if name in held:
