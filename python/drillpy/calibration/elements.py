@@ -8,7 +8,8 @@ of the whole rig model, or that model with some of its elements taken out, named
 
 so that the model probabilities answer which elements the record supports beside which law (issue 35,
 item 2: the residual loop's catalogue of effects, ``drillpy.loop.effects``, names the same elements:
-``axial_jack`` the jack, ``top_drive_dynamics`` the motor with its shaft coupling). An element left
+``axial_jack`` the jack, ``top_drive_dynamics`` the motor with its shaft coupling; the thesis names the
+motor, section 5.3.2: "top drive speed decreases between 40 % and 60 % during drilling"). An element left
 out is not calibrated: its parameter is held where the model has no such element.
 
 ======== ============================ ======================================================================
@@ -18,6 +19,8 @@ jack     ``jack_gain_n_rad`` = 0      the WOB is the record's slow trend (the ja
                                       input, alone: no WOB state driven by the rotation (``drill/axial.hpp``)
 coupling ``coupling_stiffness_nm_rad`` the motor's rotor turns the bar's top rigidly (no shaft coupling,
          = None                       :func:`drillpy.records.rigsim.with_coupling`)
+motor    ``motor_slope_nms_rad``      an ideal drive turns the top (or the coupling) at the command: the
+         = None                       thesis's constant top speed, where the rig's open-loop motor gives way
 ======== ============================ ======================================================================
 """
 from __future__ import annotations
@@ -52,6 +55,7 @@ class Element:
 ELEMENTS = {
     "jack": Element("jack_gain_n_rad", 0.0, "axial_jack"),
     "coupling": Element("coupling_stiffness_nm_rad", None, "top_drive_dynamics"),
+    "motor": Element("motor_slope_nms_rad", None, "top_drive_dynamics"),
 }
 
 

@@ -76,8 +76,9 @@ def rig_model(base_law: dict, family: str, values: dict, fixed: dict, preset: st
     """
     values = {**values, **left_out(family)}
     law = family_law(base_law, parse_model(family)[0], values)
+    motor = values["motor_slope_nms_rad"] is not None  # None: the rig without its motor (an ideal drive)
     return rigsim.RigModel(law, values["damping_ratio"], "rig", values["motor_slope_nms_rad"],
-                           fixed["motor_inertia_kg_m2"], preset=preset, command_rad_s=values["command_rad_s"],
+                           fixed["motor_inertia_kg_m2"] if motor else None, preset=preset, command_rad_s=values["command_rad_s"],
                            jack_gain_n_rad=values["jack_gain_n_rad"], jack_relaxation_s=fixed["jack_relaxation_s"],
                            platform_damping=fixed["platform_damping"], gj_factor=fixed["gj_factor"],
                            bit_inertia_factor=fixed["bit_inertia_factor"],

@@ -411,7 +411,8 @@ class RigModel:
         motor, J_m Omega' = c_m (Omega_c - Omega) - T_top, its command matched to the record's
         mean top speed) or ``rig`` (the rig modelled whole: module docstring).
     motor_slope_nms_rad : float or None
-        Motor slope c_m [N m s/rad]: the torque the motor gives per rad/s below its command.
+        Motor slope c_m [N m s/rad]: the torque the motor gives per rad/s below its command (``rig``
+        drive: None for the rig without its motor, an ideal drive turning at ``command_rad_s``).
     motor_inertia_kg_m2 : float or None
         Inertia J_m of the motor top drive [kg m^2].
     preset : str
@@ -484,8 +485,10 @@ class RigModel:
         if not (math.isfinite(self.damping_ratio) and self.damping_ratio > 0):
             raise ValueError(f"damping_ratio = {self.damping_ratio!r}: must be a positive number")
         need = {"motor": ("motor_slope_nms_rad", "motor_inertia_kg_m2"),
-                "rig": ("motor_slope_nms_rad", "motor_inertia_kg_m2", "command_rad_s", "jack_relaxation_s",
-                        "platform_damping", "gj_factor", "bit_inertia_factor")}.get(self.drive, ())
+                "rig": ("command_rad_s", "jack_relaxation_s", "platform_damping", "gj_factor",
+                        "bit_inertia_factor")}.get(self.drive, ())
+        if self.drive == "rig" and self.motor_slope_nms_rad is not None:  # None: an ideal drive at the command
+            need += ("motor_slope_nms_rad", "motor_inertia_kg_m2")
         for k in need:
             v = getattr(self, k)
             if v is None or not (math.isfinite(v) and v > 0):
@@ -525,6 +528,8 @@ class RigModel:
         """(c_m [N m s/rad], J_m [kg m^2]) for the motor drive, with the torque limit
         :attr:`motor_max_torque_nm` for the rig drive, None for the others."""
         if self.drive == "rig":
+            if self.motor_slope_nms_rad is None:  # the rig without its motor: an ideal drive
+                return None
             return (self.motor_slope_nms_rad, self.motor_inertia_kg_m2, self.motor_max_torque_nm)
         return (self.motor_slope_nms_rad, self.motor_inertia_kg_m2) if self.drive == "motor" else None
 
