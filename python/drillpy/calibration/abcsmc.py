@@ -78,6 +78,10 @@ class Population:
         Proposals of each model.
     raw_weight_sum : float
         Sum of the accepted particles' weights before normalization (prior / proposal).
+    dead_ratio : ndarray, optional
+        Per model without particles, an upper bound of its evidence over the surviving models' at this
+        tolerance, carried from the generation where it had particles (:func:`dead_ratios`); NaN for a
+        model with particles, inf where no bound is known.
     """
     eps: float
     model: np.ndarray
@@ -89,6 +93,7 @@ class Population:
     proposals: int
     model_proposals: np.ndarray | None = None
     raw_weight_sum: float = math.nan
+    dead_ratio: np.ndarray | None = None
 
     def model_probabilities(self, n_models: int) -> tuple:
         """(P(m) per model, its Monte Carlo standard error) from the weights.
@@ -111,11 +116,13 @@ class Population:
         """95 % upper bound of P(m) for a model with no particle (None otherwise), where the
         standard error of :meth:`model_probabilities` (0) says nothing.
 
-        With no hit among its n_m proposals, the model's acceptance rate is below 3 / n_m at 95 %
-        (the rule of three); at that rate its proposals would add at most 3 n / (n_m M) to the sum
-        of weights (n proposals in all, a prior proposal's weight 1 / (M q(m)); a kernel proposal's
-        is smaller where the kernel's density exceeds the prior's), against the population's
-        ``raw_weight_sum`` W: P(m) < B / (W + B), B = 3 n / (n_m M); 1 when the model had no proposal.
+        The smaller of two bounds. (1) With no hit among its n_m proposals, the model's acceptance
+        rate is below 3 / n_m at 95 % (the rule of three); at that rate its proposals would add at
+        most 3 n / (n_m M) to the sum of weights (n proposals in all, a prior proposal's weight 1 /
+        (M q(m)); a kernel proposal's is smaller where the kernel's density exceeds the prior's),
+        against the population's ``raw_weight_sum`` W: P(m) < B / (W + B), B = 3 n / (n_m M). (2)
+        From the generation where it last had particles, :attr:`dead_ratio` r: P(m) < r / (1 + r).
+        1 when neither is known.
 
         Parameters
         ----------
@@ -128,13 +135,17 @@ class Population:
         """
         if np.any(self.model == m):
             return None
+        out = 1.0
+        if self.dead_ratio is not None and math.isfinite(self.dead_ratio[m]):
+            r = float(self.dead_ratio[m])
+            out = r / (1.0 + r)
         if self.model_proposals is None or not math.isfinite(self.raw_weight_sum):
-            return 1.0
+            return out
         n_m = int(self.model_proposals[m])
         if n_m == 0:
-            return 1.0
+            return out
         bound = 3.0 * self.proposals / (n_m * self.model_proposals.size)
-        return float(bound / (self.raw_weight_sum + bound))
+        return min(out, float(bound / (self.raw_weight_sum + bound)))
 
     def difference_se(self, a: int, b: int) -> float:
         """Monte Carlo standard error of P(a) - P(b), the self-normalized importance sampling one
@@ -405,6 +416,61 @@ def _kernel_density(z, centers, weights, chol_inv, log_norm):
     return np.exp(-0.5 * q + log_norm) @ weights
 
 
+def dead_ratios(prev: Population, models: np.ndarray, eps: float, n_models: int) -> np.ndarray:
+    """Upper bounds of the evidence of the models left without particles at the tolerance ``eps``,
+    over the surviving models' evidence, from the previous generation ``prev``.
+
+    The ABC evidence Z_m(eps) falls with eps, by the share c_m of model m's ABC posterior at the last
+    tolerance whose distance is within the new one (Del Moral, Doucet & Jasra 2012: the weight update
+    of a tolerance step), estimated by the weighted share of its particles in ``prev`` within ``eps``,
+    with its effective sample size n_m: at most c_m + 2 sqrt(c_m (1 - c_m) / n_m) + 3 / n_m (the last
+    term the rule of three where none is within). The surviving models' evidence falls by S = sum_a
+    P(a) c_a (``prev``'s probabilities, each c_a at its 2-s.e. lower end). A model that had particles
+    in ``prev`` and has none now: r = P(m) c_m,upper / S; one without particles in ``prev`` either:
+    its ratio there over S (its evidence cannot grow as eps falls). Both are bounds at about 95 %, as
+    the rule of three of :meth:`Population.upper95`'s prior proposals.
+
+    Parameters
+    ----------
+    prev : Population
+        The previous generation (its ``dead_ratio`` for models already without particles).
+    models : ndarray of int
+        The new generation's model per particle.
+    eps : float
+        The new tolerance.
+    n_models : int
+        Number of models.
+
+    Returns
+    -------
+    ndarray
+        Per model: the bound r (inf where none is known), NaN for a model with particles.
+    """
+    p, _ = prev.model_probabilities(n_models)
+    lo, hi = np.zeros(n_models), np.ones(n_models)
+    for m in range(n_models):
+        sel = prev.model == m
+        if not sel.any():
+            continue
+        w = prev.weight[sel] / prev.weight[sel].sum()
+        ess = 1.0 / float(np.sum(w ** 2))
+        c = min(1.0, float(np.sum(w[prev.distance[sel] <= eps])))  # a sum of weights may round above 1
+        half = 2.0 * math.sqrt(c * (1.0 - c) / ess)
+        lo[m], hi[m] = max(c - half, 0.0), min(1.0, c + half + 3.0 / ess)
+    alive = np.array([np.any(models == m) for m in range(n_models)])
+    survive = float(np.sum(p[alive] * lo[alive]))
+    out = np.full(n_models, math.nan)
+    for m in np.flatnonzero(~alive):
+        if np.any(prev.model == m):
+            r = p[m] * hi[m]
+        elif prev.dead_ratio is not None:
+            r = float(prev.dead_ratio[m])
+        else:
+            r = math.inf
+        out[m] = r / survive if survive > 0 else math.inf
+    return out
+
+
 def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, population: int = 200,
         max_simulations: int = 20000, max_generations: int = 20, min_acceptance: float = 0.02, seed: int = 0,
         rho: float = 0.0, family_share: float = 0.1, quantile: float = 0.5, discrepancy=None, log=None) -> ABCResult:
@@ -596,7 +662,7 @@ def run(simulate, dims: list, observed: np.ndarray, scale: np.ndarray, *, popula
             break
         w = np.array(acc_w)
         pops.append(Population(eps, np.array(acc_m), acc_z, w / w.sum(), np.array(acc_d), np.array(acc_s), sims,
-                               props, n_prop, float(w.sum())))
+                               props, n_prop, float(w.sum()), dead_ratios(prev, np.array(acc_m), eps, M)))
         note(pops[-1], t, hits)
         if hits / sims < min_acceptance:
             stopped = "min_acceptance"
