@@ -30,9 +30,9 @@ from pathlib import Path
 
 import numpy as np
 
+#: The repository (the default record is beside it, in ../shared). The tests import this module: it
+#: leaves sys.path as it is (run it with PYTHONPATH=python from a development build).
 REPO = Path(__file__).resolve().parents[1]
-if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
-    sys.path.insert(0, str(REPO / "python"))
 
 #: Stick phases at least this long are a stall, left out [s] (rig_comparison.stalls' default).
 STALL_S = 0.5
