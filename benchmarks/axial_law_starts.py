@@ -18,7 +18,7 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "benchmarks"))
-if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
+if any((REPO / "python" / "drillpy").glob("_core*.so")):  # in-tree build, else the installed drillpy
     sys.path.insert(0, str(REPO / "python"))
 
 STARTS = (0.0, 0.001, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0)

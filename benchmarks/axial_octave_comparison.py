@@ -384,6 +384,6 @@ def main() -> int:
 if __name__ == "__main__":
     # run as a script: the in-tree build when there is one, else the installed drillpy (imported by a test, the
     # module leaves sys.path alone, as benchmarks/axial_torsional_limit.py)
-    if any((REPO / "python" / "drillpy").glob("_core*")):
+    if any((REPO / "python" / "drillpy").glob("_core*.so")):
         sys.path.insert(0, str(REPO / "python"))
     sys.exit(main())

@@ -196,6 +196,6 @@ def main() -> None:
 
 if __name__ == "__main__":
     # run as a script: the in-tree build when there is one, else the installed drillpy
-    if any((REPO / "python" / "drillpy").glob("_core*")):
+    if any((REPO / "python" / "drillpy").glob("_core*.so")):
         sys.path.insert(0, str(REPO / "python"))
     main()

@@ -122,7 +122,7 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    if any((REPO / "python" / "drillpy").glob("_core*")):
+    if any((REPO / "python" / "drillpy").glob("_core*.so")):
         sys.path.insert(0, str(REPO / "python"))
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     main()

@@ -35,7 +35,7 @@ TIMEOUT_S = 300
 
 def _tree_env() -> dict:
     """The environment of a drillpy subprocess: the in-tree build when there is one, else the installed drillpy."""
-    if any((REPO / "python" / "drillpy").glob("_core*")):
+    if any((REPO / "python" / "drillpy").glob("_core*.so")):
         return {**os.environ, "PYTHONPATH": str(REPO / "python")}
     return dict(os.environ)
 
@@ -314,7 +314,7 @@ def main() -> int:
     ap.add_argument("--only", help="run the entries whose label contains this word")
     ap.add_argument("--list", action="store_true", help="print every entry with its outcome")
     args = ap.parse_args()
-    if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
+    if any((REPO / "python" / "drillpy").glob("_core*.so")):  # in-tree build, else the installed drillpy
         sys.path.insert(0, str(REPO / "python"))
     drillsim = _drillsim()
     tmp = Path(tempfile.mkdtemp(prefix="bad_inputs_"))

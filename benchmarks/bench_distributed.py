@@ -23,7 +23,7 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
+if any((REPO / "python" / "drillpy").glob("_core*.so")):  # in-tree build, else the installed drillpy
     sys.path.insert(0, str(REPO / "python"))
 
 

@@ -27,7 +27,7 @@ REPO = Path(__file__).resolve().parents[1]
 
 def run(threads: int, samples: int, out: str) -> float:
     env = dict(os.environ)
-    if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
+    if any((REPO / "python" / "drillpy").glob("_core*.so")):  # in-tree build, else the installed drillpy
         env["PYTHONPATH"] = str(REPO / "python")
     cmd = [sys.executable, "-m", "drillpy", "mc", "--preset", "thesis-field", "--samples", str(samples),
            "--speeds", "10:24:8", "--duration", "100", "--threads", str(threads), "--no-figures", "--no-progress",

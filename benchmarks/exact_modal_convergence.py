@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 _TREE = Path(__file__).resolve().parents[1] / "python"
-if any((_TREE / "drillpy").glob("_core*")):  # the in-tree build; otherwise the installed package
+if any((_TREE / "drillpy").glob("_core*.so")):  # the in-tree build; otherwise the installed package
     sys.path.insert(0, str(_TREE))
 
 

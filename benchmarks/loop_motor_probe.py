@@ -22,7 +22,7 @@ import warnings
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
+if any((REPO / "python" / "drillpy").glob("_core*.so")):  # in-tree build, else the installed drillpy
     sys.path.insert(0, str(REPO / "python"))
 SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
 WHOLE_RIG = {"variant": "motor", "droop_rad_s_per_nm": 4.0, "inertia_kg_m2": 0.019, "command_rad_s": 17.5,

@@ -23,7 +23,7 @@ import tempfile
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
+if any((REPO / "python" / "drillpy").glob("_core*.so")):  # in-tree build, else the installed drillpy
     sys.path.insert(0, str(REPO / "python"))
 SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
 #: Bit speeds [rad/s] at which both laws are printed.
@@ -31,7 +31,7 @@ SPEEDS = (0.5, 1.0, 2.0, 4.0, 8.0, 12.0, 18.0)
 
 
 def drillpy(*args: str) -> None:
-    env = {**os.environ, "PYTHONPATH": str(REPO / "python")} if any((REPO / "python" / "drillpy").glob("_core*")) \
+    env = {**os.environ, "PYTHONPATH": str(REPO / "python")} if any((REPO / "python" / "drillpy").glob("_core*.so")) \
         else dict(os.environ)
     subprocess.run([sys.executable, "-m", "drillpy", *args], check=True, env=env, stdout=subprocess.DEVNULL)
 

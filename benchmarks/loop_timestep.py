@@ -31,7 +31,7 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "benchmarks"))
-if any((REPO / "python" / "drillpy").glob("_core*")):  # in-tree build, else the installed drillpy
+if any((REPO / "python" / "drillpy").glob("_core*.so")):  # in-tree build, else the installed drillpy
     sys.path.insert(0, str(REPO / "python"))
 SAMPLE175 = REPO.parent / "shared" / "data" / "testrig" / "sample175_0-40s.mat"
 FIXED_STEPS = (2e-5, 5e-5, 1e-4, 2e-4, 2.5e-4, 5e-4, 1e-3)

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-if any((Path(__file__).resolve().parents[1] / "python" / "drillpy").glob("_core*")):
+if any((Path(__file__).resolve().parents[1] / "python" / "drillpy").glob("_core*.so")):
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))  # in-tree build, else the installed drillpy
 

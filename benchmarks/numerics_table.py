@@ -65,7 +65,7 @@ def main() -> int:
         ap.error(f"--only: unknown benchmark {unknown[0]!r} (known: {', '.join(BENCHMARKS)})")
     a.out.mkdir(parents=True, exist_ok=True)
     env = dict(os.environ)
-    if any((REPO / "python" / "drillpy").glob("_core*")):
+    if any((REPO / "python" / "drillpy").glob("_core*.so")):
         env["PYTHONPATH"] = os.pathsep.join([str(REPO / "python")] + [p for p in [env.get("PYTHONPATH")] if p])
     probe = subprocess.run([sys.executable, "-c", "import drillpy; from drillpy import _core; "
                             "print(drillpy.__file__, _core.Simulation.batch_width())"],

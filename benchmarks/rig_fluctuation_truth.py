@@ -33,7 +33,7 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=5)
     a = ap.parse_args()
     import whole_rig
-    env = {**os.environ, "PYTHONPATH": str(REPO / "python")} if any((REPO / "python" / "drillpy").glob("_core*")) \
+    env = {**os.environ, "PYTHONPATH": str(REPO / "python")} if any((REPO / "python" / "drillpy").glob("_core*.so")) \
         else dict(os.environ)
     print(f"{'eta_sd':>7s} {'eta_tau':>8s} {'record':>8s} {'model':>8s} {'identified':>10s}  held-out inside 90 %")
     with tempfile.TemporaryDirectory() as tmp:

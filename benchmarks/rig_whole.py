@@ -42,7 +42,7 @@ def analyze(record: str, t0: float, t1: float, out: Path, fix=(), extra=()) -> d
     cmd += [x for f in fix for x in ("--rig-fix", f)] + list(extra)
     import os
     # the in-tree build when there is one, else the installed drillpy
-    env = {"PYTHONPATH": str(REPO / "python")} if any((REPO / "python" / "drillpy").glob("_core*")) else {}
+    env = {"PYTHONPATH": str(REPO / "python")} if any((REPO / "python" / "drillpy").glob("_core*.so")) else {}
     subprocess.run(cmd, check=True, env={**os.environ, **env}, stdout=subprocess.DEVNULL)
     return json.loads((out / "summary.json").read_text())
 
