@@ -12,16 +12,14 @@ item 2: the residual loop's catalogue of effects, ``drillpy.loop.effects``, name
 motor, section 5.3.2: "top drive speed decreases between 40 % and 60 % during drilling"). An element left
 out is not calibrated: its parameter is held where the model has no such element.
 
-======== ============================ ======================================================================
-element  held                         the model without it
-======== ============================ ======================================================================
-jack     ``jack_gain_n_rad`` = 0      the WOB is the record's slow trend (the jack's set force), the law's
-                                      input, alone: no WOB state driven by the rotation (``drill/axial.hpp``)
-coupling ``coupling_stiffness_nm_rad`` the motor's rotor turns the bar's top rigidly (no shaft coupling,
-         = None                       :func:`drillpy.records.rigsim.with_coupling`)
-motor    ``motor_slope_nms_rad``      an ideal drive turns the top (or the coupling) at the command: the
-         = None                       thesis's constant top speed, where the rig's open-loop motor gives way
-======== ============================ ======================================================================
+The elements (:data:`ELEMENTS`), each with the parameter held in the model without it:
+
+* ``jack`` (``jack_gain_n_rad`` = 0): the WOB is the record's slow trend (the jack's set force), the
+  law's input, alone: no WOB state driven by the rotation (``drill/axial.hpp``).
+* ``coupling`` (``coupling_stiffness_nm_rad`` = None): the motor's rotor turns the bar's top rigidly
+  (no shaft coupling, :func:`drillpy.records.rigsim.with_coupling`).
+* ``motor`` (``motor_slope_nms_rad`` = None): an ideal drive turns the top (or the coupling) at the
+  command: the thesis's constant top speed, where the rig's open-loop motor gives way.
 """
 from __future__ import annotations
 
