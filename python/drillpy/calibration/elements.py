@@ -41,19 +41,16 @@ class Element:
         Its calibrated parameter (:data:`drillpy.calibration.priors.PARAMETERS`).
     held : float or None
         The parameter's value in a model without the element.
-    effect : str
-        The residual loop's effect that adds it (``drillpy.loop.effects``).
     """
     parameter: str
     held: float | None
-    effect: str
 
 
 #: The elements: name -> :class:`Element` (module docstring).
 ELEMENTS = {
-    "jack": Element("jack_gain_n_rad", 0.0, "axial_jack"),
-    "coupling": Element("coupling_stiffness_nm_rad", None, "top_drive_dynamics"),
-    "motor": Element("motor_slope_nms_rad", None, "top_drive_dynamics"),
+    "jack": Element("jack_gain_n_rad", 0.0),
+    "coupling": Element("coupling_stiffness_nm_rad", None),
+    "motor": Element("motor_slope_nms_rad", None),
 }
 
 
